@@ -1,0 +1,118 @@
+/* Reading one <material> element of a scene: its name, physical groups,
+ * default flag and property values. Values are parsed strictly and checked
+ * for physical admissibility (dtm_prop_check); names must be unique, at most
+ * one material may be the default, and no physical group may be given to
+ * two materials. Every error names the scene file and line. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene-impl.h"
+
+static char *trim(char *s) {
+  char *end = s + strlen(s);
+  while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r') s++;
+  while (end > s && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\n' || end[-1] == '\r'))
+    *--end = '\0';
+  return s;
+}
+
+static int read_name(const dtm_scene *s, const xmlNode *n, dtm_material *m) {
+  char *raw;
+  DTM_CHECK(dtm_scene_attr(n, "name", &raw));
+  if (!raw) return DTM_SCENE_ERR(s, n, "<material> has no name");
+  const char *name = trim(raw);
+  int rc = *name ? dtm_scene_strdup(name, &m->name)
+                 : DTM_SCENE_ERR(s, n, "<material> has an empty name");
+  free(raw);
+  return rc;
+}
+
+static int read_default(const dtm_scene *s, const xmlNode *n, dtm_scene_material *sm) {
+  char *raw;
+  DTM_CHECK(dtm_scene_attr(n, "default", &raw));
+  if (!raw) return DTM_OK;
+  const char *v = trim(raw);
+  int rc = DTM_OK;
+  if (!strcmp(v, "true") || !strcmp(v, "1")) sm->is_default = 1;
+  else if (strcmp(v, "false") && strcmp(v, "0"))
+    rc = DTM_SCENE_ERR(s, n, "material '%s': default=\"%s\" is not true or false",
+                       sm->m.name, raw);
+  free(raw);
+  return rc;
+}
+
+static int read_groups(const dtm_scene *s, const xmlNode *n, dtm_scene_material *sm) {
+  char *raw;
+  DTM_CHECK(dtm_scene_attr(n, "groups", &raw));
+  if (!raw) return DTM_OK;
+  int rc = dtm_scene_split(raw, &sm->ngroups, &sm->groups);
+  if (!rc && sm->ngroups == 0)
+    rc = DTM_SCENE_ERR(s, n, "material '%s': groups=\"\" lists no physical group",
+                       sm->m.name);
+  free(raw);
+  return rc;
+}
+
+static int read_prop(const dtm_scene *s, const xmlNode *n, dtm_material *m, int p) {
+  char *raw;
+  double v;
+  DTM_CHECK(dtm_scene_attr(n, dtm_prop_name(p), &raw));
+  if (!raw) return DTM_OK;
+  int rc = dtm_scene_parse_double(raw, &v)
+               ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name,
+                               dtm_prop_name(p), raw)
+               : dtm_prop_check(m, p, v);
+  free(raw);
+  if (rc) return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
+  m->prop[p] = v;
+  m->have |= DTM_PROP_BIT(p);
+  return DTM_OK;
+}
+
+static int has_group(const dtm_scene_material *sm, int upto, const char *g) {
+  for (int i = 0; i < upto && i < sm->ngroups; i++)
+    if (!strcmp(sm->groups[i], g)) return 1;
+  return 0;
+}
+
+/* Compare the material just read (last) with those before it. */
+static int check_against(const dtm_scene *s, const xmlNode *n, const dtm_scene_material *a,
+                         const dtm_scene_material *b) {
+  if (!strcmp(a->m.name, b->m.name))
+    return DTM_SCENE_ERR(s, n, "material '%s' is defined twice (first at line %d)",
+                         b->m.name, a->m.line);
+  if (a->is_default && b->is_default)
+    return DTM_SCENE_ERR(s, n,
+                         "material '%s' is a second default material (the first is '%s' "
+                         "at line %d); only one may have default=\"true\"",
+                         b->m.name, a->m.name, a->m.line);
+  for (int g = 0; g < b->ngroups; g++)
+    if (has_group(a, a->ngroups, b->groups[g]))
+      return DTM_SCENE_ERR(s, n,
+                           "group '%s' is given to material '%s' (line %d) and to "
+                           "material '%s'; a group can have only one material",
+                           b->groups[g], a->m.name, a->m.line, b->m.name);
+  return DTM_OK;
+}
+
+static int check_unique(const dtm_scene *s, const xmlNode *n) {
+  const dtm_scene_material *last = &s->materials[s->nmaterials - 1];
+  for (int g = 1; g < last->ngroups; g++)
+    if (has_group(last, g, last->groups[g]))
+      return DTM_SCENE_ERR(s, n, "material '%s' lists group '%s' twice", last->m.name,
+                           last->groups[g]);
+  for (int i = 0; i < s->nmaterials - 1; i++)
+    DTM_CHECK(check_against(s, n, &s->materials[i], last));
+  return DTM_OK;
+}
+
+int dtm_scene_read_material(dtm_scene *s, const xmlNode *n) {
+  dtm_scene_material *sm = &s->materials[s->nmaterials++];
+  sm->m.file = s->path;
+  sm->m.line = dtm_scene_line(n);
+  DTM_CHECK(read_name(s, n, &sm->m));
+  DTM_CHECK(read_default(s, n, sm));
+  DTM_CHECK(read_groups(s, n, sm));
+  for (int p = 0; p < DTM_PROP_COUNT; p++) DTM_CHECK(read_prop(s, n, &sm->m, p));
+  return check_unique(s, n);
+}
