@@ -1,0 +1,80 @@
+/* One dtmap analysis: scene + mesh + effects -> per-element steps, the
+ * limiting effect, characteristic lengths, the size suggestion and the
+ * summary the report and the terminal print. Arrays over elements follow the
+ * mesh's block order (block 0's elements, then block 1's, ...). */
+#ifndef DTMAP_ANALYSIS_H
+#define DTMAP_ANALYSIS_H
+
+#include <stddef.h>
+
+#include "dtmap/mesh.h"
+#include "dtmap/registry.h"
+#include "dtmap/scene.h"
+
+typedef struct {
+  double min;        /* smallest step of this effect, s (NaN if it does not limit) */
+  size_t element;    /* global element index where it occurs */
+} dtm_effect_min;
+
+/* Named stage timings, s. */
+enum { DTM_T_SCENE, DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_OUTPUT, DTM_T_COUNT };
+
+typedef struct dtm_analysis {
+  const dtm_scene *scene;   /* not owned */
+  dtm_mesh *mesh;           /* owned */
+  int neffects;
+  dtm_effect *effects;      /* [neffects] owned, scene order */
+  size_t nel;               /* elements analysed */
+  size_t *offset;           /* [nblocks + 1] first global index of each block */
+  double *dt;               /* [nel] min over limiting effects, s (before safety) */
+  double *len;              /* [nel] characteristic length of the limiting effect, m */
+  int *limiting;            /* [nel] index of the limiting effect, scene order */
+  double **dt_effect;       /* [neffects][nel]; NULL rows for non-limiting effects */
+  double *h;                /* [nel] element size (mean edge length), m */
+  double *hmax;             /* [nel] accuracy bound on the size, m (+inf: none) */
+  double **resolution;      /* [neffects][nel] accuracy view values; NULL rows
+                               for effects without an accuracy bound */
+  size_t under_resolved;    /* elements with h > hmax */
+  size_t conflicts;         /* elements whose target size exceeds hmax */
+  double dt_accuracy_cap;   /* smallest step allowed at h = hmax among the
+                               conflicting elements, s (NaN: no conflict) */
+  double *size_node;        /* [nnodes] size suggestion, m */
+  dtm_effect_min *per_effect; /* [neffects] */
+  double dt_min;            /* min of dt, s */
+  size_t el_min;            /* its global element index */
+  double recommended;       /* safety x dt_min (element bound), s */
+  double timings[DTM_T_COUNT];
+  int threads;              /* OpenMP threads used for the element loop */
+} dtm_analysis;
+
+/* Run everything up to the views on scene s (which must outlive the
+ * analysis): load/mesh through Gmsh, map groups to materials, create only
+ * the scene's effects, compute. Gmsh must be started. */
+int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out);
+/* Compute steps on an already extracted mesh with created effects (used by
+ * dtm_analysis_run and by tests on hand-built blocks). Takes ownership of
+ * mesh and effects. */
+int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects,
+                         int neffects, dtm_analysis **out);
+void dtm_analysis_destroy(dtm_analysis **a);
+
+/* Block and local index of global element index i. */
+void dtm_analysis_locate(const dtm_analysis *a, size_t i, int *block, size_t *local);
+/* Gmsh tag, centroid (m) and group of global element i. */
+size_t dtm_analysis_tag(const dtm_analysis *a, size_t i);
+void dtm_analysis_centroid(const dtm_analysis *a, size_t i, double c[3]);
+int dtm_analysis_group(const dtm_analysis *a, size_t i);
+
+/* Write the mesh with its views to path atomically, plus path.opt.
+ * Refuses to overwrite the scene's input mesh. */
+int dtm_output_write(const dtm_analysis *a, const char *path);
+/* Write the JSON report to path atomically. */
+int dtm_report_write(const dtm_analysis *a, const char *path);
+/* Print the terminal summary (counts, min dt and where, recommendation,
+ * the 10 smallest, a histogram by decade). */
+void dtm_summary_print(const dtm_analysis *a, void *stream);
+
+/* Monotonic wall clock, s. */
+double dtm_wtime(void);
+
+#endif

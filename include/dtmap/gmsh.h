@@ -1,0 +1,46 @@
+/* dtmap's Gmsh API client: start and stop Gmsh, open a geometry and mesh it
+ * or open a .msh, read the physical groups and extract element blocks, and
+ * write views. All Gmsh calls of the project live behind this header. */
+#ifndef DTMAP_GMSH_H
+#define DTMAP_GMSH_H
+
+#include <stddef.h>
+
+#include "dtmap/mesh.h"
+#include "dtmap/scene.h"
+
+/* Start Gmsh with General.AbortOnError=0. verbosity: 0 quiet (errors only
+ * through dtmap's messages), 1 warnings, 2 Gmsh's info messages. */
+int dtm_gmsh_start(int verbosity);
+void dtm_gmsh_stop(void);
+
+/* Open the scene's source: mesh its geometry with the <meshing> options, or
+ * open its .msh. *dim receives the dimension to analyse. Errors name the
+ * file; a geometry that yields no element of that dimension is an error. */
+int dtm_gmsh_load(const dtm_scene *s, int *dim);
+
+/* Physical groups of dimension dim in the current model. */
+int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
+
+/* Extract the nodes and the elements of dimension dim of the current model
+ * into m (m->groups must be set). group_mat[g] is the material of group g or
+ * -1; default_mat is used for elements whose groups have no material (-1:
+ * none, an error naming the element tag and group). Types dtmap does not
+ * handle are an error naming the element tag and type. */
+int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat,
+                     const dtm_scene *s, dtm_mesh *m);
+
+/* A view to write: name, ElementData or NodeData, one value per tag. */
+typedef struct {
+  const char *name;    /* exact view name */
+  int node_data;       /* 1: NodeData over node tags; 0: ElementData */
+  const size_t *tags;  /* [n] element or node tags */
+  const double *values;/* [n] */
+  size_t n;
+} dtm_view;
+
+/* Write the current mesh and the views to path (a .msh), appending views
+ * with PostProcessing.SaveMesh=0. The caller makes the write atomic. */
+int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
+
+#endif

@@ -1,0 +1,48 @@
+/* The mesh as dtmap computes on it: nodes as a dense coordinate array and
+ * the elements of the analysed dimension as one block per element type, a
+ * structure of arrays. Filled from the current Gmsh model by dtm_mesh_extract
+ * (src/gmsh_mesh.c); kernels and effects never see Gmsh itself. */
+#ifndef DTMAP_MESH_H
+#define DTMAP_MESH_H
+
+#include <stddef.h>
+
+typedef struct {
+  int dim;      /* dimension of the physical group */
+  int tag;      /* Gmsh physical tag */
+  char *name;   /* its name, or "" when it has none (owned) */
+} dtm_group;
+
+typedef struct {
+  int type;     /* Gmsh element type code (DTM_TET4, ...) */
+  int dim;      /* topological dimension */
+  int nn;       /* nodes per element */
+  size_t n;     /* number of elements */
+  size_t *tags; /* [n] Gmsh element tags */
+  size_t *conn; /* [n][nn] 0-based indices into the mesh's node arrays */
+  int *group;   /* [n] index into dtm_mesh.groups, -1 when in no group */
+  int *mat;     /* [n] index into the scene's materials, -1 until assigned */
+} dtm_block;
+
+typedef struct dtm_mesh {
+  int dim;            /* dimension of the analysed elements */
+  size_t nnodes;      /* number of nodes */
+  size_t *node_tags;  /* [nnodes] Gmsh node tags */
+  double *xyz;        /* [nnodes][3] coordinates, m */
+  int nblocks;
+  dtm_block *blocks;  /* [nblocks], one per element type present */
+  int ngroups;
+  dtm_group *groups;  /* [ngroups] physical groups of dimension dim */
+} dtm_mesh;
+
+/* Total number of elements over all blocks. */
+size_t dtm_mesh_nelements(const dtm_mesh *m);
+/* Name of a group for messages: its name, or its number when unnamed. */
+const char *dtm_mesh_group_label(const dtm_mesh *m, int g, char *buf, size_t len);
+/* Find a group by name, or by number written as text; -1 when absent. */
+int dtm_mesh_group_find(const dtm_mesh *m, const char *ref);
+/* Gather the coordinates of block b: x[n][nn][3]. x is caller-owned. */
+void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x);
+void dtm_mesh_destroy(dtm_mesh **m);
+
+#endif

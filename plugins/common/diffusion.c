@@ -1,0 +1,22 @@
+/* The diffusion kernel loop shared by the thermal and hydraulic effects:
+ * per element 2/lambda_max(Ce^-1 Ke) with the material's diffusivity, and
+ * the characteristic length sqrt(2 D dt). */
+#include <math.h>
+
+#include "diffusion.h"
+
+int dtm_diffusion_element_dt(dtm_diffusivity_fn diffusivity, const dtm_batch *b,
+                             double *dt, double *len) {
+  const dtm_material *last = NULL;
+  double D = 0;
+  for (size_t e = 0; e < b->n; e++) {
+    if (b->mat[e] != last) last = b->mat[e], D = diffusivity(last);
+    double lambda;
+    if (dtm_kernel_diffusion_lambda(b->type, D, b->x + 3 * (size_t)b->nn * e, &lambda))
+      return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type),
+                     dtm_error_message());
+    dt[e] = 2.0 / lambda;
+    len[e] = sqrt(2.0 * D * dt[e]);
+  }
+  return DTM_OK;
+}

@@ -1,0 +1,109 @@
+/* The elastic-wave effect: per-element critical step of central differences
+ * with lumped mass. By default dt_e = 2/sqrt(lambda_max(Me^-1 Ke)), the
+ * element eigenvalue bound, which is provably safe; the length formulas users
+ * know (`length=`) give dt_e = L_e / C_D instead, and most of them are unsafe
+ * on some shapes (see DESIGN.md). The characteristic length is C_D dt_e. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/effect.h"
+
+typedef struct {
+  dtm_formulation form;  /* wave formulation */
+  dtm_length_kind kind;  /* how dt_e is obtained */
+} elastic_state;
+
+static const char *const form_names[] = {"3d", "plane-strain", "plane-stress", "bar"};
+static const int form_dims[] = {3, 2, 2, 1};
+static const char *const length_names[] = {"eigen", "safe", "min-edge",
+                                           "min-altitude", "inradius", "volume-area"};
+
+static int lookup(const char *v, const char *const *names, int n) {
+  for (int i = 0; i < n; i++)
+    if (strcmp(v, names[i]) == 0) return i;
+  return -1;
+}
+
+static const char *default_form(int dim) {
+  return dim == 3 ? "3d" : dim == 2 ? "plane-strain" : "bar";
+}
+
+static int elastic_create(const dtm_effect_args *a, void **state) {
+  const char *f, *l;
+  int dim = dtm_effect_args_dim(a);
+  DTM_CHECK(dtm_effect_args_string(a, "formulation", default_form(dim), &f));
+  DTM_CHECK(dtm_effect_args_string(a, "length", "eigen", &l));
+  int fi = lookup(f, form_names, 4), li = lookup(l, length_names, 6);
+  if (fi < 0) return dtm_effect_args_error(a, "unknown formulation '%s'", f);
+  if (li < 0) return dtm_effect_args_error(a, "unknown length '%s'", l);
+  if (form_dims[fi] != dim)
+    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD",
+                                 f, form_dims[fi], dim);
+  elastic_state *s = malloc(sizeof *s);
+  if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  s->form = (dtm_formulation)fi;
+  s->kind = (dtm_length_kind)li;
+  *state = s;
+  return DTM_OK;
+}
+
+static int moduli_of(const elastic_state *s, const dtm_material *m, dtm_elastic_moduli *mod) {
+  if (s->form != DTM_FORM_BAR)
+    DTM_CHECK(dtm_material_require(m, DTM_PROP_BIT(DTM_PROP_NU), "elastic"));
+  double nu = s->form == DTM_FORM_BAR ? 0.0 : m->prop[DTM_PROP_NU];
+  int r = dtm_elastic_moduli_init(s->form, m->prop[DTM_PROP_E], nu,
+                                  m->prop[DTM_PROP_RHO], mod);
+  if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
+  return DTM_OK;
+}
+
+static int one_element(const elastic_state *s, const dtm_batch *b, size_t e,
+                       const dtm_elastic_moduli *mod, double *dt) {
+  const double *x = b->x + 3 * (size_t)b->nn * e;
+  if (s->kind != DTM_LEN_EIGEN) {
+    double L = dtm_kernel_length(b->type, s->kind, x);
+    if (!(L > 0)) return DTM_ERR(DTM_ERR_INPUT, "element %zu: degenerate element (length %g)", b->tags[e], L);
+    *dt = L / mod->cd;
+    return DTM_OK;
+  }
+  double lambda;
+  if (dtm_kernel_elastic_lambda(b->type, mod, x, &lambda))
+    return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type),
+                   dtm_error_message());
+  *dt = 2.0 / sqrt(lambda);
+  return DTM_OK;
+}
+
+static int elastic_element_dt(void *state, const dtm_batch *b, double *dt, double *len) {
+  const elastic_state *s = state;
+  const dtm_material *last = NULL;
+  dtm_elastic_moduli mod;
+  for (size_t e = 0; e < b->n; e++) {
+    if (b->mat[e] != last) {
+      DTM_CHECK(moduli_of(s, b->mat[e], &mod));
+      last = b->mat[e];
+    }
+    DTM_CHECK(one_element(s, b, e, &mod, &dt[e]));
+    len[e] = mod.cd * dt[e];
+  }
+  return DTM_OK;
+}
+
+static void elastic_destroy(void **state) {
+  free(*state);
+  *state = NULL;
+}
+
+const dtm_effect_class dtm_effect_elastic = {
+    .api_version = DTM_EFFECT_API_VERSION,
+    .name = "elastic",
+    .summary = "elastic waves, central differences with lumped mass (formulation=3d|plane-strain|"
+               "plane-stress|bar, length=eigen|safe|min-edge|min-altitude|inradius|volume-area)",
+    .role = DTM_ROLE_LIMITS,
+    .needs = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO), /* nu unless bar */
+    .exponent = 1.0,
+    .create = elastic_create,
+    .element_dt = elastic_element_dt,
+    .destroy = elastic_destroy,
+};

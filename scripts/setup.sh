@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages dtmap needs to build, test and run, when
+# they are missing. Needs root (or sudo). Safe to run again.
+set -euo pipefail
+packages=(build-essential cmake pkg-config clang libgmsh-dev gmsh libxml2-dev libxml2-utils
+          libcjson-dev libcmocka-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all packages present"
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

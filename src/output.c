@@ -1,0 +1,148 @@
+/* The output .msh and its .opt: gather the contract views (dt,
+ * characteristic length, limiting effect, size suggestion) plus one
+ * "dt <effect>" view per limiting effect, write them through Gmsh to a
+ * temporary file, then rename into place. The scene's input mesh is never
+ * overwritten. */
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "analysis_impl.h"
+#include "dtmap/gmsh.h"
+
+void dtm_tmp_path(const char *path, const char *suffix, char *out, size_t len) {
+  const char *slash = strrchr(path, '/');
+  int dirlen = slash ? (int)(slash - path + 1) : 0;
+  snprintf(out, len, "%.*s.%s.tmp%ld%s", dirlen, path, slash ? slash + 1 : path, (long)getpid(), suffix);
+}
+
+static int same_file(const char *a, const char *b) {
+  struct stat sa, sb;
+  if (stat(a, &sa) || stat(b, &sb)) return 0;
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+static int check_target(const dtm_analysis *a, const char *path) {
+  const dtm_scene *s = a->scene;
+  const char *in = s->mesh ? s->mesh : s->geometry;
+  if (same_file(in, path) || same_file(s->path, path))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: refusing to overwrite an input file; choose another output with -o", path);
+  size_t n = strlen(path);
+  if (n < 4 || strcmp(path + n - 4, ".msh"))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: the output mesh must end in .msh", path);
+  return DTM_OK;
+}
+
+/* Node data over the nodes that carry a value. */
+static size_t node_view(const dtm_analysis *a, size_t *tags, double *vals) {
+  size_t k = 0;
+  for (size_t v = 0; v < a->mesh->nnodes; v++)
+    if (!isnan(a->size_node[v])) tags[k] = a->mesh->node_tags[v], vals[k++] = a->size_node[v];
+  return k;
+}
+
+/* Element data restricted to finite values (an effect that applies to some
+ * groups only is +inf or NaN elsewhere). Returns the count kept. */
+static size_t finite_view(const size_t *etags, const double *src, size_t n, size_t *tags, double *vals) {
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++)
+    if (isfinite(src[i])) tags[k] = etags[i], vals[k++] = src[i];
+  return k;
+}
+
+typedef struct {
+  size_t *etags, *ntags;   /* element tags [nel], node tags [nnodes] */
+  double *lim, *nvals;     /* limiting effect as double [nel], node values [nnodes] */
+  char (*names)[96];       /* "dt <effect>" names [neffects] */
+  size_t **ftags;          /* [2 neffects] tags of the finite values of a view */
+  double **fvals;          /* [2 neffects] those values */
+  dtm_view *views;         /* [4 + 2 neffects] */
+} view_set;
+
+static void free_views(view_set *vs, int ne) {
+  for (int j = 0; vs->ftags && j < 2 * ne; j++) free(vs->ftags[j]), free(vs->fvals[j]);
+  free(vs->ftags);
+  free(vs->fvals);
+  free(vs->etags);
+  free(vs->ntags);
+  free(vs->lim);
+  free(vs->nvals);
+  free(vs->names);
+  free(vs->views);
+}
+
+static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
+  size_t nel = a->nel, nn = a->mesh->nnodes, ne = (size_t)a->neffects;
+  vs->etags = malloc(nel * sizeof *vs->etags);
+  vs->lim = malloc(nel * sizeof *vs->lim);
+  vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
+  vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
+  vs->names = calloc(ne + 1, sizeof *vs->names);
+  vs->views = calloc(2 * ne + 4, sizeof *vs->views);
+  vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
+  vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
+  if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals)
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < a->mesh->nblocks; b++)
+    memcpy(vs->etags + a->offset[b], a->mesh->blocks[b].tags, a->mesh->blocks[b].n * sizeof(size_t));
+  for (size_t i = 0; i < nel; i++) vs->lim[i] = a->limiting[i];
+  size_t nnv = node_view(a, vs->ntags, vs->nvals);
+  int k = 0;
+  vs->views[k++] = (dtm_view){"dt", 0, vs->etags, a->dt, nel};
+  vs->views[k++] = (dtm_view){"characteristic length", 0, vs->etags, a->len, nel};
+  vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
+  vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
+  for (size_t j = 0; j < 2 * ne; j++) {
+    const dtm_effect_class *c = a->effects[j % ne].cls;
+    const double *src = j < ne ? a->dt_effect[j] : a->resolution[j - ne];
+    if (!src) continue;
+    vs->ftags[j] = malloc(nel * sizeof **vs->ftags);
+    vs->fvals[j] = malloc(nel * sizeof **vs->fvals);
+    if (!vs->ftags[j] || !vs->fvals[j]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    size_t n = finite_view(vs->etags, src, nel, vs->ftags[j], vs->fvals[j]);
+    if (j < ne) snprintf(vs->names[j], sizeof vs->names[j], "dt %s", c->name);
+    if (n) vs->views[k++] = (dtm_view){j < ne ? vs->names[j] : c->accuracy_view, 0, vs->ftags[j], vs->fvals[j], n};
+  }
+  *nviews = k;
+  return DTM_OK;
+}
+
+/* Options Gmsh merges when it opens X.msh: dt on a log scale, viridis, the
+ * other views hidden until the user ticks them. */
+static int write_opt(const char *path, int nviews) {
+  char opt[PATH_MAX + 8], tmp[PATH_MAX + 64];
+  snprintf(opt, sizeof opt, "%s.opt", path);
+  dtm_tmp_path(opt, "", tmp, sizeof tmp);
+  FILE *f = fopen(tmp, "w");
+  if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", tmp, strerror(errno));
+  fprintf(f, "// Written by dtmap: shows the dt view on a log scale when %s is opened.\n", path);
+  fprintf(f, "View[0].ScaleType = 2; // logarithmic\nView[0].ColormapNumber = 23; // viridis: dark = small dt\n");
+  fprintf(f, "View[0].IntervalsType = 3; // discrete bands\nView[0].NbIso = 12;\nView[0].Format = \"%%.2e\";\n");
+  for (int i = 1; i < nviews; i++) fprintf(f, "View[%d].Visible = 0;\n", i);
+  int bad = fclose(f) != 0;
+  if (bad || rename(tmp, opt)) {
+    unlink(tmp);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", opt, strerror(errno));
+  }
+  return DTM_OK;
+}
+
+int dtm_output_write(const dtm_analysis *a, const char *path) {
+  DTM_CHECK(check_target(a, path));
+  view_set vs = {0};
+  int nviews = 0, r = build_views(a, &vs, &nviews);
+  char tmp[PATH_MAX + 64];
+  dtm_tmp_path(path, ".msh", tmp, sizeof tmp);
+  if (r == DTM_OK) r = dtm_gmsh_write(tmp, vs.views, nviews);
+  if (r == DTM_OK && rename(tmp, path))
+    r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  unlink(tmp);
+  free_views(&vs, a->neffects);
+  if (r == DTM_OK) r = write_opt(path, nviews);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}

@@ -1,0 +1,120 @@
+/* The JSON report (cJSON): mesh counts, effects in scene order, the step
+ * summary (dt.min, dt.element, dt.effect, dt.safety, dt.recommended, and
+ * where the minimum sits), each effect's own minimum, and stage timings.
+ * Written to a temporary file and renamed into place. */
+#include <cJSON.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "analysis_impl.h"
+
+static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "output"};
+
+static cJSON *where_json(const dtm_analysis *a, size_t i) {
+  cJSON *o = cJSON_CreateObject();
+  double c[3];
+  char lbl[64];
+  dtm_analysis_centroid(a, i, c);
+  cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
+  cJSON_AddStringToObject(o, "group", dtm_mesh_group_label(a->mesh, dtm_analysis_group(a, i), lbl, sizeof lbl));
+  cJSON_AddItemToObject(o, "centroid", cJSON_CreateDoubleArray(c, 3));
+  return o;
+}
+
+static cJSON *dt_json(const dtm_analysis *a) {
+  cJSON *dt = where_json(a, a->el_min);
+  cJSON_AddNumberToObject(dt, "min", a->dt_min);
+  cJSON_AddStringToObject(dt, "effect", a->effects[a->limiting[a->el_min]].cls->name);
+  cJSON_AddNumberToObject(dt, "safety", a->scene->safety);
+  cJSON_AddNumberToObject(dt, "recommended", a->recommended);
+  cJSON_AddStringToObject(dt, "basis", "element bound");
+  if (a->scene->target > 0) cJSON_AddNumberToObject(dt, "target", a->scene->target);
+  return dt;
+}
+
+static cJSON *effects_detail(const dtm_analysis *a) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int k = 0; k < a->neffects; k++) {
+    cJSON *o = a->dt_effect[k] ? where_json(a, a->per_effect[k].element) : cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "name", a->effects[k].cls->name);
+    cJSON_AddNumberToObject(o, "index", k);
+    if (a->dt_effect[k]) cJSON_AddNumberToObject(o, "min", a->per_effect[k].min);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
+#define MAX_LISTED 100 /* under-resolved elements listed by tag */
+
+static int has_accuracy(const dtm_analysis *a) {
+  for (int k = 0; k < a->neffects; k++)
+    if (a->resolution[k]) return 1;
+  return 0;
+}
+
+static cJSON *under_resolved_list(const dtm_analysis *a) {
+  cJSON *arr = cJSON_CreateArray();
+  int listed = 0;
+  for (size_t i = 0; i < a->nel && listed < MAX_LISTED; i++) {
+    if (!(a->h[i] > a->hmax[i])) continue;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
+    cJSON_AddNumberToObject(o, "h", a->h[i]);
+    cJSON_AddNumberToObject(o, "hmax", a->hmax[i]);
+    cJSON_AddItemToArray(arr, o);
+    listed++;
+  }
+  return arr;
+}
+
+static cJSON *accuracy_json(const dtm_analysis *a) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "under_resolved", (double)a->under_resolved);
+  cJSON_AddItemToObject(o, "under_resolved_elements", under_resolved_list(a));
+  cJSON_AddNumberToObject(o, "listed_at_most", MAX_LISTED);
+  cJSON_AddNumberToObject(o, "target_conflicts", (double)a->conflicts);
+  if (a->conflicts) cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", a->dt_accuracy_cap);
+  return o;
+}
+
+static cJSON *report_json(const dtm_analysis *a) {
+  cJSON *root = cJSON_CreateObject(), *mesh = cJSON_AddObjectToObject(root, "mesh");
+  cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
+  cJSON_AddStringToObject(root, "scene", a->scene->path);
+  cJSON_AddNumberToObject(mesh, "elements", (double)a->nel);
+  cJSON_AddNumberToObject(mesh, "nodes", (double)a->mesh->nnodes);
+  cJSON_AddNumberToObject(mesh, "dim", a->mesh->dim);
+  cJSON *names = cJSON_AddArrayToObject(root, "effects");
+  for (int k = 0; k < a->neffects; k++) cJSON_AddItemToArray(names, cJSON_CreateString(a->effects[k].cls->name));
+  cJSON_AddItemToObject(root, "dt", dt_json(a));
+  cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
+  if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
+  cJSON *t = cJSON_AddObjectToObject(root, "timings");
+  for (int i = 0; i < DTM_T_COUNT; i++) cJSON_AddNumberToObject(t, timing_names[i], a->timings[i]);
+  cJSON_AddNumberToObject(t, "threads", a->threads);
+  return root;
+}
+
+int dtm_report_write(const dtm_analysis *a, const char *path) {
+  cJSON *root = report_json(a);
+  char *text = root ? cJSON_Print(root) : NULL;
+  cJSON_Delete(root);
+  if (!text) return DTM_ERR(DTM_ERR_INTERNAL, "cannot build the JSON report");
+  char tmp[PATH_MAX + 64];
+  dtm_tmp_path(path, "", tmp, sizeof tmp);
+  FILE *f = fopen(tmp, "w");
+  int ok = f && fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+  ok = (f && fclose(f) == 0) && ok;
+  free(text);
+  if (!ok || rename(tmp, path)) {
+    int e = errno;
+    unlink(tmp);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write the report: %s", path, strerror(e));
+  }
+  return DTM_OK;
+}

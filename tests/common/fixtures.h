@@ -1,0 +1,32 @@
+/* In-memory fixtures for effect tests: a scene effect element with given
+ * attributes, a one-group mesh, effect args bound to them, and a batch of
+ * one element built from coordinates. No Gmsh, no files. */
+#ifndef DTM_FIXTURES_H
+#define DTM_FIXTURES_H
+
+#include "dtmap/effect.h"
+#include "dtmap/mesh.h"
+#include "dtmap/scene.h"
+#include "effect_args.h"
+
+typedef struct {
+  dtm_scene scene;          /* path "fixture.xml" */
+  dtm_scene_effect se;      /* the effect element */
+  char *keys[8], *values[8];
+  dtm_mesh mesh;            /* dim only, one group named "rock" */
+  dtm_group group;
+  dtm_effect_args args;
+} tu_effect_fixture;
+
+/* attrs: NULL-terminated key, value, key, value, ... */
+void tu_fixture_init(tu_effect_fixture *f, const char *name, int dim, const char *const *attrs);
+
+/* A material with the given properties (NULL-terminated prop index, value
+ * pairs passed as doubles: DTM_PROP_E, 1e9, ..., -1). */
+void tu_material(dtm_material *m, const char *name, ...);
+
+/* A batch of one element of type with coordinates x[nn][3], material m,
+ * group 0, tag 1. */
+dtm_batch tu_batch1(int type, const double *x, const dtm_material **m);
+
+#endif

@@ -1,0 +1,144 @@
+/* Test helpers: paths from argv, temporary directories removed at exit,
+ * running shell commands with captured output, JSON look-ups, and reading
+ * views back through the Gmsh API. */
+#include "testutil.h"
+
+#include <cJSON.h>
+#include <gmshc.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+char *mkdtemp(char *);
+
+static const char *src_dir = ".", *cli_path = "dtmap";
+static char tmp_dir[256];
+
+static void cleanup(void) {
+  if (!tmp_dir[0]) return;
+  char cmd[300];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp_dir);
+  if (system(cmd)) fprintf(stderr, "could not remove %s\n", tmp_dir);
+}
+
+void tu_init(int argc, char **argv) {
+  if (argc > 1) src_dir = argv[1];
+  if (argc > 2) cli_path = argv[2];
+}
+const char *tu_src(void) { return src_dir; }
+const char *tu_cli(void) { return cli_path; }
+
+const char *tu_tmpdir(void) {
+  if (!tmp_dir[0]) {
+    snprintf(tmp_dir, sizeof tmp_dir, "/tmp/dtmap-test-XXXXXX");
+    if (!mkdtemp(tmp_dir)) abort();
+    atexit(cleanup);
+  }
+  return tmp_dir;
+}
+
+void tu_write(const char *path, const char *text) {
+  FILE *f = fopen(path, "w");
+  if (!f || fputs(text, f) < 0 || fclose(f)) {
+    fprintf(stderr, "cannot write %s\n", path);
+    abort();
+  }
+}
+
+int tu_exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0;
+}
+
+int tu_run(char **out, const char *fmt, ...) {
+  char cmd[8192];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(cmd, sizeof cmd, fmt, ap);
+  va_end(ap);
+  strncat(cmd, " 2>&1", sizeof cmd - strlen(cmd) - 1);
+  FILE *p = popen(cmd, "r");
+  if (!p) return -1;
+  size_t cap = 4096, n = 0;
+  char *buf = malloc(cap);
+  for (size_t k; (k = fread(buf + n, 1, cap - n - 1, p)) > 0;) {
+    n += k;
+    if (cap - n < 2) buf = realloc(buf, cap *= 2);
+  }
+  buf[n] = '\0';
+  int st = pclose(p);
+  if (out) *out = buf;
+  else free(buf);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+cJSON *tu_json_load(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *buf = malloc((size_t)n + 1);
+  size_t got = fread(buf, 1, (size_t)n, f);
+  buf[got] = '\0';
+  fclose(f);
+  cJSON *j = cJSON_Parse(buf);
+  free(buf);
+  return j;
+}
+
+double tu_json_number(const cJSON *root, const char *dotted) {
+  char key[256];
+  snprintf(key, sizeof key, "%s", dotted);
+  const cJSON *o = root;
+  for (char *tok = strtok(key, "."); tok && o; tok = strtok(NULL, "."))
+    o = cJSON_GetObjectItemCaseSensitive(o, tok);
+  return (o && cJSON_IsNumber(o)) ? o->valuedouble : NAN;
+}
+
+int tu_view_count(void) {
+  int *tags = NULL, ierr = 0;
+  size_t n = 0;
+  gmshViewGetTags(&tags, &n, &ierr);
+  gmshFree(tags);
+  return (int)n;
+}
+
+static int view_tag_named(const char *name) {
+  int *tags = NULL, ierr = 0, found = -1;
+  size_t n = 0;
+  gmshViewGetTags(&tags, &n, &ierr);
+  for (size_t i = 0; i < n && found < 0; i++) {
+    char opt[64], *val = NULL;
+    snprintf(opt, sizeof opt, "View[%d].Name", gmshViewGetIndex(tags[i], &ierr));
+    gmshOptionGetString(opt, &val, &ierr);
+    if (val && strcmp(val, name) == 0) found = tags[i];
+    gmshFree(val);
+  }
+  gmshFree(tags);
+  return found;
+}
+
+int tu_view_read(const char *name, tu_view *v) {
+  int tag = view_tag_named(name), ierr = 0, nc = 0;
+  char *type = NULL;
+  double time = 0;
+  memset(v, 0, sizeof *v);
+  if (tag < 0) return -1;
+  size_t nd = 0;
+  gmshViewGetHomogeneousModelData(tag, 0, &type, &v->tags, &v->n, &v->values, &nd, &time, &nc, &ierr);
+  if (type) snprintf(v->type, sizeof v->type, "%s", type);
+  gmshFree(type);
+  return ierr || nd != v->n ? -1 : 0;
+}
+
+void tu_view_free(tu_view *v) {
+  gmshFree(v->tags);
+  gmshFree(v->values);
+  memset(v, 0, sizeof *v);
+}

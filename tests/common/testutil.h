@@ -1,0 +1,42 @@
+/* Helpers shared by the test programs: the source tree and CLI paths from
+ * argv, temporary directories, running the CLI and capturing its output,
+ * reading reports, and reading views back through the Gmsh API. */
+#ifndef DTM_TESTUTIL_H
+#define DTM_TESTUTIL_H
+
+#include <stddef.h>
+
+struct cJSON;
+
+/* Record argv[1] (source dir) and argv[2] (dtmap CLI). */
+void tu_init(int argc, char **argv);
+const char *tu_src(void);
+const char *tu_cli(void);
+/* A fresh temporary directory (owned by the library, removed at exit). */
+const char *tu_tmpdir(void);
+/* Write text to path (aborts the test program on failure). */
+void tu_write(const char *path, const char *text);
+int tu_exists(const char *path);
+/* Run a shell command; its stdout+stderr go to *out (malloc'ed, may be
+ * NULL); returns the exit status, or -1 when it did not exit normally. */
+int tu_run(char **out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Parse a JSON file; NULL on failure. Free with cJSON_Delete. */
+struct cJSON *tu_json_load(const char *path);
+/* Number at a dotted path ("dt.min") of a JSON object; NaN if absent. */
+double tu_json_number(const struct cJSON *root, const char *dotted);
+
+/* A view read back from a .msh through Gmsh (gmsh must be initialised and
+ * the file opened). */
+typedef struct {
+  char type[32];   /* "ElementData" or "NodeData" */
+  size_t n;        /* number of values */
+  size_t *tags;    /* [n] */
+  double *values;  /* [n] */
+} tu_view;
+/* Find the view with that exact name; returns 0 on success. */
+int tu_view_read(const char *name, tu_view *v);
+void tu_view_free(tu_view *v);
+/* Number of views loaded. */
+int tu_view_count(void);
+
+#endif
