@@ -1,0 +1,116 @@
+/* Element matrices of the generic path, built by quadrature in the
+ * element's own frame: the row-sum lumped mass weights integral(N_a), the
+ * scalar Laplacian K_ab = integral(grad N_a . grad N_b) and the isotropic
+ * elastic stiffness K_(a i)(b j) = integral(lam g_ai g_bj + mu g_aj g_bi +
+ * mu delta_ij g_a . g_b). Used by every non-simplex element and, for
+ * cross-checking, by the simplices. Matrices are dense, row-major, on the
+ * caller's stack: n <= DTM_K_DOF. */
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "kernel/kernel_impl.h"
+#include "kernel/assemble.h"
+
+int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg) {
+  if (!dtm_elem_topology(type)) return -1;
+  dtm_elem_info(type, &eg->d, &eg->nn);
+  eg->type = type;
+  eg->bad = -1;
+  eg->bad_det = 0;
+  if (dtm_elem_local(type, x, eg->xl)) return -1;
+  dtm_ref_rule(type, &eg->q);
+  eg->bad = dtm_map_first_bad(type, eg->d, eg->nn, (const double (*)[3])eg->xl,
+                              &eg->q, &eg->bad_det);
+  return eg->bad < 0 ? 0 : -1;
+}
+
+int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg) {
+  DTM_CHECK(dtm_elem_info(type, NULL, NULL));
+  if (!dtm_elem_setup(type, x, eg)) return DTM_OK;
+  if (eg->bad < 0)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "degenerate or inverted %s element: its nodes span no %s",
+                   dtm_elem_name(type), eg->d == 1 ? "line" : "plane");
+  int node = eg->bad >= eg->q.n;
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "degenerate or inverted %s element: Jacobian determinant %g "
+                 "at %s %d",
+                 dtm_elem_name(type), eg->bad_det,
+                 node ? "node" : "quadrature point",
+                 node ? eg->bad - eg->q.n : eg->bad);
+}
+
+/* Calls visit(ctx, N, g, dv) at every quadrature point. */
+static void each_point(const dtm_elem_geom *eg,
+                       void (*visit)(void *, const dtm_elem_geom *,
+                                     const double *, const double (*)[3],
+                                     double),
+                       void *ctx) {
+  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv;
+  for (int k = 0; k < eg->q.n; k++) {
+    dtm_map_eval(eg->type, eg->d, eg->nn, (const double (*)[3])eg->xl,
+                 eg->q.p[k], eg->q.w[k], N, g, &dv);
+    visit(ctx, eg, N, (const double (*)[3])g, dv);
+  }
+}
+
+static void add_mass(void *ctx, const dtm_elem_geom *eg, const double *N,
+                     const double (*g)[3], double dv) {
+  double *m = ctx;
+  (void)g;
+  for (int a = 0; a < eg->nn; a++) m[a] += N[a] * dv;
+}
+
+static double dot(int d, const double *a, const double *b) {
+  double s = 0;
+  for (int i = 0; i < d; i++) s += a[i] * b[i];
+  return s;
+}
+
+static void add_laplace(void *ctx, const dtm_elem_geom *eg, const double *N,
+                        const double (*g)[3], double dv) {
+  double *K = ctx;
+  (void)N;
+  for (int a = 0; a < eg->nn; a++)
+    for (int b = 0; b < eg->nn; b++) K[a * eg->nn + b] += dot(eg->d, g[a], g[b]) * dv;
+}
+
+typedef struct {
+  double lam, mu; /* Lame parameters seen by the element (bar: E, 0) */
+  double *K;      /* [nn*d][nn*d] */
+} elastic_ctx;
+
+static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N,
+                        const double (*g)[3], double dv) {
+  elastic_ctx *c = ctx;
+  int d = eg->d, n = eg->nn * d;
+  (void)N;
+  for (int a = 0; a < eg->nn; a++)
+    for (int b = 0; b < eg->nn; b++) {
+      double gg = c->mu * dot(d, g[a], g[b]);
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < d; j++)
+          c->K[(a * d + i) * n + b * d + j] +=
+              dv * (c->lam * g[a][i] * g[b][j] + c->mu * g[a][j] * g[b][i] +
+                    (i == j ? gg : 0));
+    }
+}
+
+void dtm_elem_mass(const dtm_elem_geom *eg, double *m) {
+  memset(m, 0, sizeof(double) * (size_t)eg->nn);
+  each_point(eg, add_mass, m);
+}
+
+void dtm_elem_laplace(const dtm_elem_geom *eg, double *K) {
+  memset(K, 0, sizeof(double) * (size_t)(eg->nn * eg->nn));
+  each_point(eg, add_laplace, K);
+}
+
+void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m,
+                        double *K) {
+  int n = eg->nn * eg->d;
+  elastic_ctx c = {m->lam, m->mu, K};
+  if (eg->d == 1) c.lam = m->modulus, c.mu = 0; /* axial stiffness only */
+  memset(K, 0, sizeof(double) * (size_t)(n * n));
+  each_point(eg, add_elastic, &c);
+}

@@ -1,0 +1,23 @@
+/* dtm_kernel_elastic_lambda: the element bound lambda_max(Me^-1 Ke) of
+ * isotropic linear elasticity with row-sum lumped mass. Checks the type and
+ * the formulation, then takes the closed form on simplices
+ * (elastic_simplex.c) and the assembled small eigenproblem otherwise
+ * (generic.c). */
+#include "dtmap/error.h"
+#include "kernel/kernel_impl.h"
+
+int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
+                              const double *x, double *lambda) {
+  if (type == DTM_TET4 && m->form == DTM_FORM_3D) /* the hot path */
+    DTM_CHECK(dtm_elastic_lambda_simplex(type, m, x, lambda));
+  else {
+    int d;
+    DTM_CHECK(dtm_elem_info(type, &d, NULL));
+    DTM_CHECK(dtm_form_check(type, d, m->form));
+    if (dtm_elem_is_simplex(type))
+      DTM_CHECK(dtm_elastic_lambda_simplex(type, m, x, lambda));
+    else
+      DTM_CHECK(dtm_elastic_lambda_generic(type, m, x, lambda));
+  }
+  return DTM_OK;
+}

@@ -1,0 +1,71 @@
+/* The element's own frame: every element is moved so that node 0 is the
+ * origin (which keeps the Jacobian accurate far from the mesh origin), 2D
+ * elements may lie in any plane of space and 1D
+ * elements along any line, so before any integration their nodes are
+ * expressed in an orthonormal frame of that plane or line. The plane of a
+ * 2D element is the one normal to its Newell vector sum (x_i - x_0) x
+ * (x_{i+1} - x_0), which is the plane of a flat element and the mean plane
+ * of a warped quadrangle; the first axis is the projected edge 0-1. The
+ * frame's orientation follows the node order, so 2D elements are never
+ * "inverted" as a whole: a collinear triangle is degenerate, a quadrangle
+ * whose Jacobian changes sign is caught by dtm_map_first_bad. */
+#include <math.h>
+#include <string.h>
+
+#include "kernel/kernel_impl.h"
+
+static void sub(const double *a, const double *b, double *c) {
+  for (int i = 0; i < 3; i++) c[i] = a[i] - b[i];
+}
+static double dot(const double *a, const double *b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static void cross(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static int unit(double *a) {
+  double n = sqrt(dot(a, a));
+  if (!(n > 0) || !isfinite(n)) return -1;
+  for (int i = 0; i < 3; i++) a[i] /= n;
+  return 0;
+}
+
+static int frame1(const double *x, double (*xl)[3]) {
+  double t[3];
+  sub(x + 3, x, t);
+  memset(xl, 0, sizeof(double[2][3]));
+  xl[1][0] = sqrt(dot(t, t));
+  return xl[1][0] > 0 && isfinite(xl[1][0]) ? 0 : -1;
+}
+
+static int frame2(int nn, const double *x, double (*xl)[3]) {
+  double n[3] = {0, 0, 0}, e1[3], e2[3], r[3], s[3], c[3];
+  for (int a = 1; a + 1 < nn; a++) {
+    sub(x + 3 * a, x, r);
+    sub(x + 3 * (a + 1), x, s);
+    cross(r, s, c);
+    for (int i = 0; i < 3; i++) n[i] += c[i];
+  }
+  if (unit(n)) return -1;
+  sub(x + 3, x, e1);
+  double h = dot(e1, n);
+  for (int i = 0; i < 3; i++) e1[i] -= h * n[i];
+  if (unit(e1)) return -1;
+  cross(n, e1, e2);
+  for (int a = 0; a < nn; a++) {
+    sub(x + 3 * a, x, r);
+    xl[a][0] = dot(r, e1), xl[a][1] = dot(r, e2), xl[a][2] = 0;
+  }
+  return 0;
+}
+
+int dtm_elem_local(int type, const double *x, double (*xl)[3]) {
+  int d, nn;
+  if (dtm_elem_info(type, &d, &nn)) return -1;
+  if (d == 1) return frame1(x, xl);
+  if (d == 2) return frame2(nn, x, xl);
+  for (int a = 0; a < nn; a++) sub(x + 3 * a, x, xl[a]);
+  return 0;
+}

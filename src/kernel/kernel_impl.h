@@ -1,0 +1,104 @@
+/* Private interface shared by the files of src/kernel/: element topology
+ * tables, reference shape functions and quadrature rules, the map from the
+ * reference element (Jacobian, physical gradients), the barycentric metric
+ * of simplices and the small dense eigenvalue helpers. Nothing here is part
+ * of the public API in include/dtmap/kernel.h; the names start with dtm_
+ * only because the library is shared and tests reach them too. */
+#ifndef DTMAP_KERNEL_IMPL_H
+#define DTMAP_KERNEL_IMPL_H
+
+#include "dtmap/kernel.h"
+
+#define DTM_K_NODES 8 /* most nodes among the types the kernels handle */
+#define DTM_K_DOF 24  /* most displacement unknowns (hex8, 3 per node) */
+#define DTM_K_QP 27   /* most quadrature points of a rule (pyramid 3x3x3) */
+#define DTM_K_FACETS 6
+#define DTM_K_EDGES 12
+
+/* Boundary facets and edges of a type, in Gmsh's node numbering. */
+typedef struct {
+  int nfacet;                      /* number of facets (points in 1D) */
+  int facet_nn[DTM_K_FACETS];      /* node count of each facet */
+  int facet[DTM_K_FACETS][4];      /* facet nodes, ordered around the facet */
+  int nedge;                       /* number of edges */
+  int edge[DTM_K_EDGES][2];        /* edge end nodes */
+} dtm_topology;
+
+/* Topology of a supported type; NULL for any other. Static storage. */
+const dtm_topology *dtm_elem_topology(int type);
+
+/* A quadrature rule in rule coordinates p. These are Gmsh's reference
+ * coordinates (u, v, w) except for the pyramid, where they are collapsed
+ * coordinates (a, b, w) with u = (1 - w) a, v = (1 - w) b; the weights then
+ * include the Duffy factor (1 - w)^2. */
+typedef struct {
+  int n;                   /* number of points */
+  double p[DTM_K_QP][3];   /* rule coordinates of the points */
+  double w[DTM_K_QP];      /* weights (sum = reference measure) */
+} dtm_qrule;
+
+/* Full-integration rule of a supported type (see quadrature.c). */
+void dtm_ref_rule(int type, dtm_qrule *q);
+/* Shape functions N[nn] and their gradients dN[nn][3] with respect to the
+ * reference coordinates (u, v, w), at rule coordinates p. */
+void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]);
+/* Rule coordinates of node a (used to check the Jacobian at the corners). */
+void dtm_ref_node(int type, int a, double p[3]);
+
+/* Coordinates xl[nn][3] of the nodes in the element's own frame: 3D
+ * elements are copied, 2D elements are projected onto their mean plane
+ * (Newell normal), 1D elements onto their line; unused components are 0.
+ * Returns 0, or -1 when no frame exists (coincident nodes, collinear 2D). */
+int dtm_elem_local(int type, const double *x, double (*xl)[3]);
+
+/* The isoparametric map at one rule point, in the local frame of dimension
+ * d: N[nn], physical gradients g[nn][3] (first d components) and the
+ * volume factor dv = det J * rule weight. Returns det J. */
+double dtm_map_eval(int type, int d, int nn, const double (*xl)[3],
+                    const double p[3], double wq, double *N, double (*g)[3],
+                    double *dv);
+/* Index of the first point where det J is not safely positive (see map.c):
+ * k < q->n for rule point k, q->n + a for node a; det J there in *dj; -1
+ * when the map is valid everywhere. Raises nothing. */
+int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3],
+                      const dtm_qrule *q, double *dj);
+
+/* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)
+ * as scale * s, with s packed as s[0]=S11 s[1]=S22 s[2]=S33 s[3]=S12
+ * s[4]=S13 s[5]=S23 (unused entries 0; scale > 0, 1/m^2), and the measure.
+ * DTM_ERR_INPUT for a degenerate or inverted simplex. */
+int dtm_simplex_metric(int type, const double *x, int *d, double s[6],
+                       double *scale, double *measure);
+
+/* Eigenvalues e[0] >= e[1] >= e[2] of the symmetric 3x3 matrix packed as
+ * above, each within a few ulps of the largest magnitude (trigonometric
+ * solution, refined by deflation where two eigenvalues are close). */
+void dtm_eig3_sym(const double s[6], double e[3]);
+/* What the simplex kernels need of S's spectrum s1 >= s2 >= s3, each
+ * part to a few eps of |S| (absolute; rho to eps |S|^2) even when s2 and
+ * s3 are too close to split: the largest eigenvalue and the sum and
+ * product of the gaps e_i = s1 - s_i, i = 2, 3. Any symmetric function of
+ * (s2, s3) follows: s2 + s3 = 2 s1 - tau, s2 s3 = s1^2 - s1 tau + rho. */
+typedef struct {
+  double s1;  /* largest eigenvalue */
+  double tau; /* e2 + e3 = 3 s1 - tr S >= 0 */
+  double rho; /* e2 e3 >= 0 */
+} dtm_top3;
+void dtm_eig3_top(const double s[6], dtm_top3 *top);
+/* Eigenvalues e[0] >= e[1] of the symmetric 2x2 [[a, b], [b, c]]. */
+void dtm_eig2_sym(double a, double b, double c, double e[2]);
+
+/* Generic (quadrature + Jacobi) paths, any supported type; simplices go
+ * through them too, which is how the closed forms are cross-checked. */
+int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
+                               const double *x, double *lambda);
+int dtm_diffusion_lambda_generic(int type, double alpha, const double *x,
+                                 double *lambda);
+/* Closed form on simplices (line2, tri3, tet4). */
+int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m,
+                               const double *x, double *lambda);
+
+/* Raise DTM_ERR_INPUT unless formulation f suits an element of dimension d. */
+int dtm_form_check(int type, int d, int f);
+
+#endif
