@@ -44,6 +44,21 @@ int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index)
 /* Number of physical groups of the analysed dimension. */
 int dtm_effect_args_ngroups(const dtm_effect_args *a);
 
+/* The semi-discrete problem behind a spectral effect, per material: used
+ * by the nodal bound, the global (Lanczos) estimate and `dtmap verify`. */
+enum {
+  DTM_OP_NONE = 0,      /* not a spectral effect (e.g. a length rule) */
+  DTM_OP_ELASTIC = 1,   /* M u'' + K u = 0, central differences, dt = 2/omega */
+  DTM_OP_DIFFUSION = 2  /* C u' + K u = 0, forward Euler, dt = 2/lambda */
+};
+typedef struct {
+  int kind;                /* DTM_OP_* */
+  double capacity;         /* lumped "mass" per volume: rho (elastic), rho c
+                              (thermal), storage (hydraulic) */
+  double conductivity;     /* diffusion: k, or permeability/viscosity */
+  dtm_elastic_moduli mod;  /* elastic: moduli of the formulation */
+} dtm_operator_coeffs;
+
 /* One block of elements of one type, as the effects see it. */
 typedef struct {
   int type;                       /* DTM_TET4, ... */
@@ -80,6 +95,14 @@ typedef struct dtm_effect_class {
    * where it does not apply). */
   int (*accuracy)(void *state, const dtm_batch *b, double *hmax, double *res);
   const char *accuracy_view; /* view name for res, e.g. "cohesive zone resolution" */
+  /* Optional, DTM_ROLE_LIMITS: the coefficients of the effect's problem for
+   * material m; kind DTM_OP_NONE when the effect is not spectral. */
+  int (*coefficients)(void *state, const dtm_material *m, dtm_operator_coeffs *c);
+  /* Optional, DTM_ROLE_MODIFIES_WAVES: equivalent Rayleigh coefficients of
+   * material m's damping, C = alpha M + beta K, given the top frequency
+   * omega_top (a constant xi becomes beta = 2 xi / omega_top). */
+  int (*rayleigh)(void *state, const dtm_material *m, double omega_top, double *alpha,
+                  double *beta);
   /* Free the state and set *state to NULL (optional). */
   void (*destroy)(void **state);
 } dtm_effect_class;

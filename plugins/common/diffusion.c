@@ -1,16 +1,17 @@
 /* The diffusion kernel loop shared by the thermal and hydraulic effects:
- * per element 2/lambda_max(Ce^-1 Ke) with the material's diffusivity, and
- * the characteristic length sqrt(2 D dt). */
+ * per element 2/lambda_max(Ce^-1 Ke) with the material's diffusivity, the
+ * characteristic length sqrt(2 D dt), and the operator coefficients. */
 #include <math.h>
+#include <string.h>
 
 #include "diffusion.h"
 
-int dtm_diffusion_element_dt(dtm_diffusivity_fn diffusivity, const dtm_batch *b,
-                             double *dt, double *len) {
+int dtm_diffusion_element_dt(dtm_diffusion_coeffs_fn coeffs, const dtm_batch *b, double *dt,
+                             double *len) {
   const dtm_material *last = NULL;
-  double D = 0;
+  double D = 0, k, c;
   for (size_t e = 0; e < b->n; e++) {
-    if (b->mat[e] != last) last = b->mat[e], D = diffusivity(last);
+    if (b->mat[e] != last) last = b->mat[e], coeffs(last, &k, &c), D = k / c;
     double lambda;
     if (dtm_kernel_diffusion_lambda(b->type, D, b->x + 3 * (size_t)b->nn * e, &lambda))
       return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type),
@@ -18,5 +19,13 @@ int dtm_diffusion_element_dt(dtm_diffusivity_fn diffusivity, const dtm_batch *b,
     dt[e] = 2.0 / lambda;
     len[e] = sqrt(2.0 * D * dt[e]);
   }
+  return DTM_OK;
+}
+
+int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_material *m,
+                               dtm_operator_coeffs *c) {
+  memset(c, 0, sizeof *c);
+  c->kind = DTM_OP_DIFFUSION;
+  coeffs(m, &c->conductivity, &c->capacity);
   return DTM_OK;
 }

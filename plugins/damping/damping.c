@@ -32,14 +32,18 @@ static int damping_create(const dtm_effect_args *a, void **state) {
   return DTM_OK;
 }
 
-/* xi at omega for the material, its own values first. */
+/* The material's (xi, alpha, beta) if it gives any, else the global ones. */
+static damping_state coeffs_for(const damping_state *s, const dtm_material *m) {
+  const unsigned bx = DTM_PROP_BIT(DTM_PROP_XI), ba = DTM_PROP_BIT(DTM_PROP_ALPHA), bb = DTM_PROP_BIT(DTM_PROP_BETA);
+  if (!(m->have & (bx | ba | bb))) return *s;
+  return (damping_state){(m->have & bx) ? m->prop[DTM_PROP_XI] : 0.0, (m->have & ba) ? m->prop[DTM_PROP_ALPHA] : 0.0,
+                         (m->have & bb) ? m->prop[DTM_PROP_BETA] : 0.0};
+}
+
+/* xi at omega for the material. */
 static double xi_at(const damping_state *s, const dtm_material *m, double omega) {
-  unsigned own = m->have & (DTM_PROP_BIT(DTM_PROP_XI) | DTM_PROP_BIT(DTM_PROP_ALPHA) | DTM_PROP_BIT(DTM_PROP_BETA));
-  double xi = own ? 0.0 : s->xi, a = own ? 0.0 : s->alpha, b = own ? 0.0 : s->beta;
-  if (m->have & DTM_PROP_BIT(DTM_PROP_XI)) xi = m->prop[DTM_PROP_XI];
-  if (m->have & DTM_PROP_BIT(DTM_PROP_ALPHA)) a = m->prop[DTM_PROP_ALPHA];
-  if (m->have & DTM_PROP_BIT(DTM_PROP_BETA)) b = m->prop[DTM_PROP_BETA];
-  return xi + a / (2.0 * omega) + b * omega / 2.0;
+  damping_state c = coeffs_for(s, m);
+  return c.xi + c.alpha / (2.0 * omega) + c.beta * omega / 2.0;
 }
 
 /* sqrt(1 + xi^2) - xi, written as 1/(sqrt(1 + xi^2) + xi) so that it keeps
@@ -47,6 +51,17 @@ static double xi_at(const damping_state *s, const dtm_material *m, double omega)
 static int damping_factor(void *state, const dtm_material *m, double omega, double *factor) {
   double xi = xi_at(state, m, omega);
   *factor = 1.0 / (sqrt(1.0 + xi * xi) + xi);
+  return DTM_OK;
+}
+
+/* Equivalent Rayleigh coefficients: a constant xi is charged to the
+ * stiffness term at the top frequency, beta = 2 xi / omega_top, so that
+ * xi(omega_top) is the scene's value. */
+static int damping_rayleigh(void *state, const dtm_material *m, double omega_top, double *alpha,
+                            double *beta) {
+  damping_state c = coeffs_for(state, m);
+  *alpha = c.alpha;
+  *beta = c.beta + 2.0 * c.xi / omega_top;
   return DTM_OK;
 }
 
@@ -65,5 +80,6 @@ const dtm_effect_class dtm_effect_damping = {
     .exponent = 0.0,
     .create = damping_create,
     .wave_factor = damping_factor,
+    .rayleigh = damping_rayleigh,
     .destroy = damping_destroy,
 };

@@ -90,6 +90,13 @@ static int elastic_element_dt(void *state, const dtm_batch *b, double *dt, doubl
   return DTM_OK;
 }
 
+static int elastic_coefficients(void *state, const dtm_material *m, dtm_operator_coeffs *c) {
+  memset(c, 0, sizeof *c);
+  c->kind = DTM_OP_ELASTIC;
+  c->capacity = m->prop[DTM_PROP_RHO];
+  return moduli_of(state, m, &c->mod);
+}
+
 static void elastic_destroy(void **state) {
   free(*state);
   *state = NULL;
@@ -105,5 +112,6 @@ const dtm_effect_class dtm_effect_elastic = {
     .exponent = 1.0,
     .create = elastic_create,
     .element_dt = elastic_element_dt,
+    .coefficients = elastic_coefficients,
     .destroy = elastic_destroy,
 };

@@ -1,0 +1,71 @@
+/* The global, matrix-free (element-by-element) operators of a spectral
+ * effect on a whole mesh: the lumped "mass" diagonal M and the stiffness K
+ * of linear elasticity or scalar diffusion, their symmetric scaling
+ * M^-1/2 K M^-1/2, Rayleigh damping C = alpha M + beta K element by element,
+ * the Lanczos estimate of lambda_max(M^-1 K) with a residual bracket, and
+ * the explicit time integration `dtmap verify` runs.
+ * Unknowns: ncomp per node (elastic: the analysed dimension d, in the global
+ * x, y, z components, so 2D meshes must lie in a plane z = const and 1D
+ * meshes along x; diffusion: 1), numbered node-major: dof = node*ncomp + c. */
+#ifndef DTMAP_OPERATOR_H
+#define DTMAP_OPERATOR_H
+
+#include <stddef.h>
+
+#include "dtmap/effect.h"
+#include "dtmap/mesh.h"
+
+typedef struct dtm_operator dtm_operator;
+
+/* Per-material coefficients: coef[i] for the mesh's material index i
+ * (dtm_block.mat), all of the same kind (DTM_OP_ELASTIC or DTM_OP_DIFFUSION);
+ * alpha[i], beta[i] Rayleigh damping per material (NULL: undamped). The
+ * operator copies what it needs; the mesh must outlive it. */
+int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
+                        const double *alpha, const double *beta, int nmat,
+                        dtm_operator **out);
+void dtm_operator_destroy(dtm_operator **op);
+
+size_t dtm_operator_ndof(const dtm_operator *op);
+int dtm_operator_ncomp(const dtm_operator *op);
+/* Lumped diagonal [ndof] (kg, or J/K ...); 0 for nodes of no element. */
+const double *dtm_operator_mass(const dtm_operator *op);
+/* y = K u ([ndof] each). */
+void dtm_operator_apply(const dtm_operator *op, const double *u, double *y);
+/* y = M^-1/2 K M^-1/2 x; dofs with zero mass give 0. */
+void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y);
+/* y = C v with C = sum_e (alpha_e M_e + beta_e K_e). */
+void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y);
+
+typedef struct {
+  double theta;     /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
+  double residual;  /* ||A y - theta y|| for the unit Ritz vector y: an
+                       eigenvalue lies in [theta - residual, theta + residual] */
+  int iterations;   /* matrix-vector products */
+  int converged;    /* residual <= tol * theta */
+  double seconds;   /* wall time */
+  double *mode;     /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
+                       normalised so that u^T M u = 1 (owned, free()) */
+} dtm_lanczos_result;
+
+/* Lanczos on M^-1/2 K M^-1/2 from a seeded random start, at most maxit
+ * products, stopping when residual <= tol * theta. */
+int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed,
+                    dtm_lanczos_result *r);
+
+typedef struct {
+  int steps;          /* steps taken */
+  double growth;      /* max over the last half of the run of the energy
+                         norm, divided by its initial value */
+  int unstable;       /* growth > 1e6, or any non-finite value */
+  double seconds;
+} dtm_verify_result;
+
+/* Integrate from u0 [ndof]: elastic by central differences with lumped mass
+ * and the damping force on the lagged velocity v_{n-1/2} (starting at rest:
+ * u_{-1} = u_0); diffusion by forward Euler. The energy norm is
+ * sqrt(u^T K u + v^T M v) (elastic) or sqrt(u^T M u) (diffusion). */
+int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0,
+                   dtm_verify_result *r);
+
+#endif
