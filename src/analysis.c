@@ -184,14 +184,13 @@ static void summarize(dtm_analysis *a) {
   for (size_t i = 0; i < a->nel; i++)
     if (a->dt[i] < a->dt_min) a->dt_min = a->dt[i], a->el_min = i;
   for (int k = 0; k < a->neffects; k++) {
-    a->per_effect[k].min = NAN;
+    a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
     if (!a->dt_effect[k]) continue;
     double best = INFINITY;
     for (size_t i = 0; i < a->nel; i++)
       if (a->dt_effect[k][i] < best) best = a->dt_effect[k][i], a->per_effect[k].element = i;
     a->per_effect[k].min = best;
   }
-  a->recommended = a->scene->safety * a->dt_min;
 }
 
 int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects,
@@ -208,6 +207,10 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
   if (r == DTM_OK) summarize(a), r = dtm_size_suggest(a);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
+  t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_nodal_bounds(a);
+  if (r == DTM_OK) dtm_recommend(a);
+  a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
   if (r) {
     dtm_analysis_destroy(&a);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -233,6 +236,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->limiting);
   free(a->h);
   free(a->size_node);
+  free(a->nodal_node);
   free(a);
   *pa = NULL;
 }

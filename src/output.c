@@ -38,11 +38,11 @@ static int check_target(const dtm_analysis *a, const char *path) {
   return DTM_OK;
 }
 
-/* Node data over the nodes that carry a value. */
-static size_t node_view(const dtm_analysis *a, size_t *tags, double *vals) {
+/* Node data over the nodes that carry a finite value. */
+static size_t node_view(const dtm_analysis *a, const double *src, size_t *tags, double *vals) {
   size_t k = 0;
   for (size_t v = 0; v < a->mesh->nnodes; v++)
-    if (!isnan(a->size_node[v])) tags[k] = a->mesh->node_tags[v], vals[k++] = a->size_node[v];
+    if (isfinite(src[v])) tags[k] = a->mesh->node_tags[v], vals[k++] = src[v];
   return k;
 }
 
@@ -58,6 +58,8 @@ static size_t finite_view(const size_t *etags, const double *src, size_t n, size
 typedef struct {
   size_t *etags, *ntags;   /* element tags [nel], node tags [nnodes] */
   double *lim, *nvals;     /* limiting effect as double [nel], node values [nnodes] */
+  size_t *dtags;           /* node tags of the nodal-dt view [nnodes] */
+  double *dvals;           /* its values [nnodes] */
   char (*names)[96];       /* "dt <effect>" names [neffects] */
   size_t **ftags;          /* [2 neffects] tags of the finite values of a view */
   double **fvals;          /* [2 neffects] those values */
@@ -65,6 +67,8 @@ typedef struct {
 } view_set;
 
 static void free_views(view_set *vs, int ne) {
+  free(vs->dtags);
+  free(vs->dvals);
   for (int j = 0; vs->ftags && j < 2 * ne; j++) free(vs->ftags[j]), free(vs->fvals[j]);
   free(vs->ftags);
   free(vs->fvals);
@@ -82,21 +86,26 @@ static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
   vs->lim = malloc(nel * sizeof *vs->lim);
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
   vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
+  vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
+  vs->dvals = malloc((nn + 1) * sizeof *vs->dvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 4, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 5, sizeof *vs->views);
   vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
   vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
-  if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals)
+  if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
+      !vs->dtags || !vs->dvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < a->mesh->nblocks; b++)
     memcpy(vs->etags + a->offset[b], a->mesh->blocks[b].tags, a->mesh->blocks[b].n * sizeof(size_t));
   for (size_t i = 0; i < nel; i++) vs->lim[i] = a->limiting[i];
-  size_t nnv = node_view(a, vs->ntags, vs->nvals);
+  size_t nnv = node_view(a, a->size_node, vs->ntags, vs->nvals);
+  size_t ndv = node_view(a, a->nodal_node, vs->dtags, vs->dvals);
   int k = 0;
   vs->views[k++] = (dtm_view){"dt", 0, vs->etags, a->dt, nel};
   vs->views[k++] = (dtm_view){"characteristic length", 0, vs->etags, a->len, nel};
   vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
   vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
+  if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv};
   for (size_t j = 0; j < 2 * ne; j++) {
     const dtm_effect_class *c = a->effects[j % ne].cls;
     const double *src = j < ne ? a->dt_effect[j] : a->resolution[j - ne];

@@ -13,7 +13,7 @@
 
 #include "analysis_impl.h"
 
-static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "output"};
+static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "nodal", "global", "output"};
 
 static cJSON *where_json(const dtm_analysis *a, size_t i) {
   cJSON *o = cJSON_CreateObject();
@@ -32,7 +32,9 @@ static cJSON *dt_json(const dtm_analysis *a) {
   cJSON_AddStringToObject(dt, "effect", a->effects[a->limiting[a->el_min]].cls->name);
   cJSON_AddNumberToObject(dt, "safety", a->scene->safety);
   cJSON_AddNumberToObject(dt, "recommended", a->recommended);
-  cJSON_AddStringToObject(dt, "basis", "element bound");
+  cJSON_AddStringToObject(dt, "basis", a->basis);
+  if (isfinite(a->dt_nodal)) cJSON_AddNumberToObject(dt, "nodal", a->dt_nodal);
+  if (isfinite(a->dt_global)) cJSON_AddNumberToObject(dt, "global", a->dt_global);
   if (a->scene->target > 0) cJSON_AddNumberToObject(dt, "target", a->scene->target);
   return dt;
 }
@@ -43,7 +45,12 @@ static cJSON *effects_detail(const dtm_analysis *a) {
     cJSON *o = a->dt_effect[k] ? where_json(a, a->per_effect[k].element) : cJSON_CreateObject();
     cJSON_AddStringToObject(o, "name", a->effects[k].cls->name);
     cJSON_AddNumberToObject(o, "index", k);
-    if (a->dt_effect[k]) cJSON_AddNumberToObject(o, "min", a->per_effect[k].min);
+    const dtm_effect_min *pe = &a->per_effect[k];
+    if (a->dt_effect[k]) cJSON_AddNumberToObject(o, "min", pe->min);
+    if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
+    if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)a->mesh->node_tags[pe->node]);
+    if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
+    if (a->dt_effect[k]) cJSON_AddNumberToObject(o, "safe", pe->safe);
     cJSON_AddItemToArray(arr, o);
   }
   return arr;

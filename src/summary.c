@@ -42,8 +42,10 @@ static void print_min(const dtm_analysis *a, FILE *f) {
     print_where(a, a->per_effect[k].element, f);
     fprintf(f, "\n");
   }
-  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (element bound)\n", a->recommended,
-          a->scene->safety, a->dt_min);
+  if (isfinite(a->dt_nodal)) fprintf(f, "nodal bound  %.4e s (%.2fx the element bound)\n", a->dt_nodal, a->dt_nodal / a->dt_min);
+  if (isfinite(a->dt_global)) fprintf(f, "global       %.4e s\n", a->dt_global);
+  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s)\n", a->recommended, a->scene->safety,
+          a->recommended / a->scene->safety, a->basis);
   if (a->scene->target > 0)
     fprintf(f, "target       %.4e s: %s\n", a->scene->target,
             a->recommended >= a->scene->target ? "met" : "NOT met (see the size suggestion view)");

@@ -47,9 +47,12 @@ static void check_views(const cJSON *rep, size_t nel, size_t nnodes) {
   (void)rep;
 }
 
-/* The report's dt.element is the element with the smallest "dt" value, and
- * dt.recommended = safety x dt.min. Tolerance 1e-14 relative: cJSON prints
- * doubles with 17 significant digits, so only the last bit can differ. */
+/* The report's dt.element is the element with the smallest "dt" value;
+ * dt.nodal is the smallest "nodal dt" and is never below dt.min (it is a
+ * bound on the same spectrum, tighter by construction); dt.recommended =
+ * safety x dt.nodal, the best guaranteed-safe estimate without --posterior.
+ * Tolerance 1e-14 relative: cJSON prints doubles with 17 significant
+ * digits, so only the last bit can differ. */
 static void check_report_against_dt(const cJSON *rep) {
   tu_view v;
   assert_int_equal(tu_view_read("dt", &v), 0);
@@ -59,9 +62,18 @@ static void check_report_against_dt(const cJSON *rep) {
   double dtmin = tu_json_number(rep, "dt.min"), safety = tu_json_number(rep, "dt.safety");
   assert_int_equal((size_t)tu_json_number(rep, "dt.element"), v.tags[imin]);
   assert_true(fabs(dtmin - v.values[imin]) <= 1e-14 * dtmin);
-  assert_true(fabs(tu_json_number(rep, "dt.recommended") - safety * dtmin) <= 1e-14 * dtmin);
   assert_true(safety > 0 && safety <= 1);
   tu_view_free(&v);
+  tu_view nd;
+  assert_int_equal(tu_view_read("nodal dt", &nd), 0);
+  assert_string_equal(nd.type, "NodeData");
+  double nmin = INFINITY;
+  for (size_t k = 0; k < nd.n; k++) nmin = fmin(nmin, nd.values[k]);
+  tu_view_free(&nd);
+  double nodal = tu_json_number(rep, "dt.nodal");
+  assert_true(fabs(nodal - nmin) <= 1e-14 * nodal);
+  assert_true(nodal >= dtmin);
+  assert_true(fabs(tu_json_number(rep, "dt.recommended") - safety * nodal) <= 1e-14 * nodal);
 }
 
 static void run_scene(void **state) {

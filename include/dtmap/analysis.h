@@ -12,12 +12,17 @@
 #include "dtmap/scene.h"
 
 typedef struct {
-  double min;        /* smallest step of this effect, s (NaN if it does not limit) */
+  double min;        /* smallest element step of this effect, s (NaN if it does not limit) */
   size_t element;    /* global element index where it occurs */
+  double nodal;      /* its nodal bound, s (NaN if not spectral) */
+  size_t node;       /* node index where the nodal bound occurs */
+  double global;     /* its global (Lanczos) estimate, s (NaN if not computed) */
+  double safe;       /* the step dtmap vouches for, s: global (safe side of the
+                        bracket) if converged, else nodal, else element */
 } dtm_effect_min;
 
 /* Named stage timings, s. */
-enum { DTM_T_SCENE, DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_OUTPUT, DTM_T_COUNT };
+enum { DTM_T_SCENE, DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_OUTPUT, DTM_T_COUNT };
 
 typedef struct dtm_analysis {
   const dtm_scene *scene;   /* not owned */
@@ -42,7 +47,13 @@ typedef struct dtm_analysis {
   dtm_effect_min *per_effect; /* [neffects] */
   double dt_min;            /* min of dt, s */
   size_t el_min;            /* its global element index */
-  double recommended;       /* safety x dt_min (element bound), s */
+  double *nodal_node;       /* [nnodes] nodal-bound step per node, min over the
+                               spectral effects, s (+inf: no spectral effect) */
+  double dt_nodal;          /* min over nodes of nodal_node, s (NaN: none) */
+  double dt_global;         /* min over effects of the global estimate, s (NaN) */
+  double recommended;       /* safety x the best guaranteed-safe estimate, s */
+  const char *basis;        /* what recommended rests on: "element bound",
+                               "nodal bound" or "global estimate" */
   double timings[DTM_T_COUNT];
   int threads;              /* OpenMP threads used for the element loop */
 } dtm_analysis;
