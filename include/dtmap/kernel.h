@@ -33,10 +33,13 @@ typedef enum {
 /* Characteristic length definitions (the `length=` attribute). */
 typedef enum {
   DTM_LEN_EIGEN = 0,        /* C_D * 2/sqrt(lambda_max(Me^-1 Ke)): provably safe */
-  DTM_LEN_SAFE = 1,         /* 2/sqrt(d+1) (sum_a h_a^-2)^-1/2 on simplices: safe */
+  DTM_LEN_SAFE = 1,         /* 2/sqrt(d+1) (sum_a h_a^-2)^-1/2 on simplices,
+                               2/sqrt(sum_a |grad N_a|^2_L2 / int N_a) on any
+                               type: safe for nu >= 0 */
   DTM_LEN_MIN_EDGE = 2,     /* shortest edge: unsafe */
-  DTM_LEN_MIN_ALTITUDE = 3, /* smallest altitude: unsafe */
-  DTM_LEN_INRADIUS = 4,     /* 2 x inradius: unsafe */
+  DTM_LEN_MIN_ALTITUDE = 3, /* smallest altitude; other types: smallest
+                               width across a facet: unsafe */
+  DTM_LEN_INRADIUS = 4,     /* 2 x inradius = 2 d V / facet measure: unsafe */
   DTM_LEN_VOLUME_AREA = 5   /* V / A_max: unsafe */
 } dtm_length_kind;
 
@@ -56,40 +59,58 @@ typedef struct {
 int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho,
                             dtm_elastic_moduli *m);
 
-/* Topological dimension and node count of a type; DTM_ERR_INPUT for types
- * dtmap does not handle (second order included). */
+/* Topological dimension and node count of a type (either pointer may be
+ * NULL); DTM_ERR_INPUT, with a message naming the Gmsh type code, for
+ * types dtmap does not handle (second order included). */
 int dtm_elem_info(int type, int *dim, int *nn);
 /* Human-readable name of a type ("tet4"), or "unknown". */
 const char *dtm_elem_name(int type);
 /* 1 for line2, tri3 and tet4. */
 int dtm_elem_is_simplex(int type);
 
-/* Length (1D), area (2D) or volume (3D) of the element, m^d. */
+/* Length (1D), area (2D) or volume (3D) of the element, m^d: the integral
+ * of det J, so negative for an inverted 3D element; a warped quadrangle
+ * counts its area projected on its mean plane. NaN for an unknown type.
+ * Raises no error. */
 double dtm_elem_measure(int type, const double *x);
 
 /* Row-sum lumped weights w[nn]: w_a = (integral of N_a) / measure, summing
- * to 1. The lumped mass of node a is rho * measure * w_a. */
+ * to 1 (1/(d+1) on simplices, 1/nn on parallelepipeds, 3/16 for the base
+ * nodes and 1/4 for the apex of an affine pyramid). The lumped mass of node
+ * a is rho * measure * w_a. NaN for a zero-measure element. */
 void dtm_elem_lumped_weights(int type, const double *x, double *w);
 
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
- * with row-sum lumped mass: closed form on simplices, the small symmetric
- * eigenproblem of the fully integrated element otherwise. The element's
- * critical step is 2/sqrt(lambda). Returns 0, or DTM_ERR_INPUT for an
- * inverted or degenerate element or a type/formulation mismatch. */
+ * with row-sum lumped mass: closed form on simplices (accurate to a few eps
+ * of the value the coordinates define), the small symmetric eigenproblem of
+ * the fully integrated element otherwise (quad 2x2, hex 2x2x2, prism
+ * 3-point triangle x 2-point line, pyramid 3x3x3 collapsed Gauss). The
+ * element's critical step is 2/sqrt(lambda). tet4, hex8, prism6 and pyr5
+ * need DTM_FORM_3D, tri3 and quad4 plane strain or plane stress, line2 the
+ * bar. Returns 0, or DTM_ERR_INPUT for an inverted or degenerate element
+ * (Jacobian determinant not safely positive at a quadrature point or node),
+ * a type/formulation mismatch or an unsupported type. The kernel does not
+ * know the element's Gmsh tag: a caller that wants it in the message clears
+ * the error and raises its own. No allocation; tet4 takes ~0.1 us. */
 int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
                               const double *x, double *lambda);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
  * diffusivity alpha (m^2/s) and row-sum lumped capacity. The forward-Euler
- * critical step is 2/lambda. On simplices lambda = (d+1) alpha s_max. */
+ * critical step is 2/lambda. On simplices lambda = (d+1) alpha s_max.
+ * DTM_ERR_INPUT for alpha not finite and > 0, a degenerate or inverted
+ * element or an unsupported type. */
 int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x,
                                 double *lambda);
 
-/* Geometric length of the given kind (m). DTM_LEN_EIGEN is not geometric
- * and returns NaN here. */
+/* Geometric length of the given kind (m); the definitions for each type
+ * are listed in src/kernel/length.c. DTM_LEN_EIGEN is not geometric and
+ * returns NaN here, as do an unknown type and DTM_LEN_SAFE on a degenerate
+ * or inverted element. Raises no error. */
 double dtm_kernel_length(int type, dtm_length_kind kind, const double *x);
 
-/* Largest eigenvalue of the symmetric n x n matrix a (row-major, destroyed). */
+/* Largest eigenvalue of the symmetric n x n matrix a (row-major, n >= 1,
+ * destroyed), by cyclic Jacobi: within a few eps of the matrix norm. */
 double dtm_eig_sym_max(int n, double *a);
 
 #endif

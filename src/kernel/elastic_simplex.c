@@ -16,25 +16,33 @@
  * lam or mu: its 1x1 block is modulus * s with s = 2/L^2, so lambda =
  * 4E/(rho L^2) and dt = 2/sqrt(lambda) = L/c.
  *
- * Numerics (tet4, lam >= 0, the hot path). For usual materials (nu >=
- * 0.045) the top of the normal block is the largest root of its
- * characteristic polynomial, by Newton (normal_top3_poly below): no
- * transcendental function at all. For smaller nu the top of the normal block is
- * t = 2 mu s1 + u, u the root of the secular equation, written with the
- * gaps e_i = s1 - s_i of S (i = 2, 3) as the convex function
- *   F(u) = u - lam s1 - lam sum_i s_i u / (u + 2 mu e_i)
- *        = u - lam s1 - lam u (u sigma + 2 mu kappa) / D(u),
- *   D(u) = u^2 + 2 mu tau u + 4 mu^2 rho = prod_i (u + 2 mu e_i),
- * with tau = e2 + e3, rho = e2 e3, sigma = s2 + s3, kappa = e2 s3 + e3 s2:
- * symmetric in (s2, s3), so dtm_eig3_top's data suffice (one acos, one
- * cos). The root is found on the cubic G = D F (the characteristic
- * polynomial of the normal block, shifted by 2 mu s1), which is convex
- * right of its largest root: Newton from the upper bound u = lam tr S
- * decreases monotonically to the root, so stopping early errs high (a
- * smaller, safe dt). Since G'(u) = D F' >= D / 3 there, every rounding
- * error in the coefficients moves the root by a few eps of (u + lam s1):
- * the result is accurate to a few eps relative. lam <= 0 takes the plain
- * eigenvalues instead. */
+ * Numerics (tet4, the hot path; no allocation, no Jacobi).
+ *  - nu >= 0.045 (lam >= 0.1 mu): the top of the normal block is the
+ *    largest root of its characteristic polynomial, whose coefficients are
+ *    the invariants of S, by Halley's iteration from an upper bound
+ *    (normal_top3_poly): no transcendental function at all.
+ *  - 0 <= nu < 0.045: that root is too close to the next for the
+ *    polynomial, so S's spectrum is taken from dtm_eig3_top (one acos, one
+ *    cos) and the top is t = 2 mu s1 + u, u the root of the secular
+ *    equation, written with the gaps e_i = s1 - s_i (i = 2, 3) as the
+ *    convex function
+ *      F(u) = u - lam s1 - lam sum_i s_i u / (u + 2 mu e_i)
+ *           = u - lam s1 - lam u (u sigma + 2 mu kappa) / D(u),
+ *      D(u) = u^2 + 2 mu tau u + 4 mu^2 rho = prod_i (u + 2 mu e_i),
+ *    with tau = e2 + e3, rho = e2 e3, sigma = s2 + s3, kappa = e2 s3 +
+ *    e3 s2: symmetric in (s2, s3), so a close bottom pair need not be
+ *    split. The root is found on the cubic G = D F (the characteristic
+ *    polynomial of the normal block shifted by 2 mu s1), convex right of
+ *    its largest root: Newton from the upper bound u = lam tr S decreases
+ *    monotonically to the root, so stopping early errs high. Since G'(u) =
+ *    D F' >= D / 3 there, rounding in the coefficients moves the root by a
+ *    few eps of (u + lam s1).
+ *  - nu < 0: the plain eigenvalues of S and of the normal block, plus the
+ *    shear term.
+ * Against a long-double reference on the same coordinates the result is
+ * within ~1e-14 on well-shaped tetrahedra, for every branch. On extreme
+ * slivers both this and the assembled path lose ~eps times the aspect
+ * ratio, because det J itself is computed with cancellation. */
 #include <math.h>
 
 #include "dtmap/error.h"
@@ -62,13 +70,15 @@ static double secular_root(double mu, double lam, const dtm_top3 *t) {
 /* lambda_max of the normal block for tet4 when lam >= LAM_FAST mu: the
  * largest root of its characteristic polynomial
  *   P(t) = t^3 - (2mu+lam) I1 t^2 + 4mu(mu+lam) I2 t - 4mu^2(2mu+3lam) I3
- * (I1, I2, I3 the invariants of S), by Newton from the upper bound
- * 2 mu (q + 2p) + lam I1 (q + 2p = tr S/3 + sqrt(2/3 |S - qI|^2) >= s1,
- * Samuelson; exact for S = qI). The other roots are <= 2 mu s1 <= t1 - lam
- * s1, so P'(t1) >= (lam s1)^2 and the rounding of the invariants (a few
- * eps of |S|^k) moves t1 by ~ eps ((2mu + lam)/lam)^2 relative: < 1e-13
- * for lam >= 0.1 mu (nu >= 0.045). Below that the gap closes and the
- * trigonometric path is used. */
+ * (I1, I2, I3 the invariants of S), by Halley's iteration from the upper
+ * bound 2 mu (q + 2p) + lam I1 (q + 2p = tr S/3 + sqrt(2/3 |S - qI|^2) >=
+ * s1, Samuelson; exact for S = qI, at most ~17% high otherwise). The other
+ * roots are <= 2 mu s1 <= t1 - lam s1, so P'(t1) >= (lam s1)^2 and the
+ * rounding of the invariants (a few eps of |S|^k) moves t1 by ~ eps
+ * ((2mu + lam)/lam)^2 relative: < 1e-13 for lam >= 0.1 mu (nu >= 0.045).
+ * Below that the gap closes and the secular path is used. Halley converges
+ * cubically, so the iteration stops fully converged (not merely from
+ * above): its error is the rounding error just stated. */
 #define LAM_FAST 0.1
 
 static double normal_top3_poly(double mu, double lam, const double S[6]) {

@@ -1,14 +1,14 @@
-/* The element's own frame: every element is moved so that node 0 is the
- * origin (which keeps the Jacobian accurate far from the mesh origin), 2D
- * elements may lie in any plane of space and 1D
- * elements along any line, so before any integration their nodes are
- * expressed in an orthonormal frame of that plane or line. The plane of a
- * 2D element is the one normal to its Newell vector sum (x_i - x_0) x
- * (x_{i+1} - x_0), which is the plane of a flat element and the mean plane
- * of a warped quadrangle; the first axis is the projected edge 0-1. The
- * frame's orientation follows the node order, so 2D elements are never
- * "inverted" as a whole: a collinear triangle is degenerate, a quadrangle
- * whose Jacobian changes sign is caught by dtm_map_first_bad. */
+/* The element's own frame. Every element is moved so that node 0 is the
+ * origin, which keeps the Jacobian accurate far from the mesh origin. 2D
+ * elements may lie in any plane of space and 1D elements along any line,
+ * so before any integration their nodes are expressed in an orthonormal
+ * frame of that plane or line. The plane of a 2D element is the one normal
+ * to its Newell vector sum (x_i - x_0) x (x_{i+1} - x_0): the plane of a
+ * flat element, the mean plane of a warped quadrangle. Its first axis is
+ * the projected edge 0-1. The frame's orientation follows the node order,
+ * so a 2D element is never "inverted" as a whole: a collinear triangle is
+ * degenerate, and a quadrangle whose Jacobian changes sign is caught by
+ * dtm_map_first_bad. */
 #include <math.h>
 #include <string.h>
 

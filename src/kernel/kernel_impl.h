@@ -39,7 +39,8 @@ typedef struct {
 
 /* Full-integration rule of a supported type (see quadrature.c). */
 void dtm_ref_rule(int type, dtm_qrule *q);
-/* Shape functions N[nn] and their gradients dN[nn][3] with respect to the
+/* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
+ * written, unused ones zero) with respect to the
  * reference coordinates (u, v, w), at rule coordinates p. */
 void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]);
 /* Rule coordinates of node a (used to check the Jacobian at the corners). */
