@@ -179,7 +179,19 @@ static int compute_block(const dtm_analysis *a, int b) {
   return DTM_OK;
 }
 
+/* Drop the accuracy rows of effects whose bound applies nowhere (e.g. the
+ * elastic wavelength bound without <time f-max>). */
+static void drop_empty_accuracy(dtm_analysis *a) {
+  for (int k = 0; k < a->neffects; k++) {
+    if (!a->resolution[k]) continue;
+    size_t i = 0;
+    while (i < a->nel && isnan(a->resolution[k][i])) i++;
+    if (i == a->nel) free(a->resolution[k]), a->resolution[k] = NULL;
+  }
+}
+
 static void summarize(dtm_analysis *a) {
+  drop_empty_accuracy(a);
   a->dt_min = INFINITY;
   for (size_t i = 0; i < a->nel; i++)
     if (a->dt[i] < a->dt_min) a->dt_min = a->dt[i], a->el_min = i;
@@ -205,12 +217,13 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   int r = setup(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
-  if (r == DTM_OK) summarize(a), r = dtm_size_suggest(a);
+  if (r == DTM_OK) summarize(a);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
   t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_nodal_bounds(a);
   if (r == DTM_OK) dtm_recommend(a);
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
+  if (r == DTM_OK) r = dtm_size_suggest(a);
   if (r) {
     dtm_analysis_destroy(&a);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -237,6 +250,10 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->h);
   free(a->size_node);
   free(a->nodal_node);
+  for (int k = 0; a->node_dt && k < a->neffects; k++) free(a->node_dt[k]);
+  free(a->node_dt);
+  for (int k = 0; a->global && k < a->neffects; k++) free(a->global[k].mode);
+  free(a->global);
   free(a);
   *pa = NULL;
 }

@@ -49,12 +49,9 @@ static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat,
   return DTM_OK;
 }
 
-static int load_mesh(const dtm_scene *s, dtm_mesh *m, double *t) {
+static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   double t0 = dtm_wtime();
-  int dim, *gm = NULL, def = -1;
-  DTM_CHECK(dtm_gmsh_load(s, &dim));
-  t[DTM_T_MESH] = dtm_wtime() - t0;
-  t0 = dtm_wtime();
+  int *gm = NULL, def = -1;
   m->dim = dim;
   DTM_CHECK(dtm_gmsh_groups(dim, &m->groups, &m->ngroups));
   DTM_CHECK(map_materials(s, m, &gm, &def));
@@ -65,19 +62,28 @@ static int load_mesh(const dtm_scene *s, dtm_mesh *m, double *t) {
 }
 
 int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) {
+  double t0 = dtm_wtime();
+  int dim;
+  DTM_CHECK(dtm_gmsh_load(s, &dim));
+  double t_mesh = dtm_wtime() - t0;
+  DTM_CHECK(dtm_analysis_current(s, dim, out));
+  (*out)->timings[DTM_T_MESH] = t_mesh;
+  return DTM_OK;
+}
+
+int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
   double t[DTM_T_COUNT] = {0};
   dtm_mesh *m = calloc(1, sizeof *m);
   dtm_effect *e = NULL;
   int ne = 0;
   if (!m) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  int r = load_mesh(s, m, t);
+  int r = extract_mesh(s, dim, m, t);
   if (r == DTM_OK) r = dtm_effects_create(s, m, &e, &ne);
   if (r) {
     dtm_mesh_destroy(&m);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
   }
   DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
-  (*out)->timings[DTM_T_MESH] = t[DTM_T_MESH];
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
   return DTM_OK;
 }

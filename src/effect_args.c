@@ -41,6 +41,12 @@ int dtm_effect_args_error(const dtm_effect_args *a, const char *fmt, ...) {
 
 int dtm_effect_args_dim(const dtm_effect_args *a) { return a->mesh->dim; }
 
+double dtm_effect_args_fmax(const dtm_effect_args *a) { return a->scene->f_max; }
+
+double dtm_effect_args_per_wavelength(const dtm_effect_args *a) {
+  return a->scene->elements_per_wavelength > 0 ? a->scene->elements_per_wavelength : 10.0;
+}
+
 int dtm_effect_args_ngroups(const dtm_effect_args *a) { return a->mesh->ngroups; }
 
 int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index) {

@@ -138,18 +138,20 @@ static void record_min(dtm_analysis *a, int k, const double *dt) {
 int dtm_nodal_bounds(dtm_analysis *a) {
   size_t nn = a->mesh->nnodes, nm = (size_t)a->scene->nmaterials + 1;
   a->nodal_node = malloc((nn + 1) * sizeof *a->nodal_node);
-  double *dt = malloc((nn + 1) * sizeof *dt), *work = malloc((3 * nn + 1) * sizeof *work);
+  a->node_dt = calloc((size_t)a->neffects + 1, sizeof *a->node_dt);
+  double *work = malloc((3 * nn + 1) * sizeof *work);
   coeff_cache cc = {calloc(nm, sizeof *cc.c), calloc(nm, 1)};
-  int r = (a->nodal_node && dt && work && cc.c && cc.ready) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK
+                                                                    : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t v = 0; v < nn && r == DTM_OK; v++) a->nodal_node[v] = INFINITY;
   for (int k = 0; k < a->neffects && r == DTM_OK; k++) {
     a->per_effect[k].nodal = NAN;
     if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue; /* not spectral */
     memset(cc.ready, 0, nm);
-    r = effect_nodal(a, k, &cc, dt, work);
-    if (r == DTM_OK) record_min(a, k, dt);
+    a->node_dt[k] = malloc((nn + 1) * sizeof **a->node_dt);
+    r = a->node_dt[k] ? effect_nodal(a, k, &cc, a->node_dt[k], work) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    if (r == DTM_OK) record_min(a, k, a->node_dt[k]);
   }
-  free(dt);
   free(work);
   free(cc.c);
   free(cc.ready);

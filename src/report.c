@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "analysis_impl.h"
+#include "dtmap/refine.h"
 
 static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "nodal", "global", "output"};
 
@@ -39,6 +40,18 @@ static cJSON *dt_json(const dtm_analysis *a) {
   return dt;
 }
 
+static cJSON *lanczos_json(const dtm_global_info *g) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "theta", g->theta);
+  cJSON_AddNumberToObject(o, "residual", g->residual);
+  cJSON_AddNumberToObject(o, "iterations", g->iterations);
+  cJSON_AddBoolToObject(o, "converged", g->converged);
+  cJSON_AddNumberToObject(o, "seconds", g->seconds);
+  double br[2] = {g->dt_low, g->dt_high};
+  cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
+  return o;
+}
+
 static cJSON *effects_detail(const dtm_analysis *a) {
   cJSON *arr = cJSON_CreateArray();
   for (int k = 0; k < a->neffects; k++) {
@@ -50,6 +63,7 @@ static cJSON *effects_detail(const dtm_analysis *a) {
     if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
     if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)a->mesh->node_tags[pe->node]);
     if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
+    if (a->global && a->global[k].done) cJSON_AddItemToObject(o, "lanczos", lanczos_json(&a->global[k]));
     if (a->dt_effect[k]) cJSON_AddNumberToObject(o, "safe", pe->safe);
     cJSON_AddItemToArray(arr, o);
   }
@@ -89,6 +103,21 @@ static cJSON *accuracy_json(const dtm_analysis *a) {
   return o;
 }
 
+static cJSON *refine_json(const dtm_analysis *a) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int i = 0; i < a->nrefine; i++) {
+    const dtm_refine_round *r = &a->refine_rounds[i];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "round", i);
+    cJSON_AddNumberToObject(o, "elements", (double)r->elements);
+    cJSON_AddNumberToObject(o, "dt_min", r->dt_min);
+    cJSON_AddNumberToObject(o, "recommended", r->recommended);
+    cJSON_AddNumberToObject(o, "seconds", r->seconds);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
 static cJSON *report_json(const dtm_analysis *a) {
   cJSON *root = cJSON_CreateObject(), *mesh = cJSON_AddObjectToObject(root, "mesh");
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
@@ -101,6 +130,7 @@ static cJSON *report_json(const dtm_analysis *a) {
   cJSON_AddItemToObject(root, "dt", dt_json(a));
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
+  if (a->nrefine) cJSON_AddItemToObject(root, "refine", refine_json(a));
   cJSON *t = cJSON_AddObjectToObject(root, "timings");
   for (int i = 0; i < DTM_T_COUNT; i++) cJSON_AddNumberToObject(t, timing_names[i], a->timings[i]);
   cJSON_AddNumberToObject(t, "threads", a->threads);

@@ -43,7 +43,13 @@ static void print_min(const dtm_analysis *a, FILE *f) {
     fprintf(f, "\n");
   }
   if (isfinite(a->dt_nodal)) fprintf(f, "nodal bound  %.4e s (%.2fx the element bound)\n", a->dt_nodal, a->dt_nodal / a->dt_min);
-  if (isfinite(a->dt_global)) fprintf(f, "global       %.4e s\n", a->dt_global);
+  for (int k = 0; a->global && k < a->neffects; k++) {
+    const dtm_global_info *g = &a->global[k];
+    if (!g->done) continue;
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d products (%.2f s), %s\n", a->effects[k].cls->name,
+            g->dt_low, g->dt_high, g->iterations, g->seconds,
+            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis");
+  }
   fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s)\n", a->recommended, a->scene->safety,
           a->recommended / a->scene->safety, a->basis);
   if (a->scene->target > 0)

@@ -21,6 +21,20 @@ typedef struct {
                         bracket) if converged, else nodal, else element */
 } dtm_effect_min;
 
+/* The global (Lanczos) estimate of one spectral effect. */
+typedef struct {
+  int done;          /* 1 when computed */
+  double theta;      /* largest Ritz value of M^-1 K */
+  double residual;   /* an eigenvalue lies in theta +- residual */
+  int iterations;    /* matrix-vector products */
+  int converged;     /* residual <= tol theta */
+  double seconds;
+  double dt_low;     /* step from theta + residual: the safe side, s */
+  double dt_high;    /* step from theta: never safe to exceed, s */
+  double omega_top;  /* sqrt(theta + residual) (waves), for damping */
+  double *mode;      /* [ndof] top Ritz vector (u^T M u = 1), owned */
+} dtm_global_info;
+
 /* Named stage timings, s. */
 enum { DTM_T_SCENE, DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_OUTPUT, DTM_T_COUNT };
 
@@ -49,11 +63,16 @@ typedef struct dtm_analysis {
   size_t el_min;            /* its global element index */
   double *nodal_node;       /* [nnodes] nodal-bound step per node, min over the
                                spectral effects, s (+inf: no spectral effect) */
+  double **node_dt;         /* [neffects][nnodes] nodal-bound step of each
+                               spectral effect, s; NULL rows otherwise */
   double dt_nodal;          /* min over nodes of nodal_node, s (NaN: none) */
   double dt_global;         /* min over effects of the global estimate, s (NaN) */
   double recommended;       /* safety x the best guaranteed-safe estimate, s */
   const char *basis;        /* what recommended rests on: "element bound",
                                "nodal bound" or "global estimate" */
+  dtm_global_info *global;  /* [neffects], filled by dtm_global_estimate */
+  const struct dtm_refine_round_s *refine_rounds; /* set by `refine` for the report (not owned) */
+  int nrefine;              /* number of refine rounds, 0 otherwise */
   double timings[DTM_T_COUNT];
   int threads;              /* OpenMP threads used for the element loop */
 } dtm_analysis;
@@ -62,6 +81,8 @@ typedef struct dtm_analysis {
  * analysis): load/mesh through Gmsh, map groups to materials, create only
  * the scene's effects, compute. Gmsh must be started. */
 int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out);
+/* The same on the current Gmsh model, already meshed, in dimension dim. */
+int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out);
 /* Compute steps on an already extracted mesh with created effects (used by
  * dtm_analysis_run and by tests on hand-built blocks). Takes ownership of
  * mesh and effects. */
@@ -75,6 +96,32 @@ void dtm_analysis_locate(const dtm_analysis *a, size_t i, int *block, size_t *lo
 size_t dtm_analysis_tag(const dtm_analysis *a, size_t i);
 void dtm_analysis_centroid(const dtm_analysis *a, size_t i, double c[3]);
 int dtm_analysis_group(const dtm_analysis *a, size_t i);
+
+/* The global estimate (--posterior) of every spectral effect: Lanczos on
+ * the lumped-mass generalized problem to relative residual tol, at most
+ * maxit products. A converged estimate enters the recommendation on its
+ * safe side (theta + residual, then the safety factor); an unconverged one
+ * is reported and the nodal bound stays the basis. */
+int dtm_global_estimate(dtm_analysis *a, double tol, int maxit);
+
+/* The operator of spectral effect k (with the scene's damping as Rayleigh
+ * coefficients at omega_top, 0 for none). Caller destroys. */
+struct dtm_operator;
+int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, struct dtm_operator **op);
+
+/* `dtmap verify`: simulate every spectral effect of the analysis (its
+ * global estimate must have run) for steps steps of dt from its top Ritz
+ * mode plus a seeded random part (10% in the M-norm): central differences
+ * with the damping force on the lagged velocity for waves, forward Euler
+ * for diffusion. out[k] gets the result of effect k (steps = 0 when the
+ * effect was not simulated). */
+typedef struct {
+  int simulated;      /* 1 if effect k was simulated */
+  double growth;      /* energy-norm growth (see dtm_verify_result) */
+  int unstable;
+  double seconds;
+} dtm_verify_effect;
+int dtm_verify(const dtm_analysis *a, double dt, int steps, dtm_verify_effect *out);
 
 /* Write the mesh with its views to path atomically, plus path.opt.
  * Refuses to overwrite the scene's input mesh. */

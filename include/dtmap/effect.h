@@ -41,6 +41,10 @@ int dtm_effect_args_dim(const dtm_effect_args *a);
  * groups of the analysed dimension; DTM_ERR_INPUT listing the groups that
  * exist when there is none. */
 int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index);
+/* The scene's <time f-max> (Hz, 0 when unset) and its
+ * elements-per-wavelength (default 10). */
+double dtm_effect_args_fmax(const dtm_effect_args *a);
+double dtm_effect_args_per_wavelength(const dtm_effect_args *a);
 /* Number of physical groups of the analysed dimension. */
 int dtm_effect_args_ngroups(const dtm_effect_args *a);
 

@@ -2,16 +2,23 @@
  * with lumped mass. By default dt_e = 2/sqrt(lambda_max(Me^-1 Ke)), the
  * element eigenvalue bound, which is provably safe; the length formulas users
  * know (`length=`) give dt_e = L_e / C_D instead, and most of them are unsafe
- * on some shapes (see DESIGN.md). The characteristic length is C_D dt_e. */
+ * on some shapes (see DESIGN.md). The characteristic length is C_D dt_e.
+ * With <time f-max=f>, waves up to f must be resolved by N elements per
+ * wavelength (elements-per-wavelength, default 10): the shortest body wave,
+ * the shear wave (speed sqrt(mu/rho); sqrt(E/rho) for a bar), gives the
+ * accuracy bound h <= C_S/(N f) and the view "elements per wavelength". */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "dtmap/effect.h"
+#include "dtmap/topology.h"
 
 typedef struct {
   dtm_formulation form;  /* wave formulation */
   dtm_length_kind kind;  /* how dt_e is obtained */
+  double fmax;           /* highest frequency of interest, Hz (0: none) */
+  double per_wave;       /* elements per wavelength required */
 } elastic_state;
 
 static const char *const form_names[] = {"3d", "plane-strain", "plane-stress", "bar"};
@@ -44,6 +51,8 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   s->form = (dtm_formulation)fi;
   s->kind = (dtm_length_kind)li;
+  s->fmax = dtm_effect_args_fmax(a);
+  s->per_wave = dtm_effect_args_per_wavelength(a);
   *state = s;
   return DTM_OK;
 }
@@ -97,6 +106,29 @@ static int elastic_coefficients(void *state, const dtm_material *m, dtm_operator
   return moduli_of(state, m, &c->mod);
 }
 
+/* Speed of the shortest body wave: shear (bar: the bar wave). */
+static double shear_speed(const dtm_elastic_moduli *m) {
+  return m->form == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho);
+}
+
+static int elastic_accuracy(void *state, const dtm_batch *b, double *hmax, double *res) {
+  const elastic_state *s = state;
+  const dtm_material *last = NULL;
+  dtm_elastic_moduli mod;
+  for (size_t e = 0; e < b->n; e++) {
+    hmax[e] = INFINITY, res[e] = NAN;
+    if (!(s->fmax > 0)) continue;
+    if (b->mat[e] != last) {
+      DTM_CHECK(moduli_of(s, b->mat[e], &mod));
+      last = b->mat[e];
+    }
+    double wavelength = shear_speed(&mod) / s->fmax;
+    hmax[e] = wavelength / s->per_wave;
+    res[e] = wavelength / dtm_elem_mean_edge(b->type, b->x + 3 * (size_t)b->nn * e);
+  }
+  return DTM_OK;
+}
+
 static void elastic_destroy(void **state) {
   free(*state);
   *state = NULL;
@@ -113,5 +145,7 @@ const dtm_effect_class dtm_effect_elastic = {
     .create = elastic_create,
     .element_dt = elastic_element_dt,
     .coefficients = elastic_coefficients,
+    .accuracy = elastic_accuracy,
+    .accuracy_view = "elements per wavelength",
     .destroy = elastic_destroy,
 };

@@ -1,18 +1,17 @@
-/* The dtmap command line: `dtmap run SCENE.xml [-o OUT.msh] [--report R.json]
- * [-j N] [-v|-q]`, `dtmap effects`, `--help`, `--version`. Exit codes: 0 ok,
- * 1 target or verification not met, 2 bad input or usage, 3 internal error. */
-#include <omp.h>
+/* The dtmap command line: dispatch to run, verify, refine, sweep and
+ * effects, plus --help and --version. Exit codes: 0 ok, 1 target or
+ * verification not met, 2 bad input or usage, 3 internal error. */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#include "dtmap/analysis.h"
-#include "dtmap/gmsh.h"
 #include "dtmap/registry.h"
-#include "dtmap/scene.h"
+#include "opts.h"
 
-static const char usage[] =
-    "usage: dtmap run SCENE.xml [-o OUT.msh] [--report R.json] [-j N] [-v|-q]\n"
+const char dtm_cli_usage[] =
+    "usage: dtmap run SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [-j N] [-v|-q]\n"
+    "       dtmap verify SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]\n"
+    "       dtmap refine SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K]\n"
+    "       dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png]\n"
     "       dtmap effects        list the effects a scene can name\n"
     "       dtmap --help | --version\n"
     "\n"
@@ -22,7 +21,22 @@ static const char usage[] =
     "       suggestion' and 'dt <effect>' (open it in Gmsh), plus OUT.msh.opt.\n"
     "  -o OUT.msh       output mesh (default: the scene's <output mesh>, else SCENE_dt.msh)\n"
     "  --report R.json  JSON report (default: the scene's <output report>, if any)\n"
-    "  -j N             threads for the element loop (default: all cores)\n"
+    "  --posterior      also estimate the global step by Lanczos on the lumped-mass\n"
+    "                   problem (--tol T, default 1e-4; --lanczos-max K products, default 400)\n"
+    "  -j N             threads (default: all cores)\n"
+    "\n"
+    "verify simulates the scene's spectral effects on its mesh (central differences\n"
+    "       with the damping force on the lagged velocity; forward Euler for diffusion)\n"
+    "       from the top mode of the global estimate plus a random part, at --factor F x\n"
+    "       the recommended step (default 1) or at --dt DT, for --steps N (default 2000).\n"
+    "       Exit 1 if the energy grows (the step is unstable).\n"
+    "\n"
+    "refine remeshes the scene's geometry with the size suggestion for --target DT as\n"
+    "       the background size field, then Gmsh's optimisers, at most --max-iter K\n"
+    "       rounds (default 3), until the recommended step reaches DT. Exit 1 if not.\n"
+    "\n"
+    "sweep  meshes the scene at each size and tabulates elements, steps, the cost of\n"
+    "       the scene's duration with and without subcycling, and accuracy; CSV + PNG.\n"
     "  -v, -q           more output (Gmsh's messages, error tracebacks) / summary off\n"
     "\n"
     "Element step of the elastic effect, <elastic length=...>:\n"
@@ -36,98 +50,6 @@ static const char usage[] =
     "Exit codes: 0 success, 1 target or verification not met, 2 bad input or usage,\n"
     "3 internal error.\n";
 
-typedef struct {
-  const char *scene;   /* SCENE.xml */
-  const char *out;     /* -o, or NULL */
-  const char *report;  /* --report, or NULL */
-  int threads;         /* -j, 0 = default */
-  int verbosity;       /* 0 quiet, 1 normal, 2 verbose */
-} run_opts;
-
-static int usage_error(const char *fmt, const char *arg) {
-  fprintf(stderr, "dtmap: ");
-  fprintf(stderr, fmt, arg);
-  fprintf(stderr, "\n%s", usage);
-  return DTM_ERR_INPUT;
-}
-
-static int parse_run(int argc, char **argv, run_opts *o) {
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    int has_next = i + 1 < argc;
-    if (!strcmp(a, "-o") && has_next) o->out = argv[++i];
-    else if (!strcmp(a, "--report") && has_next) o->report = argv[++i];
-    else if (!strcmp(a, "-j") && has_next) o->threads = atoi(argv[++i]);
-    else if (!strcmp(a, "-v")) o->verbosity = 2;
-    else if (!strcmp(a, "-q")) o->verbosity = 0;
-    else if (a[0] == '-') return usage_error("unknown option or missing value: %s", a);
-    else if (!o->scene) o->scene = a;
-    else return usage_error("more than one scene: %s", a);
-  }
-  if (!o->scene) return usage_error("%s", "run needs a scene file");
-  if (o->threads < 0) return usage_error("%s", "-j needs a positive number");
-  return DTM_OK;
-}
-
-static int fail(int code, int verbosity) {
-  fprintf(stderr, "dtmap: error: %s\n", dtm_error_message());
-  if (verbosity > 1) fprintf(stderr, "traceback:\n%s", dtm_error_traceback());
-  return code;
-}
-
-/* SCENE_dt.msh in the current directory. */
-static void default_out(const char *scene, char *buf, size_t len) {
-  const char *base = strrchr(scene, '/');
-  base = base ? base + 1 : scene;
-  const char *dot = strrchr(base, '.');
-  int n = dot ? (int)(dot - base) : (int)strlen(base);
-  snprintf(buf, len, "%.*s_dt.msh", n, base);
-}
-
-static int write_outputs(const dtm_analysis *a, const run_opts *o, double *t_out) {
-  char def[4096];
-  const dtm_scene *s = a->scene;
-  const char *out = o->out ? o->out : s->out_mesh;
-  if (!out) default_out(s->path, def, sizeof def), out = def;
-  const char *rep = o->report ? o->report : s->out_report;
-  double t0 = dtm_wtime();
-  DTM_CHECK(dtm_output_write(a, out));
-  *t_out = dtm_wtime() - t0;
-  if (rep) DTM_CHECK(dtm_report_write(a, rep));
-  if (o->verbosity) printf("\nwrote        %s (+ .opt)%s%s\n", out, rep ? ", " : "", rep ? rep : "");
-  return DTM_OK;
-}
-
-static int run_analysis(dtm_scene *s, const run_opts *o, double t_scene) {
-  dtm_analysis *a = NULL;
-  int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
-  if (r == DTM_OK) r = dtm_analysis_run(s, &a);
-  if (r == DTM_OK) {
-    a->timings[DTM_T_SCENE] = t_scene;
-    if (o->verbosity) dtm_summary_print(a, stdout);
-    r = write_outputs(a, o, &a->timings[DTM_T_OUTPUT]);
-  }
-  dtm_analysis_destroy(&a);
-  dtm_gmsh_stop();
-  return r;
-}
-
-static int cmd_run(int argc, char **argv) {
-  run_opts o = {NULL, NULL, NULL, 0, 1};
-  int r = parse_run(argc, argv, &o);
-  if (r) return r;
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-  dtm_scene *s = NULL;
-  double t0 = dtm_wtime();
-  r = dtm_scene_load(o.scene, &s);
-  if (r == DTM_OK) {
-    if (o.verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
-    r = run_analysis(s, &o, dtm_wtime() - t0);
-  }
-  dtm_scene_destroy(&s);
-  return r ? fail(r, o.verbosity) : 0;
-}
-
 static int cmd_effects(void) {
   for (int i = 0; i < dtm_registry_count(); i++) {
     const dtm_effect_class *c = dtm_registry_get(i);
@@ -139,9 +61,11 @@ static int cmd_effects(void) {
 
 int main(int argc, char **argv) {
   const char *cmd = argc > 1 ? argv[1] : "";
-  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return printf("%s", usage), 0;
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return printf("%s", dtm_cli_usage), 0;
   if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;
-  if (!strcmp(cmd, "run")) return cmd_run(argc, argv);
+  if (!strcmp(cmd, "run")) return dtm_cli_run(argc, argv, 0);
+  if (!strcmp(cmd, "verify")) return dtm_cli_run(argc, argv, 1);
+  if (!strcmp(cmd, "refine")) return dtm_cli_refine(argc, argv);
   if (!strcmp(cmd, "effects")) return cmd_effects();
-  return usage_error(argc > 1 ? "unknown command '%s'" : "%s", argc > 1 ? cmd : "no command given");
+  return dtm_cli_usage_error(argc > 1 ? "unknown command '%s'" : "%s", argc > 1 ? cmd : "no command given");
 }

@@ -1,0 +1,44 @@
+/* What a run costs, and the two ways around a small step that do not
+ * remesh: mass scaling and subcycling. Computed from an analysis's dt map.
+ * Arrays over elements follow the analysis's global element order. */
+#ifndef DTMAP_COST_H
+#define DTMAP_COST_H
+
+#include <stddef.h>
+
+#include "dtmap/analysis.h"
+
+/* Mass scaling to reach the target step dt_t. As explicit codes do it, mass
+ * is added only to elements whose own wave step dt_e (the smallest over
+ * the wave-type effects, damping included) is below dt_t: their mass grows
+ * by (dt_t/dt_e)^2, since dt ~ sqrt(m). Elements limited only by
+ * non-wave effects get none (mass does not change a diffusion limit). */
+typedef struct {
+  double target;         /* dt_t, s */
+  double *added;         /* [nel] added mass, kg (per unit thickness in 2D) */
+  double total_mass;     /* mass of the analysed elements, kg */
+  double total_added;    /* sum of added, kg */
+  size_t scaled;         /* elements that receive mass */
+  int ngroups;           /* mesh groups + 1: the last slot is "no group" */
+  double *group_mass;    /* [ngroups] */
+  double *group_added;   /* [ngroups] */
+} dtm_mass_scaling;
+
+int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dtm_mass_scaling *ms);
+void dtm_mass_scaling_free(dtm_mass_scaling *ms);
+
+/* Subcycling levels: element e is on level k when its step lies in
+ * [dt_min 2^k, dt_min 2^(k+1)), dt_min the smallest element step. The ideal
+ * speed-up over one global step is N / sum_k N_k 2^-k. */
+#define DTM_MAX_LEVELS 64
+typedef struct {
+  int *level;                   /* [nel] */
+  int nlevels;                  /* highest level + 1 */
+  size_t count[DTM_MAX_LEVELS]; /* elements per level */
+  double speedup;               /* N / sum_k N_k 2^-k */
+} dtm_subcycling;
+
+int dtm_subcycling_compute(const dtm_analysis *a, dtm_subcycling *sc);
+void dtm_subcycling_free(dtm_subcycling *sc);
+
+#endif

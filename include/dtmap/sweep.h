@@ -1,0 +1,40 @@
+/* `dtmap sweep`: what accuracy costs in run time. The scene is meshed at
+ * each requested size and analysed; each row gives the mesh, the steps, the
+ * number of steps and the cost of the scene's duration with and without
+ * subcycling, the accuracy indicators, and dtmap's own time. */
+#ifndef DTMAP_SWEEP_H
+#define DTMAP_SWEEP_H
+
+#include <stddef.h>
+
+#include "dtmap/scene.h"
+
+typedef struct {
+  double h;               /* <meshing size> used, m */
+  size_t elements;        /* analysed elements */
+  size_t nodes;
+  double dt_min;          /* smallest element step, s */
+  double recommended;     /* recommended step, s */
+  double steps;           /* duration / recommended (NaN without a duration) */
+  double cost;            /* element-steps: elements x steps */
+  double cost_subcycled;  /* element-steps with ideal subcycling: cost / speed-up */
+  double per_zone;        /* smallest elements-per-process-zone (view "cohesive
+                             zone resolution"), NaN without a cohesive effect */
+  double per_wavelength;  /* smallest elements-per-wavelength (view "elements
+                             per wavelength"), NaN without <time f-max> */
+  double seconds;         /* dtmap's wall time for this size */
+} dtm_sweep_row;
+
+/* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each
+ * of the n sizes. rows[n] is filled in the order given. */
+int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows);
+/* Print the table (stream is a FILE *). */
+void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream);
+/* Write one CSV row per size, with a header line, atomically. */
+int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n);
+/* Draw cost (element-steps, with and without subcycling) against accuracy
+ * (elements per wavelength or per zone when available, else 1/h) on log
+ * axes with PLplot into a PNG, atomically. */
+int dtm_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
+
+#endif
