@@ -30,10 +30,11 @@ static int alloc_results(dtm_analysis *a) {
   a->limiting = malloc(n * sizeof *a->limiting);
   a->h = malloc(n * sizeof *a->h);
   a->hmax = malloc(n * sizeof *a->hmax);
+  a->hmax_by = malloc(n * sizeof *a->hmax_by);
   a->resolution = calloc(ne + 1, sizeof *a->resolution);
   a->dt_effect = calloc(ne + 1, sizeof *a->dt_effect);
   a->per_effect = calloc(ne + 1, sizeof *a->per_effect);
-  if (!a->dt || !a->len || !a->limiting || !a->h || !a->hmax || !a->resolution || !a->dt_effect ||
+  if (!a->dt || !a->len || !a->limiting || !a->h || !a->hmax || !a->hmax_by || !a->resolution || !a->dt_effect ||
       !a->per_effect)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for %zu elements", n);
   for (size_t k = 0; k < ne; k++) {
@@ -106,12 +107,13 @@ typedef struct {
 /* Accuracy bounds of the chunk: hmax = min over effects, plus each
  * effect's resolution values. */
 static int accuracy_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, double *hm) {
-  for (size_t e = 0; e < bt->n; e++) a->hmax[g0 + e] = INFINITY;
+  for (size_t e = 0; e < bt->n; e++) a->hmax[g0 + e] = INFINITY, a->hmax_by[g0 + e] = -1;
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!ef->cls->accuracy) continue;
     DTM_CHECK(ef->cls->accuracy(ef->state, bt, hm, a->resolution[k] + g0));
-    for (size_t e = 0; e < bt->n; e++) a->hmax[g0 + e] = fmin(a->hmax[g0 + e], hm[e]);
+    for (size_t e = 0; e < bt->n; e++)
+      if (hm[e] < a->hmax[g0 + e]) a->hmax[g0 + e] = hm[e], a->hmax_by[g0 + e] = k;
   }
   return DTM_OK;
 }
@@ -239,6 +241,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   for (int k = 0; a->resolution && k < a->neffects; k++) free(a->resolution[k]);
   free(a->resolution);
   free(a->hmax);
+  free(a->hmax_by);
   dtm_effects_destroy(&a->effects, a->neffects);
   dtm_mesh_destroy(&a->mesh);
   free(a->dt_effect);

@@ -99,7 +99,15 @@ static cJSON *accuracy_json(const dtm_analysis *a) {
   cJSON_AddItemToObject(o, "under_resolved_elements", under_resolved_list(a));
   cJSON_AddNumberToObject(o, "listed_at_most", MAX_LISTED);
   cJSON_AddNumberToObject(o, "target_conflicts", (double)a->conflicts);
-  if (a->conflicts) cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", a->dt_accuracy_cap);
+  if (a->conflicts) {
+    size_t i = a->cap_element;
+    cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", a->dt_accuracy_cap);
+    cJSON_AddStringToObject(o, "binding_bound", a->effects[a->hmax_by[i]].cls->accuracy_view);
+    cJSON_AddNumberToObject(o, "binding_hmax", a->hmax[i]);
+    cJSON_AddNumberToObject(o, "binding_element", (double)dtm_analysis_tag(a, i));
+    if (a->scene->duration > 0)
+      cJSON_AddNumberToObject(o, "element_steps_at_cap", (double)a->nel * a->scene->duration / a->dt_accuracy_cap);
+  }
   return o;
 }
 

@@ -76,7 +76,7 @@ static void element_accounting(dtm_analysis *a, double target) {
     double cap = a->scene->safety * step_at_bound(a, i);
     if (cap >= target) continue;
     a->conflicts++;
-    if (isnan(a->dt_accuracy_cap) || cap < a->dt_accuracy_cap) a->dt_accuracy_cap = cap;
+    if (isnan(a->dt_accuracy_cap) || cap < a->dt_accuracy_cap) a->dt_accuracy_cap = cap, a->cap_element = i;
   }
 }
 

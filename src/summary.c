@@ -42,7 +42,10 @@ static void print_min(const dtm_analysis *a, FILE *f) {
     print_where(a, a->per_effect[k].element, f);
     fprintf(f, "\n");
   }
-  if (isfinite(a->dt_nodal)) fprintf(f, "nodal bound  %.4e s (%.2fx the element bound)\n", a->dt_nodal, a->dt_nodal / a->dt_min);
+  for (int k = 0; k < a->neffects; k++)
+    if (isfinite(a->per_effect[k].nodal))
+      fprintf(f, "nodal bound  %-10s %.4e s (%.2fx its element bound)\n", a->effects[k].cls->name,
+              a->per_effect[k].nodal, a->per_effect[k].nodal / a->per_effect[k].min);
   for (int k = 0; a->global && k < a->neffects; k++) {
     const dtm_global_info *g = &a->global[k];
     if (!g->done) continue;
@@ -89,13 +92,21 @@ static void print_smallest(const dtm_analysis *a, FILE *f) {
 static void print_accuracy(const dtm_analysis *a, FILE *f) {
   for (int k = 0; k < a->neffects; k++) {
     if (!a->resolution[k]) continue;
-    fprintf(f, "accuracy     %s: %zu element(s) coarser than the accuracy bound (view '%s')\n",
-            a->effects[k].cls->name, a->under_resolved, a->effects[k].cls->accuracy_view);
+    size_t n = 0;
+    for (size_t i = 0; i < a->nel; i++) n += a->h[i] > a->hmax[i] && a->hmax_by[i] == k;
+    fprintf(f, "accuracy     %s: %zu element(s) coarser than its accuracy bound (view '%s')\n",
+            a->effects[k].cls->name, n, a->effects[k].cls->accuracy_view);
   }
-  if (a->conflicts)
-    fprintf(f, "conflict     the target %.4e s needs larger elements than accuracy allows at %zu "
-               "element(s); at the accuracy bound the step is capped at %.4e s\n",
-            a->scene->target, a->conflicts, a->dt_accuracy_cap);
+  if (!a->conflicts) return;
+  size_t i = a->cap_element;
+  const dtm_effect_class *c = a->effects[a->hmax_by[i]].cls;
+  fprintf(f, "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
+             "             below the target %.4e s at %zu element(s)",
+          c->accuracy_view, a->hmax[i], dtm_analysis_tag(a, i), a->dt_accuracy_cap, a->scene->target, a->conflicts);
+  if (a->scene->duration > 0)
+    fprintf(f, ";\n             the duration %.4g s then costs %.4g element-steps", a->scene->duration,
+            (double)a->nel * a->scene->duration / a->dt_accuracy_cap);
+  fprintf(f, "\n");
 }
 
 static void print_histogram(const dtm_analysis *a, FILE *f) {

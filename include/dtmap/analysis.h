@@ -51,12 +51,14 @@ typedef struct dtm_analysis {
   double **dt_effect;       /* [neffects][nel]; NULL rows for non-limiting effects */
   double *h;                /* [nel] element size (mean edge length), m */
   double *hmax;             /* [nel] accuracy bound on the size, m (+inf: none) */
+  int *hmax_by;             /* [nel] effect whose bound hmax is, -1: none */
   double **resolution;      /* [neffects][nel] accuracy view values; NULL rows
                                for effects without an accuracy bound */
   size_t under_resolved;    /* elements with h > hmax */
   size_t conflicts;         /* elements whose target size exceeds hmax */
-  double dt_accuracy_cap;   /* smallest step allowed at h = hmax among the
-                               conflicting elements, s (NaN: no conflict) */
+  double dt_accuracy_cap;   /* smallest recommended step allowed at h = hmax
+                               among the conflicting elements, s (NaN: none) */
+  size_t cap_element;       /* global index of that element */
   double *size_node;        /* [nnodes] size suggestion, m */
   dtm_effect_min *per_effect; /* [neffects] */
   double dt_min;            /* min of dt, s */
