@@ -1,0 +1,119 @@
+/* Subcycling levels on a hand-built mesh of bars (elastic, bar
+ * formulation, dt_e = L_e/c): lengths L, 2L, 2L, 4L, 5L give levels 0, 1, 1,
+ * 2, 2 and the ideal speed-up N / sum_k N_k 2^-k = 5/(1 + 2/2 + 2/4) = 2.
+ * L = 0.25 m and integer node positions keep every length exact, so the
+ * steps scale by exact powers of two and the 2L and 4L bars sit exactly on
+ * a level boundary. Then the level rule itself, on hand-set steps: a step
+ * exactly dt_min 2^k is on level k, one ulp below is on level k - 1,
+ * infinite steps join the highest finite level, and levels clamp at
+ * DTM_MAX_LEVELS - 1. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/analysis.h"
+#include "dtmap/cost.h"
+
+#define NB 5
+static const double mult[NB] = {1, 2, 2, 4, 5};
+
+static dtm_mesh *bars(double L) {
+  dtm_mesh *m = calloc(1, sizeof *m);
+  m->dim = 1, m->nnodes = NB + 1;
+  m->node_tags = malloc((NB + 1) * sizeof *m->node_tags);
+  m->xyz = calloc(3 * (NB + 1), sizeof *m->xyz);
+  for (int i = 0; i <= NB; i++)
+    m->node_tags[i] = (size_t)i + 1, m->xyz[3 * i] = i ? m->xyz[3 * (i - 1)] + mult[i - 1] * L : 0;
+  m->nblocks = 1;
+  m->blocks = calloc(1, sizeof *m->blocks);
+  dtm_block *b = m->blocks;
+  *b = (dtm_block){DTM_LINE2, 1, 2, NB, malloc(NB * sizeof(size_t)), malloc(2 * NB * sizeof(size_t)),
+                   malloc(NB * sizeof(int)), malloc(NB * sizeof(int))};
+  for (int e = 0; e < NB; e++)
+    b->tags[e] = (size_t)e + 1, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = -1,
+    b->mat[e] = 0;
+  return m;
+}
+
+static dtm_analysis *analyse(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm) {
+  static char *keys[] = {"formulation"}, *vals[] = {"bar"};
+  *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
+  *sm = (dtm_scene_material){{"steel", "mem.xml", 3, {0}, 0}, 1, 0, NULL};
+  sm->m.prop[DTM_PROP_E] = 200e9, sm->m.prop[DTM_PROP_RHO] = 8000;
+  sm->m.have = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO);
+  *s = (dtm_scene){0};
+  s->path = "mem.xml", s->nmaterials = 1, s->materials = sm, s->neffects = 1, s->effects = se, s->safety = 0.9;
+  dtm_mesh *m = bars(0.25);
+  dtm_effect *ef = NULL;
+  int ne = 0;
+  assert_int_equal(dtm_effects_create(s, m, &ef, &ne), 0);
+  dtm_analysis *a = NULL;
+  assert_int_equal(dtm_analysis_compute(s, m, ef, ne, &a), 0);
+  return a;
+}
+
+static void bar_levels(void **unused) {
+  dtm_scene s;
+  dtm_scene_effect se;
+  dtm_scene_material sm;
+  dtm_analysis *a = analyse(&s, &se, &sm);
+  dtm_subcycling sc;
+  assert_int_equal(dtm_subcycling_compute(a, &sc), 0);
+  const int want[NB] = {0, 1, 1, 2, 2};
+  for (int e = 0; e < NB; e++) assert_int_equal(sc.level[e], want[e]);
+  assert_int_equal(sc.nlevels, 3);
+  assert_int_equal(sc.count[0], 1);
+  assert_int_equal(sc.count[1], 2);
+  assert_int_equal(sc.count[2], 2);
+  /* 5 / 2.5: dyadic sums and one division, exact; 1e-15 relative as asked */
+  assert_true(fabs(sc.speedup - 2.0) <= 1e-15 * 2.0);
+  dtm_subcycling_free(&sc);
+  assert_null(sc.level);
+  dtm_analysis_destroy(&a);
+  (void)unused;
+}
+
+/* Overwrite the analysis's dt map with chosen steps (d = dt_min). */
+static void set_steps(dtm_analysis *a, const double *dt, double d) {
+  for (int e = 0; e < NB; e++) a->dt[e] = dt[e];
+  a->dt_min = d;
+}
+
+static void level_rule(void **unused) {
+  dtm_scene s;
+  dtm_scene_effect se;
+  dtm_scene_material sm;
+  dtm_analysis *a = analyse(&s, &se, &sm);
+  const double d = 3.1e-7; /* not a power of two: ldexp(d, k) is still exact */
+  const double dt[NB] = {d, 2 * d, nextafter(2 * d, 0), 8 * d * (1 + 0x1p-52), INFINITY};
+  set_steps(a, dt, d);
+  dtm_subcycling sc;
+  assert_int_equal(dtm_subcycling_compute(a, &sc), 0);
+  const int want[NB] = {0, 1, 0, 3, 3};
+  for (int e = 0; e < NB; e++) assert_int_equal(sc.level[e], want[e]);
+  assert_int_equal(sc.nlevels, 4);
+  /* N / (2 + 1/2 + 2/8) = 5/2.75: 1e-15 relative covers the one rounding */
+  assert_true(fabs(sc.speedup - 5.0 / 2.75) <= 1e-15 * sc.speedup);
+  dtm_subcycling_free(&sc);
+  const double far[NB] = {d, d, d, ldexp(d, 70), ldexp(d, 63)};
+  set_steps(a, far, d);
+  assert_int_equal(dtm_subcycling_compute(a, &sc), 0);
+  assert_int_equal(sc.level[3], DTM_MAX_LEVELS - 1);
+  assert_int_equal(sc.level[4], DTM_MAX_LEVELS - 1);
+  assert_int_equal(sc.nlevels, DTM_MAX_LEVELS);
+  assert_int_equal(sc.count[DTM_MAX_LEVELS - 1], 2);
+  dtm_subcycling_free(&sc);
+  dtm_analysis_destroy(&a);
+  (void)unused;
+}
+
+int main(int argc, char **argv) {
+  (void)argc, (void)argv;
+  const struct CMUnitTest tests[] = {cmocka_unit_test(bar_levels), cmocka_unit_test(level_rule)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
