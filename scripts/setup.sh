@@ -3,7 +3,7 @@
 # they are missing. Needs root (or sudo). Safe to run again.
 set -euo pipefail
 packages=(build-essential cmake pkg-config clang libgmsh-dev gmsh libxml2-dev libxml2-utils
-          libcjson-dev libcmocka-dev)
+          libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -23,6 +23,7 @@ typedef struct {
   double per_wavelength;  /* smallest elements-per-wavelength (view "elements
                              per wavelength"), NaN without <time f-max> */
   double seconds;         /* dtmap's wall time for this size */
+  double speedup;         /* ideal subcycling speed-up N / sum_k N_k 2^-k */
 } dtm_sweep_row;
 
 /* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each
@@ -36,5 +37,10 @@ int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n);
  * (elements per wavelength or per zone when available, else 1/h) on log
  * axes with PLplot into a PNG, atomically. */
 int dtm_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
+/* The same with a title naming the scene (title NULL: "dtmap sweep").
+ * Without a duration (steps NaN) the y axis is the cost per simulated
+ * second, elements / recommended step. DTM_ERR_INPUT when path cannot be
+ * written or no row has a positive, finite cost and accuracy value. */
+int dtm_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
 
 #endif

@@ -1,0 +1,204 @@
+/* The sweep on a real Gmsh geometry written by the test (a 1 m square,
+ * OpenCASCADE, one physical surface, elastic plane strain with f-max): at
+ * sizes 0.2, 0.1, 0.05 m a smaller size gives more elements and smaller
+ * steps; the row's derived columns follow from its own fields; the CSV
+ * reads back with its header and one row per size; the PNG is a real PNG
+ * with a non-zero size in its IHDR chunk. Also the error paths: a <mesh>
+ * scene, bad sizes, unwritable outputs, and the plot of rows without a
+ * duration. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "dtmap/gmsh.h"
+#include "dtmap/scene.h"
+#include "dtmap/sweep.h"
+#include "testutil.h"
+
+#define NS 3
+static const double sizes[NS] = {0.2, 0.1, 0.05};
+static const char header[] =
+    "h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
+    "elements_per_zone,elements_per_wavelength,seconds";
+
+static char path_buf[4][512];
+static const char *in_tmp(int slot, const char *name) {
+  snprintf(path_buf[slot], sizeof path_buf[slot], "%s/%s", tu_tmpdir(), name);
+  return path_buf[slot];
+}
+
+static dtm_scene *square_scene(void) {
+  tu_write(in_tmp(0, "square.geo"),
+           "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\n"
+           "MeshSize{ PointsOf{ Surface{1}; } } = 1; // the sweep's size caps this\n"
+           "Physical Surface(\"plate\") = {1};\n");
+  tu_write(in_tmp(1, "square.xml"),
+           "<dtmap-scene version=\"1\">\n  <geometry file=\"square.geo\"/>\n"
+           "  <meshing size=\"0.1\" min-size=\"0.08\" dim=\"2\"/>\n"
+           "  <material name=\"steel\" groups=\"plate\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+           "  <effects>\n    <elastic formulation=\"plane-strain\"/>\n  </effects>\n"
+           "  <time duration=\"1e-3\" f-max=\"2e4\"/>\n</dtmap-scene>\n");
+  dtm_scene *s = NULL;
+  assert_int_equal(dtm_scene_load(path_buf[1], &s), 0);
+  return s;
+}
+
+/* Within each row: steps, costs and the wavelength indicator follow from
+ * its own fields (1e-15 relative: one division or multiplication each). */
+static void check_row(const dtm_sweep_row *r, double h) {
+  assert_true(r->h == h);
+  assert_true(r->elements > 0 && r->nodes > 0);
+  assert_true(r->dt_min > 0 && r->recommended > 0 && r->recommended <= r->dt_min);
+  assert_true(fabs(r->steps - 1e-3 / r->recommended) <= 1e-15 * r->steps);
+  assert_true(fabs(r->cost - (double)r->elements * r->steps) <= 1e-15 * r->cost);
+  assert_true(r->speedup >= 1.0);
+  assert_true(fabs(r->cost_subcycled - r->cost / r->speedup) <= 1e-15 * r->cost);
+  assert_true(isnan(r->per_zone));
+  assert_true(r->per_wavelength > 0 && isfinite(r->per_wavelength));
+  assert_true(r->seconds > 0);
+}
+
+/* Parse the CSV back: the exact header and one row of 11 fields per
+ * size; h, elements and dt_min agree with the rows to %.9g (5e-9 relative). */
+static void check_csv(const char *path, const dtm_sweep_row *rows) {
+  FILE *f = fopen(path, "r");
+  assert_non_null(f);
+  char line[1024];
+  assert_non_null(fgets(line, sizeof line, f));
+  line[strcspn(line, "\n")] = '\0';
+  assert_string_equal(line, header);
+  int n = 0;
+  while (fgets(line, sizeof line, f)) {
+    double v[11];
+    int k = 0;
+    for (char *p = line, *end; k < 11; p = end + 1) {
+      v[k++] = *p == ',' || *p == '\n' ? NAN : strtod(p, &end);
+      if (isnan(v[k - 1])) end = p;
+      if (*end != ',') break;
+    }
+    assert_int_equal(k, 11);
+    assert_true(n < NS);
+    assert_true(fabs(v[0] - rows[n].h) <= 5e-9 * rows[n].h);
+    assert_true(v[1] == (double)rows[n].elements && v[2] == (double)rows[n].nodes);
+    assert_true(fabs(v[3] - rows[n].dt_min) <= 5e-9 * rows[n].dt_min);
+    assert_true(isnan(v[8]) && v[9] > 0);
+    n++;
+  }
+  fclose(f);
+  assert_int_equal(n, NS);
+}
+
+static uint32_t be32(const unsigned char *p) {
+  return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+/* PNG signature, then the IHDR chunk (length 13) with width and height. */
+static void check_png(const char *path) {
+  static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  unsigned char b[24];
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  assert_int_equal(fread(b, 1, 24, f), 24);
+  fclose(f);
+  assert_memory_equal(b, sig, 8);
+  assert_int_equal(be32(b + 8), 13);
+  assert_memory_equal(b + 12, "IHDR", 4);
+  assert_true(be32(b + 16) > 0 && be32(b + 20) > 0);
+}
+
+static void sweep_square(void **unused) {
+  dtm_scene *s = square_scene();
+  dtm_sweep_row rows[NS];
+  assert_int_equal(dtm_sweep_run(s, sizes, NS, rows), 0);
+  for (int i = 0; i < NS; i++) check_row(&rows[i], sizes[i]);
+  for (int i = 1; i < NS; i++) {
+    assert_true(rows[i].elements > rows[i - 1].elements);
+    assert_true(rows[i].dt_min < rows[i - 1].dt_min);
+    assert_true(rows[i].recommended < rows[i - 1].recommended);
+    assert_true(rows[i].per_wavelength > rows[i - 1].per_wavelength);
+  }
+  dtm_sweep_print(rows, NS, stdout);
+  assert_int_equal(dtm_sweep_write_csv(in_tmp(2, "square_sweep.csv"), rows, NS), 0);
+  check_csv(path_buf[2], rows);
+  assert_int_equal(dtm_sweep_plot_titled(in_tmp(3, "square_sweep.png"), "square.xml", rows, NS), 0);
+  check_png(path_buf[3]);
+  dtm_scene_destroy(&s);
+  (void)unused;
+}
+
+static void expect_error(int r, int code, const char *text) {
+  assert_int_equal(r, code);
+  assert_non_null(strstr(dtm_error_message(), text));
+  dtm_error_clear();
+}
+
+static void bad_input(void **unused) {
+  dtm_scene *s = square_scene();
+  dtm_sweep_row rows[NS];
+  const double bad[2][2] = {{0.1, -0.1}, {NAN, 0.1}};
+  for (int i = 0; i < 2; i++) expect_error(dtm_sweep_run(s, bad[i], 2, rows), DTM_ERR_INPUT, "positive and finite");
+  dtm_scene m = *s;
+  m.geometry = NULL, m.mesh = "square.msh";
+  expect_error(dtm_sweep_run(&m, sizes, NS, rows), DTM_ERR_INPUT, "sweep needs a geometry, not a mesh");
+  dtm_sweep_row one = {.h = 0.1, .elements = 10, .nodes = 8, .dt_min = 1e-6, .recommended = 9e-7, .steps = 10,
+                       .cost = 100, .cost_subcycled = 50, .per_zone = NAN, .per_wavelength = NAN, .speedup = 2};
+  expect_error(dtm_sweep_write_csv("/nonexistent-dir/x.csv", &one, 1), DTM_ERR_INPUT, "cannot write");
+  expect_error(dtm_sweep_plot("/nonexistent-dir/x.png", &one, 1), DTM_ERR_INPUT, "cannot write");
+  dtm_scene_destroy(&s);
+  (void)unused;
+}
+
+/* Without a duration the CSV leaves steps and costs empty and the plot
+ * falls back to cost per simulated second (x = 1/h: no indicator). */
+static void no_duration(void **unused) {
+  dtm_sweep_row r[2];
+  for (int i = 0; i < 2; i++)
+    r[i] = (dtm_sweep_row){.h = 0.1 / (i + 1), .elements = 100u << (2 * i), .nodes = 60u << (2 * i),
+                           .dt_min = 1e-6 / (i + 1), .recommended = 0.9e-6 / (i + 1), .steps = NAN, .cost = NAN,
+                           .cost_subcycled = NAN, .per_zone = NAN, .per_wavelength = NAN, .seconds = 0.01,
+                           .speedup = 1.5};
+  assert_int_equal(dtm_sweep_write_csv(in_tmp(2, "nodur.csv"), r, 2), 0);
+  FILE *f = fopen(path_buf[2], "r");
+  char line[1024];
+  assert_non_null(fgets(line, sizeof line, f));
+  assert_non_null(fgets(line, sizeof line, f));
+  fclose(f);
+  assert_non_null(strstr(line, "9e-07,,,,,,0.01"));
+  assert_int_equal(dtm_sweep_plot(in_tmp(3, "nodur.png"), r, 2), 0);
+  check_png(path_buf[3]);
+  (void)unused;
+}
+
+/* LeakSanitizer (the DTM_SANITIZE build): the plot goes through PLplot,
+ * which loads its cairo driver with libltdl and keeps it, and pango, whose
+ * fontconfig caches live for the process. Both are third-party
+ * process-lifetime allocations, like Gmsh's in tests/lsan.supp; dtmap's own
+ * allocations stay checked. */
+const char *__lsan_default_suppressions(void);
+const char *__lsan_default_suppressions(void) { return "leak:libfontconfig\nleak:libltdl\n"; }
+
+static int setup(void **state) {
+  (void)state;
+  return dtm_gmsh_start(0);
+}
+
+static int teardown(void **state) {
+  (void)state;
+  dtm_gmsh_stop();
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  tu_init(argc, argv);
+  const struct CMUnitTest tests[] = {cmocka_unit_test(sweep_square), cmocka_unit_test(bad_input),
+                                     cmocka_unit_test(no_duration)};
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
