@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "analysis_impl.h"
+#include "dtmap/cost.h"
 #include "dtmap/analysis.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/topology.h"
@@ -207,6 +208,17 @@ static void summarize(dtm_analysis *a) {
   }
 }
 
+/* Subcycling levels always; mass scaling when the scene has a target. */
+static int cost_measures(dtm_analysis *a) {
+  a->subcycling = calloc(1, sizeof *a->subcycling);
+  if (!a->subcycling) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  DTM_CHECK(dtm_subcycling_compute(a, a->subcycling));
+  if (!(a->scene->target > 0)) return DTM_OK;
+  a->mass_scaling = calloc(1, sizeof *a->mass_scaling);
+  if (!a->mass_scaling) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return dtm_mass_scaling_compute(a, a->scene->target / a->scene->safety, a->mass_scaling);
+}
+
 int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects,
                          int neffects, dtm_analysis **out) {
   dtm_analysis *a = calloc(1, sizeof *a);
@@ -226,6 +238,7 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   if (r == DTM_OK) dtm_recommend(a);
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
   if (r == DTM_OK) r = dtm_size_suggest(a);
+  if (r == DTM_OK) r = cost_measures(a);
   if (r) {
     dtm_analysis_destroy(&a);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -242,6 +255,10 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->resolution);
   free(a->hmax);
   free(a->hmax_by);
+  if (a->subcycling) dtm_subcycling_free(a->subcycling);
+  if (a->mass_scaling) dtm_mass_scaling_free(a->mass_scaling);
+  free(a->subcycling);
+  free(a->mass_scaling);
   dtm_effects_destroy(&a->effects, a->neffects);
   dtm_mesh_destroy(&a->mesh);
   free(a->dt_effect);

@@ -60,3 +60,14 @@ void dtm_subcycling_free(dtm_subcycling *sc) {
   free(sc->level);
   sc->level = NULL;
 }
+
+double dtm_cost_element_steps(const dtm_analysis *a) {
+  double d = a->scene->duration;
+  return d > 0 ? (double)a->nel * ceil(d / a->recommended) : NAN;
+}
+
+double dtm_cost_element_steps_subcycled(const dtm_analysis *a) {
+  double d = a->scene->duration;
+  if (!(d > 0)) return NAN;
+  return (double)a->nel * ceil(d / (a->scene->safety * a->dt_min)) / a->subcycling->speedup;
+}

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "analysis_impl.h"
+#include "dtmap/cost.h"
 #include "dtmap/gmsh.h"
 
 void dtm_tmp_path(const char *path, const char *suffix, char *out, size_t len) {
@@ -58,6 +59,7 @@ static size_t finite_view(const size_t *etags, const double *src, size_t n, size
 typedef struct {
   size_t *etags, *ntags;   /* element tags [nel], node tags [nnodes] */
   double *lim, *nvals;     /* limiting effect as double [nel], node values [nnodes] */
+  double *level;           /* subcycling level as double [nel] */
   size_t *dtags;           /* node tags of the nodal-dt view [nnodes] */
   double *dvals;           /* its values [nnodes] */
   char (*names)[96];       /* "dt <effect>" names [neffects] */
@@ -67,6 +69,7 @@ typedef struct {
 } view_set;
 
 static void free_views(view_set *vs, int ne) {
+  free(vs->level);
   free(vs->dtags);
   free(vs->dvals);
   for (int j = 0; vs->ftags && j < 2 * ne; j++) free(vs->ftags[j]), free(vs->fvals[j]);
@@ -89,11 +92,12 @@ static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
   vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
   vs->dvals = malloc((nn + 1) * sizeof *vs->dvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 5, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 7, sizeof *vs->views);
+  vs->level = malloc((nel + 1) * sizeof *vs->level);
   vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
   vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
   if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
-      !vs->dtags || !vs->dvals)
+      !vs->dtags || !vs->dvals || !vs->level)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < a->mesh->nblocks; b++)
     memcpy(vs->etags + a->offset[b], a->mesh->blocks[b].tags, a->mesh->blocks[b].n * sizeof(size_t));
@@ -106,6 +110,9 @@ static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
   vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
   vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
   if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv};
+  for (size_t i = 0; i < nel; i++) vs->level[i] = a->subcycling->level[i];
+  vs->views[k++] = (dtm_view){"subcycling level", 0, vs->etags, vs->level, nel};
+  if (a->mass_scaling) vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, a->mass_scaling->added, nel};
   for (size_t j = 0; j < 2 * ne; j++) {
     const dtm_effect_class *c = a->effects[j % ne].cls;
     const double *src = j < ne ? a->dt_effect[j] : a->resolution[j - ne];

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "analysis_impl.h"
+#include "dtmap/cost.h"
 #include "dtmap/refine.h"
 
 static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "nodal", "global", "output"};
@@ -111,6 +112,58 @@ static cJSON *accuracy_json(const dtm_analysis *a) {
   return o;
 }
 
+static cJSON *subcycling_json(const dtm_analysis *a) {
+  const dtm_subcycling *sc = a->subcycling;
+  cJSON *o = cJSON_CreateObject(), *lv = cJSON_AddArrayToObject(o, "levels");
+  for (int k = 0; k < sc->nlevels; k++) cJSON_AddItemToArray(lv, cJSON_CreateNumber((double)sc->count[k]));
+  cJSON_AddNumberToObject(o, "speedup", sc->speedup);
+  return o;
+}
+
+#define TOP_ADDED 10 /* elements listed with the most added mass */
+
+static cJSON *top_added(const dtm_analysis *a) {
+  const double *m = a->mass_scaling->added;
+  size_t idx[TOP_ADDED];
+  int k = 0;
+  for (size_t i = 0; i < a->nel; i++) {
+    if (!(m[i] > 0) || (k == TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
+    int j = k < TOP_ADDED ? k++ : TOP_ADDED - 1;
+    while (j > 0 && m[idx[j - 1]] < m[i]) idx[j] = idx[j - 1], j--;
+    idx[j] = i;
+  }
+  cJSON *arr = cJSON_CreateArray();
+  for (int r = 0; r < k; r++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, idx[r]));
+    cJSON_AddNumberToObject(o, "added", m[idx[r]]);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
+static cJSON *mass_json(const dtm_analysis *a) {
+  const dtm_mass_scaling *ms = a->mass_scaling;
+  cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
+  char lbl[64];
+  cJSON_AddNumberToObject(o, "element_step_target", ms->target);
+  cJSON_AddNumberToObject(o, "total_mass", ms->total_mass);
+  cJSON_AddNumberToObject(o, "total_added", ms->total_added);
+  cJSON_AddNumberToObject(o, "percent_added", 100.0 * ms->total_added / ms->total_mass);
+  cJSON_AddNumberToObject(o, "elements_scaled", (double)ms->scaled);
+  for (int g = 0; g < ms->ngroups; g++) {
+    if (!(ms->group_mass[g] > 0)) continue;
+    cJSON *go = cJSON_CreateObject();
+    cJSON_AddStringToObject(go, "group", dtm_mesh_group_label(a->mesh, g < a->mesh->ngroups ? g : -1, lbl, sizeof lbl));
+    cJSON_AddNumberToObject(go, "mass", ms->group_mass[g]);
+    cJSON_AddNumberToObject(go, "added", ms->group_added[g]);
+    cJSON_AddNumberToObject(go, "percent_added", 100.0 * ms->group_added[g] / ms->group_mass[g]);
+    cJSON_AddItemToArray(groups, go);
+  }
+  cJSON_AddItemToObject(o, "most_added", top_added(a));
+  return o;
+}
+
 static cJSON *refine_json(const dtm_analysis *a) {
   cJSON *arr = cJSON_CreateArray();
   for (int i = 0; i < a->nrefine; i++) {
@@ -139,6 +192,8 @@ static cJSON *report_json(const dtm_analysis *a) {
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (a->nrefine) cJSON_AddItemToObject(root, "refine", refine_json(a));
+  cJSON_AddItemToObject(root, "subcycling", subcycling_json(a));
+  if (a->mass_scaling) cJSON_AddItemToObject(root, "mass_scaling", mass_json(a));
   cJSON *t = cJSON_AddObjectToObject(root, "timings");
   for (int i = 0; i < DTM_T_COUNT; i++) cJSON_AddNumberToObject(t, timing_names[i], a->timings[i]);
   cJSON_AddNumberToObject(t, "threads", a->threads);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "dtmap/analysis.h"
+#include "dtmap/cost.h"
 
 #define NSMALL 10
 
@@ -109,6 +110,21 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
   fprintf(f, "\n");
 }
 
+static void print_cost(const dtm_analysis *a, FILE *f) {
+  const dtm_subcycling *sc = a->subcycling;
+  fprintf(f, "subcycling   %d level(s) of dt_min x 2^k:", sc->nlevels);
+  for (int k = 0; k < sc->nlevels && k < 8; k++) fprintf(f, " %zu", sc->count[k]);
+  fprintf(f, "%s; ideal speed-up %.2fx\n", sc->nlevels > 8 ? " ..." : "", sc->speedup);
+  if (a->scene->duration > 0)
+    fprintf(f, "cost         %.4g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n",
+            a->scene->duration, ceil(a->scene->duration / a->recommended), a->recommended,
+            dtm_cost_element_steps(a), dtm_cost_element_steps_subcycled(a));
+  const dtm_mass_scaling *ms = a->mass_scaling;
+  if (ms)
+    fprintf(f, "mass scaling to reach the target: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass, ms->scaled);
+}
+
 static void print_histogram(const dtm_analysis *a, FILE *f) {
   int lo = (int)floor(log10(a->dt_min)), hi = lo;
   for (size_t i = 0; i < a->nel; i++)
@@ -134,6 +150,7 @@ void dtm_summary_print(const dtm_analysis *a, void *stream) {
   print_counts(a, f);
   print_min(a, f);
   print_accuracy(a, f);
+  print_cost(a, f);
   print_smallest(a, f);
   print_histogram(a, f);
 }

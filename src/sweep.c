@@ -28,8 +28,6 @@ static double smallest_resolution(const dtm_analysis *a, const char *view) {
 }
 
 static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
-  dtm_subcycling sc;
-  DTM_CHECK(dtm_subcycling_compute(a, &sc));
   double duration = a->scene->duration;
   row->h = h;
   row->elements = a->nel;
@@ -37,12 +35,11 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   row->dt_min = a->dt_min;
   row->recommended = a->recommended;
   row->steps = duration > 0 ? duration / a->recommended : NAN;
-  row->cost = (double)a->nel * row->steps;
-  row->speedup = sc.speedup;
-  row->cost_subcycled = row->cost / sc.speedup;
+  row->cost = dtm_cost_element_steps(a);
+  row->speedup = a->subcycling->speedup;
+  row->cost_subcycled = dtm_cost_element_steps_subcycled(a);
   row->per_zone = smallest_resolution(a, "cohesive zone resolution");
   row->per_wavelength = smallest_resolution(a, "elements per wavelength");
-  dtm_subcycling_free(&sc);
   return DTM_OK;
 }
 

@@ -73,6 +73,10 @@ typedef struct dtm_analysis {
   const char *basis;        /* what recommended rests on: "element bound",
                                "nodal bound" or "global estimate" */
   dtm_global_info *global;  /* [neffects], filled by dtm_global_estimate */
+  struct dtm_subcycling_s *subcycling;   /* levels of a->dt (owned; cost.h) */
+  struct dtm_mass_scaling_s *mass_scaling; /* to reach the target, when the scene
+                               has one: mass so that safety x the element step
+                               reaches it (owned; cost.h), else NULL */
   const struct dtm_refine_round_s *refine_rounds; /* set by `refine` for the report (not owned) */
   int nrefine;              /* number of refine rounds, 0 otherwise */
   double timings[DTM_T_COUNT];

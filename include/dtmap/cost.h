@@ -13,7 +13,7 @@
  * the wave-type effects, damping included) is below dt_t: their mass grows
  * by (dt_t/dt_e)^2, since dt ~ sqrt(m). Elements limited only by
  * non-wave effects get none (mass does not change a diffusion limit). */
-typedef struct {
+typedef struct dtm_mass_scaling_s {
   double target;         /* dt_t, s */
   double *added;         /* [nel] added mass, kg (per unit thickness in 2D) */
   double total_mass;     /* mass of the analysed elements, kg */
@@ -31,7 +31,7 @@ void dtm_mass_scaling_free(dtm_mass_scaling *ms);
  * [dt_min 2^k, dt_min 2^(k+1)), dt_min the smallest element step. The ideal
  * speed-up over one global step is N / sum_k N_k 2^-k. */
 #define DTM_MAX_LEVELS 64
-typedef struct {
+typedef struct dtm_subcycling_s {
   int *level;                   /* [nel] */
   int nlevels;                  /* highest level + 1 */
   size_t count[DTM_MAX_LEVELS]; /* elements per level */
@@ -39,6 +39,14 @@ typedef struct {
 } dtm_subcycling;
 
 int dtm_subcycling_compute(const dtm_analysis *a, dtm_subcycling *sc);
+
+/* Element-steps to cover the scene's duration (NaN without one). Single
+ * step: every element takes duration / recommended steps. Subcycled: the
+ * elements of level k step at safety x dt_min x 2^k (dt_min the element
+ * bound, which holds element by element), i.e.
+ * (duration / (safety dt_min)) sum_k N_k 2^-k. */
+double dtm_cost_element_steps(const dtm_analysis *a);
+double dtm_cost_element_steps_subcycled(const dtm_analysis *a);
 void dtm_subcycling_free(dtm_subcycling *sc);
 
 #endif

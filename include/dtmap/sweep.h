@@ -16,8 +16,9 @@ typedef struct {
   double dt_min;          /* smallest element step, s */
   double recommended;     /* recommended step, s */
   double steps;           /* duration / recommended (NaN without a duration) */
-  double cost;            /* element-steps: elements x steps */
-  double cost_subcycled;  /* element-steps with ideal subcycling: cost / speed-up */
+  double cost;            /* element-steps: elements x ceil(steps) */
+  double cost_subcycled;  /* element-steps with ideal subcycling, levels of
+                             safety x dt_min x 2^k (dtm_cost_element_steps_subcycled) */
   double per_zone;        /* smallest elements-per-process-zone (view "cohesive
                              zone resolution"), NaN without a cohesive effect */
   double per_wavelength;  /* smallest elements-per-wavelength (view "elements

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "dtmap/registry.h"
+#include "cli.h"
 #include "opts.h"
 
 const char dtm_cli_usage[] =
@@ -66,6 +67,7 @@ int main(int argc, char **argv) {
   if (!strcmp(cmd, "run")) return dtm_cli_run(argc, argv, 0);
   if (!strcmp(cmd, "verify")) return dtm_cli_run(argc, argv, 1);
   if (!strcmp(cmd, "refine")) return dtm_cli_refine(argc, argv);
+  if (!strcmp(cmd, "sweep")) return dtm_cli_sweep(argc, argv);
   if (!strcmp(cmd, "effects")) return cmd_effects();
   return dtm_cli_usage_error(argc > 1 ? "unknown command '%s'" : "%s", argc > 1 ? cmd : "no command given");
 }
