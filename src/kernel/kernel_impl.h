@@ -89,6 +89,13 @@ void dtm_eig3_top(const double s[6], dtm_top3 *top);
 /* Eigenvalues e[0] >= e[1] of the symmetric 2x2 [[a, b], [b, c]]. */
 void dtm_eig2_sym(double a, double b, double c, double e[2]);
 
+/* Largest eigenvalue of the symmetric n x n matrix a (row-major, 1 <= n <=
+ * DTM_K_DOF, destroyed) by Householder tridiagonalization and bisection
+ * (tridiag.c): within a small multiple of n eps |A|, like
+ * dtm_eig_sym_max, and far faster for n > 24. NaN if an entry is not
+ * finite. */
+double dtm_eig_sym_max_tridiag(int n, double *a);
+
 /* Generic (quadrature + Jacobi) paths, any supported type; simplices go
  * through them too, which is how the closed forms are cross-checked. */
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
