@@ -1,10 +1,11 @@
 /* Element matrices of the generic path, built by quadrature in the
- * element's own frame: the row-sum lumped mass weights integral(N_a), the
+ * element's own frame: the lumped mass (lump.c: row sums integral(N_a)
+ * for linear types, HRZ for second-order ones), the
  * scalar Laplacian K_ab = integral(grad N_a . grad N_b) and the isotropic
  * elastic stiffness K_(a i)(b j) = integral(lam g_ai g_bj + mu g_aj g_bi +
  * mu delta_ij g_a . g_b). Used by every non-simplex element and, for
  * cross-checking, by the simplices. Matrices are dense, row-major, on the
- * caller's stack: n <= DTM_K_DOF. */
+ * caller's stack: n <= DTM_K_DOF (81 for hex27: a 52 kB stiffness). */
 #include <string.h>
 
 #include "dtmap/error.h"
@@ -54,13 +55,6 @@ static void each_point(const dtm_elem_geom *eg,
   }
 }
 
-static void add_mass(void *ctx, const dtm_elem_geom *eg, const double *N,
-                     const double (*g)[3], double dv) {
-  double *m = ctx;
-  (void)g;
-  for (int a = 0; a < eg->nn; a++) m[a] += N[a] * dv;
-}
-
 static double dot(int d, const double *a, const double *b) {
   double s = 0;
   for (int i = 0; i < d; i++) s += a[i] * b[i];
@@ -96,9 +90,45 @@ static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N,
     }
 }
 
+/* The same for second-order types, faster: only the blocks b >= a, with
+ * dv folded into the moduli (so the rounding differs from add_elastic's
+ * in the last bits, which is why the linear types keep add_elastic);
+ * dtm_elem_stiffness mirrors the rest. g[a][i] is 0 for i >= d. */
+static void add_elastic_sym(void *ctx, const dtm_elem_geom *eg,
+                            const double *N, const double (*g)[3], double dv) {
+  elastic_ctx *c = ctx;
+  int d = eg->d, n = eg->nn * d;
+  double lam = c->lam * dv, mu = c->mu * dv;
+  (void)N;
+  for (int a = 0; a < eg->nn; a++) {
+    double la[3], ma[3];
+    for (int i = 0; i < 3; i++) la[i] = lam * g[a][i], ma[i] = mu * g[a][i];
+    for (int b = a; b < eg->nn; b++) {
+      const double *gb = g[b];
+      double gg = ma[0] * gb[0] + ma[1] * gb[1] + ma[2] * gb[2];
+      double *Kab = c->K + a * d * n + b * d;
+      for (int i = 0; i < d; i++) {
+        double *row = Kab + i * n;
+        for (int j = 0; j < d; j++) row[j] += la[i] * gb[j] + ma[j] * gb[i];
+        row[i] += gg;
+      }
+    }
+  }
+}
+
+/* Make the nn x nn block matrix K (blocks d x d) exactly symmetric from
+ * its blocks b >= a: the upper triangle of K is copied to the lower one
+ * (the diagonal blocks were summed in full, but with roundings that
+ * differ between (i, j) and (j, i)). */
+static void mirror(int nn, int d, double *K) {
+  int n = nn * d;
+  for (int r = 0; r < n; r++)
+    for (int c = r + 1; c < n; c++) K[c * n + r] = K[r * n + c];
+}
+
 void dtm_elem_mass(const dtm_elem_geom *eg, double *m) {
-  memset(m, 0, sizeof(double) * (size_t)eg->nn);
-  each_point(eg, add_mass, m);
+  dtm_lumped_mass(eg->type, eg->d, eg->nn, (const double (*)[3])eg->xl,
+                  &eg->q, m);
 }
 
 void dtm_elem_laplace(const dtm_elem_geom *eg, double *K) {
@@ -112,5 +142,10 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m,
   elastic_ctx c = {m->lam, m->mu, K};
   if (eg->d == 1) c.lam = m->modulus, c.mu = 0; /* axial stiffness only */
   memset(K, 0, sizeof(double) * (size_t)(n * n));
-  each_point(eg, add_elastic, &c);
+  if (dtm_elem_parent(eg->type) == eg->type) {
+    each_point(eg, add_elastic, &c);
+    return;
+  }
+  each_point(eg, add_elastic_sym, &c);
+  mirror(eg->nn, eg->d, K);
 }

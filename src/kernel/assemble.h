@@ -24,7 +24,8 @@ typedef struct {
 int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg);
 /* dtm_elem_setup, raising DTM_ERR_INPUT with a message when it fails. */
 int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg);
-/* m[nn]: integral of N_a (m^d). */
+/* m[nn]: lumped mass per unit density (m^d): integral of N_a for linear
+ * types, HRZ for second-order ones (dtm_lumped_mass). */
 void dtm_elem_mass(const dtm_elem_geom *eg, double *m);
 /* K[nn][nn]: integral of grad N_a . grad N_b (m^(d-2)). */
 void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
@@ -32,10 +33,12 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m,
                         double *K);
-/* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n], where
- * unknown k belongs to node k / per (per unknowns per node); K destroyed.
- * DTM_ERR_INPUT if a mass is not positive. */
-int dtm_lumped_eig_max(int n, int per, double *K, const double *m,
+/* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n] of an
+ * element of the given type, where unknown k belongs to node k / per (per
+ * unknowns per node); K destroyed. Jacobi for linear types,
+ * tridiagonalization for second-order ones. DTM_ERR_INPUT if a mass is not
+ * positive. */
+int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m,
                        double *lambda);
 
 #endif

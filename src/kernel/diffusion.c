@@ -1,8 +1,9 @@
 /* dtm_kernel_diffusion_lambda: the element bound lambda_max(Ce^-1 Ke) of
- * scalar diffusion with row-sum lumped capacity. On a simplex Ke = alpha V
- * G G^T and Ce = V/(d+1) I, so lambda = (d+1) alpha lambda_max(G G^T) =
- * (d+1) alpha s_max, s_max the largest eigenvalue of S = G^T G, exactly.
- * Other types solve the nn x nn problem (generic.c). */
+ * scalar diffusion with lumped capacity (row sums for linear types, HRZ
+ * for second-order ones). On a linear simplex Ke = alpha V G G^T and
+ * Ce = V/(d+1) I, so lambda = (d+1) alpha lambda_max(G G^T) = (d+1) alpha
+ * s_max, s_max the largest eigenvalue of S = G^T G, exactly. Other types,
+ * tri6 and tet10 included, solve the nn x nn problem (generic.c). */
 #include <math.h>
 
 #include "dtmap/error.h"

@@ -1,8 +1,9 @@
 /* dtm_kernel_elastic_lambda: the element bound lambda_max(Me^-1 Ke) of
- * isotropic linear elasticity with row-sum lumped mass. Checks the type and
- * the formulation, then takes the closed form on simplices
- * (elastic_simplex.c) and the assembled small eigenproblem otherwise
- * (generic.c). */
+ * isotropic linear elasticity with lumped mass (row sums for linear types,
+ * HRZ for second-order ones). Checks the type and the formulation, then
+ * takes the closed form on linear simplices (elastic_simplex.c) and the
+ * assembled eigenproblem otherwise (generic.c), second-order simplices
+ * included. */
 #include "dtmap/error.h"
 #include "kernel/kernel_impl.h"
 

@@ -3,9 +3,12 @@
  * elements may lie in any plane of space and 1D elements along any line,
  * so before any integration their nodes are expressed in an orthonormal
  * frame of that plane or line. The plane of a 2D element is the one normal
- * to its Newell vector sum (x_i - x_0) x (x_{i+1} - x_0): the plane of a
- * flat element, the mean plane of a warped quadrangle. Its first axis is
- * the projected edge 0-1. The frame's orientation follows the node order,
+ * to the Newell vector sum (x_i - x_0) x (x_{i+1} - x_0) over its corner
+ * nodes (the first 3 or 4 in Gmsh's order; mid-side nodes do not go round
+ * the polygon in sequence, so they are left out): the plane of a flat
+ * element, the mean plane of a warped quadrangle. Its first axis is the
+ * projected edge 0-1. Every node, mid-side ones included, is then
+ * projected on it. The frame's orientation follows the node order,
  * so a 2D element is never "inverted" as a whole: a collinear triangle is
  * degenerate, and a quadrangle whose Jacobian changes sign is caught by
  * dtm_map_first_bad. */
@@ -40,9 +43,9 @@ static int frame1(const double *x, double (*xl)[3]) {
   return xl[1][0] > 0 && isfinite(xl[1][0]) ? 0 : -1;
 }
 
-static int frame2(int nn, const double *x, double (*xl)[3]) {
+static int frame2(int nc, int nn, const double *x, double (*xl)[3]) {
   double n[3] = {0, 0, 0}, e1[3], e2[3], r[3], s[3], c[3];
-  for (int a = 1; a + 1 < nn; a++) {
+  for (int a = 1; a + 1 < nc; a++) {
     sub(x + 3 * a, x, r);
     sub(x + 3 * (a + 1), x, s);
     cross(r, s, c);
@@ -65,7 +68,11 @@ int dtm_elem_local(int type, const double *x, double (*xl)[3]) {
   int d, nn;
   if (dtm_elem_info(type, &d, &nn)) return -1;
   if (d == 1) return frame1(x, xl);
-  if (d == 2) return frame2(nn, x, xl);
+  if (d == 2) {
+    int nc;
+    dtm_elem_info(dtm_elem_parent(type), NULL, &nc);
+    return frame2(nc, nn, x, xl);
+  }
   for (int a = 0; a < nn; a++) sub(x + 3 * a, x, xl[a]);
   return 0;
 }

@@ -1,7 +1,8 @@
 /* Largest eigenvalue of a small dense symmetric matrix by the cyclic Jacobi
  * method (Rutishauser's rotation formulas). Used for the element problems
- * of non-simplex elements (at most 24 x 24 here) and by the tests as an
- * independent check of the simplex closed forms. Jacobi is slow next to a
+ * of the linear non-simplex elements (at most 24 x 24) and by the tests as
+ * an independent check of the simplex closed forms and of tridiag.c, which
+ * serves the larger second-order problems. Jacobi is slow next to a
  * tridiagonal QR but robust, needs no workspace and gives every eigenvalue
  * to a small multiple of eps times the norm of the matrix. */
 #include <float.h>

@@ -9,13 +9,31 @@
 
 #include "dtmap/kernel.h"
 
-#define DTM_K_NODES 8 /* most nodes among the types the kernels handle */
-#define DTM_K_DOF 24  /* most displacement unknowns (hex8, 3 per node) */
-#define DTM_K_QP 27   /* most quadrature points of a rule (pyramid 3x3x3) */
-#define DTM_K_FACETS 6
+/* Second-order element types (Gmsh type codes). They live here rather
+ * than in the public enum of kernel.h; callers pass Gmsh's codes. */
+enum {
+  DTM_TRI6 = 9,
+  DTM_QUAD9 = 10,
+  DTM_TET10 = 11,
+  DTM_HEX27 = 12,
+  DTM_PRISM18 = 13,
+  DTM_PYR14 = 14,
+  DTM_QUAD8 = 16,
+  DTM_HEX20 = 17,
+  DTM_PRISM15 = 18,
+  DTM_PYR13 = 19
+};
+
+#define DTM_K_NODES 27 /* most nodes among the types the kernels handle (hex27) */
+#define DTM_K_DOF 81   /* most displacement unknowns (hex27, 3 per node) */
+#define DTM_K_QP 27    /* most quadrature points of a rule (3x3x3 Gauss on
+                          hexahedra and pyramids) */
+#define DTM_K_FACETS 6 /* of the linear parent: second-order types reuse it */
 #define DTM_K_EDGES 12
 
-/* Boundary facets and edges of a type, in Gmsh's node numbering. */
+/* Boundary facets and edges of a type, in Gmsh's node numbering. A
+ * second-order type has those of its linear parent, on its corner nodes
+ * (Gmsh numbers the corners first, as in the parent). */
 typedef struct {
   int nfacet;                      /* number of facets (points in 1D) */
   int facet_nn[DTM_K_FACETS];      /* node count of each facet */
@@ -26,6 +44,13 @@ typedef struct {
 
 /* Topology of a supported type; NULL for any other. Static storage. */
 const dtm_topology *dtm_elem_topology(int type);
+/* The linear parent of a type (tet4 for tet10, quad4 for quad8 and quad9,
+ * ...), the type itself for a linear type, 0 for an unsupported one. Its
+ * node count is the number of corner nodes. */
+int dtm_elem_parent(int type);
+/* 1 for the serendipity types (quad8, hex20, prism15, pyr13), whose nodes
+ * stop after the mid-edge ones; 0 otherwise. */
+int dtm_elem_serendipity(int type);
 
 /* A quadrature rule in rule coordinates p. These are Gmsh's reference
  * coordinates (u, v, w) except for the pyramid, where they are collapsed
@@ -37,18 +62,36 @@ typedef struct {
   double w[DTM_K_QP];      /* weights (sum = reference measure) */
 } dtm_qrule;
 
-/* Full-integration rule of a supported type (see quadrature.c). */
+/* Full-integration rule of a supported type (see quadrature.c): exact for
+ * the stiffness and the consistent mass of straight-sided elements. */
 void dtm_ref_rule(int type, dtm_qrule *q);
 /* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
- * written, unused ones zero) with respect to the
- * reference coordinates (u, v, w), at rule coordinates p. */
+ * written, unused ones zero) with respect to the reference coordinates
+ * (u, v, w), at rule coordinates p. */
 void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]);
-/* Rule coordinates of node a (used to check the Jacobian at the corners). */
+/* Rule coordinates of node a (used to check the Jacobian at the nodes).
+ * Second-order nodes follow Gmsh: corners, one node at the middle of each
+ * edge of the parent (in the parent's edge order), then for quad9, hex27,
+ * prism18 and pyr14 one at the centre of each quadrilateral face (in the
+ * parent's facet order) and for quad9 and hex27 one at the centre. */
 void dtm_ref_node(int type, int a, double p[3]);
+/* Reference coordinates (u, v, w) of node a (Gmsh's, not collapsed). */
+void dtm_ref_node_uvw(int type, int a, double p[3]);
+/* The same for every node of type, as a static table [nn][3]; NULL for an
+ * unsupported type. */
+const double (*dtm_ref_nodes(int type))[3];
+/* Shape functions of the second-order types (ref_quadratic.c, and
+ * ref_pyramid.c for pyr13 and pyr14), same contract as dtm_ref_eval; dN
+ * is already zeroed. */
+void dtm_ref_eval_quadratic(int type, const double p[3], double *N,
+                            double (*dN)[3]);
+void dtm_ref_eval_pyramid2(int type, const double p[3], double *N,
+                           double (*dN)[3]);
 
 /* Coordinates xl[nn][3] of the nodes in the element's own frame: 3D
- * elements are copied, 2D elements are projected onto their mean plane
- * (Newell normal), 1D elements onto their line; unused components are 0.
+ * elements are copied, 2D elements are projected onto the mean plane of
+ * their corner nodes (Newell normal), 1D elements onto their line; unused
+ * components are 0.
  * Returns 0, or -1 when no frame exists (coincident nodes, collinear 2D). */
 int dtm_elem_local(int type, const double *x, double (*xl)[3]);
 
@@ -96,8 +139,9 @@ void dtm_eig2_sym(double a, double b, double c, double e[2]);
  * finite. */
 double dtm_eig_sym_max_tridiag(int n, double *a);
 
-/* Generic (quadrature + Jacobi) paths, any supported type; simplices go
- * through them too, which is how the closed forms are cross-checked. */
+/* Generic (quadrature + eigenvalue) paths, any supported type; linear
+ * simplices go through them too, which is how the closed forms are
+ * cross-checked. */
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
                                const double *x, double *lambda);
 int dtm_diffusion_lambda_generic(int type, double alpha, const double *x,
@@ -105,6 +149,13 @@ int dtm_diffusion_lambda_generic(int type, double alpha, const double *x,
 /* Closed form on simplices (line2, tri3, tet4). */
 int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m,
                                const double *x, double *lambda);
+
+/* Lumped nodal masses per unit density m[nn] (m^d) of the element in its
+ * frame, integrated with rule q; returns the measure (integral of det J).
+ * Linear types: row sums m_a = integral N_a. Second-order types: HRZ,
+ * m_a = integral N_a^2 scaled so that sum_a m_a = measure (see lump.c). */
+double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3],
+                       const dtm_qrule *q, double *m);
 
 /* Raise DTM_ERR_INPUT unless formulation f suits an element of dimension d. */
 int dtm_form_check(int type, int d, int f);

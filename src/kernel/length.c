@@ -1,7 +1,8 @@
 /* Geometric characteristic lengths (dtm_kernel_length). One definition per
  * kind for every type, chosen so that it is the textbook quantity on
  * simplices:
- *   SAFE         2 / sqrt(sum_a integral|grad N_a|^2 / integral N_a). On a
+ *   SAFE         2 / sqrt(sum_a integral|grad N_a|^2 / m_a), m_a the lumped
+ *                mass per unit density (integral N_a for linear types). On a
  *                simplex this is 2/sqrt((d+1) sum_a h_a^-2), DESIGN.md's
  *                L_safe. On any type it is provably safe for nu >= 0: the
  *                elastic element bound is at most c^2 times that sum
@@ -22,6 +23,16 @@
  *   VOLUME_AREA  V / largest facet measure (3D: face area, 2D: edge
  *                length, 1D: the length itself, a point counting as 1).
  *   EIGEN        not geometric: NaN.
+ * Second-order elements: SAFE is computed on the element itself, with its
+ * own shape functions and HRZ lumped masses m_a in place of integral N_a
+ * (which is negative at tet10 corners): 2/sqrt(sum_a integral|grad N_a|^2
+ * / m_a). The proof above holds for any positive diagonal mass and a rule
+ * with positive weights, so it stays safe (for nu >= 0) with respect to
+ * the second-order element bound. Every other kind is geometric and is
+ * taken on the linear parent, i.e. on the corner nodes only (the first
+ * nodes in Gmsh's order): edges are the chords between corners, facets
+ * the flat corner polygons and V the parent's measure; mid-side nodes,
+ * and so curvature, are ignored.
  * Facet areas of warped quadrangles are those of their Newell projection.
  * V is the signed measure, so inverted 3D elements give negative
  * INRADIUS and VOLUME_AREA. An unknown type gives NaN. */
@@ -141,15 +152,15 @@ static double safe_length(int type, const double *x) {
 
 double dtm_kernel_length(int type, dtm_length_kind kind, const double *x) {
   const dtm_topology *t = dtm_elem_topology(type);
-  int d, nn;
+  int d, nn, parent = dtm_elem_parent(type); /* geometry: corners only */
   if (!t) return NAN;
-  dtm_elem_info(type, &d, &nn);
+  dtm_elem_info(parent, &d, &nn);
   switch (kind) {
   case DTM_LEN_SAFE: return safe_length(type, x);
   case DTM_LEN_MIN_EDGE: return min_edge(t, x);
   case DTM_LEN_MIN_ALTITUDE: return min_width(d, nn, t, x);
-  case DTM_LEN_INRADIUS: return 2 * d * dtm_elem_measure(type, x) / facets(d, t, x, 0);
-  case DTM_LEN_VOLUME_AREA: return dtm_elem_measure(type, x) / facets(d, t, x, 1);
+  case DTM_LEN_INRADIUS: return 2 * d * dtm_elem_measure(parent, x) / facets(d, t, x, 0);
+  case DTM_LEN_VOLUME_AREA: return dtm_elem_measure(parent, x) / facets(d, t, x, 1);
   default: return NAN;
   }
 }

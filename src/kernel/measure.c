@@ -1,30 +1,28 @@
-/* Measure (length, area, volume) and row-sum lumped weights of an element,
+/* Measure (length, area, volume) and lumped weights of an element
+ * (row sums for linear types, HRZ for second-order ones: lump.c),
  * integrated with the element's full rule in its own frame. The measure is
- * the integral of det J: exact for every supported type (the Jacobian
- * determinant is within each rule's degree), negative for an inverted 3D
- * element, and for a 2D element the area of its projection on its mean
- * plane. Neither function raises errors: they return NaN for an unknown
+ * the integral of det J: exact for every linear type and for straight-sided
+ * second-order elements with mid-side nodes at the middle (the Jacobian
+ * determinant is within each rule's degree; a curved element's is a
+ * polynomial of higher degree, integrated approximately), negative for an
+ * inverted 3D element, and for a 2D element the area of its projection on
+ * the mean plane of its corners. Neither function raises errors: they return NaN for an unknown
  * type or for nodes that span no line or plane. */
 #include <math.h>
 
 #include "kernel/kernel_impl.h"
 
-/* Integrals of N_a into m[nn] and the measure, or NaN. */
+/* Lumped masses per unit density into m[nn] and the measure, or NaN. */
 static double integrate(int type, const double *x, double *m) {
   int d, nn;
-  double xl[DTM_K_NODES][3], N[DTM_K_NODES], g[DTM_K_NODES][3], dv, vol = 0;
+  double xl[DTM_K_NODES][3];
   dtm_qrule q;
   if (!dtm_elem_topology(type)) return NAN;
   dtm_elem_info(type, &d, &nn);
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
   dtm_ref_rule(type, &q);
-  for (int k = 0; k < q.n; k++) {
-    dtm_map_eval(type, d, nn, (const double (*)[3])xl, q.p[k], q.w[k], N, g, &dv);
-    for (int a = 0; a < nn; a++) m[a] += N[a] * dv;
-    vol += dv;
-  }
-  return vol;
+  return dtm_lumped_mass(type, d, nn, (const double (*)[3])xl, &q, m);
 }
 
 double dtm_elem_measure(int type, const double *x) {

@@ -7,12 +7,15 @@
  * rational first-order basis N_i = (1 - w + xi_i u)(1 - w + eta_i v) /
  * (4 (1 - w)), N_4 = w. Pyramids are evaluated in collapsed coordinates
  * (a, b, w), u = (1 - w) a, v = (1 - w) b, where the basis and its
- * gradients are polynomial (the gradients depend on a and b only). */
+ * gradients are polynomial (the gradients depend on a and b only).
+ * Second-order types are in ref_quadratic.c and ref_pyramid.c, the node
+ * coordinates in ref_nodes.c. */
 #include <string.h>
 
 #include "kernel/kernel_impl.h"
 
-/* Corner signs of the quadrangle, hexahedron and pyramid base. */
+/* Corner signs of the quadrangle, hexahedron and pyramid base (the same
+ * tables are in ref_nodes.c). */
 static const double sx[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
 static const double sy[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
 static const double sz[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
@@ -93,27 +96,11 @@ void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]) {
   case DTM_HEX8: hex8(p, N, dN); break;
   case DTM_PRISM6: prism6(p, N, dN); break;
   case DTM_PYR5: pyr5(p, N, dN); break;
-  default: break;
-  }
-}
-
-void dtm_ref_node(int type, int a, double p[3]) {
-  static const double simplex_nodes[4][3] = {
-      {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  p[0] = p[1] = p[2] = 0;
-  switch (type) {
-  case DTM_LINE2: p[0] = a ? 1 : -1; break;
-  case DTM_TRI3:
-  case DTM_TET4: memcpy(p, simplex_nodes[a], sizeof(double[3])); break;
-  case DTM_QUAD4: p[0] = sx[a]; p[1] = sy[a]; break;
-  case DTM_HEX8: p[0] = sx[a]; p[1] = sy[a]; p[2] = sz[a]; break;
-  case DTM_PRISM6:
-    memcpy(p, simplex_nodes[a % 3], sizeof(double[2]));
-    p[2] = a < 3 ? -1 : 1;
+  case DTM_PYR13:
+  case DTM_PYR14: dtm_ref_eval_pyramid2(type, p, N, dN); break;
+  default:
+    if (dtm_elem_parent(type) > 0 && dtm_elem_parent(type) != type)
+      dtm_ref_eval_quadratic(type, p, N, dN);
     break;
-  case DTM_PYR5:
-    if (a < 4) { p[0] = sx[a]; p[1] = sy[a]; } else p[2] = 1;
-    break;
-  default: break;
   }
 }
