@@ -1,9 +1,16 @@
-/* Edge and facet tables of the linear element types (Gmsh node ordering),
- * the mean edge length used as an element's size, and facet measures. */
+/* Edge and facet tables of the element types (Gmsh node ordering), the
+ * mean edge length used as an element's size, and facet measures. A
+ * second-order type (tri6, quad8/9, tet10, hex20/27, prism15/18, pyr13/14)
+ * has the edges and facets of its linear parent, on its corner nodes: Gmsh
+ * numbers the corners first, in the parent's order, so the parent's tables
+ * apply unchanged. Lengths are then chords between corners and facet
+ * measures those of the flat corner polygons (mid-side nodes, and so any
+ * curvature, are ignored). */
 #include <math.h>
 
 #include "dtmap/kernel.h"
 #include "dtmap/topology.h"
+#include "kernel/kernel_impl.h"
 
 static const int line_e[][2] = {{0, 1}};
 static const int tri_e[][2] = {{0, 1}, {1, 2}, {2, 0}};
@@ -19,7 +26,7 @@ static const int pyr_e[][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0},
 #define TABLE(t, out) (*(out) = t, (int)(sizeof t / sizeof t[0]))
 
 int dtm_elem_edges(int type, const int (**edges)[2]) {
-  switch (type) {
+  switch (dtm_elem_parent(type)) {
   case DTM_LINE2: return TABLE(line_e, edges);
   case DTM_TRI3: return TABLE(tri_e, edges);
   case DTM_QUAD4: return TABLE(quad_e, edges);
@@ -59,7 +66,7 @@ static const int pyr_f[][4] = {{0, 3, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3
 #define FACETS(f, c) (*nodes = f, *count = c, (int)(sizeof f / sizeof f[0]))
 
 int dtm_elem_facets(int type, const int (**nodes)[DTM_MAX_FACET_NODES], const int **count) {
-  switch (type) {
+  switch (dtm_elem_parent(type)) {
   case DTM_LINE2: return FACETS(line_f, line_c);
   case DTM_TRI3: return FACETS(tri_f, tri_c);
   case DTM_QUAD4: return FACETS(quad_f, quad_c);

@@ -1,12 +1,16 @@
-/* Local topology of the linear element types, in Gmsh's node ordering:
- * edges and facets, with the measures effects need (mean edge length as the
- * element "size" a Gmsh size field means; facet measures for interface
- * springs). Coordinates are x[nn][3], m. */
+/* Local topology of the element types, in Gmsh's node ordering: edges and
+ * facets, with the measures effects need (mean edge length as the element
+ * "size" a Gmsh size field means; facet measures for interface springs).
+ * Second-order types have the edges and facets of their linear parent, on
+ * their corner nodes (the first nodes in Gmsh's order): only corner nodes
+ * appear in the tables, lengths are chords between corners and facets are
+ * measured flat. Coordinates are x[nn][3], m (all nn nodes of the element;
+ * only the corners are read). */
 #ifndef DTMAP_TOPOLOGY_H
 #define DTMAP_TOPOLOGY_H
 
-#define DTM_MAX_FACETS 6       /* hex8 */
-#define DTM_MAX_FACET_NODES 4  /* quadrilateral face */
+#define DTM_MAX_FACETS 6       /* hex8 (and hex20, hex27) */
+#define DTM_MAX_FACET_NODES 4  /* quadrilateral face, corner nodes only */
 
 /* Number of edges of type, and *edges pointing at [count][2] local nodes. */
 int dtm_elem_edges(int type, const int (**edges)[2]);
