@@ -1,6 +1,9 @@
 /* Element kernels: geometry, characteristic lengths and the largest
  * eigenvalue of the lumped element problems Me^-1 Ke (elasticity) and
- * Ce^-1 Ke (scalar diffusion) for the linear element types. Pure math: no
+ * Ce^-1 Ke (scalar diffusion) for the linear element types and the
+ * second-order ones (Gmsh types 9 tri6, 10 quad9, 11 tet10, 12 hex27,
+ * 13 prism18, 14 pyr14, 16 quad8, 17 hex20, 18 prism15, 19 pyr13, with
+ * Gmsh's node ordering and shape functions). Pure math: no
  * Gmsh, no allocation, no global state, so effects and tests can call them
  * on any small element block. All coordinates are in metres, given as
  * x[nn][3] (every element carries three coordinates, even in 1D and 2D; a 2D
@@ -10,7 +13,8 @@
 
 #include <stddef.h>
 
-/* Element types use Gmsh's type codes. */
+/* Element types use Gmsh's type codes (the second-order codes are listed
+ * above; callers pass Gmsh's numbers). */
 enum {
   DTM_LINE2 = 1,
   DTM_TRI3 = 2,
@@ -34,8 +38,10 @@ typedef enum {
 typedef enum {
   DTM_LEN_EIGEN = 0,        /* C_D * 2/sqrt(lambda_max(Me^-1 Ke)): provably safe */
   DTM_LEN_SAFE = 1,         /* 2/sqrt(d+1) (sum_a h_a^-2)^-1/2 on simplices,
-                               2/sqrt(sum_a |grad N_a|^2_L2 / int N_a) on any
-                               type: safe for nu >= 0 */
+                               2/sqrt(sum_a |grad N_a|^2_L2 / m_a) on any
+                               type (m_a the lumped mass per unit density:
+                               int N_a, or HRZ for second order): safe for
+                               nu >= 0 */
   DTM_LEN_MIN_EDGE = 2,     /* shortest edge: unsafe */
   DTM_LEN_MIN_ALTITUDE = 3, /* smallest altitude; other types: smallest
                                width across a facet: unsafe */
@@ -61,52 +67,76 @@ int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho,
 
 /* Topological dimension and node count of a type (either pointer may be
  * NULL); DTM_ERR_INPUT, with a message naming the Gmsh type code, for
- * types dtmap does not handle (second order included). */
+ * types dtmap does not handle (line3, third and higher order, ...). */
 int dtm_elem_info(int type, int *dim, int *nn);
-/* Human-readable name of a type ("tet4"), or "unknown". */
+/* Human-readable name of a type ("tet4", "tet10"), or "unknown". */
 const char *dtm_elem_name(int type);
-/* 1 for line2, tri3 and tet4. */
+/* 1 for line2, tri3 and tet4: the types of the simplex closed forms; 0 for
+ * every other type, tri6 and tet10 included. */
 int dtm_elem_is_simplex(int type);
 
 /* Length (1D), area (2D) or volume (3D) of the element, m^d: the integral
  * of det J, so negative for an inverted 3D element; a warped quadrangle
- * counts its area projected on its mean plane. NaN for an unknown type.
- * Raises no error. */
+ * counts its area projected on the mean plane of its corners. Exact for
+ * linear types and for straight-sided second-order elements (mid-side
+ * nodes at the middle); curved ones are integrated with the element's
+ * rule. NaN for an unknown type. Raises no error. */
 double dtm_elem_measure(int type, const double *x);
 
-/* Row-sum lumped weights w[nn]: w_a = (integral of N_a) / measure, summing
- * to 1 (1/(d+1) on simplices, 1/nn on parallelepipeds, 3/16 for the base
- * nodes and 1/4 for the apex of an affine pyramid). The lumped mass of node
- * a is rho * measure * w_a. NaN for a zero-measure element. */
+/* Lumped weights w[nn], summing to 1; the lumped mass of node a is
+ * rho * measure * w_a. Linear types: row sums, w_a = (integral of N_a) /
+ * measure (1/(d+1) on simplices, 1/nn on parallelepipeds, 3/16 for the
+ * base nodes and 1/4 for the apex of an affine pyramid). Second-order
+ * types: HRZ (Hinton-Rock-Zienkiewicz), w_a = integral(N_a^2) /
+ * sum_b integral(N_b^2), the consistent mass diagonal scaled to the
+ * element's mass: row sums would give zero or negative corner masses
+ * (tet10: -V/20), HRZ is always positive (tet10: 1/36 at corners, 4/27
+ * at mid-edge nodes; tri6: 1/19 and 16/57). For linear simplices and
+ * parallelogram quad4 / parallelepiped hex8 the two coincide. NaN for a
+ * zero-measure element. */
 void dtm_elem_lumped_weights(int type, const double *x, double *w);
 
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
- * with row-sum lumped mass: closed form on simplices (accurate to a few eps
- * of the value the coordinates define), the small symmetric eigenproblem of
- * the fully integrated element otherwise (quad 2x2, hex 2x2x2, prism
- * 3-point triangle x 2-point line, pyramid 3x3x3 collapsed Gauss). The
- * element's critical step is 2/sqrt(lambda). tet4, hex8, prism6 and pyr5
- * need DTM_FORM_3D, tri3 and quad4 plane strain or plane stress, line2 the
- * bar. Returns 0, or DTM_ERR_INPUT for an inverted or degenerate element
- * (Jacobian determinant not safely positive at a quadrature point or node),
- * a type/formulation mismatch or an unsupported type. The kernel does not
- * know the element's Gmsh tag: a caller that wants it in the message clears
- * the error and raises its own. No allocation; tet4 takes ~0.1 us. */
+ * with lumped mass (see dtm_elem_lumped_weights: row sums for linear
+ * types, HRZ for second-order ones): closed form on linear simplices
+ * (accurate to a few eps of the value the coordinates define), the
+ * symmetric eigenproblem of the fully integrated element otherwise (quad
+ * 2x2, hex 2x2x2, prism 3-point triangle x 2-point line, pyramid 3x3x3
+ * collapsed Gauss; second order, exact for the mass and stiffness of
+ * straight-sided elements: tri6 6-point degree 4, tet10 14-point degree
+ * 5, quad8/quad9 3x3 and hex20/hex27 3x3x3 Gauss, prism15/prism18 6-point
+ * triangle x 3-point Gauss, pyr13/pyr14 3x3 Gauss x 3-point Gauss-Jacobi
+ * on the collapsed cube). The element's critical step is 2/sqrt(lambda).
+ * 3D types need DTM_FORM_3D, 2D types plane strain or plane stress, line2
+ * the bar. Returns 0, or DTM_ERR_INPUT for an inverted or degenerate
+ * element (Jacobian determinant not safely positive at a quadrature point
+ * or node; on curved second-order elements these are the only points
+ * checked), a type/formulation mismatch or an unsupported type. The kernel
+ * does not know the element's Gmsh tag: a caller that wants it in the
+ * message clears the error and raises its own. No allocation (second-order
+ * element matrices, up to 81 x 81, live on the stack); tet4 takes ~0.1 us,
+ * tet10 ~35 us, hex20 ~0.2 ms, hex27 ~0.35 ms. */
 int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
                               const double *x, double *lambda);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
- * diffusivity alpha (m^2/s) and row-sum lumped capacity. The forward-Euler
- * critical step is 2/lambda. On simplices lambda = (d+1) alpha s_max.
+ * diffusivity alpha (m^2/s) and lumped capacity (row sums for linear
+ * types, HRZ for second-order ones), same rules as above. The
+ * forward-Euler critical step is 2/lambda. On linear simplices
+ * lambda = (d+1) alpha s_max.
  * DTM_ERR_INPUT for alpha not finite and > 0, a degenerate or inverted
  * element or an unsupported type. */
 int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x,
                                 double *lambda);
 
 /* Geometric length of the given kind (m); the definitions for each type
- * are listed in src/kernel/length.c. DTM_LEN_EIGEN is not geometric and
- * returns NaN here, as do an unknown type and DTM_LEN_SAFE on a degenerate
- * or inverted element. Raises no error. */
+ * are listed in src/kernel/length.c. For a second-order type the geometric
+ * kinds (MIN_EDGE, MIN_ALTITUDE, INRADIUS, VOLUME_AREA) are those of its
+ * linear parent on the corner nodes (mid-side nodes and curvature are
+ * ignored); DTM_LEN_SAFE uses the element itself with its HRZ masses.
+ * DTM_LEN_EIGEN is not geometric and returns NaN here, as do an unknown
+ * type and DTM_LEN_SAFE on a degenerate or inverted element. Raises no
+ * error. */
 double dtm_kernel_length(int type, dtm_length_kind kind, const double *x);
 
 /* Largest eigenvalue of the symmetric n x n matrix a (row-major, n >= 1,
