@@ -28,6 +28,8 @@ void dtm_operator_destroy(dtm_operator **op);
 
 size_t dtm_operator_ndof(const dtm_operator *op);
 int dtm_operator_ncomp(const dtm_operator *op);
+/* DTM_OP_ELASTIC or DTM_OP_DIFFUSION, as created. */
+int dtm_operator_kind(const dtm_operator *op);
 /* Lumped diagonal [ndof] (kg, or J/K ...); 0 for nodes of no element. */
 const double *dtm_operator_mass(const dtm_operator *op);
 /* y = K u ([ndof] each). */
