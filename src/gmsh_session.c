@@ -1,6 +1,7 @@
 /* Gmsh session: start/stop, error translation, and loading the scene's
  * geometry (meshed here with the scene's <meshing> options) or .msh. */
 #include <gmshc.h>
+#include <omp.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -18,14 +19,23 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func,
   return r;
 }
 
-int dtm_gmsh_start(int verbosity) {
+/* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
+ * when it starts and when it meshes; keep the caller's count (all cores,
+ * or -j) for both Gmsh and dtmap's own loops. */
+static void keep_threads(int nt) {
   int ierr = 0;
+  gmshOptionSetNumber("General.NumThreads", nt, &ierr);
+  omp_set_num_threads(nt);
+}
+
+int dtm_gmsh_start(int verbosity) {
+  int ierr = 0, nt = omp_get_max_threads();
   gmshInitialize(0, NULL, 0, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot initialise Gmsh");
   gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
   gmshOptionSetNumber("General.Terminal", verbosity > 0 ? 1 : 0, &ierr);
   gmshOptionSetNumber("General.Verbosity", verbosity > 1 ? 5 : verbosity > 0 ? 2 : 1, &ierr);
-  gmshOptionSetNumber("General.NumThreads", 0, &ierr);
+  keep_threads(nt);
   gmshLoggerStart(&ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot configure Gmsh");
   return DTM_OK;
@@ -52,7 +62,7 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {
-  int ierr = 0;
+  int ierr = 0, nt = omp_get_max_threads();
   const char *src = s->mesh ? s->mesh : s->geometry;
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot open it", src);
@@ -63,6 +73,7 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   if (d < 1 || d > 3)
     return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
+  keep_threads(nt);
   *dim = d;
   return DTM_OK;
 }

@@ -25,11 +25,12 @@ int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m,
   }
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) K[i * n + j] *= r[i] * r[j];
-  /* Jacobi for the linear types (at most hex8's 24 unknowns; they keep
-   * their results to the last bit), tridiagonalization for second-order
-   * ones (6 to 81 unknowns), where it is several times faster. */
-  *lambda = dtm_elem_parent(type) == type ? dtm_eig_sym_max(n, K)
-                                          : dtm_eig_sym_max_tridiag(n, K);
+  /* Jacobi for the small linear problems (up to quad4's 8 unknowns),
+   * tridiagonalization for the rest (pyr5 15, prism6 18, hex8 24, and the
+   * second-order types up to 81), where it is several times faster: hex8
+   * went from about 230 us to tens of us; both are backward stable. */
+  (void)type;
+  *lambda = n <= 12 ? dtm_eig_sym_max(n, K) : dtm_eig_sym_max_tridiag(n, K);
   return DTM_OK;
 }
 
