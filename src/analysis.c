@@ -24,6 +24,12 @@ double dtm_wtime(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static int has_modifiers(const dtm_analysis *a) {
+  for (int j = 0; j < a->neffects; j++)
+    if (a->effects[j].cls->role & DTM_ROLE_MODIFIES_WAVES) return 1;
+  return 0;
+}
+
 static int alloc_results(dtm_analysis *a) {
   size_t n = a->nel, ne = (size_t)a->neffects;
   a->dt = malloc(n * sizeof *a->dt);
@@ -42,6 +48,13 @@ static int alloc_results(dtm_analysis *a) {
     if (!(a->effects[k].cls->role & DTM_ROLE_LIMITS)) continue;
     a->dt_effect[k] = malloc(n * sizeof **a->dt_effect);
     if (!a->dt_effect[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  a->dt_bare = calloc(ne + 1, sizeof *a->dt_bare);
+  if (!a->dt_bare) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t k = 0; k < ne && has_modifiers(a); k++) {
+    if (!a->dt_effect[k] || a->effects[k].cls->exponent != 1.0) continue;
+    a->dt_bare[k] = malloc(n * sizeof **a->dt_bare);
+    if (!a->dt_bare[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
   for (size_t k = 0; k < ne; k++) {
     if (!a->effects[k].cls->accuracy) continue;
@@ -133,6 +146,8 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;
     DTM_CHECK(ef->cls->element_dt(ef->state, &bt, a->dt_effect[k] + g0, w->lens + (size_t)k * CHUNK));
   }
+  for (int k = 0; k < a->neffects; k++)
+    if (a->dt_bare[k]) memcpy(a->dt_bare[k] + g0, a->dt_effect[k] + g0, n * sizeof(double));
   DTM_CHECK(apply_modifiers(a, &bt, g0, w->lens));
   DTM_CHECK(accuracy_chunk(a, &bt, g0, w->hm));
   reduce_chunk(a, &bt, g0, w->lens);
@@ -252,6 +267,8 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   if (!a) return;
   for (int k = 0; a->dt_effect && k < a->neffects; k++) free(a->dt_effect[k]);
   for (int k = 0; a->resolution && k < a->neffects; k++) free(a->resolution[k]);
+  for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
+  free(a->dt_bare);
   free(a->resolution);
   free(a->hmax);
   free(a->hmax_by);

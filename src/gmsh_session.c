@@ -20,22 +20,28 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func,
 }
 
 /* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
- * when it starts and when it meshes; keep the caller's count (all cores,
- * or -j) for both Gmsh and dtmap's own loops. */
-static void keep_threads(int nt) {
+ * when it starts and when it meshes. Gmsh keeps meshing on one thread, so
+ * that the same scene always gives the same mesh and element numbering;
+ * dtmap's own loops get back the caller's count (all cores, or -j). */
+static int dtm_threads = 1;
+
+void dtm_gmsh_restore_threads(void) { omp_set_num_threads(dtm_threads); }
+
+void dtm_gmsh_serial(void) {
   int ierr = 0;
-  gmshOptionSetNumber("General.NumThreads", nt, &ierr);
-  omp_set_num_threads(nt);
+  gmshOptionSetNumber("General.NumThreads", 1, &ierr);
+  omp_set_num_threads(1);
 }
 
 int dtm_gmsh_start(int verbosity) {
-  int ierr = 0, nt = omp_get_max_threads();
+  int ierr = 0;
+  dtm_threads = omp_get_max_threads();
   gmshInitialize(0, NULL, 0, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot initialise Gmsh");
   gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
   gmshOptionSetNumber("General.Terminal", verbosity > 0 ? 1 : 0, &ierr);
   gmshOptionSetNumber("General.Verbosity", verbosity > 1 ? 5 : verbosity > 0 ? 2 : 1, &ierr);
-  keep_threads(nt);
+  dtm_gmsh_restore_threads();
   gmshLoggerStart(&ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot configure Gmsh");
   return DTM_OK;
@@ -51,6 +57,7 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
   char what[4200];
   if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
+  dtm_gmsh_serial();
   gmshModelMeshGenerate(dim, &ierr);
   snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
@@ -62,7 +69,7 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {
-  int ierr = 0, nt = omp_get_max_threads();
+  int ierr = 0;
   const char *src = s->mesh ? s->mesh : s->geometry;
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot open it", src);
@@ -73,7 +80,7 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   if (d < 1 || d > 3)
     return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
-  keep_threads(nt);
+  dtm_gmsh_restore_threads();
   *dim = d;
   return DTM_OK;
 }

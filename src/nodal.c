@@ -33,9 +33,19 @@ static int element_lambda(int type, const dtm_operator_coeffs *c, const double *
   return dtm_kernel_diffusion_lambda(type, c->conductivity / c->capacity, x, lambda);
 }
 
+/* lambda_e of element i (global index) of effect k: from its own step
+ * when that is the element bound (undamped), else from the kernel. */
+static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_coeffs *c, const double *x,
+                     size_t i, double *lam) {
+  if (!c->dt_is_bound) return element_lambda(type, c, x, lam);
+  double dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k][i] : a->dt_effect[k][i];
+  *lam = c->kind == DTM_OP_ELASTIC ? 4.0 / (dt * dt) : 2.0 / dt;
+  return DTM_OK;
+}
+
 /* lambda_e and the lumped contributions mw[e][i] = capacity V w_i of every
  * element of block b. */
-static int block_lambdas(const dtm_analysis *a, int b, const coeff_cache *cc, double *lam, double *mw) {
+static int block_lambdas(const dtm_analysis *a, int k, int b, const coeff_cache *cc, double *lam, double *mw) {
   const dtm_block *blk = &a->mesh->blocks[b];
   int err = 0;
 #pragma omp parallel for schedule(static)
@@ -45,7 +55,7 @@ static int block_lambdas(const dtm_analysis *a, int b, const coeff_cache *cc, do
     one.n = 1, one.conn = blk->conn + e * blk->nn;
     dtm_mesh_gather(a->mesh, &one, x);
     const dtm_operator_coeffs *c = &cc->c[blk->mat[e]];
-    if (element_lambda(blk->type, c, x, &lam[e])) {
+    if (lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e])) {
 #pragma omp atomic write
       err = 1;
     }
@@ -74,7 +84,7 @@ static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, double *num, d
     const dtm_block *blk = &a->mesh->blocks[b];
     DTM_CHECK(block_coeffs(a, k, cc, blk));
     double *lam = malloc((blk->n + 1) * sizeof *lam), *mw = malloc((blk->n * blk->nn + 1) * sizeof *mw);
-    int r = (lam && mw) ? block_lambdas(a, b, cc, lam, mw) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    int r = (lam && mw) ? block_lambdas(a, k, b, cc, lam, mw) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
     for (size_t e = 0; e < blk->n && r == DTM_OK; e++)
       for (int i = 0; i < blk->nn; i++) {
         size_t v = blk->conn[e * blk->nn + i];

@@ -77,11 +77,13 @@ static int remesh(const dtm_analysis *a, int dim, int order, double c) {
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
   size_options();
+  dtm_gmsh_serial();
   gmshModelMeshGenerate(dim, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
   if (!ierr && order > 1) gmshModelMeshSetOrder(order, &ierr);
   int bad = ierr;
+  dtm_gmsh_restore_threads();
   gmshModelMeshFieldRemove(field, &ierr);
   gmshViewRemove(view, &ierr);
   DTM_GMSH_CHECK(bad, DTM_ERR_INPUT, "remeshing with the size suggestion failed");

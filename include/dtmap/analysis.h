@@ -49,6 +49,8 @@ typedef struct dtm_analysis {
   double *len;              /* [nel] characteristic length of the limiting effect, m */
   int *limiting;            /* [nel] index of the limiting effect, scene order */
   double **dt_effect;       /* [neffects][nel]; NULL rows for non-limiting effects */
+  double **dt_bare;         /* [neffects][nel] wave steps before the damping
+                               modifiers; rows only when modifiers exist */
   double *h;                /* [nel] element size (mean edge length), m */
   double *hmax;             /* [nel] accuracy bound on the size, m (+inf: none) */
   int *hmax_by;             /* [nel] effect whose bound hmax is, -1: none */

@@ -61,6 +61,9 @@ typedef struct {
                               (thermal), storage (hydraulic) */
   double conductivity;     /* diffusion: k, or permeability/viscosity */
   dtm_elastic_moduli mod;  /* elastic: moduli of the formulation */
+  int dt_is_bound;         /* 1 when element_dt returns the element's own
+                              eigenvalue bound, 2/sqrt(lambda_e) or 2/lambda_e
+                              (undamped), so the nodal bound can reuse it */
 } dtm_operator_coeffs;
 
 /* One block of elements of one type, as the effects see it. */

@@ -13,6 +13,11 @@
  * through dtmap's messages), 1 warnings, 2 Gmsh's info messages. */
 int dtm_gmsh_start(int verbosity);
 void dtm_gmsh_stop(void);
+/* Give dtmap's loops back the thread count in force at dtm_gmsh_start
+ * (Gmsh resets it to its own General.NumThreads when it meshes). */
+void dtm_gmsh_restore_threads(void);
+/* Mesh on one thread: the same scene then always gives the same mesh. */
+void dtm_gmsh_serial(void);
 
 /* Open the scene's source: mesh its geometry with the <meshing> options, or
  * open its .msh. *dim receives the dimension to analyse. Errors name the

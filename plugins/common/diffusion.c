@@ -26,6 +26,7 @@ int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_materia
                                dtm_operator_coeffs *c) {
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_DIFFUSION;
+  c->dt_is_bound = 1;
   coeffs(m, &c->conductivity, &c->capacity);
   return DTM_OK;
 }

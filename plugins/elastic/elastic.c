@@ -103,6 +103,7 @@ static int elastic_coefficients(void *state, const dtm_material *m, dtm_operator
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_ELASTIC;
   c->capacity = m->prop[DTM_PROP_RHO];
+  c->dt_is_bound = ((const elastic_state *)state)->kind == DTM_LEN_EIGEN;
   return moduli_of(state, m, &c->mod);
 }
 
