@@ -74,7 +74,7 @@ static void one_mesh(double h) {
     char name[64], note[64];
     double dt = lanczos(a, tols[i], &its, &secs);
     snprintf(name, sizeof name, "Lanczos tol %g", tols[i]);
-    snprintf(note, sizeof note, "%d products; safe side theta + residual", its);
+    snprintf(note, sizeof note, "%d Lanczos steps; safe side theta + residual", its);
     row(name, secs, dt, exact, note);
   }
   dtm_analysis_destroy(&a);

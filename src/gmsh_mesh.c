@@ -131,7 +131,7 @@ static int check_type(int type, size_t first_tag) {
   int r = DTM_ERR(DTM_ERR_INPUT,
                   "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag,
                   name ? name : "?", type, order,
-                  order > 1 ? "second-order elements are not supported yet; mesh with order=\"1\""
+                  order > 2 ? "dtmap handles first- and second-order elements; mesh with order=\"1\" or \"2\""
                             : "dtmap does not handle this element type");
   gmshFree(name);
   gmshFree(lc);

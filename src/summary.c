@@ -50,7 +50,7 @@ static void print_min(const dtm_analysis *a, FILE *f) {
   for (int k = 0; a->global && k < a->neffects; k++) {
     const dtm_global_info *g = &a->global[k];
     if (!g->done) continue;
-    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d products (%.2f s), %s\n", a->effects[k].cls->name,
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s\n", a->effects[k].cls->name,
             g->dt_low, g->dt_high, g->iterations, g->seconds,
             g->converged ? "converged" : "NOT converged: the nodal bound stays the basis");
   }

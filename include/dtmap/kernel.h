@@ -22,7 +22,18 @@ enum {
   DTM_TET4 = 4,
   DTM_HEX8 = 5,
   DTM_PRISM6 = 6,
-  DTM_PYR5 = 7
+  DTM_PYR5 = 7,
+  /* second order (HRZ lumping, generic quadrature path) */
+  DTM_TRI6 = 9,
+  DTM_QUAD9 = 10,
+  DTM_TET10 = 11,
+  DTM_HEX27 = 12,
+  DTM_PRISM18 = 13,
+  DTM_PYR14 = 14,
+  DTM_QUAD8 = 16,
+  DTM_HEX20 = 17,
+  DTM_PRISM15 = 18,
+  DTM_PYR13 = 19
 };
 #define DTM_MAX_NODES 27 /* the largest element dtmap will ever handle */
 

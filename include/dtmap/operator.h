@@ -41,10 +41,12 @@ void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double 
 
 typedef struct {
   double theta;     /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
-  double residual;  /* ||A y - theta y|| for the unit Ritz vector y: an
-                       eigenvalue lies in [theta - residual, theta + residual] */
-  int iterations;   /* matrix-vector products */
-  int converged;    /* residual <= tol * theta */
+  double residual;  /* ||A y - theta y|| measured on the returned unit Ritz
+                       vector y (one extra product): an eigenvalue lies in
+                       [theta - residual, theta + residual] */
+  int iterations;   /* Lanczos steps k; a call costs about 2k products, as
+                       the Ritz vector is rebuilt by a second pass */
+  int converged;    /* invariant subspace, or residual <= tol * theta */
   double seconds;   /* wall time */
   double *mode;     /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
                        normalised so that u^T M u = 1 (owned, free()) */

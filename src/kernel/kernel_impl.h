@@ -9,20 +9,6 @@
 
 #include "dtmap/kernel.h"
 
-/* Second-order element types (Gmsh type codes). They live here rather
- * than in the public enum of kernel.h; callers pass Gmsh's codes. */
-enum {
-  DTM_TRI6 = 9,
-  DTM_QUAD9 = 10,
-  DTM_TET10 = 11,
-  DTM_HEX27 = 12,
-  DTM_PRISM18 = 13,
-  DTM_PYR14 = 14,
-  DTM_QUAD8 = 16,
-  DTM_HEX20 = 17,
-  DTM_PRISM15 = 18,
-  DTM_PYR13 = 19
-};
 
 #define DTM_K_NODES 27 /* most nodes among the types the kernels handle (hex27) */
 #define DTM_K_DOF 81   /* most displacement unknowns (hex27, 3 per node) */
