@@ -38,6 +38,7 @@
  * INRADIUS and VOLUME_AREA. An unknown type gives NaN. */
 #include <math.h>
 
+#include "dtmap/error.h"
 #include "kernel/assemble.h"
 #include "kernel/kernel_impl.h"
 
@@ -141,6 +142,12 @@ static double facets(int d, const dtm_topology *t, const double *x,
 }
 
 static double safe_length(int type, const double *x) {
+  if (dtm_elem_is_simplex(type)) { /* closed form: (d+1) tr S, S = sum_a g_a g_a^T */
+    int d;
+    double S[6], scale, vol;
+    if (dtm_simplex_metric(type, x, &d, S, &scale, &vol)) return dtm_error_clear(), NAN;
+    return 2 / sqrt((d + 1) * scale * (S[0] + S[1] + S[2]));
+  }
   dtm_elem_geom eg;
   double K[DTM_K_NODES * DTM_K_NODES], m[DTM_K_NODES], sum = 0;
   if (dtm_elem_setup(type, x, &eg)) return NAN;
