@@ -103,13 +103,11 @@ static void run_scene(void **state) {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  int ierr = 0;
-  gmshInitialize(0, NULL, 0, &ierr);
-  gmshOptionSetNumber("General.Terminal", 0, &ierr);
+  tu_gmsh_begin();
   struct CMUnitTest tests[4];
   for (int i = 0; i < 4; i++)
     tests[i] = (struct CMUnitTest){scenes[i], run_scene, NULL, NULL, (void *)scenes[i]};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
-  gmshFinalize(&ierr);
+  tu_gmsh_end();
   return r;
 }

@@ -93,11 +93,9 @@ static void unreachable(void **unused) {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  int ierr = 0;
-  gmshInitialize(0, NULL, 0, &ierr);
-  gmshOptionSetNumber("General.Terminal", 0, &ierr);
+  tu_gmsh_begin();
   const struct CMUnitTest tests[] = {cmocka_unit_test(box), cmocka_unit_test(plate), cmocka_unit_test(unreachable)};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
-  gmshFinalize(&ierr);
+  tu_gmsh_end();
   return r;
 }

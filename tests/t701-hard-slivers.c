@@ -129,12 +129,6 @@ static void sliver(void **state) {
   hc_check(c->name, &r);
 }
 
-static int header(void **unused) {
-  hc_table_header();
-  (void)unused;
-  return 0;
-}
-
 #define ELASTIC "<elastic formulation=\"3d\"/>"
 static const sliver_case cases[] = {
     {"sliver-1e-1", 1e-1, ELASTIC},
@@ -146,13 +140,11 @@ static const sliver_case cases[] = {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  int ierr = 0;
-  gmshInitialize(0, NULL, 0, &ierr);
-  gmshOptionSetNumber("General.Terminal", 0, &ierr);
+  tu_gmsh_begin();
   enum { NC = sizeof cases / sizeof cases[0] };
   struct CMUnitTest tests[NC];
   for (int i = 0; i < NC; i++) tests[i] = (struct CMUnitTest){cases[i].name, sliver, NULL, NULL, (void *)&cases[i]};
-  int r = cmocka_run_group_tests(tests, header, NULL);
-  gmshFinalize(&ierr);
+  int r = cmocka_run_group_tests(tests, hc_group_setup, NULL);
+  tu_gmsh_end();
   return r;
 }

@@ -61,20 +61,11 @@ static void tet10(void **unused) {
   (void)unused;
 }
 
-static int header(void **unused) {
-  hc_table_header();
-  (void)unused;
-  return 0;
-}
-
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  int ierr = 0;
-  gmshInitialize(0, NULL, 0, &ierr);
-  gmshOptionSetNumber("General.Terminal", 0, &ierr);
-  gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
+  tu_gmsh_begin();
   const struct CMUnitTest tests[] = {cmocka_unit_test(tri6), cmocka_unit_test(tet10)};
-  int r = cmocka_run_group_tests(tests, header, NULL);
-  gmshFinalize(&ierr);
+  int r = cmocka_run_group_tests(tests, hc_group_setup, NULL);
+  tu_gmsh_end();
   return r;
 }

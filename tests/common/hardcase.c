@@ -394,3 +394,9 @@ void hc_check(const char *name, hc_result *r) {
   assert_int_equal(ok, 0);
   assert_int_equal(bad, 1);
 }
+
+int hc_group_setup(void **state) {
+  hc_table_header();
+  (void)state;
+  return 0;
+}

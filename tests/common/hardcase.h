@@ -100,5 +100,7 @@ double hc_run_number(const char *name, int posterior, const char *dotted);
 void hc_check(const char *name, hc_result *r);
 /* Header of the table rows hc_check prints. */
 void hc_table_header(void);
+/* cmocka group setup that prints the table header. */
+int hc_group_setup(void **state);
 
 #endif

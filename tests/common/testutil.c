@@ -142,3 +142,15 @@ void tu_view_free(tu_view *v) {
   gmshFree(v->values);
   memset(v, 0, sizeof *v);
 }
+
+void tu_gmsh_begin(void) {
+  int ierr = 0;
+  gmshInitialize(0, NULL, 0, &ierr);
+  gmshOptionSetNumber("General.Terminal", 0, &ierr);
+  gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
+}
+
+void tu_gmsh_end(void) {
+  int ierr = 0;
+  gmshFinalize(&ierr);
+}

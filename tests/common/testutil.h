@@ -25,6 +25,11 @@ struct cJSON *tu_json_load(const char *path);
 /* Number at a dotted path ("dt.min") of a JSON object; NaN if absent. */
 double tu_json_number(const struct cJSON *root, const char *dotted);
 
+/* Start Gmsh quietly in the test process (General.AbortOnError=0), and
+ * stop it. */
+void tu_gmsh_begin(void);
+void tu_gmsh_end(void);
+
 /* A view read back from a .msh through Gmsh (gmsh must be initialised and
  * the file opened). */
 typedef struct {
