@@ -12,30 +12,12 @@
 #include "dtmap/topology.h"
 #include "kernel/kernel_impl.h"
 
-static const int line_e[][2] = {{0, 1}};
-static const int tri_e[][2] = {{0, 1}, {1, 2}, {2, 0}};
-static const int quad_e[][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-static const int tet_e[][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
-static const int hex_e[][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
-                               {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-static const int prism_e[][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5},
-                                 {5, 3}, {0, 3}, {1, 4}, {2, 5}};
-static const int pyr_e[][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0},
-                               {0, 4}, {1, 4}, {2, 4}, {3, 4}};
-
-#define TABLE(t, out) (*(out) = t, (int)(sizeof t / sizeof t[0]))
-
+/* The tables live in the kernel's element catalogue (dtm_elem_topology),
+ * which already maps a second-order type to its linear parent. */
 int dtm_elem_edges(int type, const int (**edges)[2]) {
-  switch (dtm_elem_parent(type)) {
-  case DTM_LINE2: return TABLE(line_e, edges);
-  case DTM_TRI3: return TABLE(tri_e, edges);
-  case DTM_QUAD4: return TABLE(quad_e, edges);
-  case DTM_TET4: return TABLE(tet_e, edges);
-  case DTM_HEX8: return TABLE(hex_e, edges);
-  case DTM_PRISM6: return TABLE(prism_e, edges);
-  case DTM_PYR5: return TABLE(pyr_e, edges);
-  default: *edges = 0; return 0;
-  }
+  const dtm_topology *t = dtm_elem_topology(type);
+  *edges = t ? (const int(*)[2])t->edge : NULL;
+  return t ? t->nedge : 0;
 }
 
 double dtm_elem_mean_edge(int type, const double *x) {
@@ -50,32 +32,11 @@ double dtm_elem_mean_edge(int type, const double *x) {
   return n ? sum / n : NAN;
 }
 
-/* Facets: node lists padded to 4, with their counts. */
-static const int line_f[][4] = {{0}, {1}}, line_c[] = {1, 1};
-static const int tri_f[][4] = {{0, 1}, {1, 2}, {2, 0}}, tri_c[] = {2, 2, 2};
-static const int quad_f[][4] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}}, quad_c[] = {2, 2, 2, 2};
-static const int tet_f[][4] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}, tet_c[] = {3, 3, 3, 3};
-static const int hex_f[][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                               {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}},
-                 hex_c[] = {4, 4, 4, 4, 4, 4};
-static const int prism_f[][4] = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {1, 2, 5, 4}, {2, 0, 3, 5}},
-                 prism_c[] = {3, 3, 4, 4, 4};
-static const int pyr_f[][4] = {{0, 3, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}},
-                 pyr_c[] = {4, 3, 3, 3, 3};
-
-#define FACETS(f, c) (*nodes = f, *count = c, (int)(sizeof f / sizeof f[0]))
-
 int dtm_elem_facets(int type, const int (**nodes)[DTM_MAX_FACET_NODES], const int **count) {
-  switch (dtm_elem_parent(type)) {
-  case DTM_LINE2: return FACETS(line_f, line_c);
-  case DTM_TRI3: return FACETS(tri_f, tri_c);
-  case DTM_QUAD4: return FACETS(quad_f, quad_c);
-  case DTM_TET4: return FACETS(tet_f, tet_c);
-  case DTM_HEX8: return FACETS(hex_f, hex_c);
-  case DTM_PRISM6: return FACETS(prism_f, prism_c);
-  case DTM_PYR5: return FACETS(pyr_f, pyr_c);
-  default: *nodes = 0, *count = 0; return 0;
-  }
+  const dtm_topology *t = dtm_elem_topology(type);
+  *nodes = t ? (const int(*)[DTM_MAX_FACET_NODES])t->facet : NULL;
+  *count = t ? t->facet_nn : NULL;
+  return t ? t->nfacet : 0;
 }
 
 static void sub(const double *a, const double *b, double *d) {
