@@ -8,23 +8,26 @@
 #include "cli.h"
 #include "opts.h"
 
-const char dtm_cli_usage[] =
+const char dtm_cli_usage_short[] =
     "usage: dtmap run SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [-j N] [-v|-q]\n"
     "       dtmap verify SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]\n"
     "       dtmap refine SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K]\n"
     "       dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png]\n"
     "       dtmap effects        list the effects a scene can name\n"
-    "       dtmap --help | --version\n"
+    "       dtmap --help | --version\n";
+
+static const char usage_long[] =
     "\n"
     "run    meshes the scene's geometry (or reads its .msh), computes every element's\n"
     "       critical explicit step for the effects the scene names, and writes the mesh\n"
     "       with the views 'dt', 'characteristic length', 'limiting effect', 'size\n"
-    "       suggestion' and 'dt <effect>' (open it in Gmsh), plus OUT.msh.opt.\n"
+    "       suggestion', 'nodal dt', 'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt.\n"
     "  -o OUT.msh       output mesh (default: the scene's <output mesh>, else SCENE_dt.msh)\n"
     "  --report R.json  JSON report (default: the scene's <output report>, if any)\n"
     "  --posterior      also estimate the global step by Lanczos on the lumped-mass\n"
-    "                   problem (--tol T, default 1e-4; --lanczos-max K products, default 400)\n"
+    "                   problem (--tol T, default 1e-4; --lanczos-max K steps, default 400)\n"
     "  -j N             threads (default: all cores)\n"
+    "  -v, -q           more output (Gmsh's messages, error tracebacks) / no summary\n"
     "\n"
     "verify simulates the scene's spectral effects on its mesh (central differences\n"
     "       with the damping force on the lagged velocity; forward Euler for diffusion)\n"
@@ -38,11 +41,10 @@ const char dtm_cli_usage[] =
     "\n"
     "sweep  meshes the scene at each size and tabulates elements, steps, the cost of\n"
     "       the scene's duration with and without subcycling, and accuracy; CSV + PNG.\n"
-    "  -v, -q           more output (Gmsh's messages, error tracebacks) / summary off\n"
     "\n"
     "Element step of the elastic effect, <elastic length=...>:\n"
     "  eigen         2/sqrt(lambda_max(Me^-1 Ke)), lumped mass (default; provably safe)\n"
-    "  safe          2/sqrt(d+1) (sum_a h_a^-2)^-1/2 / C_D on simplices (safe)\n"
+    "  safe          2/sqrt(d+1) (sum_a h_a^-2)^-1/2 / C_D on simplices (safe for nu >= 0)\n"
     "  min-edge      shortest edge / C_D            UNSAFE: up to 17x too large on slivers\n"
     "  min-altitude  smallest altitude / C_D        UNSAFE on needles (1.06-1.13x)\n"
     "  inradius      2 x inradius / C_D             UNSAFE on needle triangles (1.05x)\n"
@@ -62,7 +64,7 @@ static int cmd_effects(void) {
 
 int main(int argc, char **argv) {
   const char *cmd = argc > 1 ? argv[1] : "";
-  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return printf("%s", dtm_cli_usage), 0;
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return printf("%s%s", dtm_cli_usage_short, usage_long), 0;
   if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;
   if (!strcmp(cmd, "run")) return dtm_cli_run(argc, argv, 0);
   if (!strcmp(cmd, "verify")) return dtm_cli_run(argc, argv, 1);

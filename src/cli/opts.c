@@ -17,7 +17,7 @@ static int number_arg(const char *s, double *v) {
 int dtm_cli_usage_error(const char *fmt, const char *arg) {
   fprintf(stderr, "dtmap: ");
   fprintf(stderr, fmt, arg);
-  fprintf(stderr, "\n%s", dtm_cli_usage);
+  fprintf(stderr, "\n%s(dtmap --help explains the commands)\n", dtm_cli_usage_short);
   return DTM_ERR_INPUT;
 }
 

@@ -21,8 +21,8 @@ typedef struct {
   int steps;           /* verify --steps */
 } run_opts;
 
-/* The usage text (main.c). */
-extern const char dtm_cli_usage[];
+/* The usage lines (main.c); --help adds the long description. */
+extern const char dtm_cli_usage_short[];
 /* Print "dtmap: <fmt>" and the usage to stderr; returns DTM_ERR_INPUT. */
 int dtm_cli_usage_error(const char *fmt, const char *arg);
 /* Parse argv[2..] of run, verify and refine into o (defaults set by caller). */
