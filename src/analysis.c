@@ -140,7 +140,8 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   sub.conn = blk->conn + e0 * (size_t)blk->nn;
   dtm_mesh_gather(a->mesh, &sub, w->x);
   for (size_t e = 0; e < n; e++) w->mat[e] = &a->scene->materials[blk->mat[e0 + e]].m;
-  dtm_batch bt = {blk->type, blk->dim, blk->nn, n, w->x, blk->tags + e0, blk->group + e0, w->mat};
+  dtm_batch bt = {blk->type, blk->dim, blk->nn, n, w->x, blk->tags + e0, blk->group + e0,
+                  blk->gmask ? blk->gmask + e0 : NULL, w->mat};
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;

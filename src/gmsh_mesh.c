@@ -67,18 +67,20 @@ static int read_nodes(dtm_mesh *m, node_index *ni) {
 }
 
 /* Group of an entity: its first physical group that has a material, else its
- * first group, else -1. */
-static int entity_group(const dtm_mesh *m, int dim, int tag, const int *group_mat) {
-  int *phys = NULL, ierr = 0, best = -1;
+ * first group, else -1; *mask gets every group it is in. */
+static int entity_group(const dtm_mesh *m, int dim, int tag, const int *group_mat, unsigned long long *mask) {
+  int *phys = NULL, ierr = 0, best = -1, found = 0;
   size_t n = 0;
+  *mask = 0;
   gmshModelGetPhysicalGroupsForEntity(dim, tag, &phys, &n, &ierr);
   for (size_t i = 0; i < n; i++) {
     int g = -1;
     for (int k = 0; k < m->ngroups; k++)
       if (m->groups[k].tag == phys[i]) g = k;
     if (g < 0) continue;
+    if (g < DTM_MAX_MASK_GROUPS) *mask |= 1ull << g;
     if (best < 0) best = g;
-    if (group_mat[g] >= 0) { best = g; break; }
+    if (group_mat[g] >= 0 && !found) best = g, found = 1;
   }
   gmshFree(phys);
   return best;
@@ -107,7 +109,9 @@ static int block_grow(dtm_block *b, size_t add) {
   if (group) b->group = group;
   int *mat = realloc(b->mat, n * sizeof *mat);
   if (mat) b->mat = mat;
-  if (!tags || !conn || !group || !mat) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  unsigned long long *gmask = realloc(b->gmask, n * sizeof *gmask);
+  if (gmask) b->gmask = gmask;
+  if (!tags || !conn || !group || !mat || !gmask) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
 
@@ -156,7 +160,7 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t ta
                   src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
 }
 
-static int append_type(const extract_ctx *c, dtm_mesh *m, int g, int type,
+static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type,
                        const size_t *tags, size_t n, const size_t *nodes) {
   DTM_CHECK(check_type(type, n ? tags[0] : 0));
   int mat;
@@ -168,6 +172,7 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int g, int type,
     size_t k = b->n + e;
     b->tags[k] = tags[e];
     b->group[k] = g;
+    b->gmask[k] = mask;
     b->mat[k] = mat;
     for (int a = 0; a < b->nn; a++) {
       size_t t = nodes[e * b->nn + a];
@@ -185,9 +190,10 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
   size_t nt = 0, **etags = NULL, *netags = NULL, ne = 0, **ntags = NULL, *nntags = NULL, nn = 0;
   gmshModelMeshGetElements(&types, &nt, &etags, &netags, &ne, &ntags, &nntags, &nn, m->dim, tag, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read elements");
-  int g = entity_group(m, m->dim, tag, c->group_mat);
+  unsigned long long mask;
+  int g = entity_group(m, m->dim, tag, c->group_mat, &mask);
   for (size_t i = 0; i < nt && r == DTM_OK; i++)
-    r = append_type(c, m, g, types[i], etags[i], netags[i], ntags[i]);
+    r = append_type(c, m, g, mask, types[i], etags[i], netags[i], ntags[i]);
   for (size_t i = 0; i < nt; i++) {
     gmshFree(etags[i]);
     gmshFree(ntags[i]);

@@ -75,6 +75,8 @@ typedef struct {
   const double *x;                /* [n][nn][3] node coordinates, m */
   const size_t *tags;             /* [n] Gmsh element tags */
   const int *group;               /* [n] physical group index, -1 for none */
+  const unsigned long long *gmask;/* [n] every group of the element (bit g),
+                                     or NULL: then only `group` is known */
   const dtm_material *const *mat; /* [n] material of each element */
 } dtm_batch;
 

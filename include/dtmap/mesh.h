@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 
+#define DTM_MAX_MASK_GROUPS 64 /* groups representable in dtm_block.gmask */
+
 typedef struct {
   int dim;      /* dimension of the physical group */
   int tag;      /* Gmsh physical tag */
@@ -20,8 +22,11 @@ typedef struct {
   size_t n;     /* number of elements */
   size_t *tags; /* [n] Gmsh element tags */
   size_t *conn; /* [n][nn] 0-based indices into the mesh's node arrays */
-  int *group;   /* [n] index into dtm_mesh.groups, -1 when in no group */
+  int *group;   /* [n] index into dtm_mesh.groups, -1 when in no group
+                   (the group that gave the element its material) */
   int *mat;     /* [n] index into the scene's materials, -1 until assigned */
+  unsigned long long *gmask; /* [n] bit g set when the element is in group g
+                   (every physical group of its entity, g < 64); may be NULL */
 } dtm_block;
 
 typedef struct dtm_mesh {

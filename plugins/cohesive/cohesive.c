@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "dtmap/effect.h"
+#include "dtmap/mesh.h"
 #include "dtmap/topology.h"
 
 #define LITERATURE_FACTOR 30.0 /* Baylor (1997), via the CVFE review in shared/seeds */
@@ -28,6 +29,7 @@ typedef struct {
   double stiffness;      /* interface stiffness, Pa/m; 0 = use the 1/30 rule */
   int ngroups;
   char *in;              /* [ngroups] 1 where the group has cohesive elements */
+  unsigned long long mask; /* the same groups as a bit mask */
 } cohesive_state;
 
 static int parse_form(const dtm_effect_args *a, dtm_formulation *f) {
@@ -50,7 +52,11 @@ static int parse_groups(const dtm_effect_args *a, cohesive_state *s) {
   for (char *save = NULL, *tok = strtok_r(buf, " \t\n", &save); tok; tok = strtok_r(NULL, " \t\n", &save)) {
     int g;
     DTM_CHECK(dtm_effect_args_group(a, tok, &g));
+    if (g >= DTM_MAX_MASK_GROUPS)
+      return dtm_effect_args_error(a, "group '%s' is number %d of the mesh's groups; cohesive handles the first %d",
+                                   tok, g + 1, DTM_MAX_MASK_GROUPS);
     s->in[g] = 1;
+    s->mask |= 1ull << g;
   }
   return DTM_OK;
 }
@@ -79,7 +85,9 @@ static int cohesive_create(const dtm_effect_args *a, void **state) {
   return r;
 }
 
+/* In any of the cohesive groups, through any of the element's groups. */
 static int in_groups(const cohesive_state *s, const dtm_batch *b, size_t e) {
+  if (b->gmask) return (b->gmask[e] & s->mask) != 0;
   int g = b->group[e];
   return g >= 0 && g < s->ngroups && s->in[g];
 }

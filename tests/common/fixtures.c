@@ -43,5 +43,5 @@ dtm_batch tu_batch1(int type, const double *x, const dtm_material **m) {
   static const int group = 0;
   int dim = 0, nn = 0;
   dtm_elem_info(type, &dim, &nn);
-  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, m};
+  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m};
 }
