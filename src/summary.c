@@ -132,6 +132,7 @@ static void print_histogram(const dtm_analysis *a, FILE *f) {
   if (hi - lo > 15) hi = lo + 15;
   size_t count[16] = {0}, most = 1;
   for (size_t i = 0; i < a->nel; i++) {
+    if (!isfinite(a->dt[i])) continue; /* no effect limits this element */
     int d = (int)floor(log10(a->dt[i])) - lo;
     count[d < 0 ? 0 : d > hi - lo ? hi - lo : d]++;
   }
