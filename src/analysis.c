@@ -248,6 +248,8 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
   if (r == DTM_OK) summarize(a);
+  if (r == DTM_OK && !isfinite(a->dt_min))
+    r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
   t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_nodal_bounds(a);

@@ -42,6 +42,12 @@ static int create_one(const dtm_scene *s, const dtm_mesh *m, int i, dtm_effect *
   return DTM_OK;
 }
 
+static int any_limits(const dtm_effect *e, int n) {
+  for (int i = 0; i < n; i++)
+    if (e[i].cls->role & DTM_ROLE_LIMITS) return 1;
+  return 0;
+}
+
 int dtm_effects_create(const dtm_scene *s, const dtm_mesh *m, dtm_effect **out, int *n) {
   dtm_effect *e = calloc((size_t)s->neffects + 1, sizeof *e);
   if (!e) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -51,6 +57,11 @@ int dtm_effects_create(const dtm_scene *s, const dtm_mesh *m, dtm_effect **out, 
       dtm_effects_destroy(&e, i + 1);
       return dtm_error_trace(r, __FILE__, __LINE__, __func__);
     }
+  }
+  if (!any_limits(e, s->neffects)) {
+    dtm_effects_destroy(&e, s->neffects);
+    return DTM_ERR(DTM_ERR_INPUT, "%s:%d: <effects> names no effect that limits the step (damping only scales "
+                   "the wave effects; add <elastic/>, <thermal/>, ...)", s->path, s->effects_line);
   }
   *out = e;
   *n = s->neffects;

@@ -122,6 +122,12 @@ static void unknown_effect(void **state) {
   (void)state;
 }
 
+static void damping_only(void **state) {
+  expect_fail("damponly", GEO MAT_OK "<effects>\n<damping xi=\"0.1\"/>\n</effects>\n",
+              (const char *const[]){"damponly.xml:6", "no effect that limits", NULL});
+  (void)state;
+}
+
 static void group_without_material(void **state) {
   expect_fail("nogroup", GEO "<material name=\"r\" groups=\"rock\" E=\"1e9\" nu=\"0.25\" rho=\"2000\"/>\n" FX,
               (const char *const[]){"physical group 'plate'", "element ", "no default material", NULL});
@@ -153,6 +159,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(missing_file),       cmocka_unit_test(malformed_xml),
       cmocka_unit_test(schema_violation),   cmocka_unit_test(bad_values_single),
       cmocka_unit_test(unknown_effect),     cmocka_unit_test(group_without_material),
+      cmocka_unit_test(damping_only),
       cmocka_unit_test(material_names_missing_group), cmocka_unit_test(meshing_fails),
       cmocka_unit_test(missing_geometry),
   };
