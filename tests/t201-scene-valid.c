@@ -10,6 +10,8 @@
 #include <stdint.h>
 
 #include <cmocka.h>
+
+#include "testutil.h"
 #include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
@@ -38,20 +40,6 @@ static void make_subdir(const char *name) {
   assert_int_equal(mkdir(path, 0700), 0);
 }
 
-static void remove_tree(const char *path) {
-  DIR *d = opendir(path);
-  struct dirent *e;
-  while (d && (e = readdir(d))) {
-    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-    char child[PATH_MAX * 2];
-    struct stat st;
-    snprintf(child, sizeof child, "%s/%s", path, e->d_name);
-    if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) remove_tree(child);
-    else unlink(child);
-  }
-  if (d) closedir(d);
-  rmdir(path);
-}
 
 static int setup(void **state) {
   (void)state;
@@ -63,7 +51,7 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
   (void)state;
-  remove_tree(dir);
+  tu_remove_tree(dir);
   return 0;
 }
 

@@ -11,6 +11,8 @@
 #include <stdint.h>
 
 #include <cmocka.h>
+
+#include "testutil.h"
 #include <dirent.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -121,20 +123,6 @@ static const error_case cases[] = {
      "<output> mesh=\"out.vtk\" must be a Gmsh .msh file"},
 };
 
-static void remove_tree(const char *path) {
-  DIR *d = opendir(path);
-  struct dirent *e;
-  while (d && (e = readdir(d))) {
-    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-    char child[PATH_MAX * 2];
-    struct stat st;
-    snprintf(child, sizeof child, "%s/%s", path, e->d_name);
-    if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) remove_tree(child);
-    else unlink(child);
-  }
-  if (d) closedir(d);
-  rmdir(path);
-}
 
 static void write_file(const char *path, const char *text) {
   FILE *f = fopen(path, "w");
@@ -259,7 +247,7 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
   (void)state;
-  remove_tree(dir);
+  tu_remove_tree(dir);
   return 0;
 }
 

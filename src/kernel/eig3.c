@@ -19,6 +19,7 @@
 #include <math.h>
 
 #include "kernel/kernel_impl.h"
+#include "kernel/vec3.h"
 
 /* |r| above this means two eigenvalues are close: deflate. Below it the
  * trigonometric error is at most ~ eps/sqrt(1 - r^2) < 3 eps times the norm. */
@@ -26,15 +27,7 @@
 
 static const double PI = 3.14159265358979323846;
 
-static double dot(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
-static void cross(const double *a, const double *b, double *c) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 void dtm_eig2_sym(double a, double b, double c, double e[2]) {
   double m = 0.5 * (a + c), h = 0.5 * (a - c), r = sqrt(h * h + b * b);
@@ -56,10 +49,10 @@ static int null_vector(const double b[6], double e, double *v) {
                     {b[3], b[1] - e, b[5]},
                     {b[4], b[5], b[2] - e}};
   double c[3][3], n[3];
-  cross(r[0], r[1], c[0]);
-  cross(r[0], r[2], c[1]);
-  cross(r[1], r[2], c[2]);
-  for (int k = 0; k < 3; k++) n[k] = dot(c[k], c[k]);
+  dtm_v3_cross(r[0], r[1], c[0]);
+  dtm_v3_cross(r[0], r[2], c[1]);
+  dtm_v3_cross(r[1], r[2], c[2]);
+  for (int k = 0; k < 3; k++) n[k] = dtm_v3_dot(c[k], c[k]);
   int k = n[0] >= n[1] ? (n[0] >= n[2] ? 0 : 2) : (n[1] >= n[2] ? 1 : 2);
   if (!(n[k] > 0) || !isfinite(n[k])) return -1;
   double s = 1 / sqrt(n[k]);
@@ -73,13 +66,13 @@ static void restricted_pair(const double b[6], const double *v, double e[2]) {
                                    : (fabs(v[1]) <= fabs(v[2]) ? 1 : 2);
   double ax[3] = {0, 0, 0}, u1[3], u2[3], y1[3], y2[3];
   ax[k] = 1;
-  cross(v, ax, u1);
-  double s = 1 / sqrt(dot(u1, u1));
+  dtm_v3_cross(v, ax, u1);
+  double s = 1 / sqrt(dtm_v3_dot(u1, u1));
   for (int i = 0; i < 3; i++) u1[i] *= s;
-  cross(v, u1, u2);
+  dtm_v3_cross(v, u1, u2);
   mul(b, u1, y1);
   mul(b, u2, y2);
-  dtm_eig2_sym(dot(u1, y1), dot(u1, y2), dot(u2, y2), e);
+  dtm_eig2_sym(dtm_v3_dot(u1, y1), dtm_v3_dot(u1, y2), dtm_v3_dot(u2, y2), e);
 }
 
 static void sort3(double e[3]) {

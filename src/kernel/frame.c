@@ -16,20 +16,10 @@
 #include <string.h>
 
 #include "kernel/kernel_impl.h"
+#include "kernel/vec3.h"
 
-static void sub(const double *a, const double *b, double *c) {
-  for (int i = 0; i < 3; i++) c[i] = a[i] - b[i];
-}
-static double dot(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static void cross(const double *a, const double *b, double *c) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 static int unit(double *a) {
-  double n = sqrt(dot(a, a));
+  double n = sqrt(dtm_v3_dot(a, a));
   if (!(n > 0) || !isfinite(n)) return -1;
   for (int i = 0; i < 3; i++) a[i] /= n;
   return 0;
@@ -37,29 +27,29 @@ static int unit(double *a) {
 
 static int frame1(const double *x, double (*xl)[3]) {
   double t[3];
-  sub(x + 3, x, t);
+  dtm_v3_sub(x + 3, x, t);
   memset(xl, 0, sizeof(double[2][3]));
-  xl[1][0] = sqrt(dot(t, t));
+  xl[1][0] = sqrt(dtm_v3_dot(t, t));
   return xl[1][0] > 0 && isfinite(xl[1][0]) ? 0 : -1;
 }
 
 static int frame2(int nc, int nn, const double *x, double (*xl)[3]) {
   double n[3] = {0, 0, 0}, e1[3], e2[3], r[3], s[3], c[3];
   for (int a = 1; a + 1 < nc; a++) {
-    sub(x + 3 * a, x, r);
-    sub(x + 3 * (a + 1), x, s);
-    cross(r, s, c);
+    dtm_v3_sub(x + 3 * a, x, r);
+    dtm_v3_sub(x + 3 * (a + 1), x, s);
+    dtm_v3_cross(r, s, c);
     for (int i = 0; i < 3; i++) n[i] += c[i];
   }
   if (unit(n)) return -1;
-  sub(x + 3, x, e1);
-  double h = dot(e1, n);
+  dtm_v3_sub(x + 3, x, e1);
+  double h = dtm_v3_dot(e1, n);
   for (int i = 0; i < 3; i++) e1[i] -= h * n[i];
   if (unit(e1)) return -1;
-  cross(n, e1, e2);
+  dtm_v3_cross(n, e1, e2);
   for (int a = 0; a < nn; a++) {
-    sub(x + 3 * a, x, r);
-    xl[a][0] = dot(r, e1), xl[a][1] = dot(r, e2), xl[a][2] = 0;
+    dtm_v3_sub(x + 3 * a, x, r);
+    xl[a][0] = dtm_v3_dot(r, e1), xl[a][1] = dtm_v3_dot(r, e2), xl[a][2] = 0;
   }
   return 0;
 }
@@ -73,6 +63,6 @@ int dtm_elem_local(int type, const double *x, double (*xl)[3]) {
     dtm_elem_info(dtm_elem_parent(type), NULL, &nc);
     return frame2(nc, nn, x, xl);
   }
-  for (int a = 0; a < nn; a++) sub(x + 3 * a, x, xl[a]);
+  for (int a = 0; a < nn; a++) dtm_v3_sub(x + 3 * a, x, xl[a]);
   return 0;
 }

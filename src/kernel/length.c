@@ -41,18 +41,8 @@
 #include "dtmap/error.h"
 #include "kernel/assemble.h"
 #include "kernel/kernel_impl.h"
+#include "kernel/vec3.h"
 
-static void diff(const double *a, const double *b, double *c) {
-  for (int i = 0; i < 3; i++) c[i] = a[i] - b[i];
-}
-static double dot(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static void cross(const double *a, const double *b, double *c) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* A facet reduced to what lengths need: measure, and a point and unit
  * direction that define its plane (normal), line (tangent) or point. */
@@ -72,12 +62,12 @@ static void plane_facet(const dtm_topology *t, int f, const double *x,
   for (int a = 0; a < k; a++) {
     for (int i = 0; i < 3; i++) F->c[i] += x[3 * t->facet[f][a] + i] / k;
     if (a == 0 || a + 1 == k) continue;
-    diff(x + 3 * t->facet[f][a], x0, r);
-    diff(x + 3 * t->facet[f][a + 1], x0, s);
-    cross(r, s, c);
+    dtm_v3_sub(x + 3 * t->facet[f][a], x0, r);
+    dtm_v3_sub(x + 3 * t->facet[f][a + 1], x0, s);
+    dtm_v3_cross(r, s, c);
     for (int i = 0; i < 3; i++) F->n[i] += c[i];
   }
-  double nn = sqrt(dot(F->n, F->n));
+  double nn = sqrt(dtm_v3_dot(F->n, F->n));
   F->measure = nn / 2;
   for (int i = 0; i < 3; i++) F->n[i] = nn > 0 ? F->n[i] / nn : 0;
 }
@@ -93,26 +83,26 @@ static void get_facet(int d, const dtm_topology *t, int f, const double *x,
   for (int i = 0; i < 3; i++) F->c[i] = a[i], F->n[i] = 0;
   F->measure = 1;
   if (d == 1) return;
-  diff(x + 3 * t->facet[f][1], a, F->n);
-  F->measure = sqrt(dot(F->n, F->n));
+  dtm_v3_sub(x + 3 * t->facet[f][1], a, F->n);
+  F->measure = sqrt(dtm_v3_dot(F->n, F->n));
   for (int i = 0; i < 3; i++) F->n[i] = F->measure > 0 ? F->n[i] / F->measure : 0;
 }
 
 /* Distance of point p from the facet's plane, line or point. */
 static double distance(const facet *F, const double *p) {
   double r[3], c[3];
-  diff(p, F->c, r);
-  if (F->d == 3) return fabs(dot(r, F->n));
-  if (F->d == 1) return sqrt(dot(r, r));
-  cross(r, F->n, c);
-  return sqrt(dot(c, c));
+  dtm_v3_sub(p, F->c, r);
+  if (F->d == 3) return fabs(dtm_v3_dot(r, F->n));
+  if (F->d == 1) return sqrt(dtm_v3_dot(r, r));
+  dtm_v3_cross(r, F->n, c);
+  return sqrt(dtm_v3_dot(c, c));
 }
 
 static double min_edge(const dtm_topology *t, const double *x) {
   double m = INFINITY, r[3];
   for (int e = 0; e < t->nedge; e++) {
-    diff(x + 3 * t->edge[e][1], x + 3 * t->edge[e][0], r);
-    m = fmin(m, sqrt(dot(r, r)));
+    dtm_v3_sub(x + 3 * t->edge[e][1], x + 3 * t->edge[e][0], r);
+    m = fmin(m, sqrt(dtm_v3_dot(r, r)));
   }
   return m;
 }

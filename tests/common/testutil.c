@@ -5,6 +5,8 @@
 
 #include <cJSON.h>
 #include <gmshc.h>
+#include <dirent.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -48,6 +50,21 @@ void tu_write(const char *path, const char *text) {
     fprintf(stderr, "cannot write %s\n", path);
     abort();
   }
+}
+
+void tu_remove_tree(const char *path) {
+  DIR *d = opendir(path);
+  struct dirent *e;
+  while (d && (e = readdir(d))) {
+    if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+    char child[PATH_MAX * 2];
+    struct stat st;
+    snprintf(child, sizeof child, "%s/%s", path, e->d_name);
+    if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) tu_remove_tree(child);
+    else unlink(child);
+  }
+  if (d) closedir(d);
+  rmdir(path);
 }
 
 int tu_exists(const char *path) {

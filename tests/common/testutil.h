@@ -17,6 +17,8 @@ const char *tu_tmpdir(void);
 /* Write text to path (aborts the test program on failure). */
 void tu_write(const char *path, const char *text);
 int tu_exists(const char *path);
+/* Remove a directory tree (files and subdirectories; links not followed). */
+void tu_remove_tree(const char *path);
 /* Run a shell command; its stdout+stderr go to *out (malloc'ed, may be
  * NULL); returns the exit status, or -1 when it did not exit normally. */
 int tu_run(char **out, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
