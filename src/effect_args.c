@@ -61,3 +61,8 @@ int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index)
   return dtm_effect_args_error(a, "physical group '%s' does not exist in dimension %d; groups: %s",
                                ref, a->mesh->dim, a->mesh->ngroups ? list : "(none)");
 }
+
+void dtm_effect_free(void **state) {
+  free(*state);
+  *state = NULL;
+}

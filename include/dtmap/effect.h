@@ -45,6 +45,9 @@ int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index)
  * elements-per-wavelength (default 10). */
 double dtm_effect_args_fmax(const dtm_effect_args *a);
 double dtm_effect_args_per_wavelength(const dtm_effect_args *a);
+/* A destroy() for effects whose state is one malloc'ed block: free it and
+ * set *state to NULL. */
+void dtm_effect_free(void **state);
 /* Number of physical groups of the analysed dimension. */
 int dtm_effect_args_ngroups(const dtm_effect_args *a);
 

@@ -65,11 +65,6 @@ static int damping_rayleigh(void *state, const dtm_material *m, double omega_top
   return DTM_OK;
 }
 
-static void damping_destroy(void **state) {
-  free(*state);
-  *state = NULL;
-}
-
 const dtm_effect_class dtm_effect_damping = {
     .api_version = DTM_EFFECT_API_VERSION,
     .name = "damping",
@@ -81,5 +76,5 @@ const dtm_effect_class dtm_effect_damping = {
     .create = damping_create,
     .wave_factor = damping_factor,
     .rayleigh = damping_rayleigh,
-    .destroy = damping_destroy,
+    .destroy = dtm_effect_free,
 };

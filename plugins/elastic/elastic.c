@@ -130,11 +130,6 @@ static int elastic_accuracy(void *state, const dtm_batch *b, double *hmax, doubl
   return DTM_OK;
 }
 
-static void elastic_destroy(void **state) {
-  free(*state);
-  *state = NULL;
-}
-
 const dtm_effect_class dtm_effect_elastic = {
     .api_version = DTM_EFFECT_API_VERSION,
     .name = "elastic",
@@ -148,5 +143,5 @@ const dtm_effect_class dtm_effect_elastic = {
     .coefficients = elastic_coefficients,
     .accuracy = elastic_accuracy,
     .accuracy_view = "elements per wavelength",
-    .destroy = elastic_destroy,
+    .destroy = dtm_effect_free,
 };

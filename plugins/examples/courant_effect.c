@@ -37,11 +37,6 @@ static int courant_element_dt(void *state, const dtm_batch *b, double *dt, doubl
   return DTM_OK;
 }
 
-static void courant_destroy(void **state) {
-  free(*state);
-  *state = NULL;
-}
-
 static const dtm_effect_class courant_class = {
     .api_version = EXAMPLE_API_VERSION,
     .name = "courant",
@@ -51,7 +46,7 @@ static const dtm_effect_class courant_class = {
     .exponent = 1.0,
     .create = courant_create,
     .element_dt = courant_element_dt,
-    .destroy = courant_destroy,
+    .destroy = dtm_effect_free,
 };
 
 #ifndef EXAMPLE_NO_ENTRY
