@@ -93,13 +93,13 @@ static int step_of(const dtm_analysis *a, int k, double lam, double *dt) {
   return DTM_OK;
 }
 
-static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit) {
+static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int want_mode) {
   dtm_global_info *g = &a->global[k];
   dtm_operator *op = NULL;
   dtm_lanczos_result lr;
   memset(&lr, 0, sizeof lr);
   DTM_CHECK(dtm_analysis_operator(a, k, 0.0, &op));
-  int r = dtm_lanczos_max(op, tol, maxit, LANCZOS_SEED, &lr);
+  int r = dtm_lanczos_max_ex(op, tol, maxit, LANCZOS_SEED, want_mode, &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
   *g = (dtm_global_info){1, lr.theta, lr.residual, lr.iterations, lr.converged, lr.seconds, NAN, NAN,
@@ -110,12 +110,12 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit) {
   return DTM_OK;
 }
 
-int dtm_global_estimate(dtm_analysis *a, double tol, int maxit) {
+int dtm_global_estimate(dtm_analysis *a, double tol, int maxit, int want_modes) {
   double t0 = dtm_wtime();
   a->global = calloc((size_t)a->neffects + 1, sizeof *a->global);
   if (!a->global) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int k = 0; k < a->neffects; k++)
-    if (a->dt_effect[k] && a->effects[k].cls->coefficients) DTM_CHECK(estimate_effect(a, k, tol, maxit));
+    if (a->dt_effect[k] && a->effects[k].cls->coefficients) DTM_CHECK(estimate_effect(a, k, tol, maxit, want_modes));
   dtm_recommend(a);
   a->timings[DTM_T_GLOBAL] = dtm_wtime() - t0;
   return DTM_OK;

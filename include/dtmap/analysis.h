@@ -109,8 +109,10 @@ int dtm_analysis_group(const dtm_analysis *a, size_t i);
  * the lumped-mass generalized problem to relative residual tol, at most
  * maxit products. A converged estimate enters the recommendation on its
  * safe side (theta + residual, then the safety factor); an unconverged one
- * is reported and the nodal bound stays the basis. */
-int dtm_global_estimate(dtm_analysis *a, double tol, int maxit);
+ * is reported and the nodal bound stays the basis. want_modes: also build
+ * each top Ritz vector (for dtm_verify; twice the products), with the true
+ * residual; otherwise the residual is Paige's estimate. */
+int dtm_global_estimate(dtm_analysis *a, double tol, int maxit, int want_modes);
 
 /* The operator of spectral effect k (with the scene's damping as Rayleigh
  * coefficients at omega_top, 0 for none). Caller destroys. */

@@ -56,6 +56,11 @@ typedef struct {
  * products, stopping when residual <= tol * theta. */
 int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed,
                     dtm_lanczos_result *r);
+/* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, half
+ * the products) and residual is Paige's estimate |beta_k s_k|, which bounds
+ * the distance from theta to an eigenvalue up to O(eps |A|). */
+int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
+                       dtm_lanczos_result *r);
 
 typedef struct {
   int steps;          /* steps taken */

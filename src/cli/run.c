@@ -52,7 +52,7 @@ static int run_analysis(dtm_scene *s, const run_opts *o, double t_scene, int ver
   dtm_analysis *a = NULL;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
-  if (r == DTM_OK && (o->posterior || verify)) r = dtm_global_estimate(a, o->tol, o->lanczos_max);
+  if (r == DTM_OK && (o->posterior || verify)) r = dtm_global_estimate(a, o->tol, o->lanczos_max, verify);
   if (r == DTM_OK) {
     a->timings[DTM_T_SCENE] = t_scene;
     if (o->verbosity) dtm_summary_print(a, stdout);
