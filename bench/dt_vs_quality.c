@@ -81,8 +81,7 @@ int main(int argc, char **argv) {
   double t1 = time_dtmap(a, 1), tn = time_dtmap(a, omp_get_num_procs());
   double qj = time_quality("JacobianDeterminant"), qi = time_quality("ICNMeasure");
   printf("dtmap element bound, 1 thread : %.3f s  (%.1f M elements/s)\n", t1, a->nel / t1 / 1e6);
-  printf("dtmap element bound, %d threads: %.3f s  (%.1f M elements/s)\n", omp_get_num_procs(), tn,
-         a->nel / tn / 1e6);
+  printf("dtmap element bound, %d threads: %.3f s  (%.1f M elements/s)\n", omp_get_num_procs(), tn, a->nel / tn / 1e6);
   printf("AnalyseMeshQuality J   : %.3f s  -> ratio %.1fx (1 thread), %.1fx (all)\n", qj, qj / t1, qj / tn);
   printf("AnalyseMeshQuality ICN : %.3f s  -> ratio %.1fx (1 thread), %.1fx (all)\n", qi, qi / t1, qi / tn);
   dtm_analysis_destroy(&a);

@@ -2,7 +2,7 @@
 # Install the Debian 12 packages dtmap needs to build, test and run, when
 # they are missing. Needs root (or sudo). Safe to run again.
 set -euo pipefail
-packages=(build-essential cmake pkg-config clang libgmsh-dev gmsh libxml2-dev libxml2-utils
+packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core)
 missing=()
 for p in "${packages[@]}"; do

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# README command 2: install what is missing, build, and run the whole ctest
-# suite twice: an optimised build, then an AddressSanitizer +
-# UndefinedBehaviorSanitizer build of the same tests.
+# README command 2: install what is missing, check the formatting
+# (clang-format, .clang-format), build, and run the whole ctest suite twice:
+# an optimised build, then an AddressSanitizer + UndefinedBehaviorSanitizer
+# build of the same tests.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/setup.sh"
 jobs=$(nproc)
+echo "== format (clang-format, .clang-format)"
+(cd "$root" && git ls-files '*.c' '*.h' | xargs clang-format --dry-run -Werror)
 echo "== optimised build"
 BUILD_DIR="$root/build" bash "$root/scripts/build.sh"
 (cd "$root/build" && ctest --output-on-failure -j"$jobs")

@@ -112,10 +112,10 @@ static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, 
 
 /* Per-thread scratch for one chunk. */
 typedef struct {
-  double *x;                 /* [CHUNK][nn][3] */
-  const dtm_material **mat;  /* [CHUNK] */
-  double *lens;              /* [neffects][CHUNK] */
-  double *hm;                /* [CHUNK] one effect's accuracy bound */
+  double *x;                /* [CHUNK][nn][3] */
+  const dtm_material **mat; /* [CHUNK] */
+  double *lens;             /* [neffects][CHUNK] */
+  double *hm;               /* [CHUNK] one effect's accuracy bound */
 } scratch;
 
 /* Accuracy bounds of the chunk: hmax = min over effects, plus each
@@ -140,8 +140,9 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   sub.conn = blk->conn + e0 * (size_t)blk->nn;
   dtm_mesh_gather(a->mesh, &sub, w->x);
   for (size_t e = 0; e < n; e++) w->mat[e] = &a->scene->materials[blk->mat[e0 + e]].m;
-  dtm_batch bt = {blk->type, blk->dim, blk->nn, n, w->x, blk->tags + e0, blk->group + e0,
-                  blk->gmask ? blk->gmask + e0 : NULL, w->mat};
+  dtm_batch bt = {blk->type, blk->dim,       blk->nn,         n,
+                  w->x,      blk->tags + e0, blk->group + e0, blk->gmask ? blk->gmask + e0 : NULL,
+                  w->mat};
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;
@@ -177,10 +178,8 @@ static int compute_block(const dtm_analysis *a, int b) {
   par_error pe = {0, ""};
 #pragma omp parallel
   {
-    scratch w = {malloc(CHUNK * (size_t)blk->nn * 3 * sizeof(double)),
-                 malloc(CHUNK * sizeof(dtm_material *)),
-                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double)),
-                 malloc(CHUNK * sizeof(double))};
+    scratch w = {malloc(CHUNK * (size_t)blk->nn * 3 * sizeof(double)), malloc(CHUNK * sizeof(dtm_material *)),
+                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double)), malloc(CHUNK * sizeof(double))};
     int ok = w.x && w.mat && w.lens && w.hm;
     if (!ok) keep_error(&pe, DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
 #pragma omp for schedule(dynamic, 4)
@@ -235,8 +234,7 @@ static int cost_measures(dtm_analysis *a) {
   return dtm_mass_scaling_compute(a, a->scene->target / a->scene->safety, a->mass_scaling);
 }
 
-int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects,
-                         int neffects, dtm_analysis **out) {
+int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects, dtm_analysis **out) {
   dtm_analysis *a = calloc(1, sizeof *a);
   if (!a) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   a->scene = s;

@@ -16,8 +16,7 @@ static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *group_mat)
     char list[2048] = "", lbl[64];
     for (int j = 0; j < m->ngroups && g < 0; j++) {
       size_t used = strlen(list);
-      snprintf(list + used, sizeof list - used, "%s'%s'", j ? ", " : "",
-               dtm_mesh_group_label(m, j, lbl, sizeof lbl));
+      snprintf(list + used, sizeof list - used, "%s'%s'", j ? ", " : "", dtm_mesh_group_label(m, j, lbl, sizeof lbl));
     }
     if (g < 0)
       return DTM_ERR(DTM_ERR_INPUT,
@@ -25,8 +24,8 @@ static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *group_mat)
                      "groups of that dimension: %s",
                      s->path, sm->m.line, sm->m.name, sm->groups[k], m->dim, m->ngroups ? list : "(none)");
     if (group_mat[g] >= 0 && group_mat[g] != i)
-      return DTM_ERR(DTM_ERR_INPUT, "%s:%d: material '%s': physical group '%s' already has material '%s'",
-                     s->path, sm->m.line, sm->m.name, sm->groups[k], s->materials[group_mat[g]].m.name);
+      return DTM_ERR(DTM_ERR_INPUT, "%s:%d: material '%s': physical group '%s' already has material '%s'", s->path,
+                     sm->m.line, sm->m.name, sm->groups[k], s->materials[group_mat[g]].m.name);
     group_mat[g] = i;
   }
   return DTM_OK;

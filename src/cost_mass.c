@@ -19,8 +19,7 @@
 static double wave_dt(const dtm_analysis *a, size_t i) {
   double dt = INFINITY;
   for (int k = 0; k < a->neffects; k++)
-    if (a->dt_effect[k] && a->effects[k].cls->exponent == 1.0 && a->dt_effect[k][i] < dt)
-      dt = a->dt_effect[k][i];
+    if (a->dt_effect[k] && a->effects[k].cls->exponent == 1.0 && a->dt_effect[k][i] < dt) dt = a->dt_effect[k][i];
   return dt;
 }
 

@@ -8,8 +8,7 @@
 
 #include "effect_args.h"
 
-int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def,
-                           double *out) {
+int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def, double *out) {
   const char *v = dtm_scene_effect_attr(a->se, key);
   if (!v) {
     *out = def;
@@ -17,14 +16,12 @@ int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def
   }
   char *end = NULL;
   double d = strtod(v, &end);
-  if (end == v || *end || !isfinite(d))
-    return dtm_effect_args_error(a, "%s=\"%s\" is not a finite number", key, v);
+  if (end == v || *end || !isfinite(d)) return dtm_effect_args_error(a, "%s=\"%s\" is not a finite number", key, v);
   *out = d;
   return DTM_OK;
 }
 
-int dtm_effect_args_string(const dtm_effect_args *a, const char *key,
-                           const char *def, const char **out) {
+int dtm_effect_args_string(const dtm_effect_args *a, const char *key, const char *def, const char **out) {
   const char *v = dtm_scene_effect_attr(a->se, key);
   *out = v ? v : def;
   return DTM_OK;
@@ -58,8 +55,8 @@ int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index)
     snprintf(list + used, sizeof list - used, "%s'%s'", g ? ", " : "",
              dtm_mesh_group_label(a->mesh, g, lbl, sizeof lbl));
   }
-  return dtm_effect_args_error(a, "physical group '%s' does not exist in dimension %d; groups: %s",
-                               ref, a->mesh->dim, a->mesh->ngroups ? list : "(none)");
+  return dtm_effect_args_error(a, "physical group '%s' does not exist in dimension %d; groups: %s", ref, a->mesh->dim,
+                               a->mesh->ngroups ? list : "(none)");
 }
 
 void dtm_effect_free(void **state) {

@@ -8,9 +8,9 @@
 #include "dtmap/scene.h"
 
 struct dtm_effect_args {
-  const dtm_scene *scene;        /* the scene (not owned) */
-  const dtm_scene_effect *se;    /* the effect's element (not owned) */
-  const dtm_mesh *mesh;          /* the mesh being analysed (not owned) */
+  const dtm_scene *scene;     /* the scene (not owned) */
+  const dtm_scene_effect *se; /* the effect's element (not owned) */
+  const dtm_mesh *mesh;       /* the mesh being analysed (not owned) */
 };
 
 #endif

@@ -8,10 +8,8 @@
 #include "dtmap/registry.h"
 #include "effect_args.h"
 
-static int find_class(const dtm_scene *s, const dtm_scene_effect *se,
-                      const dtm_effect_class **cls, void **handle) {
-  int r = se->library ? dtm_registry_load(se->library, se->name, cls, handle)
-                      : dtm_registry_find(se->name, cls);
+static int find_class(const dtm_scene *s, const dtm_scene_effect *se, const dtm_effect_class **cls, void **handle) {
+  int r = se->library ? dtm_registry_load(se->library, se->name, cls, handle) : dtm_registry_find(se->name, cls);
   if (r == DTM_OK) return DTM_OK;
   char msg[2048];
   snprintf(msg, sizeof msg, "%s", dtm_error_message());
@@ -60,8 +58,10 @@ int dtm_effects_create(const dtm_scene *s, const dtm_mesh *m, dtm_effect **out, 
   }
   if (!any_limits(e, s->neffects)) {
     dtm_effects_destroy(&e, s->neffects);
-    return DTM_ERR(DTM_ERR_INPUT, "%s:%d: <effects> names no effect that limits the step (damping only scales "
-                   "the wave effects; add <elastic/>, <thermal/>, ...)", s->path, s->effects_line);
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s:%d: <effects> names no effect that limits the step (damping only scales "
+                   "the wave effects; add <elastic/>, <thermal/>, ...)",
+                   s->path, s->effects_line);
   }
   *out = e;
   *n = s->neffects;

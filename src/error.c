@@ -20,8 +20,7 @@ static void trace_append(const char *file, int line, const char *func) {
   snprintf(err_trace + used, sizeof err_trace - used, "%s:%d in %s\n", file, line, func);
 }
 
-int dtm_error_raise(int code, const char *file, int line, const char *func,
-                    const char *fmt, ...) {
+int dtm_error_raise(int code, const char *file, int line, const char *func, const char *fmt, ...) {
   if (err_code == DTM_OK) {
     va_list ap;
     va_start(ap, fmt);

@@ -36,9 +36,9 @@ static void used_materials(const dtm_analysis *a, char *used) {
 }
 
 typedef struct {
-  dtm_operator_coeffs *c;  /* [nmat] */
-  double *al, *be;         /* [nmat] */
-  char *used;              /* [nmat] */
+  dtm_operator_coeffs *c; /* [nmat] */
+  double *al, *be;        /* [nmat] */
+  char *used;             /* [nmat] */
 } material_table;
 
 static int fill_table(const dtm_analysis *a, int k, double omega, material_table *t) {
@@ -55,7 +55,8 @@ static int fill_table(const dtm_analysis *a, int k, double omega, material_table
 int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, dtm_operator **op) {
   size_t nm = (size_t)a->scene->nmaterials + 1;
   material_table t = {calloc(nm, sizeof *t.c), calloc(nm, sizeof(double)), calloc(nm, sizeof(double)), calloc(nm, 1)};
-  int r = (t.c && t.al && t.be && t.used) ? fill_table(a, k, omega_top, &t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r =
+      (t.c && t.al && t.be && t.used) ? fill_table(a, k, omega_top, &t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int kind = DTM_OP_NONE;
   for (int i = 0; i < a->scene->nmaterials; i++)
     if (t.used[i]) kind = t.c[i].kind;
@@ -102,8 +103,9 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   int r = dtm_lanczos_max_ex(op, tol, maxit, LANCZOS_SEED, want_mode, &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
-  *g = (dtm_global_info){1, lr.theta, lr.residual, lr.iterations, lr.converged, lr.seconds, NAN, NAN,
-                         sqrt(lr.theta + lr.residual), lr.mode};
+  *g = (dtm_global_info){
+      1,      lr.theta, lr.residual, lr.iterations, lr.converged, lr.seconds, NAN, NAN, sqrt(lr.theta + lr.residual),
+      lr.mode};
   DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
   DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
   a->per_effect[k].global = g->converged ? g->dt_low : NAN;

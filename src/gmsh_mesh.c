@@ -132,9 +132,8 @@ static int check_type(int type, size_t first_tag) {
   double *lc = NULL;
   size_t nlc = 0;
   gmshModelMeshGetElementProperties(type, &name, &dim, &order, &nnodes, &lc, &nlc, &npv, &ierr);
-  int r = DTM_ERR(DTM_ERR_INPUT,
-                  "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag,
-                  name ? name : "?", type, order,
+  int r = DTM_ERR(DTM_ERR_INPUT, "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag, name ? name : "?", type,
+                  order,
                   order > 2 ? "dtmap handles first- and second-order elements; mesh with order=\"1\" or \"2\""
                             : "dtmap does not handle this element type");
   gmshFree(name);
@@ -151,17 +150,17 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t ta
   const char *src = c->s->mesh ? c->s->mesh : c->s->geometry;
   if (g < 0)
     return DTM_ERR(DTM_ERR_INPUT,
-                    "%s: element %zu is in no physical group of dimension %d, and scene %s has "
-                    "no default material (add default=\"true\" to a <material>)",
-                    src, tag, m->dim, c->s->path);
+                   "%s: element %zu is in no physical group of dimension %d, and scene %s has "
+                   "no default material (add default=\"true\" to a <material>)",
+                   src, tag, m->dim, c->s->path);
   return DTM_ERR(DTM_ERR_INPUT,
-                  "%s: element %zu is in physical group '%s' (dimension %d), which no "
-                  "<material groups=...> of scene %s names, and there is no default material",
-                  src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
+                 "%s: element %zu is in physical group '%s' (dimension %d), which no "
+                 "<material groups=...> of scene %s names, and there is no default material",
+                 src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
 }
 
-static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type,
-                       const size_t *tags, size_t n, const size_t *nodes) {
+static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, const size_t *tags,
+                       size_t n, const size_t *nodes) {
   DTM_CHECK(check_type(type, n ? tags[0] : 0));
   int mat;
   DTM_CHECK(material_of(c, m, g, n ? tags[0] : 0, &mat));
@@ -198,12 +197,15 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
     gmshFree(etags[i]);
     gmshFree(ntags[i]);
   }
-  gmshFree(types); gmshFree(etags); gmshFree(netags); gmshFree(ntags); gmshFree(nntags);
+  gmshFree(types);
+  gmshFree(etags);
+  gmshFree(netags);
+  gmshFree(ntags);
+  gmshFree(nntags);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
-int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat,
-                     const dtm_scene *s, dtm_mesh *m) {
+int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
   extract_ctx c = {s, group_mat, default_mat, {NULL, 0}};
   int *ents = NULL, ierr = 0, r = DTM_OK;
   size_t ne = 0;
@@ -216,7 +218,7 @@ int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat,
   if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
   DTM_CHECK(r);
   if (dtm_mesh_nelements(m) == 0)
-    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d",
-                   s->mesh ? s->mesh : s->geometry, s->mesh ? "the mesh has" : "meshing produced", dim);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", s->mesh ? s->mesh : s->geometry,
+                   s->mesh ? "the mesh has" : "meshing produced", dim);
   return DTM_OK;
 }

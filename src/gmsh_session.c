@@ -8,13 +8,11 @@
 #include "dtmap/gmsh.h"
 #include "gmsh_util.h"
 
-int dtm_gmsh_fail(int code, const char *file, int line, const char *func,
-                  const char *what) {
+int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what) {
   char *msg = NULL;
   int ierr = 0;
   gmshLoggerGetLastError(&msg, &ierr);
-  int r = dtm_error_raise(code, file, line, func, "%s: %s", what,
-                          (msg && msg[0]) ? msg : "Gmsh reported an error");
+  int r = dtm_error_raise(code, file, line, func, "%s: %s", what, (msg && msg[0]) ? msg : "Gmsh reported an error");
   if (msg) gmshFree(msg);
   return r;
 }
@@ -77,8 +75,7 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   gmshOpen(src, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   int d = s->mesh_dim > 0 ? s->mesh_dim : gmshModelGetDimension(&ierr);
-  if (d < 1 || d > 3)
-    return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
+  if (d < 1 || d > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
   dtm_gmsh_restore_threads();
   *dim = d;

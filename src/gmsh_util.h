@@ -6,11 +6,10 @@
 #include "dtmap/error.h"
 
 /* Raise DTM_ERR_INPUT or code with "<what>: <Gmsh's last error>". */
-int dtm_gmsh_fail(int code, const char *file, int line, const char *func,
-                  const char *what);
-#define DTM_GMSH_CHECK(ierr, code, what)                                       \
-  do {                                                                         \
-    if (ierr) return dtm_gmsh_fail((code), __FILE__, __LINE__, __func__, (what)); \
+int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what);
+#define DTM_GMSH_CHECK(ierr, code, what)                                                                               \
+  do {                                                                                                                 \
+    if (ierr) return dtm_gmsh_fail((code), __FILE__, __LINE__, __func__, (what));                                      \
   } while (0)
 
 #endif

@@ -13,9 +13,8 @@ static int add_view(const char *model, const dtm_view *v, int *tag) {
   int ierr = 0;
   *tag = gmshViewAdd(v->name, -1, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot create a view");
-  gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData",
-                                  (size_t *)v->tags, v->n, (double *)v->values, v->n, 0.0, 1, 0,
-                                  &ierr);
+  gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", (size_t *)v->tags, v->n,
+                                  (double *)v->values, v->n, 0.0, 1, 0, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, v->name);
   return DTM_OK;
 }

@@ -122,16 +122,17 @@ static double top_eig(int k, const double *a, const double *b, double *norm) {
   while (hi - lo > 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi))) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    if (count_below(k, a, b, mid, piv) == k) hi = mid;
-    else lo = mid;
+    if (count_below(k, a, b, mid, piv) == k)
+      hi = mid;
+    else
+      lo = mid;
   }
   return 0.5 * (lo + hi);
 }
 
 /* Forward elimination with partial pivoting of the tridiagonal (dl, d, du)
  * on x (LAPACK dgtsv); du2 receives the fill-in. Zero pivots become piv. */
-static void tri_eliminate(int n, double *dl, double *d, double *du, double *du2,
-                          double *x, double piv) {
+static void tri_eliminate(int n, double *dl, double *d, double *du, double *du2, double *x, double piv) {
   for (int i = 0; i < n - 1; i++) {
     du2[i] = 0;
     if (fabs(d[i]) >= fabs(dl[i])) {
@@ -149,8 +150,7 @@ static void tri_eliminate(int n, double *dl, double *d, double *du, double *du2,
 }
 
 /* Solve (T - theta I) x = x in place; w is [4k] workspace. */
-static void tri_solve(int k, const double *a, const double *b, double theta, double piv,
-                      double *x, double *w) {
+static void tri_solve(int k, const double *a, const double *b, double theta, double piv, double *x, double *w) {
   double *dl = w, *d = w + k, *du = w + 2 * k, *du2 = w + 3 * k;
   for (int i = 0; i < k; i++) {
     d[i] = a[i] - theta;
@@ -244,8 +244,7 @@ static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
 }
 
 static int run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
-  if (lz_start(z) == 0)
-    return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with mass");
+  if (lz_start(z) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with mass");
   first_pass(z, t, tol, maxit);
   if (!want_mode) { /* Paige: an eigenvalue lies within |beta_k s_k| (+ O(eps |A|)) of theta */
     r->theta = t->theta;
@@ -265,8 +264,7 @@ static int run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm
   return DTM_OK;
 }
 
-int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed,
-                    dtm_lanczos_result *r) {
+int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r) {
   return dtm_lanczos_max_ex(op, tol, maxit, seed, 1, r);
 }
 
@@ -275,8 +273,10 @@ int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned s
   if (!r) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_lanczos_max: no result");
   memset(r, 0, sizeof *r);
   if (!op || maxit < 1 || !(tol >= 0))
-    return DTM_ERR(DTM_ERR_INPUT, "Lanczos needs an operator, maxit >= 1 (got %d) and "
-                   "tol >= 0 (got %g)", maxit, tol);
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "Lanczos needs an operator, maxit >= 1 (got %d) and "
+                   "tol >= 0 (got %g)",
+                   maxit, tol);
   double t0 = now();
   lz_state z = {.op = op, .n = dtm_operator_ndof(op), .seed = seed};
   lz_tri t = {0};

@@ -32,9 +32,7 @@ static const struct {
     [DTM_PROP_BETA] = {"beta", RULE_NON_NEGATIVE},
 };
 
-const char *dtm_prop_name(int p) {
-  return p >= 0 && p < DTM_PROP_COUNT ? props[p].name : NULL;
-}
+const char *dtm_prop_name(int p) { return p >= 0 && p < DTM_PROP_COUNT ? props[p].name : NULL; }
 
 int dtm_prop_find(const char *attr) {
   for (int p = 0; attr && p < DTM_PROP_COUNT; p++)
@@ -53,10 +51,14 @@ static int admissible(int p, double v) {
 
 static void requirement(int p, double v, char *buf, size_t n) {
   const char *name = props[p].name;
-  if (!isfinite(v)) snprintf(buf, n, "need a finite number");
-  else if (props[p].rule == RULE_POSITIVE) snprintf(buf, n, "need %s > 0", name);
-  else if (props[p].rule == RULE_POISSON) snprintf(buf, n, "need -1 < %s < 0.5", name);
-  else snprintf(buf, n, "need %s >= 0", name);
+  if (!isfinite(v))
+    snprintf(buf, n, "need a finite number");
+  else if (props[p].rule == RULE_POSITIVE)
+    snprintf(buf, n, "need %s > 0", name);
+  else if (props[p].rule == RULE_POISSON)
+    snprintf(buf, n, "need -1 < %s < 0.5", name);
+  else
+    snprintf(buf, n, "need %s >= 0", name);
 }
 
 /* Shortest "%g" text that reads back as v, so 0.49999999 never shows as 0.5. */
@@ -69,8 +71,10 @@ static void format_value(double v, char *buf, size_t n) {
 
 /* "file:line: " when the material knows where it came from, else "". */
 static void where(const dtm_material *m, char *buf, size_t n) {
-  if (m && m->file) snprintf(buf, n, "%s:%d: ", m->file, m->line);
-  else buf[0] = '\0';
+  if (m && m->file)
+    snprintf(buf, n, "%s:%d: ", m->file, m->line);
+  else
+    buf[0] = '\0';
 }
 
 /* "file:line: material 'name': " with the parts that are known. */
@@ -83,14 +87,12 @@ static void subject(const dtm_material *m, char *buf, size_t n) {
 
 int dtm_prop_check(const dtm_material *m, int p, double v) {
   char at[1024], value[32], need[64];
-  if (p < 0 || p >= DTM_PROP_COUNT)
-    return DTM_ERR(DTM_ERR_INTERNAL, "dtm_prop_check: no material property %d", p);
+  if (p < 0 || p >= DTM_PROP_COUNT) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_prop_check: no material property %d", p);
   if (admissible(p, v)) return DTM_OK;
   subject(m, at, sizeof at);
   format_value(v, value, sizeof value);
   requirement(p, v, need, sizeof need);
-  return DTM_ERR(DTM_ERR_INPUT, "%s%s = %s is not admissible (%s)", at, props[p].name,
-                 value, need);
+  return DTM_ERR(DTM_ERR_INPUT, "%s%s = %s is not admissible (%s)", at, props[p].name, value, need);
 }
 
 /* "'a', 'b'" for the properties in mask. */
@@ -111,6 +113,6 @@ int dtm_material_require(const dtm_material *m, unsigned needs, const char *who)
   if (!lack) return DTM_OK;
   where(m, at, sizeof at);
   list_props(lack, missing, sizeof missing);
-  return DTM_ERR(DTM_ERR_INPUT, "%smaterial '%s' has no %s, needed by effect '%s'", at,
-                 m->name ? m->name : "?", missing, who ? who : "?");
+  return DTM_ERR(DTM_ERR_INPUT, "%smaterial '%s' has no %s, needed by effect '%s'", at, m->name ? m->name : "?",
+                 missing, who ? who : "?");
 }

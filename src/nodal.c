@@ -35,8 +35,8 @@ static int element_lambda(int type, const dtm_operator_coeffs *c, const double *
 
 /* lambda_e of element i (global index) of effect k: from its own step
  * when that is the element bound (undamped), else from the kernel. */
-static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_coeffs *c, const double *x,
-                     size_t i, double *lam) {
+static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_coeffs *c, const double *x, size_t i,
+                     double *lam) {
   if (!c->dt_is_bound) return element_lambda(type, c, x, lam);
   double dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k][i] : a->dt_effect[k][i];
   *lam = c->kind == DTM_OP_ELASTIC ? 4.0 / (dt * dt) : 2.0 / dt;
@@ -151,8 +151,8 @@ int dtm_nodal_bounds(dtm_analysis *a) {
   a->node_dt = calloc((size_t)a->neffects + 1, sizeof *a->node_dt);
   double *work = malloc((3 * nn + 1) * sizeof *work);
   coeff_cache cc = {calloc(nm, sizeof *cc.c), calloc(nm, 1)};
-  int r = (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK
-                                                                    : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r =
+      (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t v = 0; v < nn && r == DTM_OK; v++) a->nodal_node[v] = INFINITY;
   for (int k = 0; k < a->neffects && r == DTM_OK; k++) {
     a->per_effect[k].nodal = NAN;

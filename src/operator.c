@@ -30,19 +30,19 @@
 
 typedef struct {
   int type, nn;
-  int nq;            /* stored points per element */
+  int nq; /* stored points per element */
   size_t n;
   const size_t *conn, *tags;
   const int *mat;
   double dn[DTM_K_QP][DTM_K_NODES][3]; /* reference gradients per point */
-  double *geo;       /* [n][nq][d*d + 1]: J^-1 row-major (d x d), then dv */
+  double *geo;                         /* [n][nq][d*d + 1]: J^-1 row-major (d x d), then dv */
 } op_block;
 
 typedef struct {
-  double lam, mu;    /* elastic: sigma = lam tr(F) I + mu (F + F^T) */
-  double cond;       /* diffusion: conductivity */
-  double cap;        /* lumped capacity per volume */
-  double alpha, beta;/* Rayleigh */
+  double lam, mu;     /* elastic: sigma = lam tr(F) I + mu (F + F^T) */
+  double cond;        /* diffusion: conductivity */
+  double cap;         /* lumped capacity per volume */
+  double alpha, beta; /* Rayleigh */
 } op_mat;
 
 struct dtm_operator {
@@ -50,9 +50,9 @@ struct dtm_operator {
   size_t ndof;
   op_block *blocks;
   op_mat *mats;
-  double *mass;      /* [ndof] lumped diagonal */
-  double *mass_alpha;/* [ndof] sum_e alpha_e M_e, or NULL */
-  double *dsq;       /* [ndof] M^-1/2, 0 where the mass is 0 */
+  double *mass;       /* [ndof] lumped diagonal */
+  double *mass_alpha; /* [ndof] sum_e alpha_e M_e, or NULL */
+  double *dsq;        /* [ndof] M^-1/2, 0 where the mass is 0 */
   int has_beta;
 };
 
@@ -72,8 +72,10 @@ enum { APPLY_K = 0, APPLY_BETA = 1 };
 /* ---- creation: checks ---------------------------------------------- */
 
 static const char *tag_text(const op_block *b, size_t e, char *buf, size_t n) {
-  if (b->tags) snprintf(buf, n, "%zu", b->tags[e]);
-  else snprintf(buf, n, "#%zu", e);
+  if (b->tags)
+    snprintf(buf, n, "%zu", b->tags[e]);
+  else
+    snprintf(buf, n, "#%zu", e);
   return buf;
 }
 
@@ -99,15 +101,17 @@ static int node_extent(const dtm_mesh *m, double ext[3]) {
 static int check_plane(const dtm_mesh *m) {
   double ext[3], size;
   if (node_extent(m, ext))
-    return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to a node beyond the "
-                   "mesh's %zu nodes", m->nnodes);
+    return DTM_ERR(DTM_ERR_INTERNAL,
+                   "element connectivity refers to a node beyond the "
+                   "mesh's %zu nodes",
+                   m->nnodes);
   size = fmax(ext[0], fmax(ext[1], ext[2]));
-  if (!isfinite(size))
-    return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
+  if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
   if (m->dim == 2 && ext[2] > 1e-9 * size)
     return DTM_ERR(DTM_ERR_INPUT,
                    "the global estimate needs a 2D mesh in a plane z = const "
-                   "(z varies by %g m over a mesh of size %g m)", ext[2], size);
+                   "(z varies by %g m over a mesh of size %g m)",
+                   ext[2], size);
   if (m->dim == 1 && fmax(ext[1], ext[2]) > 1e-9 * size)
     return DTM_ERR(DTM_ERR_INPUT,
                    "the global estimate needs a 1D mesh along the x axis "
@@ -116,49 +120,43 @@ static int check_plane(const dtm_mesh *m) {
   return DTM_OK;
 }
 
-static int check_args(const dtm_mesh *m, int kind, const dtm_operator_coeffs *c,
-                      int nmat, dtm_operator **out) {
+static int check_args(const dtm_mesh *m, int kind, const dtm_operator_coeffs *c, int nmat, dtm_operator **out) {
   if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: no output");
   *out = NULL;
   if (!m || !c || nmat < 1 || (m->nblocks > 0 && !m->blocks))
     return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: missing mesh or coefficients");
   if (kind != DTM_OP_ELASTIC && kind != DTM_OP_DIFFUSION)
     return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: kind %d is not spectral", kind);
-  if (m->dim < 1 || m->dim > 3)
-    return DTM_ERR(DTM_ERR_INPUT, "mesh dimension %d is not 1, 2 or 3", m->dim);
-  if (dtm_mesh_nelements(m) == 0)
-    return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with elements");
+  if (m->dim < 1 || m->dim > 3) return DTM_ERR(DTM_ERR_INPUT, "mesh dimension %d is not 1, 2 or 3", m->dim);
+  if (dtm_mesh_nelements(m) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with elements");
   return check_plane(m);
 }
 
 static int ok_nonneg(double v) { return isfinite(v) && v >= 0; }
 
 /* Check material i's coefficients and convert them into o. */
-static int material_setup(const dtm_operator *op, int i, const dtm_operator_coeffs *c,
-                          const double *alpha, const double *beta, op_mat *o) {
+static int material_setup(const dtm_operator *op, int i, const dtm_operator_coeffs *c, const double *alpha,
+                          const double *beta, op_mat *o) {
   o->alpha = alpha ? alpha[i] : 0, o->beta = beta ? beta[i] : 0;
   o->cap = c->capacity;
   if (c->kind != op->kind)
-    return DTM_ERR(DTM_ERR_INTERNAL, "material %d: coefficients of kind %d, operator of kind %d",
-                   i, c->kind, op->kind);
-  if (!(isfinite(c->capacity) && c->capacity > 0) || !ok_nonneg(o->alpha) ||
-      !ok_nonneg(o->beta))
-    return DTM_ERR(DTM_ERR_INPUT, "material %d: capacity %g, Rayleigh alpha %g, beta %g: "
+    return DTM_ERR(DTM_ERR_INTERNAL, "material %d: coefficients of kind %d, operator of kind %d", i, c->kind, op->kind);
+  if (!(isfinite(c->capacity) && c->capacity > 0) || !ok_nonneg(o->alpha) || !ok_nonneg(o->beta))
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "material %d: capacity %g, Rayleigh alpha %g, beta %g: "
                    "need capacity > 0 and finite alpha, beta >= 0",
                    i, c->capacity, o->alpha, o->beta);
   if (op->kind == DTM_OP_DIFFUSION) {
     o->cond = c->conductivity;
     if (!ok_nonneg(o->cond))
-      return DTM_ERR(DTM_ERR_INPUT, "material %d: conductivity %g is not finite and >= 0",
-                     i, o->cond);
+      return DTM_ERR(DTM_ERR_INPUT, "material %d: conductivity %g is not finite and >= 0", i, o->cond);
     return DTM_OK;
   }
   DTM_CHECK(dtm_form_check(op->blocks[0].type, op->d, c->mod.form));
   int bar = c->mod.form == DTM_FORM_BAR;
   o->lam = bar ? c->mod.modulus : c->mod.lam, o->mu = bar ? 0 : c->mod.mu;
   if (!isfinite(o->lam) || !ok_nonneg(o->mu) || !(o->lam + 2 * o->mu > 0))
-    return DTM_ERR(DTM_ERR_INPUT, "material %d: elastic moduli lam %g, mu %g are not admissible",
-                   i, o->lam, o->mu);
+    return DTM_ERR(DTM_ERR_INPUT, "material %d: elastic moduli lam %g, mu %g are not admissible", i, o->lam, o->mu);
   return DTM_OK;
 }
 
@@ -170,16 +168,15 @@ static int mark_used(const dtm_operator *op, char *used) {
     for (size_t e = 0; e < b->n; e++) {
       int m = b->mat ? b->mat[e] : -1;
       if (m < 0 || m >= op->nmat)
-        return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has no material (index %d of %d)",
-                       tag_text(b, e, t, sizeof t), dtm_elem_name(b->type), m, op->nmat);
+        return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has no material (index %d of %d)", tag_text(b, e, t, sizeof t),
+                       dtm_elem_name(b->type), m, op->nmat);
       used[m] = 1;
     }
   }
   return DTM_OK;
 }
 
-static int materials_setup(dtm_operator *op, const dtm_operator_coeffs *c,
-                           const double *alpha, const double *beta) {
+static int materials_setup(dtm_operator *op, const dtm_operator_coeffs *c, const double *alpha, const double *beta) {
   char *used = calloc((size_t)op->nmat, 1);
   op->mats = calloc((size_t)op->nmat, sizeof *op->mats);
   if (!used || !op->mats) {
@@ -219,8 +216,7 @@ static void block_rule(op_block *b, double *wq) {
 static double det3(int d, const double J[3][3]) {
   if (d == 1) return J[0][0];
   if (d == 2) return J[0][0] * J[1][1] - J[0][1] * J[1][0];
-  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
          J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
 }
 
@@ -254,8 +250,8 @@ static void inverse(int d, const double J[3][3], double dj, double *inv) {
 /* Store J^-1 and dv of element e at every point; the sign of det J must be
  * positive in 3D and the same at every point in 1D and 2D (where the
  * orientation in the plane is arbitrary). Returns 0, or -1 with det J. */
-static int elem_geometry(const dtm_operator *op, const op_block *b, const double *xyz,
-                         size_t e, const double *wq, double *dj_bad) {
+static int elem_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
+                         double *dj_bad) {
   int d = op->d, st = d * d + 1;
   const size_t *c = b->conn + e * (size_t)b->nn;
   double sign = 0;
@@ -274,13 +270,14 @@ static int elem_geometry(const dtm_operator *op, const op_block *b, const double
   return 0;
 }
 
-static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
-                       op_block *b) {
+static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb, op_block *b) {
   int dim, nn;
   DTM_CHECK(dtm_elem_info(mb->type, &dim, &nn));
   if (dim != m->dim || nn != mb->nn || nn > DTM_K_NODES)
-    return DTM_ERR(DTM_ERR_INPUT, "block of %s elements (dimension %d, %d nodes) in a "
-                   "mesh of dimension %d", dtm_elem_name(mb->type), dim, mb->nn, m->dim);
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "block of %s elements (dimension %d, %d nodes) in a "
+                   "mesh of dimension %d",
+                   dtm_elem_name(mb->type), dim, mb->nn, m->dim);
   double wq[DTM_K_QP];
   b->type = mb->type, b->nn = nn, b->n = mb->n;
   b->conn = mb->conn, b->tags = mb->tags, b->mat = mb->mat;
@@ -297,7 +294,8 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
   if (bad == b->n) return DTM_OK;
   char t[32];
   elem_geometry(op, b, m->xyz, bad, wq, &dj);
-  return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) is degenerate, inverted or folded "
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "element %s (%s) is degenerate, inverted or folded "
                  "(det J = %g at a quadrature point): the global estimate cannot use it",
                  tag_text(b, bad, t, sizeof t), dtm_elem_name(b->type), dj);
 }
@@ -307,8 +305,7 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
 /* Lumped node masses of element e per unit capacity, into w[nn]: the
  * kernel's weights times the measure, which is the sum of the stored dv
  * (the same rule as dtm_elem_measure, without integrating a second time). */
-static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b,
-                       size_t e, double *w) {
+static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double x[DTM_K_NODES * 3], meas = 0;
   const size_t *c = b->conn + e * (size_t)b->nn;
   size_t st = (size_t)(op->d * op->d + 1);
@@ -328,8 +325,8 @@ static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block
 
 /* Lumped masses w[e - e0][nn] of elements [e0, e1) of b, in parallel;
  * returns the first element with a bad one, or e1. */
-static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b,
-                           size_t e0, size_t e1, double *w) {
+static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
+                           double *w) {
   size_t bad = e1;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = e0; e < e1; e++)
@@ -338,8 +335,7 @@ static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_b
 }
 
 /* Add the lumped masses w of elements [e0, e1) of b to the diagonals. */
-static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1,
-                      const double *w) {
+static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *w) {
   size_t nc = (size_t)op->ncomp, nn = (size_t)b->nn;
   for (size_t e = e0; e < e1; e++) {
     const op_mat *mt = &op->mats[b->mat[e]];
@@ -359,8 +355,8 @@ static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, do
     size_t bad = chunk_lumped(op, m, b, e0, e1, w);
     char t[32];
     if (bad < e1)
-      return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass",
-                     tag_text(b, bad, t, sizeof t), dtm_elem_name(b->type));
+      return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass", tag_text(b, bad, t, sizeof t),
+                     dtm_elem_name(b->type));
     chunk_add(op, b, e0, e1, w);
   }
   return DTM_OK;
@@ -372,8 +368,7 @@ static int mass_setup(dtm_operator *op, const dtm_mesh *m) {
   int r = DTM_OK;
   for (int ib = 0; ib < op->nblocks && !r; ib++) r = block_mass(op, m, &op->blocks[ib], w);
   free(w);
-  for (size_t k = 0; k < op->ndof; k++)
-    op->dsq[k] = op->mass[k] > 0 ? 1 / sqrt(op->mass[k]) : 0;
+  for (size_t k = 0; k < op->ndof; k++) op->dsq[k] = op->mass[k] > 0 ? 1 / sqrt(op->mass[k]) : 0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
@@ -383,14 +378,13 @@ static int any_alpha(const dtm_operator *op, const double *alpha) {
   return 0;
 }
 
-static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c,
-                  const double *alpha, const double *beta) {
+static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
+                  const double *beta) {
   op->ndof = m->nnodes * (size_t)op->ncomp;
   op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->nblocks = m->nblocks; /* zeroed: destroy frees what was set up */
-  for (int ib = 0; ib < m->nblocks; ib++)
-    DTM_CHECK(block_setup(op, m, &m->blocks[ib], &op->blocks[ib]));
+  for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_setup(op, m, &m->blocks[ib], &op->blocks[ib]));
   DTM_CHECK(materials_setup(op, c, alpha, beta));
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
@@ -400,9 +394,8 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   return mass_setup(op, m);
 }
 
-int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
-                        const double *alpha, const double *beta, int nmat,
-                        dtm_operator **out) {
+int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                        const double *beta, int nmat, dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   dtm_operator *op = calloc(1, sizeof *op);
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -440,75 +433,62 @@ const double *dtm_operator_mass(const dtm_operator *op) { return op->mass; }
  * points: F = grad u = Fr J^-1 with Fr = sum_b u_b (x) dN_b, sigma, then
  * f_a += dv sigma g_a = P dN_a with P = dv sigma J^-T. d (and nn for the
  * common types) are constants after inlining, so the loops unroll. */
-static inline ALWAYS_INLINE void elastic_elem(const int d, const int nn, const op_block *b,
-                                              const double *geo, const double *ue,
-                                              double *fe, double lam, double mu) {
+static inline ALWAYS_INLINE void elastic_elem(const int d, const int nn, const op_block *b, const double *geo,
+                                              const double *ue, double *fe, double lam, double mu) {
   const int st = d * d + 1;
   for (int k = 0; k < b->nq; k++, geo += st) {
-    const double (*dn)[3] = b->dn[k], *ji = geo, dv = geo[d * d];
+    const double(*dn)[3] = b->dn[k], *ji = geo, dv = geo[d * d];
     double fr[3][3] = {{0}}, f[3][3], s[3][3], p[3][3], tr = 0;
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int i = 0; i < d; i++)
-        UNROLL
-        for (int j = 0; j < d; j++) fr[i][j] += ue[a * d + i] * dn[a][j];
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) fr[i][j] += ue[a * d + i] * dn[a][j];
     UNROLL
-    for (int i = 0; i < d; i++)
+    for (int i = 0; i < d; i++) UNROLL
+    for (int m = 0; m < d; m++) {
+      f[i][m] = 0;
       UNROLL
-      for (int m = 0; m < d; m++) {
-        f[i][m] = 0;
-        UNROLL
-        for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
-      }
+      for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
+    }
     UNROLL
     for (int i = 0; i < d; i++) tr += f[i][i];
     UNROLL
-    for (int i = 0; i < d; i++)
-      UNROLL
-      for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
+    for (int i = 0; i < d; i++) UNROLL
+    for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
     UNROLL
-    for (int i = 0; i < d; i++)
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) {
+      p[i][j] = 0;
       UNROLL
-      for (int j = 0; j < d; j++) {
-        p[i][j] = 0;
-        UNROLL
-        for (int m = 0; m < d; m++) p[i][j] += s[i][m] * ji[j * d + m];
-        p[i][j] *= dv;
-      }
+      for (int m = 0; m < d; m++) p[i][j] += s[i][m] * ji[j * d + m];
+      p[i][j] *= dv;
+    }
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int i = 0; i < d; i++)
-        UNROLL
-        for (int j = 0; j < d; j++) fe[a * d + i] += p[i][j] * dn[a][j];
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) fe[a * d + i] += p[i][j] * dn[a][j];
   }
 }
 
 /* Diffusion fluxes: grad u = gr J^-1, q = dv k grad u, f_a += dN_a . J^-1 q. */
-static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const op_block *b,
-                                                const double *geo, const double *ue,
-                                                double *fe, double cond) {
+static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const op_block *b, const double *geo,
+                                                const double *ue, double *fe, double cond) {
   const int st = d * d + 1;
   for (int k = 0; k < b->nq; k++, geo += st) {
-    const double (*dn)[3] = b->dn[k], *ji = geo;
+    const double(*dn)[3] = b->dn[k], *ji = geo;
     double gr[3] = {0}, g[3] = {0}, p[3] = {0};
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int j = 0; j < d; j++) gr[j] += ue[a] * dn[a][j];
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int j = 0; j < d; j++) gr[j] += ue[a] * dn[a][j];
     UNROLL
-    for (int m = 0; m < d; m++)
-      UNROLL
-      for (int j = 0; j < d; j++) g[m] += gr[j] * ji[j * d + m];
+    for (int m = 0; m < d; m++) UNROLL
+    for (int j = 0; j < d; j++) g[m] += gr[j] * ji[j * d + m];
     UNROLL
-    for (int j = 0; j < d; j++)
-      UNROLL
-      for (int m = 0; m < d; m++) p[j] += ji[j * d + m] * g[m] * cond * geo[d * d];
+    for (int j = 0; j < d; j++) UNROLL
+    for (int m = 0; m < d; m++) p[j] += ji[j * d + m] * g[m] * cond * geo[d * d];
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int j = 0; j < d; j++) fe[a] += dn[a][j] * p[j];
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int j = 0; j < d; j++) fe[a] += dn[a][j] * p[j];
   }
 }
 
@@ -516,10 +496,9 @@ static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const
  * is NULL) of elements [e0, e1) of b into y: elastic (el = 1, d unknowns
  * per node) or diffusion (el = 0, one unknown); nnc is the node count when
  * known at compile time, else 0. */
-static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_block *b,
-                                             size_t e0, size_t e1, const double *u,
-                                             const double *in, double *y, int which,
-                                             const int d, const int el, const int nnc) {
+static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
+                                             const double *u, const double *in, double *y, int which, const int d,
+                                             const int el, const int nnc) {
   const int nc = el ? d : 1, nn = nnc ? nnc : b->nn, st = d * d + 1;
   double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
   for (size_t e = e0; e < e1; e++) {
@@ -528,27 +507,27 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
     const size_t *c = b->conn + e * (size_t)nn;
     if (s == 0) continue;
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int i = 0; i < nc; i++) {
-        size_t k = c[a] * (size_t)nc + (size_t)i;
-        ue[a * nc + i] = in ? u[k] * in[k] : u[k], fe[a * nc + i] = 0;
-      }
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < nc; i++) {
+      size_t k = c[a] * (size_t)nc + (size_t)i;
+      ue[a * nc + i] = in ? u[k] * in[k] : u[k], fe[a * nc + i] = 0;
+    }
     const double *geo = b->geo + e * (size_t)b->nq * (size_t)st;
-    if (el) elastic_elem(d, nn, b, geo, ue, fe, s * mt->lam, s * mt->mu);
-    else diffusion_elem(d, nn, b, geo, ue, fe, s * mt->cond);
+    if (el)
+      elastic_elem(d, nn, b, geo, ue, fe, s * mt->lam, s * mt->mu);
+    else
+      diffusion_elem(d, nn, b, geo, ue, fe, s * mt->cond);
     UNROLL
-    for (int a = 0; a < nn; a++)
-      UNROLL
-      for (int i = 0; i < nc; i++) y[c[a] * nc + i] += fe[a * nc + i];
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < nc; i++) y[c[a] * nc + i] += fe[a * nc + i];
   }
 }
 
 #define RANGE(d, el, nn) block_range(op, b, e0, e1, u, in, y, which, d, el, nn)
 
 /* Elastic blocks, specialised for the node counts of the linear types. */
-static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
-                          const double *u, const double *in, double *y, int which) {
+static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                          const double *in, double *y, int which) {
   int key = op->d * 100 + b->nn;
   switch (key) {
   case 102: RANGE(1, 1, 2); break;
@@ -557,14 +536,17 @@ static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, 
   case 304: RANGE(3, 1, 4); break;
   case 308: RANGE(3, 1, 8); break;
   default:
-    if (op->d == 3) RANGE(3, 1, 0);
-    else if (op->d == 2) RANGE(2, 1, 0);
-    else RANGE(1, 1, 0);
+    if (op->d == 3)
+      RANGE(3, 1, 0);
+    else if (op->d == 2)
+      RANGE(2, 1, 0);
+    else
+      RANGE(1, 1, 0);
   }
 }
 
-static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
-                            const double *u, const double *in, double *y, int which) {
+static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                            const double *in, double *y, int which) {
   int key = op->d * 100 + b->nn;
   switch (key) {
   case 102: RANGE(1, 0, 2); break;
@@ -573,16 +555,21 @@ static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0
   case 304: RANGE(3, 0, 4); break;
   case 308: RANGE(3, 0, 8); break;
   default:
-    if (op->d == 3) RANGE(3, 0, 0);
-    else if (op->d == 2) RANGE(2, 0, 0);
-    else RANGE(1, 0, 0);
+    if (op->d == 3)
+      RANGE(3, 0, 0);
+    else if (op->d == 2)
+      RANGE(2, 0, 0);
+    else
+      RANGE(1, 0, 0);
   }
 }
 
-static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
-                        const double *u, const double *in, double *y, int which) {
-  if (op->kind == DTM_OP_ELASTIC) elastic_block(op, b, e0, e1, u, in, y, which);
-  else diffusion_block(op, b, e0, e1, u, in, y, which);
+static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                        const double *in, double *y, int which) {
+  if (op->kind == DTM_OP_ELASTIC)
+    elastic_block(op, b, e0, e1, u, in, y, which);
+  else
+    diffusion_block(op, b, e0, e1, u, in, y, which);
 }
 
 /* ---- parallel product ------------------------------------------------ */
@@ -619,8 +606,7 @@ static int threads_for(const dtm_operator *op) {
 }
 
 /* Thread t of nt: its share of every block into yt. */
-static void share(const dtm_operator *op, int t, int nt, const double *u,
-                  const double *in, double *yt, int which) {
+static void share(const dtm_operator *op, int t, int nt, const double *u, const double *in, double *yt, int which) {
   for (int ib = 0; ib < op->nblocks; ib++) {
     const op_block *b = &op->blocks[ib];
     size_t e0 = b->n * (size_t)t / (size_t)nt, e1 = b->n * (size_t)(t + 1) / (size_t)nt;
@@ -629,8 +615,7 @@ static void share(const dtm_operator *op, int t, int nt, const double *u,
 }
 
 /* y = sum_e s_e K_e (D u), D = diag(in) or I when in is NULL. */
-static void apply_k(const dtm_operator *op, const double *u, double *y, int which,
-                    const double *in) {
+static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *in) {
   int nt = threads_for(op);
   size_t n = op->ndof;
   double *buf = nt > 1 ? malloc((size_t)(nt - 1) * n * sizeof *buf) : NULL;
@@ -649,9 +634,7 @@ static void apply_k(const dtm_operator *op, const double *u, double *y, int whic
   free(buf);
 }
 
-void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) {
-  apply_k(op, u, y, APPLY_K, NULL);
-}
+void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }
 
 void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) {
   apply_k(op, x, y, APPLY_K, op->dsq);
@@ -659,7 +642,9 @@ void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) 
 }
 
 void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y) {
-  if (op->has_beta) apply_k(op, v, y, APPLY_BETA, NULL);
-  else memset(y, 0, op->ndof * sizeof *y);
+  if (op->has_beta)
+    apply_k(op, v, y, APPLY_BETA, NULL);
+  else
+    memset(y, 0, op->ndof * sizeof *y);
   for (size_t k = 0; op->mass_alpha && k < op->ndof; k++) y[k] += op->mass_alpha[k] * v[k];
 }

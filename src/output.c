@@ -57,15 +57,15 @@ static size_t finite_view(const size_t *etags, const double *src, size_t n, size
 }
 
 typedef struct {
-  size_t *etags, *ntags;   /* element tags [nel], node tags [nnodes] */
-  double *lim, *nvals;     /* limiting effect as double [nel], node values [nnodes] */
-  double *level;           /* subcycling level as double [nel] */
-  size_t *dtags;           /* node tags of the nodal-dt view [nnodes] */
-  double *dvals;           /* its values [nnodes] */
-  char (*names)[96];       /* "dt <effect>" names [neffects] */
-  size_t **ftags;          /* [2 neffects] tags of the finite values of a view */
-  double **fvals;          /* [2 neffects] those values */
-  dtm_view *views;         /* [4 + 2 neffects] */
+  size_t *etags, *ntags; /* element tags [nel], node tags [nnodes] */
+  double *lim, *nvals;   /* limiting effect as double [nel], node values [nnodes] */
+  double *level;         /* subcycling level as double [nel] */
+  size_t *dtags;         /* node tags of the nodal-dt view [nnodes] */
+  double *dvals;         /* its values [nnodes] */
+  char (*names)[96];     /* "dt <effect>" names [neffects] */
+  size_t **ftags;        /* [2 neffects] tags of the finite values of a view */
+  double **fvals;        /* [2 neffects] those values */
+  dtm_view *views;       /* [4 + 2 neffects] */
 } view_set;
 
 static void free_views(view_set *vs, int ne) {
@@ -155,8 +155,7 @@ int dtm_output_write(const dtm_analysis *a, const char *path) {
   char tmp[PATH_MAX + 64];
   dtm_tmp_path(path, ".msh", tmp, sizeof tmp);
   if (r == DTM_OK) r = dtm_gmsh_write(tmp, vs.views, nviews);
-  if (r == DTM_OK && rename(tmp, path))
-    r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  if (r == DTM_OK && rename(tmp, path)) r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
   unlink(tmp);
   free_views(&vs, a->neffects);
   if (r == DTM_OK) r = write_opt(path, nviews);

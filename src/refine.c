@@ -22,9 +22,12 @@
 
 /* List-view type of a linear parent element ("ST" = scalar triangle...). */
 static const char *list_type(int type, int *ncorner) {
-  static const struct { int t[3]; const char *name; int n; } map[] = {
-      {{1, 0, 0}, "SL", 2},  {{2, 9, 0}, "ST", 3},    {{3, 10, 16}, "SQ", 4}, {{4, 11, 0}, "SS", 4},
-      {{5, 12, 17}, "SH", 8}, {{6, 13, 18}, "SI", 6}, {{7, 14, 19}, "SY", 5}};
+  static const struct {
+    int t[3];
+    const char *name;
+    int n;
+  } map[] = {{{1, 0, 0}, "SL", 2},   {{2, 9, 0}, "ST", 3},   {{3, 10, 16}, "SQ", 4}, {{4, 11, 0}, "SS", 4},
+             {{5, 12, 17}, "SH", 8}, {{6, 13, 18}, "SI", 6}, {{7, 14, 19}, "SY", 5}};
   for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
     for (int j = 0; j < 3; j++)
       if (map[i].t[j] == type) return *ncorner = map[i].n, map[i].name;
@@ -107,8 +110,8 @@ static void record(const dtm_analysis *a, double seconds, dtm_refine_round *r) {
   *r = (dtm_refine_round){a->nel, a->dt_min, a->recommended, seconds};
 }
 
-int dtm_refine(const dtm_scene *s, double target, int max_rounds, dtm_scene *sc, dtm_refine_round *rounds,
-               int *nrounds, dtm_analysis **out) {
+int dtm_refine(const dtm_scene *s, double target, int max_rounds, dtm_scene *sc, dtm_refine_round *rounds, int *nrounds,
+               dtm_analysis **out) {
   if (!s->geometry) return DTM_ERR(DTM_ERR_INPUT, "%s: refine needs a <geometry>, not a <mesh>", s->path);
   *sc = *s;
   sc->target = target;

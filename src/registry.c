@@ -18,9 +18,7 @@ static const dtm_effect_class *const builtin[] = {
 
 int dtm_registry_count(void) { return (int)(sizeof builtin / sizeof builtin[0]); }
 
-const dtm_effect_class *dtm_registry_get(int i) {
-  return (i >= 0 && i < dtm_registry_count()) ? builtin[i] : NULL;
-}
+const dtm_effect_class *dtm_registry_get(int i) { return (i >= 0 && i < dtm_registry_count()) ? builtin[i] : NULL; }
 
 static void known_names(char *buf, size_t len) {
   buf[0] = '\0';
@@ -41,26 +39,24 @@ int dtm_registry_find(const char *name, const dtm_effect_class **out) {
   return DTM_ERR(DTM_ERR_INPUT, "unknown effect '%s'; known effects: %s", name, known);
 }
 
-int dtm_registry_load(const char *library, const char *name,
-                      const dtm_effect_class **out, void **handle) {
+int dtm_registry_load(const char *library, const char *name, const dtm_effect_class **out, void **handle) {
   void *h = dlopen(library, RTLD_NOW | RTLD_LOCAL);
   if (!h) return DTM_ERR(DTM_ERR_INPUT, "cannot load effect library: %s", dlerror());
   void *sym = dlsym(h, DTM_EFFECT_ENTRY_SYMBOL);
   if (!sym) {
     dlclose(h);
-    return DTM_ERR(DTM_ERR_INPUT, "%s: no symbol '%s': not a dtmap effect library", library,
-                   DTM_EFFECT_ENTRY_SYMBOL);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: no symbol '%s': not a dtmap effect library", library, DTM_EFFECT_ENTRY_SYMBOL);
   }
   const dtm_effect_class *(*entry)(void);
   memcpy(&entry, &sym, sizeof entry); /* object-to-function pointer, POSIX style */
   const dtm_effect_class *c = entry();
-  const char *why = !c ? "its entry returned NULL"
+  const char *why = !c                                         ? "its entry returned NULL"
                     : c->api_version != DTM_EFFECT_API_VERSION ? "API version mismatch"
                     : strcmp(c->name ? c->name : "", name) ? "name mismatch"
-                    : NULL;
+                                                           : NULL;
   if (why) {
-    int r = DTM_ERR(DTM_ERR_INPUT, "%s: %s (library: version %d, name '%s'; dtmap: version %d, name '%s')",
-                    library, why, c ? c->api_version : -1, c && c->name ? c->name : "", DTM_EFFECT_API_VERSION, name);
+    int r = DTM_ERR(DTM_ERR_INPUT, "%s: %s (library: version %d, name '%s'; dtmap: version %d, name '%s')", library,
+                    why, c ? c->api_version : -1, c && c->name ? c->name : "", DTM_EFFECT_API_VERSION, name);
     dlclose(h);
     return r;
   }

@@ -15,7 +15,8 @@
 #include "dtmap/cost.h"
 #include "dtmap/refine.h"
 
-static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh", "extract", "effects", "nodal", "global", "output"};
+static const char *const timing_names[DTM_T_COUNT] = {"scene", "mesh",   "extract", "effects",
+                                                      "nodal", "global", "output"};
 
 static cJSON *where_json(const dtm_analysis *a, size_t i) {
   cJSON *o = cJSON_CreateObject();

@@ -20,11 +20,9 @@
 DTM_HIDDEN int dtm_scene_xml_read(const char *path, xmlDoc **doc);
 
 /* Raise DTM_ERR_INPUT with "scene-path:line-of-n: " before the message. */
-DTM_HIDDEN int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file,
-                              int line, const char *func, const char *fmt, ...)
-    __attribute__((format(printf, 6, 7)));
-#define DTM_SCENE_ERR(s, n, ...)                                               \
-  dtm_scene_fail((s), (n), __FILE__, __LINE__, __func__, __VA_ARGS__)
+DTM_HIDDEN int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file, int line, const char *func,
+                              const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+#define DTM_SCENE_ERR(s, n, ...) dtm_scene_fail((s), (n), __FILE__, __LINE__, __func__, __VA_ARGS__)
 
 /* Line of node n in the scene file (0 if unknown). */
 DTM_HIDDEN int dtm_scene_line(const xmlNode *n);
@@ -39,8 +37,7 @@ DTM_HIDDEN int dtm_scene_attr(const xmlNode *n, const char *key, char **out);
  * must be a number; 0 on success, -1 otherwise. NaN and inf do parse. */
 DTM_HIDDEN int dtm_scene_parse_double(const char *text, double *v);
 /* Attribute key of n as a finite number > 0; *out = def when absent. */
-DTM_HIDDEN int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n,
-                                       const char *key, double def, double *out);
+DTM_HIDDEN int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n, const char *key, double def, double *out);
 /* *out = malloc'd path rel resolved against the scene's directory. */
 DTM_HIDDEN int dtm_scene_resolve(const dtm_scene *s, const char *rel, char **out);
 /* Split text at XML white space into *n malloc'd tokens *items. */

@@ -29,14 +29,11 @@ static int is_geometry_ext(const char *ext) {
   return 0;
 }
 
-static int check_extension(const dtm_scene *s, const xmlNode *n, const char *file,
-                           int is_mesh) {
+static int check_extension(const dtm_scene *s, const xmlNode *n, const char *file, int is_mesh) {
   const char *ext = extension(file);
-  if (is_mesh && strcasecmp(ext, ".msh"))
-    return DTM_SCENE_ERR(s, n, "mesh file '%s' is not a Gmsh .msh file", file);
+  if (is_mesh && strcasecmp(ext, ".msh")) return DTM_SCENE_ERR(s, n, "mesh file '%s' is not a Gmsh .msh file", file);
   if (!is_mesh && !strcasecmp(ext, ".msh"))
-    return DTM_SCENE_ERR(s, n, "geometry file '%s' is a mesh; use <mesh file=\"%s\"/>",
-                         file, file);
+    return DTM_SCENE_ERR(s, n, "geometry file '%s' is a mesh; use <mesh file=\"%s\"/>", file, file);
   if (!is_mesh && !is_geometry_ext(ext))
     return DTM_SCENE_ERR(s, n,
                          "geometry file '%s' has an unsupported extension (use .geo, "
@@ -45,19 +42,16 @@ static int check_extension(const dtm_scene *s, const xmlNode *n, const char *fil
   return DTM_OK;
 }
 
-static int check_exists(const dtm_scene *s, const xmlNode *n, const char *kind,
-                        const char *file, const char *resolved) {
+static int check_exists(const dtm_scene *s, const xmlNode *n, const char *kind, const char *file,
+                        const char *resolved) {
   struct stat st;
   if (stat(resolved, &st) == 0 && S_ISDIR(st.st_mode))
     return DTM_SCENE_ERR(s, n, "%s file '%s' is a directory", kind, resolved);
   if (access(resolved, R_OK) == 0) return DTM_OK;
   if (errno != ENOENT && errno != ENOTDIR)
-    return DTM_SCENE_ERR(s, n, "%s file '%s' cannot be read: %s", kind, resolved,
-                         strerror(errno));
-  if (!strcmp(file, resolved))
-    return DTM_SCENE_ERR(s, n, "%s file '%s' not found", kind, file);
-  return DTM_SCENE_ERR(s, n, "%s file '%s' not found (looked for '%s')", kind, file,
-                       resolved);
+    return DTM_SCENE_ERR(s, n, "%s file '%s' cannot be read: %s", kind, resolved, strerror(errno));
+  if (!strcmp(file, resolved)) return DTM_SCENE_ERR(s, n, "%s file '%s' not found", kind, file);
+  return DTM_SCENE_ERR(s, n, "%s file '%s' not found (looked for '%s')", kind, file, resolved);
 }
 
 static int read_source(dtm_scene *s, const xmlNode *n) {
@@ -79,15 +73,15 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
   return rc ? dtm_error_trace(rc, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
-static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi,
-                    int *out) {
+static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi, int *out) {
   char *text;
   double v;
   DTM_CHECK(dtm_scene_attr(n, key, &text));
   if (!text) return DTM_OK;
   int bad = dtm_scene_parse_double(text, &v) || v != floor(v) || v < lo || v > hi;
-  int rc = bad ? DTM_SCENE_ERR(s, n, "<%s> %s=\"%s\" is not admissible (need an integer "
-                                     "from %d to %d)",
+  int rc = bad ? DTM_SCENE_ERR(s, n,
+                               "<%s> %s=\"%s\" is not admissible (need an integer "
+                               "from %d to %d)",
                                (const char *)n->name, key, text, lo, hi)
                : DTM_OK;
   if (!bad) *out = (int)v;
@@ -101,21 +95,17 @@ static int read_meshing(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(read_int(s, n, "order", 1, 2, &s->mesh_order));
   DTM_CHECK(read_int(s, n, "dim", 1, 3, &s->mesh_dim));
   if (s->mesh_size > 0 && s->mesh_min_size > s->mesh_size)
-    return DTM_SCENE_ERR(s, n, "<meshing> min-size=%g is larger than size=%g",
-                         s->mesh_min_size, s->mesh_size);
+    return DTM_SCENE_ERR(s, n, "<meshing> min-size=%g is larger than size=%g", s->mesh_min_size, s->mesh_size);
   return DTM_OK;
 }
 
 static int read_time(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(dtm_scene_attr_positive(s, n, "safety", 0.9, &s->safety));
-  if (s->safety > 1)
-    return DTM_SCENE_ERR(s, n, "<time> safety=%g is not admissible (need 0 < safety <= 1)",
-                         s->safety);
+  if (s->safety > 1) return DTM_SCENE_ERR(s, n, "<time> safety=%g is not admissible (need 0 < safety <= 1)", s->safety);
   DTM_CHECK(dtm_scene_attr_positive(s, n, "target", 0, &s->target));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "duration", 0, &s->duration));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "f-max", 0, &s->f_max));
-  return dtm_scene_attr_positive(s, n, "elements-per-wavelength", 10,
-                                 &s->elements_per_wavelength);
+  return dtm_scene_attr_positive(s, n, "elements-per-wavelength", 10, &s->elements_per_wavelength);
 }
 
 static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, char **dst) {
@@ -123,7 +113,8 @@ static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, cha
   DTM_CHECK(dtm_scene_attr(n, key, &file));
   if (!file) return DTM_OK;
   int rc = DTM_OK;
-  if (!*file) rc = DTM_SCENE_ERR(s, n, "<output> %s=\"\" names no file", key);
+  if (!*file)
+    rc = DTM_SCENE_ERR(s, n, "<output> %s=\"\" names no file", key);
   else if (dst == &s->out_mesh && strcasecmp(extension(file), ".msh"))
     rc = DTM_SCENE_ERR(s, n, "<output> mesh=\"%s\" must be a Gmsh .msh file", file);
   if (!rc) rc = dtm_scene_resolve(s, file, dst);
@@ -142,9 +133,12 @@ static element_reader reader_for(const xmlNode *n) {
   static const struct {
     const char *tag;     /* element name under <dtmap-scene> */
     element_reader read; /* what reads it */
-  } table[] = {{"geometry", read_source},       {"mesh", read_source},
-               {"meshing", read_meshing},       {"material", dtm_scene_read_material},
-               {"effects", dtm_scene_read_effects}, {"time", read_time},
+  } table[] = {{"geometry", read_source},
+               {"mesh", read_source},
+               {"meshing", read_meshing},
+               {"material", dtm_scene_read_material},
+               {"effects", dtm_scene_read_effects},
+               {"time", read_time},
                {"output", read_output}};
   for (size_t i = 0; i < sizeof table / sizeof *table; i++)
     if (dtm_scene_is(n, table[i].tag)) return table[i].read;
@@ -168,8 +162,7 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
     if (!read) return DTM_SCENE_ERR(s, c, "unknown element <%s>", (const char *)c->name);
     DTM_CHECK(read(s, c));
   }
-  if (!s->geometry && !s->mesh)
-    return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
+  if (!s->geometry && !s->mesh) return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
   if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
   if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
   return DTM_OK;

@@ -42,8 +42,7 @@ static int read_effect(dtm_scene *s, const xmlNode *n) {
   if (!name || !*name) return DTM_SCENE_ERR(s, n, "<effect> needs a name=\"...\"");
   DTM_CHECK(dtm_scene_strdup(name, &e->name));
   const char *library = dtm_scene_effect_attr(e, "library");
-  if (library && !*library)
-    return DTM_SCENE_ERR(s, n, "effect '%s': library=\"\" names no file", e->name);
+  if (library && !*library) return DTM_SCENE_ERR(s, n, "effect '%s': library=\"\" names no file", e->name);
   if (library) DTM_CHECK(dtm_scene_resolve(s, library, &e->library));
   return DTM_OK;
 }

@@ -11,8 +11,7 @@
 static char *trim(char *s) {
   char *end = s + strlen(s);
   while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r') s++;
-  while (end > s && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\n' || end[-1] == '\r'))
-    *--end = '\0';
+  while (end > s && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\n' || end[-1] == '\r')) *--end = '\0';
   return s;
 }
 
@@ -21,8 +20,7 @@ static int read_name(const dtm_scene *s, const xmlNode *n, dtm_material *m) {
   DTM_CHECK(dtm_scene_attr(n, "name", &raw));
   if (!raw) return DTM_SCENE_ERR(s, n, "<material> has no name");
   const char *name = trim(raw);
-  int rc = *name ? dtm_scene_strdup(name, &m->name)
-                 : DTM_SCENE_ERR(s, n, "<material> has an empty name");
+  int rc = *name ? dtm_scene_strdup(name, &m->name) : DTM_SCENE_ERR(s, n, "<material> has an empty name");
   free(raw);
   return rc;
 }
@@ -33,10 +31,10 @@ static int read_default(const dtm_scene *s, const xmlNode *n, dtm_scene_material
   if (!raw) return DTM_OK;
   const char *v = trim(raw);
   int rc = DTM_OK;
-  if (!strcmp(v, "true") || !strcmp(v, "1")) sm->is_default = 1;
+  if (!strcmp(v, "true") || !strcmp(v, "1"))
+    sm->is_default = 1;
   else if (strcmp(v, "false") && strcmp(v, "0"))
-    rc = DTM_SCENE_ERR(s, n, "material '%s': default=\"%s\" is not true or false",
-                       sm->m.name, raw);
+    rc = DTM_SCENE_ERR(s, n, "material '%s': default=\"%s\" is not true or false", sm->m.name, raw);
   free(raw);
   return rc;
 }
@@ -47,8 +45,7 @@ static int read_groups(const dtm_scene *s, const xmlNode *n, dtm_scene_material 
   if (!raw) return DTM_OK;
   int rc = dtm_scene_split(raw, &sm->ngroups, &sm->groups);
   if (!rc && sm->ngroups == 0)
-    rc = DTM_SCENE_ERR(s, n, "material '%s': groups=\"\" lists no physical group",
-                       sm->m.name);
+    rc = DTM_SCENE_ERR(s, n, "material '%s': groups=\"\" lists no physical group", sm->m.name);
   free(raw);
   return rc;
 }
@@ -59,8 +56,7 @@ static int read_prop(const dtm_scene *s, const xmlNode *n, dtm_material *m, int 
   DTM_CHECK(dtm_scene_attr(n, dtm_prop_name(p), &raw));
   if (!raw) return DTM_OK;
   int rc = dtm_scene_parse_double(raw, &v)
-               ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name,
-                               dtm_prop_name(p), raw)
+               ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name, dtm_prop_name(p), raw)
                : dtm_prop_check(m, p, v);
   free(raw);
   if (rc) return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
@@ -79,8 +75,7 @@ static int has_group(const dtm_scene_material *sm, int upto, const char *g) {
 static int check_against(const dtm_scene *s, const xmlNode *n, const dtm_scene_material *a,
                          const dtm_scene_material *b) {
   if (!strcmp(a->m.name, b->m.name))
-    return DTM_SCENE_ERR(s, n, "material '%s' is defined twice (first at line %d)",
-                         b->m.name, a->m.line);
+    return DTM_SCENE_ERR(s, n, "material '%s' is defined twice (first at line %d)", b->m.name, a->m.line);
   if (a->is_default && b->is_default)
     return DTM_SCENE_ERR(s, n,
                          "material '%s' is a second default material (the first is '%s' "
@@ -99,10 +94,8 @@ static int check_unique(const dtm_scene *s, const xmlNode *n) {
   const dtm_scene_material *last = &s->materials[s->nmaterials - 1];
   for (int g = 1; g < last->ngroups; g++)
     if (has_group(last, g, last->groups[g]))
-      return DTM_SCENE_ERR(s, n, "material '%s' lists group '%s' twice", last->m.name,
-                           last->groups[g]);
-  for (int i = 0; i < s->nmaterials - 1; i++)
-    DTM_CHECK(check_against(s, n, &s->materials[i], last));
+      return DTM_SCENE_ERR(s, n, "material '%s' lists group '%s' twice", last->m.name, last->groups[g]);
+  for (int i = 0; i < s->nmaterials - 1; i++) DTM_CHECK(check_against(s, n, &s->materials[i], last));
   return DTM_OK;
 }
 

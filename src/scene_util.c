@@ -10,15 +10,14 @@
 
 #include "scene-impl.h"
 
-int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file, int line,
-                   const char *func, const char *fmt, ...) {
+int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file, int line, const char *func, const char *fmt,
+                   ...) {
   char msg[1024];
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(msg, sizeof msg, fmt, ap);
   va_end(ap);
-  return dtm_error_raise(DTM_ERR_INPUT, file, line, func, "%s:%d: %s", s->path,
-                         dtm_scene_line(n), msg);
+  return dtm_error_raise(DTM_ERR_INPUT, file, line, func, "%s:%d: %s", s->path, dtm_scene_line(n), msg);
 }
 
 int dtm_scene_line(const xmlNode *n) { return n ? (int)xmlGetLineNo(n) : 0; }
@@ -59,8 +58,7 @@ int dtm_scene_parse_double(const char *text, double *v) {
   return *end == '\0' ? 0 : -1;
 }
 
-int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n, const char *key,
-                            double def, double *out) {
+int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n, const char *key, double def, double *out) {
   char *text;
   *out = def;
   DTM_CHECK(dtm_scene_attr(n, key, &text));

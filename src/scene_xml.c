@@ -79,8 +79,7 @@ static void handlers_pop(const xml_handlers *saved) {
 
 static int report(const char *path, const xml_capture *c, const char *what) {
   const char *msg = c->have ? c->msg : "the document was rejected";
-  if (c->line > 0)
-    return DTM_ERR(DTM_ERR_INPUT, "%s:%d: %s: %s", path, c->line, what, msg);
+  if (c->line > 0) return DTM_ERR(DTM_ERR_INPUT, "%s:%d: %s: %s", path, c->line, what, msg);
   return DTM_ERR(DTM_ERR_INPUT, "%s: %s: %s", path, what, msg);
 }
 
@@ -129,9 +128,8 @@ static void fix_start_line(xmlParserCtxt *ctxt) {
   }
 }
 
-static void on_start_element(void *ctx, const xmlChar *name, const xmlChar *prefix,
-                             const xmlChar *uri, int nns, const xmlChar **ns, int nattr,
-                             int ndefaulted, const xmlChar **attr) {
+static void on_start_element(void *ctx, const xmlChar *name, const xmlChar *prefix, const xmlChar *uri, int nns,
+                             const xmlChar **ns, int nattr, int ndefaulted, const xmlChar **attr) {
   xmlSAX2StartElementNs(ctx, name, prefix, uri, nns, ns, nattr, ndefaulted, attr);
   fix_start_line(ctx);
 }
@@ -155,8 +153,7 @@ static int parse(const char *path, const char *buf, size_t len, xmlDoc **doc) {
 }
 
 static xmlSchema *load_schema(xml_capture *c) {
-  xmlSchemaParserCtxt *pc =
-      xmlSchemaNewMemParserCtxt((const char *)dtm_scene_xsd, (int)dtm_scene_xsd_len);
+  xmlSchemaParserCtxt *pc = xmlSchemaNewMemParserCtxt((const char *)dtm_scene_xsd, (int)dtm_scene_xsd_len);
   if (!pc) return NULL;
   xmlSchemaSetParserStructuredErrors(pc, on_error, c);
   xmlSchema *schema = xmlSchemaParse(pc);
@@ -182,10 +179,8 @@ static int validate(const char *path, xmlDoc *doc) {
   xmlSchemaFree(schema);
   handlers_pop(&saved);
   if (!schema)
-    return DTM_ERR(DTM_ERR_INTERNAL, "the embedded scene schema does not load: %s",
-                   c.have ? c.msg : "unknown error");
-  if (rc < 0 && !c.have)
-    return DTM_ERR(DTM_ERR_INTERNAL, "%s: schema validation failed internally", path);
+    return DTM_ERR(DTM_ERR_INTERNAL, "the embedded scene schema does not load: %s", c.have ? c.msg : "unknown error");
+  if (rc < 0 && !c.have) return DTM_ERR(DTM_ERR_INTERNAL, "%s: schema validation failed internally", path);
   return rc == 0 ? DTM_OK : report(path, &c, "schema");
 }
 

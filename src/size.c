@@ -24,9 +24,9 @@ static double root(double r, double p) { return p == 1.0 ? r : p == 2.0 ? sqrt(r
 /* Per node: mean adjacent size h, smallest adjacent hmax, and for each
  * non-spectral effect the smallest adjacent element step. */
 typedef struct {
-  double *h, *hcap;  /* [nnodes] */
-  double **emin;     /* [neffects][nnodes], rows only for non-spectral effects */
-  unsigned *count;   /* [nnodes] */
+  double *h, *hcap; /* [nnodes] */
+  double **emin;    /* [neffects][nnodes], rows only for non-spectral effects */
+  unsigned *count;  /* [nnodes] */
 } node_fields;
 
 static void gather_nodes(const dtm_analysis *a, node_fields *nf) {
@@ -60,8 +60,7 @@ static double node_need(const dtm_analysis *a, const node_fields *nf, size_t v, 
 static double step_at_bound(const dtm_analysis *a, size_t i) {
   double dt = INFINITY;
   for (int k = 0; k < a->neffects; k++)
-    if (a->dt_effect[k])
-      dt = fmin(dt, a->dt_effect[k][i] * scale(a->hmax[i] / a->h[i], a->effects[k].cls->exponent));
+    if (a->dt_effect[k]) dt = fmin(dt, a->dt_effect[k][i] * scale(a->hmax[i] / a->h[i], a->effects[k].cls->exponent));
   return dt;
 }
 
@@ -110,7 +109,10 @@ int dtm_size_suggest(dtm_analysis *a) {
   if (r == DTM_OK) {
     gather_nodes(a, &nf);
     for (size_t v = 0; v < nn; v++) {
-      if (!nf.count[v]) { a->size_node[v] = NAN; continue; } /* a node of no analysed element */
+      if (!nf.count[v]) {
+        a->size_node[v] = NAN;
+        continue;
+      } /* a node of no analysed element */
       nf.h[v] /= nf.count[v];
       a->size_node[v] = fmin(target > 0 ? node_need(a, &nf, v, target) : nf.h[v], nf.hcap[v]);
     }

@@ -77,8 +77,8 @@ static void print_smallest(const dtm_analysis *a, FILE *f) {
   size_t idx[NSMALL];
   int k = smallest(a, idx);
   char lbl[64];
-  fprintf(f, "\n%d smallest steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type",
-          "group", "dt (s)", "length (m)", "effect");
+  fprintf(f, "\n%d smallest steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type", "group",
+          "dt (s)", "length (m)", "effect");
   for (int r = 0; r < k; r++) {
     size_t i = idx[r], l;
     int b;
@@ -95,14 +95,15 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
     if (!a->resolution[k]) continue;
     size_t n = 0;
     for (size_t i = 0; i < a->nel; i++) n += a->h[i] > a->hmax[i] && a->hmax_by[i] == k;
-    fprintf(f, "accuracy     %s: %zu element(s) coarser than its accuracy bound (view '%s')\n",
-            a->effects[k].cls->name, n, a->effects[k].cls->accuracy_view);
+    fprintf(f, "accuracy     %s: %zu element(s) coarser than its accuracy bound (view '%s')\n", a->effects[k].cls->name,
+            n, a->effects[k].cls->accuracy_view);
   }
   if (!a->conflicts) return;
   size_t i = a->cap_element;
   const dtm_effect_class *c = a->effects[a->hmax_by[i]].cls;
-  fprintf(f, "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
-             "             below the target %.4e s at %zu element(s)",
+  fprintf(f,
+          "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
+          "             below the target %.4e s at %zu element(s)",
           c->accuracy_view, a->hmax[i], dtm_analysis_tag(a, i), a->dt_accuracy_cap, a->scene->target, a->conflicts);
   if (a->scene->duration > 0)
     fprintf(f, ";\n             the duration %.4g s then costs %.4g element-steps", a->scene->duration,
@@ -117,8 +118,8 @@ static void print_cost(const dtm_analysis *a, FILE *f) {
   fprintf(f, "%s; ideal speed-up %.2fx\n", sc->nlevels > 8 ? " ..." : "", sc->speedup);
   if (a->scene->duration > 0)
     fprintf(f, "cost         %.4g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n",
-            a->scene->duration, ceil(a->scene->duration / a->recommended), a->recommended,
-            dtm_cost_element_steps(a), dtm_cost_element_steps_subcycled(a));
+            a->scene->duration, ceil(a->scene->duration / a->recommended), a->recommended, dtm_cost_element_steps(a),
+            dtm_cost_element_steps_subcycled(a));
   const dtm_mass_scaling *ms = a->mass_scaling;
   if (ms)
     fprintf(f, "mass scaling to reach the target: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",

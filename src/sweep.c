@@ -65,8 +65,7 @@ static int sweep_one(const dtm_scene *s, double h, dtm_sweep_row *row) {
 }
 
 int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows) {
-  if (!s->geometry)
-    return DTM_ERR(DTM_ERR_INPUT, "%s:%d: sweep needs a geometry, not a mesh", s->path, s->source_line);
+  if (!s->geometry) return DTM_ERR(DTM_ERR_INPUT, "%s:%d: sweep needs a geometry, not a mesh", s->path, s->source_line);
   if (n < 1) return DTM_ERR(DTM_ERR_INPUT, "sweep needs at least one size");
   for (int i = 0; i < n; i++)
     if (!(sizes[i] > 0) || !isfinite(sizes[i]))
@@ -77,8 +76,10 @@ int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row 
 
 /* v with printf format f into buf, or "-" when v is NaN. */
 static const char *cell(char *buf, size_t len, const char *f, double v) {
-  if (isnan(v)) snprintf(buf, len, "-");
-  else snprintf(buf, len, f, v);
+  if (isnan(v))
+    snprintf(buf, len, "-");
+  else
+    snprintf(buf, len, f, v);
   return buf;
 }
 
@@ -92,8 +93,8 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
 
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   FILE *f = stream;
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "h", "elements", "nodes", "dt min",
-          "dt rec.", "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave", "time");
+  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "h", "elements", "nodes", "dt min", "dt rec.",
+          "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave", "time");
   fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "(m)", "", "", "(s)", "(s)", "", "", "", "",
           "(min)", "(min)", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
@@ -106,8 +107,8 @@ static void csv_number(FILE *f, double v, const char *sep) {
 }
 
 static void csv_row(FILE *f, const dtm_sweep_row *r) {
-  const double v[] = {r->h, (double)r->elements, (double)r->nodes, r->dt_min, r->recommended, r->steps, r->cost,
-                      r->cost_subcycled, r->per_zone, r->per_wavelength, r->seconds};
+  const double v[] = {r->h,    (double)r->elements, (double)r->nodes, r->dt_min,         r->recommended, r->steps,
+                      r->cost, r->cost_subcycled,   r->per_zone,      r->per_wavelength, r->seconds};
   const int nv = (int)(sizeof v / sizeof v[0]);
   for (int k = 0; k < nv; k++) csv_number(f, v[k], k + 1 < nv ? "," : "\n");
 }
@@ -118,7 +119,8 @@ int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n) {
   FILE *f = fopen(tmp, "w");
   if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
   fputs("h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
-        "elements_per_zone,elements_per_wavelength,seconds\n", f);
+        "elements_per_zone,elements_per_wavelength,seconds\n",
+        f);
   for (int i = 0; i < n; i++) csv_row(f, &rows[i]);
   int bad = ferror(f) != 0;
   bad |= fclose(f) != 0;

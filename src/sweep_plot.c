@@ -21,10 +21,10 @@
 
 /* The points to draw, as log10 values. */
 typedef struct {
-  int n;             /* points kept (positive and finite) */
-  double *x;         /* [n] log10 accuracy indicator */
-  double *y;         /* [n] log10 element-steps, one global step */
-  double *ys;        /* [n] log10 element-steps, ideal subcycling */
+  int n;              /* points kept (positive and finite) */
+  double *x;          /* [n] log10 accuracy indicator */
+  double *y;          /* [n] log10 element-steps, one global step */
+  double *ys;         /* [n] log10 element-steps, ideal subcycling */
   const char *xlabel; /* x axis label, with units */
   const char *ylabel; /* y axis label, with units */
 } plot_data;
@@ -118,10 +118,10 @@ static void draw_legend(void) {
 
 static void set_colors(void) {
   plscolbg(255, 255, 255);
-  plscol0(1, 0, 0, 0);        /* axes and text */
-  plscol0(2, 31, 119, 180);   /* one global step */
-  plscol0(3, 214, 39, 40);    /* subcycled */
-  plscol0(4, 210, 210, 210);  /* grid */
+  plscol0(1, 0, 0, 0);       /* axes and text */
+  plscol0(2, 31, 119, 180);  /* one global step */
+  plscol0(3, 214, 39, 40);   /* subcycled */
+  plscol0(4, 210, 210, 210); /* grid */
 }
 
 /* Box, log-decade labels, grid, axis labels and title. */
@@ -188,8 +188,7 @@ static int plot_file(const char *path, const char *title, const plot_data *d) {
 
 int dtm_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n) {
   if (n < 1) return DTM_ERR(DTM_ERR_INPUT, "sweep plot: no rows to draw");
-  if (!have_pngcairo())
-    return DTM_ERR(DTM_ERR_INTERNAL, "PLplot has no pngcairo device: install plplot-driver-cairo");
+  if (!have_pngcairo()) return DTM_ERR(DTM_ERR_INTERNAL, "PLplot has no pngcairo device: install plplot-driver-cairo");
   plot_data d;
   DTM_CHECK(collect(rows, n, &d));
   int r = plot_file(path, title, &d);

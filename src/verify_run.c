@@ -23,9 +23,9 @@
 typedef struct {
   const dtm_operator *op;
   size_t n;
-  const double *m;  /* lumped diagonal */
+  const double *m; /* lumped diagonal */
   double dt;
-  double *u, *up;   /* u_n and u_{n-1} (elastic) */
+  double *u, *up;    /* u_n and u_{n-1} (elastic) */
   double *f, *v, *g; /* K u_n, v_{n-1/2}, C v */
   int elastic;
 } vr_state;
@@ -58,17 +58,14 @@ static void step_elastic(vr_state *s) {
   for (size_t i = 0; i < n; i++) s->v[i] = (s->u[i] - s->up[i]) / dt;
   dtm_operator_apply_damping(s->op, s->v, s->g);
   for (size_t i = 0; i < n; i++) {
-    double un = s->m[i] > 0
-                    ? 2 * s->u[i] - s->up[i] - dt * dt * (s->f[i] + s->g[i]) / s->m[i]
-                    : 0;
+    double un = s->m[i] > 0 ? 2 * s->u[i] - s->up[i] - dt * dt * (s->f[i] + s->g[i]) / s->m[i] : 0;
     s->up[i] = s->u[i], s->u[i] = un;
   }
 }
 
 static void step_diffusion(vr_state *s) {
   dtm_operator_apply(s->op, s->u, s->f);
-  for (size_t i = 0; i < s->n; i++)
-    s->u[i] = s->m[i] > 0 ? s->u[i] - s->dt * s->f[i] / s->m[i] : 0;
+  for (size_t i = 0; i < s->n; i++) s->u[i] = s->m[i] > 0 ? s->u[i] - s->dt * s->f[i] / s->m[i] : 0;
 }
 
 /* The time loop: norms at n = 0 .. steps, growth over n >= steps / 2. */
@@ -82,15 +79,15 @@ static void integrate(vr_state *s, int steps, double e0, dtm_verify_result *r) {
       return;
     }
     if (n == steps) return;
-    if (s->elastic) step_elastic(s);
-    else step_diffusion(s);
+    if (s->elastic)
+      step_elastic(s);
+    else
+      step_diffusion(s);
     r->steps = n + 1;
   }
 }
 
-static void vr_free(vr_state *s) {
-  free(s->u), free(s->up), free(s->f), free(s->v), free(s->g);
-}
+static void vr_free(vr_state *s) { free(s->u), free(s->up), free(s->f), free(s->v), free(s->g); }
 
 static int vr_init(vr_state *s, const double *u0) {
   size_t b = (s->n ? s->n : 1) * sizeof(double);
@@ -110,22 +107,28 @@ static int vr_init(vr_state *s, const double *u0) {
   return DTM_OK;
 }
 
-int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0,
-                   dtm_verify_result *r) {
+int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0, dtm_verify_result *r) {
   if (!r) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_verify_run: no result");
   memset(r, 0, sizeof *r);
   if (!op || !u0 || !(dt > 0) || !isfinite(dt) || steps < 1)
-    return DTM_ERR(DTM_ERR_INPUT, "verification needs dt > 0 (got %g), steps >= 1 (got "
-                   "%d) and an initial field", dt, steps);
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "verification needs dt > 0 (got %g), steps >= 1 (got "
+                   "%d) and an initial field",
+                   dt, steps);
   double t0 = now();
-  vr_state s = {.op = op, .n = dtm_operator_ndof(op), .m = dtm_operator_mass(op),
-                .dt = dt, .elastic = dtm_operator_kind(op) == DTM_OP_ELASTIC};
+  vr_state s = {.op = op,
+                .n = dtm_operator_ndof(op),
+                .m = dtm_operator_mass(op),
+                .dt = dt,
+                .elastic = dtm_operator_kind(op) == DTM_OP_ELASTIC};
   DTM_CHECK(vr_init(&s, u0));
   double e0 = norm_now(&s);
   if (!(e0 > 0) || !isfinite(e0)) {
     vr_free(&s);
-    return DTM_ERR(DTM_ERR_INPUT, "the initial field has no energy (norm %g): nothing "
-                   "to verify", e0);
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "the initial field has no energy (norm %g): nothing "
+                   "to verify",
+                   e0);
   }
   integrate(&s, steps, e0, r);
   vr_free(&s);

@@ -16,8 +16,7 @@
 #include "dtmap/kernel.h"
 
 static void near(double got, double want, double rel, const char *what) {
-  if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel tol %g)", what, got, want, rel);
+  if (!(fabs(got - want) <= rel * fabs(want))) fail_msg("%s: got %.17g, want %.17g (rel tol %g)", what, got, want, rel);
 }
 
 /* Unit-ish reference shapes in Gmsh node order. */
@@ -25,19 +24,18 @@ static const double line2[] = {0, 0, 0, 2, 0, 0};
 static const double tri3[] = {0, 0, 0, 3, 0, 0, 0, 4, 0}; /* right, legs 3, 4 */
 static const double quad4[] = {0, 0, 0, 2, 0, 0, 2, 3, 0, 0, 3, 0};
 static const double tet4[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
-static const double hex8[] = {0, 0, 0, 2, 0, 0, 2, 3, 0, 0, 3, 0,
-                              0, 0, 4, 2, 0, 4, 2, 3, 4, 0, 3, 4};
-static const double prism6[] = {0, 0, 0, 1, 0, 0, 0, 1, 0,
-                                0, 0, 2, 1, 0, 2, 0, 1, 2};
+static const double hex8[] = {0, 0, 0, 2, 0, 0, 2, 3, 0, 0, 3, 0, 0, 0, 4, 2, 0, 4, 2, 3, 4, 0, 3, 4};
+static const double prism6[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 2, 1, 0, 2, 0, 1, 2};
 static const double pyr5[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0, 0, 1};
 
 static void test_info(void **state) {
   (void)state;
-  static const struct { int type, dim, nn, simplex; const char *name; } t[] = {
-      {DTM_LINE2, 1, 2, 1, "line2"}, {DTM_TRI3, 2, 3, 1, "tri3"},
-      {DTM_QUAD4, 2, 4, 0, "quad4"}, {DTM_TET4, 3, 4, 1, "tet4"},
-      {DTM_HEX8, 3, 8, 0, "hex8"},   {DTM_PRISM6, 3, 6, 0, "prism6"},
-      {DTM_PYR5, 3, 5, 0, "pyr5"}};
+  static const struct {
+    int type, dim, nn, simplex;
+    const char *name;
+  } t[] = {{DTM_LINE2, 1, 2, 1, "line2"}, {DTM_TRI3, 2, 3, 1, "tri3"}, {DTM_QUAD4, 2, 4, 0, "quad4"},
+           {DTM_TET4, 3, 4, 1, "tet4"},   {DTM_HEX8, 3, 8, 0, "hex8"}, {DTM_PRISM6, 3, 6, 0, "prism6"},
+           {DTM_PYR5, 3, 5, 0, "pyr5"}};
   for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
     int dim = -1, nn = -1;
     assert_int_equal(dtm_elem_info(t[i].type, &dim, &nn), DTM_OK);
@@ -115,8 +113,7 @@ static void test_moduli(void **state) {
   assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_3D, E, nu, rho, &m), DTM_OK);
   near(m.lam, lam, 1e-14, "lam");
   near(m.mu, mu, 1e-14, "mu");
-  near(m.cd, sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho)), 1e-14,
-       "C_D 3D from DESIGN.md");
+  near(m.cd, sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho)), 1e-14, "C_D 3D from DESIGN.md");
   assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRAIN, E, nu, rho, &m), 0);
   near(m.modulus, lam + 2 * mu, 1e-14, "plane strain modulus");
   assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRESS, E, nu, rho, &m), 0);
@@ -132,16 +129,15 @@ static void test_moduli(void **state) {
 static void test_moduli_errors(void **state) {
   (void)state;
   dtm_elastic_moduli m;
-  const struct { double E, nu, rho; const char *word; } bad[] = {
-      {0, 0.3, 1000, "E must"},     {-1, 0.3, 1000, "E must"},
-      {NAN, 0.3, 1000, "E must"},   {1e9, 0.5, 1000, "nu must"},
-      {1e9, -1, 1000, "nu must"},   {1e9, INFINITY, 1000, "nu must"},
-      {1e9, 0.3, 0, "rho must"},    {1e9, 0.3, -5, "rho must"}};
+  const struct {
+    double E, nu, rho;
+    const char *word;
+  } bad[] = {{0, 0.3, 1000, "E must"},    {-1, 0.3, 1000, "E must"},  {NAN, 0.3, 1000, "E must"},
+             {1e9, 0.5, 1000, "nu must"}, {1e9, -1, 1000, "nu must"}, {1e9, INFINITY, 1000, "nu must"},
+             {1e9, 0.3, 0, "rho must"},   {1e9, 0.3, -5, "rho must"}};
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
     dtm_error_clear();
-    assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_3D, bad[i].E, bad[i].nu,
-                                             bad[i].rho, &m),
-                     DTM_ERR_INPUT);
+    assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_3D, bad[i].E, bad[i].nu, bad[i].rho, &m), DTM_ERR_INPUT);
     assert_non_null(strstr(dtm_error_message(), bad[i].word));
   }
   dtm_error_clear();
@@ -150,12 +146,9 @@ static void test_moduli_errors(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_info),
-      cmocka_unit_test(test_unsupported),
-      cmocka_unit_test(test_measure),
-      cmocka_unit_test(test_measure_trapezoid),
-      cmocka_unit_test(test_lumped_weights),
-      cmocka_unit_test(test_moduli),
+      cmocka_unit_test(test_info),           cmocka_unit_test(test_unsupported),
+      cmocka_unit_test(test_measure),        cmocka_unit_test(test_measure_trapezoid),
+      cmocka_unit_test(test_lumped_weights), cmocka_unit_test(test_moduli),
       cmocka_unit_test(test_moduli_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -46,12 +46,10 @@
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want,
-             (got - want) / want, rel);
+    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want, (got - want) / want, rel);
 }
 
-static dtm_elastic_moduli moduli(dtm_formulation f, double E, double nu,
-                                 double rho) {
+static dtm_elastic_moduli moduli(dtm_formulation f, double E, double nu, double rho) {
   dtm_elastic_moduli m;
   assert_int_equal(dtm_elastic_moduli_init(f, E, nu, rho, &m), DTM_OK);
   return m;
@@ -73,8 +71,7 @@ static double generic_of(int type, const dtm_elastic_moduli *m, const double *x)
 }
 
 static void regular_tet(double a, double *x) {
-  const double r[12] = {0, 0, 0, 1, 0, 0, 0.5, sqrt(3) / 2, 0,
-                        0.5, sqrt(3) / 6, sqrt(2.0 / 3)};
+  const double r[12] = {0, 0, 0, 1, 0, 0, 0.5, sqrt(3) / 2, 0, 0.5, sqrt(3) / 6, sqrt(2.0 / 3)};
   for (int i = 0; i < 12; i++) x[i] = a * r[i];
 }
 
@@ -106,8 +103,7 @@ static void test_triangles(void **state) {
   double sa = 2.0 / 9, sc = 2.0 / 16, sb = 1.0 / 12;
   double s1 = (sa + sc) / 2 + sqrt((sa - sc) * (sa - sc) / 4 + sb * sb);
   double s2 = sa + sc - s1, M = 2 * m.mu + m.lam;
-  double top = M * (s1 + s2) / 2 +
-               sqrt(M * M * (s1 - s2) * (s1 - s2) / 4 + m.lam * m.lam * s1 * s2);
+  double top = M * (s1 + s2) / 2 + sqrt(M * M * (s1 - s2) * (s1 - s2) / 4 + m.lam * m.lam * s1 * s2);
   near(lambda_of(DTM_TRI3, &m, r), 3 / m.rho * top, 1e-13, "right triangle");
   near(generic_of(DTM_TRI3, &m, r), 3 / m.rho * top, 1e-13, "right tri generic");
 }
@@ -127,21 +123,18 @@ static void test_square_quad(void **state) {
   double h = 0.01, x[12] = {0, 0, 0, h, 0, 0, h, h, 0, 0, h, 0};
   for (int f = DTM_FORM_PLANE_STRAIN; f <= DTM_FORM_PLANE_STRESS; f++) {
     dtm_elastic_moduli m = moduli(f, 70e9, 0.33, 2700);
-    near(lambda_of(DTM_QUAD4, &m, x), 8 * (m.lam + m.mu) / (m.rho * h * h),
-         1e-13, "square quad4");
+    near(lambda_of(DTM_QUAD4, &m, x), 8 * (m.lam + m.mu) / (m.rho * h * h), 1e-13, "square quad4");
   }
 }
 
 static void test_cube_hex(void **state) {
   (void)state;
   double h = 2e-3, x[24];
-  const int c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   for (int a = 0; a < 8; a++)
     for (int i = 0; i < 3; i++) x[3 * a + i] = h * c[a][i];
   dtm_elastic_moduli m = moduli(DTM_FORM_3D, 60e9, 0.25, 2700);
-  near(lambda_of(DTM_HEX8, &m, x), 4 * (3 * m.lam + 2 * m.mu) / (m.rho * h * h),
-       1e-13, "cube hex8");
+  near(lambda_of(DTM_HEX8, &m, x), 4 * (3 * m.lam + 2 * m.mu) / (m.rho * h * h), 1e-13, "cube hex8");
   dtm_elastic_moduli m0 = moduli(DTM_FORM_3D, 60e9, 0, 2700);
   double l0 = lambda_of(DTM_HEX8, &m0, x);
   near(l0, 4 * 60e9 / (2700 * h * h), 1e-13, "cube hex8, nu = 0");
@@ -169,8 +162,7 @@ static void test_closed_vs_generic(void **state) {
       {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1},
       {0.1, 0.2, 0, 1.3, 0.1, 0.2, 0.4, 1.1, -0.1, 0.5, 0.3, 0.9},
       {0, 0, 0, 1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1},
-      {-5e-4, -2.886751345948129e-4, 0, 5e-4, -2.886751345948129e-4, 0,
-       0, 5.773502691896258e-4, 0, 0, 0, 1},
+      {-5e-4, -2.886751345948129e-4, 0, 5e-4, -2.886751345948129e-4, 0, 0, 5.773502691896258e-4, 0, 0, 0, 1},
       {0, 0, 0, 1, 0, 0, 0.5, 0.9, 0, 0.5, 0.3, 1e-3},
       {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 1e-3},
       {0, 0, 0, 1, 0, 0, 0.5, 0.8, 0, 0.5, 0.27, 0.05}};
@@ -185,8 +177,7 @@ static void test_closed_vs_generic(void **state) {
   double tri[9] = {0, 0, 0, 1, 0, 0, 0.5, 1e-3, 0};
   for (size_t i = 0; i < sizeof nus / sizeof nus[0]; i++) {
     dtm_elastic_moduli m = moduli(DTM_FORM_PLANE_STRESS, 1e10, nus[i], 2000);
-    near(lambda_of(DTM_TRI3, &m, tri), generic_of(DTM_TRI3, &m, tri), 1e-12,
-         "flat triangle closed form vs Jacobi");
+    near(lambda_of(DTM_TRI3, &m, tri), generic_of(DTM_TRI3, &m, tri), 1e-12, "flat triangle closed form vs Jacobi");
   }
 }
 
@@ -204,8 +195,7 @@ static void test_random_tets(void **state) {
       x[i] = reg[i] + 0.4 * ((double)(st >> 11) * 0x1.0p-53 - 0.5);
     }
     if (dtm_elem_measure(DTM_TET4, x) <= 0) continue;
-    near(lambda_of(DTM_TET4, &m, x), generic_of(DTM_TET4, &m, x), 1e-13,
-         "random tet closed form vs Jacobi");
+    near(lambda_of(DTM_TET4, &m, x), generic_of(DTM_TET4, &m, x), 1e-13, "random tet closed form vs Jacobi");
   }
 }
 
@@ -216,18 +206,15 @@ static void test_invariance(void **state) {
   dtm_elastic_moduli m = moduli(DTM_FORM_3D, 1e10, 0.3, 2000);
   dtm_elastic_moduli m4 = moduli(DTM_FORM_3D, 4e10, 0.3, 2000);
   const int types[] = {DTM_TET4, DTM_HEX8};
-  const double hex[24] = {0, 0, 0, 1.1, 0, 0.1, 1, 1, 0, 0, 0.9, 0,
-                          0, 0.1, 1, 1, 0, 1.2, 1, 1, 1, 0.1, 1, 1};
+  const double hex[24] = {0, 0, 0, 1.1, 0, 0.1, 1, 1, 0, 0, 0.9, 0, 0, 0.1, 1, 1, 0, 1.2, 1, 1, 1, 0.1, 1, 1};
   for (int k = 0; k < 2; k++) {
     int nn = types[k] == DTM_TET4 ? 4 : 8;
     const double *x0 = types[k] == DTM_TET4 ? t : hex;
     double big[24], small[24];
     for (int i = 0; i < 3 * nn; i++) big[i] = x0[i], small[i] = 1e-6 * x0[i];
     double dt = 2 / sqrt(lambda_of(types[k], &m, big));
-    near(2 / sqrt(lambda_of(types[k], &m, small)), 1e-6 * dt, 1e-10,
-         "dt scales with the element");
-    near(2 / sqrt(lambda_of(types[k], &m4, big)), dt / 2, 1e-13,
-         "4 E halves dt");
+    near(2 / sqrt(lambda_of(types[k], &m, small)), 1e-6 * dt, 1e-10, "dt scales with the element");
+    near(2 / sqrt(lambda_of(types[k], &m4, big)), dt / 2, 1e-13, "4 E halves dt");
   }
   (void)x, (void)y;
 }
@@ -239,10 +226,8 @@ static void tilt(int nn, const double *x, double *y) {
   for (int a = 0; a < nn; a++) {
     const double *p = x + 3 * a;
     double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2];
-    double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2],
-                     k[0] * p[1] - k[1] * p[0]};
-    for (int i = 0; i < 3; i++)
-      y[3 * a + i] = p[i] * c + kxp[i] * s + k[i] * kp * (1 - c) + 10 * (i + 1);
+    double kxp[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]};
+    for (int i = 0; i < 3; i++) y[3 * a + i] = p[i] * c + kxp[i] * s + k[i] * kp * (1 - c) + 10 * (i + 1);
   }
 }
 
@@ -253,20 +238,16 @@ static void test_tilted_plane(void **state) {
   double y[12];
   dtm_elastic_moduli m = moduli(DTM_FORM_PLANE_STRAIN, 1e10, 0.3, 2000);
   tilt(3, tri, y);
-  near(lambda_of(DTM_TRI3, &m, y), lambda_of(DTM_TRI3, &m, tri), 1e-13,
-       "tilted triangle");
+  near(lambda_of(DTM_TRI3, &m, y), lambda_of(DTM_TRI3, &m, tri), 1e-13, "tilted triangle");
   tilt(4, quad, y);
-  near(lambda_of(DTM_QUAD4, &m, y), lambda_of(DTM_QUAD4, &m, quad), 1e-13,
-       "tilted quadrangle");
+  near(lambda_of(DTM_QUAD4, &m, y), lambda_of(DTM_QUAD4, &m, quad), 1e-13, "tilted quadrangle");
 }
 
-static void expect_error(int type, const dtm_elastic_moduli *m, const double *x,
-                         const char *word) {
+static void expect_error(int type, const dtm_elastic_moduli *m, const double *x, const char *word) {
   double l;
   dtm_error_clear();
   assert_int_equal(dtm_kernel_elastic_lambda(type, m, x, &l), DTM_ERR_INPUT);
-  if (!strstr(dtm_error_message(), word))
-    fail_msg("message \"%s\" lacks \"%s\"", dtm_error_message(), word);
+  if (!strstr(dtm_error_message(), word)) fail_msg("message \"%s\" lacks \"%s\"", dtm_error_message(), word);
   dtm_error_clear();
 }
 
@@ -279,8 +260,7 @@ static void test_errors(void **state) {
   const double flat[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
   const double tri[9] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
   const double bowtie[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
-  const double hexinv[24] = {0, 0, 0, 0, 1, 0, 1, 1, 0, 1, 0, 0,
-                             0, 0, 1, 0, 1, 1, 1, 1, 1, 1, 0, 1};
+  const double hexinv[24] = {0, 0, 0, 0, 1, 0, 1, 1, 0, 1, 0, 0, 0, 0, 1, 0, 1, 1, 1, 1, 1, 1, 0, 1};
   expect_error(DTM_TET4, &m3, inv, "degenerate or inverted");
   expect_error(DTM_TET4, &m3, flat, "degenerate or inverted");
   expect_error(DTM_TET4, &m2, tet, "plane-strain");
@@ -299,10 +279,8 @@ static void test_errors(void **state) {
 static void test_eigen(void **state) {
   (void)state;
   const double Q[3][3] = {{1, 2, 2}, {2, 1, -2}, {2, -2, 1}};
-  const double spectra[][3] = {{3, 2, 1},          {1, 1, 0.3},
-                               {1, 1 - 1e-9, 0.3}, {1, 1e-9, 0},
-                               {5, 0.2, 0.2 + 1e-10}, {2, 2, 2},
-                               {1e8, 3, 1}};
+  const double spectra[][3] = {{3, 2, 1}, {1, 1, 0.3}, {1, 1 - 1e-9, 0.3}, {1, 1e-9, 0}, {5, 0.2, 0.2 + 1e-10},
+                               {2, 2, 2}, {1e8, 3, 1}};
   for (size_t k = 0; k < sizeof spectra / sizeof spectra[0]; k++) {
     double A[3][3], s[6], e[3], a[9];
     for (int i = 0; i < 3; i++)
@@ -324,14 +302,12 @@ static void test_eigen(void **state) {
         }
     for (int i = 0; i < 3; i++)
       if (fabs(e[i] - sorted[i]) > 1e-14 * sorted[0])
-        fail_msg("spectrum %zu: eigenvalue %d = %.17g, want %.17g", k, i, e[i],
-                 sorted[i]);
+        fail_msg("spectrum %zu: eigenvalue %d = %.17g, want %.17g", k, i, e[i], sorted[i]);
     dtm_top3 t;
     dtm_eig3_top(s, &t);
     near(t.s1, sorted[0], 1e-14, "top eigenvalue");
     if (fabs(t.tau - (2 * sorted[0] - sorted[1] - sorted[2])) > 1e-14 * sorted[0] ||
-        fabs(t.rho - (sorted[0] - sorted[1]) * (sorted[0] - sorted[2])) >
-            1e-14 * sorted[0] * sorted[0])
+        fabs(t.rho - (sorted[0] - sorted[1]) * (sorted[0] - sorted[2])) > 1e-14 * sorted[0] * sorted[0])
       fail_msg("spectrum %zu: gap sum/product %g %g", k, t.tau, t.rho);
     near(dtm_eig_sym_max(3, a), sorted[0], 1e-14, "Jacobi top eigenvalue");
   }

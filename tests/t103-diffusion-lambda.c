@@ -36,46 +36,38 @@
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want,
-             (got - want) / want, rel);
+    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want, (got - want) / want, rel);
 }
 
 static double lambda_of(int type, double alpha, const double *x) {
   double l = NAN;
   dtm_error_clear();
-  if (dtm_kernel_diffusion_lambda(type, alpha, x, &l))
-    fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
+  if (dtm_kernel_diffusion_lambda(type, alpha, x, &l)) fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
   return l;
 }
 
 static void test_bar(void **state) {
   (void)state;
   double h = 0.3, alpha = 1.2e-6, x[6] = {0, 0, 0, 0, h, 0};
-  near(2 / lambda_of(DTM_LINE2, alpha, x), h * h / (2 * alpha), 1e-14,
-       "bar dt = h^2/(2 alpha)");
+  near(2 / lambda_of(DTM_LINE2, alpha, x), h * h / (2 * alpha), 1e-14, "bar dt = h^2/(2 alpha)");
 }
 
 static void test_quad_hex(void **state) {
   (void)state;
   double h = 0.02, alpha = 3e-5;
   double q[12] = {0, 0, 0, h, 0, 0, h, h, 0, 0, h, 0}, x[24];
-  near(2 / lambda_of(DTM_QUAD4, alpha, q), h * h / (2 * alpha), 1e-13,
-       "square quad4 dt");
-  const int c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                       {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  near(2 / lambda_of(DTM_QUAD4, alpha, q), h * h / (2 * alpha), 1e-13, "square quad4 dt");
+  const int c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   for (int a = 0; a < 8; a++)
     for (int i = 0; i < 3; i++) x[3 * a + i] = h * c[a][i];
-  near(2 / lambda_of(DTM_HEX8, alpha, x), h * h / (2 * alpha), 1e-13,
-       "cube hex8 dt");
+  near(2 / lambda_of(DTM_HEX8, alpha, x), h * h / (2 * alpha), 1e-13, "cube hex8 dt");
 }
 
 static void test_simplices(void **state) {
   (void)state;
   double a = 0.5, alpha = 2;
-  double tet[12] = {0, 0, 0, a, 0, 0, a / 2, a * sqrt(3) / 2, 0,
-                    a / 2, a * sqrt(3) / 6, a * sqrt(2.0 / 3)};
-  near(lambda_of(DTM_TET4, alpha, tet), 4 * alpha * 2 / (a * a), 1e-13,
-       "regular tet");
+  double tet[12] = {0, 0, 0, a, 0, 0, a / 2, a * sqrt(3) / 2, 0, a / 2, a * sqrt(3) / 6, a * sqrt(2.0 / 3)};
+  near(lambda_of(DTM_TET4, alpha, tet), 4 * alpha * 2 / (a * a), 1e-13, "regular tet");
   double tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   near(lambda_of(DTM_TRI3, alpha, tri), 3 * alpha * 3, 1e-13, "right triangle");
   /* Closed form vs the generic path on assorted shapes. */
@@ -103,8 +95,7 @@ static void test_prism_pyramid(void **state) {
 
 static void test_scaling(void **state) {
   (void)state;
-  const double hex[24] = {0, 0, 0, 1.1, 0, 0.1, 1, 1, 0, 0, 0.9, 0,
-                          0, 0.1, 1, 1, 0, 1.2, 1, 1, 1, 0.1, 1, 1};
+  const double hex[24] = {0, 0, 0, 1.1, 0, 0.1, 1, 1, 0, 0, 0.9, 0, 0, 0.1, 1, 1, 0, 1.2, 1, 1, 1, 0.1, 1, 1};
   double small[24];
   for (int i = 0; i < 24; i++) small[i] = 1e-3 * hex[i];
   double l = lambda_of(DTM_HEX8, 1e-6, hex);
@@ -121,8 +112,7 @@ static void test_errors(void **state) {
   const double bad_alpha[] = {0, -1, NAN, INFINITY};
   for (size_t i = 0; i < sizeof bad_alpha / sizeof bad_alpha[0]; i++) {
     dtm_error_clear();
-    assert_int_equal(dtm_kernel_diffusion_lambda(DTM_TET4, bad_alpha[i], tet, &l),
-                     DTM_ERR_INPUT);
+    assert_int_equal(dtm_kernel_diffusion_lambda(DTM_TET4, bad_alpha[i], tet, &l), DTM_ERR_INPUT);
     assert_non_null(strstr(dtm_error_message(), "diffusivity"));
   }
   dtm_error_clear();
@@ -137,9 +127,8 @@ static void test_errors(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_bar),           cmocka_unit_test(test_quad_hex),
-      cmocka_unit_test(test_simplices),     cmocka_unit_test(test_prism_pyramid),
-      cmocka_unit_test(test_scaling),       cmocka_unit_test(test_errors),
+      cmocka_unit_test(test_bar),           cmocka_unit_test(test_quad_hex), cmocka_unit_test(test_simplices),
+      cmocka_unit_test(test_prism_pyramid), cmocka_unit_test(test_scaling),  cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

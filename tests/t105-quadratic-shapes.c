@@ -25,26 +25,24 @@
 #include "dtmap/kernel.h"
 #include "kernel/kernel_impl.h"
 
-static const int types[] = {DTM_TRI6,  DTM_QUAD9, DTM_TET10,   DTM_HEX27,
-                            DTM_PRISM18, DTM_PYR14, DTM_QUAD8, DTM_HEX20,
-                            DTM_PRISM15, DTM_PYR13};
+static const int types[] = {DTM_TRI6,  DTM_QUAD9, DTM_TET10, DTM_HEX27,   DTM_PRISM18,
+                            DTM_PYR14, DTM_QUAD8, DTM_HEX20, DTM_PRISM15, DTM_PYR13};
 #define NTYPES (sizeof types / sizeof types[0])
 
-static void near_abs(double got, double want, double tol, const char *what,
-                     int type, int a) {
+static void near_abs(double got, double want, double tol, const char *what, int type, int a) {
   if (!(fabs(got - want) <= tol))
-    fail_msg("%s %s node %d: got %.17g, want %.17g (tol %g)", dtm_elem_name(type),
-             what, a, got, want, tol);
+    fail_msg("%s %s node %d: got %.17g, want %.17g (tol %g)", dtm_elem_name(type), what, a, got, want, tol);
 }
 
 static void test_catalogue(void **state) {
   (void)state;
-  static const struct { int type, dim, nn, parent; const char *name; } t[] = {
-      {9, 2, 6, DTM_TRI3, "tri6"},       {10, 2, 9, DTM_QUAD4, "quad9"},
-      {11, 3, 10, DTM_TET4, "tet10"},    {12, 3, 27, DTM_HEX8, "hex27"},
-      {13, 3, 18, DTM_PRISM6, "prism18"}, {14, 3, 14, DTM_PYR5, "pyr14"},
-      {16, 2, 8, DTM_QUAD4, "quad8"},    {17, 3, 20, DTM_HEX8, "hex20"},
-      {18, 3, 15, DTM_PRISM6, "prism15"}, {19, 3, 13, DTM_PYR5, "pyr13"}};
+  static const struct {
+    int type, dim, nn, parent;
+    const char *name;
+  } t[] = {{9, 2, 6, DTM_TRI3, "tri6"},    {10, 2, 9, DTM_QUAD4, "quad9"},     {11, 3, 10, DTM_TET4, "tet10"},
+           {12, 3, 27, DTM_HEX8, "hex27"}, {13, 3, 18, DTM_PRISM6, "prism18"}, {14, 3, 14, DTM_PYR5, "pyr14"},
+           {16, 2, 8, DTM_QUAD4, "quad8"}, {17, 3, 20, DTM_HEX8, "hex20"},     {18, 3, 15, DTM_PRISM6, "prism15"},
+           {19, 3, 13, DTM_PYR5, "pyr13"}};
   for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
     int dim = -1, nn = -1;
     dtm_error_clear();
@@ -80,27 +78,59 @@ typedef struct {
 } node_def;
 
 static const node_def manual[] = {
-    {DTM_TRI6, 3, 2, {0, 1}}, {DTM_TRI6, 4, 2, {1, 2}}, {DTM_TRI6, 5, 2, {2, 0}},
-    {DTM_QUAD9, 4, 2, {0, 1}}, {DTM_QUAD9, 5, 2, {1, 2}}, {DTM_QUAD9, 6, 2, {2, 3}},
-    {DTM_QUAD9, 7, 2, {3, 0}}, {DTM_QUAD9, 8, 4, {0, 1, 2, 3}},
-    {DTM_TET10, 4, 2, {0, 1}}, {DTM_TET10, 5, 2, {1, 2}}, {DTM_TET10, 6, 2, {0, 2}},
-    {DTM_TET10, 7, 2, {0, 3}}, {DTM_TET10, 8, 2, {2, 3}}, {DTM_TET10, 9, 2, {1, 3}},
-    {DTM_HEX27, 8, 2, {0, 1}},  {DTM_HEX27, 9, 2, {0, 3}},  {DTM_HEX27, 10, 2, {0, 4}},
-    {DTM_HEX27, 11, 2, {1, 2}}, {DTM_HEX27, 12, 2, {1, 5}}, {DTM_HEX27, 13, 2, {2, 3}},
-    {DTM_HEX27, 14, 2, {2, 6}}, {DTM_HEX27, 15, 2, {3, 7}}, {DTM_HEX27, 16, 2, {4, 5}},
-    {DTM_HEX27, 17, 2, {4, 7}}, {DTM_HEX27, 18, 2, {5, 6}}, {DTM_HEX27, 19, 2, {6, 7}},
-    {DTM_HEX27, 20, 4, {0, 1, 2, 3}}, {DTM_HEX27, 21, 4, {0, 1, 4, 5}},
-    {DTM_HEX27, 22, 4, {0, 3, 4, 7}}, {DTM_HEX27, 23, 4, {1, 2, 5, 6}},
-    {DTM_HEX27, 24, 4, {2, 3, 6, 7}}, {DTM_HEX27, 25, 4, {4, 5, 6, 7}},
+    {DTM_TRI6, 3, 2, {0, 1}},
+    {DTM_TRI6, 4, 2, {1, 2}},
+    {DTM_TRI6, 5, 2, {2, 0}},
+    {DTM_QUAD9, 4, 2, {0, 1}},
+    {DTM_QUAD9, 5, 2, {1, 2}},
+    {DTM_QUAD9, 6, 2, {2, 3}},
+    {DTM_QUAD9, 7, 2, {3, 0}},
+    {DTM_QUAD9, 8, 4, {0, 1, 2, 3}},
+    {DTM_TET10, 4, 2, {0, 1}},
+    {DTM_TET10, 5, 2, {1, 2}},
+    {DTM_TET10, 6, 2, {0, 2}},
+    {DTM_TET10, 7, 2, {0, 3}},
+    {DTM_TET10, 8, 2, {2, 3}},
+    {DTM_TET10, 9, 2, {1, 3}},
+    {DTM_HEX27, 8, 2, {0, 1}},
+    {DTM_HEX27, 9, 2, {0, 3}},
+    {DTM_HEX27, 10, 2, {0, 4}},
+    {DTM_HEX27, 11, 2, {1, 2}},
+    {DTM_HEX27, 12, 2, {1, 5}},
+    {DTM_HEX27, 13, 2, {2, 3}},
+    {DTM_HEX27, 14, 2, {2, 6}},
+    {DTM_HEX27, 15, 2, {3, 7}},
+    {DTM_HEX27, 16, 2, {4, 5}},
+    {DTM_HEX27, 17, 2, {4, 7}},
+    {DTM_HEX27, 18, 2, {5, 6}},
+    {DTM_HEX27, 19, 2, {6, 7}},
+    {DTM_HEX27, 20, 4, {0, 1, 2, 3}},
+    {DTM_HEX27, 21, 4, {0, 1, 4, 5}},
+    {DTM_HEX27, 22, 4, {0, 3, 4, 7}},
+    {DTM_HEX27, 23, 4, {1, 2, 5, 6}},
+    {DTM_HEX27, 24, 4, {2, 3, 6, 7}},
+    {DTM_HEX27, 25, 4, {4, 5, 6, 7}},
     {DTM_HEX27, 26, 8, {0, 1, 2, 3, 4, 5, 6, 7}},
-    {DTM_PRISM18, 6, 2, {0, 1}},  {DTM_PRISM18, 7, 2, {0, 2}},  {DTM_PRISM18, 8, 2, {0, 3}},
-    {DTM_PRISM18, 9, 2, {1, 2}},  {DTM_PRISM18, 10, 2, {1, 4}}, {DTM_PRISM18, 11, 2, {2, 5}},
-    {DTM_PRISM18, 12, 2, {3, 4}}, {DTM_PRISM18, 13, 2, {3, 5}}, {DTM_PRISM18, 14, 2, {4, 5}},
-    {DTM_PRISM18, 15, 4, {0, 1, 3, 4}}, {DTM_PRISM18, 16, 4, {0, 2, 3, 5}},
+    {DTM_PRISM18, 6, 2, {0, 1}},
+    {DTM_PRISM18, 7, 2, {0, 2}},
+    {DTM_PRISM18, 8, 2, {0, 3}},
+    {DTM_PRISM18, 9, 2, {1, 2}},
+    {DTM_PRISM18, 10, 2, {1, 4}},
+    {DTM_PRISM18, 11, 2, {2, 5}},
+    {DTM_PRISM18, 12, 2, {3, 4}},
+    {DTM_PRISM18, 13, 2, {3, 5}},
+    {DTM_PRISM18, 14, 2, {4, 5}},
+    {DTM_PRISM18, 15, 4, {0, 1, 3, 4}},
+    {DTM_PRISM18, 16, 4, {0, 2, 3, 5}},
     {DTM_PRISM18, 17, 4, {1, 2, 4, 5}},
-    {DTM_PYR14, 5, 2, {0, 1}},  {DTM_PYR14, 6, 2, {0, 3}},  {DTM_PYR14, 7, 2, {0, 4}},
-    {DTM_PYR14, 8, 2, {1, 2}},  {DTM_PYR14, 9, 2, {1, 4}},  {DTM_PYR14, 10, 2, {2, 3}},
-    {DTM_PYR14, 11, 2, {2, 4}}, {DTM_PYR14, 12, 2, {3, 4}},
+    {DTM_PYR14, 5, 2, {0, 1}},
+    {DTM_PYR14, 6, 2, {0, 3}},
+    {DTM_PYR14, 7, 2, {0, 4}},
+    {DTM_PYR14, 8, 2, {1, 2}},
+    {DTM_PYR14, 9, 2, {1, 4}},
+    {DTM_PYR14, 10, 2, {2, 3}},
+    {DTM_PYR14, 11, 2, {2, 4}},
+    {DTM_PYR14, 12, 2, {3, 4}},
     {DTM_PYR14, 13, 4, {0, 1, 2, 3}},
 };
 
@@ -173,8 +203,7 @@ static void test_node_order(void **state) {
       dtm_ref_node_uvw(type, nc + e, p);
       ref_corner(parent, topo->edge[e][0], q0);
       ref_corner(parent, topo->edge[e][1], q1);
-      for (int i = 0; i < 3; i++)
-        near_abs(p[i], 0.5 * (q0[i] + q1[i]), 1e-15, "edge table", type, nc + e);
+      for (int i = 0; i < 3; i++) near_abs(p[i], 0.5 * (q0[i] + q1[i]), 1e-15, "edge table", type, nc + e);
     }
   }
 }
@@ -201,9 +230,8 @@ static void test_kronecker(void **state) {
 }
 
 /* A few interior points, in (u, v, w), valid for every reference shape. */
-static const double pts[][3] = {
-    {0.1, 0.2, 0.3}, {0.25, 0.05, -0.4}, {-0.3, 0.2, 0.55}, {0.05, 0.6, 0.1},
-    {0.3, 0.3, 0.02}, {-0.6, -0.1, 0.35}};
+static const double pts[][3] = {{0.1, 0.2, 0.3},  {0.25, 0.05, -0.4}, {-0.3, 0.2, 0.55},
+                                {0.05, 0.6, 0.1}, {0.3, 0.3, 0.02},   {-0.6, -0.1, 0.35}};
 
 /* Is (u, v, w) inside the reference element of the type's parent? */
 static int inside(int parent, const double *p) {
@@ -222,8 +250,8 @@ static int inside(int parent, const double *p) {
 /* q(u, v, w): a quadratic with all ten coefficients nonzero. */
 static double quadratic(const double *p) {
   double u = p[0], v = p[1], w = p[2];
-  return 0.3 - 1.1 * u + 0.7 * v + 0.4 * w + 0.9 * u * u - 0.6 * v * v +
-         1.3 * w * w + 0.8 * u * v - 0.5 * u * w + 1.7 * v * w;
+  return 0.3 - 1.1 * u + 0.7 * v + 0.4 * w + 0.9 * u * u - 0.6 * v * v + 1.3 * w * w + 0.8 * u * v - 0.5 * u * w +
+         1.7 * v * w;
 }
 
 static void test_partition_and_reproduction(void **state) {
@@ -266,8 +294,7 @@ static void test_gradients(void **state) {
     for (size_t k = 0; k < sizeof pts / sizeof pts[0]; k++) {
       double x[3] = {pts[k][0], pts[k][1], d == 3 ? pts[k][2] : 0}, p[3];
       if (!inside(dtm_elem_parent(type), x)) continue;
-      double N[DTM_K_NODES], dN[DTM_K_NODES][3], Np[DTM_K_NODES], Nm[DTM_K_NODES],
-          tmp[DTM_K_NODES][3];
+      double N[DTM_K_NODES], dN[DTM_K_NODES][3], Np[DTM_K_NODES], Nm[DTM_K_NODES], tmp[DTM_K_NODES][3];
       to_rule(type, x, p);
       dtm_ref_eval(type, p, N, dN);
       for (int i = 0; i < d; i++) {
@@ -276,8 +303,7 @@ static void test_gradients(void **state) {
         xp[i] += h, xm[i] -= h;
         to_rule(type, xp, p), dtm_ref_eval(type, p, Np, tmp);
         to_rule(type, xm, p), dtm_ref_eval(type, p, Nm, tmp);
-        for (int a = 0; a < nn; a++)
-          near_abs(dN[a][i], (Np[a] - Nm[a]) / (2 * h), 2e-8, "dN/du_i", type, a);
+        for (int a = 0; a < nn; a++) near_abs(dN[a][i], (Np[a] - Nm[a]) / (2 * h), 2e-8, "dN/du_i", type, a);
       }
       for (int a = 0; a < nn; a++)
         for (int i = d; i < 3; i++) near_abs(dN[a][i], 0, 0, "unused dN", type, a);
@@ -314,8 +340,7 @@ static double exact(int parent, int i, int j, int k) {
   case DTM_HEX8: return line_moment(i) * line_moment(j) * line_moment(k);
   case DTM_PRISM6: return fact(i) * fact(j) / fact(i + j + 2) * line_moment(k);
   case DTM_PYR5: /* int_0^1 (1-w)^(i+j+2) w^k times the (a, b) moments */
-    return line_moment(i) * line_moment(j) * fact(k) * fact(i + j + 2) /
-           fact(i + j + k + 3);
+    return line_moment(i) * line_moment(j) * fact(k) * fact(i + j + 2) / fact(i + j + k + 3);
   default: return NAN;
   }
 }
@@ -353,8 +378,7 @@ static void test_rules(void **state) {
             s += q.w[m] * pow(u, i) * pow(v, j) * pow(w, k);
           }
           if (!(fabs(s - want) <= 1e-14 * fabs(want) + 1e-15))
-            fail_msg("%s rule: u^%d v^%d w^%d gives %.17g, want %.17g",
-                     dtm_elem_name(type), i, j, k, s, want);
+            fail_msg("%s rule: u^%d v^%d w^%d gives %.17g, want %.17g", dtm_elem_name(type), i, j, k, s, want);
           checked++;
         }
     assert_true(checked >= 15);
@@ -364,12 +388,9 @@ static void test_rules(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_catalogue),
-      cmocka_unit_test(test_node_order),
-      cmocka_unit_test(test_kronecker),
-      cmocka_unit_test(test_partition_and_reproduction),
-      cmocka_unit_test(test_gradients),
-      cmocka_unit_test(test_pyramid_apex),
+      cmocka_unit_test(test_catalogue), cmocka_unit_test(test_node_order),
+      cmocka_unit_test(test_kronecker), cmocka_unit_test(test_partition_and_reproduction),
+      cmocka_unit_test(test_gradients), cmocka_unit_test(test_pyramid_apex),
       cmocka_unit_test(test_rules),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -39,16 +39,13 @@
 #include "dtmap/topology.h"
 #include "kernel/kernel_impl.h"
 
-static const int types[] = {DTM_TRI6,    DTM_QUAD9, DTM_TET10, DTM_HEX27,
-                            DTM_PRISM18, DTM_PYR14, DTM_QUAD8, DTM_HEX20,
-                            DTM_PRISM15, DTM_PYR13};
+static const int types[] = {DTM_TRI6,  DTM_QUAD9, DTM_TET10, DTM_HEX27,   DTM_PRISM18,
+                            DTM_PYR14, DTM_QUAD8, DTM_HEX20, DTM_PRISM15, DTM_PYR13};
 #define NTYPES (sizeof types / sizeof types[0])
 
-static void near(double got, double want, double rel, const char *what,
-                 int type) {
+static void near(double got, double want, double rel, const char *what, int type) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s %s: got %.17g, want %.17g (rel tol %g)", dtm_elem_name(type),
-             what, got, want, rel);
+    fail_msg("%s %s: got %.17g, want %.17g (rel tol %g)", dtm_elem_name(type), what, got, want, rel);
 }
 
 static int nodes_of(int type) {
@@ -74,14 +71,11 @@ static void affine(int type, const double *xi, double *x) {
   for (int a = 0; a < nodes_of(type); a++)
     for (int i = 0; i < 3; i++) {
       x[3 * a + i] = b[i];
-      for (int j = 0; j < 3; j++)
-        x[3 * a + i] += (d == 3 ? A[i][j] : A2[i][j]) * xi[3 * a + j];
+      for (int j = 0; j < 3; j++) x[3 * a + i] += (d == 3 ? A[i][j] : A2[i][j]) * xi[3 * a + j];
     }
 }
 
-static double det_A(void) {
-  return 2 * (1.5 * 1.2 + 0.5 * 0.3) - 0.5 * (0.5 * 1.2) + 0.25 * (0.5 * 0.3);
-}
+static double det_A(void) { return 2 * (1.5 * 1.2 + 0.5 * 0.3) - 0.5 * (0.5 * 1.2) + 0.25 * (0.5 * 0.3); }
 
 /* Reference measures: unit triangle 1/2, square [-1,1]^2 4, unit tet 1/6,
  * cube 8, prism 1/2 x 2, pyramid base 4 x height 1 / 3. */
@@ -106,11 +100,9 @@ static void test_measure(void **state) {
     reference(type, xi);
     near(dtm_elem_measure(type, xi), ref_measure(type), 1e-14, "reference measure", type);
     affine(type, xi, x);
-    near(dtm_elem_measure(type, x), (d == 3 ? det_A() : 3) * ref_measure(type), 1e-14,
-         "affine image", type);
+    near(dtm_elem_measure(type, x), (d == 3 ? det_A() : 3) * ref_measure(type), 1e-14, "affine image", type);
     /* the same as the parent's measure on the corners */
-    near(dtm_elem_measure(type, x), dtm_elem_measure(dtm_elem_parent(type), x), 1e-14,
-         "parent measure", type);
+    near(dtm_elem_measure(type, x), dtm_elem_measure(dtm_elem_parent(type), x), 1e-14, "parent measure", type);
   }
 }
 
@@ -180,8 +172,10 @@ static void test_weights(void **state) {
     int type = types[t], nn = nodes_of(type);
     reference(type, xi);
     for (int pass = 0; pass < 2; pass++) {
-      if (pass) affine(type, xi, x);
-      else memcpy(x, xi, sizeof x);
+      if (pass)
+        affine(type, xi, x);
+      else
+        memcpy(x, xi, sizeof x);
       double s = 0;
       dtm_elem_lumped_weights(type, x, w);
       for (int a = 0; a < nn; a++) {
@@ -204,16 +198,14 @@ static void test_weights(void **state) {
 static void test_pyramid_weights(void **state) {
   (void)state;
   static const double p13[5] = {11.0 / 373, 9.0 / 373, 48.0 / 373, 32.0 / 373, 0};
-  static const double p14[5] = {43.0 / 3078, 90.0 / 3078, 192.0 / 3078, 320.0 / 3078,
-                                768.0 / 3078};
+  static const double p14[5] = {43.0 / 3078, 90.0 / 3078, 192.0 / 3078, 320.0 / 3078, 768.0 / 3078};
   static const int cls[14] = {0, 0, 0, 0, 1, 2, 2, 3, 2, 3, 2, 3, 3, 4};
   double x[3 * DTM_MAX_NODES], w[DTM_MAX_NODES];
   const int pyr[] = {DTM_PYR13, DTM_PYR14};
   for (int t = 0; t < 2; t++) {
     reference(pyr[t], x);
     dtm_elem_lumped_weights(pyr[t], x, w);
-    for (int a = 0; a < nodes_of(pyr[t]); a++)
-      near(w[a], (t ? p14 : p13)[cls[a]], 1e-14, "pyramid HRZ", pyr[t]);
+    for (int a = 0; a < nodes_of(pyr[t]); a++) near(w[a], (t ? p14 : p13)[cls[a]], 1e-14, "pyramid HRZ", pyr[t]);
   }
 }
 
@@ -246,8 +238,7 @@ static void test_topology(void **state) {
   near(dtm_elem_mean_edge(DTM_HEX20, x), 2, 1e-14, "cube mean edge", DTM_HEX20);
   near(dtm_elem_facet_measure(DTM_HEX20, 0, x), 4, 1e-14, "cube face", DTM_HEX20);
   reference(DTM_TET10, x);
-  near(dtm_elem_mean_edge(DTM_TET10, x), (3 + 3 * sqrt(2.0)) / 6, 1e-14, "tet mean edge",
-       DTM_TET10);
+  near(dtm_elem_mean_edge(DTM_TET10, x), (3 + 3 * sqrt(2.0)) / 6, 1e-14, "tet mean edge", DTM_TET10);
   double area = 0;
   const int(*f)[DTM_MAX_FACET_NODES];
   const int *fc;
@@ -269,8 +260,7 @@ static void test_lengths(void **state) {
     affine(type, xi, x);
     for (int k = DTM_LEN_MIN_EDGE; k <= DTM_LEN_VOLUME_AREA; k++) {
       double l = dtm_kernel_length(type, k, x), lp = dtm_kernel_length(parent, k, x);
-      if (!(l == lp) || !(l > 0))
-        fail_msg("%s kind %d: %.17g, parent %.17g", dtm_elem_name(type), k, l, lp);
+      if (!(l == lp) || !(l > 0)) fail_msg("%s kind %d: %.17g, parent %.17g", dtm_elem_name(type), k, l, lp);
     }
     assert_true(isnan(dtm_kernel_length(type, DTM_LEN_EIGEN, x)));
     /* SAFE sees the mid-side nodes: the quadratic element is stiffer, so
@@ -282,25 +272,21 @@ static void test_lengths(void **state) {
    * altitude 1/sqrt(3), 2 x inradius = 6 V / A = 1/(1.5 + sqrt(3)/2). */
   reference(DTM_TET10, x);
   near(dtm_kernel_length(DTM_TET10, DTM_LEN_MIN_EDGE, x), 1, 1e-14, "min edge", DTM_TET10);
-  near(dtm_kernel_length(DTM_TET10, DTM_LEN_MIN_ALTITUDE, x), 1 / sqrt(3), 1e-14,
-       "min altitude", DTM_TET10);
-  near(dtm_kernel_length(DTM_TET10, DTM_LEN_INRADIUS, x), 1 / (1.5 + sqrt(3) / 2), 1e-14,
-       "2 r", DTM_TET10);
+  near(dtm_kernel_length(DTM_TET10, DTM_LEN_MIN_ALTITUDE, x), 1 / sqrt(3), 1e-14, "min altitude", DTM_TET10);
+  near(dtm_kernel_length(DTM_TET10, DTM_LEN_INRADIUS, x), 1 / (1.5 + sqrt(3) / 2), 1e-14, "2 r", DTM_TET10);
   /* A curved tet10 (mid-edge node 4 moved off its edge) keeps the
    * geometric lengths of its corners. */
   double y[30];
   memcpy(y, x, sizeof y);
   y[3 * 4 + 1] += 0.1;
-  near(dtm_kernel_length(DTM_TET10, DTM_LEN_MIN_EDGE, y), 1, 1e-14, "curved min edge",
-       DTM_TET10);
+  near(dtm_kernel_length(DTM_TET10, DTM_LEN_MIN_EDGE, y), 1, 1e-14, "curved min edge", DTM_TET10);
 }
 
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_measure),  cmocka_unit_test(test_tilted),
-      cmocka_unit_test(test_weights),  cmocka_unit_test(test_pyramid_weights),
-      cmocka_unit_test(test_topology), cmocka_unit_test(test_lengths),
+      cmocka_unit_test(test_measure),         cmocka_unit_test(test_tilted),   cmocka_unit_test(test_weights),
+      cmocka_unit_test(test_pyramid_weights), cmocka_unit_test(test_topology), cmocka_unit_test(test_lengths),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -31,15 +31,14 @@
 #include "dtmap/kernel.h"
 #include "kernel/kernel_impl.h"
 
-static const int types[] = {DTM_TRI6,    DTM_QUAD9, DTM_TET10, DTM_HEX27,
-                            DTM_PRISM18, DTM_PYR14, DTM_QUAD8, DTM_HEX20,
-                            DTM_PRISM15, DTM_PYR13};
+static const int types[] = {DTM_TRI6,  DTM_QUAD9, DTM_TET10, DTM_HEX27,   DTM_PRISM18,
+                            DTM_PYR14, DTM_QUAD8, DTM_HEX20, DTM_PRISM15, DTM_PYR13};
 #define NTYPES (sizeof types / sizeof types[0])
 
 static void near(double got, double want, double rel, const char *what, int type) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s %s: got %.17g, want %.17g (rel %.3g, tol %g)", dtm_elem_name(type),
-             what, got, want, (got - want) / want, rel);
+    fail_msg("%s %s: got %.17g, want %.17g (rel %.3g, tol %g)", dtm_elem_name(type), what, got, want,
+             (got - want) / want, rel);
 }
 
 static int dim_of(int type) {
@@ -68,32 +67,32 @@ static dtm_elastic_moduli moduli(int type, double E, double nu, double rho) {
 static double elastic(int type, const dtm_elastic_moduli *m, const double *x) {
   double l = NAN;
   dtm_error_clear();
-  if (dtm_kernel_elastic_lambda(type, m, x, &l))
-    fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
+  if (dtm_kernel_elastic_lambda(type, m, x, &l)) fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
   return l;
 }
 
 static double diffusion(int type, double alpha, const double *x) {
   double l = NAN;
   dtm_error_clear();
-  if (dtm_kernel_diffusion_lambda(type, alpha, x, &l))
-    fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
+  if (dtm_kernel_diffusion_lambda(type, alpha, x, &l)) fail_msg("%s: %s", dtm_elem_name(type), dtm_error_message());
   return l;
 }
 
 static void test_reference_values(void **state) {
   (void)state;
-  static const struct { int type; double elastic, diffusion; } ref[] = {
-      {DTM_TRI6, 163.4795314513835974485, 53.44661152927215566838},
-      {DTM_QUAD8, 44.16089473648777202836, 20.05555555555555555556},
-      {DTM_QUAD9, 25.2, 7.2},
-      {DTM_TET10, 308.7004761163051102053, 101.5753482498959337283},
-      {DTM_HEX20, 42.84055933070777543585, 22.88095238095238095238},
-      {DTM_HEX27, 32.4, 9.0},
-      {DTM_PRISM15, 273.6990369495602594907, 92.95830893995000030788},
-      {DTM_PRISM18, 167.0485907450354399577, 55.11497648169570805788},
-      {DTM_PYR13, 153.9468617615100573306, 55.41299049511888447443},
-      {DTM_PYR14, 112.216146781731620032, 37.29067922119773364983}};
+  static const struct {
+    int type;
+    double elastic, diffusion;
+  } ref[] = {{DTM_TRI6, 163.4795314513835974485, 53.44661152927215566838},
+             {DTM_QUAD8, 44.16089473648777202836, 20.05555555555555555556},
+             {DTM_QUAD9, 25.2, 7.2},
+             {DTM_TET10, 308.7004761163051102053, 101.5753482498959337283},
+             {DTM_HEX20, 42.84055933070777543585, 22.88095238095238095238},
+             {DTM_HEX27, 32.4, 9.0},
+             {DTM_PRISM15, 273.6990369495602594907, 92.95830893995000030788},
+             {DTM_PRISM18, 167.0485907450354399577, 55.11497648169570805788},
+             {DTM_PYR13, 153.9468617615100573306, 55.41299049511888447443},
+             {DTM_PYR14, 112.216146781731620032, 37.29067922119773364983}};
   for (size_t k = 0; k < sizeof ref / sizeof ref[0]; k++) {
     double x[3 * DTM_MAX_NODES];
     int type = ref[k].type;
@@ -130,8 +129,10 @@ static void test_above_parent(void **state) {
     double xi[3 * DTM_MAX_NODES], x[3 * DTM_MAX_NODES];
     reference(type, xi);
     for (int pass = 0; pass < 2; pass++) {
-      if (pass) affine(type, xi, x);
-      else memcpy(x, xi, sizeof x);
+      if (pass)
+        affine(type, xi, x);
+      else
+        memcpy(x, xi, sizeof x);
       for (size_t k = 0; k < sizeof nus / sizeof nus[0]; k++) {
         dtm_elastic_moduli m = moduli(type, 60e9, nus[k], 2700);
         double l2 = elastic(type, &m, x), l1 = elastic(parent, &m, x);
@@ -145,11 +146,9 @@ static void test_above_parent(void **state) {
 
 /* R = rotation by angle t about the unit axis k (Rodrigues). */
 static void rotation(const double k[3], double t, double R[3][3]) {
-  double c = cos(t), s = sin(t), K[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]},
-                                            {-k[1], k[0], 0}};
+  double c = cos(t), s = sin(t), K[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]}, {-k[1], k[0], 0}};
   for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++)
-      R[i][j] = (i == j) * c + s * K[i][j] + (1 - c) * k[i] * k[j];
+    for (int j = 0; j < 3; j++) R[i][j] = (i == j) * c + s * K[i][j] + (1 - c) * k[i] * k[j];
 }
 
 static void test_invariance(void **state) {
@@ -209,14 +208,12 @@ static void test_safe_length(void **state) {
   }
 }
 
-static void expect_error(int type, const dtm_elastic_moduli *m, const double *x,
-                         const char *word) {
+static void expect_error(int type, const dtm_elastic_moduli *m, const double *x, const char *word) {
   double l = NAN;
   dtm_error_clear();
   assert_int_equal(dtm_kernel_elastic_lambda(type, m, x, &l), DTM_ERR_INPUT);
   if (!strstr(dtm_error_message(), word))
-    fail_msg("%s: message \"%s\" lacks \"%s\"", dtm_elem_name(type),
-             dtm_error_message(), word);
+    fail_msg("%s: message \"%s\" lacks \"%s\"", dtm_elem_name(type), dtm_error_message(), word);
   dtm_error_clear();
 }
 
@@ -290,12 +287,9 @@ static void test_plane_stress_tilted(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_reference_values),
-      cmocka_unit_test(test_above_parent),
-      cmocka_unit_test(test_invariance),
-      cmocka_unit_test(test_safe_length),
-      cmocka_unit_test(test_curved_and_invalid),
-      cmocka_unit_test(test_plane_stress_tilted),
+      cmocka_unit_test(test_reference_values),   cmocka_unit_test(test_above_parent),
+      cmocka_unit_test(test_invariance),         cmocka_unit_test(test_safe_length),
+      cmocka_unit_test(test_curved_and_invalid), cmocka_unit_test(test_plane_stress_tilted),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

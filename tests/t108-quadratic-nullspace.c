@@ -30,9 +30,8 @@
 #include "kernel/assemble.h"
 #include "kernel/kernel_impl.h"
 
-static const int types[] = {DTM_TET10,   DTM_HEX20, DTM_TRI6,  DTM_QUAD9,
-                            DTM_HEX27,   DTM_PRISM18, DTM_PYR14, DTM_QUAD8,
-                            DTM_PRISM15, DTM_PYR13};
+static const int types[] = {DTM_TET10,   DTM_HEX20, DTM_TRI6,  DTM_QUAD9,   DTM_HEX27,
+                            DTM_PRISM18, DTM_PYR14, DTM_QUAD8, DTM_PRISM15, DTM_PYR13};
 #define NTYPES (sizeof types / sizeof types[0])
 
 static int nodes_of(int type) {
@@ -90,14 +89,12 @@ static void test_rigid_modes(void **state) {
       element(type, curve, x);
       assert_int_equal(dtm_elem_setup(type, x, &eg), 0);
       int d = eg.d, n = eg.nn * d;
-      assert_int_equal(dtm_elastic_moduli_init(d == 3 ? DTM_FORM_3D : DTM_FORM_PLANE_STRAIN,
-                                               60e9, 0.3, 2700, &m),
+      assert_int_equal(dtm_elastic_moduli_init(d == 3 ? DTM_FORM_3D : DTM_FORM_PLANE_STRAIN, 60e9, 0.3, 2700, &m),
                        DTM_OK);
       dtm_elem_stiffness(&eg, &m, K);
       for (int i = 0; i < n; i++)
         for (int j = 0; j < n; j++)
-          if (K[i * n + j] != K[j * n + i])
-            fail_msg("%s: K not symmetric at %d %d", dtm_elem_name(type), i, j);
+          if (K[i * n + j] != K[j * n + i]) fail_msg("%s: K not symmetric at %d %d", dtm_elem_name(type), i, j);
       /* translations, then rotations about axis k: u = e_k x x */
       int nmodes = d == 3 ? 6 : 3;
       for (int k = 0; k < nmodes; k++) {
@@ -116,8 +113,7 @@ static void test_rigid_modes(void **state) {
         }
         double res = residual(n, K, r);
         if (!(res <= 1e-10))
-          fail_msg("%s%s: rigid mode %d, |Kr|/(|K||r|) = %g", dtm_elem_name(type),
-                   curve ? " (curved)" : "", k, res);
+          fail_msg("%s%s: rigid mode %d, |Kr|/(|K||r|) = %g", dtm_elem_name(type), curve ? " (curved)" : "", k, res);
       }
     }
   }
@@ -135,8 +131,7 @@ static void test_constant_field(void **state) {
       dtm_elem_laplace(&eg, K);
       for (int a = 0; a < eg.nn; a++) one[a] = 1;
       double res = residual(eg.nn, K, one);
-      if (!(res <= 1e-10))
-        fail_msg("%s: |K 1|/(|K||1|) = %g", dtm_elem_name(type), res);
+      if (!(res <= 1e-10)) fail_msg("%s: |K 1|/(|K||1|) = %g", dtm_elem_name(type), res);
       for (int a = 0; a < eg.nn; a++)
         for (int b = 0; b < eg.nn; b++)
           if (fabs(K[a * eg.nn + b] - K[b * eg.nn + a]) > 1e-15 * norm(eg.nn * eg.nn, K))
@@ -178,16 +173,14 @@ static void test_tridiag_solver(void **state) {
     memcpy(b, a, sizeof(double) * (size_t)(n * n));
     double fro = norm(n * n, a);
     double t = dtm_eig_sym_max_tridiag(n, a), j = dtm_eig_sym_max(n, b);
-    if (!(fabs(t - j) <= 1e-13 * fro))
-      fail_msg("n %d: tridiagonal %.17g, Jacobi %.17g", n, t, j);
+    if (!(fabs(t - j) <= 1e-13 * fro)) fail_msg("n %d: tridiagonal %.17g, Jacobi %.17g", n, t, j);
     /* known spectrum with a cluster at the top and a null space, like an
      * element matrix (rigid modes) */
     for (int i = 0; i < n; i++) e[i] = i < n / 4 ? 0 : 1 + 1e-3 * rnd(&s);
     e[n - 1] = 1 + 2e-3;
     known_spectrum(n, e, &s, a);
     t = dtm_eig_sym_max_tridiag(n, a);
-    if (!(fabs(t - e[n - 1]) <= 1e-13 * norm(n, e)))
-      fail_msg("n %d: known top %.17g, got %.17g", n, e[n - 1], t);
+    if (!(fabs(t - e[n - 1]) <= 1e-13 * norm(n, e))) fail_msg("n %d: known top %.17g, got %.17g", n, e[n - 1], t);
   }
   /* diagonal, tiny and huge scales, and the zero matrix */
   for (int i = 0; i < 30; i++)
@@ -218,20 +211,17 @@ static void test_kernel_vs_jacobi(void **state) {
     element(type, 1, x);
     assert_int_equal(dtm_elem_setup(type, x, &eg), 0);
     int d = eg.d, n = eg.nn * d;
-    assert_int_equal(dtm_elastic_moduli_init(d == 3 ? DTM_FORM_3D : DTM_FORM_PLANE_STRAIN,
-                                             60e9, 0.3, 2700, &mod),
+    assert_int_equal(dtm_elastic_moduli_init(d == 3 ? DTM_FORM_3D : DTM_FORM_PLANE_STRAIN, 60e9, 0.3, 2700, &mod),
                      DTM_OK);
     dtm_elem_stiffness(&eg, &mod, K);
     dtm_elem_mass(&eg, m);
     for (int i = 0; i < n; i++)
-      for (int j = 0; j < n; j++)
-        K[i * n + j] /= mod.rho * sqrt(m[i / d] * m[j / d]);
+      for (int j = 0; j < n; j++) K[i * n + j] /= mod.rho * sqrt(m[i / d] * m[j / d]);
     double fro = norm(n * n, K);
     double jac = dtm_eig_sym_max(n, K);
     dtm_error_clear();
     assert_int_equal(dtm_kernel_elastic_lambda(type, &mod, x, &l), DTM_OK);
-    if (!(fabs(l - jac) <= 1e-13 * fro))
-      fail_msg("%s: kernel %.17g, Jacobi %.17g", dtm_elem_name(type), l, jac);
+    if (!(fabs(l - jac) <= 1e-13 * fro)) fail_msg("%s: kernel %.17g, Jacobi %.17g", dtm_elem_name(type), l, jac);
   }
 }
 

@@ -40,7 +40,6 @@ static void make_subdir(const char *name) {
   assert_int_equal(mkdir(path, 0700), 0);
 }
 
-
 static int setup(void **state) {
   (void)state;
   strcpy(dir, "/tmp/dtm-t201-XXXXXX");
@@ -74,30 +73,30 @@ static void assert_in_dir(const char *got, const char *rel) {
 }
 
 static const char full_scene[] =
-    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"                             /* 1 */
-    "<dtmap-scene version=\"1\">\n"                                           /* 2 */
-    "  <geometry file=\"geo/disc.geo\"/>\n"                                   /* 3 */
-    "  <meshing size=\"1e-3\" min-size=\"2e-4\" order=\"2\" dim=\"2\"/>\n"    /* 4 */
-    "  <material name=\"granite\" groups=\"rock\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"\n" /* 5 */
-    "            conductivity=\"3\" heat-capacity=\"790\"\n"                  /* 6 */
-    "            permeability=\"1e-15\" viscosity=\"1e-3\" storage=\"1e-9\"\n" /* 7 */
-    "            fracture-energy=\"50\" strength=\"10e6\"/>\n"               /* 8 */
-    "  <material name=\"steel\" groups=\"platen_top  platen_bottom\t7\" E=\"210e9\"\n" /* 9 */
-    "            nu=\"0.3\" rho=\"7850\" xi=\"0.01\" alpha=\"0\" beta=\"1e-9\"/>\n" /* 10 */
-    "  <!-- for elements in no named group -->\n"                            /* 11 */
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"                                        /* 1 */
+    "<dtmap-scene version=\"1\">\n"                                                       /* 2 */
+    "  <geometry file=\"geo/disc.geo\"/>\n"                                               /* 3 */
+    "  <meshing size=\"1e-3\" min-size=\"2e-4\" order=\"2\" dim=\"2\"/>\n"                /* 4 */
+    "  <material name=\"granite\" groups=\"rock\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"\n"  /* 5 */
+    "            conductivity=\"3\" heat-capacity=\"790\"\n"                              /* 6 */
+    "            permeability=\"1e-15\" viscosity=\"1e-3\" storage=\"1e-9\"\n"            /* 7 */
+    "            fracture-energy=\"50\" strength=\"10e6\"/>\n"                            /* 8 */
+    "  <material name=\"steel\" groups=\"platen_top  platen_bottom\t7\" E=\"210e9\"\n"    /* 9 */
+    "            nu=\"0.3\" rho=\"7850\" xi=\"0.01\" alpha=\"0\" beta=\"1e-9\"/>\n"       /* 10 */
+    "  <!-- for elements in no named group -->\n"                                         /* 11 */
     "  <material name=\"filler\" default=\"true\" E=\"1e9\" nu=\"-0.5\" rho=\"1000\"/>\n" /* 12 */
-    "  <effects>\n"                                                          /* 13 */
-    "    <elastic formulation=\"plane-strain\" length=\"eigen\"/>\n"         /* 14 */
-    "    <damping xi=\"0.05\"/>\n"                                           /* 15 */
-    "    <thermal/>\n"                                                       /* 16 */
-    "    <hydraulic/>\n"                                                     /* 17 */
-    "    <cohesive groups=\"rock\" elements-per-zone=\"5\" stiffness=\"1e14\"/>\n" /* 18 */
-    "    <effect name=\"creep\" library=\"lib/libcreep.so\" rate=\"1e-6\"/>\n" /* 19 */
-    "  </effects>\n"                                                         /* 20 */
-    "  <time safety=\"0.8\" target=\"2e-8\" duration=\"1e-4\" f-max=\"1e5\"\n" /* 21 */
-    "        elements-per-wavelength=\"12\"/>\n"                             /* 22 */
-    "  <output mesh=\"out/disc_dt.msh\" report=\"/abs/disc_dt.json\"/>\n"    /* 23 */
-    "</dtmap-scene>\n";                                                      /* 24 */
+    "  <effects>\n"                                                                       /* 13 */
+    "    <elastic formulation=\"plane-strain\" length=\"eigen\"/>\n"                      /* 14 */
+    "    <damping xi=\"0.05\"/>\n"                                                        /* 15 */
+    "    <thermal/>\n"                                                                    /* 16 */
+    "    <hydraulic/>\n"                                                                  /* 17 */
+    "    <cohesive groups=\"rock\" elements-per-zone=\"5\" stiffness=\"1e14\"/>\n"        /* 18 */
+    "    <effect name=\"creep\" library=\"lib/libcreep.so\" rate=\"1e-6\"/>\n"            /* 19 */
+    "  </effects>\n"                                                                      /* 20 */
+    "  <time safety=\"0.8\" target=\"2e-8\" duration=\"1e-4\" f-max=\"1e5\"\n"            /* 21 */
+    "        elements-per-wavelength=\"12\"/>\n"                                          /* 22 */
+    "  <output mesh=\"out/disc_dt.msh\" report=\"/abs/disc_dt.json\"/>\n"                 /* 23 */
+    "</dtmap-scene>\n";                                                                   /* 24 */
 
 static void write_full(void) {
   make_subdir("geo");
@@ -156,8 +155,7 @@ static void test_materials(void **state) {
 
 static void test_effects(void **state) {
   (void)state;
-  static const char *const names[] = {"elastic", "damping", "thermal",
-                                      "hydraulic", "cohesive", "creep"};
+  static const char *const names[] = {"elastic", "damping", "thermal", "hydraulic", "cohesive", "creep"};
   write_full();
   dtm_scene *s = load("scene.xml");
   assert_int_equal(s->effects_line, 13);

@@ -29,100 +29,161 @@ static char dir[PATH_MAX]; /* temporary directory of the fixtures */
 
 #define NLINES 10
 static const char *const base[NLINES] = {
-    "<?xml version=\"1.0\"?>",                                                      /* 1 */
-    "<dtmap-scene version=\"1\">",                                                  /* 2 */
-    "  <geometry file=\"disc.geo\"/>",                                              /* 3 */
-    "  <material name=\"rock\" groups=\"rock\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"/>", /* 4 */
+    "<?xml version=\"1.0\"?>",                                                            /* 1 */
+    "<dtmap-scene version=\"1\">",                                                        /* 2 */
+    "  <geometry file=\"disc.geo\"/>",                                                    /* 3 */
+    "  <material name=\"rock\" groups=\"rock\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"/>",    /* 4 */
     "  <material name=\"steel\" groups=\"platen\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>", /* 5 */
-    "  <effects>",                                                                  /* 6 */
-    "    <elastic formulation=\"plane-strain\" length=\"eigen\"/>",                 /* 7 */
-    "  </effects>",                                                                 /* 8 */
-    "  <time safety=\"0.9\"/>",                                                     /* 9 */
-    "</dtmap-scene>",                                                               /* 10 */
+    "  <effects>",                                                                        /* 6 */
+    "    <elastic formulation=\"plane-strain\" length=\"eigen\"/>",                       /* 7 */
+    "  </effects>",                                                                       /* 8 */
+    "  <time safety=\"0.9\"/>",                                                           /* 9 */
+    "</dtmap-scene>",                                                                     /* 10 */
 };
 
 typedef struct {
-  const char *name;      /* fixture file is NAME.xml */
-  int line[3];           /* lines (1-based) replaced, 0 = unused */
-  const char *text[3];   /* their replacements */
-  int expect_line;       /* line the message must name */
-  const char *expect;    /* text the message must contain after "PATH:LINE: " */
+  const char *name;    /* fixture file is NAME.xml */
+  int line[3];         /* lines (1-based) replaced, 0 = unused */
+  const char *text[3]; /* their replacements */
+  int expect_line;     /* line the message must name */
+  const char *expect;  /* text the message must contain after "PATH:LINE: " */
 } error_case;
 
 static const error_case cases[] = {
-    {"unclosed-tag", {3}, {"  <geometry file=\"disc.geo\">"}, 10,
+    {"unclosed-tag",
+     {3},
+     {"  <geometry file=\"disc.geo\">"},
+     10,
      "malformed XML: Opening and ending tag mismatch: geometry line 3 and dtmap-scene"},
-    {"mismatched-tag", {7}, {"    <elastic formulation=\"3d\"></elastc>"}, 7,
+    {"mismatched-tag",
+     {7},
+     {"    <elastic formulation=\"3d\"></elastc>"},
+     7,
      "malformed XML: Opening and ending tag mismatch: elastic line 7 and elastc"},
-    {"unbalanced-quote", {4}, {"  <material name=\"rock\" E=\"60e9 nu=\"0.25\"/>"}, 4,
-     "malformed XML: "},
+    {"unbalanced-quote", {4}, {"  <material name=\"rock\" E=\"60e9 nu=\"0.25\"/>"}, 4, "malformed XML: "},
     {"bad-entity", {4}, {"  <material name=\"rock&amp\" E=\"60e9\"/>"}, 4, "malformed XML: "},
-    {"unknown-element", {7}, {"    <thermall/>"}, 7,
-     "schema: Element 'thermall': This element is not expected."},
-    {"bad-formulation", {7}, {"    <elastic formulation=\"plane\"/>"}, 7,
+    {"unknown-element", {7}, {"    <thermall/>"}, 7, "schema: Element 'thermall': This element is not expected."},
+    {"bad-formulation",
+     {7},
+     {"    <elastic formulation=\"plane\"/>"},
+     7,
      "schema: Element 'elastic', attribute 'formulation': [facet 'enumeration'] "
      "The value 'plane' is not an element of the set"},
     {"bad-length", {7}, {"    <elastic length=\"edge\"/>"}, 7, "schema: "},
-    {"unknown-attribute", {7}, {"    <elastic formulaton=\"3d\"/>"}, 7,
+    {"unknown-attribute",
+     {7},
+     {"    <elastic formulaton=\"3d\"/>"},
+     7,
      "schema: Element 'elastic', attribute 'formulaton': The attribute 'formulaton' is "
      "not allowed."},
     {"bad-version", {2}, {"<dtmap-scene version=\"2\">"}, 2, "schema: "},
     {"no-effects", {6, 7, 8}, {"", "", ""}, 9, "schema: Element 'time': This element is not expected."},
     {"empty-effects", {7}, {""}, 6, "schema: Element 'effects': Missing child element(s)."},
     {"effect-without-name", {7}, {"    <effect library=\"x.so\"/>"}, 7, "schema: "},
-    {"E-junk", {4}, {"  <material name=\"rock\" E=\"60e9x\"/>"}, 4,
+    {"E-junk",
+     {4},
+     {"  <material name=\"rock\" E=\"60e9x\"/>"},
+     4,
      "schema: Element 'material', attribute 'E': '60e9x' is not a valid value"},
     {"E-nan-lowercase", {4}, {"  <material name=\"rock\" E=\"nan\"/>"}, 4, "schema: "},
-    {"nu-half", {4}, {"  <material name=\"rock\" E=\"60e9\" nu=\"0.5\"/>"}, 4,
+    {"nu-half",
+     {4},
+     {"  <material name=\"rock\" E=\"60e9\" nu=\"0.5\"/>"},
+     4,
      "material 'rock': nu = 0.5 is not admissible (need -1 < nu < 0.5)"},
-    {"nu-minus-one", {4}, {"  <material name=\"rock\" nu=\"-1\"/>"}, 4,
+    {"nu-minus-one",
+     {4},
+     {"  <material name=\"rock\" nu=\"-1\"/>"},
+     4,
      "material 'rock': nu = -1 is not admissible (need -1 < nu < 0.5)"},
-    {"nu-just-above", {4}, {"  <material name=\"rock\" nu=\"0.50000000000001\"/>"}, 4,
+    {"nu-just-above",
+     {4},
+     {"  <material name=\"rock\" nu=\"0.50000000000001\"/>"},
+     4,
      "material 'rock': nu = 0.50000000000001 is not admissible"},
-    {"E-zero", {4}, {"  <material name=\"rock\" E=\"0\"/>"}, 4,
+    {"E-zero",
+     {4},
+     {"  <material name=\"rock\" E=\"0\"/>"},
+     4,
      "material 'rock': E = 0 is not admissible (need E > 0)"},
-    {"rho-negative", {5}, {"  <material name=\"steel\" rho=\"-1\"/>"}, 5,
+    {"rho-negative",
+     {5},
+     {"  <material name=\"steel\" rho=\"-1\"/>"},
+     5,
      "material 'steel': rho = -1 is not admissible (need rho > 0)"},
-    {"E-NaN", {4}, {"  <material name=\"rock\" E=\"NaN\"/>"}, 4,
+    {"E-NaN",
+     {4},
+     {"  <material name=\"rock\" E=\"NaN\"/>"},
+     4,
      "material 'rock': E = nan is not admissible (need a finite number)"},
-    {"E-INF", {4}, {"  <material name=\"rock\" E=\"INF\"/>"}, 4,
+    {"E-INF",
+     {4},
+     {"  <material name=\"rock\" E=\"INF\"/>"},
+     4,
      "material 'rock': E = inf is not admissible (need a finite number)"},
-    {"xi-negative", {4}, {"  <material name=\"rock\" xi=\"-0.1\"/>"}, 4,
+    {"xi-negative",
+     {4},
+     {"  <material name=\"rock\" xi=\"-0.1\"/>"},
+     4,
      "material 'rock': xi = -0.1 is not admissible (need xi >= 0)"},
-    {"storage-zero", {4}, {"  <material name=\"rock\" storage=\"0\"/>"}, 4,
+    {"storage-zero",
+     {4},
+     {"  <material name=\"rock\" storage=\"0\"/>"},
+     4,
      "material 'rock': storage = 0 is not admissible (need storage > 0)"},
-    {"two-defaults", {4, 5},
+    {"two-defaults",
+     {4, 5},
      {"  <material name=\"rock\" default=\"true\"/>", "  <material name=\"steel\" default=\"1\"/>"},
-     5, "material 'steel' is a second default material (the first is 'rock' at line 4)"},
-    {"duplicate-name", {5}, {"  <material name=\"rock\" groups=\"platen\"/>"}, 5,
+     5,
+     "material 'steel' is a second default material (the first is 'rock' at line 4)"},
+    {"duplicate-name",
+     {5},
+     {"  <material name=\"rock\" groups=\"platen\"/>"},
+     5,
      "material 'rock' is defined twice (first at line 4)"},
-    {"group-twice", {5}, {"  <material name=\"steel\" groups=\"platen rock\"/>"}, 5,
+    {"group-twice",
+     {5},
+     {"  <material name=\"steel\" groups=\"platen rock\"/>"},
+     5,
      "group 'rock' is given to material 'rock' (line 4) and to material 'steel'"},
-    {"group-repeated", {4}, {"  <material name=\"rock\" groups=\"a b a\"/>"}, 4,
+    {"group-repeated",
+     {4},
+     {"  <material name=\"rock\" groups=\"a b a\"/>"},
+     4,
      "material 'rock' lists group 'a' twice"},
-    {"bad-geometry-extension", {3}, {"  <geometry file=\"disc.igs\"/>"}, 3,
+    {"bad-geometry-extension",
+     {3},
+     {"  <geometry file=\"disc.igs\"/>"},
+     3,
      "geometry file 'disc.igs' has an unsupported extension (use .geo, .step, .stp or .brep"},
-    {"geometry-is-mesh", {3}, {"  <geometry file=\"disc.msh\"/>"}, 3,
+    {"geometry-is-mesh",
+     {3},
+     {"  <geometry file=\"disc.msh\"/>"},
+     3,
      "geometry file 'disc.msh' is a mesh; use <mesh file=\"disc.msh\"/>"},
-    {"mesh-not-msh", {3}, {"  <mesh file=\"disc.geo\"/>"}, 3,
-     "mesh file 'disc.geo' is not a Gmsh .msh file"},
-    {"missing-geometry", {3}, {"  <geometry file=\"nothere.geo\"/>"}, 3,
+    {"mesh-not-msh", {3}, {"  <mesh file=\"disc.geo\"/>"}, 3, "mesh file 'disc.geo' is not a Gmsh .msh file"},
+    {"missing-geometry",
+     {3},
+     {"  <geometry file=\"nothere.geo\"/>"},
+     3,
      "geometry file 'nothere.geo' not found (looked for '"},
-    {"missing-mesh", {3}, {"  <mesh file=\"sub/none.msh\"/>"}, 3,
-     "mesh file 'sub/none.msh' not found"},
+    {"missing-mesh", {3}, {"  <mesh file=\"sub/none.msh\"/>"}, 3, "mesh file 'sub/none.msh' not found"},
     {"geometry-is-directory", {3}, {"  <geometry file=\"adir.geo\"/>"}, 3, "is a directory"},
     {"safety-above-one", {9}, {"  <time safety=\"1.5\"/>"}, 9, "schema: "},
-    {"target-inf", {9}, {"  <time target=\"INF\"/>"}, 9,
+    {"target-inf",
+     {9},
+     {"  <time target=\"INF\"/>"},
+     9,
      "<time> target=\"INF\" is not admissible (need a finite number > 0)"},
     {"safety-nan", {9}, {"  <time safety=\"NaN\"/>"}, 9, "schema: "},
-    {"min-size-above-size", {3},
-     {"  <geometry file=\"disc.geo\"/><meshing size=\"1e-3\" min-size=\"1e-2\"/>"}, 3,
+    {"min-size-above-size",
+     {3},
+     {"  <geometry file=\"disc.geo\"/><meshing size=\"1e-3\" min-size=\"1e-2\"/>"},
+     3,
      "<meshing> min-size=0.01 is larger than size=0.001"},
     {"order-three", {3}, {"  <geometry file=\"disc.geo\"/><meshing order=\"3\"/>"}, 3, "schema: "},
-    {"output-not-msh", {9}, {"  <output mesh=\"out.vtk\"/>"}, 9,
-     "<output> mesh=\"out.vtk\" must be a Gmsh .msh file"},
+    {"output-not-msh", {9}, {"  <output mesh=\"out.vtk\"/>"}, 9, "<output> mesh=\"out.vtk\" must be a Gmsh .msh file"},
 };
-
 
 static void write_file(const char *path, const char *text) {
   FILE *f = fopen(path, "w");
@@ -151,8 +212,7 @@ static void expect_error(const char *path, const char *prefix, const char *expec
   int rc = dtm_scene_load(path, &s);
   const char *msg = dtm_error_message();
   if (getenv("DTM_TEST_VERBOSE")) fprintf(stderr, "%s\n", msg);
-  if (rc != DTM_ERR_INPUT || strncmp(msg, prefix, strlen(prefix)) ||
-      !strstr(msg + strlen(prefix), expect))
+  if (rc != DTM_ERR_INPUT || strncmp(msg, prefix, strlen(prefix)) || !strstr(msg + strlen(prefix), expect))
     fprintf(stderr, "rc %d\n  got    '%s'\n  wanted '%s%s'\n", rc, msg, prefix, expect);
   assert_int_equal(rc, DTM_ERR_INPUT);
   assert_null(s);
@@ -255,9 +315,9 @@ int main(int argc, char **argv) {
   (void)argc;
   (void)argv;
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_base_is_valid),     cmocka_unit_test(test_cases),
-      cmocka_unit_test(test_missing_file),      cmocka_unit_test(test_directory_as_scene),
-      cmocka_unit_test(test_empty_file),        cmocka_unit_test(test_stderr_silent),
+      cmocka_unit_test(test_base_is_valid), cmocka_unit_test(test_cases),
+      cmocka_unit_test(test_missing_file),  cmocka_unit_test(test_directory_as_scene),
+      cmocka_unit_test(test_empty_file),    cmocka_unit_test(test_stderr_silent),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -54,10 +54,35 @@ static const char seed_scene[] =
     "</dtmap-scene>\n";
 
 static const char *const tokens[] = {
-    "<", ">", "\"", "'", "&", "/>", "</", "<!--", "-->", "]]>", "<![CDATA[x]]>", "&amp;",
-    "&#0;", "&#x110000;", "&undefined;", "\xff\xfe", "\xc3", "nan", "-1", "1e999", "0x1p3",
-    " default=\"true\"", " groups=\"rock\"", "<material name=\"z\"/>", "<thermal/>",
-    "<!DOCTYPE dtmap-scene [<!ENTITY e \"0.5\">]>", "&e;", "\n\n\n", "\t",
+    "<",
+    ">",
+    "\"",
+    "'",
+    "&",
+    "/>",
+    "</",
+    "<!--",
+    "-->",
+    "]]>",
+    "<![CDATA[x]]>",
+    "&amp;",
+    "&#0;",
+    "&#x110000;",
+    "&undefined;",
+    "\xff\xfe",
+    "\xc3",
+    "nan",
+    "-1",
+    "1e999",
+    "0x1p3",
+    " default=\"true\"",
+    " groups=\"rock\"",
+    "<material name=\"z\"/>",
+    "<thermal/>",
+    "<!DOCTYPE dtmap-scene [<!ENTITY e \"0.5\">]>",
+    "&e;",
+    "\n\n\n",
+    "\t",
 };
 
 static uint64_t rng = 0x9e3779b97f4a7c15ull; /* fixed seed: the run is reproducible */
@@ -108,8 +133,27 @@ static size_t insert_token(char *b, size_t n) {
 }
 
 static const char *const values[] = {
-    "", "0", "-1", "0.5", "-0", "nan", "NaN", "INF", "-INF", "1e999", "1e-400", " 7 ",
-    "true", "false", "rock", "a b a", "x.msh", "x.geo", "/nonexistent/a.geo", "3d", "eigen",
+    "",
+    "0",
+    "-1",
+    "0.5",
+    "-0",
+    "nan",
+    "NaN",
+    "INF",
+    "-INF",
+    "1e999",
+    "1e-400",
+    " 7 ",
+    "true",
+    "false",
+    "rock",
+    "a b a",
+    "x.msh",
+    "x.geo",
+    "/nonexistent/a.geo",
+    "3d",
+    "eigen",
 };
 
 /* Bounds [*from, *to) of a random attribute value (between double quotes). */
@@ -118,7 +162,8 @@ static int pick_value(const char *b, size_t n, size_t *from, size_t *to) {
   while (at < n && b[at] != '=') at++;
   if (at + 1 >= n || b[at + 1] != '"') return 0;
   *from = at + 2;
-  for (*to = *from; *to < n && b[*to] != '"'; ++*to) {}
+  for (*to = *from; *to < n && b[*to] != '"'; ++*to) {
+  }
   return *to < n;
 }
 
@@ -134,7 +179,8 @@ static size_t replace_value(char *b, size_t n) {
 static void pick_line(const char *b, size_t n, size_t *from, size_t *to) {
   *from = below(n);
   while (*from > 0 && b[*from - 1] != '\n') --*from;
-  for (*to = *from; *to < n && b[*to] != '\n'; ++*to) {}
+  for (*to = *from; *to < n && b[*to] != '\n'; ++*to) {
+  }
   if (*to < n) ++*to;
 }
 
@@ -185,11 +231,12 @@ static int load_once(const char *path) {
   dtm_error_clear();
   int rc = dtm_scene_load(path, &s);
   if (getenv("DTM_TEST_VERBOSE")) fprintf(stderr, "%d %s\n", rc, dtm_error_message());
-  if (rc != DTM_OK && rc != DTM_ERR_INPUT)
-    fprintf(stderr, "%s: rc %d: %s\n", path, rc, dtm_error_message());
+  if (rc != DTM_OK && rc != DTM_ERR_INPUT) fprintf(stderr, "%s: rc %d: %s\n", path, rc, dtm_error_message());
   assert_true(rc == DTM_OK || rc == DTM_ERR_INPUT);
-  if (rc == DTM_OK) assert_non_null(s);
-  else assert_true(dtm_error_message()[0] != '\0');
+  if (rc == DTM_OK)
+    assert_non_null(s);
+  else
+    assert_true(dtm_error_message()[0] != '\0');
   if (rc != DTM_OK) assert_null(s);
   dtm_scene_destroy(&s);
   return rc;
@@ -214,8 +261,10 @@ static void test_mutations(void **state) {
     memcpy(buf, seed_scene, n);
     for (int k = 0, rounds = 1 + (int)below(2); k < rounds; k++) n = mutate(i + 4 * k, buf, n);
     write_bytes(path, buf, n);
-    if (load_once(path) == DTM_OK) nok++;
-    else nerr++;
+    if (load_once(path) == DTM_OK)
+      nok++;
+    else
+      nerr++;
   }
   printf("mutations: %d loaded, %d rejected\n", nok, nerr);
   assert_true(nok > 0 && nerr > NMUTATIONS / 2);

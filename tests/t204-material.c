@@ -82,8 +82,8 @@ static void test_check_message(void **state) {
 static void test_require(void **state) {
   (void)state;
   dtm_material m = rock();
-  const unsigned thermal = DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY) |
-                           DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY) | DTM_PROP_BIT(DTM_PROP_RHO);
+  const unsigned thermal =
+      DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY) | DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY) | DTM_PROP_BIT(DTM_PROP_RHO);
   m.have = DTM_PROP_BIT(DTM_PROP_RHO) | DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY);
   dtm_error_clear();
   assert_int_equal(dtm_material_require(&m, thermal, "thermal"), DTM_ERR_INPUT);
@@ -92,9 +92,8 @@ static void test_require(void **state) {
   m.have = 0;
   dtm_error_clear();
   assert_int_equal(dtm_material_require(&m, thermal, "thermal"), DTM_ERR_INPUT);
-  assert_string_equal(dtm_error_message(),
-                      "scene.xml:7: material 'rock' has no 'rho', 'conductivity', "
-                      "'heat-capacity', needed by effect 'thermal'");
+  assert_string_equal(dtm_error_message(), "scene.xml:7: material 'rock' has no 'rho', 'conductivity', "
+                                           "'heat-capacity', needed by effect 'thermal'");
   m.have = thermal;
   dtm_error_clear();
   assert_int_equal(dtm_material_require(&m, thermal, "thermal"), DTM_OK);

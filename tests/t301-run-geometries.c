@@ -105,8 +105,7 @@ int main(int argc, char **argv) {
   tu_init(argc, argv);
   tu_gmsh_begin();
   struct CMUnitTest tests[4];
-  for (int i = 0; i < 4; i++)
-    tests[i] = (struct CMUnitTest){scenes[i], run_scene, NULL, NULL, (void *)scenes[i]};
+  for (int i = 0; i < 4; i++) tests[i] = (struct CMUnitTest){scenes[i], run_scene, NULL, NULL, (void *)scenes[i]};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
   tu_gmsh_end();
   return r;

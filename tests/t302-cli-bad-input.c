@@ -15,13 +15,12 @@
 #include "testutil.h"
 
 /* A 2D square "rock" with a "plate" on top, two physical surfaces. */
-static const char square_geo[] =
-    "SetFactory(\"OpenCASCADE\");\n"
-    "Rectangle(1) = {0, 0, 0, 1, 1};\n"
-    "Rectangle(2) = {0, 1, 0, 1, 0.2};\n"
-    "BooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n"
-    "Physical Surface(\"rock\") = {1};\n"
-    "Physical Surface(\"plate\") = {2};\n";
+static const char square_geo[] = "SetFactory(\"OpenCASCADE\");\n"
+                                 "Rectangle(1) = {0, 0, 0, 1, 1};\n"
+                                 "Rectangle(2) = {0, 1, 0, 1, 0.2};\n"
+                                 "BooleanFragments{ Surface{1}; Delete; }{ Surface{2}; Delete; }\n"
+                                 "Physical Surface(\"rock\") = {1};\n"
+                                 "Physical Surface(\"plate\") = {2};\n";
 
 /* A curve loop that crosses itself: meshing it fails. */
 static const char bowtie_geo[] =
@@ -99,9 +98,9 @@ static void schema_violation(void **state) {
 }
 
 static void bad_values_single(void **state) {
-  static const char *const mats[] = {
-      "E=\"1e9\" nu=\"0.5\" rho=\"2000\"", "E=\"1e9\" nu=\"-1\" rho=\"2000\"", "E=\"0\" nu=\"0.3\" rho=\"2000\"",
-      "E=\"1e9\" nu=\"0.3\" rho=\"-5\"", "E=\"nan\" nu=\"0.3\" rho=\"2000\"", "E=\"1e9\" nu=\"NaN\" rho=\"2000\""};
+  static const char *const mats[] = {"E=\"1e9\" nu=\"0.5\" rho=\"2000\"", "E=\"1e9\" nu=\"-1\" rho=\"2000\"",
+                                     "E=\"0\" nu=\"0.3\" rho=\"2000\"",   "E=\"1e9\" nu=\"0.3\" rho=\"-5\"",
+                                     "E=\"nan\" nu=\"0.3\" rho=\"2000\"", "E=\"1e9\" nu=\"NaN\" rho=\"2000\""};
   static const char *const what[] = {"nu", "nu", "E", "rho", "'E'", "nu"};
   /* "nan" is not an xs:double, so the schema rejects it before the material
    * check, and its message names the attribute but not the material. */
@@ -135,13 +134,15 @@ static void group_without_material(void **state) {
 }
 
 static void material_names_missing_group(void **state) {
-  expect_fail("badgroup", GEO "<material name=\"r\" groups=\"rock plate platen\" E=\"1e9\" nu=\"0.25\" rho=\"2000\"/>\n" FX,
+  expect_fail("badgroup",
+              GEO "<material name=\"r\" groups=\"rock plate platen\" E=\"1e9\" nu=\"0.25\" rho=\"2000\"/>\n" FX,
               (const char *const[]){"badgroup.xml:5", "'platen' does not exist", "'rock'", "'plate'", NULL});
   (void)state;
 }
 
 static void meshing_fails(void **state) {
-  expect_fail("bowtie", "<geometry file=\"bowtie.geo\"/>\n<meshing size=\"0.25\" dim=\"2\"/>\n"
+  expect_fail("bowtie",
+              "<geometry file=\"bowtie.geo\"/>\n<meshing size=\"0.25\" dim=\"2\"/>\n"
               "<material name=\"r\" groups=\"rock\" E=\"1e9\" nu=\"0.25\" rho=\"2000\"/>\n" FX,
               (const char *const[]){"bowtie.geo", NULL});
   (void)state;
@@ -156,12 +157,11 @@ static void missing_geometry(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(missing_file),       cmocka_unit_test(malformed_xml),
-      cmocka_unit_test(schema_violation),   cmocka_unit_test(bad_values_single),
-      cmocka_unit_test(unknown_effect),     cmocka_unit_test(group_without_material),
-      cmocka_unit_test(damping_only),
-      cmocka_unit_test(material_names_missing_group), cmocka_unit_test(meshing_fails),
-      cmocka_unit_test(missing_geometry),
+      cmocka_unit_test(missing_file),     cmocka_unit_test(malformed_xml),
+      cmocka_unit_test(schema_violation), cmocka_unit_test(bad_values_single),
+      cmocka_unit_test(unknown_effect),   cmocka_unit_test(group_without_material),
+      cmocka_unit_test(damping_only),     cmocka_unit_test(material_names_missing_group),
+      cmocka_unit_test(meshing_fails),    cmocka_unit_test(missing_geometry),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }

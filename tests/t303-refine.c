@@ -23,8 +23,8 @@ static cJSON *refine(const char *geo, const char *target, int *code) {
   char out[512], rep[512], *log = NULL;
   snprintf(out, sizeof out, "%s/%s_refined.msh", tu_tmpdir(), geo);
   snprintf(rep, sizeof rep, "%s/%s_refined.json", tu_tmpdir(), geo);
-  *code = tu_run(&log, "%s refine %s/geometries/%s.xml --target %s --max-iter 3 -o %s --report %s", tu_cli(),
-                 tu_src(), geo, target, out, rep);
+  *code = tu_run(&log, "%s refine %s/geometries/%s.xml --target %s --max-iter 3 -o %s --report %s", tu_cli(), tu_src(),
+                 geo, target, out, rep);
   if (*code) fprintf(stderr, "%s\n", log);
   free(log);
   return tu_json_load(rep);
@@ -62,7 +62,8 @@ static void box(void **unused) {
   assert_int_equal(code, 0);
   check_met(j, target);
   const cJSON *r0 = cJSON_GetArrayItem(cJSON_GetObjectItem(j, "refine"), 0);
-  double n0 = cJSON_GetObjectItem(r0, "elements")->valuedouble, rec0 = cJSON_GetObjectItem(r0, "recommended")->valuedouble;
+  double n0 = cJSON_GetObjectItem(r0, "elements")->valuedouble,
+         rec0 = cJSON_GetObjectItem(r0, "recommended")->valuedouble;
   double ideal = n0 * pow(rec0 / target, 3), n = tu_json_number(j, "mesh.elements");
   fprintf(stderr, "box: %g elements, ideal uniform %g, ratio %.2f\n", n, ideal, n / ideal);
   assert_true(n <= 1.3 * ideal);

@@ -42,8 +42,8 @@ static void sweep_ok(void **unused) {
 static void sweep_bad_sizes(void **unused) {
   char csv[512], *log = NULL;
   snprintf(csv, sizeof csv, "%s/bad.csv", tu_tmpdir());
-  int code = tu_run(&log, "%s sweep %s/geometries/plate_with_hole.xml --sizes 1e-2,-3 --csv %s -q", tu_cli(), tu_src(),
-                    csv);
+  int code =
+      tu_run(&log, "%s sweep %s/geometries/plate_with_hole.xml --sizes 1e-2,-3 --csv %s -q", tu_cli(), tu_src(), csv);
   assert_int_equal(code, 2);
   assert_false(tu_exists(csv));
   free(log);

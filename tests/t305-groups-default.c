@@ -69,8 +69,7 @@ static void default_and_number(void **unused) {
 }
 
 static void no_default(void **unused) {
-  run("nodefault",
-      "<material name=\"rock\" groups=\"rock 7\" E=\"1e10\" nu=\"0.25\" rho=\"2500\"/>\n", 2,
+  run("nodefault", "<material name=\"rock\" groups=\"rock 7\" E=\"1e10\" nu=\"0.25\" rho=\"2500\"/>\n", 2,
       "is in no physical group");
   (void)unused;
 }

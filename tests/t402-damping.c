@@ -92,8 +92,7 @@ static void sdof_stability(void **unused) {
 
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
-  const struct CMUnitTest tests[] = {
-      cmocka_unit_test(constant_xi), cmocka_unit_test(rayleigh_at_element_omega),
-      cmocka_unit_test(material_overrides), cmocka_unit_test(sdof_stability)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(constant_xi), cmocka_unit_test(rayleigh_at_element_omega),
+                                     cmocka_unit_test(material_overrides), cmocka_unit_test(sdof_stability)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -29,8 +29,8 @@ static const double tri[3][3] = {{0, 0, 0}, {1e-3, 0, 0}, {0, 1e-3, 0}};
 static void zone_length(void **unused) {
   tu_effect_fixture f;
   dtm_material m;
-  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0,
-              DTM_PROP_FRACTURE_ENERGY, 50.0, DTM_PROP_STRENGTH, 10e6, -1);
+  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0, DTM_PROP_FRACTURE_ENERGY, 50.0,
+              DTM_PROP_STRENGTH, 10e6, -1);
   const dtm_material *mats[1] = {&m};
   dtm_batch b = tu_batch1(DTM_TRI3, &tri[0][0], mats);
   const double R_strain = 3.14159265358979323846 / 8 * 60e9 / (1 - 0.0625) * 50 / 1e14; /* 0.0094248 m */
@@ -133,8 +133,8 @@ static void unknown_group(void **unused) {
 
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
-  const struct CMUnitTest tests[] = {cmocka_unit_test(zone_length),   cmocka_unit_test(spring_limit),
+  const struct CMUnitTest tests[] = {cmocka_unit_test(zone_length),      cmocka_unit_test(spring_limit),
                                      cmocka_unit_test(spring_limit_bar), cmocka_unit_test(literature_rule),
-                                     cmocka_unit_test(outside_groups), cmocka_unit_test(unknown_group)};
+                                     cmocka_unit_test(outside_groups),   cmocka_unit_test(unknown_group)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,7 +24,8 @@ extern const dtm_effect_class dtm_effect_thermal, dtm_effect_elastic;
 static void write_scene(const char *name, const char *material, const char *effects) {
   char path[600], text[4096];
   snprintf(path, sizeof path, "%s/sq.geo", tu_tmpdir());
-  tu_write(path, "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 0.1, 0.1};\nPhysical Surface(\"rock\") = {1};\n");
+  tu_write(path,
+           "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 0.1, 0.1};\nPhysical Surface(\"rock\") = {1};\n");
   snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
   snprintf(text, sizeof text,
            "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n<geometry file=\"sq.geo\"/>\n"

@@ -27,8 +27,15 @@ static dtm_mesh *three_bars(double L, double l) {
   m->nblocks = 1;
   m->blocks = calloc(1, sizeof *m->blocks);
   dtm_block *b = m->blocks;
-  *b = (dtm_block){DTM_LINE2, 1, 2, 3, malloc(3 * sizeof(size_t)), malloc(6 * sizeof(size_t)),
-                   malloc(3 * sizeof(int)), malloc(3 * sizeof(int)), NULL};
+  *b = (dtm_block){DTM_LINE2,
+                   1,
+                   2,
+                   3,
+                   malloc(3 * sizeof(size_t)),
+                   malloc(6 * sizeof(size_t)),
+                   malloc(3 * sizeof(int)),
+                   malloc(3 * sizeof(int)),
+                   NULL};
   for (int e = 0; e < 3; e++)
     b->tags[e] = (size_t)e + 10, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = -1,
     b->mat[e] = 0;

@@ -49,8 +49,7 @@ static const double E = 210e9, RHO = 7850, NU = 0.3;
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want,
-             (got - want) / want, rel);
+    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want, (got - want) / want, rel);
 }
 
 /* A chain of n line2 elements from x = 0 to x = len, along x at y = z = 0. */
@@ -73,15 +72,12 @@ static void chain_init(chain *c, int n, double len) {
     c->conn[2 * e] = (size_t)e, c->conn[2 * e + 1] = (size_t)e + 1;
     c->tags[e] = (size_t)e + 100;
   }
-  c->b = (dtm_block){.type = DTM_LINE2, .dim = 1, .nn = 2, .n = (size_t)n,
-                     .tags = c->tags, .conn = c->conn, .mat = c->mat};
-  c->m = (dtm_mesh){.dim = 1, .nnodes = (size_t)n + 1, .xyz = c->xyz,
-                    .nblocks = 1, .blocks = &c->b};
+  c->b = (dtm_block){
+      .type = DTM_LINE2, .dim = 1, .nn = 2, .n = (size_t)n, .tags = c->tags, .conn = c->conn, .mat = c->mat};
+  c->m = (dtm_mesh){.dim = 1, .nnodes = (size_t)n + 1, .xyz = c->xyz, .nblocks = 1, .blocks = &c->b};
 }
 
-static void chain_free(chain *c) {
-  free(c->xyz), free(c->conn), free(c->tags), free(c->mat);
-}
+static void chain_free(chain *c) { free(c->xyz), free(c->conn), free(c->tags), free(c->mat); }
 
 static dtm_operator_coeffs bar_coeffs(void) {
   dtm_operator_coeffs c = {.kind = DTM_OP_ELASTIC, .capacity = RHO};
@@ -161,8 +157,7 @@ static void test_chain(void **state) {
   dtm_operator *op = make(&c, &k, NULL);
   near(dense_top(op), want, 1e-12, "dense lambda_max");
   dtm_lanczos_result r = lanczos(op, 1e-10, 200);
-  print_message("chain: theta %.17g after %d steps, residual %.3g\n", r.theta,
-                r.iterations, r.residual / r.theta);
+  print_message("chain: theta %.17g after %d steps, residual %.3g\n", r.theta, r.iterations, r.residual / r.theta);
   assert_true(r.converged);
   assert_true(r.residual <= 1e-10 * r.theta);
   assert_true(fabs(r.theta - want) <= r.residual + 1e-14 * want);
@@ -171,8 +166,7 @@ static void test_chain(void **state) {
   size_t n = dtm_operator_ndof(op);
   double *ku = malloc(n * sizeof *ku), uku = 0, umu = 0;
   dtm_operator_apply(op, r.mode, ku);
-  for (size_t i = 0; i < n; i++)
-    uku += r.mode[i] * ku[i], umu += dtm_operator_mass(op)[i] * r.mode[i] * r.mode[i];
+  for (size_t i = 0; i < n; i++) uku += r.mode[i] * ku[i], umu += dtm_operator_mass(op)[i] * r.mode[i] * r.mode[i];
   near(umu, 1, 1e-12, "uMu");
   near(uku, r.theta, 1e-10, "Rayleigh quotient");
   /* without the mode: the same first pass, so the same theta bit for bit,
@@ -201,8 +195,8 @@ static dtm_verify_result verify_bar(double f, double xi, int steps) {
   dtm_verify_result r;
   dtm_error_clear();
   if (dtm_verify_run(op, dt, steps, lr.mode, &r)) fail_msg("verify: %s", dtm_error_message());
-  print_message("bar verify f=%.2f xi=%.1f: growth %.4g after %d steps%s\n", f, xi,
-                r.growth, r.steps, r.unstable ? " (unstable)" : "");
+  print_message("bar verify f=%.2f xi=%.1f: growth %.4g after %d steps%s\n", f, xi, r.growth, r.steps,
+                r.unstable ? " (unstable)" : "");
   free(lr.mode);
   dtm_operator_destroy(&op);
   chain_free(&c);
@@ -259,8 +253,7 @@ static void test_damping_apply(void **state) {
 }
 
 static dtm_operator_coeffs heat(void) {
-  return (dtm_operator_coeffs){.kind = DTM_OP_DIFFUSION, .capacity = 2.4e6,
-                               .conductivity = 3};
+  return (dtm_operator_coeffs){.kind = DTM_OP_DIFFUSION, .capacity = 2.4e6, .conductivity = 3};
 }
 
 static void test_diffusion_chain(void **state) {
@@ -316,14 +309,12 @@ static void test_orphan_node(void **state) {
   chain_free(&c);
 }
 
-static void expect_error(const chain *c, int kind, const dtm_operator_coeffs *k, int code,
-                         const char *text) {
+static void expect_error(const chain *c, int kind, const dtm_operator_coeffs *k, int code, const char *text) {
   dtm_operator *op = (dtm_operator *)1;
   dtm_error_clear();
   assert_int_equal(dtm_operator_create(&c->m, kind, k, NULL, NULL, 1, &op), code);
   assert_null(op);
-  if (!strstr(dtm_error_message(), text))
-    fail_msg("message '%s' lacks '%s'", dtm_error_message(), text);
+  if (!strstr(dtm_error_message(), text)) fail_msg("message '%s' lacks '%s'", dtm_error_message(), text);
 }
 
 static void test_errors(void **state) {
@@ -363,9 +354,8 @@ static void test_errors(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_single_bar),   cmocka_unit_test(test_chain),
-      cmocka_unit_test(test_verify_bar),   cmocka_unit_test(test_damping_apply),
-      cmocka_unit_test(test_diffusion_chain), cmocka_unit_test(test_orphan_node),
+      cmocka_unit_test(test_single_bar),    cmocka_unit_test(test_chain),           cmocka_unit_test(test_verify_bar),
+      cmocka_unit_test(test_damping_apply), cmocka_unit_test(test_diffusion_chain), cmocka_unit_test(test_orphan_node),
       cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

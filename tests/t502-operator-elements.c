@@ -40,21 +40,18 @@ static const double E = 70e9, NU = 0.33, RHO = 2700;
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want,
-             (got - want) / want, rel);
+    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want, (got - want) / want, rel);
 }
 
 /* Node coordinates (Gmsh order) of one element per type. */
 static const double tet4[] = {0, 0, 0, 1, 0.1, 0.05, 0.2, 0.9, 0.1, 0.1, 0.3, 1.1};
-static const double hex8[] = {0.05, -0.1, 0.02, 1.1, 0.05, -0.05, 0.95, 1.12, 0.1,
-                              -0.08, 0.9, 0.0, 0.0, 0.1, 1.05, 1.15, -0.05, 0.92,
-                              1.0, 0.96, 1.1, 0.1, 1.05, 0.97};
-static const double prism6[] = {0, 0, 0, 1, 0, 0, 0, 1, 0,
-                                0.05, 0.02, 1, 1.1, 0, 0.9, 0, 1.05, 1.1};
+static const double hex8[] = {0.05, -0.1, 0.02, 1.1,  0.05,  -0.05, 0.95, 1.12, 0.1, -0.08, 0.9,  0.0,
+                              0.0,  0.1,  1.05, 1.15, -0.05, 0.92,  1.0,  0.96, 1.1, 0.1,   1.05, 0.97};
+static const double prism6[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.05, 0.02, 1, 1.1, 0, 0.9, 0, 1.05, 1.1};
 static const double pyr5[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0.1, 0.2, 1.2};
-static const double tri3[] = {0, 0, 0.5, 0, 1, 0.5, 1, 0.2, 0.5};          /* clockwise */
+static const double tri3[] = {0, 0, 0.5, 0, 1, 0.5, 1, 0.2, 0.5};           /* clockwise */
 static const double quad4[] = {0, 0, -2, 0, 1, -2, 1.2, 1.1, -2, 1, 0, -2}; /* clockwise */
-static const double line2[] = {0.3, 0, 0, -0.2, 0, 0};                     /* reversed */
+static const double line2[] = {0.3, 0, 0, -0.2, 0, 0};                      /* reversed */
 
 typedef struct {
   int type, dim, nn;
@@ -62,9 +59,8 @@ typedef struct {
 } shape;
 
 static const shape shapes[] = {
-    {DTM_TET4, 3, 4, tet4},   {DTM_HEX8, 3, 8, hex8},   {DTM_PRISM6, 3, 6, prism6},
-    {DTM_PYR5, 3, 5, pyr5},   {DTM_TRI3, 2, 3, tri3},   {DTM_QUAD4, 2, 4, quad4},
-    {DTM_LINE2, 1, 2, line2},
+    {DTM_TET4, 3, 4, tet4}, {DTM_HEX8, 3, 8, hex8},   {DTM_PRISM6, 3, 6, prism6}, {DTM_PYR5, 3, 5, pyr5},
+    {DTM_TRI3, 2, 3, tri3}, {DTM_QUAD4, 2, 4, quad4}, {DTM_LINE2, 1, 2, line2},
 };
 
 /* A mesh of one element (shifted by (1, 2, 3) in 3D). */
@@ -84,10 +80,9 @@ static void one_init(one *o, const shape *s) {
     for (int i = 0; i < 3 && s->dim == 3; i++) o->xyz[3 * a + i] += i + 1;
   }
   o->tag = 42;
-  o->b = (dtm_block){.type = s->type, .dim = s->dim, .nn = s->nn, .n = 1,
-                     .tags = &o->tag, .conn = o->conn, .mat = &o->mat};
-  o->m = (dtm_mesh){.dim = s->dim, .nnodes = (size_t)s->nn, .xyz = o->xyz,
-                    .nblocks = 1, .blocks = &o->b};
+  o->b = (dtm_block){
+      .type = s->type, .dim = s->dim, .nn = s->nn, .n = 1, .tags = &o->tag, .conn = o->conn, .mat = &o->mat};
+  o->m = (dtm_mesh){.dim = s->dim, .nnodes = (size_t)s->nn, .xyz = o->xyz, .nblocks = 1, .blocks = &o->b};
 }
 
 static dtm_operator_coeffs elastic_coeffs(int dim) {
@@ -132,8 +127,7 @@ static void check_symmetric(size_t n, const double *K, double mx, const char *na
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < i; j++)
       if (!(fabs(K[i * n + j] - K[j * n + i]) <= 1e-12 * mx))
-        fail_msg("%s: K[%zu][%zu] = %g, K[%zu][%zu] = %g", name, i, j, K[i * n + j], j, i,
-                 K[j * n + i]);
+        fail_msg("%s: K[%zu][%zu] = %g, K[%zu][%zu] = %g", name, i, j, K[i * n + j], j, i, K[j * n + i]);
 }
 
 /* Rigid mode r of a d-dimensional element (translations, then rotations
@@ -148,8 +142,7 @@ static int rigid_mode(const one *o, int d, int r, double *u) {
     int k = d == 2 ? 2 : r - d; /* axis */
     double w[3] = {0, 0, 0}, p[3] = {x[0] - 0.3, x[1] - 0.2, x[2] - 0.1};
     w[k] = 1;
-    double c[3] = {w[1] * p[2] - w[2] * p[1], w[2] * p[0] - w[0] * p[2],
-                   w[0] * p[1] - w[1] * p[0]};
+    double c[3] = {w[1] * p[2] - w[2] * p[1], w[2] * p[0] - w[0] * p[2], w[0] * p[1] - w[1] * p[0]};
     for (int i = 0; i < d; i++) u[a * d + i] = c[i];
   }
   return 1;
@@ -163,14 +156,13 @@ static void check_rigid(const one *o, int d, size_t n, const double *K, const ch
     quad_form(n, K, u, ku);
     for (size_t i = 0; i < n; i++) nu += u[i] * u[i], nk += ku[i] * ku[i];
     if (!(sqrt(nk) <= 1e-10 * sqrt(fro * nu)))
-      fail_msg("%s: rigid mode %d: |K r| = %g, |K| |r| = %g", name, r, sqrt(nk),
-               sqrt(fro * nu));
+      fail_msg("%s: rigid mode %d: |K r| = %g, |K| |r| = %g", name, r, sqrt(nk), sqrt(fro * nu));
   }
 }
 
 /* u = H x: u^T K u = V (lam tr(H)^2 + 2 mu |sym H|^2). */
-static void check_linear(const one *o, int d, size_t n, const double *K,
-                         const dtm_operator_coeffs *c, const char *name) {
+static void check_linear(const one *o, int d, size_t n, const double *K, const dtm_operator_coeffs *c,
+                         const char *name) {
   const double H[3][3] = {{0.3, -0.7, 0.2}, {0.4, 0.1, -0.5}, {0.9, 0.25, -0.35}};
   double u[MAXN], ku[MAXN], tr = 0, ss = 0;
   for (int a = 0; a < o->b.nn; a++)
@@ -202,14 +194,12 @@ static void check_masses(const dtm_operator *op, const one *o, int nc, double ca
   double w[DTM_K_NODES], V = fabs(dtm_elem_measure(o->b.type, o->xyz));
   dtm_elem_lumped_weights(o->b.type, o->xyz, w);
   for (int a = 0; a < o->b.nn; a++)
-    for (int i = 0; i < nc; i++)
-      near(dtm_operator_mass(op)[a * nc + i], cap * V * w[a], 1e-12, "lumped mass");
+    for (int i = 0; i < nc; i++) near(dtm_operator_mass(op)[a * nc + i], cap * V * w[a], 1e-12, "lumped mass");
 }
 
 /* The kernels' own element stiffness, in the element frame (3D only: the
  * frame of a 3D element is the global one). */
-static void check_kernel_matrix(const one *o, size_t n, const double *K, double mx,
-                                const dtm_operator_coeffs *c) {
+static void check_kernel_matrix(const one *o, size_t n, const double *K, double mx, const dtm_operator_coeffs *c) {
   dtm_elem_geom eg;
   double *Kr = malloc(n * n * sizeof *Kr);
   assert_int_equal(dtm_elem_prepare(o->b.type, o->xyz, &eg), DTM_OK);
@@ -254,8 +244,8 @@ static void check_diffusion(const one *o, int d) {
   int nn = o->b.nn;
   dtm_operator_coeffs c = {.kind = DTM_OP_DIFFUSION, .capacity = cap, .conductivity = k};
   dtm_operator *op = make(o, &c);
-  double K[DTM_K_NODES * DTM_K_NODES], mx = assemble(op, K), one_[DTM_K_NODES] = {0},
-      phi[DTM_K_NODES] = {0}, kp[DTM_K_NODES] = {0}, g2 = 0, lk;
+  double K[DTM_K_NODES * DTM_K_NODES], mx = assemble(op, K), one_[DTM_K_NODES] = {0}, phi[DTM_K_NODES] = {0},
+                                       kp[DTM_K_NODES] = {0}, g2 = 0, lk;
   check_symmetric((size_t)nn, K, mx, name);
   for (int a = 0; a < nn; a++) {
     one_[a] = 1, phi[a] = 0;
@@ -287,8 +277,10 @@ static void test_diffusion_elements(void **state) {
  * the same checks. Nothing in the operator is specific to them. */
 static void test_second_order(void **state) {
   (void)state;
-  static const struct { int type, parent; size_t shape; } t[] = {{9, DTM_TRI3, 4},
-                                                                {11, DTM_TET4, 0}};
+  static const struct {
+    int type, parent;
+    size_t shape;
+  } t[] = {{9, DTM_TRI3, 4}, {11, DTM_TET4, 0}};
   for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
     int dim, nn;
     dtm_error_clear();
@@ -301,8 +293,7 @@ static void test_second_order(void **state) {
     const dtm_topology *tp = dtm_elem_topology(t[i].parent);
     for (int e = 0; e < tp->nedge; e++)
       for (int c = 0; c < 3; c++)
-        o.xyz[3 * (o.b.nn + e) + c] =
-            0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
+        o.xyz[3 * (o.b.nn + e) + c] = 0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
     assert_int_equal(o.b.nn + tp->nedge, nn);
     for (int a = 0; a < nn; a++) o.conn[a] = (size_t)a;
     o.b.type = t[i].type, o.b.nn = nn, o.m.nnodes = (size_t)nn;
@@ -333,8 +324,7 @@ static void expect_error(const one *o, const dtm_operator_coeffs *c, const char 
   dtm_error_clear();
   assert_int_equal(dtm_operator_create(&o->m, c->kind, c, NULL, NULL, 1, &op), DTM_ERR_INPUT);
   assert_null(op);
-  if (!strstr(dtm_error_message(), text))
-    fail_msg("message '%s' lacks '%s'", dtm_error_message(), text);
+  if (!strstr(dtm_error_message(), text)) fail_msg("message '%s' lacks '%s'", dtm_error_message(), text);
 }
 
 static void test_errors(void **state) {
@@ -370,10 +360,8 @@ static void test_errors(void **state) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_elastic_elements),
-      cmocka_unit_test(test_diffusion_elements),
-      cmocka_unit_test(test_second_order),
-      cmocka_unit_test(test_plane_stress),
+      cmocka_unit_test(test_elastic_elements), cmocka_unit_test(test_diffusion_elements),
+      cmocka_unit_test(test_second_order),     cmocka_unit_test(test_plane_stress),
       cmocka_unit_test(test_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -35,8 +35,7 @@
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
-    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want,
-             (got - want) / want, rel);
+    fail_msg("%s: got %.17g, want %.17g (rel %.3g, tol %g)", what, got, want, (got - want) / want, rel);
 }
 
 static double now(void) {
@@ -66,15 +65,13 @@ static double tet_det(const double *xyz, const size_t *c) {
   double e[3][3];
   for (int a = 0; a < 3; a++)
     for (int i = 0; i < 3; i++) e[a][i] = xyz[3 * c[a + 1] + i] - xyz[3 * c[0] + i];
-  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
-         e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
          e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
 }
 
 /* The 8 corners of cell (i, j, k) in Gmsh hex order. */
 static void corners(int n, int i, int j, int k, size_t *c) {
-  static const int off[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                                {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  static const int off[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   for (int a = 0; a < 8; a++) c[a] = node_id(n, i + off[a][0], j + off[a][1], k + off[a][2]);
 }
 
@@ -122,14 +119,20 @@ static void grid_init(grid *g, int n, int tets, double h, int two) {
       for (int i = 0; i < n; i++) {
         size_t c8[8];
         corners(n, i, j, k, c8);
-        if (tets) kuhn(g->xyz, c8, g->conn + e * nn);
-        else memcpy(g->conn + e * nn, c8, sizeof c8);
+        if (tets)
+          kuhn(g->xyz, c8, g->conn + e * nn);
+        else
+          memcpy(g->conn + e * nn, c8, sizeof c8);
         for (size_t t = 0; t < per; t++, e++) g->tags[e] = e + 1, g->mat[e] = two && 2 * i >= n;
       }
-  g->b = (dtm_block){.type = tets ? DTM_TET4 : DTM_HEX8, .dim = 3, .nn = (int)nn, .n = ne,
-                     .tags = g->tags, .conn = g->conn, .mat = g->mat};
-  g->m = (dtm_mesh){.dim = 3, .nnodes = node_id(n, 0, 0, n + 1), .xyz = g->xyz,
-                    .nblocks = 1, .blocks = &g->b};
+  g->b = (dtm_block){.type = tets ? DTM_TET4 : DTM_HEX8,
+                     .dim = 3,
+                     .nn = (int)nn,
+                     .n = ne,
+                     .tags = g->tags,
+                     .conn = g->conn,
+                     .mat = g->mat};
+  g->m = (dtm_mesh){.dim = 3, .nnodes = node_id(n, 0, 0, n + 1), .xyz = g->xyz, .nblocks = 1, .blocks = &g->b};
 }
 
 static void grid_free(grid *g) { free(g->xyz), free(g->conn), free(g->tags), free(g->mat); }
@@ -146,8 +149,7 @@ static dtm_operator *make(const dtm_mesh *m) {
   dtm_operator *op = NULL;
   coeffs(c);
   dtm_error_clear();
-  if (dtm_operator_create(m, DTM_OP_ELASTIC, c, NULL, NULL, 2, &op))
-    fail_msg("create: %s", dtm_error_message());
+  if (dtm_operator_create(m, DTM_OP_ELASTIC, c, NULL, NULL, 2, &op)) fail_msg("create: %s", dtm_error_message());
   return op;
 }
 
@@ -160,8 +162,7 @@ static double dense_top(const dtm_operator *op) {
     e[j] = 0;
   }
   for (size_t i = 0; i < n; i++)
-    for (size_t j = 0; j < i; j++)
-      assert_true(fabs(a[i * n + j] - a[j * n + i]) <= 1e-12 * fabs(a[i * n + i]));
+    for (size_t j = 0; j < i; j++) assert_true(fabs(a[i * n + j] - a[j * n + i]) <= 1e-12 * fabs(a[i * n + i]));
   double top = dtm_eig_sym_max((int)n, a);
   free(a), free(e);
   return top;
@@ -176,8 +177,8 @@ static void block_vs_dense(int n, int tets, int two) {
   dtm_error_clear();
   assert_int_equal(dtm_lanczos_max(op, 1e-8, 200, 3, &r), 0);
   print_message("%d^3 %s%s: %zu dofs, dense %.15g, Lanczos %.15g after %d steps, "
-                "residual %.2g theta, rel diff %.2g\n", n, tets ? "tet" : "hex",
-                two ? " (2 materials)" : "", dtm_operator_ndof(op), want, r.theta,
+                "residual %.2g theta, rel diff %.2g\n",
+                n, tets ? "tet" : "hex", two ? " (2 materials)" : "", dtm_operator_ndof(op), want, r.theta,
                 r.iterations, r.residual / r.theta, (r.theta - want) / want);
   assert_true(r.converged);
   assert_true(r.iterations <= 200);
@@ -256,8 +257,9 @@ static void bench(int cells) {
   assert_int_equal(dtm_lanczos_max(op, 1e-3, 300, 1, &r), 0);
   print_message("bench: %zu tets, %zu dofs; mesh %.2f s, create %.3f s, apply %.2f ms, "
                 "Lanczos tol 1e-3: %d steps (+%d for the mode), %.3f s, theta %.6g, "
-                "residual %.2g theta\n", g.b.n, n, t1 - t0, t2 - t1, (t4 - t3) * 100,
-                r.iterations, r.iterations, r.seconds, r.theta, r.residual / r.theta);
+                "residual %.2g theta\n",
+                g.b.n, n, t1 - t0, t2 - t1, (t4 - t3) * 100, r.iterations, r.iterations, r.seconds, r.theta,
+                r.residual / r.theta);
   free(u), free(y), free(r.mode);
   dtm_operator_destroy(&op);
   grid_free(&g);
@@ -266,8 +268,10 @@ static void bench(int cells) {
 static void test_bench(void **state) {
   (void)state;
   const char *e = getenv("DTM_BENCH_CELLS");
-  if (e && atoi(e) > 0) bench(atoi(e));
-  else bench(12); /* quick: 10368 tets */
+  if (e && atoi(e) > 0)
+    bench(atoi(e));
+  else
+    bench(12); /* quick: 10368 tets */
 }
 
 int main(int argc, char **argv) {

@@ -32,8 +32,15 @@ static dtm_mesh *bars(double L) {
   m->nblocks = 1;
   m->blocks = calloc(1, sizeof *m->blocks);
   dtm_block *b = m->blocks;
-  *b = (dtm_block){DTM_LINE2, 1, 2, NB, malloc(NB * sizeof(size_t)), malloc(2 * NB * sizeof(size_t)),
-                   malloc(NB * sizeof(int)), malloc(NB * sizeof(int)), NULL};
+  *b = (dtm_block){DTM_LINE2,
+                   1,
+                   2,
+                   NB,
+                   malloc(NB * sizeof(size_t)),
+                   malloc(2 * NB * sizeof(size_t)),
+                   malloc(NB * sizeof(int)),
+                   malloc(NB * sizeof(int)),
+                   NULL};
   for (int e = 0; e < NB; e++)
     b->tags[e] = (size_t)e + 1, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = -1,
     b->mat[e] = 0;

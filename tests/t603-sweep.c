@@ -25,9 +25,8 @@
 
 #define NS 3
 static const double sizes[NS] = {0.2, 0.1, 0.05};
-static const char header[] =
-    "h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
-    "elements_per_zone,elements_per_wavelength,seconds";
+static const char header[] = "h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
+                             "elements_per_zone,elements_per_wavelength,seconds";
 
 static char path_buf[4][512];
 static const char *in_tmp(int slot, const char *name) {
@@ -36,10 +35,9 @@ static const char *in_tmp(int slot, const char *name) {
 }
 
 static dtm_scene *square_scene(void) {
-  tu_write(in_tmp(0, "square.geo"),
-           "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\n"
-           "MeshSize{ PointsOf{ Surface{1}; } } = 1; // the sweep's size caps this\n"
-           "Physical Surface(\"plate\") = {1};\n");
+  tu_write(in_tmp(0, "square.geo"), "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 1};\n"
+                                    "MeshSize{ PointsOf{ Surface{1}; } } = 1; // the sweep's size caps this\n"
+                                    "Physical Surface(\"plate\") = {1};\n");
   tu_write(in_tmp(1, "square.xml"),
            "<dtmap-scene version=\"1\">\n  <geometry file=\"square.geo\"/>\n"
            "  <meshing size=\"0.1\" min-size=\"0.08\" dim=\"2\"/>\n"
@@ -151,8 +149,17 @@ static void bad_input(void **unused) {
   dtm_scene m = *s;
   m.geometry = NULL, m.mesh = "square.msh";
   expect_error(dtm_sweep_run(&m, sizes, NS, rows), DTM_ERR_INPUT, "sweep needs a geometry, not a mesh");
-  dtm_sweep_row one = {.h = 0.1, .elements = 10, .nodes = 8, .dt_min = 1e-6, .recommended = 9e-7, .steps = 10,
-                       .cost = 100, .cost_subcycled = 50, .per_zone = NAN, .per_wavelength = NAN, .speedup = 2};
+  dtm_sweep_row one = {.h = 0.1,
+                       .elements = 10,
+                       .nodes = 8,
+                       .dt_min = 1e-6,
+                       .recommended = 9e-7,
+                       .steps = 10,
+                       .cost = 100,
+                       .cost_subcycled = 50,
+                       .per_zone = NAN,
+                       .per_wavelength = NAN,
+                       .speedup = 2};
   expect_error(dtm_sweep_write_csv("/nonexistent-dir/x.csv", &one, 1), DTM_ERR_INPUT, "cannot write");
   expect_error(dtm_sweep_plot("/nonexistent-dir/x.png", &one, 1), DTM_ERR_INPUT, "cannot write");
   dtm_scene_destroy(&s);
@@ -164,9 +171,17 @@ static void bad_input(void **unused) {
 static void no_duration(void **unused) {
   dtm_sweep_row r[2];
   for (int i = 0; i < 2; i++)
-    r[i] = (dtm_sweep_row){.h = 0.1 / (i + 1), .elements = 100u << (2 * i), .nodes = 60u << (2 * i),
-                           .dt_min = 1e-6 / (i + 1), .recommended = 0.9e-6 / (i + 1), .steps = NAN, .cost = NAN,
-                           .cost_subcycled = NAN, .per_zone = NAN, .per_wavelength = NAN, .seconds = 0.01,
+    r[i] = (dtm_sweep_row){.h = 0.1 / (i + 1),
+                           .elements = 100u << (2 * i),
+                           .nodes = 60u << (2 * i),
+                           .dt_min = 1e-6 / (i + 1),
+                           .recommended = 0.9e-6 / (i + 1),
+                           .steps = NAN,
+                           .cost = NAN,
+                           .cost_subcycled = NAN,
+                           .per_zone = NAN,
+                           .per_wavelength = NAN,
+                           .seconds = 0.01,
                            .speedup = 1.5};
   assert_int_equal(dtm_sweep_write_csv(in_tmp(2, "nodur.csv"), r, 2), 0);
   FILE *f = fopen(path_buf[2], "r");

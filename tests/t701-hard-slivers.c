@@ -21,12 +21,13 @@
 #include "hardcase.h"
 #include "testutil.h"
 
-#define N 4       /* cubes per side */
-#define H 1e-2    /* cube edge (m) */
-#define SI 1      /* the sliver cube is (SI, SI, SI) */
+#define N 4    /* cubes per side */
+#define H 1e-2 /* cube edge (m) */
+#define SI 1   /* the sliver cube is (SI, SI, SI) */
 
-#define STEEL "  <material name=\"steel\" groups=\"solid\" E=\"210e9\" nu=\"0.3\" rho=\"7850\" " \
-              "conductivity=\"45\" heat-capacity=\"460\"/>"
+#define STEEL                                                                                                          \
+  "  <material name=\"steel\" groups=\"solid\" E=\"210e9\" nu=\"0.3\" rho=\"7850\" "                                   \
+  "conductivity=\"45\" heat-capacity=\"460\"/>"
 
 typedef struct {
   const char *name;
@@ -51,8 +52,10 @@ static void sliver_cube(hc_mesh *m, int i, int j, int k) {
   for (int e = 0; e < 7; e++) {
     size_t n[4];
     for (int v = 0; v < 4; v++) n[v] = corner(i, j, k, t[e][v][0], t[e][v][1], t[e][v][2]);
-    if (e < 6) hc_simplex(m, n, 0);
-    else hc_elem(m, n, 0); /* flat until the corner moves; positive after */
+    if (e < 6)
+      hc_simplex(m, n, 0);
+    else
+      hc_elem(m, n, 0); /* flat until the corner moves; positive after */
   }
 }
 
@@ -98,9 +101,12 @@ static void build(const char *name, double flatness) {
   for (int k = 0; k < N; k++)
     for (int j = 0; j < N; j++)
       for (int i = 0; i < N; i++) {
-        if (i == SI && j == SI && k == SI) sliver_cube(&m, i, j, k);
-        else if (i == SI && j == SI && k == SI + 1) centre_cube(&m, i, j, k);
-        else hc_kuhn_cell(&m, 1, N, N, i, j, k, 0);
+        if (i == SI && j == SI && k == SI)
+          sliver_cube(&m, i, j, k);
+        else if (i == SI && j == SI && k == SI + 1)
+          centre_cube(&m, i, j, k);
+        else
+          hc_kuhn_cell(&m, 1, N, N, i, j, k, 0);
       }
   /* move corner v011 of the sliver cube off the rectangle y = z, into the
    * y < z prism: the sliver's height is flatness x H. Every tet must stay

@@ -58,7 +58,7 @@ static double pinched_grid(hc_mesh *m, double t) {
   for (int k = 0; k < 3; k++) p[k] = a[k] + t * (3 - k) * H / 3; /* towards the centroid (3,2,1)/3 */
   for (int k = 0; k < 3; k++) q[k] = a[k] + 0.5 * (p[k] - a[k]) + 0.36 * t * (c[k] + d[k] - 2 * a[k]);
   size_t tp = hc_node(m, p[0], p[1], p[2]), tq = hc_node(m, q[0], q[1], q[2]);
-  hc_split_simplex(m, e, tp);  /* (P,B,C,D) in place, (A,P,C,D) at ne0, ... */
+  hc_split_simplex(m, e, tp); /* (P,B,C,D) in place, (A,P,C,D) at ne0, ... */
   hc_split_simplex(m, ne0, tq);
   double worst = hc_aspect(m, e);
   for (size_t k = ne0; k < m->ne; k++) worst = fmax(worst, hc_aspect(m, k));
@@ -72,8 +72,10 @@ static void needle_tets(void **unused) {
     double t = 0.5 * (lo + hi);
     double ar = pinched_grid(&m, t);
     hc_mesh_free(&m);
-    if (ar > 20) lo = t;
-    else hi = t;
+    if (ar > 20)
+      lo = t;
+    else
+      hi = t;
   }
   assert_true(fabs(pinched_grid(&m, hi) - 20) < 1e-6);
   check_tiling(&m, pow(4 * H, 3));

@@ -22,8 +22,8 @@
 #include "testutil.h"
 
 #define NBAR 60
-#define GRANITE(k)                                                                                           \
-  "  <material name=\"granite\" groups=\"solid\" E=\"60e9\" nu=\"0.25\" rho=\"2700\" conductivity=\"" k "\" " \
+#define GRANITE(k)                                                                                                     \
+  "  <material name=\"granite\" groups=\"solid\" E=\"60e9\" nu=\"0.25\" rho=\"2700\" conductivity=\"" k "\" "          \
   "heat-capacity=\"790\"/>"
 
 static void graded_bar(const char *name) {

@@ -28,11 +28,12 @@
 static void structured(int dim, int tag, int n) {
   int ierr = 0, dt[2] = {dim, tag}, *faces = NULL, *curves = NULL;
   size_t nf = 0, nc = 0;
-  if (dim == 3) gmshModelGetBoundary(dt, 2, &faces, &nf, 0, 0, 0, &ierr);
-  else faces = dt, nf = 2;
+  if (dim == 3)
+    gmshModelGetBoundary(dt, 2, &faces, &nf, 0, 0, 0, &ierr);
+  else
+    faces = dt, nf = 2;
   gmshModelGetBoundary(faces, nf, &curves, &nc, 0, 0, 0, &ierr);
-  for (size_t i = 0; i < nc; i += 2)
-    gmshModelMeshSetTransfiniteCurve(abs(curves[i + 1]), n, "Progression", 1, &ierr);
+  for (size_t i = 0; i < nc; i += 2) gmshModelMeshSetTransfiniteCurve(abs(curves[i + 1]), n, "Progression", 1, &ierr);
   for (size_t i = 0; i < nf; i += 2) {
     gmshModelMeshSetTransfiniteSurface(faces[i + 1], "Left", NULL, 0, &ierr);
     gmshModelMeshSetRecombine(2, faces[i + 1], &ierr);

@@ -41,8 +41,7 @@ static void tri6(void **unused) {
   gmshModelAdd("order2-tri6", &ierr);
   int s = gmshModelOccAddDisk(0, 0, 0, 0.5, 0.5, -1, &ierr);
   second_order("order2-tri6", 2, s, 0.08, "Triangle 6");
-  hc_scene_write("order2-tri6",
-                 "  <material name=\"granite\" groups=\"solid\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"/>",
+  hc_scene_write("order2-tri6", "  <material name=\"granite\" groups=\"solid\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"/>",
                  "<elastic formulation=\"plane-strain\"/>");
   hc_check("order2-tri6", &r);
   (void)unused;

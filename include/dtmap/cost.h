@@ -14,14 +14,14 @@
  * by (dt_t/dt_e)^2, since dt ~ sqrt(m). Elements limited only by
  * non-wave effects get none (mass does not change a diffusion limit). */
 typedef struct dtm_mass_scaling_s {
-  double target;         /* dt_t, s */
-  double *added;         /* [nel] added mass, kg (per unit thickness in 2D) */
-  double total_mass;     /* mass of the analysed elements, kg */
-  double total_added;    /* sum of added, kg */
-  size_t scaled;         /* elements that receive mass */
-  int ngroups;           /* mesh groups + 1: the last slot is "no group" */
-  double *group_mass;    /* [ngroups] */
-  double *group_added;   /* [ngroups] */
+  double target;       /* dt_t, s */
+  double *added;       /* [nel] added mass, kg (per unit thickness in 2D) */
+  double total_mass;   /* mass of the analysed elements, kg */
+  double total_added;  /* sum of added, kg */
+  size_t scaled;       /* elements that receive mass */
+  int ngroups;         /* mesh groups + 1: the last slot is "no group" */
+  double *group_mass;  /* [ngroups] */
+  double *group_added; /* [ngroups] */
 } dtm_mass_scaling;
 
 int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dtm_mass_scaling *ms);

@@ -27,14 +27,11 @@ typedef struct dtm_effect_args dtm_effect_args;
 
 /* Attribute as a double: *out = def when absent. A value that does not parse
  * as a finite number is DTM_ERR_INPUT naming the scene file and line. */
-int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def,
-                           double *out);
+int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def, double *out);
 /* Attribute as a string (owned by the scene): *out = def when absent. */
-int dtm_effect_args_string(const dtm_effect_args *a, const char *key,
-                           const char *def, const char **out);
+int dtm_effect_args_string(const dtm_effect_args *a, const char *key, const char *def, const char **out);
 /* Raise DTM_ERR_INPUT with "scene:line: <effect>: " before the message. */
-int dtm_effect_args_error(const dtm_effect_args *a, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+int dtm_effect_args_error(const dtm_effect_args *a, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* Spatial dimension of the elements being analysed (1, 2 or 3). */
 int dtm_effect_args_dim(const dtm_effect_args *a);
 /* Index of the physical group named (or numbered) ref among the mesh's
@@ -54,42 +51,42 @@ int dtm_effect_args_ngroups(const dtm_effect_args *a);
 /* The semi-discrete problem behind a spectral effect, per material: used
  * by the nodal bound, the global (Lanczos) estimate and `dtmap verify`. */
 enum {
-  DTM_OP_NONE = 0,      /* not a spectral effect (e.g. a length rule) */
-  DTM_OP_ELASTIC = 1,   /* M u'' + K u = 0, central differences, dt = 2/omega */
-  DTM_OP_DIFFUSION = 2  /* C u' + K u = 0, forward Euler, dt = 2/lambda */
+  DTM_OP_NONE = 0,     /* not a spectral effect (e.g. a length rule) */
+  DTM_OP_ELASTIC = 1,  /* M u'' + K u = 0, central differences, dt = 2/omega */
+  DTM_OP_DIFFUSION = 2 /* C u' + K u = 0, forward Euler, dt = 2/lambda */
 };
 typedef struct {
-  int kind;                /* DTM_OP_* */
-  double capacity;         /* lumped "mass" per volume: rho (elastic), rho c
-                              (thermal), storage (hydraulic) */
-  double conductivity;     /* diffusion: k, or permeability/viscosity */
-  dtm_elastic_moduli mod;  /* elastic: moduli of the formulation */
-  int dt_is_bound;         /* 1 when element_dt returns the element's own
-                              eigenvalue bound, 2/sqrt(lambda_e) or 2/lambda_e
-                              (undamped), so the nodal bound can reuse it */
+  int kind;               /* DTM_OP_* */
+  double capacity;        /* lumped "mass" per volume: rho (elastic), rho c
+                             (thermal), storage (hydraulic) */
+  double conductivity;    /* diffusion: k, or permeability/viscosity */
+  dtm_elastic_moduli mod; /* elastic: moduli of the formulation */
+  int dt_is_bound;        /* 1 when element_dt returns the element's own
+                             eigenvalue bound, 2/sqrt(lambda_e) or 2/lambda_e
+                             (undamped), so the nodal bound can reuse it */
 } dtm_operator_coeffs;
 
 /* One block of elements of one type, as the effects see it. */
 typedef struct {
-  int type;                       /* DTM_TET4, ... */
-  int dim;                        /* topological dimension */
-  int nn;                         /* nodes per element */
-  size_t n;                       /* number of elements */
-  const double *x;                /* [n][nn][3] node coordinates, m */
-  const size_t *tags;             /* [n] Gmsh element tags */
-  const int *group;               /* [n] physical group index, -1 for none */
-  const unsigned long long *gmask;/* [n] every group of the element (bit g),
-                                     or NULL: then only `group` is known */
-  const dtm_material *const *mat; /* [n] material of each element */
+  int type;                        /* DTM_TET4, ... */
+  int dim;                         /* topological dimension */
+  int nn;                          /* nodes per element */
+  size_t n;                        /* number of elements */
+  const double *x;                 /* [n][nn][3] node coordinates, m */
+  const size_t *tags;              /* [n] Gmsh element tags */
+  const int *group;                /* [n] physical group index, -1 for none */
+  const unsigned long long *gmask; /* [n] every group of the element (bit g),
+                                      or NULL: then only `group` is known */
+  const dtm_material *const *mat;  /* [n] material of each element */
 } dtm_batch;
 
 typedef struct dtm_effect_class {
-  int api_version;      /* DTM_EFFECT_API_VERSION */
-  const char *name;     /* scene element name, e.g. "elastic" */
-  const char *summary;  /* one line for `dtmap effects` */
-  unsigned role;        /* DTM_ROLE_* */
-  unsigned needs;       /* DTM_PROP_BIT mask every material in use must have */
-  double exponent;      /* dt ~ h^exponent: 1 for waves, 2 for diffusion */
+  int api_version;     /* DTM_EFFECT_API_VERSION */
+  const char *name;    /* scene element name, e.g. "elastic" */
+  const char *summary; /* one line for `dtmap effects` */
+  unsigned role;       /* DTM_ROLE_* */
+  unsigned needs;      /* DTM_PROP_BIT mask every material in use must have */
+  double exponent;     /* dt ~ h^exponent: 1 for waves, 2 for diffusion */
   /* Parse the scene element; *state is owned by the effect until destroy.
    * Optional: without it the state is NULL. */
   int (*create)(const dtm_effect_args *args, void **state);
@@ -99,8 +96,7 @@ typedef struct dtm_effect_class {
   /* DTM_ROLE_MODIFIES_WAVES: factor (<= 1) on the step of a wave-type effect
    * for an element of material m whose undamped top frequency is omega
    * (rad/s). */
-  int (*wave_factor)(void *state, const dtm_material *m, double omega,
-                     double *factor);
+  int (*wave_factor)(void *state, const dtm_material *m, double omega, double *factor);
   /* Optional accuracy bound: the largest admissible element size hmax[n]
    * (m, +inf where unbounded; compared with the element's mean edge length)
    * and a resolution value res[n] for the view named accuracy_view (NaN
@@ -113,8 +109,7 @@ typedef struct dtm_effect_class {
   /* Optional, DTM_ROLE_MODIFIES_WAVES: equivalent Rayleigh coefficients of
    * material m's damping, C = alpha M + beta K, given the top frequency
    * omega_top (a constant xi becomes beta = 2 xi / omega_top). */
-  int (*rayleigh)(void *state, const dtm_material *m, double omega_top, double *alpha,
-                  double *beta);
+  int (*rayleigh)(void *state, const dtm_material *m, double omega_top, double *alpha, double *beta);
   /* Free the state and set *state to NULL (optional). */
   void (*destroy)(void **state);
 } dtm_effect_class;

@@ -8,17 +8,17 @@
 
 /* Return codes; they double as the CLI's exit codes. */
 enum {
-  DTM_OK = 0,           /* success */
-  DTM_ERR_TARGET = 1,   /* a target or a verification was not met */
-  DTM_ERR_INPUT = 2,    /* bad input or usage */
-  DTM_ERR_INTERNAL = 3  /* a bug or a failed library call */
+  DTM_OK = 0,          /* success */
+  DTM_ERR_TARGET = 1,  /* a target or a verification was not met */
+  DTM_ERR_INPUT = 2,   /* bad input or usage */
+  DTM_ERR_INTERNAL = 3 /* a bug or a failed library call */
 };
 
 /* Record an error; returns code so it can be used as `return DTM_ERR(...)`.
  * The first error raised since the last dtm_error_clear() keeps its message;
  * later calls on the way up only add traceback lines. */
-int dtm_error_raise(int code, const char *file, int line, const char *func,
-                    const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+int dtm_error_raise(int code, const char *file, int line, const char *func, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
 /* Add one traceback line (file:line func) and return code unchanged. */
 int dtm_error_trace(int code, const char *file, int line, const char *func);
 /* The message of the pending error ("" if none). Owned by the library. */
@@ -30,10 +30,10 @@ int dtm_error_code(void);
 void dtm_error_clear(void);
 
 #define DTM_ERR(code, ...) dtm_error_raise((code), __FILE__, __LINE__, __func__, __VA_ARGS__)
-#define DTM_CHECK(call)                                                        \
-  do {                                                                         \
-    int dtm_ierr_ = (call);                                                    \
-    if (dtm_ierr_) return dtm_error_trace(dtm_ierr_, __FILE__, __LINE__, __func__); \
+#define DTM_CHECK(call)                                                                                                \
+  do {                                                                                                                 \
+    int dtm_ierr_ = (call);                                                                                            \
+    if (dtm_ierr_) return dtm_error_trace(dtm_ierr_, __FILE__, __LINE__, __func__);                                    \
   } while (0)
 
 #endif

@@ -32,15 +32,14 @@ int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
  * -1; default_mat is used for elements whose groups have no material (-1:
  * none, an error naming the element tag and group). Types dtmap does not
  * handle are an error naming the element tag and type. */
-int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat,
-                     const dtm_scene *s, dtm_mesh *m);
+int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m);
 
 /* A view to write: name, ElementData or NodeData, one value per tag. */
 typedef struct {
-  const char *name;    /* exact view name */
-  int node_data;       /* 1: NodeData over node tags; 0: ElementData */
-  const size_t *tags;  /* [n] element or node tags */
-  const double *values;/* [n] */
+  const char *name;     /* exact view name */
+  int node_data;        /* 1: NodeData over node tags; 0: ElementData */
+  const size_t *tags;   /* [n] element or node tags */
+  const double *values; /* [n] */
   size_t n;
 } dtm_view;
 

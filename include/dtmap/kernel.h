@@ -62,19 +62,18 @@ typedef enum {
 
 /* Material moduli prepared once per material for a formulation. */
 typedef struct {
-  int form;      /* dtm_formulation */
-  double lam;    /* first Lame parameter seen by the formulation, Pa
-                    (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
-  double mu;     /* shear modulus, Pa (bar: 0) */
-  double modulus;/* P-wave modulus lam + 2 mu, Pa (bar: E) */
-  double rho;    /* density, kg/m^3 */
-  double cd;     /* dilatational wave speed sqrt(modulus/rho), m/s */
+  int form;       /* dtm_formulation */
+  double lam;     /* first Lame parameter seen by the formulation, Pa
+                     (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
+  double mu;      /* shear modulus, Pa (bar: 0) */
+  double modulus; /* P-wave modulus lam + 2 mu, Pa (bar: E) */
+  double rho;     /* density, kg/m^3 */
+  double cd;      /* dilatational wave speed sqrt(modulus/rho), m/s */
 } dtm_elastic_moduli;
 
 /* Fill m from E (Pa), nu, rho (kg/m^3). Returns DTM_ERR_INPUT (with a
  * message) when E <= 0, rho <= 0, nu outside (-1, 0.5), or any is not finite. */
-int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho,
-                            dtm_elastic_moduli *m);
+int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, dtm_elastic_moduli *m);
 
 /* Topological dimension and node count of a type (either pointer may be
  * NULL); DTM_ERR_INPUT, with a message naming the Gmsh type code, for
@@ -127,8 +126,7 @@ void dtm_elem_lumped_weights(int type, const double *x, double *w);
  * message clears the error and raises its own. No allocation (second-order
  * element matrices, up to 81 x 81, live on the stack); tet4 takes ~0.1 us,
  * tet10 ~35 us, hex20 ~0.2 ms, hex27 ~0.35 ms. */
-int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
-                              const double *x, double *lambda);
+int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
  * diffusivity alpha (m^2/s) and lumped capacity (row sums for linear
@@ -137,8 +135,7 @@ int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
  * lambda = (d+1) alpha s_max.
  * DTM_ERR_INPUT for alpha not finite and > 0, a degenerate or inverted
  * element or an unsupported type. */
-int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x,
-                                double *lambda);
+int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double *lambda);
 
 /* Geometric length of the given kind (m); the definitions for each type
  * are listed in src/kernel/length.c. For a second-order type the geometric

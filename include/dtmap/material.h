@@ -6,19 +6,19 @@
 #define DTMAP_MATERIAL_H
 
 enum dtm_prop {
-  DTM_PROP_E = 0,            /* Young's modulus, Pa */
-  DTM_PROP_NU,               /* Poisson's ratio */
-  DTM_PROP_RHO,              /* density, kg/m^3 */
-  DTM_PROP_CONDUCTIVITY,     /* thermal conductivity, W/(m K) */
-  DTM_PROP_HEAT_CAPACITY,    /* specific heat capacity, J/(kg K) */
-  DTM_PROP_PERMEABILITY,     /* intrinsic permeability, m^2 */
-  DTM_PROP_VISCOSITY,        /* fluid dynamic viscosity, Pa s */
-  DTM_PROP_STORAGE,          /* specific storage, 1/Pa */
-  DTM_PROP_FRACTURE_ENERGY,  /* G_c, J/m^2 */
-  DTM_PROP_STRENGTH,         /* cohesive strength sigma_max, Pa */
-  DTM_PROP_XI,               /* damping ratio at the top frequency */
-  DTM_PROP_ALPHA,            /* Rayleigh mass-proportional coefficient, 1/s */
-  DTM_PROP_BETA,             /* Rayleigh stiffness-proportional coefficient, s */
+  DTM_PROP_E = 0,           /* Young's modulus, Pa */
+  DTM_PROP_NU,              /* Poisson's ratio */
+  DTM_PROP_RHO,             /* density, kg/m^3 */
+  DTM_PROP_CONDUCTIVITY,    /* thermal conductivity, W/(m K) */
+  DTM_PROP_HEAT_CAPACITY,   /* specific heat capacity, J/(kg K) */
+  DTM_PROP_PERMEABILITY,    /* intrinsic permeability, m^2 */
+  DTM_PROP_VISCOSITY,       /* fluid dynamic viscosity, Pa s */
+  DTM_PROP_STORAGE,         /* specific storage, 1/Pa */
+  DTM_PROP_FRACTURE_ENERGY, /* G_c, J/m^2 */
+  DTM_PROP_STRENGTH,        /* cohesive strength sigma_max, Pa */
+  DTM_PROP_XI,              /* damping ratio at the top frequency */
+  DTM_PROP_ALPHA,           /* Rayleigh mass-proportional coefficient, 1/s */
+  DTM_PROP_BETA,            /* Rayleigh stiffness-proportional coefficient, s */
   DTM_PROP_COUNT
 };
 #define DTM_PROP_BIT(p) (1u << (p))

@@ -10,34 +10,34 @@
 #define DTM_MAX_MASK_GROUPS 64 /* groups representable in dtm_block.gmask */
 
 typedef struct {
-  int dim;      /* dimension of the physical group */
-  int tag;      /* Gmsh physical tag */
-  char *name;   /* its name, or "" when it has none (owned) */
+  int dim;    /* dimension of the physical group */
+  int tag;    /* Gmsh physical tag */
+  char *name; /* its name, or "" when it has none (owned) */
 } dtm_group;
 
 typedef struct {
-  int type;     /* Gmsh element type code (DTM_TET4, ...) */
-  int dim;      /* topological dimension */
-  int nn;       /* nodes per element */
-  size_t n;     /* number of elements */
-  size_t *tags; /* [n] Gmsh element tags */
-  size_t *conn; /* [n][nn] 0-based indices into the mesh's node arrays */
-  int *group;   /* [n] index into dtm_mesh.groups, -1 when in no group
-                   (the group that gave the element its material) */
-  int *mat;     /* [n] index into the scene's materials, -1 until assigned */
+  int type;                  /* Gmsh element type code (DTM_TET4, ...) */
+  int dim;                   /* topological dimension */
+  int nn;                    /* nodes per element */
+  size_t n;                  /* number of elements */
+  size_t *tags;              /* [n] Gmsh element tags */
+  size_t *conn;              /* [n][nn] 0-based indices into the mesh's node arrays */
+  int *group;                /* [n] index into dtm_mesh.groups, -1 when in no group
+                                (the group that gave the element its material) */
+  int *mat;                  /* [n] index into the scene's materials, -1 until assigned */
   unsigned long long *gmask; /* [n] bit g set when the element is in group g
                    (every physical group of its entity, g < 64); may be NULL */
 } dtm_block;
 
 typedef struct dtm_mesh {
-  int dim;            /* dimension of the analysed elements */
-  size_t nnodes;      /* number of nodes */
-  size_t *node_tags;  /* [nnodes] Gmsh node tags */
-  double *xyz;        /* [nnodes][3] coordinates, m */
+  int dim;           /* dimension of the analysed elements */
+  size_t nnodes;     /* number of nodes */
+  size_t *node_tags; /* [nnodes] Gmsh node tags */
+  double *xyz;       /* [nnodes][3] coordinates, m */
   int nblocks;
-  dtm_block *blocks;  /* [nblocks], one per element type present */
+  dtm_block *blocks; /* [nblocks], one per element type present */
   int ngroups;
-  dtm_group *groups;  /* [ngroups] physical groups of dimension dim */
+  dtm_group *groups; /* [ngroups] physical groups of dimension dim */
 } dtm_mesh;
 
 /* Total number of elements over all blocks. */

@@ -21,9 +21,8 @@ typedef struct dtm_operator dtm_operator;
  * (dtm_block.mat), all of the same kind (DTM_OP_ELASTIC or DTM_OP_DIFFUSION);
  * alpha[i], beta[i] Rayleigh damping per material (NULL: undamped). The
  * operator copies what it needs; the mesh must outlive it. */
-int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
-                        const double *alpha, const double *beta, int nmat,
-                        dtm_operator **out);
+int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                        const double *beta, int nmat, dtm_operator **out);
 void dtm_operator_destroy(dtm_operator **op);
 
 size_t dtm_operator_ndof(const dtm_operator *op);
@@ -40,22 +39,21 @@ void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y);
 void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y);
 
 typedef struct {
-  double theta;     /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
-  double residual;  /* ||A y - theta y|| measured on the returned unit Ritz
-                       vector y (one extra product): an eigenvalue lies in
-                       [theta - residual, theta + residual] */
-  int iterations;   /* Lanczos steps k; a call costs about 2k products, as
-                       the Ritz vector is rebuilt by a second pass */
-  int converged;    /* invariant subspace, or residual <= tol * theta */
-  double seconds;   /* wall time */
-  double *mode;     /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
-                       normalised so that u^T M u = 1 (owned, free()) */
+  double theta;    /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
+  double residual; /* ||A y - theta y|| measured on the returned unit Ritz
+                      vector y (one extra product): an eigenvalue lies in
+                      [theta - residual, theta + residual] */
+  int iterations;  /* Lanczos steps k; a call costs about 2k products, as
+                      the Ritz vector is rebuilt by a second pass */
+  int converged;   /* invariant subspace, or residual <= tol * theta */
+  double seconds;  /* wall time */
+  double *mode;    /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
+                      normalised so that u^T M u = 1 (owned, free()) */
 } dtm_lanczos_result;
 
 /* Lanczos on M^-1/2 K M^-1/2 from a seeded random start, at most maxit
  * products, stopping when residual <= tol * theta. */
-int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed,
-                    dtm_lanczos_result *r);
+int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
 /* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, half
  * the products) and residual is Paige's estimate |beta_k s_k|, which bounds
  * the distance from theta to an eigenvalue up to O(eps |A|). */
@@ -63,10 +61,10 @@ int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned s
                        dtm_lanczos_result *r);
 
 typedef struct {
-  int steps;          /* steps taken */
-  double growth;      /* max over the last half of the run of the energy
-                         norm, divided by its initial value */
-  int unstable;       /* growth > 1e6, or any non-finite value */
+  int steps;     /* steps taken */
+  double growth; /* max over the last half of the run of the energy
+                    norm, divided by its initial value */
+  int unstable;  /* growth > 1e6, or any non-finite value */
   double seconds;
 } dtm_verify_result;
 
@@ -74,7 +72,6 @@ typedef struct {
  * and the damping force on the lagged velocity v_{n-1/2} (starting at rest:
  * u_{-1} = u_0); diffusion by forward Euler. The energy norm is
  * sqrt(u^T K u + v^T M v) (elastic) or sqrt(u^T M u) (diffusion). */
-int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0,
-                   dtm_verify_result *r);
+int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0, dtm_verify_result *r);
 
 #endif

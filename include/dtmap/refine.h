@@ -12,10 +12,10 @@
 #include "dtmap/analysis.h"
 
 typedef struct dtm_refine_round_s {
-  size_t elements;     /* analysed elements after the round */
-  double dt_min;       /* smallest element step, s */
-  double recommended;  /* recommended step, s */
-  double seconds;      /* wall time of the round (mesh + analysis) */
+  size_t elements;    /* analysed elements after the round */
+  double dt_min;      /* smallest element step, s */
+  double recommended; /* recommended step, s */
+  double seconds;     /* wall time of the round (mesh + analysis) */
 } dtm_refine_round;
 
 #define DTM_REFINE_MAX_ROUNDS 32
@@ -25,7 +25,7 @@ typedef struct dtm_refine_round_s {
  * the final analysis (its scene is *scene_copy, which the caller keeps
  * alive and which carries target as its <time target>). Returns DTM_OK even
  * when the target is not met: compare (*out)->recommended with target. */
-int dtm_refine(const dtm_scene *s, double target, int max_rounds, dtm_scene *scene_copy,
-               dtm_refine_round *rounds, int *nrounds, dtm_analysis **out);
+int dtm_refine(const dtm_scene *s, double target, int max_rounds, dtm_scene *scene_copy, dtm_refine_round *rounds,
+               int *nrounds, dtm_analysis **out);
 
 #endif

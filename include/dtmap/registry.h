@@ -16,22 +16,20 @@ int dtm_registry_find(const char *name, const dtm_effect_class **out);
 /* Load an external effect from a shared library: resolve
  * DTM_EFFECT_ENTRY_SYMBOL, check the API version and the name. *handle is
  * the dlopen handle, closed by dtm_effects_destroy. */
-int dtm_registry_load(const char *library, const char *name,
-                      const dtm_effect_class **out, void **handle);
+int dtm_registry_load(const char *library, const char *name, const dtm_effect_class **out, void **handle);
 
 /* One created effect of a scene. */
 typedef struct {
-  const dtm_effect_class *cls;   /* its class (not owned) */
-  void *state;                   /* created by cls->create (owned) */
-  void *handle;                  /* dlopen handle of an external effect, or NULL */
-  const dtm_scene_effect *se;    /* its scene element (not owned) */
+  const dtm_effect_class *cls; /* its class (not owned) */
+  void *state;                 /* created by cls->create (owned) */
+  void *handle;                /* dlopen handle of an external effect, or NULL */
+  const dtm_scene_effect *se;  /* its scene element (not owned) */
 } dtm_effect;
 
 /* Create the scene's effects, in scene order, against mesh m (for group
  * look-ups and the analysed dimension), and check that every material used
  * by an element has what every effect needs. */
-int dtm_effects_create(const dtm_scene *s, const dtm_mesh *m, dtm_effect **out,
-                       int *n);
+int dtm_effects_create(const dtm_scene *s, const dtm_mesh *m, dtm_effect **out, int *n);
 void dtm_effects_destroy(dtm_effect **e, int n);
 
 #endif

@@ -8,43 +8,43 @@
 #include "dtmap/material.h"
 
 typedef struct {
-  dtm_material m;   /* name, line, properties */
-  int is_default;   /* default="true": for elements in no mapped group */
-  int ngroups;      /* number of group references */
-  char **groups;    /* [ngroups] physical group names or numbers, as written */
+  dtm_material m; /* name, line, properties */
+  int is_default; /* default="true": for elements in no mapped group */
+  int ngroups;    /* number of group references */
+  char **groups;  /* [ngroups] physical group names or numbers, as written */
 } dtm_scene_material;
 
 typedef struct {
-  char *name;       /* element name (<elastic/> -> "elastic"), or name= of <effect> */
-  char *library;    /* resolved path of <effect library=...>, NULL for built-ins */
-  int line;         /* line of the element */
-  int nattr;        /* number of attributes */
-  char **keys;      /* [nattr] attribute names */
-  char **values;    /* [nattr] attribute values */
+  char *name;    /* element name (<elastic/> -> "elastic"), or name= of <effect> */
+  char *library; /* resolved path of <effect library=...>, NULL for built-ins */
+  int line;      /* line of the element */
+  int nattr;     /* number of attributes */
+  char **keys;   /* [nattr] attribute names */
+  char **values; /* [nattr] attribute values */
 } dtm_scene_effect;
 
 typedef struct dtm_scene {
-  char *path;             /* scene file as given */
-  char *dir;              /* its directory ("." if none) */
-  char *geometry;         /* resolved <geometry file>, or NULL */
-  char *mesh;             /* resolved <mesh file>, or NULL */
-  int source_line;        /* line of <geometry> or <mesh> */
-  double mesh_size;       /* <meshing size>, m; 0 when unset */
-  double mesh_min_size;   /* <meshing min-size>, m; 0 when unset */
-  int mesh_order;         /* <meshing order>; 1 when unset */
-  int mesh_dim;           /* <meshing dim>; 0 when unset (highest dimension) */
+  char *path;           /* scene file as given */
+  char *dir;            /* its directory ("." if none) */
+  char *geometry;       /* resolved <geometry file>, or NULL */
+  char *mesh;           /* resolved <mesh file>, or NULL */
+  int source_line;      /* line of <geometry> or <mesh> */
+  double mesh_size;     /* <meshing size>, m; 0 when unset */
+  double mesh_min_size; /* <meshing min-size>, m; 0 when unset */
+  int mesh_order;       /* <meshing order>; 1 when unset */
+  int mesh_dim;         /* <meshing dim>; 0 when unset (highest dimension) */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
   int neffects;
-  dtm_scene_effect *effects;     /* [neffects] in file order */
-  int effects_line;       /* line of <effects> */
-  double safety;          /* <time safety>; 0.9 when unset */
-  double target;          /* <time target>, s; 0 when unset */
-  double duration;        /* <time duration>, s; 0 when unset */
-  double f_max;           /* <time f-max>, Hz; 0 when unset */
+  dtm_scene_effect *effects;      /* [neffects] in file order */
+  int effects_line;               /* line of <effects> */
+  double safety;                  /* <time safety>; 0.9 when unset */
+  double target;                  /* <time target>, s; 0 when unset */
+  double duration;                /* <time duration>, s; 0 when unset */
+  double f_max;                   /* <time f-max>, Hz; 0 when unset */
   double elements_per_wavelength; /* <time elements-per-wavelength>; 10 when unset */
-  char *out_mesh;         /* resolved <output mesh>, or NULL */
-  char *out_report;       /* resolved <output report>, or NULL */
+  char *out_mesh;                 /* resolved <output mesh>, or NULL */
+  char *out_report;               /* resolved <output report>, or NULL */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

@@ -9,8 +9,8 @@
 #ifndef DTMAP_TOPOLOGY_H
 #define DTMAP_TOPOLOGY_H
 
-#define DTM_MAX_FACETS 6       /* hex8 (and hex20, hex27) */
-#define DTM_MAX_FACET_NODES 4  /* quadrilateral face, corner nodes only */
+#define DTM_MAX_FACETS 6      /* hex8 (and hex20, hex27) */
+#define DTM_MAX_FACET_NODES 4 /* quadrilateral face, corner nodes only */
 
 /* Number of edges of type, and *edges pointing at [count][2] local nodes. */
 int dtm_elem_edges(int type, const int (**edges)[2]);

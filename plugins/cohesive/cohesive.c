@@ -20,15 +20,15 @@
 #include "dtmap/mesh.h"
 #include "dtmap/topology.h"
 
-#define LITERATURE_FACTOR 30.0 /* Baylor (1997), via the CVFE review in shared/seeds */
+#define LITERATURE_FACTOR 30.0        /* Baylor (1997), via the CVFE review in shared/seeds */
 #define PI_OVER_8 0.39269908169872414 /* M_PI is not C11 */
 
 typedef struct {
-  dtm_formulation form;  /* elastic formulation for E' and the elastic step */
-  double n_per_zone;     /* elements across the process zone */
-  double stiffness;      /* interface stiffness, Pa/m; 0 = use the 1/30 rule */
+  dtm_formulation form; /* elastic formulation for E' and the elastic step */
+  double n_per_zone;    /* elements across the process zone */
+  double stiffness;     /* interface stiffness, Pa/m; 0 = use the 1/30 rule */
   int ngroups;
-  char *in;              /* [ngroups] 1 where the group has cohesive elements */
+  char *in;                /* [ngroups] 1 where the group has cohesive elements */
   unsigned long long mask; /* the same groups as a bit mask */
 } cohesive_state;
 

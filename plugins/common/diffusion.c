@@ -6,24 +6,21 @@
 
 #include "diffusion.h"
 
-int dtm_diffusion_element_dt(dtm_diffusion_coeffs_fn coeffs, const dtm_batch *b, double *dt,
-                             double *len) {
+int dtm_diffusion_element_dt(dtm_diffusion_coeffs_fn coeffs, const dtm_batch *b, double *dt, double *len) {
   const dtm_material *last = NULL;
   double D = 0, k, c;
   for (size_t e = 0; e < b->n; e++) {
     if (b->mat[e] != last) last = b->mat[e], coeffs(last, &k, &c), D = k / c;
     double lambda;
     if (dtm_kernel_diffusion_lambda(b->type, D, b->x + 3 * (size_t)b->nn * e, &lambda))
-      return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type),
-                     dtm_error_message());
+      return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type), dtm_error_message());
     dt[e] = 2.0 / lambda;
     len[e] = sqrt(2.0 * D * dt[e]);
   }
   return DTM_OK;
 }
 
-int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_material *m,
-                               dtm_operator_coeffs *c) {
+int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_material *m, dtm_operator_coeffs *c) {
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_DIFFUSION;
   c->dt_is_bound = 1;

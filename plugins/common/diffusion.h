@@ -12,10 +12,8 @@ typedef void (*dtm_diffusion_coeffs_fn)(const dtm_material *m, double *k, double
 
 /* element_dt of a diffusion effect; the characteristic length is
  * sqrt(2 D dt), the element length for a 2-node bar (dt = h^2/(2 D)). */
-int dtm_diffusion_element_dt(dtm_diffusion_coeffs_fn coeffs, const dtm_batch *b, double *dt,
-                             double *len);
+int dtm_diffusion_element_dt(dtm_diffusion_coeffs_fn coeffs, const dtm_batch *b, double *dt, double *len);
 /* coefficients() of a diffusion effect. */
-int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_material *m,
-                               dtm_operator_coeffs *c);
+int dtm_diffusion_coefficients(dtm_diffusion_coeffs_fn coeffs, const dtm_material *m, dtm_operator_coeffs *c);
 
 #endif

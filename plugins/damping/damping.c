@@ -13,9 +13,9 @@
 #include "dtmap/effect.h"
 
 typedef struct {
-  double xi;     /* constant damping ratio */
-  double alpha;  /* Rayleigh mass coefficient, 1/s */
-  double beta;   /* Rayleigh stiffness coefficient, s */
+  double xi;    /* constant damping ratio */
+  double alpha; /* Rayleigh mass coefficient, 1/s */
+  double beta;  /* Rayleigh stiffness coefficient, s */
 } damping_state;
 
 static int damping_create(const dtm_effect_args *a, void **state) {
@@ -23,8 +23,7 @@ static int damping_create(const dtm_effect_args *a, void **state) {
   DTM_CHECK(dtm_effect_args_double(a, "xi", 0.0, &d.xi));
   DTM_CHECK(dtm_effect_args_double(a, "alpha", 0.0, &d.alpha));
   DTM_CHECK(dtm_effect_args_double(a, "beta", 0.0, &d.beta));
-  if (d.xi < 0 || d.alpha < 0 || d.beta < 0)
-    return dtm_effect_args_error(a, "xi, alpha and beta must be >= 0");
+  if (d.xi < 0 || d.alpha < 0 || d.beta < 0) return dtm_effect_args_error(a, "xi, alpha and beta must be >= 0");
   damping_state *s = malloc(sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   *s = d;
@@ -57,8 +56,7 @@ static int damping_factor(void *state, const dtm_material *m, double omega, doub
 /* Equivalent Rayleigh coefficients: a constant xi is charged to the
  * stiffness term at the top frequency, beta = 2 xi / omega_top, so that
  * xi(omega_top) is the scene's value. */
-static int damping_rayleigh(void *state, const dtm_material *m, double omega_top, double *alpha,
-                            double *beta) {
+static int damping_rayleigh(void *state, const dtm_material *m, double omega_top, double *alpha, double *beta) {
   damping_state c = coeffs_for(state, m);
   *alpha = c.alpha;
   *beta = c.beta + 2.0 * c.xi / omega_top;

@@ -15,16 +15,15 @@
 #include "dtmap/topology.h"
 
 typedef struct {
-  dtm_formulation form;  /* wave formulation */
-  dtm_length_kind kind;  /* how dt_e is obtained */
-  double fmax;           /* highest frequency of interest, Hz (0: none) */
-  double per_wave;       /* elements per wavelength required */
+  dtm_formulation form; /* wave formulation */
+  dtm_length_kind kind; /* how dt_e is obtained */
+  double fmax;          /* highest frequency of interest, Hz (0: none) */
+  double per_wave;      /* elements per wavelength required */
 } elastic_state;
 
 static const char *const form_names[] = {"3d", "plane-strain", "plane-stress", "bar"};
 static const int form_dims[] = {3, 2, 2, 1};
-static const char *const length_names[] = {"eigen", "safe", "min-edge",
-                                           "min-altitude", "inradius", "volume-area"};
+static const char *const length_names[] = {"eigen", "safe", "min-edge", "min-altitude", "inradius", "volume-area"};
 
 static int lookup(const char *v, const char *const *names, int n) {
   for (int i = 0; i < n; i++)
@@ -32,9 +31,7 @@ static int lookup(const char *v, const char *const *names, int n) {
   return -1;
 }
 
-static const char *default_form(int dim) {
-  return dim == 3 ? "3d" : dim == 2 ? "plane-strain" : "bar";
-}
+static const char *default_form(int dim) { return dim == 3 ? "3d" : dim == 2 ? "plane-strain" : "bar"; }
 
 static int elastic_create(const dtm_effect_args *a, void **state) {
   const char *f, *l;
@@ -45,8 +42,8 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
   if (fi < 0) return dtm_effect_args_error(a, "unknown formulation '%s'", f);
   if (li < 0) return dtm_effect_args_error(a, "unknown length '%s'", l);
   if (form_dims[fi] != dim)
-    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD",
-                                 f, form_dims[fi], dim);
+    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD", f,
+                                 form_dims[fi], dim);
   elastic_state *s = malloc(sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   s->form = (dtm_formulation)fi;
@@ -58,17 +55,15 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
 }
 
 static int moduli_of(const elastic_state *s, const dtm_material *m, dtm_elastic_moduli *mod) {
-  if (s->form != DTM_FORM_BAR)
-    DTM_CHECK(dtm_material_require(m, DTM_PROP_BIT(DTM_PROP_NU), "elastic"));
+  if (s->form != DTM_FORM_BAR) DTM_CHECK(dtm_material_require(m, DTM_PROP_BIT(DTM_PROP_NU), "elastic"));
   double nu = s->form == DTM_FORM_BAR ? 0.0 : m->prop[DTM_PROP_NU];
-  int r = dtm_elastic_moduli_init(s->form, m->prop[DTM_PROP_E], nu,
-                                  m->prop[DTM_PROP_RHO], mod);
+  int r = dtm_elastic_moduli_init(s->form, m->prop[DTM_PROP_E], nu, m->prop[DTM_PROP_RHO], mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
   return DTM_OK;
 }
 
-static int one_element(const elastic_state *s, const dtm_batch *b, size_t e,
-                       const dtm_elastic_moduli *mod, double *dt) {
+static int one_element(const elastic_state *s, const dtm_batch *b, size_t e, const dtm_elastic_moduli *mod,
+                       double *dt) {
   const double *x = b->x + 3 * (size_t)b->nn * e;
   if (s->kind != DTM_LEN_EIGEN) {
     double L = dtm_kernel_length(b->type, s->kind, x);
@@ -78,8 +73,7 @@ static int one_element(const elastic_state *s, const dtm_batch *b, size_t e,
   }
   double lambda;
   if (dtm_kernel_elastic_lambda(b->type, mod, x, &lambda))
-    return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type),
-                   dtm_error_message());
+    return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type), dtm_error_message());
   *dt = 2.0 / sqrt(lambda);
   return DTM_OK;
 }

@@ -24,8 +24,7 @@ const dtm_effect_class dtm_effect_hydraulic = {
     .name = "hydraulic",
     .summary = "pore-fluid diffusion, forward Euler with lumped storage (permeability, viscosity, storage)",
     .role = DTM_ROLE_LIMITS,
-    .needs = DTM_PROP_BIT(DTM_PROP_PERMEABILITY) | DTM_PROP_BIT(DTM_PROP_VISCOSITY) |
-             DTM_PROP_BIT(DTM_PROP_STORAGE),
+    .needs = DTM_PROP_BIT(DTM_PROP_PERMEABILITY) | DTM_PROP_BIT(DTM_PROP_VISCOSITY) | DTM_PROP_BIT(DTM_PROP_STORAGE),
     .exponent = 2.0,
     .element_dt = hydraulic_element_dt,
     .coefficients = hydraulic_coefficients,

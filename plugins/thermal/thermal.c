@@ -24,8 +24,7 @@ const dtm_effect_class dtm_effect_thermal = {
     .name = "thermal",
     .summary = "heat conduction, forward Euler with lumped capacity (conductivity, heat-capacity, rho)",
     .role = DTM_ROLE_LIMITS,
-    .needs = DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY) | DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY) |
-             DTM_PROP_BIT(DTM_PROP_RHO),
+    .needs = DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY) | DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY) | DTM_PROP_BIT(DTM_PROP_RHO),
     .exponent = 2.0,
     .element_dt = thermal_element_dt,
     .coefficients = thermal_coefficients,

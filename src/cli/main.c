@@ -64,7 +64,8 @@ static int cmd_effects(void) {
 
 int main(int argc, char **argv) {
   const char *cmd = argc > 1 ? argv[1] : "";
-  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return printf("%s%s", dtm_cli_usage_short, usage_long), 0;
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help"))
+    return printf("%s%s", dtm_cli_usage_short, usage_long), 0;
   if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;
   if (!strcmp(cmd, "run")) return dtm_cli_run(argc, argv, 0);
   if (!strcmp(cmd, "verify")) return dtm_cli_run(argc, argv, 1);

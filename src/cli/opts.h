@@ -6,19 +6,19 @@
 #include <stddef.h>
 
 typedef struct {
-  const char *scene;   /* SCENE.xml */
-  const char *out;     /* -o, or NULL */
-  const char *report;  /* --report, or NULL */
-  int threads;         /* -j, 0 = default */
-  int verbosity;       /* 0 quiet, 1 normal, 2 verbose */
-  int posterior;       /* --posterior */
-  double tol;          /* --tol, Lanczos relative residual */
-  int lanczos_max;     /* --lanczos-max: Lanczos products */
-  int max_iter;        /* refine --max-iter: rounds */
-  double target;       /* refine --target, s */
-  double factor;       /* verify --factor */
-  double dt;           /* verify --dt (0: use factor x recommended) */
-  int steps;           /* verify --steps */
+  const char *scene;  /* SCENE.xml */
+  const char *out;    /* -o, or NULL */
+  const char *report; /* --report, or NULL */
+  int threads;        /* -j, 0 = default */
+  int verbosity;      /* 0 quiet, 1 normal, 2 verbose */
+  int posterior;      /* --posterior */
+  double tol;         /* --tol, Lanczos relative residual */
+  int lanczos_max;    /* --lanczos-max: Lanczos products */
+  int max_iter;       /* refine --max-iter: rounds */
+  double target;      /* refine --target, s */
+  double factor;      /* verify --factor */
+  double dt;          /* verify --dt (0: use factor x recommended) */
+  int steps;          /* verify --steps */
 } run_opts;
 
 /* The usage lines (main.c); --help adds the long description. */

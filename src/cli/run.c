@@ -31,8 +31,8 @@ static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_
   for (int k = 0; k < a->neffects; k++) {
     if (!v[k].simulated) continue;
     const dtm_global_info *g = &a->global[k];
-    printf("  %-10s %-12.4g [%.4e, %.4e] %-12.3f %s\n", a->effects[k].cls->name, v[k].growth, g->dt_low,
-           g->dt_high, v[k].seconds, v[k].unstable ? "UNSTABLE" : "stable");
+    printf("  %-10s %-12.4g [%.4e, %.4e] %-12.3f %s\n", a->effects[k].cls->name, v[k].growth, g->dt_low, g->dt_high,
+           v[k].seconds, v[k].unstable ? "UNSTABLE" : "stable");
   }
 }
 
@@ -78,4 +78,3 @@ int dtm_cli_run(int argc, char **argv, int verify) {
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o.verbosity) : 0;
 }
-

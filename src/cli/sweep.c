@@ -16,25 +16,24 @@
 #include "dtmap/scene.h"
 #include "dtmap/sweep.h"
 
-static const char sweep_usage[] =
-    "usage: dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-v|-q]\n"
-    "\n"
-    "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
-    "and prints, per size: elements, nodes, the smallest element step, the recommended\n"
-    "step, the steps the scene's <time duration> takes, its cost in element-steps with\n"
-    "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
-    "elements per cohesive zone and per wavelength, and dtmap's own time.\n"
-    "  --sizes h1,h2,...  mesh sizes, m, comma-separated (required)\n"
-    "  --csv F            table as CSV (default SCENE_sweep.csv)\n"
-    "  --plot F.png       cost against accuracy, log-log (default SCENE_sweep.png)\n"
-    "  -v, -q             more output (Gmsh's messages, error tracebacks) / table off\n";
+static const char sweep_usage[] = "usage: dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-v|-q]\n"
+                                  "\n"
+                                  "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
+                                  "and prints, per size: elements, nodes, the smallest element step, the recommended\n"
+                                  "step, the steps the scene's <time duration> takes, its cost in element-steps with\n"
+                                  "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
+                                  "elements per cohesive zone and per wavelength, and dtmap's own time.\n"
+                                  "  --sizes h1,h2,...  mesh sizes, m, comma-separated (required)\n"
+                                  "  --csv F            table as CSV (default SCENE_sweep.csv)\n"
+                                  "  --plot F.png       cost against accuracy, log-log (default SCENE_sweep.png)\n"
+                                  "  -v, -q             more output (Gmsh's messages, error tracebacks) / table off\n";
 
 typedef struct {
-  const char *scene;  /* SCENE.xml */
-  const char *sizes;  /* --sizes text */
-  const char *csv;    /* --csv, or NULL for the default */
-  const char *plot;   /* --plot, or NULL for the default */
-  int verbosity;      /* 0 quiet, 1 normal, 2 verbose */
+  const char *scene; /* SCENE.xml */
+  const char *sizes; /* --sizes text */
+  const char *csv;   /* --csv, or NULL for the default */
+  const char *plot;  /* --plot, or NULL for the default */
+  int verbosity;     /* 0 quiet, 1 normal, 2 verbose */
 } sweep_opts;
 
 static int sweep_usage_error(const char *what, const char *arg) {
@@ -46,14 +45,22 @@ static int parse_opts(int argc, char **argv, sweep_opts *o) {
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
     int has_next = i + 1 < argc;
-    if (!strcmp(a, "--sizes") && has_next) o->sizes = argv[++i];
-    else if (!strcmp(a, "--csv") && has_next) o->csv = argv[++i];
-    else if (!strcmp(a, "--plot") && has_next) o->plot = argv[++i];
-    else if (!strcmp(a, "-v")) o->verbosity = 2;
-    else if (!strcmp(a, "-q")) o->verbosity = 0;
-    else if (a[0] == '-') return sweep_usage_error("unknown option or missing value: ", a);
-    else if (!o->scene) o->scene = a;
-    else return sweep_usage_error("more than one scene: ", a);
+    if (!strcmp(a, "--sizes") && has_next)
+      o->sizes = argv[++i];
+    else if (!strcmp(a, "--csv") && has_next)
+      o->csv = argv[++i];
+    else if (!strcmp(a, "--plot") && has_next)
+      o->plot = argv[++i];
+    else if (!strcmp(a, "-v"))
+      o->verbosity = 2;
+    else if (!strcmp(a, "-q"))
+      o->verbosity = 0;
+    else if (a[0] == '-')
+      return sweep_usage_error("unknown option or missing value: ", a);
+    else if (!o->scene)
+      o->scene = a;
+    else
+      return sweep_usage_error("more than one scene: ", a);
   }
   if (!o->scene) return sweep_usage_error("needs a scene file", "");
   if (!o->sizes) return sweep_usage_error("needs --sizes h1,h2,... (mesh sizes in m)", "");

@@ -20,8 +20,7 @@ int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg) {
   eg->bad_det = 0;
   if (dtm_elem_local(type, x, eg->xl)) return -1;
   dtm_ref_rule(type, &eg->q);
-  eg->bad = dtm_map_first_bad(type, eg->d, eg->nn, (const double (*)[3])eg->xl,
-                              &eg->q, &eg->bad_det);
+  eg->bad = dtm_map_first_bad(type, eg->d, eg->nn, (const double(*)[3])eg->xl, &eg->q, &eg->bad_det);
   return eg->bad < 0 ? 0 : -1;
 }
 
@@ -29,29 +28,24 @@ int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg) {
   DTM_CHECK(dtm_elem_info(type, NULL, NULL));
   if (!dtm_elem_setup(type, x, eg)) return DTM_OK;
   if (eg->bad < 0)
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "degenerate or inverted %s element: its nodes span no %s",
-                   dtm_elem_name(type), eg->d == 1 ? "line" : "plane");
+    return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: its nodes span no %s", dtm_elem_name(type),
+                   eg->d == 1 ? "line" : "plane");
   int node = eg->bad >= eg->q.n;
   return DTM_ERR(DTM_ERR_INPUT,
                  "degenerate or inverted %s element: Jacobian determinant %g "
                  "at %s %d",
-                 dtm_elem_name(type), eg->bad_det,
-                 node ? "node" : "quadrature point",
+                 dtm_elem_name(type), eg->bad_det, node ? "node" : "quadrature point",
                  node ? eg->bad - eg->q.n : eg->bad);
 }
 
 /* Calls visit(ctx, N, g, dv) at every quadrature point. */
 static void each_point(const dtm_elem_geom *eg,
-                       void (*visit)(void *, const dtm_elem_geom *,
-                                     const double *, const double (*)[3],
-                                     double),
+                       void (*visit)(void *, const dtm_elem_geom *, const double *, const double (*)[3], double),
                        void *ctx) {
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv;
   for (int k = 0; k < eg->q.n; k++) {
-    dtm_map_eval(eg->type, eg->d, eg->nn, (const double (*)[3])eg->xl,
-                 eg->q.p[k], eg->q.w[k], N, g, &dv);
-    visit(ctx, eg, N, (const double (*)[3])g, dv);
+    dtm_map_eval(eg->type, eg->d, eg->nn, (const double(*)[3])eg->xl, eg->q.p[k], eg->q.w[k], N, g, &dv);
+    visit(ctx, eg, N, (const double(*)[3])g, dv);
   }
 }
 
@@ -61,8 +55,7 @@ static double dot(int d, const double *a, const double *b) {
   return s;
 }
 
-static void add_laplace(void *ctx, const dtm_elem_geom *eg, const double *N,
-                        const double (*g)[3], double dv) {
+static void add_laplace(void *ctx, const dtm_elem_geom *eg, const double *N, const double (*g)[3], double dv) {
   double *K = ctx;
   (void)N;
   for (int a = 0; a < eg->nn; a++)
@@ -74,8 +67,7 @@ typedef struct {
   double *K;      /* [nn*d][nn*d] */
 } elastic_ctx;
 
-static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N,
-                        const double (*g)[3], double dv) {
+static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N, const double (*g)[3], double dv) {
   elastic_ctx *c = ctx;
   int d = eg->d, n = eg->nn * d;
   (void)N;
@@ -85,8 +77,7 @@ static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N,
       for (int i = 0; i < d; i++)
         for (int j = 0; j < d; j++)
           c->K[(a * d + i) * n + b * d + j] +=
-              dv * (c->lam * g[a][i] * g[b][j] + c->mu * g[a][j] * g[b][i] +
-                    (i == j ? gg : 0));
+              dv * (c->lam * g[a][i] * g[b][j] + c->mu * g[a][j] * g[b][i] + (i == j ? gg : 0));
     }
 }
 
@@ -94,8 +85,7 @@ static void add_elastic(void *ctx, const dtm_elem_geom *eg, const double *N,
  * dv folded into the moduli (so the rounding differs from add_elastic's
  * in the last bits, which is why the linear types keep add_elastic);
  * dtm_elem_stiffness mirrors the rest. g[a][i] is 0 for i >= d. */
-static void add_elastic_sym(void *ctx, const dtm_elem_geom *eg,
-                            const double *N, const double (*g)[3], double dv) {
+static void add_elastic_sym(void *ctx, const dtm_elem_geom *eg, const double *N, const double (*g)[3], double dv) {
   elastic_ctx *c = ctx;
   int d = eg->d, n = eg->nn * d;
   double lam = c->lam * dv, mu = c->mu * dv;
@@ -127,8 +117,7 @@ static void mirror(int nn, int d, double *K) {
 }
 
 void dtm_elem_mass(const dtm_elem_geom *eg, double *m) {
-  dtm_lumped_mass(eg->type, eg->d, eg->nn, (const double (*)[3])eg->xl,
-                  &eg->q, m);
+  dtm_lumped_mass(eg->type, eg->d, eg->nn, (const double(*)[3])eg->xl, &eg->q, m);
 }
 
 void dtm_elem_laplace(const dtm_elem_geom *eg, double *K) {
@@ -136,8 +125,7 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K) {
   each_point(eg, add_laplace, K);
 }
 
-void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m,
-                        double *K) {
+void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K) {
   int n = eg->nn * eg->d;
   elastic_ctx c = {m->lam, m->mu, K};
   if (eg->d == 1) c.lam = m->modulus, c.mu = 0; /* axial stiffness only */

@@ -7,15 +7,15 @@
 #include "kernel/kernel_impl.h"
 
 typedef struct {
-  int type;                    /* Gmsh type code */
-  int d;                       /* dimension of the element's own frame */
-  int nn;                      /* node count */
-  double xl[DTM_K_NODES][3];   /* nodes in the element frame, m */
-  dtm_qrule q;                 /* full-integration rule */
-  int bad;                     /* after a failed setup: first bad point
-                                  (see dtm_map_first_bad), or -1 when the
-                                  nodes span no frame */
-  double bad_det;              /* det J at that point */
+  int type;                  /* Gmsh type code */
+  int d;                     /* dimension of the element's own frame */
+  int nn;                    /* node count */
+  double xl[DTM_K_NODES][3]; /* nodes in the element frame, m */
+  dtm_qrule q;               /* full-integration rule */
+  int bad;                   /* after a failed setup: first bad point
+                                (see dtm_map_first_bad), or -1 when the
+                                nodes span no frame */
+  double bad_det;            /* det J at that point */
 } dtm_elem_geom;
 
 /* Fill eg for the element with coordinates x[nn][3]. Returns 0, or -1
@@ -31,14 +31,12 @@ void dtm_elem_mass(const dtm_elem_geom *eg, double *m);
 void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
-void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m,
-                        double *K);
+void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
 /* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n] of an
  * element of the given type, where unknown k belongs to node k / per (per
  * unknowns per node); K destroyed. Jacobi for linear types,
  * tridiagonalization for second-order ones. DTM_ERR_INPUT if a mass is not
  * positive. */
-int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m,
-                       double *lambda);
+int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda);
 
 #endif

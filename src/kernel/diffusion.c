@@ -14,18 +14,19 @@ static int simplex(int type, double alpha, const double *x, double *lambda) {
   double S[6], scale, vol, s[2];
   dtm_top3 t;
   DTM_CHECK(dtm_simplex_metric(type, x, &d, S, &scale, &vol));
-  if (d == 3) dtm_eig3_top(S, &t), s[0] = t.s1;
-  else if (d == 2) dtm_eig2_sym(S[0], S[3], S[1], s);
-  else s[0] = S[0];
+  if (d == 3)
+    dtm_eig3_top(S, &t), s[0] = t.s1;
+  else if (d == 2)
+    dtm_eig2_sym(S[0], S[3], S[1], s);
+  else
+    s[0] = S[0];
   *lambda = (d + 1) * alpha * scale * s[0];
   return DTM_OK;
 }
 
-int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x,
-                                double *lambda) {
+int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double *lambda) {
   if (!isfinite(alpha) || !(alpha > 0))
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "diffusivity must be finite and > 0 (got %g m^2/s)", alpha);
+    return DTM_ERR(DTM_ERR_INPUT, "diffusivity must be finite and > 0 (got %g m^2/s)", alpha);
   DTM_CHECK(dtm_elem_info(type, NULL, NULL));
   if (dtm_elem_is_simplex(type))
     DTM_CHECK(simplex(type, alpha, x, lambda));

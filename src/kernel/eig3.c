@@ -27,8 +27,6 @@
 
 static const double PI = 3.14159265358979323846;
 
-
-
 void dtm_eig2_sym(double a, double b, double c, double e[2]) {
   double m = 0.5 * (a + c), h = 0.5 * (a - c), r = sqrt(h * h + b * b);
   e[0] = m + r;
@@ -45,9 +43,7 @@ static void mul(const double b[6], const double *x, double *y) {
 /* Unit null vector of B - e I (e a simple eigenvalue of B): the longest
  * cross product of two of its rows. Returns -1 if none is usable. */
 static int null_vector(const double b[6], double e, double *v) {
-  double r[3][3] = {{b[0] - e, b[3], b[4]},
-                    {b[3], b[1] - e, b[5]},
-                    {b[4], b[5], b[2] - e}};
+  double r[3][3] = {{b[0] - e, b[3], b[4]}, {b[3], b[1] - e, b[5]}, {b[4], b[5], b[2] - e}};
   double c[3][3], n[3];
   dtm_v3_cross(r[0], r[1], c[0]);
   dtm_v3_cross(r[0], r[2], c[1]);
@@ -62,8 +58,7 @@ static int null_vector(const double b[6], double e, double *v) {
 
 /* The two eigenvalues of B restricted to the plane normal to unit v. */
 static void restricted_pair(const double b[6], const double *v, double e[2]) {
-  int k = fabs(v[0]) <= fabs(v[1]) ? (fabs(v[0]) <= fabs(v[2]) ? 0 : 2)
-                                   : (fabs(v[1]) <= fabs(v[2]) ? 1 : 2);
+  int k = fabs(v[0]) <= fabs(v[1]) ? (fabs(v[0]) <= fabs(v[2]) ? 0 : 2) : (fabs(v[1]) <= fabs(v[2]) ? 1 : 2);
   double ax[3] = {0, 0, 0}, u1[3], u2[3], y1[3], y2[3];
   ax[k] = 1;
   dtm_v3_cross(v, ax, u1);
@@ -90,8 +85,10 @@ static void deflate(const double b[6], int sep, double e[3]) {
   double v[3], pair[2];
   if (null_vector(b, e[sep], v)) return;
   restricted_pair(b, v, pair);
-  if (sep == 0) e[1] = pair[0], e[2] = pair[1];
-  else e[0] = pair[0], e[1] = pair[1];
+  if (sep == 0)
+    e[1] = pair[0], e[2] = pair[1];
+  else
+    e[0] = pair[0], e[1] = pair[1];
   sort3(e);
 }
 
@@ -108,14 +105,12 @@ static void trig_setup(const double s[6], trig *t) {
   double *b = t->b;
   b[0] = s[0] - t->q, b[1] = s[1] - t->q, b[2] = s[2] - t->q;
   b[3] = s[3], b[4] = s[4], b[5] = s[5];
-  double p2 = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] +
-               2 * (b[3] * b[3] + b[4] * b[4] + b[5] * b[5])) / 6;
+  double p2 = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + 2 * (b[3] * b[3] + b[4] * b[4] + b[5] * b[5])) / 6;
   t->p = sqrt(p2);
   t->r = 0;
   if (!(p2 > 0)) return;
-  double det = b[0] * (b[1] * b[2] - b[5] * b[5]) -
-               b[3] * (b[3] * b[2] - b[5] * b[4]) +
-               b[4] * (b[3] * b[5] - b[1] * b[4]);
+  double det =
+      b[0] * (b[1] * b[2] - b[5] * b[5]) - b[3] * (b[3] * b[2] - b[5] * b[4]) + b[4] * (b[3] * b[5] - b[1] * b[4]);
   double ip = 1 / t->p, r = 0.5 * det * ip * ip * ip;
   t->r = r < -1 ? -1 : (r > 1 ? 1 : r);
 }
@@ -127,8 +122,10 @@ static void shifted_eigs(const trig *t, double e[3], int refine_bottom) {
   e[0] = 2 * t->p * cos(phi);
   e[2] = 2 * t->p * cos(phi + 2 * PI / 3);
   e[1] = -e[0] - e[2];
-  if (t->r < -CLOSE_PAIR) deflate(t->b, 2, e);
-  else if (t->r > CLOSE_PAIR && refine_bottom) deflate(t->b, 0, e);
+  if (t->r < -CLOSE_PAIR)
+    deflate(t->b, 2, e);
+  else if (t->r > CLOSE_PAIR && refine_bottom)
+    deflate(t->b, 0, e);
 }
 
 void dtm_eig3_sym(const double s[6], double e[3]) {

@@ -7,8 +7,7 @@
 #include "dtmap/error.h"
 #include "kernel/kernel_impl.h"
 
-int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m,
-                              const double *x, double *lambda) {
+int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   if (type == DTM_TET4 && m->form == DTM_FORM_3D) /* the hot path */
     DTM_CHECK(dtm_elastic_lambda_simplex(type, m, x, lambda));
   else {

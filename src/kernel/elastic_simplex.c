@@ -87,9 +87,8 @@ static double normal_top3_poly(double mu, double lam, const double S[6]) {
   double off = S[3] * S[3] + S[4] * S[4] + S[5] * S[5];
   double p = sqrt((b0 * b0 + b1 * b1 + b2 * b2 + 2 * off) / 6);
   double I2 = S[0] * S[1] + S[0] * S[2] + S[1] * S[2] - off;
-  double I3 = S[0] * (S[1] * S[2] - S[5] * S[5]) -
-              S[3] * (S[3] * S[2] - S[5] * S[4]) +
-              S[4] * (S[3] * S[5] - S[1] * S[4]);
+  double I3 =
+      S[0] * (S[1] * S[2] - S[5] * S[5]) - S[3] * (S[3] * S[2] - S[5] * S[4]) + S[4] * (S[3] * S[5] - S[1] * S[4]);
   double c2 = (2 * mu + lam) * I1, c1 = 4 * mu * (mu + lam) * I2;
   double c0 = 4 * mu * mu * (2 * mu + 3 * lam) * I3;
   double t = 2 * mu * (q + 2 * p) + lam * I1;
@@ -132,14 +131,15 @@ static double normal_top_full(int d, double mu, double lam, const double *s) {
 static double block_top(int d, const dtm_elastic_moduli *m, const double S[6]) {
   double s[3];
   if (d == 3 && m->lam >= 0) return normal_top3(m->mu, m->lam, S);
-  if (d == 3) dtm_eig3_sym(S, s);
-  else dtm_eig2_sym(S[0], S[3], S[1], s);
+  if (d == 3)
+    dtm_eig3_sym(S, s);
+  else
+    dtm_eig2_sym(S[0], S[3], S[1], s);
   for (int i = 0; i < d; i++) s[i] = fmax(s[i], 0); /* rounding on slivers */
   return fmax(normal_top_full(d, m->mu, m->lam, s), m->mu * (s[0] + s[1]));
 }
 
-int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m,
-                               const double *x, double *lambda) {
+int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   int d;
   double S[6], scale, vol;
   DTM_CHECK(dtm_simplex_metric(type, x, &d, S, &scale, &vol));

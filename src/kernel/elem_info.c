@@ -12,42 +12,68 @@
 #include "kernel/kernel_impl.h"
 
 typedef struct {
-  int type;           /* Gmsh type code */
-  int dim;            /* topological dimension */
-  int nn;             /* node count */
-  const char *name;   /* short name used in messages */
-  int parent;         /* linear parent type (the type itself if linear) */
-  int serendipity;    /* 1: nodes stop after the mid-edge ones */
-  dtm_topology topo;  /* facets and edges (linear types only) */
+  int type;          /* Gmsh type code */
+  int dim;           /* topological dimension */
+  int nn;            /* node count */
+  const char *name;  /* short name used in messages */
+  int parent;        /* linear parent type (the type itself if linear) */
+  int serendipity;   /* 1: nodes stop after the mid-edge ones */
+  dtm_topology topo; /* facets and edges (linear types only) */
 } elem_entry;
 
 /* Facets are ordered so that their Newell normal points out of a
  * positively oriented element (only their measure and plane are used). */
 static const elem_entry table[] = {
     {DTM_LINE2, 1, 2, "line2", DTM_LINE2, 0, {2, {1, 1}, {{0}, {1}}, 1, {{0, 1}}}},
-    {DTM_TRI3, 2, 3, "tri3", DTM_TRI3, 0,
-     {3, {2, 2, 2}, {{0, 1}, {1, 2}, {2, 0}}, 3, {{0, 1}, {1, 2}, {2, 0}}}},
-    {DTM_QUAD4, 2, 4, "quad4", DTM_QUAD4, 0,
-     {4, {2, 2, 2, 2}, {{0, 1}, {1, 2}, {2, 3}, {3, 0}}, 4,
-      {{0, 1}, {1, 2}, {2, 3}, {3, 0}}}},
-    {DTM_TET4, 3, 4, "tet4", DTM_TET4, 0,
-     {4, {3, 3, 3, 3}, {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}, 6,
+    {DTM_TRI3, 2, 3, "tri3", DTM_TRI3, 0, {3, {2, 2, 2}, {{0, 1}, {1, 2}, {2, 0}}, 3, {{0, 1}, {1, 2}, {2, 0}}}},
+    {DTM_QUAD4,
+     2,
+     4,
+     "quad4",
+     DTM_QUAD4,
+     0,
+     {4, {2, 2, 2, 2}, {{0, 1}, {1, 2}, {2, 3}, {3, 0}}, 4, {{0, 1}, {1, 2}, {2, 3}, {3, 0}}}},
+    {DTM_TET4,
+     3,
+     4,
+     "tet4",
+     DTM_TET4,
+     0,
+     {4,
+      {3, 3, 3, 3},
+      {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}},
+      6,
       {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}}}},
-    {DTM_HEX8, 3, 8, "hex8", DTM_HEX8, 0,
-     {6, {4, 4, 4, 4, 4, 4},
-      {{0, 3, 2, 1}, {0, 1, 5, 4}, {0, 4, 7, 3},
-       {1, 2, 6, 5}, {2, 3, 7, 6}, {4, 5, 6, 7}},
+    {DTM_HEX8,
+     3,
+     8,
+     "hex8",
+     DTM_HEX8,
+     0,
+     {6,
+      {4, 4, 4, 4, 4, 4},
+      {{0, 3, 2, 1}, {0, 1, 5, 4}, {0, 4, 7, 3}, {1, 2, 6, 5}, {2, 3, 7, 6}, {4, 5, 6, 7}},
       12,
-      {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
-       {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}}}},
-    {DTM_PRISM6, 3, 6, "prism6", DTM_PRISM6, 0,
-     {5, {3, 3, 4, 4, 4},
+      {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}}}},
+    {DTM_PRISM6,
+     3,
+     6,
+     "prism6",
+     DTM_PRISM6,
+     0,
+     {5,
+      {3, 3, 4, 4, 4},
       {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {0, 3, 5, 2}, {1, 2, 5, 4}},
       9,
-      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {3, 5},
-       {4, 5}}}},
-    {DTM_PYR5, 3, 5, "pyr5", DTM_PYR5, 0,
-     {5, {4, 3, 3, 3, 3},
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {3, 5}, {4, 5}}}},
+    {DTM_PYR5,
+     3,
+     5,
+     "pyr5",
+     DTM_PYR5,
+     0,
+     {5,
+      {4, 3, 3, 3, 3},
       {{0, 3, 2, 1}, {0, 1, 4}, {3, 0, 4}, {1, 2, 4}, {2, 3, 4}},
       8,
       {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 4}, {2, 3}, {2, 4}, {3, 4}}}},
@@ -94,9 +120,7 @@ const char *dtm_elem_name(int type) {
 
 /* The closed forms hold for linear simplices only: tri6 and tet10 are not
  * "simplices" here. */
-int dtm_elem_is_simplex(int type) {
-  return type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TET4;
-}
+int dtm_elem_is_simplex(int type) { return type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TET4; }
 
 int dtm_elem_parent(int type) {
   const elem_entry *e = find(type);

@@ -26,5 +26,7 @@ int dtm_form_check(int type, int d, int f) {
                  "%s elements (dimension %d) cannot use the %s elastic "
                  "formulation: use %s",
                  dtm_elem_name(type), d, form_name(f),
-                 d == 3 ? "3d" : d == 2 ? "plane-strain or plane-stress" : "bar");
+                 d == 3   ? "3d"
+                 : d == 2 ? "plane-strain or plane-stress"
+                          : "bar");
 }

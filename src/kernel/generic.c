@@ -13,14 +13,11 @@
 #include "kernel/assemble.h"
 #include "kernel/kernel_impl.h"
 
-int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m,
-                       double *lambda) {
+int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda) {
   double r[DTM_K_DOF];
   for (int k = 0; k < n; k++) {
     if (!(m[k / per] > 0))
-      return DTM_ERR(DTM_ERR_INPUT,
-                     "degenerate element: lumped mass of node %d is %g",
-                     k / per, m[k / per]);
+      return DTM_ERR(DTM_ERR_INPUT, "degenerate element: lumped mass of node %d is %g", k / per, m[k / per]);
     r[k] = 1 / sqrt(m[k / per]);
   }
   for (int i = 0; i < n; i++)
@@ -34,8 +31,7 @@ int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m,
   return DTM_OK;
 }
 
-int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
-                               const double *x, double *lambda) {
+int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_DOF * DTM_K_DOF], mass[DTM_K_NODES];
   DTM_CHECK(dtm_elem_prepare(type, x, &eg));
@@ -47,8 +43,7 @@ int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
   return DTM_OK;
 }
 
-int dtm_diffusion_lambda_generic(int type, double alpha, const double *x,
-                                 double *lambda) {
+int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_NODES * DTM_K_NODES], cap[DTM_K_NODES];
   DTM_CHECK(dtm_elem_prepare(type, x, &eg));

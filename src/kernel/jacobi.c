@@ -14,9 +14,7 @@
 static void rotate(int n, double *a, int p, int q) {
   double apq = a[p * n + q];
   double theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
-  double t = fabs(theta) > 1e150
-                 ? 0.5 / theta
-                 : (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
+  double t = fabs(theta) > 1e150 ? 0.5 / theta : (theta >= 0 ? 1 : -1) / (fabs(theta) + sqrt(theta * theta + 1));
   double c = 1 / sqrt(t * t + 1), s = t * c, tau = s / (1 + c);
   a[p * n + p] -= t * apq;
   a[q * n + q] += t * apq;

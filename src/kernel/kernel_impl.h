@@ -9,10 +9,10 @@
 
 #include "dtmap/kernel.h"
 
-
 #define DTM_K_NODES 27 /* most nodes among the types the kernels handle (hex27) */
 #define DTM_K_DOF 81   /* most displacement unknowns (hex27, 3 per node) */
-#define DTM_K_QP 27    /* most quadrature points of a rule (3x3x3 Gauss on
+#define DTM_K_QP                                                                                                       \
+  27                   /* most quadrature points of a rule (3x3x3 Gauss on                                             \
                           hexahedra and pyramids) */
 #define DTM_K_FACETS 6 /* of the linear parent: second-order types reuse it */
 #define DTM_K_EDGES 12
@@ -21,11 +21,11 @@
  * second-order type has those of its linear parent, on its corner nodes
  * (Gmsh numbers the corners first, as in the parent). */
 typedef struct {
-  int nfacet;                      /* number of facets (points in 1D) */
-  int facet_nn[DTM_K_FACETS];      /* node count of each facet */
-  int facet[DTM_K_FACETS][4];      /* facet nodes, ordered around the facet */
-  int nedge;                       /* number of edges */
-  int edge[DTM_K_EDGES][2];        /* edge end nodes */
+  int nfacet;                 /* number of facets (points in 1D) */
+  int facet_nn[DTM_K_FACETS]; /* node count of each facet */
+  int facet[DTM_K_FACETS][4]; /* facet nodes, ordered around the facet */
+  int nedge;                  /* number of edges */
+  int edge[DTM_K_EDGES][2];   /* edge end nodes */
 } dtm_topology;
 
 /* Topology of a supported type; NULL for any other. Static storage. */
@@ -43,9 +43,9 @@ int dtm_elem_serendipity(int type);
  * coordinates (a, b, w) with u = (1 - w) a, v = (1 - w) b; the weights then
  * include the Duffy factor (1 - w)^2. */
 typedef struct {
-  int n;                   /* number of points */
-  double p[DTM_K_QP][3];   /* rule coordinates of the points */
-  double w[DTM_K_QP];      /* weights (sum = reference measure) */
+  int n;                 /* number of points */
+  double p[DTM_K_QP][3]; /* rule coordinates of the points */
+  double w[DTM_K_QP];    /* weights (sum = reference measure) */
 } dtm_qrule;
 
 /* Full-integration rule of a supported type (see quadrature.c): exact for
@@ -69,10 +69,8 @@ const double (*dtm_ref_nodes(int type))[3];
 /* Shape functions of the second-order types (ref_quadratic.c, and
  * ref_pyramid.c for pyr13 and pyr14), same contract as dtm_ref_eval; dN
  * is already zeroed. */
-void dtm_ref_eval_quadratic(int type, const double p[3], double *N,
-                            double (*dN)[3]);
-void dtm_ref_eval_pyramid2(int type, const double p[3], double *N,
-                           double (*dN)[3]);
+void dtm_ref_eval_quadratic(int type, const double p[3], double *N, double (*dN)[3]);
+void dtm_ref_eval_pyramid2(int type, const double p[3], double *N, double (*dN)[3]);
 
 /* Coordinates xl[nn][3] of the nodes in the element's own frame: 3D
  * elements are copied, 2D elements are projected onto the mean plane of
@@ -84,21 +82,18 @@ int dtm_elem_local(int type, const double *x, double (*xl)[3]);
 /* The isoparametric map at one rule point, in the local frame of dimension
  * d: N[nn], physical gradients g[nn][3] (first d components) and the
  * volume factor dv = det J * rule weight. Returns det J. */
-double dtm_map_eval(int type, int d, int nn, const double (*xl)[3],
-                    const double p[3], double wq, double *N, double (*g)[3],
-                    double *dv);
+double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
+                    double (*g)[3], double *dv);
 /* Index of the first point where det J is not safely positive (see map.c):
  * k < q->n for rule point k, q->n + a for node a; det J there in *dj; -1
  * when the map is valid everywhere. Raises nothing. */
-int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3],
-                      const dtm_qrule *q, double *dj);
+int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj);
 
 /* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)
  * as scale * s, with s packed as s[0]=S11 s[1]=S22 s[2]=S33 s[3]=S12
  * s[4]=S13 s[5]=S23 (unused entries 0; scale > 0, 1/m^2), and the measure.
  * DTM_ERR_INPUT for a degenerate or inverted simplex. */
-int dtm_simplex_metric(int type, const double *x, int *d, double s[6],
-                       double *scale, double *measure);
+int dtm_simplex_metric(int type, const double *x, int *d, double s[6], double *scale, double *measure);
 
 /* Eigenvalues e[0] >= e[1] >= e[2] of the symmetric 3x3 matrix packed as
  * above, each within a few ulps of the largest magnitude (trigonometric
@@ -128,20 +123,16 @@ double dtm_eig_sym_max_tridiag(int n, double *a);
 /* Generic (quadrature + eigenvalue) paths, any supported type; linear
  * simplices go through them too, which is how the closed forms are
  * cross-checked. */
-int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m,
-                               const double *x, double *lambda);
-int dtm_diffusion_lambda_generic(int type, double alpha, const double *x,
-                                 double *lambda);
+int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda);
 /* Closed form on simplices (line2, tri3, tet4). */
-int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m,
-                               const double *x, double *lambda);
+int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
 
 /* Lumped nodal masses per unit density m[nn] (m^d) of the element in its
  * frame, integrated with rule q; returns the measure (integral of det J).
  * Linear types: row sums m_a = integral N_a. Second-order types: HRZ,
  * m_a = integral N_a^2 scaled so that sum_a m_a = measure (see lump.c). */
-double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3],
-                       const dtm_qrule *q, double *m);
+double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m);
 
 /* Raise DTM_ERR_INPUT unless formulation f suits an element of dimension d. */
 int dtm_form_check(int type, int d, int f);

@@ -43,18 +43,16 @@
 #include "kernel/kernel_impl.h"
 #include "kernel/vec3.h"
 
-
 /* A facet reduced to what lengths need: measure, and a point and unit
  * direction that define its plane (normal), line (tangent) or point. */
 typedef struct {
-  int d;           /* element dimension: facet is a plane, line, point */
-  double measure;  /* area, length, or 1 for a point */
-  double c[3];     /* a point of the facet (centroid for planes) */
-  double n[3];     /* unit normal (3D) or unit tangent (2D) */
+  int d;          /* element dimension: facet is a plane, line, point */
+  double measure; /* area, length, or 1 for a point */
+  double c[3];    /* a point of the facet (centroid for planes) */
+  double n[3];    /* unit normal (3D) or unit tangent (2D) */
 } facet;
 
-static void plane_facet(const dtm_topology *t, int f, const double *x,
-                        facet *F) {
+static void plane_facet(const dtm_topology *t, int f, const double *x, facet *F) {
   int k = t->facet_nn[f];
   const double *x0 = x + 3 * t->facet[f][0];
   double r[3], s[3], c[3];
@@ -72,8 +70,7 @@ static void plane_facet(const dtm_topology *t, int f, const double *x,
   for (int i = 0; i < 3; i++) F->n[i] = nn > 0 ? F->n[i] / nn : 0;
 }
 
-static void get_facet(int d, const dtm_topology *t, int f, const double *x,
-                      facet *F) {
+static void get_facet(int d, const dtm_topology *t, int f, const double *x, facet *F) {
   F->d = d;
   if (d == 3) {
     plane_facet(t, f, x, F);
@@ -120,8 +117,7 @@ static double min_width(int d, int nn, const dtm_topology *t, const double *x) {
 }
 
 /* Sum (or, with take_max, largest) of the facet measures. */
-static double facets(int d, const dtm_topology *t, const double *x,
-                     int take_max) {
+static double facets(int d, const dtm_topology *t, const double *x, int take_max) {
   double s = 0;
   for (int f = 0; f < t->nfacet; f++) {
     facet F;

@@ -14,8 +14,7 @@
  * product of the 1D Simpson weights 1/6, 2/3, 1/6). */
 #include "kernel/kernel_impl.h"
 
-double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3],
-                       const dtm_qrule *q, double *m) {
+double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
   int hrz = dtm_elem_parent(type) != type;
   for (int a = 0; a < nn; a++) m[a] = 0;

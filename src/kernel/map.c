@@ -12,8 +12,7 @@
 #include "kernel/kernel_impl.h"
 
 /* J[i][j] = d x_i / d xi_j, i, j < d. */
-static void jacobian(int d, int nn, const double (*xl)[3],
-                     const double (*dN)[3], double J[3][3]) {
+static void jacobian(int d, int nn, const double (*xl)[3], const double (*dN)[3], double J[3][3]) {
   for (int i = 0; i < d; i++)
     for (int j = 0; j < d; j++) {
       J[i][j] = 0;
@@ -24,8 +23,7 @@ static void jacobian(int d, int nn, const double (*xl)[3],
 static double det(int d, double J[3][3]) {
   if (d == 1) return J[0][0];
   if (d == 2) return J[0][0] * J[1][1] - J[0][1] * J[1][0];
-  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) -
-         J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
          J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
 }
 
@@ -50,19 +48,17 @@ static void inverse(int d, double J[3][3], double dj, double K[3][3]) {
   } else {
     for (int i = 0; i < 3; i++)
       for (int j = 0; j < 3; j++) {
-        int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3,
-            j2 = (i + 2) % 3;
+        int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
         K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
       }
   }
 }
 
-double dtm_map_eval(int type, int d, int nn, const double (*xl)[3],
-                    const double p[3], double wq, double *N, double (*g)[3],
-                    double *dv) {
+double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
+                    double (*g)[3], double *dv) {
   double dN[DTM_K_NODES][3], J[3][3], K[3][3];
   dtm_ref_eval(type, p, N, dN);
-  jacobian(d, nn, xl, (const double (*)[3])dN, J);
+  jacobian(d, nn, xl, (const double(*)[3])dN, J);
   double dj = det(d, J);
   inverse(d, J, dj, K);
   for (int a = 0; a < nn; a++)
@@ -75,22 +71,22 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3],
 }
 
 /* 0 when det J at rule coordinates p is safely positive. */
-static int valid_at(int type, int d, int nn, const double (*xl)[3],
-                    const double p[3], double *dj) {
+static int valid_at(int type, int d, int nn, const double (*xl)[3], const double p[3], double *dj) {
   double N[DTM_K_NODES], dN[DTM_K_NODES][3], J[3][3];
   dtm_ref_eval(type, p, N, dN);
-  jacobian(d, nn, xl, (const double (*)[3])dN, J);
+  jacobian(d, nn, xl, (const double(*)[3])dN, J);
   *dj = det(d, J);
   return *dj > 32 * DBL_EPSILON * hadamard(d, J) && isfinite(*dj) ? 0 : -1;
 }
 
-int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3],
-                      const dtm_qrule *q, double *dj) {
+int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj) {
   double p[3];
   for (int k = 0; k < q->n + nn; k++) {
     const double *pk = p;
-    if (k < q->n) pk = q->p[k];
-    else dtm_ref_node(type, k - q->n, p);
+    if (k < q->n)
+      pk = q->p[k];
+    else
+      dtm_ref_node(type, k - q->n, p);
     if (valid_at(type, d, nn, xl, pk, dj)) return k;
   }
   return -1;

@@ -22,7 +22,7 @@ static double integrate(int type, const double *x, double *m) {
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
   dtm_ref_rule(type, &q);
-  return dtm_lumped_mass(type, d, nn, (const double (*)[3])xl, &q, m);
+  return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
 }
 
 /* Closed forms of the linear simplices, the hot path of the nodal bound and

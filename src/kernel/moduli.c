@@ -9,22 +9,17 @@
 #include "dtmap/kernel.h"
 
 static int check(dtm_formulation f, double E, double nu, double rho) {
-  if (f < DTM_FORM_3D || f > DTM_FORM_BAR)
-    return DTM_ERR(DTM_ERR_INPUT, "unknown elastic formulation %d", (int)f);
+  if (f < DTM_FORM_3D || f > DTM_FORM_BAR) return DTM_ERR(DTM_ERR_INPUT, "unknown elastic formulation %d", (int)f);
   if (!isfinite(E) || !(E > 0))
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "Young's modulus E must be finite and > 0 (got %g Pa)", E);
+    return DTM_ERR(DTM_ERR_INPUT, "Young's modulus E must be finite and > 0 (got %g Pa)", E);
   if (!isfinite(rho) || !(rho > 0))
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "density rho must be finite and > 0 (got %g kg/m^3)", rho);
+    return DTM_ERR(DTM_ERR_INPUT, "density rho must be finite and > 0 (got %g kg/m^3)", rho);
   if (!isfinite(nu) || !(nu > -1 && nu < 0.5))
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "Poisson's ratio nu must lie in (-1, 0.5) (got %g)", nu);
+    return DTM_ERR(DTM_ERR_INPUT, "Poisson's ratio nu must lie in (-1, 0.5) (got %g)", nu);
   return DTM_OK;
 }
 
-int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho,
-                            dtm_elastic_moduli *m) {
+int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, dtm_elastic_moduli *m) {
   DTM_CHECK(check(f, E, nu, rho));
   double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
   m->form = f;

@@ -63,8 +63,7 @@ static void tensor(dtm_qrule *q, int d, int n) {
   for (int k = 0; k < nk; k++)
     for (int j = 0; j < nj; j++)
       for (int i = 0; i < n; i++)
-        add(q, x[i], d > 1 ? x[j] : 0, d > 2 ? x[k] : 0,
-            w[i] * (d > 1 ? w[j] : 1) * (d > 2 ? w[k] : 1));
+        add(q, x[i], d > 1 ? x[j] : 0, d > 2 ? x[k] : 0, w[i] * (d > 1 ? w[j] : 1) * (d > 2 ? w[k] : 1));
 }
 
 /* Degree-2 rules on the unit triangle and tetrahedron, times a factor
@@ -101,8 +100,7 @@ static void tri6pt(dtm_qrule *q, double w, double wt) {
 static void tet14pt(dtm_qrule *q) {
   static const double a[2] = {0.092735250310891226402, 0.31088591926330060980};
   static const double c[2] = {0.012248840519393658257, 0.018781320953002641800};
-  const double b = 0.045503704125649649492, e = 0.5 - b,
-               cb = 0.0070910034628469110730;
+  const double b = 0.045503704125649649492, e = 0.5 - b, cb = 0.0070910034628469110730;
   for (int k = 0; k < 2; k++) {
     double r = 1 - 3 * a[k];
     add(q, a[k], a[k], a[k], c[k]);
@@ -127,10 +125,8 @@ static void prism18pt(dtm_qrule *q) {
 
 /* 3x3 Gauss in (a, b) x 3-point Gauss-Jacobi on [0, 1] for (1 - w)^2. */
 static void pyramid27gj(dtm_qrule *q) {
-  static const double z[3] = {0.072994024073149732156, 0.34700376603835188472,
-                              0.70500220988849838312};
-  static const double wz[3] = {0.15713636106488661332, 0.14624626925986602200,
-                               0.029950703008580698011};
+  static const double z[3] = {0.072994024073149732156, 0.34700376603835188472, 0.70500220988849838312};
+  static const double wz[3] = {0.15713636106488661332, 0.14624626925986602200, 0.029950703008580698011};
   double x[3], w[3];
   gauss(3, x, w);
   for (int k = 0; k < 3; k++)

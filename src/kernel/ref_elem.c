@@ -99,8 +99,7 @@ void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]) {
   case DTM_PYR13:
   case DTM_PYR14: dtm_ref_eval_pyramid2(type, p, N, dN); break;
   default:
-    if (dtm_elem_parent(type) > 0 && dtm_elem_parent(type) != type)
-      dtm_ref_eval_quadratic(type, p, N, dN);
+    if (dtm_elem_parent(type) > 0 && dtm_elem_parent(type) != type) dtm_ref_eval_quadratic(type, p, N, dN);
     break;
   }
 }

@@ -24,8 +24,7 @@ static const double sy[4] = {-1, -1, 1, 1};
 
 /* f = F(a, b) phi(w) with phi = (1 - w) psi(w): gradient from F, F_a, F_b,
  * psi and phi'. */
-static void grad(double a, double b, double F, double Fa, double Fb,
-                 double psi, double dphi, double *g) {
+static void grad(double a, double b, double F, double Fa, double Fb, double psi, double dphi, double *g) {
   g[0] = Fa * psi;
   g[1] = Fb * psi;
   g[2] = F * dphi + (a * Fa + b * Fb) * psi;
@@ -46,8 +45,7 @@ static int quad_node(int quad, int nq, double qa, double qb) {
   return 0;
 }
 
-void dtm_ref_eval_pyramid2(int type, const double p[3], double *N,
-                           double (*dN)[3]) {
+void dtm_ref_eval_pyramid2(int type, const double p[3], double *N, double (*dN)[3]) {
   int quad = type == DTM_PYR14 ? DTM_QUAD9 : DTM_QUAD8;
   int nn = type == DTM_PYR14 ? 14 : 13, nq = type == DTM_PYR14 ? 9 : 8;
   const double(*t)[3] = dtm_ref_nodes(type);

@@ -45,23 +45,19 @@ static void simplex_pair(int d, const double *q, int *i, int *j) {
 }
 
 /* Quadratic Lagrange function of node pair (i, j), value and gradient. */
-static double p2(const double *L, const double (*dL)[3], int i, int j,
-                 double *g) {
-  for (int k = 0; k < 3; k++)
-    g[k] = i == j ? (4 * L[i] - 1) * dL[i][k]
-                  : 4 * (dL[i][k] * L[j] + L[i] * dL[j][k]);
+static double p2(const double *L, const double (*dL)[3], int i, int j, double *g) {
+  for (int k = 0; k < 3; k++) g[k] = i == j ? (4 * L[i] - 1) * dL[i][k] : 4 * (dL[i][k] * L[j] + L[i] * dL[j][k]);
   return i == j ? L[i] * (2 * L[i] - 1) : 4 * L[i] * L[j];
 }
 
-static void simplex2(int type, int d, int nn, const double *p, double *N,
-                     double (*dN)[3]) {
+static void simplex2(int type, int d, int nn, const double *p, double *N, double (*dN)[3]) {
   const double(*q)[3] = dtm_ref_nodes(type);
   double L[4], dL[4][3];
   barycentric(d, p, L, dL);
   for (int a = 0; a < nn; a++) {
     int i, j;
     simplex_pair(d, q[a], &i, &j);
-    N[a] = p2(L, (const double (*)[3])dL, i, j, dN[a]);
+    N[a] = p2(L, (const double(*)[3])dL, i, j, dN[a]);
   }
 }
 
@@ -75,8 +71,7 @@ static double lag(double s, double x, double *dl) {
   return x * (x + s) / 2;
 }
 
-static void tensor2(int type, int d, int nn, const double *p, double *N,
-                    double (*dN)[3]) {
+static void tensor2(int type, int d, int nn, const double *p, double *N, double (*dN)[3]) {
   const double(*q)[3] = dtm_ref_nodes(type);
   double l[3], dl[3];
   for (int a = 0; a < nn; a++) {
@@ -92,8 +87,7 @@ static void tensor2(int type, int d, int nn, const double *p, double *N,
 
 /* Product of f[i] over i < d except i = skip, and its gradient given the
  * factor derivatives df[i] (the skipped direction gets 0). */
-static double product(int d, int skip, const double *f, const double *df,
-                      double *g) {
+static double product(int d, int skip, const double *f, const double *df, double *g) {
   double v = 1;
   for (int i = 0; i < d; i++) v *= i == skip ? 1 : f[i];
   for (int k = 0; k < d; k++) {
@@ -106,8 +100,7 @@ static double product(int d, int skip, const double *f, const double *df,
   return v;
 }
 
-static void serendipity(int type, int d, int nn, const double *p, double *N,
-                        double (*dN)[3]) {
+static void serendipity(int type, int d, int nn, const double *p, double *N, double (*dN)[3]) {
   const double(*t)[3] = dtm_ref_nodes(type);
   double f[3], df[3], g[3];
   for (int a = 0; a < nn; a++) {
@@ -123,8 +116,7 @@ static void serendipity(int type, int d, int nn, const double *p, double *N,
     if (mid < 0) { /* corner: 2^-d pr (lin - d + 1) */
       for (int i = 0; i < d; i++) scale /= 2;
       N[a] = scale * pr * (lin - d + 1);
-      for (int k = 0; k < d; k++)
-        dN[a][k] = scale * (g[k] * (lin - d + 1) + pr * q[k]);
+      for (int k = 0; k < d; k++) dN[a][k] = scale * (g[k] * (lin - d + 1) + pr * q[k]);
     } else { /* mid-edge: 2^(1-d) (1 - x_mid^2) pr */
       for (int i = 1; i < d; i++) scale /= 2;
       double b = 1 - p[mid] * p[mid];
@@ -143,7 +135,7 @@ static void prism18(const double *p, double *N, double (*dN)[3]) {
     int i, j;
     const double *q = t[a];
     simplex_pair(2, q, &i, &j);
-    double t = p2(L, (const double (*)[3])dL, i, j, g);
+    double t = p2(L, (const double(*)[3])dL, i, j, g);
     double l = lag(q[2], p[2], &dl);
     N[a] = t * l;
     dN[a][0] = g[0] * l, dN[a][1] = g[1] * l, dN[a][2] = t * dl;
@@ -162,8 +154,7 @@ static void prism15(const double *p, double *N, double (*dN)[3]) {
     if (i != j) { /* triangle edge at level s: 2 L_i L_j (1 + s w) */
       double e = 2 * L[i] * L[j];
       t = e * h, dh = e * s;
-      for (int k = 0; k < 2; k++)
-        dt[k] = 2 * (dL[i][k] * L[j] + L[i] * dL[j][k]) * h;
+      for (int k = 0; k < 2; k++) dt[k] = 2 * (dL[i][k] * L[j] + L[i] * dL[j][k]) * h;
     } else if (s == 0) { /* vertical edge: L_i (1 - w^2) */
       t = L[i] * b, dh = -2 * w * L[i];
       for (int k = 0; k < 2; k++) dt[k] = dL[i][k] * b;
@@ -171,15 +162,13 @@ static void prism15(const double *p, double *N, double (*dN)[3]) {
       double c = L[i] * (2 * L[i] - 1);
       t = 0.5 * c * h - 0.5 * L[i] * b;
       dh = 0.5 * c * s + L[i] * w;
-      for (int k = 0; k < 2; k++)
-        dt[k] = 0.5 * (4 * L[i] - 1) * dL[i][k] * h - 0.5 * dL[i][k] * b;
+      for (int k = 0; k < 2; k++) dt[k] = 0.5 * (4 * L[i] - 1) * dL[i][k] * h - 0.5 * dL[i][k] * b;
     }
     N[a] = t, dN[a][0] = dt[0], dN[a][1] = dt[1], dN[a][2] = dh;
   }
 }
 
-void dtm_ref_eval_quadratic(int type, const double p[3], double *N,
-                            double (*dN)[3]) {
+void dtm_ref_eval_quadratic(int type, const double p[3], double *N, double (*dN)[3]) {
   switch (type) {
   case DTM_TRI6: simplex2(type, 2, 6, p, N, dN); break;
   case DTM_TET10: simplex2(type, 3, 10, p, N, dN); break;

@@ -16,9 +16,7 @@
 
 #define FLAT_TOL (32 * DBL_EPSILON)
 
-static double dot3(const double *a, const double *b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 static void cross3(const double *a, const double *b, double *c) {
   c[0] = a[1] * b[2] - a[2] * b[1];
@@ -27,9 +25,7 @@ static void cross3(const double *a, const double *b, double *c) {
 }
 
 static int degenerate(int type, double measure) {
-  return DTM_ERR(DTM_ERR_INPUT,
-                 "degenerate or inverted %s element (signed measure %g)",
-                 dtm_elem_name(type), measure);
+  return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element (signed measure %g)", dtm_elem_name(type), measure);
 }
 
 /* s += c c^T for a 3-vector c. */
@@ -48,8 +44,7 @@ static int tet(const double *x, double s[6], double *scale, double *measure) {
   double dj = dot3(e[0], c[1]);
   *measure = dj / 6;
   double bound = dot3(e[0], e[0]) * dot3(e[1], e[1]) * dot3(e[2], e[2]);
-  if (!(dj > 0 && dj * dj > FLAT_TOL * FLAT_TOL * bound) || !isfinite(dj))
-    return degenerate(DTM_TET4, *measure);
+  if (!(dj > 0 && dj * dj > FLAT_TOL * FLAT_TOL * bound) || !isfinite(dj)) return degenerate(DTM_TET4, *measure);
   for (int i = 0; i < 3; i++) c[0][i] = -(c[1][i] + c[2][i] + c[3][i]);
   *scale = 1 / (dj * dj);
   for (int i = 0; i < 6; i++) s[i] = 0;
@@ -66,8 +61,7 @@ static int tri(const double *x, double s[6], double *scale, double *measure) {
   cross3(e1, e2, n);
   double l2 = dot3(e1, e1), dj = sqrt(dot3(n, n));
   *measure = dj / 2;
-  if (!(dj > FLAT_TOL * sqrt(l2 * dot3(e2, e2))) || !isfinite(dj))
-    return degenerate(DTM_TRI3, *measure);
+  if (!(dj > FLAT_TOL * sqrt(l2 * dot3(e2, e2))) || !isfinite(dj)) return degenerate(DTM_TRI3, *measure);
   double l = sqrt(l2), p = dot3(e1, e2) / l, h = dj / l;
   double c[3][2] = {{h, -p}, {0, l}, {-h, p - l}};
   *scale = 1 / (dj * dj);
@@ -91,14 +85,11 @@ static int line(const double *x, double s[6], double *scale, double *measure) {
   return DTM_OK;
 }
 
-int dtm_simplex_metric(int type, const double *x, int *d, double s[6],
-                       double *scale, double *measure) {
+int dtm_simplex_metric(int type, const double *x, int *d, double s[6], double *scale, double *measure) {
   switch (type) {
   case DTM_TET4: *d = 3; return tet(x, s, scale, measure);
   case DTM_TRI3: *d = 2; return tri(x, s, scale, measure);
   case DTM_LINE2: *d = 1; return line(x, s, scale, measure);
-  default:
-    return DTM_ERR(DTM_ERR_INTERNAL, "%s is not a simplex",
-                   dtm_elem_name(type));
+  default: return DTM_ERR(DTM_ERR_INTERNAL, "%s is not a simplex", dtm_elem_name(type));
   }
 }

@@ -22,7 +22,7 @@
  * q = p - (beta/2)(v.p) v, H A H = A - v q^T - q v^T. */
 static double reflect(int n, double *a, int k) {
   double v[DTM_K_DOF], p[DTM_K_DOF], xx = 0;
-  int m = n - k - 1; /* size of the trailing block, >= 2 */
+  int m = n - k - 1;                   /* size of the trailing block, >= 2 */
   double *b = a + (k + 1) * n + k + 1; /* its first entry; row stride n */
   v[0] = a[(k + 1) * n + k];
   for (int i = 1; i < m; i++) v[i] = a[(k + 1 + i) * n + k], xx += v[i] * v[i];
@@ -74,8 +74,10 @@ static double tri_max(int n, const double *d, const double *e) {
   for (int it = 0; it < 200 && hi - lo > tol; it++) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    if (below(n, d, e, mid) == n) hi = mid; /* all below: max < mid */
-    else lo = mid;
+    if (below(n, d, e, mid) == n)
+      hi = mid; /* all below: max < mid */
+    else
+      lo = mid;
   }
   return 0.5 * (lo + hi);
 }

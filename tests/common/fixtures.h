@@ -10,10 +10,10 @@
 #include "effect_args.h"
 
 typedef struct {
-  dtm_scene scene;          /* path "fixture.xml" */
-  dtm_scene_effect se;      /* the effect element */
+  dtm_scene scene;     /* path "fixture.xml" */
+  dtm_scene_effect se; /* the effect element */
   char *keys[8], *values[8];
-  dtm_mesh mesh;            /* dim only, one group named "rock" */
+  dtm_mesh mesh; /* dim only, one group named "rock" */
   dtm_group group;
   dtm_effect_args args;
 } tu_effect_fixture;

@@ -67,7 +67,8 @@ double hc_simplex_measure(const hc_mesh *m, const size_t *n) {
     for (int c = 0; c < 3; c++) e[k - 1][c] = xyz_of(m, n[k])[c] - a[c];
   if (m->npe == 3) return 0.5 * (e[0][0] * e[1][1] - e[0][1] * e[1][0]);
   return (e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-          e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) / 6.0;
+          e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])) /
+         6.0;
 }
 
 static double longest_edge(const hc_mesh *m, const size_t *n) {

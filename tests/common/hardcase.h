@@ -19,11 +19,11 @@ enum { HC_LINE2 = 1, HC_TRI3 = 2, HC_TET4 = 4 };
 /* A single-type mesh under construction: node tags are 1..nn, element
  * tags 1..ne, each element in one of the named groups. */
 typedef struct {
-  int dim, type, npe;           /* Gmsh element type, nodes per element */
+  int dim, type, npe; /* Gmsh element type, nodes per element */
   size_t nn, ne, cap_n, cap_e;
-  double *xyz;                  /* [3 nn] */
-  size_t *conn;                 /* [npe ne], node tags */
-  int *group;                   /* [ne] */
+  double *xyz;  /* [3 nn] */
+  size_t *conn; /* [npe ne], node tags */
+  int *group;   /* [ne] */
   const char *groups[HC_MAX_GROUPS];
   int ngroups;
 } hc_mesh;
@@ -80,14 +80,14 @@ size_t hc_model_census(int dim, char *buf, size_t len);
 typedef struct {
   size_t elements;
   double dt_min, dt_nodal, dt_global, recommended;
-  double unsafe;       /* smallest dt_bracket[1] over the effects */
-  double theta;        /* Ritz value of that effect */
-  char effect[32];     /* that effect's name */
-  char basis[32];      /* dt.basis */
-  int iterations;      /* largest Lanczos iteration count */
-  double growth_ok;    /* verify growth at the recommended step */
-  double growth_bad;   /* verify growth at 1.05 x unsafe */
-  double seconds;      /* wall time of the three CLI runs */
+  double unsafe;     /* smallest dt_bracket[1] over the effects */
+  double theta;      /* Ritz value of that effect */
+  char effect[32];   /* that effect's name */
+  char basis[32];    /* dt.basis */
+  int iterations;    /* largest Lanczos iteration count */
+  double growth_ok;  /* verify growth at the recommended step */
+  double growth_bad; /* verify growth at 1.05 x unsafe */
+  double seconds;    /* wall time of the three CLI runs */
 } hc_result;
 
 /* Write tu_tmpdir()/name.xml reading name.msh, with the given material

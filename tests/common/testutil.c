@@ -60,8 +60,10 @@ void tu_remove_tree(const char *path) {
     char child[PATH_MAX * 2];
     struct stat st;
     snprintf(child, sizeof child, "%s/%s", path, e->d_name);
-    if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode)) tu_remove_tree(child);
-    else unlink(child);
+    if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
+      tu_remove_tree(child);
+    else
+      unlink(child);
   }
   if (d) closedir(d);
   rmdir(path);
@@ -89,8 +91,10 @@ int tu_run(char **out, const char *fmt, ...) {
   }
   buf[n] = '\0';
   int st = pclose(p);
-  if (out) *out = buf;
-  else free(buf);
+  if (out)
+    *out = buf;
+  else
+    free(buf);
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
@@ -113,8 +117,7 @@ double tu_json_number(const cJSON *root, const char *dotted) {
   char key[256];
   snprintf(key, sizeof key, "%s", dotted);
   const cJSON *o = root;
-  for (char *tok = strtok(key, "."); tok && o; tok = strtok(NULL, "."))
-    o = cJSON_GetObjectItemCaseSensitive(o, tok);
+  for (char *tok = strtok(key, "."); tok && o; tok = strtok(NULL, ".")) o = cJSON_GetObjectItemCaseSensitive(o, tok);
   return (o && cJSON_IsNumber(o)) ? o->valuedouble : NAN;
 }
 

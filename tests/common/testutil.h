@@ -35,10 +35,10 @@ void tu_gmsh_end(void);
 /* A view read back from a .msh through Gmsh (gmsh must be initialised and
  * the file opened). */
 typedef struct {
-  char type[32];   /* "ElementData" or "NodeData" */
-  size_t n;        /* number of values */
-  size_t *tags;    /* [n] */
-  double *values;  /* [n] */
+  char type[32];  /* "ElementData" or "NodeData" */
+  size_t n;       /* number of values */
+  size_t *tags;   /* [n] */
+  double *values; /* [n] */
 } tu_view;
 /* Find the view with that exact name; returns 0 on success. */
 int tu_view_read(const char *name, tu_view *v);
