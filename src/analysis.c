@@ -215,6 +215,7 @@ static void summarize(dtm_analysis *a) {
     if (a->dt[i] < a->dt_min) a->dt_min = a->dt[i], a->el_min = i;
   for (int k = 0; k < a->neffects; k++) {
     a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
+    a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */
     if (!a->dt_effect[k]) continue;
     double best = INFINITY;
     for (size_t i = 0; i < a->nel; i++)

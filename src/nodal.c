@@ -136,6 +136,13 @@ static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, double *d
   return DTM_OK;
 }
 
+/* Whether every material's element step is the element eigenvalue bound. */
+static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
+  for (int i = 0; i < a->scene->nmaterials; i++)
+    if (cc->ready[i] && !cc->c[i].dt_is_bound) return 0;
+  return 1;
+}
+
 static void record_min(dtm_analysis *a, int k, const double *dt) {
   dtm_effect_min *pe = &a->per_effect[k];
   pe->nodal = INFINITY;
@@ -160,6 +167,7 @@ int dtm_nodal_bounds(dtm_analysis *a) {
     memset(cc.ready, 0, nm);
     a->node_dt[k] = malloc((nn + 1) * sizeof **a->node_dt);
     r = a->node_dt[k] ? effect_nodal(a, k, &cc, a->node_dt[k], work) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    a->per_effect[k].element_rigorous = r == DTM_OK && all_bounds(a, &cc);
     if (r == DTM_OK) record_min(a, k, a->node_dt[k]);
   }
   free(work);

@@ -1,7 +1,9 @@
 /* The recommended step: per limiting effect, the best estimate dtmap can
  * vouch for (the converged global estimate on its safe side, else the nodal
- * bound, else the element bound, and never below the element bound), then
- * the smallest over the effects, times the scene's safety factor. */
+ * bound, else the element bound, and never below the element bound when
+ * that is a bound; a length rule such as min-edge is not, and then only the
+ * nodal and global estimates count), then the smallest over the effects,
+ * times the scene's safety factor. */
 #include <math.h>
 
 #include "analysis_impl.h"
@@ -9,7 +11,7 @@
 static double effect_safe(const dtm_effect_min *pe, const char **basis) {
   double safe = pe->min;
   *basis = "element bound";
-  if (isfinite(pe->nodal) && pe->nodal > safe) safe = pe->nodal, *basis = "nodal bound";
+  if (isfinite(pe->nodal) && (pe->nodal > safe || !pe->element_rigorous)) safe = pe->nodal, *basis = "nodal bound";
   if (isfinite(pe->global) && pe->global > safe) safe = pe->global, *basis = "global estimate";
   return safe;
 }

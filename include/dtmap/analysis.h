@@ -12,13 +12,16 @@
 #include "dtmap/scene.h"
 
 typedef struct {
-  double min;     /* smallest element step of this effect, s (NaN if it does not limit) */
-  size_t element; /* global element index where it occurs */
-  double nodal;   /* its nodal bound, s (NaN if not spectral) */
-  size_t node;    /* node index where the nodal bound occurs */
-  double global;  /* its global (Lanczos) estimate, s (NaN if not computed) */
-  double safe;    /* the step dtmap vouches for, s: global (safe side of the
-                     bracket) if converged, else nodal, else element */
+  double min;           /* smallest element step of this effect, s (NaN if it does not limit) */
+  size_t element;       /* global element index where it occurs */
+  int element_rigorous; /* 0 when the element steps come from a length rule
+                           (length=min-edge, ...) that is not a bound: then
+                           only the nodal and global estimates vouch */
+  double nodal;         /* its nodal bound, s (NaN if not spectral) */
+  size_t node;          /* node index where the nodal bound occurs */
+  double global;        /* its global (Lanczos) estimate, s (NaN if not computed) */
+  double safe;          /* the step dtmap vouches for, s: global (safe side of the
+                           bracket) if converged, else nodal, else element */
 } dtm_effect_min;
 
 /* The global (Lanczos) estimate of one spectral effect. */
@@ -26,8 +29,8 @@ typedef struct {
   int done;        /* 1 when computed */
   double theta;    /* largest Ritz value of M^-1 K */
   double residual; /* an eigenvalue lies in theta +- residual */
-  int iterations;  /* matrix-vector products */
-  int converged;   /* residual <= tol theta */
+  int iterations;  /* Lanczos steps */
+  int converged;   /* invariant subspace, or residual <= tol theta */
   double seconds;
   double dt_low;    /* step from theta + residual: the safe side, s */
   double dt_high;   /* step from theta: never safe to exceed, s */
