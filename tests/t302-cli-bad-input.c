@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "testutil.h"
 
@@ -154,14 +155,58 @@ static void missing_geometry(void **state) {
   (void)state;
 }
 
+static long file_size(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return -1;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fclose(f);
+  return n;
+}
+
+/* A scene that reads a .msh: writing the output over that .msh (or over the
+ * scene) is refused with exit 2, and the input is left as it was. */
+static void input_not_overwritten(void **state) {
+  char msh[512], scene[512], text[1024], *log = NULL;
+  snprintf(msh, sizeof msh, "%s/in.msh", tu_tmpdir());
+  snprintf(scene, sizeof scene, "%s/frommesh.xml", tu_tmpdir());
+  int code = tu_run(&log, "gmsh %s/square.geo -2 -clmax 0.25 -o %s", tu_tmpdir(), msh);
+  free(log);
+  assert_int_equal(code, 0);
+  long before = file_size(msh);
+  snprintf(text, sizeof text, "%s<mesh file=\"in.msh\"/>\n%s%s</dtmap-scene>\n", head, MAT_OK, FX);
+  tu_write(scene, text);
+  code = tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, msh);
+  assert_int_equal(code, 2);
+  assert_non_null(strstr(log, "refusing to overwrite"));
+  free(log);
+  assert_int_equal(file_size(msh), before);
+  code = tu_run(&log, "%s run %s -q -o %s/fine.msh", tu_cli(), scene, tu_tmpdir()); /* and it does run */
+  free(log);
+  assert_int_equal(code, 0);
+  char fine[600];
+  snprintf(fine, sizeof fine, "%s/fine.msh", tu_tmpdir());
+  unlink(fine);
+  snprintf(fine, sizeof fine, "%s/fine.msh.opt", tu_tmpdir());
+  unlink(fine);
+  unlink(msh);
+  (void)state;
+}
+
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(missing_file),     cmocka_unit_test(malformed_xml),
-      cmocka_unit_test(schema_violation), cmocka_unit_test(bad_values_single),
-      cmocka_unit_test(unknown_effect),   cmocka_unit_test(group_without_material),
-      cmocka_unit_test(damping_only),     cmocka_unit_test(material_names_missing_group),
-      cmocka_unit_test(meshing_fails),    cmocka_unit_test(missing_geometry),
+      cmocka_unit_test(missing_file),
+      cmocka_unit_test(malformed_xml),
+      cmocka_unit_test(schema_violation),
+      cmocka_unit_test(bad_values_single),
+      cmocka_unit_test(unknown_effect),
+      cmocka_unit_test(group_without_material),
+      cmocka_unit_test(damping_only),
+      cmocka_unit_test(input_not_overwritten),
+      cmocka_unit_test(material_names_missing_group),
+      cmocka_unit_test(meshing_fails),
+      cmocka_unit_test(missing_geometry),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }
