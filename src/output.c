@@ -83,25 +83,31 @@ static void free_views(view_set *vs, int ne) {
   free(vs->views);
 }
 
-static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
+static int alloc_views(const dtm_analysis *a, view_set *vs) {
   size_t nel = a->nel, nn = a->mesh->nnodes, ne = (size_t)a->neffects;
   vs->etags = malloc(nel * sizeof *vs->etags);
   vs->lim = malloc(nel * sizeof *vs->lim);
+  vs->level = malloc((nel + 1) * sizeof *vs->level);
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
   vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
   vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
   vs->dvals = malloc((nn + 1) * sizeof *vs->dvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
   vs->views = calloc(2 * ne + 7, sizeof *vs->views);
-  vs->level = malloc((nel + 1) * sizeof *vs->level);
   vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
   vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
   if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
       !vs->dtags || !vs->dvals || !vs->level)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
+
+/* The contract views, then nodal dt, subcycling and added mass. */
+static int mesh_views(const dtm_analysis *a, view_set *vs) {
+  size_t nel = a->nel;
   for (int b = 0; b < a->mesh->nblocks; b++)
     memcpy(vs->etags + a->offset[b], a->mesh->blocks[b].tags, a->mesh->blocks[b].n * sizeof(size_t));
-  for (size_t i = 0; i < nel; i++) vs->lim[i] = a->limiting[i];
+  for (size_t i = 0; i < nel; i++) vs->lim[i] = a->limiting[i], vs->level[i] = a->subcycling->level[i];
   size_t nnv = node_view(a, a->size_node, vs->ntags, vs->nvals);
   size_t ndv = node_view(a, a->nodal_node, vs->dtags, vs->dvals);
   int k = 0;
@@ -110,9 +116,15 @@ static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
   vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
   vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
   if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv};
-  for (size_t i = 0; i < nel; i++) vs->level[i] = a->subcycling->level[i];
   vs->views[k++] = (dtm_view){"subcycling level", 0, vs->etags, vs->level, nel};
   if (a->mass_scaling) vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, a->mass_scaling->added, nel};
+  return k;
+}
+
+/* "dt <effect>" of each limiting effect and each accuracy view, over the
+ * elements where they are finite; appended from views[k]. */
+static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
+  size_t nel = a->nel, ne = (size_t)a->neffects;
   for (size_t j = 0; j < 2 * ne; j++) {
     const dtm_effect_class *c = a->effects[j % ne].cls;
     const double *src = j < ne ? a->dt_effect[j] : a->resolution[j - ne];
@@ -122,9 +134,15 @@ static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
     if (!vs->ftags[j] || !vs->fvals[j]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
     size_t n = finite_view(vs->etags, src, nel, vs->ftags[j], vs->fvals[j]);
     if (j < ne) snprintf(vs->names[j], sizeof vs->names[j], "dt %s", c->name);
-    if (n) vs->views[k++] = (dtm_view){j < ne ? vs->names[j] : c->accuracy_view, 0, vs->ftags[j], vs->fvals[j], n};
+    if (n) vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->accuracy_view, 0, vs->ftags[j], vs->fvals[j], n};
   }
-  *nviews = k;
+  return DTM_OK;
+}
+
+static int build_views(const dtm_analysis *a, view_set *vs, int *nviews) {
+  DTM_CHECK(alloc_views(a, vs));
+  *nviews = mesh_views(a, vs);
+  DTM_CHECK(effect_views(a, vs, nviews));
   return DTM_OK;
 }
 
