@@ -15,31 +15,11 @@
 #include <string.h>
 
 #include "dtmap/analysis.h"
+#include "fixtures.h"
 
 static dtm_mesh *three_bars(double L, double l) {
-  dtm_mesh *m = calloc(1, sizeof *m);
-  m->dim = 1;
-  m->nnodes = 4;
-  m->node_tags = malloc(4 * sizeof *m->node_tags);
-  m->xyz = calloc(12, sizeof *m->xyz);
-  const double x[4] = {0, L, L + l, 2 * L + l};
-  for (int i = 0; i < 4; i++) m->node_tags[i] = (size_t)i + 1, m->xyz[3 * i] = x[i];
-  m->nblocks = 1;
-  m->blocks = calloc(1, sizeof *m->blocks);
-  dtm_block *b = m->blocks;
-  *b = (dtm_block){DTM_LINE2,
-                   1,
-                   2,
-                   3,
-                   malloc(3 * sizeof(size_t)),
-                   malloc(6 * sizeof(size_t)),
-                   malloc(3 * sizeof(int)),
-                   malloc(3 * sizeof(int)),
-                   NULL};
-  for (int e = 0; e < 3; e++)
-    b->tags[e] = (size_t)e + 10, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = -1,
-    b->mat[e] = 0;
-  return m;
+  const double len[3] = {L, l, L};
+  return tu_bar_mesh(3, len, NULL, NULL);
 }
 
 static void nodal_three_bars(void **unused) {

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "dtmap/analysis.h"
+#include "fixtures.h"
 #include "dtmap/cost.h"
 #include "dtmap/error.h"
 
@@ -25,30 +26,10 @@ static const int grp[NB] = {0, 0, 1, -1};
 static const int mat[NB] = {0, 0, 1, 0};
 
 static dtm_mesh *bars(void) {
-  dtm_mesh *m = calloc(1, sizeof *m);
-  m->dim = 1, m->nnodes = NB + 1;
-  m->node_tags = malloc((NB + 1) * sizeof *m->node_tags);
-  m->xyz = calloc(3 * (NB + 1), sizeof *m->xyz);
-  for (int i = 0; i <= NB; i++)
-    m->node_tags[i] = (size_t)i + 1, m->xyz[3 * i] = i ? m->xyz[3 * (i - 1)] + len[i - 1] : 0;
+  dtm_mesh *m = tu_bar_mesh(NB, len, grp, mat);
   m->ngroups = 2;
   m->groups = calloc(2, sizeof *m->groups);
   m->groups[0] = (dtm_group){1, 1, strdup("a")}, m->groups[1] = (dtm_group){1, 2, strdup("b")};
-  m->nblocks = 1;
-  m->blocks = calloc(1, sizeof *m->blocks);
-  dtm_block *b = m->blocks;
-  *b = (dtm_block){DTM_LINE2,
-                   1,
-                   2,
-                   NB,
-                   malloc(NB * sizeof(size_t)),
-                   malloc(2 * NB * sizeof(size_t)),
-                   malloc(NB * sizeof(int)),
-                   malloc(NB * sizeof(int)),
-                   NULL};
-  for (int e = 0; e < NB; e++)
-    b->tags[e] = (size_t)e + 10, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = grp[e],
-    b->mat[e] = mat[e];
   return m;
 }
 

@@ -17,34 +17,16 @@
 #include <string.h>
 
 #include "dtmap/analysis.h"
+#include "fixtures.h"
 #include "dtmap/cost.h"
 
 #define NB 5
 static const double mult[NB] = {1, 2, 2, 4, 5};
 
 static dtm_mesh *bars(double L) {
-  dtm_mesh *m = calloc(1, sizeof *m);
-  m->dim = 1, m->nnodes = NB + 1;
-  m->node_tags = malloc((NB + 1) * sizeof *m->node_tags);
-  m->xyz = calloc(3 * (NB + 1), sizeof *m->xyz);
-  for (int i = 0; i <= NB; i++)
-    m->node_tags[i] = (size_t)i + 1, m->xyz[3 * i] = i ? m->xyz[3 * (i - 1)] + mult[i - 1] * L : 0;
-  m->nblocks = 1;
-  m->blocks = calloc(1, sizeof *m->blocks);
-  dtm_block *b = m->blocks;
-  *b = (dtm_block){DTM_LINE2,
-                   1,
-                   2,
-                   NB,
-                   malloc(NB * sizeof(size_t)),
-                   malloc(2 * NB * sizeof(size_t)),
-                   malloc(NB * sizeof(int)),
-                   malloc(NB * sizeof(int)),
-                   NULL};
-  for (int e = 0; e < NB; e++)
-    b->tags[e] = (size_t)e + 1, b->conn[2 * e] = (size_t)e, b->conn[2 * e + 1] = (size_t)e + 1, b->group[e] = -1,
-    b->mat[e] = 0;
-  return m;
+  double len[NB];
+  for (int e = 0; e < NB; e++) len[e] = mult[e] * L;
+  return tu_bar_mesh(NB, len, NULL, NULL);
 }
 
 static dtm_analysis *analyse(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm) {

@@ -2,6 +2,7 @@
 #include "fixtures.h"
 
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 void tu_fixture_init(tu_effect_fixture *f, const char *name, int dim, const char *const *attrs) {
@@ -44,4 +45,30 @@ dtm_batch tu_batch1(int type, const double *x, const dtm_material **m) {
   int dim = 0, nn = 0;
   dtm_elem_info(type, &dim, &nn);
   return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m};
+}
+
+dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat) {
+  dtm_mesh *m = calloc(1, sizeof *m);
+  size_t ne = (size_t)n;
+  m->dim = 1, m->nnodes = ne + 1;
+  m->node_tags = malloc((ne + 1) * sizeof *m->node_tags);
+  m->xyz = calloc(3 * (ne + 1), sizeof *m->xyz);
+  for (size_t i = 0; i <= ne; i++) m->node_tags[i] = i + 1, m->xyz[3 * i] = i ? m->xyz[3 * (i - 1)] + len[i - 1] : 0;
+  m->nblocks = 1;
+  m->blocks = calloc(1, sizeof *m->blocks);
+  dtm_block *b = m->blocks;
+  *b = (dtm_block){DTM_LINE2,
+                   1,
+                   2,
+                   ne,
+                   malloc(ne * sizeof(size_t)),
+                   malloc(2 * ne * sizeof(size_t)),
+                   malloc(ne * sizeof(int)),
+                   malloc(ne * sizeof(int)),
+                   NULL};
+  for (size_t e = 0; e < ne; e++) {
+    b->tags[e] = e + 1, b->conn[2 * e] = e, b->conn[2 * e + 1] = e + 1;
+    b->group[e] = group ? group[e] : -1, b->mat[e] = mat ? mat[e] : 0;
+  }
+  return m;
 }

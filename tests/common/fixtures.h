@@ -29,4 +29,10 @@ void tu_material(dtm_material *m, const char *name, ...);
  * group 0, tag 1. */
 dtm_batch tu_batch1(int type, const double *x, const dtm_material **m);
 
+/* A heap-allocated 1D mesh of n line2 elements along x with lengths len[n]
+ * (m), element e joining nodes e and e+1, tags e+1; group[e] and mat[e]
+ * per element (NULL: no group, material 0). Owned by the caller (or by an
+ * analysis it is handed to): dtm_mesh_destroy frees it. */
+dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat);
+
 #endif
