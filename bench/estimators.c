@@ -14,6 +14,7 @@
 #include "dtmap/analysis.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/operator.h"
+#include "dtmap/util.h"
 
 #define DURATION 1e-3 /* s, the fixed run the step counts are for */
 
@@ -64,12 +65,13 @@ static void one_mesh(double h) {
   double secs;
   if (dtm_gmsh_load(se, &dim) || dtm_analysis_current(se, dim, &a) || dtm_analysis_current(ss, dim, &b)) exit(3);
   double exact = lanczos(a, 1e-10, &its, &secs);
-  printf("\n### %zu tets, %zu nodes (size %g)\n\n", a->nel, a->mesh->nnodes, h);
+  printf("\n### %zu tets, %zu nodes (size %g)\n\n", dtm_analysis_nelements(a), dtm_analysis_mesh(a)->nnodes, h);
   printf("| estimator | time (s) | step (s) | step / global | steps for %g s | note |\n", DURATION);
   printf("|---|---|---|---|---|---|\n");
-  row("element bound", a->timings[DTM_T_EFFECTS], a->dt_min, exact, "rigorous");
-  row("L_safe", b->timings[DTM_T_EFFECTS], b->dt_min, exact, "rigorous on simplices (nu >= 0)");
-  row("nodal bound", a->timings[DTM_T_NODAL], a->dt_nodal, exact, "rigorous");
+  row("element bound", dtm_analysis_timing(a, DTM_T_EFFECTS), dtm_analysis_dt_min(a, NULL), exact, "rigorous");
+  row("L_safe", dtm_analysis_timing(b, DTM_T_EFFECTS), dtm_analysis_dt_min(b, NULL), exact,
+      "rigorous on simplices (nu >= 0)");
+  row("nodal bound", dtm_analysis_timing(a, DTM_T_NODAL), dtm_analysis_dt_nodal(a), exact, "rigorous");
   static const double tols[] = {1e-2, 1e-3, 1e-6};
   for (int i = 0; i < 3; i++) {
     char name[64], note[64];

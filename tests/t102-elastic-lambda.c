@@ -42,7 +42,7 @@
 
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))

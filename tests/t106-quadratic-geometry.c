@@ -37,7 +37,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/topology.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 static const int types[] = {DTM_TRI6,  DTM_QUAD9, DTM_TET10, DTM_HEX27,   DTM_PRISM18,
                             DTM_PYR14, DTM_QUAD8, DTM_HEX20, DTM_PRISM15, DTM_PYR13};

@@ -27,8 +27,8 @@
 
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
-#include "kernel/assemble.h"
-#include "kernel/kernel_impl.h"
+#include "assemble-impl.h"
+#include "kernel-impl.h"
 
 static const int types[] = {DTM_TET10,   DTM_HEX20, DTM_TRI6,  DTM_QUAD9,   DTM_HEX27,
                             DTM_PRISM18, DTM_PYR14, DTM_QUAD8, DTM_PRISM15, DTM_PYR13};

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dtmap/analysis.h"
+#include "analysis-impl.h"
 #include "fixtures.h"
 
 static dtm_mesh *three_bars(double L, double l) {

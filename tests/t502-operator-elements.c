@@ -31,8 +31,8 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
-#include "kernel/assemble.h"
-#include "kernel/kernel_impl.h"
+#include "assemble-impl.h"
+#include "kernel-impl.h"
 
 #define MAXN (3 * DTM_K_NODES) /* most unknowns of one element */
 

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dtmap/analysis.h"
+#include "analysis-impl.h"
 #include "fixtures.h"
 #include "dtmap/cost.h"
 

@@ -20,6 +20,7 @@
 #include "dtmap/error.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/scene.h"
+#include "cli-impl.h"
 #include "dtmap/sweep.h"
 #include "testutil.h"
 
@@ -129,7 +130,7 @@ static void sweep_square(void **unused) {
   dtm_sweep_print(rows, NS, stdout);
   assert_int_equal(dtm_sweep_write_csv(in_tmp(2, "square_sweep.csv"), rows, NS), 0);
   check_csv(path_buf[2], rows);
-  assert_int_equal(dtm_sweep_plot_titled(in_tmp(3, "square_sweep.png"), "square.xml", rows, NS), 0);
+  assert_int_equal(dtm_cli_sweep_plot_titled(in_tmp(3, "square_sweep.png"), "square.xml", rows, NS), 0);
   check_png(path_buf[3]);
   dtm_scene_destroy(&s);
   (void)unused;
@@ -161,7 +162,7 @@ static void bad_input(void **unused) {
                        .per_wavelength = NAN,
                        .speedup = 2};
   expect_error(dtm_sweep_write_csv("/nonexistent-dir/x.csv", &one, 1), DTM_ERR_INPUT, "cannot write");
-  expect_error(dtm_sweep_plot("/nonexistent-dir/x.png", &one, 1), DTM_ERR_INPUT, "cannot write");
+  expect_error(dtm_cli_sweep_plot("/nonexistent-dir/x.png", &one, 1), DTM_ERR_INPUT, "cannot write");
   dtm_scene_destroy(&s);
   (void)unused;
 }
@@ -190,7 +191,7 @@ static void no_duration(void **unused) {
   assert_non_null(fgets(line, sizeof line, f));
   fclose(f);
   assert_non_null(strstr(line, "9e-07,,,,,,0.01"));
-  assert_int_equal(dtm_sweep_plot(in_tmp(3, "nodur.png"), r, 2), 0);
+  assert_int_equal(dtm_cli_sweep_plot(in_tmp(3, "nodur.png"), r, 2), 0);
   check_png(path_buf[3]);
   (void)unused;
 }

@@ -6,11 +6,14 @@
 #ifndef DTMAP_EFFECT_H
 #define DTMAP_EFFECT_H
 
+#include "dtmap/export.h"
+
 #include <stddef.h>
 
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/material.h"
+#include "dtmap/problem.h"
 
 #define DTM_EFFECT_API_VERSION 1
 /* External effects export: const dtm_effect_class *dtm_effect_entry(void); */
@@ -27,44 +30,27 @@ typedef struct dtm_effect_args dtm_effect_args;
 
 /* Attribute as a double: *out = def when absent. A value that does not parse
  * as a finite number is DTM_ERR_INPUT naming the scene file and line. */
-int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def, double *out);
+DTM_EXPORT int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def, double *out);
 /* Attribute as a string (owned by the scene): *out = def when absent. */
-int dtm_effect_args_string(const dtm_effect_args *a, const char *key, const char *def, const char **out);
+DTM_EXPORT int dtm_effect_args_string(const dtm_effect_args *a, const char *key, const char *def, const char **out);
 /* Raise DTM_ERR_INPUT with "scene:line: <effect>: " before the message. */
-int dtm_effect_args_error(const dtm_effect_args *a, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+DTM_EXPORT int dtm_effect_args_error(const dtm_effect_args *a, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
 /* Spatial dimension of the elements being analysed (1, 2 or 3). */
-int dtm_effect_args_dim(const dtm_effect_args *a);
+DTM_EXPORT int dtm_effect_args_dim(const dtm_effect_args *a);
 /* Index of the physical group named (or numbered) ref among the mesh's
  * groups of the analysed dimension; DTM_ERR_INPUT listing the groups that
  * exist when there is none. */
-int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index);
+DTM_EXPORT int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index);
 /* The scene's <time f-max> (Hz, 0 when unset) and its
  * elements-per-wavelength (default 10). */
-double dtm_effect_args_fmax(const dtm_effect_args *a);
-double dtm_effect_args_per_wavelength(const dtm_effect_args *a);
+DTM_EXPORT double dtm_effect_args_fmax(const dtm_effect_args *a);
+DTM_EXPORT double dtm_effect_args_per_wavelength(const dtm_effect_args *a);
 /* A destroy() for effects whose state is one malloc'ed block: free it and
  * set *state to NULL. */
-void dtm_effect_free(void **state);
+DTM_EXPORT void dtm_effect_free(void **state);
 /* Number of physical groups of the analysed dimension. */
-int dtm_effect_args_ngroups(const dtm_effect_args *a);
-
-/* The semi-discrete problem behind a spectral effect, per material: used
- * by the nodal bound, the global (Lanczos) estimate and `dtmap verify`. */
-enum {
-  DTM_OP_NONE = 0,     /* not a spectral effect (e.g. a length rule) */
-  DTM_OP_ELASTIC = 1,  /* M u'' + K u = 0, central differences, dt = 2/omega */
-  DTM_OP_DIFFUSION = 2 /* C u' + K u = 0, forward Euler, dt = 2/lambda */
-};
-typedef struct {
-  int kind;               /* DTM_OP_* */
-  double capacity;        /* lumped "mass" per volume: rho (elastic), rho c
-                             (thermal), storage (hydraulic) */
-  double conductivity;    /* diffusion: k, or permeability/viscosity */
-  dtm_elastic_moduli mod; /* elastic: moduli of the formulation */
-  int dt_is_bound;        /* 1 when element_dt returns the element's own
-                             eigenvalue bound, 2/sqrt(lambda_e) or 2/lambda_e
-                             (undamped), so the nodal bound can reuse it */
-} dtm_operator_coeffs;
+DTM_EXPORT int dtm_effect_args_ngroups(const dtm_effect_args *a);
 
 /* One block of elements of one type, as the effects see it. */
 typedef struct {
@@ -113,5 +99,10 @@ typedef struct dtm_effect_class {
   /* Free the state and set *state to NULL (optional). */
   void (*destroy)(void **state);
 } dtm_effect_class;
+
+/* 1 when effect class c is a wave effect integrated by central differences,
+ * whose steps the DTM_ROLE_MODIFIES_WAVES effects (damping) scale and which
+ * mass scaling can lift. */
+static inline int dtm_effect_is_wave(const dtm_effect_class *c) { return c->exponent == 1.0; }
 
 #endif

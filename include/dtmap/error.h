@@ -6,6 +6,8 @@
 #ifndef DTMAP_ERROR_H
 #define DTMAP_ERROR_H
 
+#include "dtmap/export.h"
+
 /* Return codes; they double as the CLI's exit codes. */
 enum {
   DTM_OK = 0,          /* success */
@@ -17,19 +19,22 @@ enum {
 /* Record an error; returns code so it can be used as `return DTM_ERR(...)`.
  * The first error raised since the last dtm_error_clear() keeps its message;
  * later calls on the way up only add traceback lines. */
-int dtm_error_raise(int code, const char *file, int line, const char *func, const char *fmt, ...)
+DTM_EXPORT int dtm_error_raise(int code, const char *file, int line, const char *func, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
 /* Add one traceback line (file:line func) and return code unchanged. */
-int dtm_error_trace(int code, const char *file, int line, const char *func);
+DTM_EXPORT int dtm_error_trace(int code, const char *file, int line, const char *func);
 /* The message of the pending error ("" if none). Owned by the library. */
-const char *dtm_error_message(void);
+DTM_EXPORT const char *dtm_error_message(void);
 /* The traceback, one "file:line in func" per line. Owned by the library. */
-const char *dtm_error_traceback(void);
+DTM_EXPORT const char *dtm_error_traceback(void);
 /* The code of the pending error (DTM_OK if none). */
-int dtm_error_code(void);
-void dtm_error_clear(void);
+DTM_EXPORT int dtm_error_code(void);
+DTM_EXPORT void dtm_error_clear(void);
 
-#define DTM_ERR(code, ...) dtm_error_raise((code), __FILE__, __LINE__, __func__, __VA_ARGS__)
+/* Comma form (as libCEED's CeedError): the expression's value is `code`
+ * itself, so static analysers follow the error path. code is evaluated
+ * twice: pass a constant or a variable. */
+#define DTM_ERR(code, ...) (dtm_error_raise((code), __FILE__, __LINE__, __func__, __VA_ARGS__), (code))
 #define DTM_CHECK(call)                                                                                                \
   do {                                                                                                                 \
     int dtm_ierr_ = (call);                                                                                            \

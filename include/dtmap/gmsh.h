@@ -4,6 +4,8 @@
 #ifndef DTMAP_GMSH_H
 #define DTMAP_GMSH_H
 
+#include "dtmap/export.h"
+
 #include <stddef.h>
 
 #include "dtmap/mesh.h"
@@ -11,28 +13,35 @@
 
 /* Start Gmsh with General.AbortOnError=0. verbosity: 0 quiet (errors only
  * through dtmap's messages), 1 warnings, 2 Gmsh's info messages. */
-int dtm_gmsh_start(int verbosity);
-void dtm_gmsh_stop(void);
+DTM_EXPORT int dtm_gmsh_start(int verbosity);
+DTM_EXPORT void dtm_gmsh_stop(void);
 /* Give dtmap's loops back the thread count in force at dtm_gmsh_start
  * (Gmsh resets it to its own General.NumThreads when it meshes). */
-void dtm_gmsh_restore_threads(void);
+DTM_EXPORT void dtm_gmsh_restore_threads(void);
 /* Mesh on one thread: the same scene then always gives the same mesh. */
-void dtm_gmsh_serial(void);
+DTM_EXPORT void dtm_gmsh_serial(void);
 
 /* Open the scene's source: mesh its geometry with the <meshing> options, or
  * open its .msh. *dim receives the dimension to analyse. Errors name the
  * file; a geometry that yields no element of that dimension is an error. */
-int dtm_gmsh_load(const dtm_scene *s, int *dim);
+DTM_EXPORT int dtm_gmsh_load(const dtm_scene *s, int *dim);
 
 /* Physical groups of dimension dim in the current model. */
-int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
+DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
 
 /* Extract the nodes and the elements of dimension dim of the current model
  * into m (m->groups must be set). group_mat[g] is the material of group g or
  * -1; default_mat is used for elements whose groups have no material (-1:
  * none, an error naming the element tag and group). Types dtmap does not
  * handle are an error naming the element tag and type. */
-int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m);
+DTM_EXPORT int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m);
+
+/* Clear the current model's mesh and mesh it again (dimension dim, then
+ * order) with the size scale * size[v] (m) at node v of m, the current mesh
+ * (NaN: no value there), interpolated over its elements, as the only size
+ * source; in 3D the default and Netgen optimisers run after. Meshes on one
+ * thread (reproducible numbering). DTM_ERR_INPUT when Gmsh fails. */
+DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order);
 
 /* A view to write: name, ElementData or NodeData, one value per tag. */
 typedef struct {
@@ -45,6 +54,6 @@ typedef struct {
 
 /* Write the current mesh and the views to path (a .msh), appending views
  * with PostProcessing.SaveMesh=0. The caller makes the write atomic. */
-int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
+DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
 
 #endif

@@ -11,6 +11,8 @@
 #ifndef DTMAP_KERNEL_H
 #define DTMAP_KERNEL_H
 
+#include "dtmap/export.h"
+
 #include <stddef.h>
 
 /* Element types use Gmsh's type codes (the second-order codes are listed
@@ -73,17 +75,17 @@ typedef struct {
 
 /* Fill m from E (Pa), nu, rho (kg/m^3). Returns DTM_ERR_INPUT (with a
  * message) when E <= 0, rho <= 0, nu outside (-1, 0.5), or any is not finite. */
-int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, dtm_elastic_moduli *m);
+DTM_EXPORT int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, dtm_elastic_moduli *m);
 
 /* Topological dimension and node count of a type (either pointer may be
  * NULL); DTM_ERR_INPUT, with a message naming the Gmsh type code, for
  * types dtmap does not handle (line3, third and higher order, ...). */
-int dtm_elem_info(int type, int *dim, int *nn);
+DTM_EXPORT int dtm_elem_info(int type, int *dim, int *nn);
 /* Human-readable name of a type ("tet4", "tet10"), or "unknown". */
-const char *dtm_elem_name(int type);
+DTM_EXPORT const char *dtm_elem_name(int type);
 /* 1 for line2, tri3 and tet4: the types of the simplex closed forms; 0 for
  * every other type, tri6 and tet10 included. */
-int dtm_elem_is_simplex(int type);
+DTM_EXPORT int dtm_elem_is_simplex(int type);
 
 /* Length (1D), area (2D) or volume (3D) of the element, m^d: the integral
  * of det J, so negative for an inverted 3D element; a warped quadrangle
@@ -91,7 +93,7 @@ int dtm_elem_is_simplex(int type);
  * linear types and for straight-sided second-order elements (mid-side
  * nodes at the middle); curved ones are integrated with the element's
  * rule. NaN for an unknown type. Raises no error. */
-double dtm_elem_measure(int type, const double *x);
+DTM_EXPORT double dtm_elem_measure(int type, const double *x);
 
 /* Lumped weights w[nn], summing to 1; the lumped mass of node a is
  * rho * measure * w_a. Linear types: row sums, w_a = (integral of N_a) /
@@ -104,7 +106,7 @@ double dtm_elem_measure(int type, const double *x);
  * at mid-edge nodes; tri6: 1/19 and 16/57). For linear simplices and
  * parallelogram quad4 / parallelepiped hex8 the two coincide. NaN for a
  * zero-measure element. */
-void dtm_elem_lumped_weights(int type, const double *x, double *w);
+DTM_EXPORT void dtm_elem_lumped_weights(int type, const double *x, double *w);
 
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
  * with lumped mass (see dtm_elem_lumped_weights: row sums for linear
@@ -126,7 +128,7 @@ void dtm_elem_lumped_weights(int type, const double *x, double *w);
  * message clears the error and raises its own. No allocation (second-order
  * element matrices, up to 81 x 81, live on the stack); tet4 takes ~0.1 us,
  * tet10 ~35 us, hex20 ~0.2 ms, hex27 ~0.35 ms. */
-int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+DTM_EXPORT int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
  * diffusivity alpha (m^2/s) and lumped capacity (row sums for linear
@@ -135,7 +137,7 @@ int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const doubl
  * lambda = (d+1) alpha s_max.
  * DTM_ERR_INPUT for alpha not finite and > 0, a degenerate or inverted
  * element or an unsupported type. */
-int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double *lambda);
+DTM_EXPORT int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double *lambda);
 
 /* Geometric length of the given kind (m); the definitions for each type
  * are listed in src/kernel/length.c. For a second-order type the geometric
@@ -145,10 +147,10 @@ int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double 
  * DTM_LEN_EIGEN is not geometric and returns NaN here, as do an unknown
  * type and DTM_LEN_SAFE on a degenerate or inverted element. Raises no
  * error. */
-double dtm_kernel_length(int type, dtm_length_kind kind, const double *x);
+DTM_EXPORT double dtm_kernel_length(int type, dtm_length_kind kind, const double *x);
 
 /* Largest eigenvalue of the symmetric n x n matrix a (row-major, n >= 1,
  * destroyed), by cyclic Jacobi: within a few eps of the matrix norm. */
-double dtm_eig_sym_max(int n, double *a);
+DTM_EXPORT double dtm_eig_sym_max(int n, double *a);
 
 #endif

@@ -5,6 +5,8 @@
 #ifndef DTMAP_MATERIAL_H
 #define DTMAP_MATERIAL_H
 
+#include "dtmap/export.h"
+
 enum dtm_prop {
   DTM_PROP_E = 0,           /* Young's modulus, Pa */
   DTM_PROP_NU,              /* Poisson's ratio */
@@ -32,14 +34,14 @@ typedef struct dtm_material {
 } dtm_material;
 
 /* XML attribute name of a property ("heat-capacity"). */
-const char *dtm_prop_name(int p);
+DTM_EXPORT const char *dtm_prop_name(int p);
 /* Index of the property with that attribute name, or -1. */
-int dtm_prop_find(const char *attr);
+DTM_EXPORT int dtm_prop_find(const char *attr);
 /* Check value v of property p is physically admissible; DTM_ERR_INPUT with a
  * message naming file:line, material and property otherwise. */
-int dtm_prop_check(const dtm_material *m, int p, double v);
+DTM_EXPORT int dtm_prop_check(const dtm_material *m, int p, double v);
 /* Raise DTM_ERR_INPUT unless m has every property in `needs`; the message
  * names file:line, the material, the missing property and `who` (the effect). */
-int dtm_material_require(const dtm_material *m, unsigned needs, const char *who);
+DTM_EXPORT int dtm_material_require(const dtm_material *m, unsigned needs, const char *who);
 
 #endif

@@ -1,9 +1,11 @@
 /* The mesh as dtmap computes on it: nodes as a dense coordinate array and
  * the elements of the analysed dimension as one block per element type, a
- * structure of arrays. Filled from the current Gmsh model by dtm_mesh_extract
- * (src/gmsh_mesh.c); kernels and effects never see Gmsh itself. */
+ * structure of arrays. Filled from the current Gmsh model by dtm_gmsh_extract
+ * (src/gmsh/extract.c); kernels and effects never see Gmsh itself. */
 #ifndef DTMAP_MESH_H
 #define DTMAP_MESH_H
+
+#include "dtmap/export.h"
 
 #include <stddef.h>
 
@@ -41,13 +43,16 @@ typedef struct dtm_mesh {
 } dtm_mesh;
 
 /* Total number of elements over all blocks. */
-size_t dtm_mesh_nelements(const dtm_mesh *m);
+DTM_EXPORT size_t dtm_mesh_nelements(const dtm_mesh *m);
 /* Name of a group for messages: its name, or its number when unnamed. */
-const char *dtm_mesh_group_label(const dtm_mesh *m, int g, char *buf, size_t len);
+DTM_EXPORT const char *dtm_mesh_group_label(const dtm_mesh *m, int g, char *buf, size_t len);
 /* Find a group by name, or by number written as text; -1 when absent. */
-int dtm_mesh_group_find(const dtm_mesh *m, const char *ref);
+DTM_EXPORT int dtm_mesh_group_find(const dtm_mesh *m, const char *ref);
+/* used[i] = 1 for every material index i some element has (the
+ * blocks' mat), 0 for the others; used has nmat entries. */
+DTM_EXPORT void dtm_mesh_materials_used(const dtm_mesh *m, int nmat, char *used);
 /* Gather the coordinates of block b: x[n][nn][3]. x is caller-owned. */
-void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x);
-void dtm_mesh_destroy(dtm_mesh **m);
+DTM_EXPORT void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x);
+DTM_EXPORT void dtm_mesh_destroy(dtm_mesh **m);
 
 #endif

@@ -10,10 +10,12 @@
 #ifndef DTMAP_OPERATOR_H
 #define DTMAP_OPERATOR_H
 
+#include "dtmap/export.h"
+
 #include <stddef.h>
 
-#include "dtmap/effect.h"
 #include "dtmap/mesh.h"
+#include "dtmap/problem.h"
 
 typedef struct dtm_operator dtm_operator;
 
@@ -21,22 +23,22 @@ typedef struct dtm_operator dtm_operator;
  * (dtm_block.mat), all of the same kind (DTM_OP_ELASTIC or DTM_OP_DIFFUSION);
  * alpha[i], beta[i] Rayleigh damping per material (NULL: undamped). The
  * operator copies what it needs; the mesh must outlive it. */
-int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
-                        const double *beta, int nmat, dtm_operator **out);
-void dtm_operator_destroy(dtm_operator **op);
+DTM_EXPORT int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                                   const double *beta, int nmat, dtm_operator **out);
+DTM_EXPORT void dtm_operator_destroy(dtm_operator **op);
 
-size_t dtm_operator_ndof(const dtm_operator *op);
-int dtm_operator_ncomp(const dtm_operator *op);
+DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);
+DTM_EXPORT int dtm_operator_ncomp(const dtm_operator *op);
 /* DTM_OP_ELASTIC or DTM_OP_DIFFUSION, as created. */
-int dtm_operator_kind(const dtm_operator *op);
+DTM_EXPORT int dtm_operator_kind(const dtm_operator *op);
 /* Lumped diagonal [ndof] (kg, or J/K ...); 0 for nodes of no element. */
-const double *dtm_operator_mass(const dtm_operator *op);
+DTM_EXPORT const double *dtm_operator_mass(const dtm_operator *op);
 /* y = K u ([ndof] each). */
-void dtm_operator_apply(const dtm_operator *op, const double *u, double *y);
+DTM_EXPORT void dtm_operator_apply(const dtm_operator *op, const double *u, double *y);
 /* y = M^-1/2 K M^-1/2 x; dofs with zero mass give 0. */
-void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y);
+DTM_EXPORT void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y);
 /* y = C v with C = sum_e (alpha_e M_e + beta_e K_e). */
-void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y);
+DTM_EXPORT void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y);
 
 typedef struct {
   double theta;    /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
@@ -53,12 +55,12 @@ typedef struct {
 
 /* Lanczos on M^-1/2 K M^-1/2 from a seeded random start, at most maxit
  * products, stopping when residual <= tol * theta. */
-int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
+DTM_EXPORT int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
 /* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, half
  * the products) and residual is Paige's estimate |beta_k s_k|, which bounds
  * the distance from theta to an eigenvalue up to O(eps |A|). */
-int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
-                       dtm_lanczos_result *r);
+DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
+                                  dtm_lanczos_result *r);
 
 typedef struct {
   int steps;     /* steps taken */
@@ -72,6 +74,6 @@ typedef struct {
  * and the damping force on the lagged velocity v_{n-1/2} (starting at rest:
  * u_{-1} = u_0); diffusion by forward Euler. The energy norm is
  * sqrt(u^T K u + v^T M v) (elastic) or sqrt(u^T M u) (diffusion). */
-int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0, dtm_verify_result *r);
+DTM_EXPORT int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u0, dtm_verify_result *r);
 
 #endif

@@ -5,6 +5,8 @@
 #ifndef DTMAP_SCENE_H
 #define DTMAP_SCENE_H
 
+#include "dtmap/export.h"
+
 #include "dtmap/material.h"
 
 typedef struct {
@@ -22,6 +24,10 @@ typedef struct {
   char **keys;   /* [nattr] attribute names */
   char **values; /* [nattr] attribute values */
 } dtm_scene_effect;
+
+/* Elements per wavelength an accuracy bound asks for when the scene's <time>
+ * does not say. */
+#define DTM_SCENE_PER_WAVELENGTH 10.0
 
 typedef struct dtm_scene {
   char *path;           /* scene file as given */
@@ -50,10 +56,10 @@ typedef struct dtm_scene {
 /* Read and validate the scene at path. On success *out owns everything and
  * is freed with dtm_scene_destroy. On failure returns DTM_ERR_INPUT (missing
  * file, malformed XML, schema violation, bad value) with file:line. */
-int dtm_scene_load(const char *path, dtm_scene **out);
-void dtm_scene_destroy(dtm_scene **s);
+DTM_EXPORT int dtm_scene_load(const char *path, dtm_scene **out);
+DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
 
 /* Value of attribute key of an effect, or NULL. */
-const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);
+DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);
 
 #endif

@@ -5,6 +5,8 @@
 #ifndef DTMAP_SWEEP_H
 #define DTMAP_SWEEP_H
 
+#include "dtmap/export.h"
+
 #include <stddef.h>
 
 #include "dtmap/scene.h"
@@ -29,19 +31,9 @@ typedef struct {
 
 /* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each
  * of the n sizes. rows[n] is filled in the order given. */
-int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows);
+DTM_EXPORT int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows);
 /* Print the table (stream is a FILE *). */
-void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream);
+DTM_EXPORT void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream);
 /* Write one CSV row per size, with a header line, atomically. */
-int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n);
-/* Draw cost (element-steps, with and without subcycling) against accuracy
- * (elements per wavelength or per zone when available, else 1/h) on log
- * axes with PLplot into a PNG, atomically. */
-int dtm_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
-/* The same with a title naming the scene (title NULL: "dtmap sweep").
- * Without a duration (steps NaN) the y axis is the cost per simulated
- * second, elements / recommended step. DTM_ERR_INPUT when path cannot be
- * written or no row has a positive, finite cost and accuracy value. */
-int dtm_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
-
+DTM_EXPORT int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n);
 #endif

@@ -1,47 +1,91 @@
-/* The dtmap command line: dispatch to run, verify, refine, sweep and
- * effects, plus --help and --version. Exit codes: 0 ok, 1 target or
- * verification not met, 2 bad input or usage, 3 internal error. */
+/* The dtmap command line: the table of commands with their options, the
+ * dispatch, `dtmap effects`, --help and --version. Exit codes: 0 ok, 1 target
+ * or verification not met, 2 bad input or usage, 3 internal error. */
+#include <float.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "cli-impl.h"
 #include "dtmap/registry.h"
-#include "cli.h"
-#include "opts.h"
 
-const char dtm_cli_usage_short[] =
-    "usage: dtmap run SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [-j N] [-v|-q]\n"
-    "       dtmap verify SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]\n"
-    "       dtmap refine SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K]\n"
-    "       dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png]\n"
-    "       dtmap effects        list the effects a scene can name\n"
-    "       dtmap --help | --version\n";
+#define OPT(field) offsetof(cli_opts, field)
+#define POSITIVE DBL_MIN, DBL_MAX
 
-static const char usage_long[] =
-    "\n"
-    "run    meshes the scene's geometry (or reads its .msh), computes every element's\n"
-    "       critical explicit step for the effects the scene names, and writes the mesh\n"
-    "       with the views 'dt', 'characteristic length', 'limiting effect', 'size\n"
-    "       suggestion', 'nodal dt', 'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt.\n"
-    "  -o OUT.msh       output mesh (default: the scene's <output mesh>, else SCENE_dt.msh)\n"
-    "  --report R.json  JSON report (default: the scene's <output report>, if any)\n"
-    "  --posterior      also estimate the global step by Lanczos on the lumped-mass\n"
-    "                   problem (--tol T, default 1e-4; --lanczos-max K steps, default 400)\n"
-    "  -j N             threads (default: all cores)\n"
-    "  -v, -q           more output (Gmsh's messages, error tracebacks) / no summary\n"
-    "\n"
-    "verify simulates the scene's spectral effects on its mesh (central differences\n"
-    "       with the damping force on the lagged velocity; forward Euler for diffusion)\n"
-    "       from the top mode of the global estimate plus a random part, at --factor F x\n"
-    "       the recommended step (default 1) or at --dt DT, for --steps N (default 2000).\n"
-    "       Exit 1 if the energy grows (the step is unstable).\n"
-    "\n"
-    "refine remeshes the scene's geometry with the size suggestion for --target DT as\n"
-    "       the background size field, then Gmsh's optimisers, at most --max-iter K\n"
-    "       rounds (default 3), until the recommended step reaches DT. Exit 1 if not.\n"
-    "\n"
-    "sweep  meshes the scene at each size and tabulates elements, steps, the cost of\n"
-    "       the scene's duration with and without subcycling, and accuracy; CSV + PNG.\n"
-    "\n"
+#define VERBOSITY_OPTIONS                                                                                              \
+  {"-v", CLI_FLAG, OPT(verbosity), 2, 0, 0, NULL, "more output: Gmsh's messages, error tracebacks"}, {                 \
+    "-q", CLI_FLAG, OPT(verbosity), 0, 0, 0, NULL, "no summary on the terminal"                                        \
+  }
+#define THREADS_OPTION                                                                                                 \
+  { "-j", CLI_INT, OPT(threads), 0, 1, 4096, "N", "threads (default: all cores)" }
+#define LANCZOS_OPTIONS                                                                                                \
+  {"--tol", CLI_DOUBLE, OPT(tol), 0, DBL_MIN, 0.5, "T", "Lanczos relative residual (default 1e-4)"}, {                 \
+    "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
+  }
+
+static const cli_option run_options[] = {
+    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL, "also estimate the global step (Lanczos)"},
+    LANCZOS_OPTIONS,
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
+static const cli_option verify_options[] = {
+    {"--factor", CLI_DOUBLE, OPT(factor), 0, POSITIVE, "F", "verify F x the recommended step (default 1)"},
+    {"--dt", CLI_DOUBLE, OPT(dt), 0, POSITIVE, "DT", "verify this step, s (instead of --factor)"},
+    {"--steps", CLI_INT, OPT(steps), 0, 1, 1e9, "N", "time steps to run (default 2000)"},
+    LANCZOS_OPTIONS,
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
+static const cli_option refine_options[] = {
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "target recommended step, s (required)"},
+    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
+    {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 31, "K", "remeshing rounds at most (default 3)"},
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
+static const cli_option sweep_options[] = {
+    {"--sizes", CLI_STRING, OPT(sizes), 0, 0, 0, "h1,h2,...", "mesh sizes, m, comma-separated (required)"},
+    {"--csv", CLI_STRING, OPT(csv), 0, 0, 0, "F", "table as CSV (default SCENE_sweep.csv)"},
+    {"--plot", CLI_STRING, OPT(plot), 0, 0, 0, "F.png", "cost against accuracy, log-log (default SCENE_sweep.png)"},
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
+const cli_command dtm_cli_commands[] = {
+    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [-j N] [-v|-q]",
+     "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
+     "explicit step for the effects the scene names, and writes the mesh with the views\n"
+     "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
+     "'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt.",
+     run_options, dtm_cli_run},
+    {"verify", "SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]",
+     "Simulates the scene's spectral effects on its mesh (central differences with the\n"
+     "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
+     "mode of the global estimate plus a random part, at F x the recommended step or at\n"
+     "DT. Exit 1 if the energy grows (the step is unstable).",
+     verify_options, dtm_cli_verify},
+    {"refine", "SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K] [-j N] [-v|-q]",
+     "Remeshes the scene's geometry with the size suggestion for the target step as the\n"
+     "background size field, then Gmsh's optimisers, until the recommended step reaches\n"
+     "DT. Exit 1 if it does not.",
+     refine_options, dtm_cli_refine},
+    {"sweep", "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-j N] [-v|-q]",
+     "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
+     "and prints, per size: elements, nodes, the smallest element step, the recommended\n"
+     "step, the steps the scene's <time duration> takes, its cost in element-steps with\n"
+     "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
+     "elements per cohesive zone and per wavelength, and dtmap's own time; CSV + PNG.",
+     sweep_options, dtm_cli_sweep},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static const char lengths_help[] =
     "Element step of the elastic effect, <elastic length=...>:\n"
     "  eigen         2/sqrt(lambda_max(Me^-1 Ke)), lumped mass (default; provably safe)\n"
     "  safe          2/sqrt(d+1) (sum_a h_a^-2)^-1/2 / C_D on simplices (safe for nu >= 0)\n"
@@ -53,6 +97,20 @@ static const char usage_long[] =
     "Exit codes: 0 success, 1 target or verification not met, 2 bad input or usage,\n"
     "3 internal error.\n";
 
+static void print_usage(FILE *f) {
+  for (const cli_command *c = dtm_cli_commands; c->name; c++)
+    fprintf(f, "%s dtmap %s %s\n", c == dtm_cli_commands ? "usage:" : "      ", c->name, c->args);
+  fprintf(f, "       dtmap effects        list the effects a scene can name\n");
+  fprintf(f, "       dtmap --help | --version\n");
+}
+
+static int print_help(void) {
+  print_usage(stdout);
+  for (const cli_command *c = dtm_cli_commands; c->name; c++) printf("\n%-6s %s\n", c->name, c->about);
+  printf("\nEach command's options: dtmap CMD --help.\n\n%s", lengths_help);
+  return 0;
+}
+
 static int cmd_effects(void) {
   for (int i = 0; i < dtm_registry_count(); i++) {
     const dtm_effect_class *c = dtm_registry_get(i);
@@ -62,15 +120,23 @@ static int cmd_effects(void) {
   return 0;
 }
 
+static int usage_error(const char *what, const char *arg) {
+  fprintf(stderr, "dtmap: %s%s\n", what, arg);
+  print_usage(stderr);
+  fprintf(stderr, "(dtmap --help explains the commands)\n");
+  return 2;
+}
+
 int main(int argc, char **argv) {
   const char *cmd = argc > 1 ? argv[1] : "";
-  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help"))
-    return printf("%s%s", dtm_cli_usage_short, usage_long), 0;
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return print_help();
   if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;
-  if (!strcmp(cmd, "run")) return dtm_cli_run(argc, argv, 0);
-  if (!strcmp(cmd, "verify")) return dtm_cli_run(argc, argv, 1);
-  if (!strcmp(cmd, "refine")) return dtm_cli_refine(argc, argv);
-  if (!strcmp(cmd, "sweep")) return dtm_cli_sweep(argc, argv);
-  if (!strcmp(cmd, "effects")) return cmd_effects();
-  return dtm_cli_usage_error(argc > 1 ? "unknown command '%s'" : "%s", argc > 1 ? cmd : "no command given");
+  if (!strcmp(cmd, "effects")) return argc > 2 ? usage_error("effects takes no arguments: ", argv[2]) : cmd_effects();
+  for (const cli_command *c = dtm_cli_commands; c->name; c++) {
+    if (strcmp(cmd, c->name)) continue;
+    cli_opts o;
+    int r = dtm_cli_parse(c, argc, argv, &o);
+    return r < 0 ? 0 : r ? r : c->main(&o);
+  }
+  return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

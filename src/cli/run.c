@@ -1,80 +1,86 @@
 /* `dtmap run` and `dtmap verify`: analyse a scene, optionally estimate the
  * global step, then write the mesh with its views and the report, or
- * simulate the scene's effects at a step and judge stability. */
+ * simulate the scene's effects at a step and judge stability. Also the
+ * output step `refine` shares. */
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
-#include "dtmap/analysis.h"
+#include "cli-impl.h"
 #include "dtmap/gmsh.h"
-#include "dtmap/scene.h"
-#include "opts.h"
+#include "dtmap/output.h"
+#include "dtmap/util.h"
+#include "dtmap/verify.h"
 
-int dtm_cli_write_outputs(const dtm_analysis *a, const run_opts *o, double *t_out) {
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o) {
   char def[4096];
-  const dtm_scene *s = a->scene;
+  const dtm_scene *s = dtm_analysis_scene(res->analysis);
   const char *out = o->out ? o->out : s->out_mesh;
   if (!out) dtm_cli_default_out(s->path, "_dt.msh", def, sizeof def), out = def;
   const char *rep = o->report ? o->report : s->out_report;
   double t0 = dtm_wtime();
-  DTM_CHECK(dtm_output_write(a, out));
-  *t_out = dtm_wtime() - t0;
-  if (rep) DTM_CHECK(dtm_report_write(a, rep));
+  DTM_CHECK(dtm_output_write(res, out));
+  res->t_output = dtm_wtime() - t0;
+  if (rep) DTM_CHECK(dtm_report_write(res, rep));
   if (o->verbosity) printf("\nwrote        %s (+ .opt)%s%s\n", out, rep ? ", " : "", rep ? rep : "");
   return DTM_OK;
 }
 
 static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_verify_effect *v) {
-  printf("\nverify       %d steps of %.4e s (%.3fx the recommended step)\n", steps, dt, dt / a->recommended);
+  printf("\nverify       %d steps of %.4e s (%.3fx the recommended step)\n", steps, dt,
+         dt / dtm_analysis_recommended(a));
   printf("  %-10s %-12s %-25s %-12s %s\n", "effect", "growth", "global dt bracket (s)", "time (s)", "verdict");
-  for (int k = 0; k < a->neffects; k++) {
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) {
     if (!v[k].simulated) continue;
-    const dtm_global_info *g = &a->global[k];
-    printf("  %-10s %-12.4g [%.4e, %.4e] %-12.3f %s\n", a->effects[k].cls->name, v[k].growth, g->dt_low, g->dt_high,
-           v[k].seconds, v[k].unstable ? "UNSTABLE" : "stable");
+    const dtm_global_info *g = dtm_analysis_global(a, k);
+    printf("  %-10s %-12.4g [%.4e, %.4e] %-12.3f %s\n", dtm_analysis_effect(a, k)->name, v[k].growth, g->dt_low,
+           g->dt_high, v[k].seconds, v[k].unstable ? "UNSTABLE" : "stable");
   }
 }
 
-static int verify_step(const dtm_analysis *a, const run_opts *o) {
-  double dt = o->dt > 0 ? o->dt : o->factor * a->recommended;
-  dtm_verify_effect *v = calloc((size_t)a->neffects + 1, sizeof *v);
+static int verify_step(const dtm_analysis *a, const cli_opts *o) {
+  double dt = o->dt > 0 ? o->dt : o->factor * dtm_analysis_recommended(a);
+  dtm_verify_effect *v = calloc((size_t)dtm_analysis_neffects(a) + 1, sizeof *v);
   if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = dtm_verify(a, dt, o->steps, v), unstable = 0;
   if (r == DTM_OK && o->verbosity) print_verify(a, dt, o->steps, v);
-  for (int k = 0; k < a->neffects && r == DTM_OK; k++) unstable |= v[k].unstable;
+  for (int k = 0; k < dtm_analysis_neffects(a) && r == DTM_OK; k++) unstable |= v[k].unstable;
   free(v);
   if (r == DTM_OK && unstable) r = DTM_ERR(DTM_ERR_TARGET, "verify: the step %.4e s is unstable", dt);
   return r;
 }
 
-static int run_analysis(dtm_scene *s, const run_opts *o, double t_scene, int verify) {
+/* Analyse, then summarise and either write the outputs or verify. */
+static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
+  dtm_cost *cost = NULL;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
-  if (r == DTM_OK && (o->posterior || verify)) r = dtm_global_estimate(a, o->tol, o->lanczos_max, verify);
+  if (r == DTM_OK && (o->posterior || verify)) r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, verify);
+  if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
-    a->timings[DTM_T_SCENE] = t_scene;
-    if (o->verbosity) dtm_summary_print(a, stdout);
-    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(a, o, &a->timings[DTM_T_OUTPUT]);
+    dtm_results res = {a, cost, NULL, t_scene, 0.0};
+    if (o->verbosity) dtm_summary_print(&res, stdout);
+    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o);
   }
+  dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_gmsh_stop();
   return r;
 }
 
-int dtm_cli_run(int argc, char **argv, int verify) {
-  run_opts o = dtm_cli_defaults();
-  int r = dtm_cli_parse(argc, argv, &o);
-  if (r) return r;
-  if (o.threads > 0) omp_set_num_threads(o.threads);
+static int run_scene(const cli_opts *o, int verify) {
+  if (o->threads > 0) omp_set_num_threads(o->threads);
   dtm_scene *s = NULL;
   double t0 = dtm_wtime();
-  r = dtm_scene_load(o.scene, &s);
+  int r = dtm_scene_load(o->scene, &s);
   if (r == DTM_OK) {
-    if (o.verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
-    r = run_analysis(s, &o, dtm_wtime() - t0, verify);
+    if (o->verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
+    r = analyse(s, o, dtm_wtime() - t0, verify);
   }
   dtm_scene_destroy(&s);
-  return r ? dtm_cli_fail(r, o.verbosity) : 0;
+  return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }
+
+int dtm_cli_run(const cli_opts *o) { return run_scene(o, 0); }
+int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }

@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
-#include "kernel/assemble.h"
+#include "kernel-impl.h"
+#include "assemble-impl.h"
 
 int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg) {
   if (!dtm_elem_topology(type)) return -1;

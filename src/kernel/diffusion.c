@@ -7,7 +7,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 static int simplex(int type, double alpha, const double *x, double *lambda) {
   int d;

@@ -18,8 +18,7 @@
  * whatever the split of the pair (see kernel_impl.h). */
 #include <math.h>
 
-#include "kernel/kernel_impl.h"
-#include "kernel/vec3.h"
+#include "kernel-impl.h"
 
 /* |r| above this means two eigenvalues are close: deflate. Below it the
  * trigonometric error is at most ~ eps/sqrt(1 - r^2) < 3 eps times the norm. */

@@ -5,7 +5,7 @@
  * assembled eigenproblem otherwise (generic.c), second-order simplices
  * included. */
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   if (type == DTM_TET4 && m->form == DTM_FORM_3D) /* the hot path */

@@ -46,7 +46,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* u for lam > 0 (see above): the largest root of G = D F, a monic cubic
  * whose other roots are <= 0 (interlacing), Horner-evaluated. */

@@ -9,7 +9,7 @@
 #include <stddef.h>
 
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 typedef struct {
   int type;          /* Gmsh type code */

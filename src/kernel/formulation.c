@@ -2,7 +2,7 @@
  * DTM_FORM_3D, 2D elements plane strain or plane stress, 1D elements the
  * bar. A mismatch is a scene error, reported with both names. */
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 static const char *form_name(int f) {
   switch (f) {

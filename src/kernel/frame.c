@@ -15,8 +15,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "kernel/kernel_impl.h"
-#include "kernel/vec3.h"
+#include "kernel-impl.h"
 
 static int unit(double *a) {
   double n = sqrt(dtm_v3_dot(a, a));

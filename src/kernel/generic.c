@@ -10,8 +10,8 @@
 #include <math.h>
 
 #include "dtmap/error.h"
-#include "kernel/assemble.h"
-#include "kernel/kernel_impl.h"
+#include "assemble-impl.h"
+#include "kernel-impl.h"
 
 int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda) {
   double r[DTM_K_DOF];

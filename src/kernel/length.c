@@ -39,9 +39,8 @@
 #include <math.h>
 
 #include "dtmap/error.h"
-#include "kernel/assemble.h"
-#include "kernel/kernel_impl.h"
-#include "kernel/vec3.h"
+#include "assemble-impl.h"
+#include "kernel-impl.h"
 
 /* A facet reduced to what lengths need: measure, and a point and unit
  * direction that define its plane (normal), line (tangent) or point. */

@@ -12,7 +12,7 @@
  * straight-sided elements: tri6 corners 3/57, mid-edges 16/57 of V; tet10
  * corners 1/36, mid-edges 4/27; quad9 1/36, 1/9 and 4/9 (the tensor
  * product of the 1D Simpson weights 1/6, 2/3, 1/6). */
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;

@@ -9,7 +9,7 @@
 #include <float.h>
 #include <math.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* J[i][j] = d x_i / d xi_j, i, j < d. */
 static void jacobian(int d, int nn, const double (*xl)[3], const double (*dN)[3], double J[3][3]) {
@@ -20,47 +20,13 @@ static void jacobian(int d, int nn, const double (*xl)[3], const double (*dN)[3]
     }
 }
 
-static double det(int d, double J[3][3]) {
-  if (d == 1) return J[0][0];
-  if (d == 2) return J[0][0] * J[1][1] - J[0][1] * J[1][0];
-  return J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
-}
-
-/* Product of the column lengths of J: |det J| never exceeds it. */
-static double hadamard(int d, double J[3][3]) {
-  double h = 1;
-  for (int j = 0; j < d; j++) {
-    double c = 0;
-    for (int i = 0; i < d; i++) c += J[i][j] * J[i][j];
-    h *= sqrt(c);
-  }
-  return h;
-}
-
-/* K = J^-1, given det J. */
-static void inverse(int d, double J[3][3], double dj, double K[3][3]) {
-  if (d == 1) {
-    K[0][0] = 1 / dj;
-  } else if (d == 2) {
-    K[0][0] = J[1][1] / dj, K[0][1] = -J[0][1] / dj;
-    K[1][0] = -J[1][0] / dj, K[1][1] = J[0][0] / dj;
-  } else {
-    for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
-        int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
-        K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
-      }
-  }
-}
-
 double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
                     double (*g)[3], double *dv) {
   double dN[DTM_K_NODES][3], J[3][3], K[3][3];
   dtm_ref_eval(type, p, N, dN);
   jacobian(d, nn, xl, (const double(*)[3])dN, J);
-  double dj = det(d, J);
-  inverse(d, J, dj, K);
+  double dj = dtm_mat_det(d, (const double(*)[3])J);
+  dtm_mat_inverse(d, (const double(*)[3])J, dj, K);
   for (int a = 0; a < nn; a++)
     for (int i = 0; i < 3; i++) {
       g[a][i] = 0;
@@ -75,8 +41,8 @@ static int valid_at(int type, int d, int nn, const double (*xl)[3], const double
   double N[DTM_K_NODES], dN[DTM_K_NODES][3], J[3][3];
   dtm_ref_eval(type, p, N, dN);
   jacobian(d, nn, xl, (const double(*)[3])dN, J);
-  *dj = det(d, J);
-  return *dj > 32 * DBL_EPSILON * hadamard(d, J) && isfinite(*dj) ? 0 : -1;
+  *dj = dtm_mat_det(d, (const double(*)[3])J);
+  return *dj > 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J) && isfinite(*dj) ? 0 : -1;
 }
 
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj) {

@@ -10,7 +10,7 @@
  * type or for nodes that span no line or plane. */
 #include <math.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* Lumped masses per unit density into m[nn] and the measure, or NaN. */
 static double integrate(int type, const double *x, double *m) {

@@ -37,7 +37,7 @@
  * against exact monomial integrals in tests/t105. */
 #include <math.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* Gauss-Legendre points and weights on [-1,1], n = 2 or 3. */
 static void gauss(int n, double *x, double *w) {

@@ -12,7 +12,7 @@
  * coordinates in ref_nodes.c. */
 #include <string.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* Corner signs of the quadrangle, hexahedron and pyramid base (the same
  * tables are in ref_nodes.c). */

@@ -20,7 +20,7 @@
  * coordinates (a = u/(1 - w), b = v/(1 - w); the apex at a = b = 0). */
 #include <string.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 #define H 0.5
 

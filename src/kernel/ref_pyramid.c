@@ -17,7 +17,7 @@
  * phi(w), d/du = F_a phi/(1 - w), d/dw = F phi' + (a F_a + b F_b)
  * phi/(1 - w); every phi here carries a factor (1 - w), so the gradients
  * below are polynomial and finite at the apex. */
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 static const double sx[4] = {-1, 1, 1, -1};
 static const double sy[4] = {-1, -1, 1, 1};

@@ -18,7 +18,7 @@
  * functions. Gradients are with respect to (u, v, w). Each node's role
  * (corner, edge, ...) is read off its reference coordinates
  * (dtm_ref_nodes). */
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* Barycentric coordinates of a d-simplex at p and their gradients. */
 static void barycentric(int d, const double *p, double *L, double (*dL)[3]) {

@@ -12,7 +12,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 #define FLAT_TOL (32 * DBL_EPSILON)
 

@@ -13,7 +13,7 @@
 #include <float.h>
 #include <math.h>
 
-#include "kernel/kernel_impl.h"
+#include "kernel-impl.h"
 
 /* Reduce the trailing block of a (rows/columns k+1.. of the n x n matrix,
  * of which only the lower triangle is read and written) with one

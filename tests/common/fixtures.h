@@ -7,7 +7,7 @@
 #include "dtmap/effect.h"
 #include "dtmap/mesh.h"
 #include "dtmap/scene.h"
-#include "effect_args.h"
+#include "effect-impl.h"
 
 typedef struct {
   dtm_scene scene;     /* path "fixture.xml" */

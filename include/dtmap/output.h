@@ -1,0 +1,30 @@
+/* What dtmap writes: the mesh with its views (and X.msh.opt), the JSON
+ * report and the terminal summary. Each takes the bundle of results a
+ * command produced: the analysis, and where they exist the cost, the refine
+ * rounds and the caller's own stage times. Nothing here computes. */
+#ifndef DTMAP_OUTPUT_H
+#define DTMAP_OUTPUT_H
+
+#include "dtmap/analysis.h"
+#include "dtmap/cost.h"
+#include "dtmap/export.h"
+#include "dtmap/refine.h"
+
+typedef struct {
+  const dtm_analysis *analysis;    /* required (not owned) */
+  const dtm_cost *cost;            /* or NULL (not owned) */
+  const dtm_refine_result *refine; /* the refine rounds, or NULL (not owned) */
+  double t_scene;                  /* reading the scene, s (the caller's stage) */
+  double t_output;                 /* writing the mesh and views, s (the caller's stage) */
+} dtm_results;
+
+/* Write the mesh with its views to path atomically, plus path.opt.
+ * Refuses to overwrite the scene's input mesh or the scene itself. */
+DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
+/* Write the JSON report to path atomically. */
+DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
+/* Print the terminal summary (counts, min dt and where, recommendation,
+ * the 10 smallest, a histogram by decade) to stream (a FILE *). */
+DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
+
+#endif

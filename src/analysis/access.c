@@ -1,0 +1,59 @@
+/* The accessors of the opaque analysis handle: what other modules, the CLI
+ * and library users read. Each returns a field (or a row of it) as the
+ * compute stages left it; nothing here computes. */
+#include <stddef.h>
+
+#include "analysis-impl.h"
+
+const dtm_scene *dtm_analysis_scene(const dtm_analysis *a) { return a->scene; }
+const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a) { return a->mesh; }
+size_t dtm_analysis_nelements(const dtm_analysis *a) { return a->nel; }
+int dtm_analysis_neffects(const dtm_analysis *a) { return a->neffects; }
+
+const dtm_effect_class *dtm_analysis_effect(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects ? a->effects[k].cls : NULL;
+}
+
+const double *dtm_analysis_dt(const dtm_analysis *a) { return a->dt; }
+const double *dtm_analysis_length(const dtm_analysis *a) { return a->len; }
+const int *dtm_analysis_limiting(const dtm_analysis *a) { return a->limiting; }
+const double *dtm_analysis_size(const dtm_analysis *a) { return a->h; }
+const double *dtm_analysis_hmax(const dtm_analysis *a) { return a->hmax; }
+const int *dtm_analysis_hmax_by(const dtm_analysis *a) { return a->hmax_by; }
+
+const double *dtm_analysis_effect_dt(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects ? a->dt_effect[k] : NULL;
+}
+
+const double *dtm_analysis_resolution(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects ? a->resolution[k] : NULL;
+}
+
+const double *dtm_analysis_size_suggestion(const dtm_analysis *a) { return a->size_node; }
+const double *dtm_analysis_nodal(const dtm_analysis *a) { return a->nodal_node; }
+
+const double *dtm_analysis_effect_nodal(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects && a->node_dt ? a->node_dt[k] : NULL;
+}
+
+double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element) {
+  if (element) *element = a->el_min;
+  return a->dt_min;
+}
+
+double dtm_analysis_dt_nodal(const dtm_analysis *a) { return a->dt_nodal; }
+double dtm_analysis_dt_global(const dtm_analysis *a) { return a->dt_global; }
+double dtm_analysis_recommended(const dtm_analysis *a) { return a->recommended; }
+const char *dtm_analysis_basis(const dtm_analysis *a) { return a->basis; }
+
+const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects ? &a->per_effect[k] : NULL;
+}
+
+const dtm_global_info *dtm_analysis_global(const dtm_analysis *a, int k) {
+  return a->global && k >= 0 && k < a->neffects && a->global[k].done ? &a->global[k] : NULL;
+}
+
+void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out) { *out = a->accuracy; }
+double dtm_analysis_timing(const dtm_analysis *a, int t) { return t >= 0 && t < DTM_T_COUNT ? a->timings[t] : 0.0; }
+int dtm_analysis_threads(const dtm_analysis *a) { return a->threads; }

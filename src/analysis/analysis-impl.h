@@ -1,0 +1,59 @@
+/* Private to src/analysis/ (and its white-box tests): the layout of the
+ * analysis handle, as PETSc keeps struct _p_PC in a private header, and the
+ * stages its files share. Other modules read an analysis through the
+ * accessors of include/dtmap/analysis.h. */
+#ifndef DTM_ANALYSIS_IMPL_H
+#define DTM_ANALYSIS_IMPL_H
+
+#include "base.h"
+#include "dtmap/analysis.h"
+
+struct dtm_analysis {
+  const dtm_scene *scene; /* not owned */
+  dtm_mesh *mesh;         /* owned */
+  int neffects;
+  dtm_effect *effects;         /* [neffects] owned, scene order */
+  size_t nel;                  /* elements analysed */
+  size_t *offset;              /* [nblocks + 1] first global index of each block */
+  double *dt;                  /* [nel] min over limiting effects, s (before safety) */
+  double *len;                 /* [nel] characteristic length of the limiting effect, m */
+  int *limiting;               /* [nel] index of the limiting effect, scene order */
+  double **dt_effect;          /* [neffects][nel]; NULL rows for non-limiting effects */
+  double **dt_bare;            /* [neffects][nel] wave steps before the damping
+                                  modifiers; rows only when modifiers exist */
+  double *h;                   /* [nel] element size (mean edge length), m */
+  double *hmax;                /* [nel] accuracy bound on the size, m (+inf: none) */
+  int *hmax_by;                /* [nel] effect whose bound hmax is, -1: none */
+  double **resolution;         /* [neffects][nel] accuracy view values; NULL rows
+                                  for effects without an accuracy bound */
+  dtm_accuracy accuracy;       /* under-resolved elements, target conflicts */
+  double *size_node;           /* [nnodes] size suggestion, m */
+  dtm_effect_min *per_effect;  /* [neffects] */
+  double dt_min;               /* min of dt, s */
+  size_t el_min;               /* its global element index */
+  double *nodal_node;          /* [nnodes] nodal-bound step per node, min over the
+                                  spectral effects, s (+inf: no spectral effect) */
+  double **node_dt;            /* [neffects][nnodes] nodal-bound step of each
+                                  spectral effect, s; NULL rows otherwise */
+  double dt_nodal;             /* min over nodes of nodal_node, s (NaN: none) */
+  double dt_global;            /* min over effects of the global estimate, s (NaN) */
+  double recommended;          /* safety x the best guaranteed-safe estimate, s */
+  const char *basis;           /* what recommended rests on: "element bound",
+                                  "nodal bound" or "global estimate" */
+  dtm_global_info *global;     /* [neffects], filled by dtm_analysis_estimate_global */
+  double timings[DTM_T_COUNT]; /* s */
+  int threads;                 /* OpenMP threads used for the element loop */
+};
+
+/* Fill a->size_node and a->accuracy from the per-element steps (size.c). */
+int dtm_size_suggest(dtm_analysis *a);
+/* Nodal bounds of the spectral effects (nodal.c). */
+int dtm_nodal_bounds(dtm_analysis *a);
+/* Fill per-effect safe steps, dt_nodal, dt_global and recommended
+ * (recommend.c). */
+void dtm_recommend(dtm_analysis *a);
+/* 1 when effect k is integrated by central differences (a wave effect whose
+ * step the damping modifiers scale). */
+int dtm_analysis_is_wave(const dtm_analysis *a, int k);
+
+#endif

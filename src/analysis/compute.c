@@ -1,0 +1,257 @@
+/* The analysis pipeline: evaluate every effect on every element in
+ * cache-sized chunks (OpenMP over chunks), apply the wave modifiers
+ * (damping), reduce to the per-element minimum and the summary, then the
+ * nodal bound, the recommendation and the size suggestion. Loading through
+ * Gmsh is run.c; what a run costs is the cost module's, above this one. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+#include "dtmap/topology.h"
+
+#define CHUNK 512 /* elements per batch: x[CHUNK][8][3] stays in L2 */
+
+int dtm_analysis_is_wave(const dtm_analysis *a, int k) { return dtm_effect_is_wave(a->effects[k].cls); }
+
+static int has_modifiers(const dtm_analysis *a) {
+  for (int j = 0; j < a->neffects; j++)
+    if (a->effects[j].cls->role & DTM_ROLE_MODIFIES_WAVES) return 1;
+  return 0;
+}
+
+static int alloc_results(dtm_analysis *a) {
+  size_t n = a->nel, ne = (size_t)a->neffects;
+  a->dt = malloc(n * sizeof *a->dt);
+  a->len = malloc(n * sizeof *a->len);
+  a->limiting = malloc(n * sizeof *a->limiting);
+  a->h = malloc(n * sizeof *a->h);
+  a->hmax = malloc(n * sizeof *a->hmax);
+  a->hmax_by = malloc(n * sizeof *a->hmax_by);
+  a->resolution = calloc(ne + 1, sizeof *a->resolution);
+  a->dt_effect = calloc(ne + 1, sizeof *a->dt_effect);
+  a->per_effect = calloc(ne + 1, sizeof *a->per_effect);
+  if (!a->dt || !a->len || !a->limiting || !a->h || !a->hmax || !a->hmax_by || !a->resolution || !a->dt_effect ||
+      !a->per_effect)
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for %zu elements", n);
+  for (size_t k = 0; k < ne; k++) {
+    if (!(a->effects[k].cls->role & DTM_ROLE_LIMITS)) continue;
+    a->dt_effect[k] = malloc(n * sizeof **a->dt_effect);
+    if (!a->dt_effect[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  a->dt_bare = calloc(ne + 1, sizeof *a->dt_bare);
+  if (!a->dt_bare) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t k = 0; k < ne && has_modifiers(a); k++) {
+    if (!a->dt_effect[k] || !dtm_analysis_is_wave(a, (int)k)) continue;
+    a->dt_bare[k] = malloc(n * sizeof **a->dt_bare);
+    if (!a->dt_bare[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  for (size_t k = 0; k < ne; k++) {
+    if (!a->effects[k].cls->accuracy) continue;
+    a->resolution[k] = malloc(n * sizeof **a->resolution);
+    if (!a->resolution[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  return DTM_OK;
+}
+
+static int setup(dtm_analysis *a) {
+  dtm_mesh *m = a->mesh;
+  a->offset = malloc(((size_t)m->nblocks + 1) * sizeof *a->offset);
+  if (!a->offset) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  a->offset[0] = 0;
+  for (int b = 0; b < m->nblocks; b++) a->offset[b + 1] = a->offset[b] + m->blocks[b].n;
+  a->nel = a->offset[m->nblocks];
+  return alloc_results(a);
+}
+
+/* Scale the wave-type steps of one chunk by every modifier's factor, taken
+ * at the element's own undamped top frequency omega_e = 2/dt_e. */
+static int apply_modifiers(const dtm_analysis *a, const dtm_batch *bt, size_t g0, double *lens) {
+  for (int k = 0; k < a->neffects; k++) {
+    const dtm_effect_class *c = a->effects[k].cls;
+    if (!(c->role & DTM_ROLE_LIMITS) || !dtm_analysis_is_wave(a, k)) continue;
+    for (int j = 0; j < a->neffects; j++) {
+      const dtm_effect *mj = &a->effects[j];
+      if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES)) continue;
+      for (size_t e = 0; e < bt->n; e++) {
+        double *dt = &a->dt_effect[k][g0 + e], f = 1.0;
+        DTM_CHECK(mj->cls->wave_factor(mj->state, bt->mat[e], 2.0 / *dt, &f));
+        *dt *= f;
+        lens[k * CHUNK + e] *= f;
+      }
+    }
+  }
+  return DTM_OK;
+}
+
+static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, const double *lens) {
+  for (size_t e = 0; e < bt->n; e++) {
+    double best = INFINITY, len = NAN;
+    int lim = -1;
+    for (int k = 0; k < a->neffects; k++) {
+      if (!a->dt_effect[k]) continue;
+      double v = a->dt_effect[k][g0 + e];
+      if (v < best || lim < 0) best = v, lim = k, len = lens[k * CHUNK + e];
+    }
+    a->dt[g0 + e] = best;
+    a->limiting[g0 + e] = lim;
+    a->len[g0 + e] = len;
+    a->h[g0 + e] = dtm_elem_mean_edge(bt->type, bt->x + 3 * (size_t)bt->nn * e);
+  }
+}
+
+/* Per-thread scratch for one chunk. */
+typedef struct {
+  double *x;                /* [CHUNK][nn][3] */
+  const dtm_material **mat; /* [CHUNK] */
+  double *lens;             /* [neffects][CHUNK] */
+  double *hm;               /* [CHUNK] one effect's accuracy bound */
+} scratch;
+
+/* Accuracy bounds of the chunk: hmax = min over effects, plus each
+ * effect's resolution values. */
+static int accuracy_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, double *hm) {
+  for (size_t e = 0; e < bt->n; e++) a->hmax[g0 + e] = INFINITY, a->hmax_by[g0 + e] = -1;
+  for (int k = 0; k < a->neffects; k++) {
+    const dtm_effect *ef = &a->effects[k];
+    if (!ef->cls->accuracy) continue;
+    DTM_CHECK(ef->cls->accuracy(ef->state, bt, hm, a->resolution[k] + g0));
+    for (size_t e = 0; e < bt->n; e++)
+      if (hm[e] < a->hmax[g0 + e]) a->hmax[g0 + e] = hm[e], a->hmax_by[g0 + e] = k;
+  }
+  return DTM_OK;
+}
+
+static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  size_t n = blk->n - e0 < CHUNK ? blk->n - e0 : CHUNK, g0 = a->offset[b] + e0;
+  dtm_block sub = *blk;
+  sub.n = n;
+  sub.conn = blk->conn + e0 * (size_t)blk->nn;
+  dtm_mesh_gather(a->mesh, &sub, w->x);
+  for (size_t e = 0; e < n; e++) w->mat[e] = &a->scene->materials[blk->mat[e0 + e]].m;
+  dtm_batch bt = {blk->type, blk->dim,       blk->nn,         n,
+                  w->x,      blk->tags + e0, blk->group + e0, blk->gmask ? blk->gmask + e0 : NULL,
+                  w->mat};
+  for (int k = 0; k < a->neffects; k++) {
+    const dtm_effect *ef = &a->effects[k];
+    if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;
+    DTM_CHECK(ef->cls->element_dt(ef->state, &bt, a->dt_effect[k] + g0, w->lens + (size_t)k * CHUNK));
+  }
+  for (int k = 0; k < a->neffects; k++)
+    if (a->dt_bare[k]) memcpy(a->dt_bare[k] + g0, a->dt_effect[k] + g0, n * sizeof(double));
+  DTM_CHECK(apply_modifiers(a, &bt, g0, w->lens));
+  DTM_CHECK(accuracy_chunk(a, &bt, g0, w->hm));
+  reduce_chunk(a, &bt, g0, w->lens);
+  return DTM_OK;
+}
+
+static int compute_block(const dtm_analysis *a, int b) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  long nchunks = (long)((blk->n + CHUNK - 1) / CHUNK);
+  dtm_par_error pe = {0, ""};
+#pragma omp parallel
+  {
+    scratch w = {malloc(CHUNK * (size_t)blk->nn * 3 * sizeof(double)), malloc(CHUNK * sizeof(dtm_material *)),
+                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double)), malloc(CHUNK * sizeof(double))};
+    int ok = w.x && w.mat && w.lens && w.hm;
+    if (!ok) dtm_par_error_keep(&pe, DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
+#pragma omp for schedule(dynamic, 4)
+    for (long c = 0; c < nchunks; c++) {
+      if (!ok || pe.code) continue;
+      int r = compute_chunk(a, b, (size_t)c * CHUNK, &w);
+      if (r) dtm_par_error_keep(&pe, r);
+    }
+    free(w.x);
+    free((void *)w.mat);
+    free(w.lens);
+    free(w.hm);
+  }
+  return dtm_par_error_raise(&pe);
+}
+
+/* Drop the accuracy rows of effects whose bound applies nowhere (e.g. the
+ * elastic wavelength bound without <time f-max>). */
+static void drop_empty_accuracy(dtm_analysis *a) {
+  for (int k = 0; k < a->neffects; k++) {
+    if (!a->resolution[k]) continue;
+    size_t i = 0;
+    while (i < a->nel && isnan(a->resolution[k][i])) i++;
+    if (i == a->nel) free(a->resolution[k]), a->resolution[k] = NULL;
+  }
+}
+
+static void summarize(dtm_analysis *a) {
+  drop_empty_accuracy(a);
+  a->dt_min = INFINITY;
+  for (size_t i = 0; i < a->nel; i++)
+    if (a->dt[i] < a->dt_min) a->dt_min = a->dt[i], a->el_min = i;
+  for (int k = 0; k < a->neffects; k++) {
+    a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
+    a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */
+    if (!a->dt_effect[k]) continue;
+    double best = INFINITY;
+    for (size_t i = 0; i < a->nel; i++)
+      if (a->dt_effect[k][i] < best) best = a->dt_effect[k][i], a->per_effect[k].element = i;
+    a->per_effect[k].min = best;
+  }
+}
+
+int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects, dtm_analysis **out) {
+  dtm_analysis *a = calloc(1, sizeof *a);
+  if (!a) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  a->scene = s;
+  a->mesh = mesh;
+  a->effects = effects;
+  a->neffects = neffects;
+  a->threads = omp_get_max_threads();
+  int r = setup(a);
+  double t0 = dtm_wtime();
+  for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
+  if (r == DTM_OK) summarize(a);
+  if (r == DTM_OK && !isfinite(a->dt_min))
+    r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
+  a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
+  t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_nodal_bounds(a);
+  if (r == DTM_OK) dtm_recommend(a);
+  a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
+  if (r == DTM_OK) r = dtm_size_suggest(a);
+  if (r) {
+    dtm_analysis_destroy(&a);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  *out = a;
+  return DTM_OK;
+}
+
+void dtm_analysis_destroy(dtm_analysis **pa) {
+  dtm_analysis *a = *pa;
+  if (!a) return;
+  for (int k = 0; a->dt_effect && k < a->neffects; k++) free(a->dt_effect[k]);
+  for (int k = 0; a->resolution && k < a->neffects; k++) free(a->resolution[k]);
+  for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
+  free(a->dt_bare);
+  free(a->resolution);
+  free(a->hmax);
+  free(a->hmax_by);
+  dtm_effects_destroy(&a->effects, a->neffects);
+  dtm_mesh_destroy(&a->mesh);
+  free(a->dt_effect);
+  free(a->per_effect);
+  free(a->offset);
+  free(a->dt);
+  free(a->len);
+  free(a->limiting);
+  free(a->h);
+  free(a->size_node);
+  free(a->nodal_node);
+  for (int k = 0; a->node_dt && k < a->neffects; k++) free(a->node_dt[k]);
+  free(a->node_dt);
+  for (int k = 0; a->global && k < a->neffects; k++) free(a->global[k].mode);
+  free(a->global);
+  free(a);
+  *pa = NULL;
+}

@@ -1,0 +1,117 @@
+/* The global estimate behind --posterior: for every spectral effect, build
+ * its matrix-free operator (with the scene's damping as element Rayleigh
+ * coefficients) and run Lanczos on M^-1/2 K M^-1/2. Ritz values approach
+ * lambda_max from below, so theta alone would give a step that is too
+ * large; the step dtmap vouches for uses theta + residual (an eigenvalue
+ * lies within the residual of theta, and with a random start the top one
+ * is the one approached), and only when converged; otherwise the nodal bound
+ * stays the basis. Damping enters through the smallest factor of the
+ * effect's materials at the top frequency. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+
+#define LANCZOS_SEED 20261121u
+
+/* Rayleigh coefficients of material i from the scene's damping effects. */
+static int material_rayleigh(const dtm_analysis *a, int i, double omega, double *al, double *be) {
+  *al = *be = 0;
+  for (int j = 0; j < a->neffects && omega > 0; j++) {
+    const dtm_effect *mj = &a->effects[j];
+    double aj = 0, bj = 0;
+    if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES) || !mj->cls->rayleigh) continue;
+    DTM_CHECK(mj->cls->rayleigh(mj->state, &a->scene->materials[i].m, omega, &aj, &bj));
+    *al += aj, *be += bj;
+  }
+  return DTM_OK;
+}
+
+typedef struct {
+  dtm_operator_coeffs *c; /* [nmat] */
+  double *al, *be;        /* [nmat] */
+  char *used;             /* [nmat] */
+} material_table;
+
+static int fill_table(const dtm_analysis *a, int k, double omega, material_table *t) {
+  const dtm_effect *ef = &a->effects[k];
+  dtm_mesh_materials_used(a->mesh, a->scene->nmaterials, t->used);
+  for (int i = 0; i < a->scene->nmaterials; i++) {
+    if (!t->used[i]) continue;
+    DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[i].m, &t->c[i]));
+    if (t->c[i].kind == DTM_OP_ELASTIC) DTM_CHECK(material_rayleigh(a, i, omega, &t->al[i], &t->be[i]));
+  }
+  return DTM_OK;
+}
+
+int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, dtm_operator **op) {
+  size_t nm = (size_t)a->scene->nmaterials + 1;
+  material_table t = {calloc(nm, sizeof *t.c), calloc(nm, sizeof(double)), calloc(nm, sizeof(double)), calloc(nm, 1)};
+  int r =
+      (t.c && t.al && t.be && t.used) ? fill_table(a, k, omega_top, &t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int kind = DTM_OP_NONE;
+  for (int i = 0; i < a->scene->nmaterials; i++)
+    if (t.used[i]) kind = t.c[i].kind;
+  if (r == DTM_OK) r = dtm_operator_create(a->mesh, kind, t.c, t.al, t.be, a->scene->nmaterials, op);
+  free(t.c), free(t.al), free(t.be), free(t.used);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* Smallest damping factor over the used materials at omega. */
+static int damping_factor(const dtm_analysis *a, double omega, double *fac) {
+  char *used = calloc((size_t)a->scene->nmaterials + 1, 1);
+  if (!used) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_mesh_materials_used(a->mesh, a->scene->nmaterials, used);
+  *fac = 1.0;
+  int r = DTM_OK;
+  for (int j = 0; j < a->neffects && r == DTM_OK; j++) {
+    const dtm_effect *mj = &a->effects[j];
+    if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES)) continue;
+    for (int i = 0; i < a->scene->nmaterials && r == DTM_OK; i++) {
+      double f = 1.0;
+      if (used[i]) r = mj->cls->wave_factor(mj->state, &a->scene->materials[i].m, omega, &f);
+      *fac = fmin(*fac, f);
+    }
+  }
+  free(used);
+  return r;
+}
+
+/* Steps from an eigenvalue estimate lam of effect k. */
+static int step_of(const dtm_analysis *a, int k, double lam, double *dt) {
+  if (!dtm_analysis_is_wave(a, k)) return *dt = 2.0 / lam, DTM_OK;
+  double f = 1.0;
+  DTM_CHECK(damping_factor(a, sqrt(lam), &f));
+  *dt = 2.0 / sqrt(lam) * f;
+  return DTM_OK;
+}
+
+static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int want_mode) {
+  dtm_global_info *g = &a->global[k];
+  dtm_operator *op = NULL;
+  dtm_lanczos_result lr;
+  memset(&lr, 0, sizeof lr);
+  DTM_CHECK(dtm_analysis_operator(a, k, 0.0, &op));
+  int r = dtm_lanczos_max_ex(op, tol, maxit, LANCZOS_SEED, want_mode, &lr);
+  dtm_operator_destroy(&op);
+  DTM_CHECK(r);
+  *g = (dtm_global_info){
+      1,      lr.theta, lr.residual, lr.iterations, lr.converged, lr.seconds, NAN, NAN, sqrt(lr.theta + lr.residual),
+      lr.mode};
+  DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
+  DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
+  a->per_effect[k].global = g->converged ? g->dt_low : NAN;
+  return DTM_OK;
+}
+
+int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, int want_modes) {
+  double t0 = dtm_wtime();
+  a->global = calloc((size_t)a->neffects + 1, sizeof *a->global);
+  if (!a->global) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int k = 0; k < a->neffects; k++)
+    if (a->dt_effect[k] && a->effects[k].cls->coefficients) DTM_CHECK(estimate_effect(a, k, tol, maxit, want_modes));
+  dtm_recommend(a);
+  a->timings[DTM_T_GLOBAL] = dtm_wtime() - t0;
+  return DTM_OK;
+}

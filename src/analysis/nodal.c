@@ -1,0 +1,174 @@
+/* The nodal bound of every spectral effect (one with operator
+ * coefficients): lambda_max(M^-1 K) <= max_a sum_{e ni a} lambda_e m_{e,a}/m_a,
+ * where lambda_e is the element's own eigenvalue bound and m_{e,a} its
+ * lumped contribution to node a. It stays tight on slivers because their
+ * tiny mass is shared with their neighbours. Waves: dt_a = 2/sqrt(lambda_a),
+ * times the smallest damping factor of the node's materials at
+ * omega_a = sqrt(lambda_a); diffusion: dt_a = 2/lambda_a. One pass over the
+ * elements (eigenvalues in parallel, the scatter serial). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+
+/* Coefficients of effect k for each scene material, computed on first use. */
+typedef struct {
+  dtm_operator_coeffs *c; /* [nmat] */
+  char *ready;            /* [nmat] */
+} coeff_cache;
+
+static int coeffs_of(const dtm_analysis *a, int k, coeff_cache *cc, int mat, const dtm_operator_coeffs **out) {
+  if (!cc->ready[mat]) {
+    const dtm_effect *ef = &a->effects[k];
+    DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[mat].m, &cc->c[mat]));
+    cc->ready[mat] = 1;
+  }
+  *out = &cc->c[mat];
+  return DTM_OK;
+}
+
+static int element_lambda(int type, const dtm_operator_coeffs *c, const double *x, double *lambda) {
+  if (c->kind == DTM_OP_ELASTIC) return dtm_kernel_elastic_lambda(type, &c->mod, x, lambda);
+  return dtm_kernel_diffusion_lambda(type, c->conductivity / c->capacity, x, lambda);
+}
+
+/* lambda_e of element i (global index) of effect k: from its own step
+ * when that is the element bound (undamped), else from the kernel. */
+static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_coeffs *c, const double *x, size_t i,
+                     double *lam) {
+  if (!c->dt_is_bound) return element_lambda(type, c, x, lam);
+  double dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k][i] : a->dt_effect[k][i];
+  *lam = c->kind == DTM_OP_ELASTIC ? 4.0 / (dt * dt) : 2.0 / dt;
+  return DTM_OK;
+}
+
+/* lambda_e and the lumped contributions mw[e][i] = capacity V w_i of every
+ * element of block b. */
+static int block_lambdas(const dtm_analysis *a, int k, int b, const coeff_cache *cc, double *lam, double *mw) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  dtm_par_error pe = {0, ""};
+#pragma omp parallel for schedule(static)
+  for (size_t e = 0; e < blk->n; e++) {
+    double x[DTM_MAX_NODES * 3], *w = mw + e * blk->nn;
+    dtm_block one = *blk;
+    one.n = 1, one.conn = blk->conn + e * blk->nn;
+    dtm_mesh_gather(a->mesh, &one, x);
+    const dtm_operator_coeffs *c = &cc->c[blk->mat[e]];
+    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e]);
+    if (r) dtm_par_error_keep(&pe, r);
+    double m = c->capacity * dtm_elem_measure(blk->type, x);
+    dtm_elem_lumped_weights(blk->type, x, w);
+    for (int i = 0; i < blk->nn; i++) w[i] *= m;
+  }
+  if (pe.code)
+    return DTM_ERR(DTM_ERR_INPUT, "nodal bound: a degenerate element in block %s: %s", dtm_elem_name(blk->type),
+                   pe.msg);
+  return DTM_OK;
+}
+
+static int block_coeffs(const dtm_analysis *a, int k, coeff_cache *cc, const dtm_block *blk) {
+  for (size_t e = 0; e < blk->n; e++) {
+    const dtm_operator_coeffs *c;
+    DTM_CHECK(coeffs_of(a, k, cc, blk->mat[e], &c));
+  }
+  return DTM_OK;
+}
+
+/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements. */
+static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, double *num, double *den) {
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *blk = &a->mesh->blocks[b];
+    DTM_CHECK(block_coeffs(a, k, cc, blk));
+    double *lam = malloc((blk->n + 1) * sizeof *lam), *mw = malloc((blk->n * blk->nn + 1) * sizeof *mw);
+    int r = (lam && mw) ? block_lambdas(a, k, b, cc, lam, mw) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    for (size_t e = 0; e < blk->n && r == DTM_OK; e++)
+      for (int i = 0; i < blk->nn; i++) {
+        size_t v = blk->conn[e * blk->nn + i];
+        num[v] += lam[e] * mw[e * blk->nn + i];
+        den[v] += mw[e * blk->nn + i];
+      }
+    free(lam);
+    free(mw);
+    DTM_CHECK(r);
+  }
+  return DTM_OK;
+}
+
+/* Smallest damping factor over the materials of the elements around each
+ * node, at the node's own top frequency. */
+static int node_factors(const dtm_analysis *a, const double *omega, double *fac) {
+  for (int j = 0; j < a->neffects; j++) {
+    const dtm_effect *mj = &a->effects[j];
+    if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES)) continue;
+    for (int b = 0; b < a->mesh->nblocks; b++) {
+      const dtm_block *blk = &a->mesh->blocks[b];
+      for (size_t e = 0; e < blk->n; e++)
+        for (int i = 0; i < blk->nn; i++) {
+          size_t v = blk->conn[e * blk->nn + i];
+          double f = 1.0;
+          if (!(omega[v] > 0)) continue;
+          DTM_CHECK(mj->cls->wave_factor(mj->state, &a->scene->materials[blk->mat[e]].m, omega[v], &f));
+          fac[v] = fmin(fac[v], f);
+        }
+    }
+  }
+  return DTM_OK;
+}
+
+/* Node steps of effect k into dt[] (+inf where no element of it). */
+static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, double *dt, double *work) {
+  size_t nn = a->mesh->nnodes;
+  double *num = work, *den = work + nn, *fac = work + 2 * nn;
+  memset(work, 0, 3 * nn * sizeof *work);
+  DTM_CHECK(scatter(a, k, cc, num, den));
+  int wave = dtm_analysis_is_wave(a, k);
+  for (size_t v = 0; v < nn; v++) {
+    double lam = den[v] > 0 ? num[v] / den[v] : 0;
+    num[v] = wave ? sqrt(lam) : lam; /* omega (waves) or lambda (diffusion) */
+    fac[v] = 1.0;
+  }
+  if (wave) DTM_CHECK(node_factors(a, num, fac));
+  for (size_t v = 0; v < nn; v++) dt[v] = num[v] > 0 ? 2.0 / num[v] * fac[v] : INFINITY;
+  return DTM_OK;
+}
+
+/* Whether every material's element step is the element eigenvalue bound. */
+static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
+  for (int i = 0; i < a->scene->nmaterials; i++)
+    if (cc->ready[i] && !cc->c[i].dt_is_bound) return 0;
+  return 1;
+}
+
+static void record_min(dtm_analysis *a, int k, const double *dt) {
+  dtm_effect_min *pe = &a->per_effect[k];
+  pe->nodal = INFINITY;
+  for (size_t v = 0; v < a->mesh->nnodes; v++) {
+    if (dt[v] < pe->nodal) pe->nodal = dt[v], pe->node = v;
+    a->nodal_node[v] = fmin(a->nodal_node[v], dt[v]);
+  }
+}
+
+int dtm_nodal_bounds(dtm_analysis *a) {
+  size_t nn = a->mesh->nnodes, nm = (size_t)a->scene->nmaterials + 1;
+  a->nodal_node = malloc((nn + 1) * sizeof *a->nodal_node);
+  a->node_dt = calloc((size_t)a->neffects + 1, sizeof *a->node_dt);
+  double *work = malloc((3 * nn + 1) * sizeof *work);
+  coeff_cache cc = {calloc(nm, sizeof *cc.c), calloc(nm, 1)};
+  int r =
+      (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) a->nodal_node[v] = INFINITY;
+  for (int k = 0; k < a->neffects && r == DTM_OK; k++) {
+    a->per_effect[k].nodal = NAN;
+    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue; /* not spectral */
+    memset(cc.ready, 0, nm);
+    a->node_dt[k] = malloc((nn + 1) * sizeof **a->node_dt);
+    r = a->node_dt[k] ? effect_nodal(a, k, &cc, a->node_dt[k], work) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    a->per_effect[k].element_rigorous = r == DTM_OK && all_bounds(a, &cc);
+    if (r == DTM_OK) record_min(a, k, a->node_dt[k]);
+  }
+  free(work);
+  free(cc.c);
+  free(cc.ready);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}

@@ -1,0 +1,117 @@
+/* The whole analysis of a scene: Gmsh load or meshing, physical groups to
+ * materials, extraction, creation of only the scene's effects, compute. Also
+ * the per-element look-ups (tag, group, centroid) reports and prints use. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+#include "dtmap/gmsh.h"
+
+/* Material of every group the scene names, and the default material. */
+static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *group_mat) {
+  const dtm_scene_material *sm = &s->materials[i];
+  for (int k = 0; k < sm->ngroups; k++) {
+    int g = dtm_mesh_group_find(m, sm->groups[k]);
+    char list[2048] = "", lbl[64];
+    for (int j = 0; j < m->ngroups && g < 0; j++)
+      dtm_strlist_add(list, sizeof list, dtm_mesh_group_label(m, j, lbl, sizeof lbl), 1);
+    if (g < 0)
+      return DTM_ERR(DTM_ERR_INPUT,
+                     "%s:%d: material '%s': physical group '%s' does not exist in dimension %d; "
+                     "groups of that dimension: %s",
+                     s->path, sm->m.line, sm->m.name, sm->groups[k], m->dim, m->ngroups ? list : "(none)");
+    if (group_mat[g] >= 0 && group_mat[g] != i)
+      return DTM_ERR(DTM_ERR_INPUT, "%s:%d: material '%s': physical group '%s' already has material '%s'", s->path,
+                     sm->m.line, sm->m.name, sm->groups[k], s->materials[group_mat[g]].m.name);
+    group_mat[g] = i;
+  }
+  return DTM_OK;
+}
+
+static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat, int *def) {
+  int *gm = malloc(((size_t)m->ngroups + 1) * sizeof *gm);
+  if (!gm) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int g = 0; g < m->ngroups; g++) gm[g] = -1;
+  *def = -1;
+  for (int i = 0; i < s->nmaterials; i++) {
+    if (s->materials[i].is_default) *def = i;
+    int r = map_one(s, m, i, gm);
+    if (r) {
+      free(gm);
+      return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+    }
+  }
+  *group_mat = gm;
+  return DTM_OK;
+}
+
+static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
+  double t0 = dtm_wtime();
+  int *gm = NULL, def = -1;
+  m->dim = dim;
+  DTM_CHECK(dtm_gmsh_groups(dim, &m->groups, &m->ngroups));
+  DTM_CHECK(map_materials(s, m, &gm, &def));
+  int r = dtm_gmsh_extract(dim, gm, def, s, m);
+  free(gm);
+  t[DTM_T_EXTRACT] = dtm_wtime() - t0;
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) {
+  double t0 = dtm_wtime();
+  int dim;
+  DTM_CHECK(dtm_gmsh_load(s, &dim));
+  double t_mesh = dtm_wtime() - t0;
+  DTM_CHECK(dtm_analysis_current(s, dim, out));
+  (*out)->timings[DTM_T_MESH] = t_mesh;
+  return DTM_OK;
+}
+
+int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
+  double t[DTM_T_COUNT] = {0};
+  dtm_mesh *m = calloc(1, sizeof *m);
+  dtm_effect *e = NULL;
+  int ne = 0;
+  if (!m) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = extract_mesh(s, dim, m, t);
+  if (r == DTM_OK) r = dtm_effects_create(s, m, &e, &ne);
+  if (r) {
+    dtm_mesh_destroy(&m);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
+  (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
+  return DTM_OK;
+}
+
+void dtm_analysis_locate(const dtm_analysis *a, size_t i, int *block, size_t *local) {
+  int b = 0;
+  while (b + 1 < a->mesh->nblocks && a->offset[b + 1] <= i) b++;
+  *block = b;
+  *local = i - a->offset[b];
+}
+
+size_t dtm_analysis_tag(const dtm_analysis *a, size_t i) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  return a->mesh->blocks[b].tags[l];
+}
+
+int dtm_analysis_group(const dtm_analysis *a, size_t i) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  return a->mesh->blocks[b].group[l];
+}
+
+void dtm_analysis_centroid(const dtm_analysis *a, size_t i, double c[3]) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  const dtm_block *blk = &a->mesh->blocks[b];
+  c[0] = c[1] = c[2] = 0;
+  for (int k = 0; k < blk->nn; k++)
+    for (int d = 0; d < 3; d++) c[d] += a->mesh->xyz[3 * blk->conn[l * blk->nn + k] + d] / blk->nn;
+}

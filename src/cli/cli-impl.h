@@ -1,0 +1,94 @@
+/* Private to the dtmap CLI (src/cli/): each command is a table entry that
+ * declares its options (name, kind, value range, help), so one parser
+ * serves every command, accepts only that command's options, parses numbers
+ * strictly, and prints that command's help; `dtmap --help` is built from
+ * the same tables. The CLI uses only libdtmap's public API. */
+#ifndef DTM_CLI_IMPL_H
+#define DTM_CLI_IMPL_H
+
+#include <stddef.h>
+
+#include "dtmap/output.h"
+#include "dtmap/sweep.h"
+
+/* Every option of every command; a command reads the ones it declares. */
+typedef struct {
+  const char *scene;  /* SCENE.xml (the one positional argument) */
+  const char *out;    /* -o OUT.msh, or NULL */
+  const char *report; /* --report R.json, or NULL */
+  const char *sizes;  /* sweep --sizes h1,h2,... */
+  const char *csv;    /* sweep --csv, or NULL */
+  const char *plot;   /* sweep --plot, or NULL */
+  int threads;        /* -j N, 0 = all cores */
+  int verbosity;      /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
+  int posterior;      /* run --posterior */
+  double tol;         /* --tol: Lanczos relative residual */
+  int lanczos_max;    /* --lanczos-max: Lanczos steps */
+  int max_iter;       /* refine --max-iter: rounds */
+  double target;      /* refine --target, s */
+  double factor;      /* verify --factor: multiple of the recommended step */
+  double dt;          /* verify --dt, s (0: use factor x recommended) */
+  int steps;          /* verify --steps */
+} cli_opts;
+
+typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;
+
+/* One option of a command. */
+typedef struct {
+  const char *name;  /* "-o", "--report" */
+  cli_kind kind;     /* what follows it */
+  size_t offset;     /* offsetof(cli_opts, field) */
+  int set;           /* CLI_FLAG: the value stored */
+  double lo, hi;     /* numbers: admissible range [lo, hi] */
+  const char *value; /* value name in the usage ("OUT.msh") */
+  const char *help;  /* one line */
+} cli_option;
+
+/* One command. */
+typedef struct cli_command {
+  const char *name;               /* "run" */
+  const char *args;               /* usage after the name: "SCENE.xml [-o OUT.msh] ..." */
+  const char *about;              /* paragraph for --help */
+  const cli_option *options;      /* its options, terminated by a NULL name */
+  int (*main)(const cli_opts *o); /* returns the exit code */
+} cli_command;
+
+/* The commands (main.c), terminated by a NULL name. */
+extern const struct cli_command dtm_cli_commands[];
+
+/* Parse argv[2..] for command c into o (defaults first). Returns 0, the
+ * usage exit code 2 after printing what is wrong, or -1 when --help was
+ * asked for and printed (the caller exits 0). */
+int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
+/* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
+int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* The help of one command (usage line, about, options). */
+void dtm_cli_print_help(const struct cli_command *c, void *stream);
+/* Print the pending error (and traceback when verbose); returns code. */
+int dtm_cli_fail(int code, int verbosity);
+/* SCENE<suffix> in the current directory (SCENE: the scene's base name
+ * without its extension). */
+void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);
+
+/* Write the output mesh (+ .opt) and the report of res where o and the
+ * scene say; res->t_output gets the mesh's write time, s. */
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o);
+
+/* The commands. */
+int dtm_cli_run(const cli_opts *o);
+int dtm_cli_verify(const cli_opts *o);
+int dtm_cli_refine(const cli_opts *o);
+int dtm_cli_sweep(const cli_opts *o);
+
+/* The sweep plot (plot.c; PLplot lives on the CLI side because it exits
+ * the process on some errors). Cost (element-steps, with and without
+ * subcycling) against accuracy (elements per wavelength or per zone when
+ * available, else 1/h) on log axes into a PNG, atomically. With a title
+ * naming the scene (NULL: "dtmap sweep"). Without a duration (steps NaN)
+ * the y axis is the cost per simulated second, elements / recommended
+ * step. DTM_ERR_INPUT when path cannot be written or no row has a positive,
+ * finite cost and accuracy value. */
+int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
+int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
+
+#endif

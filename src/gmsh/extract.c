@@ -1,0 +1,224 @@
+/* Reading the current Gmsh model into a dtm_mesh: physical groups of the
+ * analysed dimension, a dense node index, and one structure-of-arrays block
+ * per element type, with each element's group and material resolved per
+ * model entity. */
+#include <gmshc.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/gmsh.h"
+#include "dtmap/kernel.h"
+#include "gmsh-impl.h"
+
+static char *dup_str(const char *s) {
+  size_t n = strlen(s) + 1;
+  char *d = malloc(n);
+  if (d) memcpy(d, s, n);
+  return d;
+}
+
+int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
+  int *dt = NULL, ierr = 0;
+  size_t n = 0;
+  gmshModelGetPhysicalGroups(&dt, &n, dim, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot list physical groups");
+  dtm_group *g = calloc(n / 2 + 1, sizeof *g);
+  if (!g) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < n / 2; i++) {
+    char *name = NULL;
+    g[i].dim = dt[2 * i];
+    g[i].tag = dt[2 * i + 1];
+    gmshModelGetPhysicalName(g[i].dim, g[i].tag, &name, &ierr);
+    g[i].name = dup_str(name ? name : "");
+    gmshFree(name);
+  }
+  gmshFree(dt);
+  *groups = g;
+  *ngroups = (int)(n / 2);
+  return DTM_OK;
+}
+
+/* Dense node numbering: index[tag] = position in m->node_tags. */
+typedef struct {
+  size_t *index; /* [max_tag + 1], SIZE_MAX where no node */
+  size_t max_tag;
+} node_index;
+
+static int read_nodes(dtm_mesh *m, node_index *ni) {
+  size_t *tags = NULL, n = 0, nc = 0, np = 0;
+  double *xyz = NULL, *par = NULL;
+  int ierr = 0;
+  gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, -1, -1, 0, 0, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read the mesh nodes");
+  gmshFree(par);
+  ni->max_tag = 0;
+  for (size_t i = 0; i < n; i++)
+    if (tags[i] > ni->max_tag) ni->max_tag = tags[i];
+  ni->index = malloc((ni->max_tag + 1) * sizeof *ni->index);
+  if (!ni->index) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  memset(ni->index, 0xff, (ni->max_tag + 1) * sizeof *ni->index);
+  for (size_t i = 0; i < n; i++) ni->index[tags[i]] = i;
+  m->nnodes = n;
+  m->node_tags = tags; /* gmshFree and free are both the C allocator here */
+  m->xyz = xyz;
+  return DTM_OK;
+}
+
+/* Group of an entity: its first physical group that has a material, else its
+ * first group, else -1; *mask gets every group it is in. */
+static int entity_group(const dtm_mesh *m, int dim, int tag, const int *group_mat, unsigned long long *mask) {
+  int *phys = NULL, ierr = 0, best = -1, found = 0;
+  size_t n = 0;
+  *mask = 0;
+  gmshModelGetPhysicalGroupsForEntity(dim, tag, &phys, &n, &ierr);
+  for (size_t i = 0; i < n; i++) {
+    int g = -1;
+    for (int k = 0; k < m->ngroups; k++)
+      if (m->groups[k].tag == phys[i]) g = k;
+    if (g < 0) continue;
+    if (g < DTM_MAX_MASK_GROUPS) *mask |= 1ull << g;
+    if (best < 0) best = g;
+    if (group_mat[g] >= 0 && !found) best = g, found = 1;
+  }
+  gmshFree(phys);
+  return best;
+}
+
+static dtm_block *block_for(dtm_mesh *m, int type) {
+  for (int b = 0; b < m->nblocks; b++)
+    if (m->blocks[b].type == type) return &m->blocks[b];
+  dtm_block *nb = realloc(m->blocks, (m->nblocks + 1) * sizeof *nb);
+  if (!nb) return NULL;
+  m->blocks = nb;
+  dtm_block *b = &m->blocks[m->nblocks++];
+  memset(b, 0, sizeof *b);
+  b->type = type;
+  dtm_elem_info(type, &b->dim, &b->nn);
+  return b;
+}
+
+static int block_grow(dtm_block *b, size_t add) {
+  size_t n = b->n + add;
+  size_t *tags = realloc(b->tags, n * sizeof *tags);
+  if (tags) b->tags = tags;
+  size_t *conn = realloc(b->conn, n * b->nn * sizeof *conn);
+  if (conn) b->conn = conn;
+  int *group = realloc(b->group, n * sizeof *group);
+  if (group) b->group = group;
+  int *mat = realloc(b->mat, n * sizeof *mat);
+  if (mat) b->mat = mat;
+  unsigned long long *gmask = realloc(b->gmask, n * sizeof *gmask);
+  if (gmask) b->gmask = gmask;
+  if (!tags || !conn || !group || !mat || !gmask) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
+
+/* Context of one extraction, for error messages. */
+typedef struct {
+  const dtm_scene *s;
+  const int *group_mat;
+  int default_mat;
+  node_index ni;
+} extract_ctx;
+
+static int check_type(int type, size_t first_tag) {
+  int d, nn;
+  if (dtm_elem_info(type, &d, &nn) == DTM_OK) return DTM_OK;
+  dtm_error_clear();
+  char *name = NULL;
+  int dim, order, nnodes, npv, ierr = 0;
+  double *lc = NULL;
+  size_t nlc = 0;
+  gmshModelMeshGetElementProperties(type, &name, &dim, &order, &nnodes, &lc, &nlc, &npv, &ierr);
+  int r = DTM_ERR(DTM_ERR_INPUT, "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag, name ? name : "?", type,
+                  order,
+                  order > 2 ? "dtmap handles first- and second-order elements; mesh with order=\"1\" or \"2\""
+                            : "dtmap does not handle this element type");
+  gmshFree(name);
+  gmshFree(lc);
+  return r;
+}
+
+static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t tag, int *out) {
+  int mat = g >= 0 ? c->group_mat[g] : -1;
+  if (mat < 0) mat = c->default_mat;
+  *out = mat;
+  if (mat >= 0) return DTM_OK;
+  char lbl[64];
+  const char *src = c->s->mesh ? c->s->mesh : c->s->geometry;
+  if (g < 0)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s: element %zu is in no physical group of dimension %d, and scene %s has "
+                   "no default material (add default=\"true\" to a <material>)",
+                   src, tag, m->dim, c->s->path);
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s: element %zu is in physical group '%s' (dimension %d), which no "
+                 "<material groups=...> of scene %s names, and there is no default material",
+                 src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
+}
+
+static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, const size_t *tags,
+                       size_t n, const size_t *nodes) {
+  DTM_CHECK(check_type(type, n ? tags[0] : 0));
+  int mat;
+  DTM_CHECK(material_of(c, m, g, n ? tags[0] : 0, &mat));
+  dtm_block *b = block_for(m, type);
+  if (!b) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  DTM_CHECK(block_grow(b, n));
+  for (size_t e = 0; e < n; e++) {
+    size_t k = b->n + e;
+    b->tags[k] = tags[e];
+    b->group[k] = g;
+    b->gmask[k] = mask;
+    b->mat[k] = mat;
+    for (int a = 0; a < b->nn; a++) {
+      size_t t = nodes[e * b->nn + a];
+      if (t > c->ni.max_tag || c->ni.index[t] == SIZE_MAX)
+        return DTM_ERR(DTM_ERR_INPUT, "element %zu references node %zu, which does not exist", tags[e], t);
+      b->conn[k * b->nn + a] = c->ni.index[t];
+    }
+  }
+  b->n += n;
+  return DTM_OK;
+}
+
+static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
+  int *types = NULL, ierr = 0, r = DTM_OK;
+  size_t nt = 0, **etags = NULL, *netags = NULL, ne = 0, **ntags = NULL, *nntags = NULL, nn = 0;
+  gmshModelMeshGetElements(&types, &nt, &etags, &netags, &ne, &ntags, &nntags, &nn, m->dim, tag, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read elements");
+  unsigned long long mask;
+  int g = entity_group(m, m->dim, tag, c->group_mat, &mask);
+  for (size_t i = 0; i < nt && r == DTM_OK; i++)
+    r = append_type(c, m, g, mask, types[i], etags[i], netags[i], ntags[i]);
+  for (size_t i = 0; i < nt; i++) {
+    gmshFree(etags[i]);
+    gmshFree(ntags[i]);
+  }
+  gmshFree(types);
+  gmshFree(etags);
+  gmshFree(netags);
+  gmshFree(ntags);
+  gmshFree(nntags);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
+  extract_ctx c = {s, group_mat, default_mat, {NULL, 0}};
+  int *ents = NULL, ierr = 0, r = DTM_OK;
+  size_t ne = 0;
+  m->dim = dim;
+  DTM_CHECK(read_nodes(m, &c.ni));
+  gmshModelGetEntities(&ents, &ne, dim, &ierr);
+  for (size_t i = 0; i < ne / 2 && r == DTM_OK && !ierr; i++) r = extract_entity(&c, m, ents[2 * i + 1]);
+  gmshFree(ents);
+  free(c.ni.index);
+  if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
+  DTM_CHECK(r);
+  if (dtm_mesh_nelements(m) == 0)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", s->mesh ? s->mesh : s->geometry,
+                   s->mesh ? "the mesh has" : "meshing produced", dim);
+  return DTM_OK;
+}

@@ -1,0 +1,85 @@
+/* Remeshing the current model with a size field given at the nodes of its
+ * current mesh (the refine loop of src/study/refine.c). The sizes become a
+ * list-based view (a PostView field cannot use a view built on the model it
+ * is remeshing), which is the only size source of a fresh mesh of the same
+ * geometry: sizes from points, curvature and the boundary are switched off.
+ * In 3D Gmsh's default and Netgen optimisers then remove slivers. */
+#include <gmshc.h>
+#include <stdlib.h>
+
+#include "dtmap/gmsh.h"
+#include "dtmap/kernel.h"
+#include "gmsh-impl.h"
+
+/* List-view type of a linear parent element ("ST" = scalar triangle...). */
+static const char *list_type(int type, int *ncorner) {
+  static const struct {
+    int t[3];
+    const char *name;
+    int n;
+  } map[] = {{{1, 0, 0}, "SL", 2},   {{2, 9, 0}, "ST", 3},   {{3, 10, 16}, "SQ", 4}, {{4, 11, 0}, "SS", 4},
+             {{5, 12, 17}, "SH", 8}, {{6, 13, 18}, "SI", 6}, {{7, 14, 19}, "SY", 5}};
+  for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
+    for (int j = 0; j < 3; j++)
+      if (map[i].t[j] == type) return *ncorner = map[i].n, map[i].name;
+  return *ncorner = 0, NULL;
+}
+
+/* Data of one block: per element x[n], y[n], z[n], then the sizes [n]. */
+static int add_block(int view, const dtm_mesh *m, const double *size, const dtm_block *b, double scale) {
+  int nc, ierr = 0;
+  const char *lt = list_type(b->type, &nc);
+  if (!lt || !b->n) return DTM_OK;
+  size_t per = 4 * (size_t)nc, n = b->n;
+  double *d = malloc(n * per * sizeof *d);
+  if (!d) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t e = 0; e < n; e++)
+    for (int k = 0; k < nc; k++) {
+      size_t v = b->conn[e * b->nn + k];
+      for (int c = 0; c < 3; c++) d[e * per + c * nc + k] = m->xyz[3 * v + c];
+      d[e * per + 3 * nc + k] = scale * size[v];
+    }
+  gmshViewAddListData(view, lt, (int)n, d, n * per, &ierr);
+  free(d);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot build the size view");
+  return DTM_OK;
+}
+
+static int size_view(const dtm_mesh *m, const double *size, double scale, int *view) {
+  int ierr = 0;
+  *view = gmshViewAdd("dtmap size field", -1, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot create the size view");
+  for (int b = 0; b < m->nblocks; b++) DTM_CHECK(add_block(*view, m, size, &m->blocks[b], scale));
+  return DTM_OK;
+}
+
+/* Only the background field sets sizes. */
+static void size_options(void) {
+  static const char *const off[] = {"Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
+                                    "Mesh.MeshSizeFromCurvature"};
+  int ierr = 0;
+  for (int i = 0; i < 3; i++) gmshOptionSetNumber(off[i], 0, &ierr);
+  gmshOptionSetNumber("Mesh.MeshSizeMin", 0, &ierr);
+  gmshOptionSetNumber("Mesh.MeshSizeMax", 1e22, &ierr);
+}
+
+int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order) {
+  int view, ierr = 0;
+  DTM_CHECK(size_view(m, size, scale, &view));
+  gmshModelMeshClear(NULL, 0, &ierr);
+  int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
+  gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);
+  gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
+  size_options();
+  dtm_gmsh_serial();
+  gmshModelMeshGenerate(dim, &ierr);
+  if (!ierr && dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
+  if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
+  if (!ierr && order > 1) gmshModelMeshSetOrder(order, &ierr);
+  int bad = ierr;
+  dtm_gmsh_restore_threads();
+  gmshModelMeshFieldRemove(field, &ierr);
+  gmshViewRemove(view, &ierr);
+  DTM_GMSH_CHECK(bad, DTM_ERR_INPUT, "remeshing with the size suggestion failed");
+  return DTM_OK;
+}

@@ -1,0 +1,83 @@
+/* Gmsh session: start/stop, error translation, and loading the scene's
+ * geometry (meshed here with the scene's <meshing> options) or .msh. */
+#include <gmshc.h>
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "dtmap/gmsh.h"
+#include "gmsh-impl.h"
+
+int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what) {
+  char *msg = NULL;
+  int ierr = 0;
+  gmshLoggerGetLastError(&msg, &ierr);
+  int r = dtm_error_raise(code, file, line, func, "%s: %s", what, (msg && msg[0]) ? msg : "Gmsh reported an error");
+  if (msg) gmshFree(msg);
+  return r;
+}
+
+/* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
+ * when it starts and when it meshes. Gmsh keeps meshing on one thread, so
+ * that the same scene always gives the same mesh and element numbering;
+ * dtmap's own loops get back the caller's count (all cores, or -j). */
+static int dtm_threads = 1;
+
+void dtm_gmsh_restore_threads(void) { omp_set_num_threads(dtm_threads); }
+
+void dtm_gmsh_serial(void) {
+  int ierr = 0;
+  gmshOptionSetNumber("General.NumThreads", 1, &ierr);
+  omp_set_num_threads(1);
+}
+
+int dtm_gmsh_start(int verbosity) {
+  int ierr = 0;
+  dtm_threads = omp_get_max_threads();
+  gmshInitialize(0, NULL, 0, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot initialise Gmsh");
+  gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
+  gmshOptionSetNumber("General.Terminal", verbosity > 0 ? 1 : 0, &ierr);
+  gmshOptionSetNumber("General.Verbosity", verbosity > 1 ? 5 : verbosity > 0 ? 2 : 1, &ierr);
+  dtm_gmsh_restore_threads();
+  gmshLoggerStart(&ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot configure Gmsh");
+  return DTM_OK;
+}
+
+void dtm_gmsh_stop(void) {
+  int ierr = 0;
+  gmshFinalize(&ierr);
+}
+
+static int mesh_geometry(const dtm_scene *s, int dim) {
+  int ierr = 0;
+  char what[4200];
+  if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
+  if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
+  dtm_gmsh_serial();
+  gmshModelMeshGenerate(dim, &ierr);
+  snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  if (s->mesh_order > 1) {
+    gmshModelMeshSetOrder(s->mesh_order, &ierr);
+    DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  }
+  return DTM_OK;
+}
+
+int dtm_gmsh_load(const dtm_scene *s, int *dim) {
+  int ierr = 0;
+  const char *src = s->mesh ? s->mesh : s->geometry;
+  char what[4200];
+  snprintf(what, sizeof what, "%s: Gmsh cannot open it", src);
+  gmshClear(&ierr);
+  gmshOpen(src, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  int d = s->mesh_dim > 0 ? s->mesh_dim : gmshModelGetDimension(&ierr);
+  if (d < 1 || d > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
+  if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
+  dtm_gmsh_restore_threads();
+  *dim = d;
+  return DTM_OK;
+}

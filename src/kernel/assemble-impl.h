@@ -1,0 +1,42 @@
+/* Private to src/kernel/: an element prepared for the generic quadrature
+ * path (local frame, rule, validity checked) and the dense element matrices
+ * built on it by assemble.c. */
+#ifndef DTMAP_KERNEL_ASSEMBLE_H
+#define DTMAP_KERNEL_ASSEMBLE_H
+
+#include "kernel-impl.h"
+
+typedef struct {
+  int type;                  /* Gmsh type code */
+  int d;                     /* dimension of the element's own frame */
+  int nn;                    /* node count */
+  double xl[DTM_K_NODES][3]; /* nodes in the element frame, m */
+  dtm_qrule q;               /* full-integration rule */
+  int bad;                   /* after a failed setup: first bad point
+                                (see dtm_map_first_bad), or -1 when the
+                                nodes span no frame */
+  double bad_det;            /* det J at that point */
+} dtm_elem_geom;
+
+/* Fill eg for the element with coordinates x[nn][3]. Returns 0, or -1
+ * (recording nothing) for an unsupported type or a degenerate or inverted
+ * element; then eg->bad says where. */
+int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg);
+/* dtm_elem_setup, raising DTM_ERR_INPUT with a message when it fails. */
+int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg);
+/* m[nn]: lumped mass per unit density (m^d): integral of N_a for linear
+ * types, HRZ for second-order ones (dtm_lumped_mass). */
+void dtm_elem_mass(const dtm_elem_geom *eg, double *m);
+/* K[nn][nn]: integral of grad N_a . grad N_b (m^(d-2)). */
+void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
+/* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
+ * bar (d = 1) uses modulus E axially. */
+void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
+/* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n] of an
+ * element of the given type, where unknown k belongs to node k / per (per
+ * unknowns per node); K destroyed. Jacobi for linear types,
+ * tridiagonalization for second-order ones. DTM_ERR_INPUT if a mass is not
+ * positive. */
+int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda);
+
+#endif

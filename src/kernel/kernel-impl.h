@@ -1,0 +1,126 @@
+/* Private interface shared by the files of src/kernel/: element topology
+ * tables, reference shape functions and quadrature rules, the map from the
+ * reference element (Jacobian, physical gradients), the barycentric metric
+ * of simplices and the small dense eigenvalue helpers. Nothing here is part
+ * of the public API in include/dtmap/kernel.h, nor of the kernel's interface
+ * to the library (reference.h); the kernel's own tests reach them too. */
+#ifndef DTMAP_KERNEL_IMPL_H
+#define DTMAP_KERNEL_IMPL_H
+
+#include "dtmap/kernel.h"
+#include "reference.h"
+
+/* Boundary facets and edges of a type, in Gmsh's node numbering. A
+ * second-order type has those of its linear parent, on its corner nodes
+ * (Gmsh numbers the corners first, as in the parent). */
+typedef struct {
+  int nfacet;                 /* number of facets (points in 1D) */
+  int facet_nn[DTM_K_FACETS]; /* node count of each facet */
+  int facet[DTM_K_FACETS][4]; /* facet nodes, ordered around the facet */
+  int nedge;                  /* number of edges */
+  int edge[DTM_K_EDGES][2];   /* edge end nodes */
+} dtm_topology;
+
+/* Topology of a supported type; NULL for any other. Static storage. */
+const dtm_topology *dtm_elem_topology(int type);
+/* The linear parent of a type (tet4 for tet10, quad4 for quad8 and quad9,
+ * ...), the type itself for a linear type, 0 for an unsupported one. Its
+ * node count is the number of corner nodes. */
+int dtm_elem_parent(int type);
+/* 1 for the serendipity types (quad8, hex20, prism15, pyr13), whose nodes
+ * stop after the mid-edge ones; 0 otherwise. */
+int dtm_elem_serendipity(int type);
+
+/* Rule coordinates of node a (used to check the Jacobian at the nodes).
+ * Second-order nodes follow Gmsh: corners, one node at the middle of each
+ * edge of the parent (in the parent's edge order), then for quad9, hex27,
+ * prism18 and pyr14 one at the centre of each quadrilateral face (in the
+ * parent's facet order) and for quad9 and hex27 one at the centre. */
+void dtm_ref_node(int type, int a, double p[3]);
+/* Reference coordinates (u, v, w) of node a (Gmsh's, not collapsed). */
+void dtm_ref_node_uvw(int type, int a, double p[3]);
+/* The same for every node of type, as a static table [nn][3]; NULL for an
+ * unsupported type. */
+const double (*dtm_ref_nodes(int type))[3];
+/* Shape functions of the second-order types (ref_quadratic.c, and
+ * ref_pyramid.c for pyr13 and pyr14), same contract as dtm_ref_eval; dN
+ * is already zeroed. */
+void dtm_ref_eval_quadratic(int type, const double p[3], double *N, double (*dN)[3]);
+void dtm_ref_eval_pyramid2(int type, const double p[3], double *N, double (*dN)[3]);
+
+/* Coordinates xl[nn][3] of the nodes in the element's own frame: 3D
+ * elements are copied, 2D elements are projected onto the mean plane of
+ * their corner nodes (Newell normal), 1D elements onto their line; unused
+ * components are 0.
+ * Returns 0, or -1 when no frame exists (coincident nodes, collinear 2D). */
+int dtm_elem_local(int type, const double *x, double (*xl)[3]);
+
+/* The isoparametric map at one rule point, in the local frame of dimension
+ * d: N[nn], physical gradients g[nn][3] (first d components) and the
+ * volume factor dv = det J * rule weight. Returns det J. */
+double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
+                    double (*g)[3], double *dv);
+/* Index of the first point where det J is not safely positive (see map.c):
+ * k < q->n for rule point k, q->n + a for node a; det J there in *dj; -1
+ * when the map is valid everywhere. Raises nothing. */
+int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj);
+
+/* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)
+ * as scale * s, with s packed as s[0]=S11 s[1]=S22 s[2]=S33 s[3]=S12
+ * s[4]=S13 s[5]=S23 (unused entries 0; scale > 0, 1/m^2), and the measure.
+ * DTM_ERR_INPUT for a degenerate or inverted simplex. */
+int dtm_simplex_metric(int type, const double *x, int *d, double s[6], double *scale, double *measure);
+
+/* Eigenvalues e[0] >= e[1] >= e[2] of the symmetric 3x3 matrix packed as
+ * above, each within a few ulps of the largest magnitude (trigonometric
+ * solution, refined by deflation where two eigenvalues are close). */
+void dtm_eig3_sym(const double s[6], double e[3]);
+/* What the simplex kernels need of S's spectrum s1 >= s2 >= s3, each
+ * part to a few eps of |S| (absolute; rho to eps |S|^2) even when s2 and
+ * s3 are too close to split: the largest eigenvalue and the sum and
+ * product of the gaps e_i = s1 - s_i, i = 2, 3. Any symmetric function of
+ * (s2, s3) follows: s2 + s3 = 2 s1 - tau, s2 s3 = s1^2 - s1 tau + rho. */
+typedef struct {
+  double s1;  /* largest eigenvalue */
+  double tau; /* e2 + e3 = 3 s1 - tr S >= 0 */
+  double rho; /* e2 e3 >= 0 */
+} dtm_top3;
+void dtm_eig3_top(const double s[6], dtm_top3 *top);
+/* Eigenvalues e[0] >= e[1] of the symmetric 2x2 [[a, b], [b, c]]. */
+void dtm_eig2_sym(double a, double b, double c, double e[2]);
+
+/* Largest eigenvalue of the symmetric n x n matrix a (row-major, 1 <= n <=
+ * DTM_K_DOF, destroyed) by Householder tridiagonalization and bisection
+ * (tridiag.c): within a small multiple of n eps |A|, like
+ * dtm_eig_sym_max, and far faster for n > 24. NaN if an entry is not
+ * finite. */
+double dtm_eig_sym_max_tridiag(int n, double *a);
+
+/* Generic (quadrature + eigenvalue) paths, any supported type; linear
+ * simplices go through them too, which is how the closed forms are
+ * cross-checked. */
+int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda);
+/* Closed form on simplices (line2, tri3, tet4). */
+int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+
+/* Lumped nodal masses per unit density m[nn] (m^d) of the element in its
+ * frame, integrated with rule q; returns the measure (integral of det J).
+ * Linear types: row sums m_a = integral N_a. Second-order types: HRZ,
+ * m_a = integral N_a^2 scaled so that sum_a m_a = measure (see lump.c). */
+double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m);
+
+/* Three-component vectors: difference, dot and cross products. */
+static inline void dtm_v3_sub(const double *a, const double *b, double *c) {
+  for (int i = 0; i < 3; i++) c[i] = a[i] - b[i];
+}
+
+static inline double dtm_v3_dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+static inline void dtm_v3_cross(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+#endif

@@ -1,0 +1,46 @@
+/* The kernel's interface to the modules above it (the matrix-free operator
+ * of src/spectral/): full-integration rules, reference shape functions, the
+ * small dense Jacobian algebra, and the formulation check. Internal to
+ * libdtmap (hidden symbols); effects use the public include/dtmap/kernel.h. */
+#ifndef DTMAP_KERNEL_REFERENCE_H
+#define DTMAP_KERNEL_REFERENCE_H
+
+#include "dtmap/kernel.h"
+
+#define DTM_K_NODES 27 /* most nodes among the types the kernels handle (hex27) */
+#define DTM_K_DOF 81   /* most displacement unknowns (hex27, 3 per node) */
+#define DTM_K_QP                                                                                                       \
+  27                   /* most quadrature points of a rule (3x3x3 Gauss on                                             \
+                          hexahedra and pyramids) */
+#define DTM_K_FACETS 6 /* of the linear parent: second-order types reuse it */
+#define DTM_K_EDGES 12
+
+/* A quadrature rule in rule coordinates p. These are Gmsh's reference
+ * coordinates (u, v, w) except for the pyramid, where they are collapsed
+ * coordinates (a, b, w) with u = (1 - w) a, v = (1 - w) b; the weights then
+ * include the Duffy factor (1 - w)^2. */
+typedef struct {
+  int n;                 /* number of points */
+  double p[DTM_K_QP][3]; /* rule coordinates of the points */
+  double w[DTM_K_QP];    /* weights (sum = reference measure) */
+} dtm_qrule;
+
+/* Full-integration rule of a supported type (see quadrature.c): exact for
+ * the stiffness and the consistent mass of straight-sided elements. */
+void dtm_ref_rule(int type, dtm_qrule *q);
+/* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
+ * written, unused ones zero) with respect to the reference coordinates
+ * (u, v, w), at rule coordinates p. */
+void dtm_ref_eval(int type, const double p[3], double *N, double (*dN)[3]);
+/* Determinant of the d x d leading block of J (d = 1, 2, 3). */
+double dtm_mat_det(int d, const double J[3][3]);
+/* Product of the column lengths of the d x d block of J: |det J| never
+ * exceeds it (Hadamard), so det J > 32 eps hadamard is "safely positive". */
+double dtm_mat_hadamard(int d, const double J[3][3]);
+/* K = J^-1 (d x d blocks), given dj = det J. */
+void dtm_mat_inverse(int d, const double J[3][3], double dj, double K[3][3]);
+
+/* Raise DTM_ERR_INPUT unless formulation f suits an element of dimension d. */
+int dtm_form_check(int type, int d, int f);
+
+#endif

@@ -1,0 +1,172 @@
+/* The output .msh and its .opt: gather the contract views (dt,
+ * characteristic length, limiting effect, size suggestion) plus one
+ * "dt <effect>" view per limiting effect, write them through Gmsh to a
+ * temporary file, then rename into place. The scene's input mesh is never
+ * overwritten. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "dtmap/gmsh.h"
+#include "dtmap/output.h"
+#include "dtmap/util.h"
+
+static int same_file(const char *a, const char *b) {
+  struct stat sa, sb;
+  if (stat(a, &sa) || stat(b, &sb)) return 0;
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+static int check_target(const dtm_analysis *a, const char *path) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  const char *in = s->mesh ? s->mesh : s->geometry;
+  if (same_file(in, path) || same_file(s->path, path))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: refusing to overwrite an input file; choose another output with -o", path);
+  size_t n = strlen(path);
+  if (n < 4 || strcmp(path + n - 4, ".msh"))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: the output mesh must end in .msh", path);
+  return DTM_OK;
+}
+
+/* Node data over the nodes that carry a finite value. */
+static size_t node_view(const dtm_mesh *m, const double *src, size_t *tags, double *vals) {
+  size_t k = 0;
+  for (size_t v = 0; v < m->nnodes; v++)
+    if (isfinite(src[v])) tags[k] = m->node_tags[v], vals[k++] = src[v];
+  return k;
+}
+
+/* Element data restricted to finite values (an effect that applies to some
+ * groups only is +inf or NaN elsewhere). Returns the count kept. */
+static size_t finite_view(const size_t *etags, const double *src, size_t n, size_t *tags, double *vals) {
+  size_t k = 0;
+  for (size_t i = 0; i < n; i++)
+    if (isfinite(src[i])) tags[k] = etags[i], vals[k++] = src[i];
+  return k;
+}
+
+typedef struct {
+  size_t *etags, *ntags; /* element tags [nel], node tags [nnodes] */
+  double *lim, *nvals;   /* limiting effect as double [nel], node values [nnodes] */
+  double *level;         /* subcycling level as double [nel] */
+  size_t *dtags;         /* node tags of the nodal-dt view [nnodes] */
+  double *dvals;         /* its values [nnodes] */
+  char (*names)[96];     /* "dt <effect>" names [neffects] */
+  size_t **ftags;        /* [2 neffects] tags of the finite values of a view */
+  double **fvals;        /* [2 neffects] those values */
+  dtm_view *views;       /* [4 + 2 neffects] */
+} view_set;
+
+static void free_views(view_set *vs, int ne) {
+  free(vs->level);
+  free(vs->dtags);
+  free(vs->dvals);
+  for (int j = 0; vs->ftags && j < 2 * ne; j++) free(vs->ftags[j]), free(vs->fvals[j]);
+  free(vs->ftags);
+  free(vs->fvals);
+  free(vs->etags);
+  free(vs->ntags);
+  free(vs->lim);
+  free(vs->nvals);
+  free(vs->names);
+  free(vs->views);
+}
+
+static int alloc_views(const dtm_analysis *a, view_set *vs) {
+  size_t nel = dtm_analysis_nelements(a), nn = dtm_analysis_mesh(a)->nnodes, ne = (size_t)dtm_analysis_neffects(a);
+  vs->etags = malloc(nel * sizeof *vs->etags);
+  vs->lim = malloc(nel * sizeof *vs->lim);
+  vs->level = malloc((nel + 1) * sizeof *vs->level);
+  vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
+  vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
+  vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
+  vs->dvals = malloc((nn + 1) * sizeof *vs->dvals);
+  vs->names = calloc(ne + 1, sizeof *vs->names);
+  vs->views = calloc(2 * ne + 7, sizeof *vs->views);
+  vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
+  vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
+  if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
+      !vs->dtags || !vs->dvals || !vs->level)
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
+
+/* The contract views, then nodal dt, subcycling and added mass. */
+static int mesh_views(const dtm_results *r, view_set *vs) {
+  const dtm_analysis *a = r->analysis;
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  size_t nel = dtm_analysis_nelements(a), first = 0;
+  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++)
+    memcpy(vs->etags + first, m->blocks[b].tags, m->blocks[b].n * sizeof(size_t));
+  for (size_t i = 0; i < nel; i++) vs->lim[i] = dtm_analysis_limiting(a)[i];
+  for (size_t i = 0; i < nel && r->cost; i++) vs->level[i] = r->cost->subcycling.level[i];
+  size_t nnv = node_view(m, dtm_analysis_size_suggestion(a), vs->ntags, vs->nvals);
+  size_t ndv = node_view(m, dtm_analysis_nodal(a), vs->dtags, vs->dvals);
+  int k = 0;
+  vs->views[k++] = (dtm_view){"dt", 0, vs->etags, dtm_analysis_dt(a), nel};
+  vs->views[k++] = (dtm_view){"characteristic length", 0, vs->etags, dtm_analysis_length(a), nel};
+  vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
+  vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
+  if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv};
+  if (r->cost) vs->views[k++] = (dtm_view){"subcycling level", 0, vs->etags, vs->level, nel};
+  if (r->cost && r->cost->mass) vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, r->cost->mass->added, nel};
+  return k;
+}
+
+/* "dt <effect>" of each limiting effect and each accuracy view, over the
+ * elements where they are finite; appended from views[k]. */
+static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
+  size_t nel = dtm_analysis_nelements(a), ne = (size_t)dtm_analysis_neffects(a);
+  for (size_t j = 0; j < 2 * ne; j++) {
+    const dtm_effect_class *c = dtm_analysis_effect(a, (int)(j % ne));
+    const double *src = j < ne ? dtm_analysis_effect_dt(a, (int)j) : dtm_analysis_resolution(a, (int)(j - ne));
+    if (!src) continue;
+    vs->ftags[j] = malloc(nel * sizeof **vs->ftags);
+    vs->fvals[j] = malloc(nel * sizeof **vs->fvals);
+    if (!vs->ftags[j] || !vs->fvals[j]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    size_t n = finite_view(vs->etags, src, nel, vs->ftags[j], vs->fvals[j]);
+    if (j < ne) snprintf(vs->names[j], sizeof vs->names[j], "dt %s", c->name);
+    if (n) vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->accuracy_view, 0, vs->ftags[j], vs->fvals[j], n};
+  }
+  return DTM_OK;
+}
+
+static int build_views(const dtm_results *r, view_set *vs, int *nviews) {
+  DTM_CHECK(alloc_views(r->analysis, vs));
+  *nviews = mesh_views(r, vs);
+  DTM_CHECK(effect_views(r->analysis, vs, nviews));
+  return DTM_OK;
+}
+
+/* Options Gmsh merges when it opens X.msh: dt on a log scale, viridis, the
+ * other views hidden until the user ticks them. */
+static int write_opt(const char *path, int nviews) {
+  char opt[DTM_PATH_MAX + 8];
+  dtm_atomic w;
+  snprintf(opt, sizeof opt, "%s.opt", path);
+  DTM_CHECK(dtm_atomic_open(&w, opt, "", 1));
+  FILE *f = w.f;
+  fprintf(f, "// Written by dtmap: shows the dt view on a log scale when %s is opened.\n", path);
+  fprintf(f, "View[0].ScaleType = 2; // logarithmic\nView[0].ColormapNumber = 23; // viridis: dark = small dt\n");
+  fprintf(f, "View[0].IntervalsType = 3; // discrete bands\nView[0].NbIso = 12;\nView[0].Format = \"%%.2e\";\n");
+  for (int i = 1; i < nviews; i++) fprintf(f, "View[%d].Visible = 0;\n", i);
+  return dtm_atomic_commit(&w);
+}
+
+int dtm_output_write(const dtm_results *res, const char *path) {
+  DTM_CHECK(check_target(res->analysis, path));
+  view_set vs = {0};
+  int nviews = 0, r = build_views(res, &vs, &nviews);
+  dtm_atomic w;
+  if (r == DTM_OK) r = dtm_atomic_open(&w, path, ".msh", 0);
+  if (r == DTM_OK) {
+    r = dtm_gmsh_write(w.tmp, vs.views, nviews);
+    r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
+  }
+  free_views(&vs, dtm_analysis_neffects(res->analysis));
+  if (r == DTM_OK) r = write_opt(path, nviews);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}

@@ -1,0 +1,232 @@
+/* The JSON report (cJSON): mesh counts, effects in scene order, the step
+ * summary (dt.min, dt.element, dt.effect, dt.safety, dt.recommended, and
+ * where the minimum sits), each effect's own minimum, accuracy findings, the
+ * cost (subcycling, mass scaling), the refine rounds, and stage timings.
+ * Written atomically. */
+#include <cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "dtmap/output.h"
+#include "dtmap/util.h"
+
+static cJSON *where_json(const dtm_analysis *a, size_t i) {
+  cJSON *o = cJSON_CreateObject();
+  double c[3];
+  char lbl[64];
+  dtm_analysis_centroid(a, i, c);
+  cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
+  cJSON_AddStringToObject(o, "group",
+                          dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, i), lbl, sizeof lbl));
+  cJSON_AddItemToObject(o, "centroid", cJSON_CreateDoubleArray(c, 3));
+  return o;
+}
+
+static cJSON *dt_json(const dtm_analysis *a) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t el;
+  double dt_min = dtm_analysis_dt_min(a, &el);
+  cJSON *dt = where_json(a, el);
+  cJSON_AddNumberToObject(dt, "min", dt_min);
+  cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, dtm_analysis_limiting(a)[el])->name);
+  cJSON_AddNumberToObject(dt, "safety", s->safety);
+  cJSON_AddNumberToObject(dt, "recommended", dtm_analysis_recommended(a));
+  cJSON_AddStringToObject(dt, "basis", dtm_analysis_basis(a));
+  if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
+  if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
+  if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
+  return dt;
+}
+
+static cJSON *lanczos_json(const dtm_global_info *g) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "theta", g->theta);
+  cJSON_AddNumberToObject(o, "residual", g->residual);
+  cJSON_AddNumberToObject(o, "iterations", g->iterations);
+  cJSON_AddBoolToObject(o, "converged", g->converged);
+  cJSON_AddNumberToObject(o, "seconds", g->seconds);
+  double br[2] = {g->dt_low, g->dt_high};
+  cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
+  return o;
+}
+
+static cJSON *effect_detail(const dtm_analysis *a, int k) {
+  const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
+  int limits = dtm_analysis_effect_dt(a, k) != NULL;
+  cJSON *o = limits ? where_json(a, pe->element) : cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "name", dtm_analysis_effect(a, k)->name);
+  cJSON_AddNumberToObject(o, "index", k);
+  if (limits) cJSON_AddNumberToObject(o, "min", pe->min);
+  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
+  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)dtm_analysis_mesh(a)->node_tags[pe->node]);
+  if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
+  if (dtm_analysis_global(a, k)) cJSON_AddItemToObject(o, "lanczos", lanczos_json(dtm_analysis_global(a, k)));
+  if (limits) cJSON_AddNumberToObject(o, "safe", pe->safe);
+  return o;
+}
+
+static cJSON *effects_detail(const dtm_analysis *a) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) cJSON_AddItemToArray(arr, effect_detail(a, k));
+  return arr;
+}
+
+#define MAX_LISTED 100 /* under-resolved elements listed by tag */
+
+static int has_accuracy(const dtm_analysis *a) {
+  for (int k = 0; k < dtm_analysis_neffects(a); k++)
+    if (dtm_analysis_resolution(a, k)) return 1;
+  return 0;
+}
+
+static cJSON *under_resolved_list(const dtm_analysis *a) {
+  const double *h = dtm_analysis_size(a), *hmax = dtm_analysis_hmax(a);
+  cJSON *arr = cJSON_CreateArray();
+  int listed = 0;
+  for (size_t i = 0; i < dtm_analysis_nelements(a) && listed < MAX_LISTED; i++) {
+    if (!(h[i] > hmax[i])) continue;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
+    cJSON_AddNumberToObject(o, "h", h[i]);
+    cJSON_AddNumberToObject(o, "hmax", hmax[i]);
+    cJSON_AddItemToArray(arr, o);
+    listed++;
+  }
+  return arr;
+}
+
+static void binding_json(const dtm_analysis *a, const dtm_accuracy *ac, cJSON *o) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t i = ac->cap_element;
+  cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", ac->dt_cap);
+  cJSON_AddStringToObject(o, "binding_bound", dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->accuracy_view);
+  cJSON_AddNumberToObject(o, "binding_hmax", dtm_analysis_hmax(a)[i]);
+  cJSON_AddNumberToObject(o, "binding_element", (double)dtm_analysis_tag(a, i));
+  if (s->duration > 0)
+    cJSON_AddNumberToObject(o, "element_steps_at_cap", (double)dtm_analysis_nelements(a) * s->duration / ac->dt_cap);
+}
+
+static cJSON *accuracy_json(const dtm_analysis *a) {
+  dtm_accuracy ac;
+  dtm_analysis_accuracy(a, &ac);
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "under_resolved", (double)ac.under_resolved);
+  cJSON_AddItemToObject(o, "under_resolved_elements", under_resolved_list(a));
+  cJSON_AddNumberToObject(o, "listed_at_most", MAX_LISTED);
+  cJSON_AddNumberToObject(o, "target_conflicts", (double)ac.conflicts);
+  if (ac.conflicts) binding_json(a, &ac, o);
+  return o;
+}
+
+static cJSON *subcycling_json(const dtm_subcycling *sc) {
+  cJSON *o = cJSON_CreateObject(), *lv = cJSON_AddArrayToObject(o, "levels");
+  for (int k = 0; k < sc->nlevels; k++) cJSON_AddItemToArray(lv, cJSON_CreateNumber((double)sc->count[k]));
+  cJSON_AddNumberToObject(o, "speedup", sc->speedup);
+  return o;
+}
+
+#define TOP_ADDED 10 /* elements listed with the most added mass */
+
+static cJSON *top_added(const dtm_analysis *a, const double *m) {
+  size_t idx[TOP_ADDED];
+  int k = 0;
+  for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
+    if (!(m[i] > 0) || (k == TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
+    int j = k < TOP_ADDED ? k++ : TOP_ADDED - 1;
+    while (j > 0 && m[idx[j - 1]] < m[i]) idx[j] = idx[j - 1], j--;
+    idx[j] = i;
+  }
+  cJSON *arr = cJSON_CreateArray();
+  for (int r = 0; r < k; r++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, idx[r]));
+    cJSON_AddNumberToObject(o, "added", m[idx[r]]);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
+static cJSON *group_mass_json(const dtm_mesh *mesh, const dtm_mass_scaling *ms, int g) {
+  char lbl[64];
+  cJSON *go = cJSON_CreateObject();
+  cJSON_AddStringToObject(go, "group", dtm_mesh_group_label(mesh, g < mesh->ngroups ? g : -1, lbl, sizeof lbl));
+  cJSON_AddNumberToObject(go, "mass", ms->group_mass[g]);
+  cJSON_AddNumberToObject(go, "added", ms->group_added[g]);
+  cJSON_AddNumberToObject(go, "percent_added", 100.0 * ms->group_added[g] / ms->group_mass[g]);
+  return go;
+}
+
+static cJSON *mass_json(const dtm_analysis *a, const dtm_mass_scaling *ms) {
+  cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
+  cJSON_AddNumberToObject(o, "element_step_target", ms->target);
+  cJSON_AddNumberToObject(o, "total_mass", ms->total_mass);
+  cJSON_AddNumberToObject(o, "total_added", ms->total_added);
+  cJSON_AddNumberToObject(o, "percent_added", 100.0 * ms->total_added / ms->total_mass);
+  cJSON_AddNumberToObject(o, "elements_scaled", (double)ms->scaled);
+  for (int g = 0; g < ms->ngroups; g++)
+    if (ms->group_mass[g] > 0) cJSON_AddItemToArray(groups, group_mass_json(dtm_analysis_mesh(a), ms, g));
+  cJSON_AddItemToObject(o, "most_added", top_added(a, ms->added));
+  return o;
+}
+
+static cJSON *refine_json(const dtm_refine_result *rr) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int i = 0; i < rr->nrounds; i++) {
+    const dtm_refine_round *r = &rr->rounds[i];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "round", i);
+    cJSON_AddNumberToObject(o, "elements", (double)r->elements);
+    cJSON_AddNumberToObject(o, "dt_min", r->dt_min);
+    cJSON_AddNumberToObject(o, "recommended", r->recommended);
+    cJSON_AddNumberToObject(o, "seconds", r->seconds);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
+static cJSON *timings_json(const dtm_results *r) {
+  static const char *const names[DTM_T_COUNT] = {"mesh", "extract", "effects", "nodal", "global"};
+  cJSON *t = cJSON_CreateObject();
+  cJSON_AddNumberToObject(t, "scene", r->t_scene);
+  for (int i = 0; i < DTM_T_COUNT; i++) cJSON_AddNumberToObject(t, names[i], dtm_analysis_timing(r->analysis, i));
+  cJSON_AddNumberToObject(t, "output", r->t_output);
+  cJSON_AddNumberToObject(t, "threads", dtm_analysis_threads(r->analysis));
+  return t;
+}
+
+static cJSON *mesh_json(const dtm_analysis *a) {
+  cJSON *mesh = cJSON_CreateObject();
+  cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
+  cJSON_AddNumberToObject(mesh, "nodes", (double)dtm_analysis_mesh(a)->nnodes);
+  cJSON_AddNumberToObject(mesh, "dim", dtm_analysis_mesh(a)->dim);
+  return mesh;
+}
+
+static cJSON *report_json(const dtm_results *r) {
+  const dtm_analysis *a = r->analysis;
+  cJSON *root = cJSON_CreateObject();
+  cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
+  cJSON_AddStringToObject(root, "scene", dtm_analysis_scene(a)->path);
+  cJSON_AddItemToObject(root, "mesh", mesh_json(a));
+  cJSON *names = cJSON_AddArrayToObject(root, "effects");
+  for (int k = 0; k < dtm_analysis_neffects(a); k++)
+    cJSON_AddItemToArray(names, cJSON_CreateString(dtm_analysis_effect(a, k)->name));
+  cJSON_AddItemToObject(root, "dt", dt_json(a));
+  cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
+  if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
+  if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
+  if (r->cost) cJSON_AddItemToObject(root, "subcycling", subcycling_json(&r->cost->subcycling));
+  if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", mass_json(a, r->cost->mass));
+  cJSON_AddItemToObject(root, "timings", timings_json(r));
+  return root;
+}
+
+int dtm_report_write(const dtm_results *r, const char *path) {
+  cJSON *root = report_json(r);
+  char *text = root ? cJSON_Print(root) : NULL;
+  cJSON_Delete(root);
+  if (!text) return DTM_ERR(DTM_ERR_INTERNAL, "cannot build the JSON report");
+  int rc = dtm_atomic_write_text(path, text, 1);
+  free(text);
+  return rc;
+}

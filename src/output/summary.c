@@ -1,0 +1,186 @@
+/* The terminal summary of an analysis, in the manner of an explicit solver's
+ * starter listing: counts, the smallest step and where it is, the
+ * recommendation, accuracy, the cost, the ten smallest elements, and a
+ * histogram by decade. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/output.h"
+
+#define NSMALL 10
+
+static const char *effect_name(const dtm_analysis *a, int k) { return dtm_analysis_effect(a, k)->name; }
+
+static const char *type_name(const dtm_analysis *a, size_t i) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  return dtm_elem_name(dtm_analysis_mesh(a)->blocks[b].type);
+}
+
+static const char *group_name(const dtm_analysis *a, size_t i, char *lbl, size_t len) {
+  return dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, i), lbl, len);
+}
+
+static void print_counts(const dtm_analysis *a, FILE *f) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  fprintf(f, "mesh         %zu elements (", dtm_analysis_nelements(a));
+  for (int b = 0; b < m->nblocks; b++)
+    fprintf(f, "%s%s %zu", b ? ", " : "", dtm_elem_name(m->blocks[b].type), m->blocks[b].n);
+  fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
+  fprintf(f, "effects     ");
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) fprintf(f, " [%d] %s", k, effect_name(a, k));
+  fprintf(f, "\n");
+}
+
+static void print_where(const dtm_analysis *a, size_t i, FILE *f) {
+  double c[3];
+  char lbl[64];
+  dtm_analysis_centroid(a, i, c);
+  fprintf(f, "element %zu (%s) in '%s' at (%.4g, %.4g, %.4g)", dtm_analysis_tag(a, i), type_name(a, i),
+          group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2]);
+}
+
+static void print_effect_minima(const dtm_analysis *a, FILE *f) {
+  int ne = dtm_analysis_neffects(a);
+  for (int k = 0; k < ne && ne > 1; k++) {
+    if (!dtm_analysis_effect_dt(a, k)) continue;
+    fprintf(f, "  %-10s %.4e s at ", effect_name(a, k), dtm_analysis_effect_min(a, k)->min);
+    print_where(a, dtm_analysis_effect_min(a, k)->element, f);
+    fprintf(f, "\n");
+  }
+  for (int k = 0; k < ne; k++) {
+    const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
+    if (isfinite(pe->nodal))
+      fprintf(f, "nodal bound  %-10s %.4e s (%.2fx its element bound)\n", effect_name(a, k), pe->nodal,
+              pe->nodal / pe->min);
+  }
+  for (int k = 0; k < ne; k++) {
+    const dtm_global_info *g = dtm_analysis_global(a, k);
+    if (!g) continue;
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s\n", effect_name(a, k),
+            g->dt_low, g->dt_high, g->iterations, g->seconds,
+            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis");
+  }
+}
+
+static void print_min(const dtm_analysis *a, FILE *f) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t el;
+  double rec = dtm_analysis_recommended(a);
+  fprintf(f, "dt min       %.4e s at ", dtm_analysis_dt_min(a, &el));
+  print_where(a, el, f);
+  fprintf(f, ", limited by %s\n", effect_name(a, dtm_analysis_limiting(a)[el]));
+  print_effect_minima(a, f);
+  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s)\n", rec, s->safety, rec / s->safety,
+          dtm_analysis_basis(a));
+  if (s->target > 0)
+    fprintf(f, "target       %.4e s: %s\n", s->target,
+            rec >= s->target ? "met" : "NOT met (see the size suggestion view)");
+}
+
+/* Indices of the k smallest dt, ascending, by a bounded insertion. */
+static int smallest(const dtm_analysis *a, size_t *idx) {
+  const double *dt = dtm_analysis_dt(a);
+  int k = 0;
+  for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
+    if (k == NSMALL && dt[i] >= dt[idx[k - 1]]) continue;
+    int j = k < NSMALL ? k++ : NSMALL - 1;
+    while (j > 0 && dt[idx[j - 1]] > dt[i]) idx[j] = idx[j - 1], j--;
+    idx[j] = i;
+  }
+  return k;
+}
+
+static void print_smallest(const dtm_analysis *a, FILE *f) {
+  size_t idx[NSMALL];
+  int k = smallest(a, idx);
+  char lbl[64];
+  fprintf(f, "\n%d smallest steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type", "group",
+          "dt (s)", "length (m)", "effect");
+  for (int r = 0; r < k; r++) {
+    size_t i = idx[r];
+    fprintf(f, "  %4d %10zu %-7s %-16s %-12.4e %-12.4e %s\n", r + 1, dtm_analysis_tag(a, i), type_name(a, i),
+            group_name(a, i, lbl, sizeof lbl), dtm_analysis_dt(a)[i], dtm_analysis_length(a)[i],
+            effect_name(a, dtm_analysis_limiting(a)[i]));
+  }
+}
+
+static void print_conflict(const dtm_analysis *a, const dtm_accuracy *ac, FILE *f) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t i = ac->cap_element;
+  const dtm_effect_class *c = dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i]);
+  fprintf(f,
+          "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
+          "             below the target %.4e s at %zu element(s)",
+          c->accuracy_view, dtm_analysis_hmax(a)[i], dtm_analysis_tag(a, i), ac->dt_cap, s->target, ac->conflicts);
+  if (s->duration > 0)
+    fprintf(f, ";\n             the duration %.4g s then costs %.4g element-steps", s->duration,
+            (double)dtm_analysis_nelements(a) * s->duration / ac->dt_cap);
+  fprintf(f, "\n");
+}
+
+static void print_accuracy(const dtm_analysis *a, FILE *f) {
+  const double *h = dtm_analysis_size(a), *hmax = dtm_analysis_hmax(a);
+  const int *by = dtm_analysis_hmax_by(a);
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) {
+    if (!dtm_analysis_resolution(a, k)) continue;
+    size_t n = 0;
+    for (size_t i = 0; i < dtm_analysis_nelements(a); i++) n += h[i] > hmax[i] && by[i] == k;
+    fprintf(f, "accuracy     %s: %zu element(s) coarser than its accuracy bound (view '%s')\n", effect_name(a, k), n,
+            dtm_analysis_effect(a, k)->accuracy_view);
+  }
+  dtm_accuracy ac;
+  dtm_analysis_accuracy(a, &ac);
+  if (ac.conflicts) print_conflict(a, &ac, f);
+}
+
+static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
+  const dtm_subcycling *sc = &c->subcycling;
+  double rec = dtm_analysis_recommended(a);
+  fprintf(f, "subcycling   %d level(s) of dt_min x 2^k:", sc->nlevels);
+  for (int k = 0; k < sc->nlevels && k < 8; k++) fprintf(f, " %zu", sc->count[k]);
+  fprintf(f, "%s; ideal speed-up %.2fx\n", sc->nlevels > 8 ? " ..." : "", sc->speedup);
+  if (c->duration > 0)
+    fprintf(f, "cost         %.4g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n",
+            c->duration, ceil(c->duration / rec), rec, c->element_steps, c->element_steps_subcycled);
+  const dtm_mass_scaling *ms = c->mass;
+  if (ms)
+    fprintf(f, "mass scaling to reach the target: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass, ms->scaled);
+}
+
+static void print_histogram(const dtm_analysis *a, FILE *f) {
+  const double *dt = dtm_analysis_dt(a);
+  size_t nel = dtm_analysis_nelements(a);
+  int lo = (int)floor(log10(dtm_analysis_dt_min(a, NULL))), hi = lo;
+  for (size_t i = 0; i < nel; i++)
+    if (isfinite(dt[i]) && (int)floor(log10(dt[i])) > hi) hi = (int)floor(log10(dt[i]));
+  if (hi - lo > 15) hi = lo + 15;
+  size_t count[16] = {0}, most = 1;
+  for (size_t i = 0; i < nel; i++) {
+    if (!isfinite(dt[i])) continue; /* no effect limits this element */
+    int d = (int)floor(log10(dt[i])) - lo;
+    count[d < 0 ? 0 : d > hi - lo ? hi - lo : d]++;
+  }
+  for (int d = 0; d <= hi - lo; d++) most = count[d] > most ? count[d] : most;
+  fprintf(f, "\ndt by decade:\n");
+  for (int d = 0; d <= hi - lo; d++) {
+    int bar = (int)(40.0 * (double)count[d] / (double)most + 0.5);
+    fprintf(f, "  [1e%+03d, 1e%+03d) %10zu %5.1f%% ", lo + d, lo + d + 1, count[d], 100.0 * count[d] / nel);
+    for (int c = 0; c < bar; c++) fputc('#', f);
+    fputc('\n', f);
+  }
+}
+
+void dtm_summary_print(const dtm_results *r, void *stream) {
+  FILE *f = stream;
+  print_counts(r->analysis, f);
+  print_min(r->analysis, f);
+  print_accuracy(r->analysis, f);
+  if (r->cost) print_cost(r->analysis, r->cost, f);
+  print_smallest(r->analysis, f);
+  print_histogram(r->analysis, f);
+}

@@ -1,0 +1,233 @@
+/* The scene reader's entry points: dtm_scene_load walks the validated XML
+ * tree (see scene_xml.c) element by element and fills a dtm_scene: the
+ * geometry or mesh source (extension and existence checked), the meshing
+ * options, the materials (scene_material.c), the effects (scene_effects.c),
+ * the time options and the output paths. Paths are resolved against the
+ * scene file's directory. dtm_scene_destroy frees all of it. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <libxml/parser.h>
+
+#include "scene-impl.h"
+
+static const char *extension(const char *file) {
+  const char *slash = strrchr(file, '/');
+  const char *dot = strrchr(slash ? slash + 1 : file, '.');
+  return dot ? dot : "";
+}
+
+static int is_geometry_ext(const char *ext) {
+  static const char *const ok[] = {".geo", ".step", ".stp", ".brep"};
+  for (size_t i = 0; i < sizeof ok / sizeof *ok; i++)
+    if (!strcasecmp(ext, ok[i])) return 1;
+  return 0;
+}
+
+static int check_extension(const dtm_scene *s, const xmlNode *n, const char *file, int is_mesh) {
+  const char *ext = extension(file);
+  if (is_mesh && strcasecmp(ext, ".msh")) return DTM_SCENE_ERR(s, n, "mesh file '%s' is not a Gmsh .msh file", file);
+  if (!is_mesh && !strcasecmp(ext, ".msh"))
+    return DTM_SCENE_ERR(s, n, "geometry file '%s' is a mesh; use <mesh file=\"%s\"/>", file, file);
+  if (!is_mesh && !is_geometry_ext(ext))
+    return DTM_SCENE_ERR(s, n,
+                         "geometry file '%s' has an unsupported extension (use .geo, "
+                         ".step, .stp or .brep, or <mesh file=\"x.msh\"/>)",
+                         file);
+  return DTM_OK;
+}
+
+static int check_exists(const dtm_scene *s, const xmlNode *n, const char *kind, const char *file,
+                        const char *resolved) {
+  struct stat st;
+  if (stat(resolved, &st) == 0 && S_ISDIR(st.st_mode))
+    return DTM_SCENE_ERR(s, n, "%s file '%s' is a directory", kind, resolved);
+  if (access(resolved, R_OK) == 0) return DTM_OK;
+  if (errno != ENOENT && errno != ENOTDIR)
+    return DTM_SCENE_ERR(s, n, "%s file '%s' cannot be read: %s", kind, resolved, strerror(errno));
+  if (!strcmp(file, resolved)) return DTM_SCENE_ERR(s, n, "%s file '%s' not found", kind, file);
+  return DTM_SCENE_ERR(s, n, "%s file '%s' not found (looked for '%s')", kind, file, resolved);
+}
+
+static int read_source(dtm_scene *s, const xmlNode *n) {
+  int is_mesh = dtm_scene_is(n, "mesh");
+  const char *kind = is_mesh ? "mesh" : "geometry";
+  char **dst = is_mesh ? &s->mesh : &s->geometry;
+  char *file;
+  if (s->geometry || s->mesh) return DTM_SCENE_ERR(s, n, "a second <%s>; give one source", kind);
+  s->source_line = dtm_scene_line(n);
+  DTM_CHECK(dtm_scene_attr(n, "file", &file));
+  if (!file || !*file) {
+    free(file);
+    return DTM_SCENE_ERR(s, n, "<%s> needs a file=\"...\"", kind);
+  }
+  int rc = check_extension(s, n, file, is_mesh);
+  if (!rc) rc = dtm_scene_resolve(s, file, dst);
+  if (!rc) rc = check_exists(s, n, kind, file, *dst);
+  free(file);
+  return rc ? dtm_error_trace(rc, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi, int *out) {
+  char *text;
+  double v;
+  DTM_CHECK(dtm_scene_attr(n, key, &text));
+  if (!text) return DTM_OK;
+  int bad = dtm_scene_parse_double(text, &v) || v != floor(v) || v < lo || v > hi;
+  int rc = bad ? DTM_SCENE_ERR(s, n,
+                               "<%s> %s=\"%s\" is not admissible (need an integer "
+                               "from %d to %d)",
+                               (const char *)n->name, key, text, lo, hi)
+               : DTM_OK;
+  if (!bad) *out = (int)v;
+  free(text);
+  return rc;
+}
+
+static int read_meshing(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "size", 0, &s->mesh_size));
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "min-size", 0, &s->mesh_min_size));
+  DTM_CHECK(read_int(s, n, "order", 1, 2, &s->mesh_order));
+  DTM_CHECK(read_int(s, n, "dim", 1, 3, &s->mesh_dim));
+  if (s->mesh_size > 0 && s->mesh_min_size > s->mesh_size)
+    return DTM_SCENE_ERR(s, n, "<meshing> min-size=%g is larger than size=%g", s->mesh_min_size, s->mesh_size);
+  return DTM_OK;
+}
+
+static int read_time(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "safety", 0.9, &s->safety));
+  if (s->safety > 1) return DTM_SCENE_ERR(s, n, "<time> safety=%g is not admissible (need 0 < safety <= 1)", s->safety);
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "target", 0, &s->target));
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "duration", 0, &s->duration));
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "f-max", 0, &s->f_max));
+  return dtm_scene_attr_positive(s, n, "elements-per-wavelength", DTM_SCENE_PER_WAVELENGTH,
+                                 &s->elements_per_wavelength);
+}
+
+static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, char **dst) {
+  char *file;
+  DTM_CHECK(dtm_scene_attr(n, key, &file));
+  if (!file) return DTM_OK;
+  int rc = DTM_OK;
+  if (!*file)
+    rc = DTM_SCENE_ERR(s, n, "<output> %s=\"\" names no file", key);
+  else if (dst == &s->out_mesh && strcasecmp(extension(file), ".msh"))
+    rc = DTM_SCENE_ERR(s, n, "<output> mesh=\"%s\" must be a Gmsh .msh file", file);
+  if (!rc) rc = dtm_scene_resolve(s, file, dst);
+  free(file);
+  return rc;
+}
+
+static int read_output(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(read_output_path(s, n, "mesh", &s->out_mesh));
+  return read_output_path(s, n, "report", &s->out_report);
+}
+
+typedef int (*element_reader)(dtm_scene *s, const xmlNode *n);
+
+static element_reader reader_for(const xmlNode *n) {
+  static const struct {
+    const char *tag;     /* element name under <dtmap-scene> */
+    element_reader read; /* what reads it */
+  } table[] = {{"geometry", read_source},
+               {"mesh", read_source},
+               {"meshing", read_meshing},
+               {"material", dtm_scene_read_material},
+               {"effects", dtm_scene_read_effects},
+               {"time", read_time},
+               {"output", read_output}};
+  for (size_t i = 0; i < sizeof table / sizeof *table; i++)
+    if (dtm_scene_is(n, table[i].tag)) return table[i].read;
+  return NULL;
+}
+
+static int count_tag(const xmlNode *root, const char *tag) {
+  int count = 0;
+  for (const xmlNode *c = root->children; c; c = c->next) count += dtm_scene_is(c, tag);
+  return count;
+}
+
+static int read_document(dtm_scene *s, const xmlNode *root) {
+  if (!root) return DTM_ERR(DTM_ERR_INPUT, "%s: the scene file has no root element", s->path);
+  int nmat = count_tag(root, "material");
+  s->materials = nmat ? calloc((size_t)nmat, sizeof *s->materials) : NULL;
+  if (nmat && !s->materials) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (const xmlNode *c = root->children; c; c = c->next) {
+    if (c->type != XML_ELEMENT_NODE) continue;
+    element_reader read = reader_for(c);
+    if (!read) return DTM_SCENE_ERR(s, c, "unknown element <%s>", (const char *)c->name);
+    DTM_CHECK(read(s, c));
+  }
+  if (!s->geometry && !s->mesh) return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
+  if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
+  if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
+  return DTM_OK;
+}
+
+static int scene_dir(const char *path, char **dir) {
+  const char *slash = strrchr(path, '/');
+  if (!slash) return dtm_scene_strdup(".", dir);
+  *dir = strndup(path, slash == path ? 1 : (size_t)(slash - path));
+  return *dir ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+}
+
+static int scene_new(const char *path, dtm_scene **out) {
+  dtm_scene *s = calloc(1, sizeof *s);
+  *out = s;
+  if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  s->mesh_order = 1;
+  s->safety = 0.9;
+  s->elements_per_wavelength = DTM_SCENE_PER_WAVELENGTH;
+  DTM_CHECK(dtm_scene_strdup(path, &s->path));
+  return scene_dir(path, &s->dir);
+}
+
+int dtm_scene_load(const char *path, dtm_scene **out) {
+  xmlDoc *doc;
+  dtm_scene *s = NULL;
+  if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: out is NULL");
+  *out = NULL;
+  if (!path) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: path is NULL");
+  DTM_CHECK(dtm_scene_xml_read(path, &doc));
+  int rc = scene_new(path, &s);
+  if (!rc) rc = read_document(s, xmlDocGetRootElement(doc));
+  xmlFreeDoc(doc);
+  if (rc) {
+    dtm_scene_destroy(&s);
+    return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
+  }
+  *out = s;
+  return DTM_OK;
+}
+
+static void free_effect(dtm_scene_effect *e) {
+  free(e->name);
+  free(e->library);
+  dtm_scene_free_strings(e->nattr, e->keys);
+  dtm_scene_free_strings(e->nattr, e->values);
+}
+
+void dtm_scene_destroy(dtm_scene **s) {
+  if (!s || !*s) return;
+  dtm_scene *p = *s;
+  for (int i = 0; i < p->nmaterials; i++) {
+    free(p->materials[i].m.name);
+    dtm_scene_free_strings(p->materials[i].ngroups, p->materials[i].groups);
+  }
+  for (int i = 0; i < p->neffects; i++) free_effect(&p->effects[i]);
+  free(p->materials);
+  free(p->effects);
+  free(p->path);
+  free(p->dir);
+  free(p->geometry);
+  free(p->mesh);
+  free(p->out_mesh);
+  free(p->out_report);
+  free(p);
+  *s = NULL;
+}

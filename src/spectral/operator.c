@@ -1,0 +1,624 @@
+/* The global operators of a spectral effect on a whole mesh, matrix free:
+ * the lumped diagonal M, the stiffness K of linear elasticity or scalar
+ * diffusion applied element by element, its scaling M^-1/2 K M^-1/2 and
+ * the Rayleigh damping C = sum_e alpha_e M_e + beta_e K_e. At creation the
+ * map of every element is evaluated once at the points of its type's full
+ * rule (dtm_ref_rule, dtm_ref_eval; no type is hard-coded): per point the
+ * inverse Jacobian (d x d) and dv = |det J| * weight are stored, and the
+ * reference gradients once per block, so a tet4 costs 10 doubles and a
+ * hex8 80. Types whose reference gradients are the same at every rule
+ * point (the linear simplices) keep a single point with the summed
+ * weight, which is exact. The product sums the element forces of each
+ * thread's contiguous share of elements into its own buffer (the first
+ * thread writes y itself) and the buffers are then added in a fixed order,
+ * so results do not depend on scheduling. On 2 cores this beat element
+ * colouring by 2x on a 1e6-tet mesh: a colour's elements are spread over
+ * the whole mesh, so each of the ~30 colours sweeps u and y again, while
+ * the extra buffer costs one zeroing and one addition of ndof values. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "dtmap/error.h"
+#include "dtmap/operator.h"
+#include "reference.h"
+
+typedef struct {
+  int type, nn;
+  int nq; /* stored points per element */
+  size_t n;
+  const size_t *conn, *tags;
+  const int *mat;
+  double dn[DTM_K_QP][DTM_K_NODES][3]; /* reference gradients per point */
+  double *geo;                         /* [n][nq][d*d + 1]: J^-1 row-major (d x d), then dv */
+} op_block;
+
+typedef struct {
+  double lam, mu;     /* elastic: sigma = lam tr(F) I + mu (F + F^T) */
+  double cond;        /* diffusion: conductivity */
+  double cap;         /* lumped capacity per volume */
+  double alpha, beta; /* Rayleigh */
+} op_mat;
+
+struct dtm_operator {
+  int kind, d, ncomp, nmat, nblocks;
+  size_t ndof;
+  op_block *blocks;
+  op_mat *mats;
+  double *mass;       /* [ndof] lumped diagonal */
+  double *mass_alpha; /* [ndof] sum_e alpha_e M_e, or NULL */
+  double *dsq;        /* [ndof] M^-1/2, 0 where the mass is 0 */
+  int has_beta;
+};
+
+enum { APPLY_K = 0, APPLY_BETA = 1 };
+
+/* The element loops are specialised per dimension (and node count) by
+ * inlining them with constant arguments, and their short loops unrolled;
+ * at -O2 compilers need to be told to do both. */
+#if defined(__GNUC__) || defined(__clang__)
+#define ALWAYS_INLINE __attribute__((always_inline))
+#define UNROLL _Pragma("GCC unroll 8")
+#else
+#define ALWAYS_INLINE
+#define UNROLL
+#endif
+
+/* ---- creation: checks ---------------------------------------------- */
+
+static const char *tag_text(const op_block *b, size_t e, char *buf, size_t n) {
+  if (b->tags)
+    snprintf(buf, n, "%zu", b->tags[e]);
+  else
+    snprintf(buf, n, "#%zu", e);
+  return buf;
+}
+
+/* Extent of the nodes the elements use, per component, into ext[3];
+ * -1 for a node index out of range. */
+static int node_extent(const dtm_mesh *m, double ext[3]) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int ib = 0; ib < m->nblocks; ib++) {
+    const dtm_block *b = &m->blocks[ib];
+    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) {
+      if (b->conn[k] >= m->nnodes) return -1;
+      for (int i = 0; i < 3; i++) {
+        double x = m->xyz[3 * b->conn[k] + i];
+        lo[i] = fmin(lo[i], x), hi[i] = fmax(hi[i], x);
+      }
+    }
+  }
+  for (int i = 0; i < 3; i++) ext[i] = hi[i] >= lo[i] ? hi[i] - lo[i] : 0;
+  return 0;
+}
+
+/* 2D meshes must lie in a plane z = const, 1D meshes on a line along x. */
+static int check_plane(const dtm_mesh *m) {
+  double ext[3], size;
+  if (node_extent(m, ext))
+    return DTM_ERR(DTM_ERR_INTERNAL,
+                   "element connectivity refers to a node beyond the "
+                   "mesh's %zu nodes",
+                   m->nnodes);
+  size = fmax(ext[0], fmax(ext[1], ext[2]));
+  if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
+  if (m->dim == 2 && ext[2] > 1e-9 * size)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "the global estimate needs a 2D mesh in a plane z = const "
+                   "(z varies by %g m over a mesh of size %g m)",
+                   ext[2], size);
+  if (m->dim == 1 && fmax(ext[1], ext[2]) > 1e-9 * size)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "the global estimate needs a 1D mesh along the x axis "
+                   "(y and z constant; they vary by %g m over %g m)",
+                   fmax(ext[1], ext[2]), size);
+  return DTM_OK;
+}
+
+static int check_args(const dtm_mesh *m, int kind, const dtm_operator_coeffs *c, int nmat, dtm_operator **out) {
+  if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: no output");
+  *out = NULL;
+  if (!m || !c || nmat < 1 || (m->nblocks > 0 && !m->blocks))
+    return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: missing mesh or coefficients");
+  if (kind != DTM_OP_ELASTIC && kind != DTM_OP_DIFFUSION)
+    return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: kind %d is not spectral", kind);
+  if (m->dim < 1 || m->dim > 3) return DTM_ERR(DTM_ERR_INPUT, "mesh dimension %d is not 1, 2 or 3", m->dim);
+  if (dtm_mesh_nelements(m) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with elements");
+  return check_plane(m);
+}
+
+static int ok_nonneg(double v) { return isfinite(v) && v >= 0; }
+
+/* Check material i's coefficients and convert them into o. */
+static int material_setup(const dtm_operator *op, int i, const dtm_operator_coeffs *c, const double *alpha,
+                          const double *beta, op_mat *o) {
+  o->alpha = alpha ? alpha[i] : 0, o->beta = beta ? beta[i] : 0;
+  o->cap = c->capacity;
+  if (c->kind != op->kind)
+    return DTM_ERR(DTM_ERR_INTERNAL, "material %d: coefficients of kind %d, operator of kind %d", i, c->kind, op->kind);
+  if (!(isfinite(c->capacity) && c->capacity > 0) || !ok_nonneg(o->alpha) || !ok_nonneg(o->beta))
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "material %d: capacity %g, Rayleigh alpha %g, beta %g: "
+                   "need capacity > 0 and finite alpha, beta >= 0",
+                   i, c->capacity, o->alpha, o->beta);
+  if (op->kind == DTM_OP_DIFFUSION) {
+    o->cond = c->conductivity;
+    if (!ok_nonneg(o->cond))
+      return DTM_ERR(DTM_ERR_INPUT, "material %d: conductivity %g is not finite and >= 0", i, o->cond);
+    return DTM_OK;
+  }
+  DTM_CHECK(dtm_form_check(op->blocks[0].type, op->d, c->mod.form));
+  int bar = c->mod.form == DTM_FORM_BAR;
+  o->lam = bar ? c->mod.modulus : c->mod.lam, o->mu = bar ? 0 : c->mod.mu;
+  if (!isfinite(o->lam) || !ok_nonneg(o->mu) || !(o->lam + 2 * o->mu > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "material %d: elastic moduli lam %g, mu %g are not admissible", i, o->lam, o->mu);
+  return DTM_OK;
+}
+
+/* Which materials the elements use; DTM_ERR_INPUT for an index out of range. */
+static int mark_used(const dtm_operator *op, char *used) {
+  char t[32];
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    for (size_t e = 0; e < b->n; e++) {
+      int m = b->mat ? b->mat[e] : -1;
+      if (m < 0 || m >= op->nmat)
+        return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has no material (index %d of %d)", tag_text(b, e, t, sizeof t),
+                       dtm_elem_name(b->type), m, op->nmat);
+      used[m] = 1;
+    }
+  }
+  return DTM_OK;
+}
+
+static int materials_setup(dtm_operator *op, const dtm_operator_coeffs *c, const double *alpha, const double *beta) {
+  char *used = calloc((size_t)op->nmat, 1);
+  op->mats = calloc((size_t)op->nmat, sizeof *op->mats);
+  if (!used || !op->mats) {
+    free(used);
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  int r = mark_used(op, used);
+  for (int i = 0; i < op->nmat && !r; i++) {
+    if (used[i]) r = material_setup(op, i, &c[i], alpha, beta, &op->mats[i]);
+    op->has_beta |= used[i] && op->mats[i].beta > 0;
+  }
+  free(used);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* ---- creation: geometry --------------------------------------------- */
+
+/* Reference gradients at the rule points; one point with the summed weight
+ * when they are the same at every point (then so is the whole map). */
+static void block_rule(op_block *b, double *wq) {
+  dtm_qrule q;
+  double N[DTM_K_NODES];
+  dtm_ref_rule(b->type, &q);
+  int same = 1;
+  for (int k = 0; k < q.n; k++) {
+    dtm_ref_eval(b->type, q.p[k], N, b->dn[k]);
+    wq[k] = q.w[k];
+    for (int a = 0; a < b->nn && k > 0; a++)
+      for (int j = 0; j < 3; j++) same &= fabs(b->dn[k][a][j] - b->dn[0][a][j]) <= 1e-15;
+  }
+  b->nq = q.n;
+  if (!same) return;
+  for (int k = 1; k < q.n; k++) wq[0] += wq[k];
+  b->nq = 1;
+}
+
+/* inv = J^-1 packed row-major (d x d), given det J. */
+static void inverse_packed(int d, const double J[3][3], double dj, double *inv) {
+  double K[3][3];
+  dtm_mat_inverse(d, J, dj, K);
+  for (int i = 0; i < d; i++)
+    for (int j = 0; j < d; j++) inv[d * i + j] = K[i][j];
+}
+
+/* Store J^-1 and dv of element e at every point; the sign of det J must be
+ * positive in 3D and the same at every point in 1D and 2D (where the
+ * orientation in the plane is arbitrary). Returns 0, or -1 with det J. */
+static int elem_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
+                         double *dj_bad) {
+  int d = op->d, st = d * d + 1;
+  const size_t *c = b->conn + e * (size_t)b->nn;
+  double sign = 0;
+  for (int k = 0; k < b->nq; k++) {
+    double J[3][3] = {{0}}, *g = b->geo + (e * (size_t)b->nq + (size_t)k) * (size_t)st;
+    for (int a = 0; a < b->nn; a++)
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < d; j++) J[i][j] += xyz[3 * c[a] + i] * b->dn[k][a][j];
+    double dj = dtm_mat_det(d, (const double(*)[3])J);
+    if (!sign) sign = d == 3 ? 1 : dj >= 0 ? 1 : -1;
+    *dj_bad = dj;
+    if (!(sign * dj > 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J)) || !isfinite(dj)) return -1;
+    inverse_packed(d, (const double(*)[3])J, dj, g);
+    g[d * d] = fabs(dj) * wq[k];
+  }
+  return 0;
+}
+
+static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb, op_block *b) {
+  int dim, nn;
+  DTM_CHECK(dtm_elem_info(mb->type, &dim, &nn));
+  if (dim != m->dim || nn != mb->nn || nn > DTM_K_NODES)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "block of %s elements (dimension %d, %d nodes) in a "
+                   "mesh of dimension %d",
+                   dtm_elem_name(mb->type), dim, mb->nn, m->dim);
+  double wq[DTM_K_QP];
+  b->type = mb->type, b->nn = nn, b->n = mb->n;
+  b->conn = mb->conn, b->tags = mb->tags, b->mat = mb->mat;
+  block_rule(b, wq);
+  b->geo = malloc(b->n * (size_t)b->nq * (size_t)(op->d * op->d + 1) * sizeof *b->geo);
+  if (!b->geo && b->n) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t bad = b->n;
+  double dj = 0;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (size_t e = 0; e < b->n; e++) {
+    double djt;
+    if (elem_geometry(op, b, m->xyz, e, wq, &djt) && e < bad) bad = e;
+  }
+  if (bad == b->n) return DTM_OK;
+  char t[32];
+  elem_geometry(op, b, m->xyz, bad, wq, &dj);
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "element %s (%s) is degenerate, inverted or folded "
+                 "(det J = %g at a quadrature point): the global estimate cannot use it",
+                 tag_text(b, bad, t, sizeof t), dtm_elem_name(b->type), dj);
+}
+
+/* ---- creation: lumped diagonals ------------------------------------- */
+
+/* Lumped node masses of element e per unit capacity, into w[nn]: the
+ * kernel's weights times the measure, which is the sum of the stored dv
+ * (the same rule as dtm_elem_measure, without integrating a second time). */
+static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+  double x[DTM_K_NODES * 3], meas = 0;
+  const size_t *c = b->conn + e * (size_t)b->nn;
+  size_t st = (size_t)(op->d * op->d + 1);
+  const double *g = b->geo + e * (size_t)b->nq * st;
+  for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
+  for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
+  dtm_elem_lumped_weights(b->type, x, w);
+  int ok = 1;
+  for (int a = 0; a < b->nn; a++) {
+    w[a] *= meas;
+    ok &= isfinite(w[a]) && w[a] > 0;
+  }
+  return ok ? 0 : -1;
+}
+
+#define MASS_CHUNK 65536 /* elements whose lumped masses are computed at once */
+
+/* Lumped masses w[e - e0][nn] of elements [e0, e1) of b, in parallel;
+ * returns the first element with a bad one, or e1. */
+static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
+                           double *w) {
+  size_t bad = e1;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (size_t e = e0; e < e1; e++)
+    if (elem_lumped(op, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
+  return bad;
+}
+
+/* Add the lumped masses w of elements [e0, e1) of b to the diagonals. */
+static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *w) {
+  size_t nc = (size_t)op->ncomp, nn = (size_t)b->nn;
+  for (size_t e = e0; e < e1; e++) {
+    const op_mat *mt = &op->mats[b->mat[e]];
+    for (size_t a = 0; a < nn; a++)
+      for (size_t i = 0; i < nc; i++) {
+        size_t k = b->conn[e * nn + a] * nc + i;
+        double mk = mt->cap * w[(e - e0) * nn + a];
+        op->mass[k] += mk;
+        if (op->mass_alpha) op->mass_alpha[k] += mt->alpha * mk;
+      }
+  }
+}
+
+static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, double *w) {
+  for (size_t e0 = 0; e0 < b->n; e0 += MASS_CHUNK) {
+    size_t e1 = b->n - e0 < MASS_CHUNK ? b->n : e0 + MASS_CHUNK;
+    size_t bad = chunk_lumped(op, m, b, e0, e1, w);
+    char t[32];
+    if (bad < e1)
+      return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass", tag_text(b, bad, t, sizeof t),
+                     dtm_elem_name(b->type));
+    chunk_add(op, b, e0, e1, w);
+  }
+  return DTM_OK;
+}
+
+static int mass_setup(dtm_operator *op, const dtm_mesh *m) {
+  double *w = malloc((size_t)MASS_CHUNK * DTM_K_NODES * sizeof *w);
+  if (!w) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = DTM_OK;
+  for (int ib = 0; ib < op->nblocks && !r; ib++) r = block_mass(op, m, &op->blocks[ib], w);
+  free(w);
+  for (size_t k = 0; k < op->ndof; k++) op->dsq[k] = op->mass[k] > 0 ? 1 / sqrt(op->mass[k]) : 0;
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+static int any_alpha(const dtm_operator *op, const double *alpha) {
+  for (int i = 0; alpha && i < op->nmat; i++)
+    if (op->mats[i].alpha > 0) return 1;
+  return 0;
+}
+
+static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
+                  const double *beta) {
+  op->ndof = m->nnodes * (size_t)op->ncomp;
+  op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
+  if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  op->nblocks = m->nblocks; /* zeroed: destroy frees what was set up */
+  for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_setup(op, m, &m->blocks[ib], &op->blocks[ib]));
+  DTM_CHECK(materials_setup(op, c, alpha, beta));
+  op->mass = calloc(op->ndof, sizeof *op->mass);
+  op->dsq = malloc(op->ndof * sizeof *op->dsq);
+  if (any_alpha(op, alpha)) op->mass_alpha = calloc(op->ndof, sizeof *op->mass_alpha);
+  if (!op->mass || !op->dsq || (any_alpha(op, alpha) && !op->mass_alpha))
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return mass_setup(op, m);
+}
+
+int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                        const double *beta, int nmat, dtm_operator **out) {
+  DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
+  dtm_operator *op = calloc(1, sizeof *op);
+  if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  op->kind = kind, op->d = mesh->dim, op->nmat = nmat;
+  op->ncomp = kind == DTM_OP_ELASTIC ? mesh->dim : 1;
+  int r = create(op, mesh, coef, alpha, beta);
+  if (r) {
+    dtm_operator_destroy(&op);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  *out = op;
+  return DTM_OK;
+}
+
+void dtm_operator_destroy(dtm_operator **op) {
+  if (!op || !*op) return;
+  for (int ib = 0; ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo);
+  free((*op)->blocks);
+  free((*op)->mats);
+  free((*op)->mass);
+  free((*op)->mass_alpha);
+  free((*op)->dsq);
+  free(*op);
+  *op = NULL;
+}
+
+size_t dtm_operator_ndof(const dtm_operator *op) { return op->ndof; }
+int dtm_operator_ncomp(const dtm_operator *op) { return op->ncomp; }
+int dtm_operator_kind(const dtm_operator *op) { return op->kind; }
+const double *dtm_operator_mass(const dtm_operator *op) { return op->mass; }
+
+/* ---- element kernels ------------------------------------------------- */
+
+/* Elastic forces fe[nn][d] of displacements ue[nn][d] at the element's
+ * points: F = grad u = Fr J^-1 with Fr = sum_b u_b (x) dN_b, sigma, then
+ * f_a += dv sigma g_a = P dN_a with P = dv sigma J^-T. d (and nn for the
+ * common types) are constants after inlining, so the loops unroll. */
+static inline ALWAYS_INLINE void elastic_elem(const int d, const int nn, const op_block *b, const double *geo,
+                                              const double *ue, double *fe, double lam, double mu) {
+  const int st = d * d + 1;
+  for (int k = 0; k < b->nq; k++, geo += st) {
+    const double(*dn)[3] = b->dn[k], *ji = geo, dv = geo[d * d];
+    double fr[3][3] = {{0}}, f[3][3], s[3][3], p[3][3], tr = 0;
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) fr[i][j] += ue[a * d + i] * dn[a][j];
+    UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int m = 0; m < d; m++) {
+      f[i][m] = 0;
+      UNROLL
+      for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
+    }
+    UNROLL
+    for (int i = 0; i < d; i++) tr += f[i][i];
+    UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
+    UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) {
+      p[i][j] = 0;
+      UNROLL
+      for (int m = 0; m < d; m++) p[i][j] += s[i][m] * ji[j * d + m];
+      p[i][j] *= dv;
+    }
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < d; i++) UNROLL
+    for (int j = 0; j < d; j++) fe[a * d + i] += p[i][j] * dn[a][j];
+  }
+}
+
+/* Diffusion fluxes: grad u = gr J^-1, q = dv k grad u, f_a += dN_a . J^-1 q. */
+static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const op_block *b, const double *geo,
+                                                const double *ue, double *fe, double cond) {
+  const int st = d * d + 1;
+  for (int k = 0; k < b->nq; k++, geo += st) {
+    const double(*dn)[3] = b->dn[k], *ji = geo;
+    double gr[3] = {0}, g[3] = {0}, p[3] = {0};
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int j = 0; j < d; j++) gr[j] += ue[a] * dn[a][j];
+    UNROLL
+    for (int m = 0; m < d; m++) UNROLL
+    for (int j = 0; j < d; j++) g[m] += gr[j] * ji[j * d + m];
+    UNROLL
+    for (int j = 0; j < d; j++) UNROLL
+    for (int m = 0; m < d; m++) p[j] += ji[j * d + m] * g[m] * cond * geo[d * d];
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int j = 0; j < d; j++) fe[a] += dn[a][j] * p[j];
+  }
+}
+
+/* Add K_e D u (scaled by beta_e for APPLY_BETA; D = diag(in), or I when in
+ * is NULL) of elements [e0, e1) of b into y: elastic (el = 1, d unknowns
+ * per node) or diffusion (el = 0, one unknown); nnc is the node count when
+ * known at compile time, else 0. */
+static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
+                                             const double *u, const double *in, double *y, int which, const int d,
+                                             const int el, const int nnc) {
+  const int nc = el ? d : 1, nn = nnc ? nnc : b->nn, st = d * d + 1;
+  double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
+  for (size_t e = e0; e < e1; e++) {
+    const op_mat *mt = &op->mats[b->mat[e]];
+    double s = which == APPLY_BETA ? mt->beta : 1;
+    const size_t *c = b->conn + e * (size_t)nn;
+    if (s == 0) continue;
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < nc; i++) {
+      size_t k = c[a] * (size_t)nc + (size_t)i;
+      ue[a * nc + i] = in ? u[k] * in[k] : u[k], fe[a * nc + i] = 0;
+    }
+    const double *geo = b->geo + e * (size_t)b->nq * (size_t)st;
+    if (el)
+      elastic_elem(d, nn, b, geo, ue, fe, s * mt->lam, s * mt->mu);
+    else
+      diffusion_elem(d, nn, b, geo, ue, fe, s * mt->cond);
+    UNROLL
+    for (int a = 0; a < nn; a++) UNROLL
+    for (int i = 0; i < nc; i++) y[c[a] * nc + i] += fe[a * nc + i];
+  }
+}
+
+#define RANGE(d, el, nn) block_range(op, b, e0, e1, u, in, y, which, d, el, nn)
+
+/* Elastic blocks, specialised for the node counts of the linear types. */
+static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                          const double *in, double *y, int which) {
+  int key = op->d * 100 + b->nn;
+  switch (key) {
+  case 102: RANGE(1, 1, 2); break;
+  case 203: RANGE(2, 1, 3); break;
+  case 204: RANGE(2, 1, 4); break;
+  case 304: RANGE(3, 1, 4); break;
+  case 308: RANGE(3, 1, 8); break;
+  default:
+    if (op->d == 3)
+      RANGE(3, 1, 0);
+    else if (op->d == 2)
+      RANGE(2, 1, 0);
+    else
+      RANGE(1, 1, 0);
+  }
+}
+
+static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                            const double *in, double *y, int which) {
+  int key = op->d * 100 + b->nn;
+  switch (key) {
+  case 102: RANGE(1, 0, 2); break;
+  case 203: RANGE(2, 0, 3); break;
+  case 204: RANGE(2, 0, 4); break;
+  case 304: RANGE(3, 0, 4); break;
+  case 308: RANGE(3, 0, 8); break;
+  default:
+    if (op->d == 3)
+      RANGE(3, 0, 0);
+    else if (op->d == 2)
+      RANGE(2, 0, 0);
+    else
+      RANGE(1, 0, 0);
+  }
+}
+
+static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                        const double *in, double *y, int which) {
+  if (op->kind == DTM_OP_ELASTIC)
+    elastic_block(op, b, e0, e1, u, in, y, which);
+  else
+    diffusion_block(op, b, e0, e1, u, in, y, which);
+}
+
+/* ---- parallel product ------------------------------------------------ */
+
+static int thread_id(void) {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+static int team_size(void) {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+/* How many threads pay off: work (element points x nodes) of about 80000,
+ * some 20000 tets, per thread at least. */
+static int threads_for(const dtm_operator *op) {
+  size_t w = 0;
+  for (int ib = 0; ib < op->nblocks; ib++)
+    w += op->blocks[ib].n * (size_t)op->blocks[ib].nq * (size_t)op->blocks[ib].nn;
+#ifdef _OPENMP
+  size_t t = w / 80000 + 1, mx = (size_t)omp_get_max_threads();
+  return (int)(t < mx ? t : mx);
+#else
+  (void)w;
+  return 1;
+#endif
+}
+
+/* Thread t of nt: its share of every block into yt. */
+static void share(const dtm_operator *op, int t, int nt, const double *u, const double *in, double *yt, int which) {
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    size_t e0 = b->n * (size_t)t / (size_t)nt, e1 = b->n * (size_t)(t + 1) / (size_t)nt;
+    block_apply(op, b, e0, e1, u, in, yt, which);
+  }
+}
+
+/* y = sum_e s_e K_e (D u), D = diag(in) or I when in is NULL. */
+static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *in) {
+  int nt = threads_for(op);
+  size_t n = op->ndof;
+  double *buf = nt > 1 ? malloc((size_t)(nt - 1) * n * sizeof *buf) : NULL;
+  if (!buf) nt = 1;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    int t = thread_id(), tn = team_size();
+    double *yt = t ? buf + (size_t)(t - 1) * n : y;
+    memset(yt, 0, n * sizeof *yt);
+    share(op, t, tn, u, in, yt, which);
+#pragma omp barrier
+    size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
+    for (int s = 1; s < tn; s++)
+      for (size_t k = k0; k < k1; k++) y[k] += buf[(size_t)(s - 1) * n + k];
+  }
+  free(buf);
+}
+
+void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }
+
+void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) {
+  apply_k(op, x, y, APPLY_K, op->dsq);
+  for (size_t k = 0; k < op->ndof; k++) y[k] *= op->dsq[k];
+}
+
+void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y) {
+  if (op->has_beta)
+    apply_k(op, v, y, APPLY_BETA, NULL);
+  else
+    memset(y, 0, op->ndof * sizeof *y);
+  for (size_t k = 0; op->mass_alpha && k < op->ndof; k++) y[k] += op->mass_alpha[k] * v[k];
+}
