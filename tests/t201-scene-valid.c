@@ -242,6 +242,31 @@ static void test_relative_scene_path(void **state) {
   dtm_scene_destroy(&s);
 }
 
+/* The same scene read from memory: same paths (resolved against the
+ * directory of the name given), same lines in messages; and an error names
+ * the name and the line. */
+static void test_from_memory(void **state) {
+  (void)state;
+  write_full();
+  char name[PATH_MAX * 2];
+  snprintf(name, sizeof name, "%s/virtual.xml", dir);
+  dtm_scene *s = NULL;
+  assert_int_equal(dtm_scene_load_memory(full_scene, sizeof full_scene - 1, name, &s), DTM_OK);
+  assert_string_equal(s->path, name);
+  assert_in_dir(s->geometry, "geo/disc.geo");
+  assert_int_equal(s->source_line, 3);
+  assert_int_equal(s->neffects, 6);
+  assert_int_equal(s->effects[4].line, 18);
+  dtm_scene_destroy(&s);
+  static const char bad[] = "<dtmap-scene version=\"1\">\n  <geometry file=\"geo/disc.geo\"/>\n  <bogus/>\n";
+  assert_int_equal(dtm_scene_load_memory(bad, sizeof bad - 1, name, &s), DTM_ERR_INPUT);
+  assert_null(s);
+  char want[PATH_MAX * 2 + 8];
+  snprintf(want, sizeof want, "%s:", name);
+  assert_non_null(strstr(dtm_error_message(), want));
+  dtm_error_clear();
+}
+
 static void test_destroy_null(void **state) {
   (void)state;
   dtm_scene *s = NULL;
@@ -260,6 +285,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test_setup_teardown(test_time, setup, teardown),
       cmocka_unit_test_setup_teardown(test_minimal_defaults, setup, teardown),
       cmocka_unit_test_setup_teardown(test_relative_scene_path, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_from_memory, setup, teardown),
       cmocka_unit_test(test_destroy_null),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

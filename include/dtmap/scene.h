@@ -5,6 +5,8 @@
 #ifndef DTMAP_SCENE_H
 #define DTMAP_SCENE_H
 
+#include <stddef.h>
+
 #include "dtmap/export.h"
 
 #include "dtmap/material.h"
@@ -57,6 +59,11 @@ typedef struct dtm_scene {
  * is freed with dtm_scene_destroy. On failure returns DTM_ERR_INPUT (missing
  * file, malformed XML, schema violation, bad value) with file:line. */
 DTM_EXPORT int dtm_scene_load(const char *path, dtm_scene **out);
+/* The same for a scene held in memory: len bytes of XML at text (need not
+ * be NUL-terminated). name stands for the file in messages ("name:line:
+ * ...") and its directory is where relative paths in the scene are
+ * resolved ("mem.xml" resolves against the current directory). */
+DTM_EXPORT int dtm_scene_load_memory(const char *text, size_t len, const char *name, dtm_scene **out);
 DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
 
 /* Value of attribute key of an effect, or NULL. */

@@ -187,13 +187,9 @@ static int scene_new(const char *path, dtm_scene **out) {
   return scene_dir(path, &s->dir);
 }
 
-int dtm_scene_load(const char *path, dtm_scene **out) {
-  xmlDoc *doc;
+/* The scene of the parsed document doc (freed here), named path. */
+static int load_doc(const char *path, xmlDoc *doc, dtm_scene **out) {
   dtm_scene *s = NULL;
-  if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: out is NULL");
-  *out = NULL;
-  if (!path) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: path is NULL");
-  DTM_CHECK(dtm_scene_xml_read(path, &doc));
   int rc = scene_new(path, &s);
   if (!rc) rc = read_document(s, xmlDocGetRootElement(doc));
   xmlFreeDoc(doc);
@@ -203,6 +199,24 @@ int dtm_scene_load(const char *path, dtm_scene **out) {
   }
   *out = s;
   return DTM_OK;
+}
+
+int dtm_scene_load(const char *path, dtm_scene **out) {
+  xmlDoc *doc;
+  if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: out is NULL");
+  *out = NULL;
+  if (!path) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load: path is NULL");
+  DTM_CHECK(dtm_scene_xml_read(path, &doc));
+  return load_doc(path, doc, out);
+}
+
+int dtm_scene_load_memory(const char *text, size_t len, const char *name, dtm_scene **out) {
+  xmlDoc *doc;
+  if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load_memory: out is NULL");
+  *out = NULL;
+  if (!text || !name) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_scene_load_memory: text or name is NULL");
+  DTM_CHECK(dtm_scene_xml_parse(name, text, len, &doc));
+  return load_doc(name, doc, out);
 }
 
 static void free_effect(dtm_scene_effect *e) {

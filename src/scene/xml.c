@@ -6,6 +6,7 @@
  * read into memory by hand so that a missing or unreadable file gets the
  * system's reason, and the network is never used. */
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -188,11 +189,19 @@ int dtm_scene_xml_read(const char *path, xmlDoc **doc) {
   char *buf = NULL;
   size_t len = 0;
   *doc = NULL;
-  xmlInitParser();
   DTM_CHECK(read_all(path, &buf, &len));
-  int rc = parse(path, buf, len, doc);
+  int rc = dtm_scene_xml_parse(path, buf, len, doc);
   free(buf);
-  if (!rc) rc = validate(path, *doc);
+  return rc;
+}
+
+int dtm_scene_xml_parse(const char *name, const char *buf, size_t len, xmlDoc **doc) {
+  *doc = NULL;
+  if (len > SCENE_MAX_BYTES || len > (size_t)INT_MAX)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: the scene is %zu bytes; a scene is a few kB", name, len);
+  xmlInitParser();
+  int rc = parse(name, buf, len, doc);
+  if (!rc) rc = validate(name, *doc);
   if (rc) {
     xmlFreeDoc(*doc);
     *doc = NULL;
