@@ -134,22 +134,24 @@ static void test_materials(void **state) {
   assert_int_equal(g->is_default, 0);
   assert_int_equal(g->ngroups, 1);
   assert_string_equal(g->groups[0], "rock");
-  assert_int_equal(g->m.have, DTM_PROP_BIT(DTM_PROP_COUNT - 3) - 1u); /* all but xi alpha beta */
-  assert_float_equal(g->m.prop[DTM_PROP_E], 60e9, 1e-3);
-  assert_float_equal(g->m.prop[DTM_PROP_NU], 0.25, 1e-15);
-  assert_float_equal(g->m.prop[DTM_PROP_PERMEABILITY], 1e-15, 1e-30);
-  assert_float_equal(g->m.prop[DTM_PROP_STRENGTH], 10e6, 1e-6);
+  for (int i = 0; i < s->nprops; i++) /* all but xi alpha beta */
+    assert_int_equal(dtm_material_has(&g->m, i), strcmp(s->prop_names[i], "xi") && strcmp(s->prop_names[i], "alpha") &&
+                                                     strcmp(s->prop_names[i], "beta"));
+  assert_float_equal(dtm_material_value(&g->m, "E"), 60e9, 1e-3);
+  assert_float_equal(dtm_material_value(&g->m, "nu"), 0.25, 1e-15);
+  assert_float_equal(dtm_material_value(&g->m, "permeability"), 1e-15, 1e-30);
+  assert_float_equal(dtm_material_value(&g->m, "strength"), 10e6, 1e-6);
   assert_int_equal(st->m.line, 9);
   assert_int_equal(st->ngroups, 3);
   assert_string_equal(st->groups[1], "platen_bottom");
   assert_string_equal(st->groups[2], "7");
-  assert_float_equal(st->m.prop[DTM_PROP_BETA], 1e-9, 1e-24);
-  assert_true(st->m.have & DTM_PROP_BIT(DTM_PROP_ALPHA));
-  assert_false(st->m.have & DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY));
+  assert_float_equal(dtm_material_value(&st->m, "beta"), 1e-9, 1e-24);
+  assert_true(dtm_material_has(&st->m, dtm_scene_property_index(s, "alpha")));
+  assert_false(dtm_material_has(&st->m, dtm_scene_property_index(s, "conductivity")));
   assert_int_equal(f->is_default, 1);
   assert_int_equal(f->ngroups, 0);
   assert_int_equal(f->m.line, 12);
-  assert_float_equal(f->m.prop[DTM_PROP_NU], -0.5, 1e-15);
+  assert_float_equal(dtm_material_value(&f->m, "nu"), -0.5, 1e-15);
   dtm_scene_destroy(&s);
 }
 

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/effect_set.h"
 #include "dtmap/registry.h"
 #include "testutil.h"
 
@@ -109,6 +110,8 @@ static void run_external(void **unused) {
   run_scene("courant", 0, NULL);
   run_scene("badversion", 2, "API version mismatch");
   run_scene("noentry", 2, "no symbol 'dtm_effect_entry'");
+  /* limits the step but has no element_dt: refused, not called (no crash) */
+  run_scene("nostep", 2, "effect 'courant' declares DTM_ROLE_LIMITS but has no element_dt");
   (void)unused;
 }
 

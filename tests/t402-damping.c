@@ -32,7 +32,7 @@ static double factor_of(const char *const *attrs, const dtm_material *m, double 
 /* Closed forms in double precision: 1e-14 relative covers a few roundings. */
 static void constant_xi(void **unused) {
   dtm_material m;
-  tu_material(&m, "rock", -1);
+  tu_material(&m, "rock", NULL);
   for (double xi = 0; xi <= 1.0; xi += 0.25) {
     char v[32];
     snprintf(v, sizeof v, "%.17g", xi);
@@ -44,7 +44,7 @@ static void constant_xi(void **unused) {
 
 static void rayleigh_at_element_omega(void **unused) {
   dtm_material m;
-  tu_material(&m, "rock", -1);
+  tu_material(&m, "rock", NULL);
   const double alpha = 50.0, beta = 2e-6, omega = 4e6; /* xi = 6.25e-6 + 4 = 4.00000625 */
   double xi = alpha / (2 * omega) + beta * omega / 2;
   double f = factor_of((const char *const[]){"alpha", "50", "beta", "2e-6", NULL}, &m, omega);
@@ -54,7 +54,7 @@ static void rayleigh_at_element_omega(void **unused) {
 
 static void material_overrides(void **unused) {
   dtm_material m;
-  tu_material(&m, "soft", DTM_PROP_XI, 0.5, -1);
+  tu_material(&m, "soft", "xi", 0.5, NULL);
   double f = factor_of((const char *const[]){"xi", "0.05", NULL}, &m, 1e3);
   assert_true(fabs(f - (sqrt(1.25) - 0.5)) <= 1e-14);
   (void)unused;
@@ -74,7 +74,7 @@ static double sdof_amplitude(double w, double xi, double dt, int n) {
 static void sdof_stability(void **unused) {
   static const double xis[] = {0.0, 0.05, 0.3, 1.0, 10.0};
   dtm_material m;
-  tu_material(&m, "rock", -1);
+  tu_material(&m, "rock", NULL);
   const double w = 1e5; /* rad/s */
   for (int i = 0; i < 5; i++) {
     /* Rayleigh with beta only: xi(w) = beta w / 2 */

@@ -29,8 +29,7 @@ static const double tri[3][3] = {{0, 0, 0}, {1e-3, 0, 0}, {0, 1e-3, 0}};
 static void zone_length(void **unused) {
   tu_effect_fixture f;
   dtm_material m;
-  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0, DTM_PROP_FRACTURE_ENERGY, 50.0,
-              DTM_PROP_STRENGTH, 10e6, -1);
+  tu_material(&m, "granite", "E", 60e9, "nu", 0.25, "rho", 2700.0, "fracture-energy", 50.0, "strength", 10e6, NULL);
   const dtm_material *mats[1] = {&m};
   dtm_batch b = tu_batch1(DTM_TRI3, &tri[0][0], mats);
   const double R_strain = 3.14159265358979323846 / 8 * 60e9 / (1 - 0.0625) * 50 / 1e14; /* 0.0094248 m */
@@ -54,7 +53,7 @@ static void zone_length(void **unused) {
 static void spring_limit(void **unused) {
   tu_effect_fixture f;
   dtm_material m;
-  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0, -1);
+  tu_material(&m, "granite", "E", 60e9, "nu", 0.25, "rho", 2700.0, NULL);
   const dtm_material *mats[1] = {&m};
   dtm_batch b = tu_batch1(DTM_TRI3, &tri[0][0], mats);
   const double a = 1e-3, K = 1e14, mass = 2700.0 * a * a / 2 / 3, k = K * a * sqrt(2) / 2;
@@ -71,7 +70,7 @@ static void spring_limit(void **unused) {
 static void spring_limit_bar(void **unused) {
   tu_effect_fixture f;
   dtm_material m;
-  tu_material(&m, "steel", DTM_PROP_E, 210e9, DTM_PROP_RHO, 7850.0, DTM_PROP_NU, 0.3, -1);
+  tu_material(&m, "steel", "E", 210e9, "rho", 7850.0, "nu", 0.3, NULL);
   const dtm_material *mats[1] = {&m};
   const double x[2][3] = {{0, 0, 0}, {0.01, 0, 0}};
   dtm_batch b = tu_batch1(DTM_LINE2, &x[0][0], mats);
@@ -86,7 +85,7 @@ static void spring_limit_bar(void **unused) {
 static void literature_rule(void **unused) {
   tu_effect_fixture f, fe;
   dtm_material m;
-  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0, -1);
+  tu_material(&m, "granite", "E", 60e9, "nu", 0.25, "rho", 2700.0, NULL);
   const dtm_material *mats[1] = {&m};
   dtm_batch b = tu_batch1(DTM_TRI3, &tri[0][0], mats);
   double dt, len, dte, lene;
@@ -104,7 +103,7 @@ static void literature_rule(void **unused) {
 static void outside_groups(void **unused) {
   tu_effect_fixture f;
   dtm_material m;
-  tu_material(&m, "granite", DTM_PROP_E, 60e9, DTM_PROP_NU, 0.25, DTM_PROP_RHO, 2700.0, -1);
+  tu_material(&m, "granite", "E", 60e9, "nu", 0.25, "rho", 2700.0, NULL);
   const dtm_material *mats[1] = {&m};
   dtm_batch b = tu_batch1(DTM_TRI3, &tri[0][0], mats);
   static const int nogroup = -1;

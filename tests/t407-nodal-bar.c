@@ -26,10 +26,11 @@ static void nodal_three_bars(void **unused) {
   const double E = 200e9, rho = 8000, L = 0.1, l = 0.001, c = sqrt(E / rho);
   static char *keys[] = {"formulation"}, *vals[] = {"bar"};
   dtm_scene_effect se = {"elastic", NULL, 5, 1, keys, vals};
-  dtm_scene_material sm = {{"steel", "mem.xml", 3, {0}, 0}, 1, 0, NULL};
-  sm.m.prop[DTM_PROP_E] = E, sm.m.prop[DTM_PROP_RHO] = rho;
-  sm.m.have = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO);
+  dtm_scene_material sm = {0};
+  tu_material(&sm.m, "steel", "E", E, "rho", rho, NULL);
+  sm.is_default = 1;
   dtm_scene s = {0};
+  tu_scene_catalogue(&s);
   s.path = "mem.xml", s.nmaterials = 1, s.materials = &sm, s.neffects = 1, s.effects = &se, s.safety = 0.9;
   dtm_mesh *m = three_bars(L, l);
   dtm_effect *ef = NULL;

@@ -41,14 +41,14 @@ static char *dp_keys[] = {"xi"}, *dp_vals[] = {"0.1"};
 
 static void scene_init(dtm_scene *s, dtm_scene_effect *se, int neffects) {
   for (int i = 0; i < 2; i++) {
-    mats[i] = (dtm_scene_material){{i ? "alu" : "steel", "mem.xml", 3 + i, {0}, 0}, i == 0, 0, NULL};
+    mats[i] = (dtm_scene_material){0};
     dtm_material *m = &mats[i].m;
-    m->prop[DTM_PROP_E] = E[i], m->prop[DTM_PROP_RHO] = rho[i];
-    m->prop[DTM_PROP_CONDUCTIVITY] = 50, m->prop[DTM_PROP_HEAT_CAPACITY] = 500;
-    m->have = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO) | DTM_PROP_BIT(DTM_PROP_CONDUCTIVITY) |
-              DTM_PROP_BIT(DTM_PROP_HEAT_CAPACITY);
+    tu_material(m, i ? "alu" : "steel", "E", E[i], "rho", rho[i], "conductivity", 50.0, "heat-capacity", 500.0, NULL);
+    m->file = "mem.xml", m->line = 3 + i;
+    mats[i].is_default = i == 0;
   }
   *s = (dtm_scene){0};
+  tu_scene_catalogue(s);
   s->path = "mem.xml", s->nmaterials = 2, s->materials = mats, s->neffects = neffects, s->effects = se;
   s->safety = 0.9;
 }

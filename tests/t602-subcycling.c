@@ -32,10 +32,11 @@ static dtm_mesh *bars(double L) {
 static dtm_analysis *analyse(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm) {
   static char *keys[] = {"formulation"}, *vals[] = {"bar"};
   *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
-  *sm = (dtm_scene_material){{"steel", "mem.xml", 3, {0}, 0}, 1, 0, NULL};
-  sm->m.prop[DTM_PROP_E] = 200e9, sm->m.prop[DTM_PROP_RHO] = 8000;
-  sm->m.have = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO);
+  *sm = (dtm_scene_material){0};
+  tu_material(&sm->m, "steel", "E", 200e9, "rho", 8000.0, NULL);
+  sm->is_default = 1;
   *s = (dtm_scene){0};
+  tu_scene_catalogue(s);
   s->path = "mem.xml", s->nmaterials = 1, s->materials = sm, s->neffects = 1, s->effects = se, s->safety = 0.9;
   dtm_mesh *m = bars(0.25);
   dtm_effect *ef = NULL;

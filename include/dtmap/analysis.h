@@ -15,6 +15,7 @@
 #include "dtmap/export.h"
 #include "dtmap/mesh.h"
 #include "dtmap/operator.h"
+#include "dtmap/effect_set.h"
 #include "dtmap/registry.h"
 #include "dtmap/scene.h"
 

@@ -47,6 +47,16 @@ typedef enum {
   DTM_FORM_BAR = 3
 } dtm_formulation;
 
+/* Scene names of the formulations, in dtm_formulation order, as an
+ * initialiser of a NULL-terminated list (the one place they are spelt). */
+#define DTM_FORMULATION_NAMES                                                                                          \
+  { "3d", "plane-strain", "plane-stress", "bar", NULL }
+/* Scene name of formulation f ("unknown" for none). */
+DTM_EXPORT const char *dtm_formulation_name(int f);
+/* The formulation elements of dimension dim use unless the scene says
+ * otherwise: 3d, plane-strain, bar. */
+DTM_EXPORT dtm_formulation dtm_formulation_default(int dim);
+
 /* Characteristic length definitions (the `length=` attribute). */
 typedef enum {
   DTM_LEN_EIGEN = 0,        /* C_D * 2/sqrt(lambda_max(Me^-1 Ke)): provably safe */
@@ -61,6 +71,9 @@ typedef enum {
   DTM_LEN_INRADIUS = 4,     /* 2 x inradius = 2 d V / facet measure: unsafe */
   DTM_LEN_VOLUME_AREA = 5   /* V / A_max: unsafe */
 } dtm_length_kind;
+/* Scene names of the length kinds, in dtm_length_kind order (initialiser). */
+#define DTM_LENGTH_NAMES                                                                                               \
+  { "eigen", "safe", "min-edge", "min-altitude", "inradius", "volume-area", NULL }
 
 /* Material moduli prepared once per material for a formulation. */
 typedef struct {

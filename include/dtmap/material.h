@@ -1,47 +1,60 @@
-/* Materials as the scene gives them: a name, the scene line, and the
- * properties that were set. Shared by the scene reader, the mesh mapping and
- * the effects; an effect declares which properties it needs as a mask of
- * DTM_PROP_* bits, and a material that lacks one is an error naming both. */
+/* Materials and their properties. The property set is open: an effect
+ * declares the properties it reads (dtm_property: name, unit, admissible
+ * range, whether every material in use must have it), the registry collects
+ * the declarations of all effects, and a scene's materials carry a value for
+ * each property of its catalogue (the declared names plus any other the
+ * scene's materials give, for external effects). Effects look a property up
+ * once by name (dtm_material_index) and then read it by index in their
+ * element loops. Errors name the scene file and line of the material, the
+ * property and the effect. */
 #ifndef DTMAP_MATERIAL_H
 #define DTMAP_MATERIAL_H
 
 #include "dtmap/export.h"
 
-enum dtm_prop {
-  DTM_PROP_E = 0,           /* Young's modulus, Pa */
-  DTM_PROP_NU,              /* Poisson's ratio */
-  DTM_PROP_RHO,             /* density, kg/m^3 */
-  DTM_PROP_CONDUCTIVITY,    /* thermal conductivity, W/(m K) */
-  DTM_PROP_HEAT_CAPACITY,   /* specific heat capacity, J/(kg K) */
-  DTM_PROP_PERMEABILITY,    /* intrinsic permeability, m^2 */
-  DTM_PROP_VISCOSITY,       /* fluid dynamic viscosity, Pa s */
-  DTM_PROP_STORAGE,         /* specific storage, 1/Pa */
-  DTM_PROP_FRACTURE_ENERGY, /* G_c, J/m^2 */
-  DTM_PROP_STRENGTH,        /* cohesive strength sigma_max, Pa */
-  DTM_PROP_XI,              /* damping ratio at the top frequency */
-  DTM_PROP_ALPHA,           /* Rayleigh mass-proportional coefficient, 1/s */
-  DTM_PROP_BETA,            /* Rayleigh stiffness-proportional coefficient, s */
-  DTM_PROP_COUNT
-};
-#define DTM_PROP_BIT(p) (1u << (p))
+/* Open ends of an admissible range (dtm_property.open). */
+#define DTM_OPEN_LO 1u /* the value must be > lo (else >= lo) */
+#define DTM_OPEN_HI 2u /* the value must be < hi (else <= hi) */
+
+/* One material property as an effect declares it. */
+typedef struct {
+  const char *name; /* attribute of <material>, e.g. "heat-capacity" */
+  const char *unit; /* SI unit for documentation, e.g. "J/(kg K)"; "" when none */
+  double lo, hi;    /* admissible range (use -HUGE_VAL / HUGE_VAL for none) */
+  unsigned open;    /* DTM_OPEN_LO | DTM_OPEN_HI: which ends are excluded */
+  int required;     /* 1: every material some element uses must give it */
+  const char *help; /* one line for `dtmap effects` */
+} dtm_property;
 
 typedef struct dtm_material {
-  char *name;                  /* material name (owned) */
-  const char *file;            /* scene file it came from (not owned) */
-  int line;                    /* line of its <material> element */
-  double prop[DTM_PROP_COUNT]; /* values; meaningful only where `have` says */
-  unsigned have;               /* DTM_PROP_BIT(p) set when p was given */
+  char *name;              /* material name (owned by the scene) */
+  const char *file;        /* scene file it came from (not owned) */
+  int line;                /* line of its <material> element */
+  int nprops;              /* size of the scene's property catalogue */
+  char *const *prop_names; /* [nprops] the catalogue's names (owned by the scene) */
+  double *prop;            /* [nprops] values; NaN where the material gives none */
 } dtm_material;
 
-/* XML attribute name of a property ("heat-capacity"). */
-DTM_EXPORT const char *dtm_prop_name(int p);
-/* Index of the property with that attribute name, or -1. */
-DTM_EXPORT int dtm_prop_find(const char *attr);
-/* Check value v of property p is physically admissible; DTM_ERR_INPUT with a
- * message naming file:line, material and property otherwise. */
-DTM_EXPORT int dtm_prop_check(const dtm_material *m, int p, double v);
-/* Raise DTM_ERR_INPUT unless m has every property in `needs`; the message
- * names file:line, the material, the missing property and `who` (the effect). */
-DTM_EXPORT int dtm_material_require(const dtm_material *m, unsigned needs, const char *who);
+/* Index of the property named name in m's catalogue, or -1. Every material
+ * of one scene shares the catalogue, so an index found on one is valid for
+ * all of them. */
+DTM_EXPORT int dtm_material_index(const dtm_material *m, const char *name);
+/* 1 when m gives property i (an index from dtm_material_index; -1 gives 0). */
+DTM_EXPORT int dtm_material_has(const dtm_material *m, int i);
+/* Value of property i, NaN when m gives none (or i is -1). */
+DTM_EXPORT double dtm_material_get(const dtm_material *m, int i);
+/* Value of the property named name, NaN when m gives none. */
+DTM_EXPORT double dtm_material_value(const dtm_material *m, const char *name);
+
+/* Check that v is admissible for property p (finite, within its range);
+ * DTM_ERR_INPUT otherwise, with "file:line: material 'name': " when m is
+ * given, e.g. "nu = 0.5 is not admissible (need -1 < nu < 0.5)". */
+DTM_EXPORT int dtm_property_check(const dtm_property *p, const dtm_material *m, double v);
+/* Raise DTM_ERR_INPUT unless m gives every required property of the list
+ * props (terminated by a NULL name; NULL: none); the message names file:line,
+ * the material, all missing properties and `who` (the effect). */
+DTM_EXPORT int dtm_material_require(const dtm_material *m, const dtm_property *props, const char *who);
+/* The same for one property by name, whether declared required or not. */
+DTM_EXPORT int dtm_material_require_one(const dtm_material *m, const char *name, const char *who);
 
 #endif

@@ -51,6 +51,10 @@ typedef struct dtm_scene {
   double duration;                /* <time duration>, s; 0 when unset */
   double f_max;                   /* <time f-max>, Hz; 0 when unset */
   double elements_per_wavelength; /* <time elements-per-wavelength>; 10 when unset */
+  int nprops;                     /* entries in the property catalogue */
+  char **prop_names;              /* [nprops] property names: the built-in effects' first, then
+                                     the others the materials give (materials' prop is indexed so) */
+  int nknown;                     /* the first nknown names are the built-in effects' properties */
   char *out_mesh;                 /* resolved <output mesh>, or NULL */
   char *out_report;               /* resolved <output report>, or NULL */
 } dtm_scene;
@@ -65,6 +69,14 @@ DTM_EXPORT int dtm_scene_load(const char *path, dtm_scene **out);
  * resolved ("mem.xml" resolves against the current directory). */
 DTM_EXPORT int dtm_scene_load_memory(const char *text, size_t len, const char *name, dtm_scene **out);
 DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
+
+/* Index of property name in the scene's catalogue (dtm_material_get), or -1. */
+DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);
+/* DTM_ERR_INPUT, naming the first material that gives it, for a property
+ * that neither a built-in effect nor one of extra[nextra] (the properties
+ * of the scene's external effects) declares. With extra NULL, a scene that
+ * loads external effects passes (they are not known yet). */
+DTM_EXPORT int dtm_scene_check_properties(const dtm_scene *s, const dtm_property *const *extra, int nextra);
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);

@@ -17,44 +17,45 @@
 #include <string.h>
 
 #include "dtmap/effect.h"
-#include "dtmap/mesh.h"
 #include "dtmap/topology.h"
 
 #define LITERATURE_FACTOR 30.0        /* Baylor (1997), via the CVFE review in shared/seeds */
 #define PI_OVER_8 0.39269908169872414 /* M_PI is not C11 */
 
 typedef struct {
-  dtm_formulation form; /* elastic formulation for E' and the elastic step */
-  double n_per_zone;    /* elements across the process zone */
-  double stiffness;     /* interface stiffness, Pa/m; 0 = use the 1/30 rule */
-  int ngroups;
+  dtm_formulation form;    /* elastic formulation for E' and the elastic step */
+  double n_per_zone;       /* elements across the process zone */
+  double stiffness;        /* interface stiffness, Pa/m; 0 = use the 1/30 rule */
+  int ngroups;             /* physical groups of the analysed dimension */
   char *in;                /* [ngroups] 1 where the group has cohesive elements */
   unsigned long long mask; /* the same groups as a bit mask */
+  int iE, inu, irho;       /* catalogue indices of E, nu, rho */
+  int igc, isig;           /* ... of fracture-energy and strength */
 } cohesive_state;
+
+static const char *const form_names[] = DTM_FORMULATION_NAMES;
 
 static int parse_form(const dtm_effect_args *a, dtm_formulation *f) {
   const char *v;
-  int dim = dtm_effect_args_dim(a);
-  DTM_CHECK(dtm_effect_args_string(a, "formulation", dim == 3 ? "3d" : dim == 2 ? "plane-strain" : "bar", &v));
-  static const char *const names[] = {"3d", "plane-strain", "plane-stress", "bar"};
-  for (int i = 0; i < 4; i++)
-    if (!strcmp(v, names[i])) return *f = (dtm_formulation)i, DTM_OK;
-  return dtm_effect_args_error(a, "unknown formulation '%s'", v);
+  DTM_CHECK(dtm_effect_args_text(a, "formulation", &v));
+  *f = dtm_formulation_default(dtm_effect_args_dim(a));
+  for (int i = 0; v && form_names[i]; i++)
+    if (!strcmp(v, form_names[i])) *f = (dtm_formulation)i;
+  return DTM_OK;
 }
 
 /* groups="a b c": mark each named group. */
 static int parse_groups(const dtm_effect_args *a, cohesive_state *s) {
   const char *list;
-  DTM_CHECK(dtm_effect_args_string(a, "groups", NULL, &list));
-  if (!list) return dtm_effect_args_error(a, "groups= is required (the physical groups where cracks may open)");
+  DTM_CHECK(dtm_effect_args_text(a, "groups", &list));
   char buf[4096];
-  snprintf(buf, sizeof buf, "%s", list);
+  snprintf(buf, sizeof buf, "%s", list ? list : "");
   for (char *save = NULL, *tok = strtok_r(buf, " \t\n", &save); tok; tok = strtok_r(NULL, " \t\n", &save)) {
     int g;
     DTM_CHECK(dtm_effect_args_group(a, tok, &g));
-    if (g >= DTM_MAX_MASK_GROUPS)
+    if (g >= DTM_EFFECT_MAX_GROUPS)
       return dtm_effect_args_error(a, "group '%s' is number %d of the mesh's groups; cohesive handles the first %d",
-                                   tok, g + 1, DTM_MAX_MASK_GROUPS);
+                                   tok, g + 1, DTM_EFFECT_MAX_GROUPS);
     s->in[g] = 1;
     s->mask |= 1ull << g;
   }
@@ -68,18 +69,26 @@ static void cohesive_destroy(void **state) {
   *state = NULL;
 }
 
+static void property_indices(const dtm_effect_args *a, cohesive_state *s) {
+  s->iE = dtm_effect_args_property(a, "E");
+  s->inu = dtm_effect_args_property(a, "nu");
+  s->irho = dtm_effect_args_property(a, "rho");
+  s->igc = dtm_effect_args_property(a, "fracture-energy");
+  s->isig = dtm_effect_args_property(a, "strength");
+}
+
 static int cohesive_create(const dtm_effect_args *a, void **state) {
   cohesive_state *s = calloc(1, sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   s->ngroups = dtm_effect_args_ngroups(a);
   s->in = calloc((size_t)s->ngroups + 1, 1);
+  property_indices(a, s);
   *state = s;
   int r = s->in ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (!r) r = parse_form(a, &s->form);
-  if (!r) r = dtm_effect_args_double(a, "elements-per-zone", 5.0, &s->n_per_zone);
-  if (!r) r = dtm_effect_args_double(a, "stiffness", 0.0, &s->stiffness);
-  if (!r && (s->n_per_zone <= 0 || s->stiffness < 0))
-    r = dtm_effect_args_error(a, "elements-per-zone must be > 0 and stiffness >= 0");
+  if (!r) r = dtm_effect_args_number(a, "elements-per-zone", &s->n_per_zone);
+  if (!r) r = dtm_effect_args_number(a, "stiffness", &s->stiffness);
+  if (!r && isnan(s->stiffness)) s->stiffness = 0.0; /* not given: the 1/30 rule */
   if (!r) r = parse_groups(a, s);
   if (r) cohesive_destroy(state);
   return r;
@@ -113,8 +122,8 @@ static int element_step(const cohesive_state *s, const dtm_batch *b, size_t e, d
   const dtm_material *m = b->mat[e];
   const double *x = b->x + 3 * (size_t)b->nn * e;
   dtm_elastic_moduli mod;
-  double nu = s->form == DTM_FORM_BAR ? 0.0 : m->prop[DTM_PROP_NU], lambda;
-  DTM_CHECK(dtm_elastic_moduli_init(s->form, m->prop[DTM_PROP_E], nu, m->prop[DTM_PROP_RHO], &mod));
+  double nu = s->form == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu), lambda;
+  DTM_CHECK(dtm_elastic_moduli_init(s->form, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), &mod));
   if (s->stiffness > 0) {
     *dt = spring_dt(s, b, x, mod.rho);
   } else {
@@ -137,19 +146,19 @@ static int cohesive_element_dt(void *state, const dtm_batch *b, double *dt, doub
 
 /* R = (pi/8) E' Gc / strength^2 of a material. */
 static double zone_length(const cohesive_state *s, const dtm_material *m) {
-  double E = m->prop[DTM_PROP_E], nu = m->prop[DTM_PROP_NU];
+  double E = dtm_material_get(m, s->iE), nu = dtm_material_get(m, s->inu);
   double Ep = (s->form == DTM_FORM_PLANE_STRESS || s->form == DTM_FORM_BAR) ? E : E / (1.0 - nu * nu);
-  double sig = m->prop[DTM_PROP_STRENGTH];
-  return PI_OVER_8 * Ep * m->prop[DTM_PROP_FRACTURE_ENERGY] / (sig * sig);
+  double sig = dtm_material_get(m, s->isig);
+  return PI_OVER_8 * Ep * dtm_material_get(m, s->igc) / (sig * sig);
 }
 
 static int cohesive_accuracy(void *state, const dtm_batch *b, double *hmax, double *res) {
   const cohesive_state *s = state;
-  const unsigned need = DTM_PROP_BIT(DTM_PROP_FRACTURE_ENERGY) | DTM_PROP_BIT(DTM_PROP_STRENGTH);
   for (size_t e = 0; e < b->n; e++) {
     hmax[e] = INFINITY, res[e] = NAN;
     if (!in_groups(s, b, e)) continue;
-    DTM_CHECK(dtm_material_require(b->mat[e], need, "cohesive"));
+    DTM_CHECK(dtm_material_require_one(b->mat[e], "fracture-energy", "cohesive"));
+    DTM_CHECK(dtm_material_require_one(b->mat[e], "strength", "cohesive"));
     double R = zone_length(s, b->mat[e]);
     hmax[e] = R / s->n_per_zone;
     res[e] = R / dtm_elem_mean_edge(b->type, b->x + 3 * (size_t)b->nn * e);
@@ -157,17 +166,38 @@ static int cohesive_accuracy(void *state, const dtm_batch *b, double *hmax, doub
   return DTM_OK;
 }
 
+static const dtm_param params[] = {
+    {"groups", DTM_PARAM_GROUPS, NULL, 0, 0, 0, NULL, 1, "", "the physical groups where cracks may open"},
+    {"elements-per-zone", DTM_PARAM_NUMBER, "5", 0, HUGE_VAL, DTM_OPEN_LO, NULL, 0, "",
+     "elements across the process zone R (5 to 10 in the literature)"},
+    {"stiffness", DTM_PARAM_NUMBER, NULL, 0, HUGE_VAL, DTM_OPEN_LO, NULL, 0, "Pa/m",
+     "interface stiffness; omit it for 1/30 of the elastic step"},
+    {"formulation", DTM_PARAM_CHOICE, NULL, 0, 0, 0, form_names, 0, "",
+     "elastic formulation for E' (default by the mesh's dimension)"},
+    {NULL, 0, NULL, 0, 0, 0, NULL, 0, NULL, NULL}};
+
+static const dtm_property properties[] = {
+    {"E", "Pa", 0, HUGE_VAL, DTM_OPEN_LO, 1, "Young's modulus"},
+    {"nu", "", -1, 0.5, DTM_OPEN_LO | DTM_OPEN_HI, 1, "Poisson's ratio"},
+    {"rho", "kg/m^3", 0, HUGE_VAL, DTM_OPEN_LO, 1, "density"},
+    {"fracture-energy", "J/m^2", 0, HUGE_VAL, DTM_OPEN_LO, 0, "G_c (needed where cohesive elements are)"},
+    {"strength", "Pa", 0, HUGE_VAL, DTM_OPEN_LO, 0, "cohesive strength (needed where cohesive elements are)"},
+    {NULL, NULL, 0, 0, 0, 0, NULL}};
+
 const dtm_effect_class dtm_effect_cohesive = {
     .api_version = DTM_EFFECT_API_VERSION,
     .name = "cohesive",
     .summary = "cohesive zones in groups=...: h <= R/N with R = (pi/8) E' Gc/strength^2; step from "
                "stiffness= springs, else 1/30 of the elastic step",
     .role = DTM_ROLE_LIMITS,
-    .needs = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_NU) | DTM_PROP_BIT(DTM_PROP_RHO),
+    .scheme = DTM_SCHEME_CENTRAL_DIFFERENCE,
     .exponent = 1.0,
+    .params = params,
+    .properties = properties,
+    .indicator = {"elements_per_zone", "cohesive zone resolution",
+                  "process-zone length R / element size; enough: elements-per-zone"},
     .create = cohesive_create,
     .element_dt = cohesive_element_dt,
     .accuracy = cohesive_accuracy,
-    .accuracy_view = "cohesive zone resolution",
     .destroy = cohesive_destroy,
 };

@@ -16,14 +16,21 @@ typedef struct {
   double xi;    /* constant damping ratio */
   double alpha; /* Rayleigh mass coefficient, 1/s */
   double beta;  /* Rayleigh stiffness coefficient, s */
+} damping_coeffs;
+
+typedef struct {
+  damping_coeffs all; /* the scene element's coefficients */
+  int ixi, ia, ib;    /* catalogue indices of the per-material xi, alpha, beta */
 } damping_state;
 
 static int damping_create(const dtm_effect_args *a, void **state) {
   damping_state d;
-  DTM_CHECK(dtm_effect_args_double(a, "xi", 0.0, &d.xi));
-  DTM_CHECK(dtm_effect_args_double(a, "alpha", 0.0, &d.alpha));
-  DTM_CHECK(dtm_effect_args_double(a, "beta", 0.0, &d.beta));
-  if (d.xi < 0 || d.alpha < 0 || d.beta < 0) return dtm_effect_args_error(a, "xi, alpha and beta must be >= 0");
+  DTM_CHECK(dtm_effect_args_number(a, "xi", &d.all.xi));
+  DTM_CHECK(dtm_effect_args_number(a, "alpha", &d.all.alpha));
+  DTM_CHECK(dtm_effect_args_number(a, "beta", &d.all.beta));
+  d.ixi = dtm_effect_args_property(a, "xi");
+  d.ia = dtm_effect_args_property(a, "alpha");
+  d.ib = dtm_effect_args_property(a, "beta");
   damping_state *s = malloc(sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   *s = d;
@@ -31,17 +38,17 @@ static int damping_create(const dtm_effect_args *a, void **state) {
   return DTM_OK;
 }
 
-/* The material's (xi, alpha, beta) if it gives any, else the global ones. */
-static damping_state coeffs_for(const damping_state *s, const dtm_material *m) {
-  const unsigned bx = DTM_PROP_BIT(DTM_PROP_XI), ba = DTM_PROP_BIT(DTM_PROP_ALPHA), bb = DTM_PROP_BIT(DTM_PROP_BETA);
-  if (!(m->have & (bx | ba | bb))) return *s;
-  return (damping_state){(m->have & bx) ? m->prop[DTM_PROP_XI] : 0.0, (m->have & ba) ? m->prop[DTM_PROP_ALPHA] : 0.0,
-                         (m->have & bb) ? m->prop[DTM_PROP_BETA] : 0.0};
+/* The material's (xi, alpha, beta) if it gives any, else the scene's. */
+static damping_coeffs coeffs_for(const damping_state *s, const dtm_material *m) {
+  int hx = dtm_material_has(m, s->ixi), ha = dtm_material_has(m, s->ia), hb = dtm_material_has(m, s->ib);
+  if (!hx && !ha && !hb) return s->all;
+  return (damping_coeffs){hx ? dtm_material_get(m, s->ixi) : 0.0, ha ? dtm_material_get(m, s->ia) : 0.0,
+                          hb ? dtm_material_get(m, s->ib) : 0.0};
 }
 
 /* xi at omega for the material. */
 static double xi_at(const damping_state *s, const dtm_material *m, double omega) {
-  damping_state c = coeffs_for(s, m);
+  damping_coeffs c = coeffs_for(s, m);
   return c.xi + c.alpha / (2.0 * omega) + c.beta * omega / 2.0;
 }
 
@@ -57,20 +64,35 @@ static int damping_factor(void *state, const dtm_material *m, double omega, doub
  * stiffness term at the top frequency, beta = 2 xi / omega_top, so that
  * xi(omega_top) is the scene's value. */
 static int damping_rayleigh(void *state, const dtm_material *m, double omega_top, double *alpha, double *beta) {
-  damping_state c = coeffs_for(state, m);
+  damping_coeffs c = coeffs_for(state, m);
   *alpha = c.alpha;
   *beta = c.beta + 2.0 * c.xi / omega_top;
   return DTM_OK;
 }
 
+static const dtm_param params[] = {
+    {"xi", DTM_PARAM_NUMBER, "0", 0, HUGE_VAL, 0, NULL, 0, "", "damping ratio at the element's top frequency"},
+    {"alpha", DTM_PARAM_NUMBER, "0", 0, HUGE_VAL, 0, NULL, 0, "1/s", "Rayleigh mass-proportional coefficient"},
+    {"beta", DTM_PARAM_NUMBER, "0", 0, HUGE_VAL, 0, NULL, 0, "s", "Rayleigh stiffness-proportional coefficient"},
+    {NULL, 0, NULL, 0, 0, 0, NULL, 0, NULL, NULL}};
+
+/* A material's own xi, alpha or beta replace the scene element's. */
+static const dtm_property properties[] = {
+    {"xi", "", 0, HUGE_VAL, 0, 0, "this material's damping ratio (replaces the effect's)"},
+    {"alpha", "1/s", 0, HUGE_VAL, 0, 0, "this material's Rayleigh alpha (replaces the effect's)"},
+    {"beta", "s", 0, HUGE_VAL, 0, 0, "this material's Rayleigh beta (replaces the effect's)"},
+    {NULL, NULL, 0, 0, 0, 0, NULL}};
+
 const dtm_effect_class dtm_effect_damping = {
     .api_version = DTM_EFFECT_API_VERSION,
     .name = "damping",
-    .summary = "viscous damping: wave steps x (sqrt(1+xi^2) - xi) at omega_e = 2/dt_e (xi=, or Rayleigh "
-               "alpha= beta=; per material too)",
+    .summary = "viscous damping: wave steps x (sqrt(1+xi^2) - xi) at omega_e = 2/dt_e (xi, or Rayleigh "
+               "alpha and beta; per material too)",
     .role = DTM_ROLE_MODIFIES_WAVES,
-    .needs = 0,
+    .scheme = DTM_SCHEME_NONE,
     .exponent = 0.0,
+    .params = params,
+    .properties = properties,
     .create = damping_create,
     .wave_factor = damping_factor,
     .rayleigh = damping_rayleigh,

@@ -19,45 +19,46 @@ typedef struct {
   dtm_length_kind kind; /* how dt_e is obtained */
   double fmax;          /* highest frequency of interest, Hz (0: none) */
   double per_wave;      /* elements per wavelength required */
+  int iE, inu, irho;    /* catalogue indices of E, nu and rho */
 } elastic_state;
 
-static const char *const form_names[] = {"3d", "plane-strain", "plane-stress", "bar"};
-static const int form_dims[] = {3, 2, 2, 1};
-static const char *const length_names[] = {"eigen", "safe", "min-edge", "min-altitude", "inradius", "volume-area"};
+static const char *const form_names[] = DTM_FORMULATION_NAMES;
+static const char *const length_names[] = DTM_LENGTH_NAMES;
+static const int form_dims[] = {3, 2, 2, 1}; /* element dimension of each formulation */
 
-static int lookup(const char *v, const char *const *names, int n) {
-  for (int i = 0; i < n; i++)
+static int lookup(const char *v, const char *const *names) {
+  for (int i = 0; names[i]; i++)
     if (strcmp(v, names[i]) == 0) return i;
   return -1;
 }
 
-static const char *default_form(int dim) { return dim == 3 ? "3d" : dim == 2 ? "plane-strain" : "bar"; }
-
 static int elastic_create(const dtm_effect_args *a, void **state) {
-  const char *f, *l;
-  int dim = dtm_effect_args_dim(a);
-  DTM_CHECK(dtm_effect_args_string(a, "formulation", default_form(dim), &f));
-  DTM_CHECK(dtm_effect_args_string(a, "length", "eigen", &l));
-  int fi = lookup(f, form_names, 4), li = lookup(l, length_names, 6);
+  const char *f;
+  int dim = dtm_effect_args_dim(a), li;
+  DTM_CHECK(dtm_effect_args_text(a, "formulation", &f));
+  DTM_CHECK(dtm_effect_args_choice(a, "length", &li));
+  int fi = f ? lookup(f, form_names) : (int)dtm_formulation_default(dim);
   if (fi < 0) return dtm_effect_args_error(a, "unknown formulation '%s'", f);
-  if (li < 0) return dtm_effect_args_error(a, "unknown length '%s'", l);
   if (form_dims[fi] != dim)
-    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD", f,
-                                 form_dims[fi], dim);
+    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD",
+                                 form_names[fi], form_dims[fi], dim);
   elastic_state *s = malloc(sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  s->form = (dtm_formulation)fi;
-  s->kind = (dtm_length_kind)li;
-  s->fmax = dtm_effect_args_fmax(a);
-  s->per_wave = dtm_effect_args_per_wavelength(a);
+  *s = (elastic_state){(dtm_formulation)fi,
+                       (dtm_length_kind)li,
+                       dtm_effect_args_fmax(a),
+                       dtm_effect_args_per_wavelength(a),
+                       dtm_effect_args_property(a, "E"),
+                       dtm_effect_args_property(a, "nu"),
+                       dtm_effect_args_property(a, "rho")};
   *state = s;
   return DTM_OK;
 }
 
 static int moduli_of(const elastic_state *s, const dtm_material *m, dtm_elastic_moduli *mod) {
-  if (s->form != DTM_FORM_BAR) DTM_CHECK(dtm_material_require(m, DTM_PROP_BIT(DTM_PROP_NU), "elastic"));
-  double nu = s->form == DTM_FORM_BAR ? 0.0 : m->prop[DTM_PROP_NU];
-  int r = dtm_elastic_moduli_init(s->form, m->prop[DTM_PROP_E], nu, m->prop[DTM_PROP_RHO], mod);
+  if (s->form != DTM_FORM_BAR) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
+  double nu = s->form == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu);
+  int r = dtm_elastic_moduli_init(s->form, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
   return DTM_OK;
 }
@@ -96,7 +97,7 @@ static int elastic_element_dt(void *state, const dtm_batch *b, double *dt, doubl
 static int elastic_coefficients(void *state, const dtm_material *m, dtm_operator_coeffs *c) {
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_ELASTIC;
-  c->capacity = m->prop[DTM_PROP_RHO];
+  c->capacity = dtm_material_get(m, ((const elastic_state *)state)->irho);
   c->dt_is_bound = ((const elastic_state *)state)->kind == DTM_LEN_EIGEN;
   return moduli_of(state, m, &c->mod);
 }
@@ -124,18 +125,33 @@ static int elastic_accuracy(void *state, const dtm_batch *b, double *hmax, doubl
   return DTM_OK;
 }
 
+static const dtm_param params[] = {
+    {"formulation", DTM_PARAM_CHOICE, NULL, 0, 0, 0, form_names, 0, "",
+     "default by the mesh's dimension: 3d, plane-strain, bar"},
+    {"length", DTM_PARAM_CHOICE, "eigen", 0, 0, 0, length_names, 0, "",
+     "element step: the element eigenvalue bound (eigen, safe) or a length rule / C_D (see dtmap --help)"},
+    {NULL, 0, NULL, 0, 0, 0, NULL, 0, NULL, NULL}};
+
+static const dtm_property properties[] = {
+    {"E", "Pa", 0, HUGE_VAL, DTM_OPEN_LO, 1, "Young's modulus"},
+    {"nu", "", -1, 0.5, DTM_OPEN_LO | DTM_OPEN_HI, 0, "Poisson's ratio (not needed by the bar)"},
+    {"rho", "kg/m^3", 0, HUGE_VAL, DTM_OPEN_LO, 1, "density"},
+    {NULL, NULL, 0, 0, 0, 0, NULL}};
+
 const dtm_effect_class dtm_effect_elastic = {
     .api_version = DTM_EFFECT_API_VERSION,
     .name = "elastic",
-    .summary = "elastic waves, central differences with lumped mass (formulation=3d|plane-strain|"
-               "plane-stress|bar, length=eigen|safe|min-edge|min-altitude|inradius|volume-area)",
+    .summary = "elastic waves, central differences with lumped mass",
     .role = DTM_ROLE_LIMITS,
-    .needs = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO), /* nu unless bar */
+    .scheme = DTM_SCHEME_CENTRAL_DIFFERENCE,
     .exponent = 1.0,
+    .params = params,
+    .properties = properties,
+    .indicator = {"elements_per_wavelength", "elements per wavelength",
+                  "shear wavelength at <time f-max> / element size; enough: <time elements-per-wavelength>"},
     .create = elastic_create,
     .element_dt = elastic_element_dt,
     .coefficients = elastic_coefficients,
     .accuracy = elastic_accuracy,
-    .accuracy_view = "elements per wavelength",
     .destroy = dtm_effect_free,
 };

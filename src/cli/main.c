@@ -2,6 +2,7 @@
  * dispatch, `dtmap effects`, --help and --version. Exit codes: 0 ok, 1 target
  * or verification not met, 2 bad input or usage, 3 internal error. */
 #include <float.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -111,12 +112,50 @@ static int print_help(void) {
   return 0;
 }
 
+/* "[lo, hi]" style range of a number, or "" when unbounded. */
+static void range_text(double lo, double hi, unsigned open, char *buf, size_t n) {
+  buf[0] = '\0';
+  if (isfinite(lo) && isfinite(hi))
+    snprintf(buf, n, "%s%g, %g%s", open & DTM_OPEN_LO ? "(" : "[", lo, hi, open & DTM_OPEN_HI ? ")" : "]");
+  else if (isfinite(lo))
+    snprintf(buf, n, "%s %g", open & DTM_OPEN_LO ? ">" : ">=", lo);
+  else if (isfinite(hi))
+    snprintf(buf, n, "%s %g", open & DTM_OPEN_HI ? "<" : "<=", hi);
+}
+
+static void print_param(const dtm_param *p) {
+  char what[256] = "";
+  if (p->type == DTM_PARAM_NUMBER) range_text(p->lo, p->hi, p->open, what, sizeof what);
+  for (int i = 0; p->type == DTM_PARAM_CHOICE && p->choices[i]; i++)
+    snprintf(what + strlen(what), sizeof what - strlen(what), "%s%s", i ? "|" : "", p->choices[i]);
+  if (p->type == DTM_PARAM_GROUPS) snprintf(what, sizeof what, "physical groups");
+  printf("    %-18s %s%s%s%s%s%s%s%s\n", p->name, what, p->unit && p->unit[0] ? " " : "", p->unit ? p->unit : "",
+         p->def ? ", default " : "", p->def ? p->def : "", p->required ? ", required" : "", "; ", p->help);
+}
+
+static void print_property(const dtm_property *p) {
+  char range[128];
+  range_text(p->lo, p->hi, p->open, range, sizeof range);
+  printf("    %-18s %s%s%s%s; %s\n", p->name, range, p->unit[0] ? " " : "", p->unit, p->required ? ", required" : "",
+         p->help);
+}
+
+static void print_effect(const dtm_effect_class *c) {
+  static const char *const schemes[] = {"modifies the wave steps", "central differences", "forward Euler"};
+  printf("%s: %s\n  %s", c->name, c->summary, schemes[c->scheme]);
+  if (c->role & DTM_ROLE_LIMITS) printf(", dt ~ h^%g", c->exponent);
+  printf("\n");
+  if (c->params && c->params->name) printf("  attributes:\n");
+  for (const dtm_param *p = c->params; p && p->name; p++) print_param(p);
+  if (c->properties && c->properties->name) printf("  material properties:\n");
+  for (const dtm_property *p = c->properties; p && p->name; p++) print_property(p);
+  if (c->indicator.name) printf("  accuracy: view '%s' (%s)\n", c->indicator.view, c->indicator.help);
+}
+
 static int cmd_effects(void) {
-  for (int i = 0; i < dtm_registry_count(); i++) {
-    const dtm_effect_class *c = dtm_registry_get(i);
-    printf("%-10s %s\n", c->name, c->summary);
-  }
-  printf("%-10s %s\n", "effect", "external effect: <effect library=\"libX.so\" name=\"X\"/>");
+  for (int i = 0; i < dtm_registry_count(); i++) print_effect(dtm_registry_get(i)), printf("\n");
+  printf("effect: an external effect, <effect library=\"libX.so\" name=\"X\" .../>; its attributes and\n"
+         "  properties are those its library declares (see docs/effects.md)\n");
   return 0;
 }
 

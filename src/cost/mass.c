@@ -26,18 +26,18 @@ static double wave_dt(const dtm_analysis *a, size_t i) {
 }
 
 /* rho V of element e of block blk, kg (0 without a density). */
-static double element_mass(const dtm_analysis *a, const dtm_block *blk, size_t e) {
+static double element_mass(const dtm_analysis *a, const dtm_block *blk, size_t e, int irho) {
   int mi = blk->mat[e];
   if (mi < 0) return 0.0;
   const dtm_material *m = &dtm_analysis_scene(a)->materials[mi].m;
-  if (!(m->have & DTM_PROP_BIT(DTM_PROP_RHO))) return 0.0;
+  if (!dtm_material_has(m, irho)) return 0.0;
   double x[DTM_MAX_NODES * 3];
   dtm_block one = *blk;
   one.n = 1;
   one.conn = blk->conn + e * (size_t)blk->nn;
   dtm_mesh_gather(dtm_analysis_mesh(a), &one, x);
   double v = fabs(dtm_elem_measure(blk->type, x));
-  return isfinite(v) ? m->prop[DTM_PROP_RHO] * v : 0.0;
+  return isfinite(v) ? dtm_material_get(m, irho) * v : 0.0;
 }
 
 /* Mass to add to an element of mass m and wave step dt to reach target. */
@@ -62,9 +62,10 @@ static int alloc_scaling(const dtm_analysis *a, dtm_mass_scaling *ms) {
 
 static void scale_block(const dtm_analysis *a, int b, size_t first, dtm_mass_scaling *ms) {
   const dtm_block *blk = &dtm_analysis_mesh(a)->blocks[b];
+  int irho = dtm_scene_property_index(dtm_analysis_scene(a), "rho");
   for (size_t e = 0; e < blk->n; e++) {
     size_t i = first + e;
-    double m = element_mass(a, blk, e), add = added_mass(m, wave_dt(a, i), ms->target);
+    double m = element_mass(a, blk, e, irho), add = added_mass(m, wave_dt(a, i), ms->target);
     int g = blk->group[e] >= 0 && blk->group[e] < ms->ngroups - 1 ? blk->group[e] : ms->ngroups - 1;
     ms->added[i] = add;
     ms->total_mass += m;

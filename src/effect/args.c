@@ -1,5 +1,6 @@
-/* Accessors effects use at creation time: their attributes, parsed strictly
- * with errors that name the scene file and line, and the mesh's groups. */
+/* Accessors effects use at creation time: their attributes (or the
+ * defaults their class declares), parsed strictly with errors that name the
+ * scene file and line, property indices, and the mesh's groups. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -8,6 +9,47 @@
 
 #include "base.h"
 #include "effect-impl.h"
+
+/* The declaration of parameter key, or NULL (no class: a bare fixture). */
+static const dtm_param *declared(const dtm_effect_args *a, const char *key) {
+  for (const dtm_param *p = a->cls ? a->cls->params : NULL; p && p->name; p++)
+    if (!strcmp(p->name, key)) return p;
+  return NULL;
+}
+
+int dtm_effect_args_text(const dtm_effect_args *a, const char *key, const char **out) {
+  const dtm_param *p = declared(a, key);
+  const char *v = dtm_scene_effect_attr(a->se, key);
+  *out = v ? v : p ? p->def : NULL;
+  return DTM_OK;
+}
+
+int dtm_effect_args_number(const dtm_effect_args *a, const char *key, double *out) {
+  const char *v;
+  DTM_CHECK(dtm_effect_args_text(a, key, &v));
+  if (!v) return *out = NAN, DTM_OK;
+  char *end = NULL;
+  double d = strtod(v, &end);
+  if (end == v || *end || !isfinite(d)) return dtm_effect_args_error(a, "%s=\"%s\" is not a finite number", key, v);
+  *out = d;
+  return DTM_OK;
+}
+
+int dtm_effect_args_choice(const dtm_effect_args *a, const char *key, int *index) {
+  const dtm_param *p = declared(a, key);
+  const char *v;
+  DTM_CHECK(dtm_effect_args_text(a, key, &v));
+  *index = -1;
+  if (!p || p->type != DTM_PARAM_CHOICE) return DTM_ERR(DTM_ERR_INTERNAL, "'%s' is not a declared choice", key);
+  for (int i = 0; v && p->choices[i]; i++)
+    if (!strcmp(p->choices[i], v)) *index = i;
+  if (v && *index < 0) return dtm_effect_args_error(a, "%s=\"%s\" is not one of its choices", key, v);
+  return DTM_OK;
+}
+
+int dtm_effect_args_property(const dtm_effect_args *a, const char *name) {
+  return dtm_scene_property_index(a->scene, name);
+}
 
 int dtm_effect_args_double(const dtm_effect_args *a, const char *key, double def, double *out) {
   const char *v = dtm_scene_effect_attr(a->se, key);

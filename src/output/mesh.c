@@ -129,7 +129,7 @@ static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
     if (!vs->ftags[j] || !vs->fvals[j]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
     size_t n = finite_view(vs->etags, src, nel, vs->ftags[j], vs->fvals[j]);
     if (j < ne) snprintf(vs->names[j], sizeof vs->names[j], "dt %s", c->name);
-    if (n) vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->accuracy_view, 0, vs->ftags[j], vs->fvals[j], n};
+    if (n) vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->indicator.view, 0, vs->ftags[j], vs->fvals[j], n};
   }
   return DTM_OK;
 }

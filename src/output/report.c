@@ -99,7 +99,7 @@ static void binding_json(const dtm_analysis *a, const dtm_accuracy *ac, cJSON *o
   const dtm_scene *s = dtm_analysis_scene(a);
   size_t i = ac->cap_element;
   cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", ac->dt_cap);
-  cJSON_AddStringToObject(o, "binding_bound", dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->accuracy_view);
+  cJSON_AddStringToObject(o, "binding_bound", dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->indicator.view);
   cJSON_AddNumberToObject(o, "binding_hmax", dtm_analysis_hmax(a)[i]);
   cJSON_AddNumberToObject(o, "binding_element", (double)dtm_analysis_tag(a, i));
   if (s->duration > 0)

@@ -115,7 +115,7 @@ static void print_conflict(const dtm_analysis *a, const dtm_accuracy *ac, FILE *
   fprintf(f,
           "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
           "             below the target %.4e s at %zu element(s)",
-          c->accuracy_view, dtm_analysis_hmax(a)[i], dtm_analysis_tag(a, i), ac->dt_cap, s->target, ac->conflicts);
+          c->indicator.view, dtm_analysis_hmax(a)[i], dtm_analysis_tag(a, i), ac->dt_cap, s->target, ac->conflicts);
   if (s->duration > 0)
     fprintf(f, ";\n             the duration %.4g s then costs %.4g element-steps", s->duration,
             (double)dtm_analysis_nelements(a) * s->duration / ac->dt_cap);
@@ -130,7 +130,7 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
     size_t n = 0;
     for (size_t i = 0; i < dtm_analysis_nelements(a); i++) n += h[i] > hmax[i] && by[i] == k;
     fprintf(f, "accuracy     %s: %zu element(s) coarser than its accuracy bound (view '%s')\n", effect_name(a, k), n,
-            dtm_analysis_effect(a, k)->accuracy_view);
+            dtm_analysis_effect(a, k)->indicator.view);
   }
   dtm_accuracy ac;
   dtm_analysis_accuracy(a, &ac);

@@ -155,6 +155,7 @@ static int count_tag(const xmlNode *root, const char *tag) {
 static int read_document(dtm_scene *s, const xmlNode *root) {
   if (!root) return DTM_ERR(DTM_ERR_INPUT, "%s: the scene file has no root element", s->path);
   int nmat = count_tag(root, "material");
+  DTM_CHECK(dtm_scene_build_catalogue(s, root));
   s->materials = nmat ? calloc((size_t)nmat, sizeof *s->materials) : NULL;
   if (nmat && !s->materials) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (const xmlNode *c = root->children; c; c = c->next) {
@@ -166,7 +167,7 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
   if (!s->geometry && !s->mesh) return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
   if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
   if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
-  return DTM_OK;
+  return dtm_scene_check_properties(s, NULL, 0);
 }
 
 static int scene_dir(const char *path, char **dir) {
@@ -231,9 +232,11 @@ void dtm_scene_destroy(dtm_scene **s) {
   dtm_scene *p = *s;
   for (int i = 0; i < p->nmaterials; i++) {
     free(p->materials[i].m.name);
+    free(p->materials[i].m.prop);
     dtm_scene_free_strings(p->materials[i].ngroups, p->materials[i].groups);
   }
   for (int i = 0; i < p->neffects; i++) free_effect(&p->effects[i]);
+  dtm_scene_free_strings(p->nprops, p->prop_names);
   free(p->materials);
   free(p->effects);
   free(p->path);

@@ -1,11 +1,15 @@
 /* Reading the <effects> element of a scene: every child, in file order,
  * becomes a dtm_scene_effect holding its name, line and all its attributes
- * as written, so that each effect (built in or loaded from a library) parses
- * its own options. <effect name="x" library="y"/> names an effect; its
+ * as written, so that each effect (built in or loaded from a library) reads
+ * its own options. A built-in effect's attributes are checked here against
+ * what its class declares (an unknown or misspelt attribute is an error at
+ * its line, listing the known ones). <effect name="x" library="y"/> names an effect; its
  * library path is resolved against the scene file's directory. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/registry.h"
 #include "scene-impl.h"
 
 static int count_attributes(const xmlNode *n) {
@@ -33,6 +37,23 @@ static int copy_attributes(const xmlNode *n, dtm_scene_effect *e) {
   return DTM_OK;
 }
 
+/* A built-in effect (by element or by <effect name=...>): its attributes
+ * against the class's declarations, with the element's line. External
+ * effects are checked once loaded (dtm_effects_create). */
+static int check_builtin(const dtm_scene *s, const dtm_scene_effect *e) {
+  static const char *const core[] = {"name", NULL};
+  const dtm_effect_class *c;
+  char where[4200];
+  snprintf(where, sizeof where, "%s:%d: ", s->path, e->line);
+  if (dtm_registry_find(e->name, &c)) {
+    char msg[2048];
+    snprintf(msg, sizeof msg, "%s", dtm_error_message());
+    dtm_error_clear();
+    return DTM_ERR(DTM_ERR_INPUT, "%s%s", where, msg);
+  }
+  return dtm_registry_check_attributes(c, e->nattr, e->keys, e->values, core, where);
+}
+
 static int read_effect(dtm_scene *s, const xmlNode *n) {
   dtm_scene_effect *e = &s->effects[s->neffects++];
   e->line = dtm_scene_line(n);
@@ -43,8 +64,8 @@ static int read_effect(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(dtm_scene_strdup(name, &e->name));
   const char *library = dtm_scene_effect_attr(e, "library");
   if (library && !*library) return DTM_SCENE_ERR(s, n, "effect '%s': library=\"\" names no file", e->name);
-  if (library) DTM_CHECK(dtm_scene_resolve(s, library, &e->library));
-  return DTM_OK;
+  if (library) return dtm_scene_resolve(s, library, &e->library);
+  return check_builtin(s, e);
 }
 
 int dtm_scene_read_effects(dtm_scene *s, const xmlNode *n) {

@@ -1,11 +1,14 @@
 /* Reading one <material> element of a scene: its name, physical groups,
  * default flag and property values. Values are parsed strictly and checked
- * for physical admissibility (dtm_prop_check); names must be unique, at most
+ * for physical admissibility against the declaring effect's range
+ * (dtm_property_check); names must be unique, at most
  * one material may be the default, and no physical group may be given to
  * two materials. Every error names the scene file and line. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/registry.h"
 #include "scene-impl.h"
 
 static char *trim(char *s) {
@@ -50,18 +53,40 @@ static int read_groups(const dtm_scene *s, const xmlNode *n, dtm_scene_material 
   return rc;
 }
 
-static int read_prop(const dtm_scene *s, const xmlNode *n, dtm_material *m, int p) {
+/* The material attributes that are not properties. */
+int dtm_scene_material_keyword(const char *attr) {
+  return !strcmp(attr, "name") || !strcmp(attr, "groups") || !strcmp(attr, "default");
+}
+
+/* One property attribute: a strict number, admissible for the effect that
+ * declares it (when a built-in one does; an external effect's own property
+ * is checked when the effect is created). */
+static int read_prop(const dtm_scene *s, const xmlNode *n, dtm_material *m, const char *attr) {
   char *raw;
   double v;
-  DTM_CHECK(dtm_scene_attr(n, dtm_prop_name(p), &raw));
-  if (!raw) return DTM_OK;
+  int i = dtm_scene_property_index(s, attr);
+  DTM_CHECK(dtm_scene_attr(n, attr, &raw));
+  if (i < 0 || !raw) return free(raw), DTM_ERR(DTM_ERR_INTERNAL, "property '%s' is not in the catalogue", attr);
+  const dtm_property *decl = dtm_registry_property(attr, NULL);
   int rc = dtm_scene_parse_double(raw, &v)
-               ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name, dtm_prop_name(p), raw)
-               : dtm_prop_check(m, p, v);
+               ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name, attr, raw)
+           : decl         ? dtm_property_check(decl, m, v)
+           : !isfinite(v) ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a finite number", m->name, attr, raw)
+                          : DTM_OK;
   free(raw);
   if (rc) return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
-  m->prop[p] = v;
-  m->have |= DTM_PROP_BIT(p);
+  m->prop[i] = v;
+  return DTM_OK;
+}
+
+static int read_props(dtm_scene *s, const xmlNode *n, dtm_material *m) {
+  m->nprops = s->nprops;
+  m->prop_names = s->prop_names;
+  m->prop = malloc(((size_t)s->nprops + 1) * sizeof *m->prop);
+  if (!m->prop) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < s->nprops; i++) m->prop[i] = NAN;
+  for (const xmlAttr *a = n->properties; a; a = a->next)
+    if (!dtm_scene_material_keyword((const char *)a->name)) DTM_CHECK(read_prop(s, n, m, (const char *)a->name));
   return DTM_OK;
 }
 
@@ -106,6 +131,6 @@ int dtm_scene_read_material(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(read_name(s, n, &sm->m));
   DTM_CHECK(read_default(s, n, sm));
   DTM_CHECK(read_groups(s, n, sm));
-  for (int p = 0; p < DTM_PROP_COUNT; p++) DTM_CHECK(read_prop(s, n, &sm->m, p));
+  DTM_CHECK(read_props(s, n, &sm->m));
   return check_unique(s, n);
 }

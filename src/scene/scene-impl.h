@@ -47,6 +47,13 @@ void dtm_scene_free_strings(int n, char **v);
 /* Duplicate s, or DTM_ERR_INTERNAL when out of memory. */
 int dtm_scene_strdup(const char *s, char **out);
 
+/* 1 for the <material> attributes that are not properties (name, groups,
+ * default). */
+int dtm_scene_material_keyword(const char *attr);
+/* s->prop_names: the built-in effects' properties, then the other property
+ * attributes of the <material> children of root. */
+int dtm_scene_build_catalogue(dtm_scene *s, const xmlNode *root);
+
 /* Read one <material> into s->materials[s->nmaterials++] (preallocated). */
 int dtm_scene_read_material(dtm_scene *s, const xmlNode *n);
 /* Read <effects> and its children into s->effects. */

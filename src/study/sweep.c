@@ -15,7 +15,7 @@
 static double smallest_resolution(const dtm_analysis *a, const char *view) {
   double best = NAN;
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
-    const char *name = dtm_analysis_effect(a, k)->accuracy_view;
+    const char *name = dtm_analysis_effect(a, k)->indicator.view;
     const double *res = dtm_analysis_resolution(a, k);
     if (!res || !name || strcmp(name, view)) continue;
     for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {

@@ -1,7 +1,10 @@
 /* In-memory fixtures for effect tests (see fixtures.h). */
 #include "fixtures.h"
+#include "dtmap/registry.h"
 
+#include <math.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,19 +25,50 @@ void tu_fixture_init(tu_effect_fixture *f, const char *name, int dim, const char
   f->mesh.dim = dim;
   f->mesh.ngroups = 1;
   f->mesh.groups = &f->group;
-  f->args = (dtm_effect_args){&f->scene, &f->se, &f->mesh};
+  tu_scene_catalogue(&f->scene);
+  const dtm_effect_class *cls = NULL;
+  if (dtm_registry_find(name, &cls)) dtm_error_clear(), cls = NULL;
+  f->args = (dtm_effect_args){&f->scene, &f->se, &f->mesh, cls};
+}
+
+#define MAX_PROPS 64     /* catalogue entries */
+#define MAX_MATERIALS 64 /* materials a test program builds */
+
+static char *names[MAX_PROPS];
+static int nnames = -1;
+
+static void catalogue(void) {
+  if (nnames >= 0) return;
+  int n;
+  const dtm_property *const *p = dtm_registry_properties(&n);
+  for (nnames = 0; nnames < n && nnames < MAX_PROPS; nnames++) names[nnames] = (char *)p[nnames]->name;
+}
+
+void tu_scene_catalogue(dtm_scene *s) {
+  catalogue();
+  s->nprops = s->nknown = nnames;
+  s->prop_names = names;
 }
 
 void tu_material(dtm_material *m, const char *name, ...) {
+  static double pool[MAX_MATERIALS][MAX_PROPS];
+  static int used;
+  catalogue();
   memset(m, 0, sizeof *m);
   m->name = (char *)name;
   m->file = "fixture.xml";
   m->line = 3;
+  m->nprops = nnames;
+  m->prop_names = names;
+  m->prop = pool[used++ % MAX_MATERIALS];
+  for (int i = 0; i < nnames; i++) m->prop[i] = NAN;
   va_list ap;
   va_start(ap, name);
-  for (int p; (p = va_arg(ap, int)) >= 0;) {
-    m->prop[p] = va_arg(ap, double);
-    m->have |= DTM_PROP_BIT(p);
+  for (const char *key; (key = va_arg(ap, const char *));) {
+    double v = va_arg(ap, double);
+    int i = dtm_material_index(m, key);
+    if (i < 0) fprintf(stderr, "tu_material: '%s' is no built-in property\n", key), abort();
+    m->prop[i] = v;
   }
   va_end(ap);
 }

@@ -21,8 +21,11 @@ typedef struct {
 /* attrs: NULL-terminated key, value, key, value, ... */
 void tu_fixture_init(tu_effect_fixture *f, const char *name, int dim, const char *const *attrs);
 
-/* A material with the given properties (NULL-terminated prop index, value
- * pairs passed as doubles: DTM_PROP_E, 1e9, ..., -1). */
+/* Give scene s the built-in property catalogue (nprops, prop_names, nknown). */
+void tu_scene_catalogue(dtm_scene *s);
+/* A material on the built-in catalogue with the given properties:
+ * NULL-terminated name, value pairs ("E", 1e9, "rho", 2700.0, NULL; values
+ * are doubles). Its values live in a static pool (no free). */
 void tu_material(dtm_material *m, const char *name, ...);
 
 /* A batch of one element of type with coordinates x[nn][3], material m,

@@ -1,5 +1,7 @@
 /* The registry of built-in effects (expanded from plugins/list.h) and the
- * loader of external effects from shared libraries. */
+ * loader of external effects from shared libraries. Every class is checked
+ * before it is used (dtm_registry_check): a library whose class is
+ * incomplete is refused with a message, never called. */
 #include <dlfcn.h>
 #include <stdio.h>
 #include <string.h>
@@ -37,6 +39,20 @@ int dtm_registry_find(const char *name, const dtm_effect_class **out) {
   return DTM_ERR(DTM_ERR_INPUT, "unknown effect '%s'; known effects: %s", name, known);
 }
 
+/* Why the class c of a library does not fit, or NULL when it does. */
+static const char *mismatch(const dtm_effect_class *c, const char *name) {
+  if (!c) return "its entry returned NULL";
+  if (c->api_version != DTM_EFFECT_API_VERSION) return "API version mismatch";
+  if (strcmp(c->name ? c->name : "", name)) return "name mismatch";
+  return NULL;
+}
+
+static const dtm_effect_class *entry_class(void *sym) {
+  const dtm_effect_class *(*entry)(void);
+  memcpy(&entry, &sym, sizeof entry); /* object-to-function pointer, POSIX style */
+  return entry();
+}
+
 int dtm_registry_load(const char *library, const char *name, const dtm_effect_class **out, void **handle) {
   void *h = dlopen(library, RTLD_NOW | RTLD_LOCAL);
   if (!h) return DTM_ERR(DTM_ERR_INPUT, "cannot load effect library: %s", dlerror());
@@ -45,18 +61,14 @@ int dtm_registry_load(const char *library, const char *name, const dtm_effect_cl
     dlclose(h);
     return DTM_ERR(DTM_ERR_INPUT, "%s: no symbol '%s': not a dtmap effect library", library, DTM_EFFECT_ENTRY_SYMBOL);
   }
-  const dtm_effect_class *(*entry)(void);
-  memcpy(&entry, &sym, sizeof entry); /* object-to-function pointer, POSIX style */
-  const dtm_effect_class *c = entry();
-  const char *why = !c                                         ? "its entry returned NULL"
-                    : c->api_version != DTM_EFFECT_API_VERSION ? "API version mismatch"
-                    : strcmp(c->name ? c->name : "", name) ? "name mismatch"
-                                                           : NULL;
-  if (why) {
-    int r = DTM_ERR(DTM_ERR_INPUT, "%s: %s (library: version %d, name '%s'; dtmap: version %d, name '%s')", library,
-                    why, c ? c->api_version : -1, c && c->name ? c->name : "", DTM_EFFECT_API_VERSION, name);
+  const dtm_effect_class *c = entry_class(sym);
+  const char *why = mismatch(c, name);
+  int r = why ? DTM_ERR(DTM_ERR_INPUT, "%s: %s (library: version %d, name '%s'; dtmap: version %d, name '%s')", library,
+                        why, c ? c->api_version : -1, c && c->name ? c->name : "", DTM_EFFECT_API_VERSION, name)
+              : dtm_registry_check(c);
+  if (r) {
     dlclose(h);
-    return r;
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
   }
   *out = c;
   *handle = h;
