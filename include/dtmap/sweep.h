@@ -21,10 +21,10 @@ typedef struct {
   double cost;           /* element-steps: elements x ceil(steps) */
   double cost_subcycled; /* element-steps with ideal subcycling, levels of
                             safety x dt_min x 2^k (dtm_cost_element_steps_subcycled) */
-  double per_zone;       /* smallest elements-per-process-zone (view "cohesive
-                            zone resolution"), NaN without a cohesive effect */
-  double per_wavelength; /* smallest elements-per-wavelength (view "elements
-                            per wavelength"), NaN without <time f-max> */
+  double per_zone;       /* smallest value of the indicator "elements_per_zone" (cohesive),
+                            NaN without a cohesive effect */
+  double per_wavelength; /* smallest value of the indicator "elements_per_wavelength"
+                            (elastic), NaN without <time f-max> */
   double seconds;        /* dtmap's wall time for this size */
   double speedup;        /* ideal subcycling speed-up N / sum_k N_k 2^-k */
 } dtm_sweep_row;

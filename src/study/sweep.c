@@ -11,13 +11,14 @@
 #include "dtmap/cost.h"
 #include "dtmap/sweep.h"
 
-/* Smallest finite value of the accuracy view named view, NaN if none. */
-static double smallest_resolution(const dtm_analysis *a, const char *view) {
+/* Smallest finite value of the accuracy indicator an effect declares under
+ * that name (dtm_indicator.name), NaN if none. */
+static double smallest_indicator(const dtm_analysis *a, const char *indicator) {
   double best = NAN;
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
-    const char *name = dtm_analysis_effect(a, k)->indicator.view;
+    const char *name = dtm_analysis_effect(a, k)->indicator.name;
     const double *res = dtm_analysis_resolution(a, k);
-    if (!res || !name || strcmp(name, view)) continue;
+    if (!res || !name || strcmp(name, indicator)) continue;
     for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
       double v = res[i];
       if (isfinite(v) && !(v >= best)) best = v;
@@ -40,8 +41,8 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   row->speedup = c->subcycling.speedup;
   row->cost_subcycled = c->element_steps_subcycled;
   dtm_cost_destroy(&c);
-  row->per_zone = smallest_resolution(a, "cohesive zone resolution");
-  row->per_wavelength = smallest_resolution(a, "elements per wavelength");
+  row->per_zone = smallest_indicator(a, "elements_per_zone");
+  row->per_wavelength = smallest_indicator(a, "elements_per_wavelength");
   return DTM_OK;
 }
 
