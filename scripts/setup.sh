@@ -3,7 +3,8 @@
 # they are missing. Needs root (or sudo). Safe to run again.
 set -euo pipefail
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
-          libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core)
+          libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
+          xvfb xfonts-base)  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

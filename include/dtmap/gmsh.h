@@ -26,6 +26,10 @@ DTM_EXPORT void dtm_gmsh_serial(void);
  * file; a geometry that yields no element of that dimension is an error. */
 DTM_EXPORT int dtm_gmsh_load(const dtm_scene *s, int *dim);
 
+/* Open a geometry or a .msh (no meshing) as the only model; *dim receives
+ * its highest dimension. DTM_ERR_INPUT naming the file when Gmsh cannot. */
+DTM_EXPORT int dtm_gmsh_open(const char *path, int *dim);
+
 /* Physical groups of dimension dim in the current model. */
 DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
 
@@ -55,5 +59,19 @@ typedef struct {
 /* Write the current mesh and the views to path (a .msh), appending views
  * with PostProcessing.SaveMesh=0. The caller makes the write atomic. */
 DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
+
+/* One picture of a result: which views it shows. */
+typedef struct {
+  const char *png;  /* output file (.png), written atomically */
+  const char *only; /* show only the view of this name, opaque, plus dtmap's text
+                       annotation; NULL: the views as the .opt leaves them */
+} dtm_snapshot_shot;
+
+/* Pictures of a result through Gmsh's own renderer: open msh (Gmsh merges
+ * msh.opt), then for each shot set the views, draw and write a PNG of width
+ * x height pixels. Needs an X display (DISPLAY); the CLI starts a virtual one
+ * when there is none. Leaves Gmsh finalized. DTM_ERR_INPUT naming the file
+ * when Gmsh cannot open it or write a picture. */
+DTM_EXPORT int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshots, int width, int height);
 
 #endif

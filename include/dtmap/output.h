@@ -18,6 +18,11 @@ typedef struct {
   double t_output;                 /* writing the mesh and views, s (the caller's stage) */
 } dtm_results;
 
+/* The view of the elements whose step is below the scene's target, and the
+ * one written instead when there is no target: the 1 % smallest steps. */
+#define DTM_VIEW_BELOW_TARGET "below target [s]"
+#define DTM_VIEW_SMALLEST "smallest 1% [s]"
+
 /* Write the mesh with its views to path atomically, plus path.opt.
  * Refuses to overwrite the scene's input mesh or the scene itself. */
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);

@@ -29,6 +29,8 @@ typedef struct {
   double factor;      /* verify --factor: multiple of the recommended step */
   double dt;          /* verify --dt, s (0: use factor x recommended) */
   int steps;          /* verify --steps */
+  const char *png;    /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
+  int width, height;  /* their size, pixels */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;
@@ -74,11 +76,24 @@ void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_
  * scene say; res->t_output gets the mesh's write time, s. */
 int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o);
 
+/* The pictures of a result msh (with its .opt) through Gmsh's renderer:
+ * PREFIX_worst.png (the views as the .opt shows them: the worst elements)
+ * and PREFIX_dt.png (the dt map alone), width x height pixels, under a
+ * virtual display when there is none. */
+int dtm_cli_pictures(const char *msh, const char *prefix, int width, int height, int verbosity);
+/* Call draw(arg) with a working X display: DISPLAY, or an Xvfb started for
+ * the call (and stopped after). */
+int dtm_cli_with_display(int (*draw)(void *arg), void *arg);
+/* `-onelab NAME ADDRESS` anywhere in argv: run the ONELAB client and return
+ * its exit code; -1 when argv has no -onelab. */
+int dtm_cli_onelab(int argc, char **argv);
+
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);
 int dtm_cli_verify(const cli_opts *o);
 int dtm_cli_refine(const cli_opts *o);
 int dtm_cli_sweep(const cli_opts *o);
+int dtm_cli_snapshot(const cli_opts *o);
 
 /* The sweep plot (plot.c; PLplot lives on the CLI side because it exits
  * the process on some errors). Cost (element-steps, with and without

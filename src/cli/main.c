@@ -24,10 +24,17 @@
     "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
   }
 
+#define PICTURE_OPTIONS                                                                                                \
+  {"--width", CLI_INT, OPT(width), 0, 64, 3800, "W", "picture width, pixels (default 1024)"}, {                      \
+    "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                       \
+  }
+
 static const cli_option run_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
     {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL, "also estimate the global step (Lanczos)"},
+    {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "pictures PREFIX_worst.png and PREFIX_dt.png (Gmsh's renderer)"},
+    PICTURE_OPTIONS,
     LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
@@ -59,8 +66,14 @@ static const cli_option sweep_options[] = {
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
+static const cli_option snapshot_options[] = {
+    {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "picture prefix (default: RESULT without .msh)"},
+    PICTURE_OPTIONS,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
 const cli_command dtm_cli_commands[] = {
-    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [-j N] [-v|-q]",
+    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
@@ -84,6 +97,12 @@ const cli_command dtm_cli_commands[] = {
      "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
      "elements per cohesive zone and per wavelength, and dtmap's own time; CSV + PNG.",
      sweep_options, dtm_cli_sweep},
+    {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
+     "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
+     "(RESULT.msh.opt applied): PREFIX_worst.png (the below-target view over the faint\n"
+     "model in 3D, with the recommended step) and PREFIX_dt.png (the dt map alone).\n"
+     "Without a display (DISPLAY unset) dtmap starts a virtual one (Xvfb).",
+     snapshot_options, dtm_cli_snapshot},
     {NULL, NULL, NULL, NULL, NULL}};
 
 static const char lengths_help[] =
@@ -103,6 +122,7 @@ static void print_usage(FILE *f) {
     fprintf(f, "%s dtmap %s %s\n", c == dtm_cli_commands ? "usage:" : "      ", c->name, c->args);
   fprintf(f, "       dtmap effects        list the effects a scene can name\n");
   fprintf(f, "       dtmap --help | --version\n");
+  fprintf(f, "       dtmap [run] [SCENE.xml] [-v|-q] [-j N] -onelab NAME ADDRESS   (as Gmsh's ONELAB solver)\n");
 }
 
 static int print_help(void) {
@@ -167,6 +187,8 @@ static int usage_error(const char *what, const char *arg) {
 }
 
 int main(int argc, char **argv) {
+  int onelab = dtm_cli_onelab(argc, argv);
+  if (onelab >= 0) return onelab;
   const char *cmd = argc > 1 ? argv[1] : "";
   if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return print_help();
   if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;

@@ -21,6 +21,8 @@ static cli_opts defaults(void) {
   o.max_iter = 3;
   o.factor = 1.0;
   o.steps = 2000;
+  o.width = 1024;
+  o.height = 768;
   return o;
 }
 

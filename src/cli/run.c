@@ -12,11 +12,18 @@
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
 
+/* The output mesh: -o, else the scene's <output mesh>, else SCENE_dt.msh. */
+static const char *output_path(const dtm_scene *s, const cli_opts *o, char *def, size_t n) {
+  if (o->out) return o->out;
+  if (s->out_mesh) return s->out_mesh;
+  dtm_cli_default_out(s->path, "_dt.msh", def, n);
+  return def;
+}
+
 int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o) {
   char def[4096];
   const dtm_scene *s = dtm_analysis_scene(res->analysis);
-  const char *out = o->out ? o->out : s->out_mesh;
-  if (!out) dtm_cli_default_out(s->path, "_dt.msh", def, sizeof def), out = def;
+  const char *out = output_path(s, o, def, sizeof def);
   const char *rep = o->report ? o->report : s->out_report;
   double t0 = dtm_wtime();
   DTM_CHECK(dtm_output_write(res, out));
@@ -78,6 +85,8 @@ static int run_scene(const cli_opts *o, int verify) {
     if (o->verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
     r = analyse(s, o, dtm_wtime() - t0, verify);
   }
+  char def[4096];
+  if (r == DTM_OK && o->png) r = dtm_cli_pictures(output_path(s, o, def, sizeof def), o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }

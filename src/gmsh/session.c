@@ -67,17 +67,24 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {
-  int ierr = 0;
   const char *src = s->mesh ? s->mesh : s->geometry;
-  char what[4200];
-  snprintf(what, sizeof what, "%s: Gmsh cannot open it", src);
-  gmshClear(&ierr);
-  gmshOpen(src, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
-  int d = s->mesh_dim > 0 ? s->mesh_dim : gmshModelGetDimension(&ierr);
-  if (d < 1 || d > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", src);
+  int d;
+  DTM_CHECK(dtm_gmsh_open(src, &d));
+  if (s->mesh_dim > 0) d = s->mesh_dim;
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
   dtm_gmsh_restore_threads();
   *dim = d;
+  return DTM_OK;
+}
+
+int dtm_gmsh_open(const char *path, int *dim) {
+  int ierr = 0;
+  char what[4200];
+  snprintf(what, sizeof what, "%s: Gmsh cannot open it", path);
+  gmshClear(&ierr);
+  gmshOpen(path, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  *dim = gmshModelGetDimension(&ierr);
+  if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);
   return DTM_OK;
 }

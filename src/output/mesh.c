@@ -54,6 +54,9 @@ typedef struct {
   double *level;         /* subcycling level as double [nel] */
   size_t *dtags;         /* node tags of the nodal-dt view [nnodes] */
   double *dvals;         /* its values [nnodes] */
+  size_t *btags;         /* element tags of the "below target" view [nel] */
+  double *bvals;         /* their steps [nel] */
+  double below_at;       /* its threshold, s: the target, or the 1 % quantile */
   char (*names)[96];     /* "dt <effect>" names [neffects] */
   size_t **ftags;        /* [2 neffects] tags of the finite values of a view */
   double **fvals;        /* [2 neffects] those values */
@@ -61,6 +64,8 @@ typedef struct {
 } view_set;
 
 static void free_views(view_set *vs, int ne) {
+  free(vs->btags);
+  free(vs->bvals);
   free(vs->level);
   free(vs->dtags);
   free(vs->dvals);
@@ -84,12 +89,14 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
   vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
   vs->dvals = malloc((nn + 1) * sizeof *vs->dvals);
+  vs->btags = malloc((nel + 1) * sizeof *vs->btags);
+  vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 7, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 8, sizeof *vs->views);
   vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
   vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
   if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
-      !vs->dtags || !vs->dvals || !vs->level)
+      !vs->dtags || !vs->dvals || !vs->level || !vs->btags || !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
@@ -134,25 +141,113 @@ static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The step below which an element is among the 1 % smallest (finite steps). */
+static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
+  size_t n = 0;
+  for (size_t i = 0; i < nel; i++)
+    if (isfinite(dt[i])) scratch[n++] = dt[i];
+  if (!n) return NAN;
+  qsort(scratch, n, sizeof *scratch, cmp_double);
+  return scratch[(n - 1) / 100];
+}
+
+/* "below target [s]": the elements whose step is below the target (without
+ * one, the 1 % smallest), with their steps. It goes first among the views:
+ * Gmsh draws views in order, and the faint (translucent) dt view drawn over
+ * it in 3D must not hide it in the depth buffer. */
+static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
+  size_t nel = dtm_analysis_nelements(a), n = 0;
+  const double *dt = dtm_analysis_dt(a);
+  double target = dtm_analysis_scene(a)->target;
+  vs->below_at = target > 0 ? target : quantile_1pc(dt, nel, vs->bvals);
+  for (size_t i = 0; i < nel; i++)
+    if (dt[i] < vs->below_at || (target <= 0 && dt[i] == vs->below_at)) vs->btags[n] = vs->etags[i], vs->bvals[n++] = dt[i];
+  if (!n) return;
+  memmove(vs->views + 1, vs->views, (size_t)*k * sizeof *vs->views);
+  vs->views[0] = (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n};
+  (*k)++;
+}
+
 static int build_views(const dtm_results *r, view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
+  below_view(r->analysis, vs, nviews);
   return DTM_OK;
 }
 
-/* Options Gmsh merges when it opens X.msh: dt on a log scale, viridis, the
- * other views hidden until the user ticks them. */
-static int write_opt(const char *path, int nviews) {
+/* How the .opt styles a view, from its name. */
+static const char *unit_of(const char *name) {
+  if (!strcmp(name, "dt") || !strncmp(name, "dt ", 3) || !strcmp(name, "nodal dt") || strstr(name, "[s]")) return "s";
+  if (!strcmp(name, "characteristic length") || !strcmp(name, "size suggestion")) return "m";
+  return "";
+}
+
+static int is_below(const char *name) { return !strcmp(name, DTM_VIEW_BELOW_TARGET) || !strcmp(name, DTM_VIEW_SMALLEST); }
+
+static void style_view(FILE *f, int i, const char *name, int dim) {
+  const char *u = unit_of(name);
+  int primary = !strcmp(name, "dt"), below = is_below(name);
+  fprintf(f, "View[dtmap_v0 + %d].Light = 0; // %s\n", i, name);
+  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ScaleType = 2; // logarithmic\n", i);
+  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ColormapNumber = 23; // viridis: dark = small\n", i);
+  fprintf(f, "View[dtmap_v0 + %d].Format = \"%%.3g%s%s\";\n", i, u[0] ? " " : "", u);
+  if (primary || below) fprintf(f, "View[dtmap_v0 + %d].IntervalsType = 3; View[dtmap_v0 + %d].NbIso = 12;\n", i, i);
+  int visible = primary || (below && dim == 3);
+  fprintf(f, "View[dtmap_v0 + %d].Visible = %d;\n", i, visible);
+  if (primary && dim == 3)
+    fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 0.2; View[dtmap_v0 + %d].DrawSkinOnly = 1; "
+               "View[dtmap_v0 + %d].ShowScale = 0; // a faint skin over the worst elements\n", i, i, i);
+}
+
+/* dtmap's text view: the recommended step, the target and the worst element. */
+static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t nbelow) {
+  const dtm_analysis *a = r->analysis;
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t e = 0;
+  double dmin = dtm_analysis_dt_min(a, &e);
+  char group[160], buf[32];
+  snprintf(group, sizeof group, "%s", dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
+  for (char *c = group; *c; c++)
+    if (*c == '"') *c = '\'';
+  fprintf(f, "View \"dtmap\" {\n  T2(10, 15, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
+          dtm_analysis_recommended(a), s->safety, dtm_analysis_basis(a));
+  fprintf(f, "  T2(10, 35, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n", dmin,
+          dtm_analysis_tag(a, e), group);
+  if (s->target > 0)
+    fprintf(f, "  T2(10, 55, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, nbelow,
+            dtm_analysis_nelements(a), DTM_VIEW_BELOW_TARGET);
+  else
+    fprintf(f, "  T2(10, 55, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n",
+            vs->below_at, DTM_VIEW_SMALLEST);
+}
+
+/* Options Gmsh merges when it opens or merges X.msh. Views are addressed
+ * relative to PostProcessing.NbViews, so the right views are styled however
+ * many were loaded before: scalar views unlit, steps on a log scale (viridis:
+ * dark is small), colour bars in s or m, dt visible (faint in 3D, where the
+ * below-target view shows the worst elements inside), the others hidden
+ * until ticked, the mesh wireframe off; then a text view with the figures. */
+static int write_opt(const char *path, const dtm_results *r, const view_set *vs, int nviews) {
   char opt[DTM_PATH_MAX + 8];
   dtm_atomic w;
+  int dim = dtm_analysis_mesh(r->analysis)->dim;
+  size_t nbelow = 0;
+  for (int i = 0; i < nviews; i++)
+    if (is_below(vs->views[i].name)) nbelow = vs->views[i].n;
   snprintf(opt, sizeof opt, "%s.opt", path);
   DTM_CHECK(dtm_atomic_open(&w, opt, "", 1));
   FILE *f = w.f;
-  fprintf(f, "// Written by dtmap: shows the dt view on a log scale when %s is opened.\n", path);
-  fprintf(f, "View[0].ScaleType = 2; // logarithmic\nView[0].ColormapNumber = 23; // viridis: dark = small dt\n");
-  fprintf(f, "View[0].IntervalsType = 3; // discrete bands\nView[0].NbIso = 12;\nView[0].Format = \"%%.2e\";\n");
-  for (int i = 1; i < nviews; i++) fprintf(f, "View[%d].Visible = 0;\n", i);
+  fprintf(f, "// Written by dtmap: styles the %d views of %s, counted back from the last view loaded.\n", nviews, path);
+  fprintf(f, "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n", nviews);
+  for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, dim);
+  annotation(f, r, vs, nbelow);
+  fprintf(f, "View[PostProcessing.NbViews - 1].Visible = 1;\n");
   return dtm_atomic_commit(&w);
 }
 
@@ -166,7 +261,7 @@ int dtm_output_write(const dtm_results *res, const char *path) {
     r = dtm_gmsh_write(w.tmp, vs.views, nviews);
     r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
   }
+  if (r == DTM_OK) r = write_opt(path, res, &vs, nviews);
   free_views(&vs, dtm_analysis_neffects(res->analysis));
-  if (r == DTM_OK) r = write_opt(path, nviews);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

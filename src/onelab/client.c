@@ -1,0 +1,72 @@
+/* The ONELAB client's entry point: connect to the Gmsh that launched dtmap,
+ * read the action Gmsh asks for (NAME/Action), keep Gmsh from meshing and
+ * saving the model itself (dtmap meshes with the scene's options), declare
+ * the panel on "check", and on "compute" (or when Gmsh names no action, as
+ * gmsh.onelab.run does) analyse with the panel's values. Progress goes to
+ * Gmsh's status bar; any error goes to Gmsh as a ONELAB error with dtmap's
+ * own message (which names the file and line, or the group and element). */
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "dtmap/gmsh.h"
+#include "onelab-impl.h"
+#include "onelab.h"
+
+static int action_of(ol_conn *c, char *action, size_t n) {
+  ol_param p;
+  int found = 0;
+  char name[200];
+  snprintf(name, sizeof name, "%s/Action", c->name);
+  DTM_CHECK(dtm_ol_get(c, name, 1, &p, &found));
+  snprintf(action, n, "%.60s", found ? p.svalue : "");
+  return DTM_OK;
+}
+
+/* Gmsh skips its own meshing and model reload before running a client
+ * when IsMetamodel is set (as Gmsh's own example clients do). */
+static int no_gmsh_meshing(ol_conn *c) {
+  ol_param p;
+  dtm_ol_number(&p, "IsMetamodel", 1, "");
+  p.visible = 0;
+  p.never_changed = 1;
+  return dtm_ol_set(c, &p);
+}
+
+static int act(ol_conn *c, const dtm_onelab_opts *o, const char *action) {
+  ol_model m;
+  ol_panel pn = {0};
+  DTM_CHECK(no_gmsh_meshing(c));
+  if (!strcmp(action, "initialize")) return DTM_OK;
+  DTM_CHECK(dtm_gmsh_start(o->verbosity > 1 ? 2 : 0));
+  int r = dtm_ol_model_load(c, o->scene, &m);
+  if (r == DTM_OK) r = dtm_ol_panel_declare(c, &m, &pn);
+  if (r == DTM_OK && (!strcmp(action, "compute") || !action[0])) r = dtm_ol_compute(c, &m, &pn, 0);
+  if (r == DTM_OK) r = dtm_ol_send_text(c, OL_PROGRESS, "done");
+  dtm_ol_panel_free(&pn);
+  dtm_ol_model_free(&m);
+  dtm_gmsh_stop();
+  return r;
+}
+
+static void report(ol_conn *c, int r, int verbosity) {
+  char msg[4400];
+  snprintf(msg, sizeof msg, "%s", dtm_error_message());
+  if (c->fd >= 0) dtm_ol_send_text(c, OL_ERROR, msg);
+  fprintf(stderr, "dtmap: error: %s\n", msg);
+  if (verbosity > 1) fprintf(stderr, "traceback:\n%s", dtm_error_traceback());
+  (void)r;
+}
+
+int dtm_onelab_main(const dtm_onelab_opts *o) {
+  ol_conn c = {-1, "", 0};
+  char action[64] = "";
+  if (o->threads > 0) omp_set_num_threads(o->threads);
+  int r = dtm_ol_connect(&c, o->name, o->address);
+  if (r == DTM_OK) r = action_of(&c, action, sizeof action);
+  if (r == DTM_OK) r = act(&c, o, action);
+  if (r) report(&c, r, o->verbosity);
+  dtm_ol_close(&c);
+  return r;
+}

@@ -1,0 +1,243 @@
+/* dtmap's parameters in Gmsh's left panel, under "NAME/": the effects
+ * (switches, the elastic formulation, the damping ratio), the time options
+ * (safety, target, duration, the global estimate), the mesh size of a
+ * geometry, and for every physical group of the analysed dimension its
+ * material: a named material of the library (its SI values shown read-only),
+ * the scene's own, or custom values. Defaults come from the scene beside the
+ * model; a value the user changed in the panel stays in force (the server
+ * keeps it) until the panel is reset. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "dtmap/registry.h"
+#include "onelab-impl.h"
+
+const char *const dtm_ol_effect_names[OL_NEFFECTS] = {"elastic", "damping", "thermal", "hydraulic", "cohesive"};
+static const char *const formulations[] = {"3d", "plane-strain", "plane-stress", "bar"};
+
+static void path(char *out, size_t n, const ol_conn *c, const char *rest) { snprintf(out, n, "%s/%s", c->name, rest); }
+
+/* A number under NAME/rest; *value holds the default in and the value in force out. */
+static int number(ol_conn *c, const char *rest, const char *label, const char *units, double *value) {
+  ol_param p;
+  char name[256];
+  path(name, sizeof name, c, rest);
+  dtm_ol_number(&p, name, *value, label);
+  if (units) dtm_ol_attr(&p, "Units", units);
+  DTM_CHECK(dtm_ol_define(c, &p));
+  *value = p.value;
+  return DTM_OK;
+}
+
+/* A switch (a number with the choices 0 and 1: a check box). */
+static int toggle(ol_conn *c, const char *rest, const char *label, int *on) {
+  ol_param p;
+  char name[256];
+  path(name, sizeof name, c, rest);
+  dtm_ol_number(&p, name, *on, label);
+  dtm_ol_choice(&p, 0, ""), dtm_ol_choice(&p, 1, "");
+  DTM_CHECK(dtm_ol_define(c, &p));
+  *on = p.value != 0;
+  return DTM_OK;
+}
+
+static const dtm_scene_effect *scene_effect(const dtm_scene *s, const char *name) {
+  for (int i = 0; s && i < s->neffects; i++)
+    if (!s->effects[i].library && !strcmp(s->effects[i].name, name)) return &s->effects[i];
+  return NULL;
+}
+
+static int default_formulation(const ol_model *m) {
+  const dtm_scene_effect *e = scene_effect(m->base, "elastic");
+  const char *f = e ? dtm_scene_effect_attr(e, "formulation") : NULL;
+  for (int i = 0; f && i < 4; i++)
+    if (!strcmp(f, formulations[i])) return i;
+  return m->dim == 3 ? 0 : m->dim == 2 ? 1 : 3;
+}
+
+static int formulation(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  ol_param p;
+  char name[256];
+  path(name, sizeof name, c, "1Effects/1elastic formulation");
+  dtm_ol_number(&p, name, default_formulation(m), "elastic formulation");
+  for (int i = 0; i < 4; i++) dtm_ol_choice(&p, i, formulations[i]);
+  DTM_CHECK(dtm_ol_define(c, &p));
+  pn->formulation = (int)p.value >= 0 && (int)p.value < 4 ? (int)p.value : 0;
+  return DTM_OK;
+}
+
+static int effects(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  static const char *const rest[OL_NEFFECTS] = {"1Effects/0elastic", "1Effects/2damping", "1Effects/4thermal",
+                                                "1Effects/5hydraulic", "1Effects/6cohesive"};
+  for (int k = 0; k < OL_NEFFECTS; k++) {
+    pn->effect_on[k] = m->base ? scene_effect(m->base, dtm_ol_effect_names[k]) != NULL : k == 0;
+    DTM_CHECK(toggle(c, rest[k], dtm_ol_effect_names[k], &pn->effect_on[k]));
+  }
+  DTM_CHECK(formulation(c, m, pn));
+  const dtm_scene_effect *d = scene_effect(m->base, "damping");
+  const char *xi = d ? dtm_scene_effect_attr(d, "xi") : NULL;
+  pn->xi = xi ? atof(xi) : 0.05;
+  return number(c, "1Effects/3damping ratio xi", "damping ratio xi", NULL, &pn->xi);
+}
+
+static int times(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  pn->safety = m->base ? m->base->safety : 0.9;
+  pn->target = m->base ? m->base->target : 0;
+  pn->duration = m->base ? m->base->duration : 0;
+  DTM_CHECK(number(c, "2Time/0safety", "safety factor", NULL, &pn->safety));
+  DTM_CHECK(number(c, "2Time/1target", "target step (0: none)", "s", &pn->target));
+  DTM_CHECK(number(c, "2Time/2duration", "duration (0: none)", "s", &pn->duration));
+  return toggle(c, "2Time/3global", "global estimate (Lanczos)", &pn->posterior);
+}
+
+static int meshing(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  pn->mesh_size = m->base ? m->base->mesh_size : 0;
+  if (m->source_is_mesh) return DTM_OK;
+  return number(c, "3Mesh/0size", "mesh size (0: the geometry's)", "m", &pn->mesh_size);
+}
+
+static int save_options(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  ol_param p;
+  char name[256], def[4096];
+  DTM_CHECK(toggle(c, "5Scene/0save", "save the panel as a scene after the run", &pn->save_scene));
+  path(name, sizeof name, c, "5Scene/1file");
+  const char *dot = strrchr(m->model, '.');
+  snprintf(def, sizeof def, "%.*s.xml", dot ? (int)(dot - m->model) : (int)strlen(m->model), m->model);
+  dtm_ol_string(&p, name, m->scene[0] ? m->scene : def, "scene file");
+  snprintf(p.kind, sizeof p.kind, "file");
+  DTM_CHECK(dtm_ol_define(c, &p));
+  snprintf(pn->scene_out, sizeof pn->scene_out, "%s", p.svalue);
+  return DTM_OK;
+}
+
+/* Properties every switched-on effect needs. */
+static unsigned needed(const ol_panel *pn) {
+  unsigned needs = 0;
+  for (int k = 0; k < OL_NEFFECTS; k++) {
+    const dtm_effect_class *cl = NULL;
+    if (pn->effect_on[k] && dtm_registry_find(dtm_ol_effect_names[k], &cl) == DTM_OK) needs |= cl->needs;
+  }
+  if (pn->effect_on[0] && strcmp(formulations[pn->formulation], "bar")) needs |= DTM_PROP_BIT(DTM_PROP_NU);
+  if (pn->effect_on[4]) needs |= DTM_PROP_BIT(DTM_PROP_FRACTURE_ENERGY) | DTM_PROP_BIT(DTM_PROP_STRENGTH);
+  return needs & ~(DTM_PROP_BIT(DTM_PROP_XI) | DTM_PROP_BIT(DTM_PROP_ALPHA) | DTM_PROP_BIT(DTM_PROP_BETA));
+}
+
+/* The scene's material for group reference ref (or its default one). */
+static const dtm_scene_material *scene_material(const dtm_scene *s, const char *ref) {
+  const dtm_scene_material *def = NULL;
+  for (int i = 0; s && i < s->nmaterials; i++) {
+    const dtm_scene_material *sm = &s->materials[i];
+    for (int g = 0; g < sm->ngroups; g++)
+      if (!strcmp(sm->groups[g], ref)) return sm;
+    if (sm->is_default) def = sm;
+  }
+  return def;
+}
+
+static void group_ref(const dtm_group *g, char *ref, size_t n) {
+  if (g->name && g->name[0])
+    snprintf(ref, n, "%s", g->name);
+  else
+    snprintf(ref, n, "%d", g->tag);
+}
+
+static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib) {
+  for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = NAN;
+  if (g->choice >= 1 && g->choice <= nlib)
+    for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = dtm_ol_materials[g->choice - 1].prop[p];
+  if (g->choice == nlib + 1 && sm)
+    for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = (sm->m.have & DTM_PROP_BIT(p)) ? sm->m.prop[p] : NAN;
+}
+
+/* The material menu of one group; g->choice receives the choice in force. */
+static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *sm, ol_group *g) {
+  int nlib = dtm_ol_material_count();
+  char name[512], label[64];
+  ol_param p;
+  snprintf(name, sizeof name, "%s/0material", dir);
+  dtm_ol_number(&p, name, sm ? nlib + 1 : 1, "material");
+  dtm_ol_choice(&p, 0, "custom");
+  for (int i = 0; i < nlib; i++) dtm_ol_choice(&p, i + 1, dtm_ol_materials[i].name);
+  if (sm) snprintf(label, sizeof label, "%s (scene)", sm->m.name), dtm_ol_choice(&p, nlib + 1, label);
+  DTM_CHECK(dtm_ol_define(c, &p));
+  g->choice = (int)p.value;
+  if (g->choice < 0 || g->choice > nlib + (sm ? 1 : 0)) g->choice = sm ? nlib + 1 : 1;
+  snprintf(g->scene_name, sizeof g->scene_name, "%s", sm ? sm->m.name : "");
+  return DTM_OK;
+}
+
+static const char *prop_units(int p) {
+  static const char *const u[DTM_PROP_COUNT] = {"Pa", "", "kg/m^3", "W/(m K)", "J/(kg K)", "m^2", "Pa s",
+                                                "1/Pa", "J/m^2", "Pa", "", "1/s", "s"};
+  return u[p];
+}
+
+/* One property field: read-only with the material's value, or editable for
+ * a custom material (then the user's value stays in force). */
+static int property(ol_conn *c, const char *dir, int p, ol_group *g) {
+  char name[512];
+  ol_param q;
+  snprintf(name, sizeof name, "%s/%d%s", dir, p + 1, dtm_prop_name(p));
+  dtm_ol_number(&q, name, isfinite(g->prop[p]) ? g->prop[p] : 0, dtm_prop_name(p));
+  if (prop_units(p)[0]) dtm_ol_attr(&q, "Units", prop_units(p));
+  if (g->choice != 0) {
+    if (!isfinite(g->prop[p])) return DTM_OK; /* the run names what is missing */
+    q.read_only = 1;
+    return dtm_ol_set(c, &q);
+  }
+  DTM_CHECK(dtm_ol_define(c, &q));
+  g->prop[p] = q.value;
+  return DTM_OK;
+}
+
+static int group_panel(ol_conn *c, const ol_model *m, unsigned needs, ol_group *g) {
+  char dir[512], clean[128];
+  snprintf(clean, sizeof clean, "%s", g->ref[0] ? g->ref : "elements in no group");
+  for (char *s = clean; *s; s++)
+    if (*s == '/') *s = '_';
+  snprintf(dir, sizeof dir, "%s/4Materials/%s", c->name, clean);
+  const dtm_scene_material *sm = scene_material(m->base, g->ref);
+  DTM_CHECK(material_menu(c, dir, sm, g));
+  fill_values(g, sm, dtm_ol_material_count());
+  for (int p = 0; p < DTM_PROP_COUNT; p++)
+    if (needs & DTM_PROP_BIT(p)) DTM_CHECK(property(c, dir, p, g));
+  return DTM_OK;
+}
+
+static int materials(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  pn->ngroups = m->ngroups ? m->ngroups : 1;
+  pn->groups = calloc((size_t)pn->ngroups, sizeof *pn->groups);
+  if (!pn->groups) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < m->ngroups; i++) group_ref(&m->groups[i], pn->groups[i].ref, sizeof pn->groups[i].ref);
+  unsigned needs = needed(pn);
+  for (int i = 0; i < pn->ngroups; i++) DTM_CHECK(group_panel(c, m, needs, &pn->groups[i]));
+  return DTM_OK;
+}
+
+static int source(ol_conn *c, const ol_model *m) {
+  ol_param p;
+  char name[256];
+  path(name, sizeof name, c, "0Scene");
+  dtm_ol_string(&p, name, m->scene[0] ? m->scene : "(none beside the model: defaults)", "starts from scene");
+  p.read_only = 1;
+  return dtm_ol_set(c, &p);
+}
+
+int dtm_ol_panel_declare(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  memset(pn, 0, sizeof *pn);
+  DTM_CHECK(source(c, m));
+  DTM_CHECK(effects(c, m, pn));
+  DTM_CHECK(times(c, m, pn));
+  DTM_CHECK(meshing(c, m, pn));
+  DTM_CHECK(materials(c, m, pn));
+  return save_options(c, m, pn);
+}
+
+void dtm_ol_panel_free(ol_panel *pn) {
+  free(pn->groups);
+  pn->groups = NULL;
+  pn->ngroups = 0;
+}

@@ -1,0 +1,154 @@
+/* The scene the panel describes, written as scene XML: the source (the
+ * model, or the base scene's), its meshing options with the panel's size,
+ * one <material> per distinct material chosen for the groups, the effects in
+ * the base scene's order (with the panel's switches, formulation and damping
+ * ratio) followed by the switched-on effects it lacks, and the time options.
+ * dtmap reads it back with dtm_scene_load_memory, so the panel and a scene
+ * file go through the same checks; "save as scene" writes the same text. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "onelab-impl.h"
+
+static void esc(FILE *f, const char *s) {
+  for (; *s; s++) {
+    if (*s == '&')
+      fputs("&amp;", f);
+    else if (*s == '<')
+      fputs("&lt;", f);
+    else if (*s == '"')
+      fputs("&quot;", f);
+    else
+      fputc(*s, f);
+  }
+}
+
+static void attr(FILE *f, const char *key, const char *value) {
+  fprintf(f, " %s=\"", key);
+  esc(f, value);
+  fputc('"', f);
+}
+
+static void attr_num(FILE *f, const char *key, double v) { fprintf(f, " %s=\"%.17g\"", key, v); }
+
+static void source(FILE *f, const ol_model *m, const ol_panel *pn) {
+  fprintf(f, "  <%s", m->source_is_mesh ? "mesh" : "geometry");
+  attr(f, "file", m->source);
+  fprintf(f, "/>\n  <meshing");
+  const dtm_scene *b = m->base;
+  if (!m->source_is_mesh && pn->mesh_size > 0) attr_num(f, "size", pn->mesh_size);
+  if (!m->source_is_mesh && b && b->mesh_min_size > 0)
+    attr_num(f, "min-size", pn->mesh_size > 0 ? fmin(b->mesh_min_size, pn->mesh_size) : b->mesh_min_size);
+  if (b && b->mesh_order > 1) fprintf(f, " order=\"%d\"", b->mesh_order);
+  fprintf(f, " dim=\"%d\"/>\n", m->dim);
+}
+
+/* The material name group g gets in the generated scene. */
+static void material_name(const ol_group *g, int nlib, char *out, size_t n) {
+  if (g->choice == 0)
+    snprintf(out, n, "custom %s", g->ref[0] ? g->ref : "default");
+  else if (g->choice <= nlib)
+    snprintf(out, n, "%s (library)", dtm_ol_materials[g->choice - 1].name);
+  else
+    snprintf(out, n, "%s", g->scene_name);
+}
+
+static void material(FILE *f, const ol_panel *pn, int i, int nlib) {
+  char name[160], other[160];
+  material_name(&pn->groups[i], nlib, name, sizeof name);
+  for (int j = 0; j < i; j++) {
+    material_name(&pn->groups[j], nlib, other, sizeof other);
+    if (!strcmp(name, other)) return; /* written with the first group that has it */
+  }
+  fprintf(f, "  <material");
+  attr(f, "name", name);
+  if (!pn->groups[i].ref[0]) fprintf(f, " default=\"true\"");
+  if (pn->groups[i].ref[0]) {
+    fprintf(f, " groups=\"");
+    for (int j = i, first = 1; j < pn->ngroups; j++) {
+      material_name(&pn->groups[j], nlib, other, sizeof other);
+      if (!strcmp(name, other) && pn->groups[j].ref[0]) fprintf(f, "%s", first ? "" : " "), esc(f, pn->groups[j].ref), first = 0;
+    }
+    fputc('"', f);
+  }
+  for (int p = 0; p < DTM_PROP_COUNT; p++)
+    if (isfinite(pn->groups[i].prop[p])) attr_num(f, dtm_prop_name(p), pn->groups[i].prop[p]);
+  fprintf(f, "/>\n");
+}
+
+static int builtin_index(const char *name) {
+  for (int k = 0; k < OL_NEFFECTS; k++)
+    if (!strcmp(name, dtm_ol_effect_names[k])) return k;
+  return -1;
+}
+
+static const char *const formulations[] = {"3d", "plane-strain", "plane-stress", "bar"};
+
+/* A built-in effect k with the base scene's attributes e (or none). */
+static void builtin(FILE *f, const ol_model *m, const ol_panel *pn, int k, const dtm_scene_effect *e) {
+  int rayleigh = e && (dtm_scene_effect_attr(e, "alpha") || dtm_scene_effect_attr(e, "beta"));
+  fprintf(f, "    <%s", dtm_ol_effect_names[k]);
+  for (int i = 0; e && i < e->nattr; i++)
+    if (!(k == 0 && !strcmp(e->keys[i], "formulation")) && !(k == 1 && !strcmp(e->keys[i], "xi")))
+      attr(f, e->keys[i], e->values[i]);
+  if (k == 0) attr(f, "formulation", formulations[pn->formulation]);
+  if (k == 1 && !rayleigh) attr_num(f, "xi", pn->xi);
+  if (k == 4 && !e) {
+    fprintf(f, " groups=\"");
+    for (int i = 0; i < pn->ngroups; i++) esc(f, pn->groups[i].ref), fputs(i + 1 < pn->ngroups ? " " : "", f);
+    fputc('"', f);
+  }
+  fprintf(f, "/>\n");
+  (void)m;
+}
+
+static void external(FILE *f, const dtm_scene_effect *e) {
+  fprintf(f, "    <effect");
+  for (int i = 0; i < e->nattr; i++) attr(f, e->keys[i], !strcmp(e->keys[i], "library") ? e->library : e->values[i]);
+  fprintf(f, "/>\n");
+}
+
+static void effects(FILE *f, const ol_model *m, const ol_panel *pn) {
+  int written[OL_NEFFECTS] = {0};
+  fprintf(f, "  <effects>\n");
+  for (int i = 0; m->base && i < m->base->neffects; i++) {
+    const dtm_scene_effect *e = &m->base->effects[i];
+    int k = e->library ? -1 : builtin_index(e->name);
+    if (k < 0)
+      external(f, e);
+    else if (pn->effect_on[k] && !written[k])
+      builtin(f, m, pn, k, e), written[k] = 1;
+  }
+  for (int k = 0; k < OL_NEFFECTS; k++)
+    if (pn->effect_on[k] && !written[k]) builtin(f, m, pn, k, NULL);
+  fprintf(f, "  </effects>\n");
+}
+
+static void times(FILE *f, const ol_model *m, const ol_panel *pn) {
+  fprintf(f, "  <time");
+  attr_num(f, "safety", pn->safety);
+  if (pn->target > 0) attr_num(f, "target", pn->target);
+  if (pn->duration > 0) attr_num(f, "duration", pn->duration);
+  if (m->base && m->base->f_max > 0) attr_num(f, "f-max", m->base->f_max);
+  if (m->base && m->base->f_max > 0) attr_num(f, "elements-per-wavelength", m->base->elements_per_wavelength);
+  fprintf(f, "/>\n");
+}
+
+int dtm_ol_scene_text(const ol_model *m, const ol_panel *pn, char **xml) {
+  size_t len;
+  FILE *f = open_memstream(xml, &len);
+  if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int nlib = dtm_ol_material_count();
+  fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+  fprintf(f, "<!-- Written by dtmap from Gmsh's ONELAB panel. -->\n<dtmap-scene version=\"1\">\n");
+  source(f, m, pn);
+  for (int i = 0; i < pn->ngroups; i++) material(f, pn, i, nlib);
+  effects(f, m, pn);
+  times(f, m, pn);
+  fprintf(f, "</dtmap-scene>\n");
+  if (fclose(f)) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
