@@ -32,8 +32,10 @@ static int setup(void **state) {
   snprintf(plain, sizeof plain, "%s/plain.msh", dir);
   snprintf(report, sizeof report, "%s/plain.json", dir);
   char *out = NULL;
-  int r = tu_run(&out, "mkdir -p %s && cp %s/geometries/box.geo %s/geometries/box.xml %s/ && %s run %s/box.xml -q -o %s --report %s", dir,
-                 tu_src(), tu_src(), dir, tu_cli(), dir, plain, report);
+  int r = tu_run(
+      &out,
+      "mkdir -p %s && cp %s/geometries/box.geo %s/geometries/box.xml %s/ && %s run %s/box.xml -q -o %s --report %s",
+      dir, tu_src(), tu_src(), dir, tu_cli(), dir, plain, report);
   if (r) fprintf(stderr, "%s\n", out ? out : "");
   free(out);
   return r;

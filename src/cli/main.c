@@ -25,8 +25,8 @@
   }
 
 #define PICTURE_OPTIONS                                                                                                \
-  {"--width", CLI_INT, OPT(width), 0, 64, 3800, "W", "picture width, pixels (default 1024)"}, {                      \
-    "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                       \
+  {"--width", CLI_INT, OPT(width), 0, 64, 3800, "W", "picture width, pixels (default 1024)"}, {                        \
+    "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                         \
   }
 
 static const cli_option run_options[] = {

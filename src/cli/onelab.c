@@ -10,7 +10,8 @@
 #include "onelab.h"
 
 static int onelab_usage(const char *what, const char *arg) {
-  fprintf(stderr, "dtmap -onelab: %s%s\nusage: dtmap [run] [SCENE.xml] [-v|-q] [-j N] -onelab NAME ADDRESS\n", what, arg);
+  fprintf(stderr, "dtmap -onelab: %s%s\nusage: dtmap [run] [SCENE.xml] [-v|-q] [-j N] -onelab NAME ADDRESS\n", what,
+          arg);
   return 2;
 }
 

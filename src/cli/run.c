@@ -86,7 +86,8 @@ static int run_scene(const cli_opts *o, int verify) {
     r = analyse(s, o, dtm_wtime() - t0, verify);
   }
   char def[4096];
-  if (r == DTM_OK && o->png) r = dtm_cli_pictures(output_path(s, o, def, sizeof def), o->png, o->width, o->height, o->verbosity);
+  if (r == DTM_OK && o->png)
+    r = dtm_cli_pictures(output_path(s, o, def, sizeof def), o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }

@@ -6,16 +6,17 @@
  * map alone. */
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/util.h"
 
 typedef struct {
-  const char *msh;       /* the result */
+  const char *msh;          /* the result */
   char worst[DTM_PATH_MAX]; /* PREFIX_worst.png */
   char dt[DTM_PATH_MAX];    /* PREFIX_dt.png */
-  int width, height;     /* pixels */
+  int width, height;        /* pixels */
 } pictures;
 
 static int draw(void *arg) {
@@ -38,6 +39,7 @@ int dtm_cli_snapshot(const cli_opts *o) {
   size_t n = strlen(o->scene);
   if (n < 5 || strcmp(o->scene + n - 4, ".msh"))
     return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: not a .msh result of dtmap run", o->scene), o->verbosity);
+  if (access(o->scene, R_OK)) return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: cannot read it", o->scene), o->verbosity);
   snprintf(prefix, sizeof prefix, "%.*s", (int)(n - 4), o->scene);
   int r = dtm_cli_pictures(o->scene, o->png ? o->png : prefix, o->width, o->height, o->verbosity);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;

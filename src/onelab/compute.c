@@ -47,7 +47,8 @@ static int send_summary(ol_conn *c, const dtm_results *res) {
   dtm_summary_print(res, f);
   fclose(f);
   int r = DTM_OK;
-  for (char *line = strtok(text, "\n"); line && r == DTM_OK; line = strtok(NULL, "\n")) r = dtm_ol_send_text(c, OL_INFO, line);
+  for (char *line = strtok(text, "\n"); line && r == DTM_OK; line = strtok(NULL, "\n"))
+    r = dtm_ol_send_text(c, OL_INFO, line);
   free(text);
   return r;
 }
@@ -113,7 +114,8 @@ static int hand_over(ol_conn *c, const ol_model *m, const char *out) {
 }
 
 static int analyse(ol_conn *c, const dtm_scene *s, int posterior, dtm_analysis **a, dtm_cost **cost) {
-  DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS, s->mesh ? "reading the mesh and computing steps" : "meshing and computing steps"));
+  DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS,
+                             s->mesh ? "reading the mesh and computing steps" : "meshing and computing steps"));
   DTM_CHECK(dtm_analysis_run(s, a));
   if (posterior) {
     DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS, "global estimate (Lanczos)"));

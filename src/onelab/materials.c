@@ -10,7 +10,8 @@
  * (J/(kg K)), permeability (m^2), viscosity (Pa s), storage (1/Pa), fracture
  * energy (J/m^2), strength (Pa); damping (xi, alpha, beta) is the damping
  * effect's, not a material's. */
-#define ROW(e, nu, rho, k, cp, perm, visc, stor, gc, ft) {e, nu, rho, k, cp, perm, visc, stor, gc, ft, NAN, NAN, NAN}
+#define ROW(e, nu, rho, k, cp, perm, visc, stor, gc, ft)                                                               \
+  { e, nu, rho, k, cp, perm, visc, stor, gc, ft, NAN, NAN, NAN }
 
 const ol_material dtm_ol_materials[] = {
     {"steel", ROW(210e9, 0.30, 7850, 53.3, 440, NAN, NAN, NAN, NAN, NAN),

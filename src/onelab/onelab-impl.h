@@ -54,22 +54,22 @@ int dtm_ol_recv(ol_conn *c, int *type, char **body, size_t *len);
 
 /* A ONELAB parameter, number or string, with the fields dtmap uses. */
 typedef struct {
-  int is_string;                       /* 1: string parameter; 0: number */
-  char name[256];                      /* "dtmap/1Time/safety" */
-  char label[128];                     /* shown instead of the name's last part, or "" */
-  char help[256];                      /* tooltip, or "" */
-  int visible, read_only;              /* flags */
-  int never_changed;                   /* 1: changing it does not mark the client as changed */
-  int nattrs;                          /* attributes in use */
-  char attr_key[OL_MAX_ATTRS][24];     /* "Highlight", "Units", ... */
-  char attr_val[OL_MAX_ATTRS][64];     /* their values */
-  double value;                        /* number: the value */
-  double min, max, step;               /* number: slider range (+-1e200 when unbounded) */
-  int nchoices;                        /* choices of a number (with labels) or a string */
-  double choice[OL_MAX_CHOICES];       /* number choices */
+  int is_string;                         /* 1: string parameter; 0: number */
+  char name[256];                        /* "dtmap/1Time/safety" */
+  char label[128];                       /* shown instead of the name's last part, or "" */
+  char help[256];                        /* tooltip, or "" */
+  int visible, read_only;                /* flags */
+  int never_changed;                     /* 1: changing it does not mark the client as changed */
+  int nattrs;                            /* attributes in use */
+  char attr_key[OL_MAX_ATTRS][24];       /* "Highlight", "Units", ... */
+  char attr_val[OL_MAX_ATTRS][64];       /* their values */
+  double value;                          /* number: the value */
+  double min, max, step;                 /* number: slider range (+-1e200 when unbounded) */
+  int nchoices;                          /* choices of a number (with labels) or a string */
+  double choice[OL_MAX_CHOICES];         /* number choices */
   char choice_label[OL_MAX_CHOICES][64]; /* label of each number choice, or the string choices */
-  char svalue[4096];                   /* string: the value */
-  char kind[16];                       /* string: "generic" or "file" */
+  char svalue[4096];                     /* string: the value */
+  char kind[16];                         /* string: "generic" or "file" */
 } ol_param;
 
 /* A number (string) parameter with defaults: visible, unbounded, no choices. */
@@ -141,14 +141,14 @@ typedef struct {
 
 /* Everything the client knows about the model it works on. */
 typedef struct {
-  char model[4096];     /* the file open in Gmsh (General.FileName) */
-  char scene[4096];     /* MODEL.xml beside it (or given), or "" */
-  dtm_scene *base;      /* that scene, or NULL */
-  const char *source;   /* the geometry or mesh to analyse (model or the scene's) */
-  int source_is_mesh;   /* source is a .msh */
-  int dim;              /* dimension analysed */
-  int ngroups;          /* physical groups of that dimension */
-  dtm_group *groups;    /* [ngroups] (owned) */
+  char model[4096];   /* the file open in Gmsh (General.FileName) */
+  char scene[4096];   /* MODEL.xml beside it (or given), or "" */
+  dtm_scene *base;    /* that scene, or NULL */
+  const char *source; /* the geometry or mesh to analyse (model or the scene's) */
+  int source_is_mesh; /* source is a .msh */
+  int dim;            /* dimension analysed */
+  int ngroups;        /* physical groups of that dimension */
+  dtm_group *groups;  /* [ngroups] (owned) */
 } ol_model;
 
 /* Declare the panel under "NAME/" from the model and its base scene, read

@@ -170,8 +170,8 @@ static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *
 }
 
 static const char *prop_units(int p) {
-  static const char *const u[DTM_PROP_COUNT] = {"Pa", "", "kg/m^3", "W/(m K)", "J/(kg K)", "m^2", "Pa s",
-                                                "1/Pa", "J/m^2", "Pa", "", "1/s", "s"};
+  static const char *const u[DTM_PROP_COUNT] = {"Pa",   "",      "kg/m^3", "W/(m K)", "J/(kg K)", "m^2", "Pa s",
+                                                "1/Pa", "J/m^2", "Pa",     "",        "1/s",      "s"};
   return u[p];
 }
 

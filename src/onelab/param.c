@@ -52,10 +52,10 @@ void dtm_ol_choice(ol_param *p, double value, const char *label) {
 
 /* A growing text buffer; fields are appended with their NUL separator. */
 typedef struct {
-  char *s;     /* the bytes */
-  size_t n;    /* bytes used */
-  size_t cap;  /* bytes allocated */
-  int failed;  /* an allocation failed */
+  char *s;    /* the bytes */
+  size_t n;   /* bytes used */
+  size_t cap; /* bytes allocated */
+  int failed; /* an allocation failed */
 } ol_buf;
 
 static void put(ol_buf *b, const char *field) {
@@ -193,7 +193,8 @@ static void read_string(ol_reader *r, ol_param *p) {
 int dtm_ol_decode(const char *msg, size_t len, ol_param *p) {
   ol_reader r = {msg, len, 0, 0};
   const char *version = next(&r);
-  if (strcmp(version, "1.3")) return DTM_ERR(DTM_ERR_INPUT, "ONELAB: protocol version '%s' (dtmap speaks 1.3)", version);
+  if (strcmp(version, "1.3"))
+    return DTM_ERR(DTM_ERR_INPUT, "ONELAB: protocol version '%s' (dtmap speaks 1.3)", version);
   const char *type = next(&r);
   int is_string = !strcmp(type, "string");
   if (!is_string && strcmp(type, "number")) return DTM_ERR(DTM_ERR_INPUT, "ONELAB: unknown parameter type '%s'", type);

@@ -70,7 +70,8 @@ static void material(FILE *f, const ol_panel *pn, int i, int nlib) {
     fprintf(f, " groups=\"");
     for (int j = i, first = 1; j < pn->ngroups; j++) {
       material_name(&pn->groups[j], nlib, other, sizeof other);
-      if (!strcmp(name, other) && pn->groups[j].ref[0]) fprintf(f, "%s", first ? "" : " "), esc(f, pn->groups[j].ref), first = 0;
+      if (!strcmp(name, other) && pn->groups[j].ref[0])
+        fprintf(f, "%s", first ? "" : " "), esc(f, pn->groups[j].ref), first = 0;
     }
     fputc('"', f);
   }

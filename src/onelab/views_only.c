@@ -22,7 +22,8 @@ static int read_file(const char *path, char **buf, size_t *len) {
   *buf = malloc((size_t)(n > 0 ? n : 0) + 1);
   size_t got = *buf ? fread(*buf, 1, (size_t)(n > 0 ? n : 0), f) : 0;
   fclose(f);
-  if (!*buf || n < 0 || got != (size_t)n) return free(*buf), *buf = NULL, DTM_ERR(DTM_ERR_INPUT, "%s: cannot read it", path);
+  if (!*buf || n < 0 || got != (size_t)n)
+    return free(*buf), *buf = NULL, DTM_ERR(DTM_ERR_INPUT, "%s: cannot read it", path);
   (*buf)[n] = '\0';
   *len = (size_t)n;
   return DTM_OK;

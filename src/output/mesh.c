@@ -166,7 +166,8 @@ static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
   double target = dtm_analysis_scene(a)->target;
   vs->below_at = target > 0 ? target : quantile_1pc(dt, nel, vs->bvals);
   for (size_t i = 0; i < nel; i++)
-    if (dt[i] < vs->below_at || (target <= 0 && dt[i] == vs->below_at)) vs->btags[n] = vs->etags[i], vs->bvals[n++] = dt[i];
+    if (dt[i] < vs->below_at || (target <= 0 && dt[i] == vs->below_at))
+      vs->btags[n] = vs->etags[i], vs->bvals[n++] = dt[i];
   if (!n) return;
   memmove(vs->views + 1, vs->views, (size_t)*k * sizeof *vs->views);
   vs->views[0] = (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n};
@@ -188,7 +189,9 @@ static const char *unit_of(const char *name) {
   return "";
 }
 
-static int is_below(const char *name) { return !strcmp(name, DTM_VIEW_BELOW_TARGET) || !strcmp(name, DTM_VIEW_SMALLEST); }
+static int is_below(const char *name) {
+  return !strcmp(name, DTM_VIEW_BELOW_TARGET) || !strcmp(name, DTM_VIEW_SMALLEST);
+}
 
 static void style_view(FILE *f, int i, const char *name, int dim) {
   const char *u = unit_of(name);
@@ -201,8 +204,10 @@ static void style_view(FILE *f, int i, const char *name, int dim) {
   int visible = primary || (below && dim == 3);
   fprintf(f, "View[dtmap_v0 + %d].Visible = %d;\n", i, visible);
   if (primary && dim == 3)
-    fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 0.2; View[dtmap_v0 + %d].DrawSkinOnly = 1; "
-               "View[dtmap_v0 + %d].ShowScale = 0; // a faint skin over the worst elements\n", i, i, i);
+    fprintf(f,
+            "View[dtmap_v0 + %d].ColormapAlpha = 0.2; View[dtmap_v0 + %d].DrawSkinOnly = 1; "
+            "View[dtmap_v0 + %d].ShowScale = 0; // a faint skin over the worst elements\n",
+            i, i, i);
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
@@ -212,7 +217,8 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t
   size_t e = 0;
   double dmin = dtm_analysis_dt_min(a, &e);
   char group[160], buf[32];
-  snprintf(group, sizeof group, "%s", dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
+  snprintf(group, sizeof group, "%s",
+           dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
   for (char *c = group; *c; c++)
     if (*c == '"') *c = '\'';
   fprintf(f, "View \"dtmap\" {\n  T2(10, 15, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
@@ -223,8 +229,8 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t
     fprintf(f, "  T2(10, 55, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, nbelow,
             dtm_analysis_nelements(a), DTM_VIEW_BELOW_TARGET);
   else
-    fprintf(f, "  T2(10, 55, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n",
-            vs->below_at, DTM_VIEW_SMALLEST);
+    fprintf(f, "  T2(10, 55, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n", vs->below_at,
+            DTM_VIEW_SMALLEST);
 }
 
 /* Options Gmsh merges when it opens or merges X.msh. Views are addressed
@@ -244,7 +250,10 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
   DTM_CHECK(dtm_atomic_open(&w, opt, "", 1));
   FILE *f = w.f;
   fprintf(f, "// Written by dtmap: styles the %d views of %s, counted back from the last view loaded.\n", nviews, path);
-  fprintf(f, "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n", nviews);
+  fprintf(
+      f,
+      "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n",
+      nviews);
   for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, dim);
   annotation(f, r, vs, nbelow);
   fprintf(f, "View[PostProcessing.NbViews - 1].Visible = 1;\n");
