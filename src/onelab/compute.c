@@ -18,12 +18,19 @@
 #include "dtmap/util.h"
 #include "onelab-impl.h"
 
+/* The scene file (or the model) without its extension: *len characters. */
+static const char *stem(const ol_model *m, int *len) {
+  const char *base = m->scene[0] ? m->scene : m->model;
+  const char *dot = strrchr(base, '.'), *slash = strrchr(base, '/');
+  *len = dot && (!slash || dot > slash) ? (int)(dot - base) : (int)strlen(base);
+  return base;
+}
+
 /* The scene name the panel's scene is read under: messages then name the
  * model's scene, and relative paths resolve beside the model. */
 static void panel_name(const ol_model *m, char *out, size_t n) {
-  const char *base = m->scene[0] ? m->scene : m->model;
-  const char *dot = strrchr(base, '.'), *slash = strrchr(base, '/');
-  int len = dot && (!slash || dot > slash) ? (int)(dot - base) : (int)strlen(base);
+  int len;
+  const char *base = stem(m, &len);
   snprintf(out, n, "%.*s.xml (dtmap panel)", len, base);
 }
 
@@ -32,9 +39,8 @@ static void default_output(const ol_model *m, char *out, size_t n) {
     snprintf(out, n, "%s", m->base->out_mesh);
     return;
   }
-  const char *base = m->scene[0] ? m->scene : m->model;
-  const char *dot = strrchr(base, '.'), *slash = strrchr(base, '/');
-  int len = dot && (!slash || dot > slash) ? (int)(dot - base) : (int)strlen(base);
+  int len;
+  const char *base = stem(m, &len);
   snprintf(out, n, "%.*s_dt.msh", len, base);
 }
 

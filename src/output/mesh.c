@@ -221,15 +221,15 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t
            dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
   for (char *c = group; *c; c++)
     if (*c == '"') *c = '\'';
-  fprintf(f, "View \"dtmap\" {\n  T2(10, 15, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
+  fprintf(f, "View \"dtmap\" {\n  T2(10, 22, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
           dtm_analysis_recommended(a), s->safety, dtm_analysis_basis(a));
-  fprintf(f, "  T2(10, 35, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n", dmin,
+  fprintf(f, "  T2(10, 42, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n", dmin,
           dtm_analysis_tag(a, e), group);
   if (s->target > 0)
-    fprintf(f, "  T2(10, 55, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, nbelow,
+    fprintf(f, "  T2(10, 62, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, nbelow,
             dtm_analysis_nelements(a), DTM_VIEW_BELOW_TARGET);
   else
-    fprintf(f, "  T2(10, 55, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n", vs->below_at,
+    fprintf(f, "  T2(10, 62, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n", vs->below_at,
             DTM_VIEW_SMALLEST);
 }
 
