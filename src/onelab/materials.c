@@ -11,7 +11,13 @@
  * energy (J/m^2), strength (Pa); damping (xi, alpha, beta) is the damping
  * effect's, not a material's. */
 #define ROW(e, nu, rho, k, cp, perm, visc, stor, gc, ft)                                                               \
-  { e, nu, rho, k, cp, perm, visc, stor, gc, ft, NAN, NAN, NAN }
+  { e, nu, rho, k, cp, perm, visc, stor, gc, ft }
+
+const char *const dtm_ol_prop_names[OL_NPROPS] = {
+    "E",       "nu", "rho", "conductivity", "heat-capacity", "permeability", "viscosity", "storage", "fracture-energy",
+    "strength"};
+const char *const dtm_ol_prop_units[OL_NPROPS] = {"Pa",  "",     "kg/m^3", "W/(m K)", "J/(kg K)",
+                                                  "m^2", "Pa s", "1/Pa",   "J/m^2",   "Pa"};
 
 const ol_material dtm_ol_materials[] = {
     {"steel", ROW(210e9, 0.30, 7850, 53.3, 440, NAN, NAN, NAN, NAN, NAN),

@@ -98,11 +98,17 @@ int dtm_ol_define(ol_conn *c, ol_param *p);
  * round trip). */
 int dtm_ol_sync(ol_conn *c);
 
+/* The material properties the panel offers (attribute names of
+ * <material>), with their SI units. */
+#define OL_NPROPS 10
+extern const char *const dtm_ol_prop_names[OL_NPROPS];
+extern const char *const dtm_ol_prop_units[OL_NPROPS];
+
 /* One material of the built-in library. */
 typedef struct {
-  const char *name;            /* "granite" */
-  double prop[DTM_PROP_COUNT]; /* SI values; NaN where the library has none */
-  const char *source;          /* where the values come from (docs/materials.md) */
+  const char *name;       /* "granite" */
+  double prop[OL_NPROPS]; /* SI values; NaN where the library has none */
+  const char *source;     /* where the values come from (docs/materials.md) */
 } ol_material;
 
 /* The library, terminated by a NULL name. */
@@ -117,10 +123,10 @@ extern const char *const dtm_ol_effect_names[OL_NEFFECTS];
 
 /* The material choice of one physical group. */
 typedef struct {
-  char ref[128];               /* the group as a scene names it (name, or number) */
-  int choice;                  /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
-  char scene_name[128];        /* the scene's material for this group, or "" */
-  double prop[DTM_PROP_COUNT]; /* the values in force (NaN: not given) */
+  char ref[128];          /* the group as a scene names it (name, or number) */
+  int choice;             /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
+  char scene_name[128];   /* the scene's material for this group, or "" */
+  double prop[OL_NPROPS]; /* the values in force (NaN: not given) */
 } ol_group;
 
 /* What the panel holds, read back from the server. */

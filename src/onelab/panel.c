@@ -113,16 +113,22 @@ static int save_options(ol_conn *c, const ol_model *m, ol_panel *pn) {
   return DTM_OK;
 }
 
-/* Properties every switched-on effect needs. */
+static int prop_index(const char *name) {
+  for (int p = 0; p < OL_NPROPS; p++)
+    if (!strcmp(name, dtm_ol_prop_names[p])) return p;
+  return -1;
+}
+
+/* Properties (bit p: dtm_ol_prop_names[p]) the switched-on effects read. */
 static unsigned needed(const ol_panel *pn) {
   unsigned needs = 0;
   for (int k = 0; k < OL_NEFFECTS; k++) {
     const dtm_effect_class *cl = NULL;
-    if (pn->effect_on[k] && dtm_registry_find(dtm_ol_effect_names[k], &cl) == DTM_OK) needs |= cl->needs;
+    if (!pn->effect_on[k] || dtm_registry_find(dtm_ol_effect_names[k], &cl) != DTM_OK) continue;
+    for (const dtm_property *q = cl->properties; q && q->name; q++)
+      if (prop_index(q->name) >= 0) needs |= 1u << prop_index(q->name);
   }
-  if (pn->effect_on[0] && strcmp(formulations[pn->formulation], "bar")) needs |= DTM_PROP_BIT(DTM_PROP_NU);
-  if (pn->effect_on[4]) needs |= DTM_PROP_BIT(DTM_PROP_FRACTURE_ENERGY) | DTM_PROP_BIT(DTM_PROP_STRENGTH);
-  return needs & ~(DTM_PROP_BIT(DTM_PROP_XI) | DTM_PROP_BIT(DTM_PROP_ALPHA) | DTM_PROP_BIT(DTM_PROP_BETA));
+  return needs;
 }
 
 /* The scene's material for group reference ref (or its default one). */
@@ -145,11 +151,11 @@ static void group_ref(const dtm_group *g, char *ref, size_t n) {
 }
 
 static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib) {
-  for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = NAN;
+  for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = NAN;
   if (g->choice >= 1 && g->choice <= nlib)
-    for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = dtm_ol_materials[g->choice - 1].prop[p];
+    for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_ol_materials[g->choice - 1].prop[p];
   if (g->choice == nlib + 1 && sm)
-    for (int p = 0; p < DTM_PROP_COUNT; p++) g->prop[p] = (sm->m.have & DTM_PROP_BIT(p)) ? sm->m.prop[p] : NAN;
+    for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_material_value(&sm->m, dtm_ol_prop_names[p]);
 }
 
 /* The material menu of one group; g->choice receives the choice in force. */
@@ -169,20 +175,14 @@ static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *
   return DTM_OK;
 }
 
-static const char *prop_units(int p) {
-  static const char *const u[DTM_PROP_COUNT] = {"Pa",   "",      "kg/m^3", "W/(m K)", "J/(kg K)", "m^2", "Pa s",
-                                                "1/Pa", "J/m^2", "Pa",     "",        "1/s",      "s"};
-  return u[p];
-}
-
 /* One property field: read-only with the material's value, or editable for
  * a custom material (then the user's value stays in force). */
 static int property(ol_conn *c, const char *dir, int p, ol_group *g) {
   char name[512];
   ol_param q;
-  snprintf(name, sizeof name, "%s/%d%s", dir, p + 1, dtm_prop_name(p));
-  dtm_ol_number(&q, name, isfinite(g->prop[p]) ? g->prop[p] : 0, dtm_prop_name(p));
-  if (prop_units(p)[0]) dtm_ol_attr(&q, "Units", prop_units(p));
+  snprintf(name, sizeof name, "%s/%d%s", dir, p + 1, dtm_ol_prop_names[p]);
+  dtm_ol_number(&q, name, isfinite(g->prop[p]) ? g->prop[p] : 0, dtm_ol_prop_names[p]);
+  if (dtm_ol_prop_units[p][0]) dtm_ol_attr(&q, "Units", dtm_ol_prop_units[p]);
   if (g->choice != 0) {
     if (!isfinite(g->prop[p])) return DTM_OK; /* the run names what is missing */
     q.read_only = 1;
@@ -202,8 +202,8 @@ static int group_panel(ol_conn *c, const ol_model *m, unsigned needs, ol_group *
   const dtm_scene_material *sm = scene_material(m->base, g->ref);
   DTM_CHECK(material_menu(c, dir, sm, g));
   fill_values(g, sm, dtm_ol_material_count());
-  for (int p = 0; p < DTM_PROP_COUNT; p++)
-    if (needs & DTM_PROP_BIT(p)) DTM_CHECK(property(c, dir, p, g));
+  for (int p = 0; p < OL_NPROPS; p++)
+    if (needs & (1u << p)) DTM_CHECK(property(c, dir, p, g));
   return DTM_OK;
 }
 

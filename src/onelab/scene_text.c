@@ -75,8 +75,8 @@ static void material(FILE *f, const ol_panel *pn, int i, int nlib) {
     }
     fputc('"', f);
   }
-  for (int p = 0; p < DTM_PROP_COUNT; p++)
-    if (isfinite(pn->groups[i].prop[p])) attr_num(f, dtm_prop_name(p), pn->groups[i].prop[p]);
+  for (int p = 0; p < OL_NPROPS; p++)
+    if (isfinite(pn->groups[i].prop[p])) attr_num(f, dtm_ol_prop_names[p], pn->groups[i].prop[p]);
   fprintf(f, "/>\n");
 }
 
