@@ -32,7 +32,11 @@ typedef struct {
   size_t node;          /* node index where the nodal bound occurs */
   double global;        /* its global (Lanczos) estimate, s (NaN if not computed) */
   double safe;          /* the step dtmap vouches for, s: global (safe side of the
-                           bracket) if converged, else nodal, else element */
+                           bracket) if converged and allowed as the basis, else
+                           nodal, else element */
+  double omega;         /* waves: undamped top angular frequency where the
+                           basis of this effect sits (its nodal-bound node, or
+                           its smallest element), rad/s; NaN otherwise */
 } dtm_effect_min;
 
 /* The global (Lanczos) estimate of one spectral effect. */
@@ -57,7 +61,43 @@ typedef struct {
   double dt_cap;         /* smallest recommended step allowed at h = hmax among
                             the conflicting elements, s (NaN: none) */
   size_t cap_element;    /* global index of that element */
+  double forced;         /* elements the accuracy bounds add to a mesh at the
+                            size suggestion (the clamp's share, estimated as
+                            sum_e (h_e/h_clamped)^d - (h_e/h_free)^d) */
+  int forced_by;         /* effect whose bound adds most of them (-1: none) */
 } dtm_accuracy;
+
+/* What makes an element below the target keep a small step at any size
+ * the geometry allows there (src/analysis/shape.c). */
+typedef enum {
+  DTM_FEATURE_FLAT_ANGLE = 1,  /* a near-flat angle (>= 150 deg) between model curves
+                                  (2D) or surfaces (3D) held by this one element */
+  DTM_FEATURE_SMALL_ANGLE = 2, /* a small angle (< 30 deg) between model curves or surfaces */
+  DTM_FEATURE_SHORT_CURVE = 3, /* a model curve shorter than the size the target needs */
+  DTM_FEATURE_THIN = 4         /* two boundaries that do not touch, closer than that size */
+} dtm_feature_kind;
+
+/* The cheapest remedy of a shape-limited element. */
+typedef enum {
+  DTM_REMEDY_SPLIT = 1,    /* local refinement that splits the angle */
+  DTM_REMEDY_OPTIMISE = 2, /* an optimiser pass (edge/face swaps) */
+  DTM_REMEDY_MASS = 3      /* mass scaling of its nodes (dtm_cost: shape_mass) */
+} dtm_remedy;
+
+typedef struct {
+  size_t element; /* global element index */
+  int feature;    /* dtm_feature_kind */
+  double angle;   /* the model's angle there, degrees (NaN for short and thin) */
+  int entity_dim; /* the model entity of the feature: 0 point, 1 curve */
+  int entity_tag; /* its Gmsh tag (thin: one of the two boundaries) */
+  double size;    /* the largest element size the feature allows, m */
+  double quality; /* element step / step of the well-shaped element of its size */
+  double reach;   /* the largest own safe step it can reach at that size, s
+                     (safety included): below the target */
+  int remedy;     /* dtm_remedy */
+  double split;   /* DTM_REMEDY_SPLIT: local size at the feature that splits the
+                     angle into well-shaped elements meeting the target, m */
+} dtm_shape_limited;
 
 /* Stages the analysis times, s. */
 enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_COUNT };
@@ -75,14 +115,18 @@ DTM_EXPORT int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effe
                                     dtm_analysis **out);
 DTM_EXPORT void dtm_analysis_destroy(dtm_analysis **a);
 
-/* The global estimate (--posterior) of every spectral effect: Lanczos on
- * the lumped-mass generalized problem to relative residual tol, at most
- * maxit products. A converged estimate enters the recommendation on its
- * safe side (theta + residual, then the safety factor); an unconverged one
- * is reported and the nodal bound stays the basis. want_modes: also build
- * each top Ritz vector (for dtm_verify; twice the products), with the true
- * residual; otherwise the residual is Paige's estimate. */
-DTM_EXPORT int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, int want_modes);
+/* The global estimate of every spectral effect: Lanczos on the
+ * lumped-mass generalized problem to relative residual tol, at most maxit
+ * products. With DTM_GLOBAL_BASIS (run --posterior) a converged estimate
+ * enters the recommendation on its safe side (theta + residual, then the
+ * safety factor); without it, and for an unconverged one, the estimate is
+ * reported and the recommendation keeps its basis (verify without
+ * --posterior checks exactly the step run reports). DTM_GLOBAL_MODES: also
+ * build each top Ritz vector (for dtm_verify; twice the products), with the
+ * true residual; otherwise the residual is Paige's estimate. */
+#define DTM_GLOBAL_MODES 1u
+#define DTM_GLOBAL_BASIS 2u
+DTM_EXPORT int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags);
 
 /* What was analysed. */
 DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
@@ -114,12 +158,32 @@ DTM_EXPORT const int *dtm_analysis_hmax_by(const dtm_analysis *a);
  * nothing; +inf where it does not apply), and its accuracy view's values
  * (NULL when k has none that applies; NaN where it does not apply). */
 DTM_EXPORT const double *dtm_analysis_effect_dt(const dtm_analysis *a, int k);
+/* The same before the damping factors (the row above where no damping
+ * applies; NULL when k limits nothing). */
+DTM_EXPORT const double *dtm_analysis_effect_dt_undamped(const dtm_analysis *a, int k);
 DTM_EXPORT const double *dtm_analysis_resolution(const dtm_analysis *a, int k);
+
+/* Per element [nelements]: its own safe step before the safety factor, s:
+ * for each limiting effect the larger of its element step (when that is a
+ * bound) and the smallest nodal bound at its nodes (spectral effects),
+ * then the smallest over the effects; +inf where no effect limits it. The
+ * subcycling levels and "below the target" use it. Per element for effect
+ * k: its own accuracy bound on the size, m (NULL when k has none; +inf
+ * where it does not apply). */
+DTM_EXPORT const double *dtm_analysis_local_step(const dtm_analysis *a);
+DTM_EXPORT const double *dtm_analysis_effect_hmax(const dtm_analysis *a, int k);
 
 /* Per node [nnodes]: the size suggestion (NaN at nodes of no analysed
  * element), the nodal-bound step (min over the spectral effects; +inf
  * where none), and that of spectral effect k (NULL otherwise). */
 DTM_EXPORT const double *dtm_analysis_size_suggestion(const dtm_analysis *a);
+/* The size suggestion with a calibration c on the size that reaches the
+ * target: at node a min(max(h_a, c need_a), hcap_a) (h_a the current size,
+ * need_a the size at which the node meets the target, hcap_a the accuracy
+ * bound). c = 1 gives dtm_analysis_size_suggestion, c = 0 the current
+ * size (clamped). size has nnodes entries (NaN at nodes of no analysed
+ * element). */
+DTM_EXPORT int dtm_analysis_size_field(const dtm_analysis *a, double c, double *size);
 DTM_EXPORT const double *dtm_analysis_nodal(const dtm_analysis *a);
 DTM_EXPORT const double *dtm_analysis_effect_nodal(const dtm_analysis *a, int k);
 
@@ -133,6 +197,22 @@ DTM_EXPORT double dtm_analysis_dt_nodal(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_dt_global(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_recommended(const dtm_analysis *a);
 DTM_EXPORT const char *dtm_analysis_basis(const dtm_analysis *a);
+/* The basis estimate itself (recommended / safety), s. */
+DTM_EXPORT double dtm_analysis_basis_step(const dtm_analysis *a);
+/* The factor the scene's damping applies to a wave step of material mat
+ * (scene index) at undamped angular frequency omega (rad/s): the product
+ * over the damping effects, 1 without any. */
+DTM_EXPORT int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double omega, double *factor);
+/* With a target: the elements whose safety x own safe step is below it,
+ * and the shape-limited ones among them (*n entries, NULL when none;
+ * owned by the analysis). Features need the Gmsh model (dtm_analysis_run
+ * or _current); an analysis of hand-built blocks lists none. */
+DTM_EXPORT size_t dtm_analysis_below_target(const dtm_analysis *a);
+/* The spread of a fresh Gmsh mesh of dimension dim: its smallest nodal
+ * step over its median one at a uniform size (measured: 0.78 in 3D, 0.8
+ * in 2D; 1 in 1D). */
+DTM_EXPORT double dtm_analysis_mesh_spread(int dim);
+DTM_EXPORT const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n);
 /* The minima of effect k. */
 DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, int k);
 /* The global estimate of effect k, or NULL when it was not computed. */

@@ -47,6 +47,49 @@ DTM_EXPORT int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, 
  * thread (reproducible numbering). DTM_ERR_INPUT when Gmsh fails. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order);
 
+/* Where the mesh sits on the model, for the advice on shape-limited
+ * elements. Filled from the current Gmsh model after dtm_gmsh_extract. */
+typedef struct {
+  int dim;     /* 0 point, 1 curve, 2 surface */
+  int tag;     /* Gmsh entity tag */
+  double size; /* curves: length of the curve's mesh (sum of the chords of
+                  its line elements), m; 0 for the others */
+  int npoints; /* model points in its closure (its end points for a curve) */
+  int *points; /* [npoints] their tags (owned) */
+} dtm_geo_entity;
+
+typedef struct dtm_geo {
+  size_t nnodes;       /* nodes of the mesh it was built for */
+  int *node_dim;       /* [nnodes] dimension of the model entity each node is
+                          classified on (the mesh's dimension for interior
+                          nodes and nodes Gmsh does not classify) */
+  int *node_tag;       /* [nnodes] that entity's tag (-1 when not known) */
+  size_t nel;          /* elements of the mesh */
+  int *elem_entity;    /* [nel] model entity (of the mesh's dimension) of each
+                          element, in the mesh's block order (-1: not found) */
+  int nent;            /* entities of dimension below the mesh's */
+  dtm_geo_entity *ent; /* [nent] sorted by (dim, tag) */
+} dtm_geo;
+
+/* Classify mesh m (just extracted from the current model) on the model's
+ * entities. *out is owned by the caller (dtm_gmsh_geo_destroy). */
+DTM_EXPORT int dtm_gmsh_geo(const dtm_mesh *m, dtm_geo **out);
+DTM_EXPORT void dtm_gmsh_geo_destroy(dtm_geo **g);
+/* The entity (dim, tag) of g, or NULL. */
+DTM_EXPORT const dtm_geo_entity *dtm_geo_find(const dtm_geo *g, int dim, int tag);
+/* 1 when node v lies in the closure of entity e (on it, or on one of its
+ * points). */
+DTM_EXPORT int dtm_geo_node_on(const dtm_geo *g, size_t v, const dtm_geo_entity *e);
+/* 1 when the entities of nodes v and w touch: the same entity, one in the
+ * other's closure, or a model point in common. */
+DTM_EXPORT int dtm_geo_touch(const dtm_geo *g, size_t v, size_t w);
+
+/* Save the current model's mesh (every element) to path, and replace the
+ * current model by the mesh read back from path: the refine loop keeps its
+ * best mesh this way while it remeshes on. */
+DTM_EXPORT int dtm_gmsh_save_mesh(const char *path);
+DTM_EXPORT int dtm_gmsh_restore_mesh(const char *path);
+
 /* A view to write: name, ElementData or NodeData, one value per tag. */
 typedef struct {
   const char *name;     /* exact view name */

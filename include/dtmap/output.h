@@ -9,6 +9,7 @@
 #include "dtmap/cost.h"
 #include "dtmap/export.h"
 #include "dtmap/refine.h"
+#include "dtmap/verify.h"
 
 typedef struct {
   const dtm_analysis *analysis;    /* required (not owned) */
@@ -16,6 +17,7 @@ typedef struct {
   const dtm_refine_result *refine; /* the refine rounds, or NULL (not owned) */
   double t_scene;                  /* reading the scene, s (the caller's stage) */
   double t_output;                 /* writing the mesh and views, s (the caller's stage) */
+  int top;                         /* elements listed as the smallest steps ("worst"); 0: 10 */
 } dtm_results;
 
 /* The view of the elements whose step is below the scene's target, and the
@@ -28,8 +30,23 @@ typedef struct {
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
-/* Print the terminal summary (counts, min dt and where, recommendation,
- * the 10 smallest, a histogram by decade) to stream (a FILE *). */
+/* Print the terminal summary (counts, the recommended step and its basis
+ * beside the element bound, accuracy, cost, the shape-limited elements,
+ * damping, the smallest steps, a histogram by decade, warnings) to stream
+ * (a FILE *). */
 DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
+
+/* `dtmap verify`: the step checked and what the simulation found. */
+typedef struct {
+  double step;                     /* the step verified, s */
+  double factor;                   /* step / dt.recommended */
+  int steps;                       /* time steps run */
+  const dtm_verify_effect *effect; /* [neffects] per effect (dtmap/verify.h) */
+} dtm_verify_report;
+
+/* Write the verify report (scene, dt.recommended and its basis, the step,
+ * the steps run, each effect's growth and verdict, the overall verdict) to
+ * path atomically. */
+DTM_EXPORT int dtm_verify_report_write(const dtm_analysis *a, const dtm_verify_report *v, const char *path);
 
 #endif

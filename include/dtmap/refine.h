@@ -1,9 +1,13 @@
-/* `dtmap refine`: remesh until the recommended step reaches a target. Each
- * round turns the size suggestion (the size every element needs to reach
- * the target, clamped by accuracy bounds) into the background size field of
- * a fresh mesh of the same geometry (dtm_gmsh_remesh), with Gmsh's
- * optimisers, and analyses again. The result is an object of its own: the
- * rounds and the final analysis. */
+/* `dtmap refine`: remesh until the recommended step reaches a target,
+ * without making the run more expensive. Each round turns the size
+ * suggestion (the current size where a node already meets the target, the
+ * larger size that reaches it elsewhere, clamped by accuracy bounds) into
+ * the background size field of a fresh mesh of the same geometry
+ * (dtm_gmsh_remesh), with Gmsh's optimisers, and analyses again. The loop
+ * keeps the best mesh, remeshes from it, and stops as soon as the target is
+ * met, a round makes the run more expensive than the input without meeting
+ * it, or only shape-limited elements remain below the target. The result is an object
+ * of its own: the rounds and the kept mesh's analysis. */
 #ifndef DTMAP_REFINE_H
 #define DTMAP_REFINE_H
 
@@ -13,13 +17,27 @@
 #include "dtmap/export.h"
 
 typedef struct dtm_refine_round_s {
-  size_t elements;    /* analysed elements after the round */
-  double dt_min;      /* smallest element step, s */
-  double recommended; /* recommended step, s */
-  double seconds;     /* wall time of the round (mesh + analysis) */
+  size_t elements;      /* analysed elements after the round */
+  double dt_min;        /* element bound (the map's own minimum), s */
+  double recommended;   /* recommended step, s */
+  double element_steps; /* elements x ceil(duration / recommended) (NaN without a duration) */
+  double rate;          /* elements / recommended: element-steps per simulated second, 1/s */
+  size_t below;         /* elements below the target */
+  size_t shape_limited; /* the shape-limited ones among them */
+  double seconds;       /* wall time of the round (mesh + analysis) */
 } dtm_refine_round;
 
 #define DTM_REFINE_MAX_ROUNDS 32
+
+/* Why the loop stopped. */
+enum {
+  DTM_REFINE_MET = 1,        /* the target is met */
+  DTM_REFINE_COST_ROSE = 2,  /* a round cost more than the input without meeting it */
+  DTM_REFINE_ONLY_SHAPE = 3, /* only shape-limited elements remain below it */
+  DTM_REFINE_BUDGET = 4,     /* the round budget is spent */
+  DTM_REFINE_SHAPE_CAP = 5   /* shape-limited elements cap the step, and a round
+                                around them did not beat the kept mesh */
+};
 
 typedef struct dtm_refine_result {
   double target;                                  /* the target step, s */
@@ -27,15 +45,27 @@ typedef struct dtm_refine_result {
                                                      (a shallow copy: members borrowed from the input) */
   int nrounds;                                    /* rounds run; round 0 is the scene's own mesh */
   dtm_refine_round rounds[DTM_REFINE_MAX_ROUNDS]; /* one per round */
-  dtm_analysis *analysis;                         /* the final mesh's analysis (owned) */
+  int best;                                       /* the round whose mesh is kept */
+  int stop;                                       /* DTM_REFINE_*: why the loop stopped */
+  double forced;                                  /* elements the input's accuracy bounds add at its
+                                                     size suggestion (dtm_accuracy.forced) */
+  const char *forced_by;                          /* that bound's view name, or NULL */
+  dtm_analysis *analysis;                         /* the kept mesh's analysis (owned); the current
+                                                     Gmsh model holds that mesh */
 } dtm_refine_result;
 
-/* Round 0 is the scene's own mesh; then at most max_rounds remeshes. Stops
- * when recommended >= target, or when a round gains less than 1%. Returns
- * DTM_OK even when the target is not met: compare
+/* Round 0 is the scene's own mesh; then at most max_rounds remeshes.
+ * Returns DTM_OK even when the target is not met: compare
  * dtm_analysis_recommended((*out)->analysis) with target. The input scene
- * must outlive *out. */
+ * must outlive *out. The best mesh is the met round of least cost, else the
+ * round of the largest recommended step among those costing no more than
+ * round 0. */
 DTM_EXPORT int dtm_refine_run(const dtm_scene *s, double target, int max_rounds, dtm_refine_result **out);
 DTM_EXPORT void dtm_refine_destroy(dtm_refine_result **r);
+/* A sentence for a DTM_REFINE_* code. */
+DTM_EXPORT const char *dtm_refine_stop_text(int stop);
+/* The cost a round is judged by: its element-steps, or its rate without a
+ * duration. */
+DTM_EXPORT double dtm_refine_cost(const dtm_refine_round *r);
 
 #endif

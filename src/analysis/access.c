@@ -25,6 +25,11 @@ const double *dtm_analysis_effect_dt(const dtm_analysis *a, int k) {
   return k >= 0 && k < a->neffects ? a->dt_effect[k] : NULL;
 }
 
+const double *dtm_analysis_effect_dt_undamped(const dtm_analysis *a, int k) {
+  if (k < 0 || k >= a->neffects) return NULL;
+  return a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+}
+
 const double *dtm_analysis_resolution(const dtm_analysis *a, int k) {
   return k >= 0 && k < a->neffects ? a->resolution[k] : NULL;
 }
@@ -45,6 +50,19 @@ double dtm_analysis_dt_nodal(const dtm_analysis *a) { return a->dt_nodal; }
 double dtm_analysis_dt_global(const dtm_analysis *a) { return a->dt_global; }
 double dtm_analysis_recommended(const dtm_analysis *a) { return a->recommended; }
 const char *dtm_analysis_basis(const dtm_analysis *a) { return a->basis; }
+double dtm_analysis_basis_step(const dtm_analysis *a) { return a->best; }
+const double *dtm_analysis_local_step(const dtm_analysis *a) { return a->local; }
+
+const double *dtm_analysis_effect_hmax(const dtm_analysis *a, int k) {
+  return k >= 0 && k < a->neffects ? a->hmax_effect[k] : NULL;
+}
+
+size_t dtm_analysis_below_target(const dtm_analysis *a) { return a->below; }
+
+const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n) {
+  *n = a->nshape;
+  return a->shape;
+}
 
 const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, int k) {
   return k >= 0 && k < a->neffects ? &a->per_effect[k] : NULL;

@@ -7,37 +7,53 @@
 
 #include "base.h"
 #include "dtmap/analysis.h"
+#include "dtmap/gmsh.h"
 
 struct dtm_analysis {
   const dtm_scene *scene; /* not owned */
   dtm_mesh *mesh;         /* owned */
   int neffects;
-  dtm_effect *effects;         /* [neffects] owned, scene order */
-  size_t nel;                  /* elements analysed */
-  size_t *offset;              /* [nblocks + 1] first global index of each block */
-  double *dt;                  /* [nel] min over limiting effects, s (before safety) */
-  double *len;                 /* [nel] characteristic length of the limiting effect, m */
-  int *limiting;               /* [nel] index of the limiting effect, scene order */
-  double **dt_effect;          /* [neffects][nel]; NULL rows for non-limiting effects */
-  double **dt_bare;            /* [neffects][nel] wave steps before the damping
-                                  modifiers; rows only when modifiers exist */
-  double *h;                   /* [nel] element size (mean edge length), m */
-  double *hmax;                /* [nel] accuracy bound on the size, m (+inf: none) */
-  int *hmax_by;                /* [nel] effect whose bound hmax is, -1: none */
-  double **resolution;         /* [neffects][nel] accuracy view values; NULL rows
-                                  for effects without an accuracy bound */
-  dtm_accuracy accuracy;       /* under-resolved elements, target conflicts */
-  double *size_node;           /* [nnodes] size suggestion, m */
-  dtm_effect_min *per_effect;  /* [neffects] */
-  double dt_min;               /* min of dt, s */
-  size_t el_min;               /* its global element index */
-  double *nodal_node;          /* [nnodes] nodal-bound step per node, min over the
-                                  spectral effects, s (+inf: no spectral effect) */
-  double **node_dt;            /* [neffects][nnodes] nodal-bound step of each
-                                  spectral effect, s; NULL rows otherwise */
-  double dt_nodal;             /* min over nodes of nodal_node, s (NaN: none) */
-  double dt_global;            /* min over effects of the global estimate, s (NaN) */
-  double recommended;          /* safety x the best guaranteed-safe estimate, s */
+  dtm_effect *effects;        /* [neffects] owned, scene order */
+  size_t nel;                 /* elements analysed */
+  size_t *offset;             /* [nblocks + 1] first global index of each block */
+  double *dt;                 /* [nel] min over limiting effects, s (before safety) */
+  double *len;                /* [nel] characteristic length of the limiting effect, m */
+  int *limiting;              /* [nel] index of the limiting effect, scene order */
+  double **dt_effect;         /* [neffects][nel]; NULL rows for non-limiting effects */
+  double **dt_bare;           /* [neffects][nel] wave steps before the damping
+                                 modifiers; rows only when modifiers exist */
+  double *h;                  /* [nel] element size (mean edge length), m */
+  double *hmax;               /* [nel] accuracy bound on the size, m (+inf: none) */
+  int *hmax_by;               /* [nel] effect whose bound hmax is, -1: none */
+  double **resolution;        /* [neffects][nel] accuracy view values; NULL rows
+                                 for effects without an accuracy bound */
+  dtm_accuracy accuracy;      /* under-resolved elements, target conflicts */
+  double *size_node;          /* [nnodes] size suggestion, m */
+  dtm_effect_min *per_effect; /* [neffects] */
+  double dt_min;              /* min of dt, s */
+  size_t el_min;              /* its global element index */
+  double *nodal_node;         /* [nnodes] nodal-bound step per node, min over the
+                                 spectral effects, s (+inf: no spectral effect) */
+  double **node_dt;           /* [neffects][nnodes] nodal-bound step of each
+                                 spectral effect, s; NULL rows otherwise */
+  double dt_nodal;            /* min over nodes of nodal_node, s (NaN: none) */
+  double dt_global;           /* min over effects of the global estimate, s (NaN) */
+  double recommended;         /* safety x the best guaranteed-safe estimate, s */
+  double best;                /* that estimate (the basis before safety), s */
+  int global_basis;           /* 1 when a converged global estimate may be the
+                                 basis (run --posterior), 0 otherwise */
+  double *local;              /* [nel] each element's own safe step before safety,
+                                 s: per limiting effect the larger of its element
+                                 step (when a bound) and the smallest nodal bound
+                                 at its nodes, then the smallest over effects */
+  double **hmax_effect;       /* [neffects][nel] each effect's own accuracy bound,
+                                 m; NULL rows for effects without one */
+  double *forced;             /* [neffects] elements the accuracy bounds of each
+                                 effect add to a mesh at the size suggestion */
+  dtm_geo *geo;               /* the mesh on the model's entities, or NULL (owned) */
+  size_t below;               /* elements whose safety x local step < target */
+  dtm_shape_limited *shape;   /* [nshape] the shape-limited ones among them */
+  size_t nshape;
   const char *basis;           /* what recommended rests on: "element bound",
                                   "nodal bound" or "global estimate" */
   dtm_global_info *global;     /* [neffects], filled by dtm_analysis_estimate_global */
@@ -52,6 +68,14 @@ int dtm_nodal_bounds(dtm_analysis *a);
 /* Fill per-effect safe steps, dt_nodal, dt_global and recommended
  * (recommend.c). */
 void dtm_recommend(dtm_analysis *a);
+/* Each element's own safe step (recommend.c), after dtm_recommend. */
+int dtm_local_steps(dtm_analysis *a);
+/* Elements below the target: how many, and which are shape-limited
+ * (shape.c); needs a->local, and a->geo for the features. */
+int dtm_shape_classify(dtm_analysis *a);
+/* The step of element i's limiting effects (damping applied, before
+ * safety) if its nodes were at x instead, s (shape.c). */
+int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double *x, double *dt);
 /* 1 when effect k is integrated by central differences (a wave effect whose
  * step the damping modifiers scale). */
 int dtm_analysis_is_wave(const dtm_analysis *a, int k);

@@ -48,10 +48,13 @@ static int alloc_results(dtm_analysis *a) {
     a->dt_bare[k] = malloc(n * sizeof **a->dt_bare);
     if (!a->dt_bare[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
+  a->hmax_effect = calloc(ne + 1, sizeof *a->hmax_effect);
+  if (!a->hmax_effect) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t k = 0; k < ne; k++) {
     if (!a->effects[k].cls->accuracy) continue;
     a->resolution[k] = malloc(n * sizeof **a->resolution);
-    if (!a->resolution[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    a->hmax_effect[k] = malloc(n * sizeof **a->hmax_effect);
+    if (!a->resolution[k] || !a->hmax_effect[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
   return DTM_OK;
 }
@@ -86,6 +89,18 @@ static int apply_modifiers(const dtm_analysis *a, const dtm_batch *bt, size_t g0
   return DTM_OK;
 }
 
+int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double omega, double *factor) {
+  *factor = 1.0;
+  for (int j = 0; j < a->neffects; j++) {
+    const dtm_effect *mj = &a->effects[j];
+    double f = 1.0;
+    if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES)) continue;
+    DTM_CHECK(mj->cls->wave_factor(mj->state, &a->scene->materials[mat].m, omega, &f));
+    *factor *= f;
+  }
+  return DTM_OK;
+}
+
 static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, const double *lens) {
   for (size_t e = 0; e < bt->n; e++) {
     double best = INFINITY, len = NAN;
@@ -107,16 +122,16 @@ typedef struct {
   double *x;                /* [CHUNK][nn][3] */
   const dtm_material **mat; /* [CHUNK] */
   double *lens;             /* [neffects][CHUNK] */
-  double *hm;               /* [CHUNK] one effect's accuracy bound */
 } scratch;
 
-/* Accuracy bounds of the chunk: hmax = min over effects, plus each
- * effect's resolution values. */
-static int accuracy_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, double *hm) {
+/* Accuracy bounds of the chunk: each effect's own row, hmax = the min
+ * over them, plus each effect's resolution values. */
+static int accuracy_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0) {
   for (size_t e = 0; e < bt->n; e++) a->hmax[g0 + e] = INFINITY, a->hmax_by[g0 + e] = -1;
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!ef->cls->accuracy) continue;
+    double *hm = a->hmax_effect[k] + g0;
     DTM_CHECK(ef->cls->accuracy(ef->state, bt, hm, a->resolution[k] + g0));
     for (size_t e = 0; e < bt->n; e++)
       if (hm[e] < a->hmax[g0 + e]) a->hmax[g0 + e] = hm[e], a->hmax_by[g0 + e] = k;
@@ -143,7 +158,7 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   for (int k = 0; k < a->neffects; k++)
     if (a->dt_bare[k]) memcpy(a->dt_bare[k] + g0, a->dt_effect[k] + g0, n * sizeof(double));
   DTM_CHECK(apply_modifiers(a, &bt, g0, w->lens));
-  DTM_CHECK(accuracy_chunk(a, &bt, g0, w->hm));
+  DTM_CHECK(accuracy_chunk(a, &bt, g0));
   reduce_chunk(a, &bt, g0, w->lens);
   return DTM_OK;
 }
@@ -155,8 +170,8 @@ static int compute_block(const dtm_analysis *a, int b) {
 #pragma omp parallel
   {
     scratch w = {malloc(CHUNK * (size_t)blk->nn * 3 * sizeof(double)), malloc(CHUNK * sizeof(dtm_material *)),
-                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double)), malloc(CHUNK * sizeof(double))};
-    int ok = w.x && w.mat && w.lens && w.hm;
+                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double))};
+    int ok = w.x && w.mat && w.lens;
     if (!ok) dtm_par_error_keep(&pe, DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
 #pragma omp for schedule(dynamic, 4)
     for (long c = 0; c < nchunks; c++) {
@@ -167,7 +182,6 @@ static int compute_block(const dtm_analysis *a, int b) {
     free(w.x);
     free((void *)w.mat);
     free(w.lens);
-    free(w.hm);
   }
   return dtm_par_error_raise(&pe);
 }
@@ -179,7 +193,7 @@ static void drop_empty_accuracy(dtm_analysis *a) {
     if (!a->resolution[k]) continue;
     size_t i = 0;
     while (i < a->nel && isnan(a->resolution[k][i])) i++;
-    if (i == a->nel) free(a->resolution[k]), a->resolution[k] = NULL;
+    if (i == a->nel) free(a->resolution[k]), a->resolution[k] = NULL, free(a->hmax_effect[k]), a->hmax_effect[k] = NULL;
   }
 }
 
@@ -191,11 +205,14 @@ static void summarize(dtm_analysis *a) {
   for (int k = 0; k < a->neffects; k++) {
     a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
     a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */
+    a->per_effect[k].omega = NAN;
     if (!a->dt_effect[k]) continue;
     double best = INFINITY;
     for (size_t i = 0; i < a->nel; i++)
       if (a->dt_effect[k][i] < best) best = a->dt_effect[k][i], a->per_effect[k].element = i;
     a->per_effect[k].min = best;
+    const double *bare = a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+    if (dtm_analysis_is_wave(a, k)) a->per_effect[k].omega = 2.0 / bare[a->per_effect[k].element];
   }
 }
 
@@ -217,8 +234,10 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_nodal_bounds(a);
   if (r == DTM_OK) dtm_recommend(a);
+  if (r == DTM_OK) r = dtm_local_steps(a);
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
   if (r == DTM_OK) r = dtm_size_suggest(a);
+  if (r == DTM_OK) r = dtm_shape_classify(a);
   if (r) {
     dtm_analysis_destroy(&a);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -232,6 +251,12 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   if (!a) return;
   for (int k = 0; a->dt_effect && k < a->neffects; k++) free(a->dt_effect[k]);
   for (int k = 0; a->resolution && k < a->neffects; k++) free(a->resolution[k]);
+  for (int k = 0; a->hmax_effect && k < a->neffects; k++) free(a->hmax_effect[k]);
+  free(a->hmax_effect);
+  free(a->local);
+  free(a->forced);
+  free(a->shape);
+  dtm_gmsh_geo_destroy(&a->geo);
   for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
   free(a->dt_bare);
   free(a->resolution);

@@ -5,7 +5,9 @@
  * large; the step dtmap vouches for uses theta + residual (an eigenvalue
  * lies within the residual of theta, and with a random start the top one
  * is the one approached), and only when converged; otherwise the nodal bound
- * stays the basis. Damping enters through the smallest factor of the
+ * stays the basis; the caller decides whether a converged estimate may be
+ * the basis at all (run --posterior), so that verify, which needs the
+ * modes, checks exactly the step run reports. Damping enters through the smallest factor of the
  * effect's materials at the top frequency. */
 #include <math.h>
 #include <stdlib.h>
@@ -105,12 +107,14 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   return DTM_OK;
 }
 
-int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, int want_modes) {
+int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags) {
   double t0 = dtm_wtime();
+  int want_modes = (flags & DTM_GLOBAL_MODES) != 0;
   a->global = calloc((size_t)a->neffects + 1, sizeof *a->global);
   if (!a->global) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int k = 0; k < a->neffects; k++)
     if (a->dt_effect[k] && a->effects[k].cls->coefficients) DTM_CHECK(estimate_effect(a, k, tol, maxit, want_modes));
+  a->global_basis = (flags & DTM_GLOBAL_BASIS) != 0;
   dtm_recommend(a);
   a->timings[DTM_T_GLOBAL] = dtm_wtime() - t0;
   return DTM_OK;

@@ -140,13 +140,16 @@ static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
   return 1;
 }
 
-static void record_min(dtm_analysis *a, int k, const double *dt) {
+/* The effect's smallest node step, and (waves) the undamped top frequency
+ * omega[] there. */
+static void record_min(dtm_analysis *a, int k, const double *dt, const double *omega) {
   dtm_effect_min *pe = &a->per_effect[k];
   pe->nodal = INFINITY;
   for (size_t v = 0; v < a->mesh->nnodes; v++) {
     if (dt[v] < pe->nodal) pe->nodal = dt[v], pe->node = v;
     a->nodal_node[v] = fmin(a->nodal_node[v], dt[v]);
   }
+  pe->omega = dtm_analysis_is_wave(a, k) && isfinite(pe->nodal) ? omega[pe->node] : NAN;
 }
 
 int dtm_nodal_bounds(dtm_analysis *a) {
@@ -165,7 +168,7 @@ int dtm_nodal_bounds(dtm_analysis *a) {
     a->node_dt[k] = malloc((nn + 1) * sizeof **a->node_dt);
     r = a->node_dt[k] ? effect_nodal(a, k, &cc, a->node_dt[k], work) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
     a->per_effect[k].element_rigorous = r == DTM_OK && all_bounds(a, &cc);
-    if (r == DTM_OK) record_min(a, k, a->node_dt[k]);
+    if (r == DTM_OK) record_min(a, k, a->node_dt[k], work);
   }
   free(work);
   free(cc.c);

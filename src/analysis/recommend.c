@@ -1,18 +1,25 @@
 /* The recommended step: per limiting effect, the best estimate dtmap can
- * vouch for (the converged global estimate on its safe side, else the nodal
- * bound, else the element bound, and never below the element bound when
- * that is a bound; a length rule such as min-edge is not, and then only the
- * nodal and global estimates count), then the smallest over the effects,
- * times the scene's safety factor. */
+ * vouch for (the converged global estimate on its safe side when the
+ * caller lets it be the basis, else the nodal bound, else the element
+ * bound, and never below the element bound when that is a bound; a length
+ * rule such as min-edge is not, and then only the nodal and global
+ * estimates count), then the smallest over the effects, times the scene's
+ * safety factor.
+ * Also each element's own safe step, the same rule taken locally: per
+ * effect the larger of the element's step (when a bound) and the smallest
+ * nodal bound at its nodes. Its minimum over the elements is at least the
+ * basis whenever the global estimate is not the basis, since
+ * min_e max(x_e, y_e) >= max(min_e x_e, min_e y_e). */
 #include <math.h>
+#include <stdlib.h>
 
 #include "analysis-impl.h"
 
-static double effect_safe(const dtm_effect_min *pe, const char **basis) {
+static double effect_safe(const dtm_effect_min *pe, int use_global, const char **basis) {
   double safe = pe->min;
   *basis = "element bound";
   if (isfinite(pe->nodal) && (pe->nodal > safe || !pe->element_rigorous)) safe = pe->nodal, *basis = "nodal bound";
-  if (isfinite(pe->global) && pe->global > safe) safe = pe->global, *basis = "global estimate";
+  if (use_global && isfinite(pe->global) && pe->global > safe) safe = pe->global, *basis = "global estimate";
   return safe;
 }
 
@@ -24,10 +31,35 @@ void dtm_recommend(dtm_analysis *a) {
     dtm_effect_min *pe = &a->per_effect[k];
     if (!a->dt_effect[k]) continue;
     const char *basis;
-    pe->safe = effect_safe(pe, &basis);
+    pe->safe = effect_safe(pe, a->global_basis, &basis);
     if (isfinite(pe->nodal) && !(pe->nodal >= a->dt_nodal)) a->dt_nodal = pe->nodal;
     if (isfinite(pe->global) && !(pe->global >= a->dt_global)) a->dt_global = pe->global;
     if (pe->safe < best) best = pe->safe, a->basis = basis;
   }
+  a->best = best;
   a->recommended = a->scene->safety * best;
+}
+
+/* Own safe step of element e (local index) of block b for effect k. */
+static double local_of(const dtm_analysis *a, int k, const dtm_block *blk, size_t e, size_t i) {
+  double dt = a->dt_effect[k][i];
+  if (!a->node_dt || !a->node_dt[k] || isinf(dt)) return dt;
+  double nodal = INFINITY;
+  for (int c = 0; c < blk->nn; c++) nodal = fmin(nodal, a->node_dt[k][blk->conn[e * blk->nn + c]]);
+  return a->per_effect[k].element_rigorous ? fmax(dt, nodal) : nodal;
+}
+
+int dtm_local_steps(dtm_analysis *a) {
+  a->local = malloc((a->nel + 1) * sizeof *a->local);
+  if (!a->local) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *blk = &a->mesh->blocks[b];
+    for (size_t e = 0; e < blk->n; e++) {
+      size_t i = a->offset[b] + e;
+      a->local[i] = INFINITY;
+      for (int k = 0; k < a->neffects; k++)
+        if (a->dt_effect[k]) a->local[i] = fmin(a->local[i], local_of(a, k, blk, e, i));
+    }
+  }
+  return DTM_OK;
 }

@@ -1,5 +1,6 @@
 /* The whole analysis of a scene: Gmsh load or meshing, physical groups to
- * materials, extraction, creation of only the scene's effects, compute. Also
+ * materials, extraction, creation of only the scene's effects, compute,
+ * and where the mesh sits on the model (for shape-limited elements). Also
  * the per-element look-ups (tag, group, centroid) reports and prints use. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -82,6 +83,12 @@ int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
   }
   DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
+  r = dtm_gmsh_geo((*out)->mesh, &(*out)->geo);
+  if (r == DTM_OK) r = dtm_shape_classify(*out); /* again, now with the model's features */
+  if (r) {
+    dtm_analysis_destroy(out);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
   return DTM_OK;
 }
 

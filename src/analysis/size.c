@@ -8,11 +8,15 @@
  * where dt_k,a is the node's own step: its nodal bound for a spectral effect
  * (smooth, and already sharing a sliver's tiny mass with its neighbours), or
  * the smallest element step around it otherwise. The node needs the largest
- * of these; it is the size at which every node sits at the target, which is
- * what a background size field for the target wants. Accuracy bounds
- * (hmax: cohesive R/N, wavelength/N) clamp it from above; where the two
- * conflict, the element is counted and the step the accuracy bound allows,
- * min_k dt_k,e (hmax_e/h_e)^p_k, is kept. */
+ * of these, and never less than h_a: a node whose step already meets the
+ * target keeps its size (refining it would only raise the cost), a node
+ * below it is asked for the larger size that reaches it. Accuracy bounds
+ * (hmax: cohesive R/N, wavelength/N) then clamp it from above; where the
+ * target and a bound conflict, the element is counted and the step the
+ * bound allows, min_k dt_k,e (hmax_e/h_e)^p_k, is kept, and the elements
+ * the clamp adds to a mesh at the suggestion are estimated per effect as
+ * sum_e (h_e/h_clamped,e)^d - (h_e/h_free,e)^d (h_.,e: the mean of the
+ * element's node values). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -25,6 +29,7 @@ static double root(double r, double p) { return p == 1.0 ? r : p == 2.0 ? sqrt(r
  * non-spectral effect the smallest adjacent element step. */
 typedef struct {
   double *h, *hcap; /* [nnodes] */
+  double *free;     /* [nnodes] suggestion before the accuracy clamp */
   double **emin;    /* [neffects][nnodes], rows only for non-spectral effects */
   unsigned *count;  /* [nnodes] */
 } node_fields;
@@ -46,6 +51,8 @@ static void gather_nodes(const dtm_analysis *a, node_fields *nf) {
   }
 }
 
+/* The size at which node v reaches the target (its current size where no
+ * effect has a step there). */
 static double node_need(const dtm_analysis *a, const node_fields *nf, size_t v, double target) {
   double need = 0;
   for (int k = 0; k < a->neffects; k++) {
@@ -62,6 +69,36 @@ static double step_at_bound(const dtm_analysis *a, size_t i) {
   for (int k = 0; k < a->neffects; k++)
     if (a->dt_effect[k]) dt = fmin(dt, a->dt_effect[k][i] * scale(a->hmax[i] / a->h[i], a->effects[k].cls->exponent));
   return dt;
+}
+
+/* Elements the clamp adds at element i, (h/hs)^d - (h/hf)^d with hs and hf
+ * the means of the clamped and free suggestion over its nodes. */
+static double forced_at(const dtm_analysis *a, const node_fields *nf, const dtm_block *blk, size_t e, size_t i) {
+  double hs = 0, hf = 0;
+  for (int c = 0; c < blk->nn; c++) {
+    size_t v = blk->conn[e * blk->nn + c];
+    hs += a->size_node[v] / blk->nn, hf += nf->free[v] / blk->nn;
+  }
+  if (!(hs < hf)) return 0.0;
+  int d = a->mesh->dim;
+  return pow(a->h[i] / hs, d) - pow(a->h[i] / hf, d);
+}
+
+static void forced_accounting(dtm_analysis *a, const node_fields *nf) {
+  dtm_accuracy *ac = &a->accuracy;
+  ac->forced = 0, ac->forced_by = -1;
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *blk = &a->mesh->blocks[b];
+    for (size_t e = 0; e < blk->n; e++) {
+      size_t i = a->offset[b] + e;
+      int k = a->hmax_by[i];
+      if (k >= 0) a->forced[k] += forced_at(a, nf, blk, e, i);
+    }
+  }
+  for (int k = 0; k < a->neffects; k++) {
+    ac->forced += a->forced[k];
+    if (a->forced[k] > 0 && (ac->forced_by < 0 || a->forced[k] > a->forced[ac->forced_by])) ac->forced_by = k;
+  }
 }
 
 /* Per element: under-resolved count, and conflicts between the target and
@@ -83,9 +120,9 @@ static void element_accounting(dtm_analysis *a, double target) {
 static int alloc_fields(const dtm_analysis *a, node_fields *nf) {
   size_t nn = a->mesh->nnodes + 1;
   nf->h = calloc(nn, sizeof *nf->h), nf->hcap = malloc(nn * sizeof *nf->hcap);
-  nf->count = calloc(nn, sizeof *nf->count);
+  nf->free = malloc(nn * sizeof *nf->free), nf->count = calloc(nn, sizeof *nf->count);
   nf->emin = calloc((size_t)a->neffects + 1, sizeof *nf->emin);
-  if (!nf->h || !nf->hcap || !nf->count || !nf->emin) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!nf->h || !nf->hcap || !nf->free || !nf->count || !nf->emin) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t v = 0; v < nn; v++) nf->hcap[v] = INFINITY;
   for (int k = 0; k < a->neffects; k++) {
     if (!a->dt_effect[k] || (a->node_dt && a->node_dt[k])) continue;
@@ -98,26 +135,45 @@ static int alloc_fields(const dtm_analysis *a, node_fields *nf) {
 
 static void free_fields(const dtm_analysis *a, node_fields *nf) {
   for (int k = 0; nf->emin && k < a->neffects; k++) free(nf->emin[k]);
-  free(nf->emin), free(nf->h), free(nf->hcap), free(nf->count);
+  free(nf->emin), free(nf->h), free(nf->hcap), free(nf->free), free(nf->count);
+}
+
+/* Node v's suggestion with calibration c: the free size (the current one,
+ * raised to c x what reaches the target), then the accuracy clamp; free[]
+ * gets the free size. */
+static void suggest_node(const dtm_analysis *a, node_fields *nf, size_t v, double c, double *size) {
+  double target = a->scene->target;
+  if (!nf->count[v]) { /* a node of no analysed element */
+    size[v] = nf->free[v] = NAN;
+    return;
+  }
+  nf->h[v] /= nf->count[v];
+  nf->free[v] = target > 0 ? fmax(nf->h[v], c * node_need(a, nf, v, target)) : nf->h[v];
+  size[v] = fmin(nf->free[v], nf->hcap[v]);
+}
+
+static int field(const dtm_analysis *a, double c, double *size, node_fields *nf) {
+  DTM_CHECK(alloc_fields(a, nf));
+  gather_nodes(a, nf);
+  for (size_t v = 0; v < a->mesh->nnodes; v++) suggest_node(a, nf, v, c, size);
+  return DTM_OK;
+}
+
+int dtm_analysis_size_field(const dtm_analysis *a, double c, double *size) {
+  node_fields nf = {0};
+  int r = field(a, c, size, &nf);
+  free_fields(a, &nf);
+  return r;
 }
 
 int dtm_size_suggest(dtm_analysis *a) {
-  size_t nn = a->mesh->nnodes;
-  double target = a->scene->target;
   node_fields nf = {0};
-  a->size_node = malloc((nn + 1) * sizeof *a->size_node);
-  int r = a->size_node ? alloc_fields(a, &nf) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  a->size_node = malloc((a->mesh->nnodes + 1) * sizeof *a->size_node);
+  a->forced = calloc((size_t)a->neffects + 1, sizeof *a->forced);
+  int r = a->size_node && a->forced ? field(a, 1.0, a->size_node, &nf) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) {
-    gather_nodes(a, &nf);
-    for (size_t v = 0; v < nn; v++) {
-      if (!nf.count[v]) {
-        a->size_node[v] = NAN;
-        continue;
-      } /* a node of no analysed element */
-      nf.h[v] /= nf.count[v];
-      a->size_node[v] = fmin(target > 0 ? node_need(a, &nf, v, target) : nf.h[v], nf.hcap[v]);
-    }
-    element_accounting(a, target);
+    element_accounting(a, a->scene->target);
+    forced_accounting(a, &nf);
   }
   free_fields(a, &nf);
   return r;

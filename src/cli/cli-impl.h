@@ -21,11 +21,12 @@ typedef struct {
   const char *plot;   /* sweep --plot, or NULL */
   int threads;        /* -j N, 0 = all cores */
   int verbosity;      /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
-  int posterior;      /* run --posterior */
+  int posterior;      /* run/verify --posterior */
+  int top;            /* --top N: elements listed as the smallest steps (0: 10) */
   double tol;         /* --tol: Lanczos relative residual */
   int lanczos_max;    /* --lanczos-max: Lanczos steps */
   int max_iter;       /* refine --max-iter: rounds */
-  double target;      /* refine --target, s */
+  double target;      /* refine --target, s (0: the scene's <time target>) */
   double factor;      /* verify --factor: multiple of the recommended step */
   double dt;          /* verify --dt, s (0: use factor x recommended) */
   int steps;          /* verify --steps */
@@ -73,8 +74,11 @@ int dtm_cli_fail(int code, int verbosity);
 void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);
 
 /* Write the output mesh (+ .opt) and the report of res where o and the
- * scene say; res->t_output gets the mesh's write time, s. */
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o);
+ * scene say; res->t_output gets the mesh's write time, s. With a suffix
+ * (refine: "_refined") the defaults are the scene's <output> names with the
+ * suffix before the extension, else SCENE<suffix>.msh and no report, so
+ * they never overwrite what `run` writes for the same scene. */
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix);
 
 /* The pictures of a result msh (with its .opt) through Gmsh's renderer:
  * PREFIX_worst.png (the views as the .opt shows them: the worst elements)

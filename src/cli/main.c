@@ -19,6 +19,8 @@
   }
 #define THREADS_OPTION                                                                                                 \
   { "-j", CLI_INT, OPT(threads), 0, 1, 4096, "N", "threads (default: all cores)" }
+#define TOP_OPTION                                                                                                     \
+  { "--top", CLI_INT, OPT(top), 0, 1, 1e6, "N", "list the N smallest element steps (default 10)" }
 #define LANCZOS_OPTIONS                                                                                                \
   {"--tol", CLI_DOUBLE, OPT(tol), 0, DBL_MIN, 0.5, "T", "Lanczos relative residual (default 1e-4)"}, {                 \
     "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
@@ -32,9 +34,11 @@
 static const cli_option run_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
-    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL, "also estimate the global step (Lanczos)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "also estimate the global step (Lanczos); a converged one becomes the basis"},
     {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "pictures PREFIX_worst.png and PREFIX_dt.png (Gmsh's renderer)"},
     PICTURE_OPTIONS,
+    TOP_OPTION,
     LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
@@ -44,16 +48,23 @@ static const cli_option verify_options[] = {
     {"--factor", CLI_DOUBLE, OPT(factor), 0, POSITIVE, "F", "verify F x the recommended step (default 1)"},
     {"--dt", CLI_DOUBLE, OPT(dt), 0, POSITIVE, "DT", "verify this step, s (instead of --factor)"},
     {"--steps", CLI_INT, OPT(steps), 0, 1, 1e9, "N", "time steps to run (default 2000)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "the recommended step of run --posterior (the global estimate as the basis)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "V.json", "the step, steps, growth and verdict as JSON"},
+    TOP_OPTION,
     LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
 static const cli_option refine_options[] = {
-    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "target recommended step, s (required)"},
-    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
-    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "target recommended step, s (default: <time target>)"},
+    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh",
+     "output mesh (default: <output mesh> as X_refined.msh, else SCENE_refined.msh)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json",
+     "JSON report (default: <output report> as X_refined.json, if any)"},
     {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 31, "K", "remeshing rounds at most (default 3)"},
+    TOP_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -73,29 +84,34 @@ static const cli_option snapshot_options[] = {
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
 const cli_command dtm_cli_commands[] = {
-    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [-j N] [-v|-q]",
+    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--top N] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
      "'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt.",
      run_options, dtm_cli_run},
-    {"verify", "SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]",
+    {"verify", "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--report V.json] [-j N] [-v|-q]",
      "Simulates the scene's spectral effects on its mesh (central differences with the\n"
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
-     "mode of the global estimate plus a random part, at F x the recommended step or at\n"
-     "DT. Exit 1 if the energy grows (the step is unstable).",
+     "mode of the global estimate plus a random part, at F x the recommended step (by\n"
+     "default exactly the step `run` reports; with --posterior that of `run --posterior`)\n"
+     "or at DT. Exit 1 if the energy grows (the step is unstable).",
      verify_options, dtm_cli_verify},
-    {"refine", "SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K] [-j N] [-v|-q]",
-     "Remeshes the scene's geometry with the size suggestion for the target step as the\n"
-     "background size field, then Gmsh's optimisers, until the recommended step reaches\n"
-     "DT. Exit 1 if it does not.",
+    {"refine", "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [-j N] [-v|-q]",
+     "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
+     "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
+     "the background size field, then Gmsh's optimisers, until the recommended step\n"
+     "reaches DT (default: the scene's <time target>), keeping the cheapest mesh that\n"
+     "does; it stops when a round raises the cost without reaching it, or when only\n"
+     "shape-limited elements remain. Exit 1 if the target is not met.",
      refine_options, dtm_cli_refine},
     {"sweep", "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-j N] [-v|-q]",
      "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
-     "and prints, per size: elements, nodes, the smallest element step, the recommended\n"
-     "step, the steps the scene's <time duration> takes, its cost in element-steps with\n"
-     "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
-     "elements per cohesive zone and per wavelength, and dtmap's own time; CSV + PNG.",
+     "and prints, per size: elements, nodes, the element bound (the smallest element\n"
+     "step), the recommended step, the steps the scene's <time duration> takes at it,\n"
+     "its cost in element-steps with that one step and with ideal subcycling (levels of\n"
+     "the recommended step x 2^k), the smallest elements per cohesive zone and per\n"
+     "wavelength, and dtmap's own time; CSV + PNG.",
      sweep_options, dtm_cli_sweep},
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"

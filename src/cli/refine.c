@@ -1,6 +1,10 @@
-/* `dtmap refine SCENE.xml --target DT`: remesh until the recommended step
- * reaches DT, printing each round, then write the final mesh with all its
- * views and the report. Exit 1 when the target is not met. */
+/* `dtmap refine SCENE.xml [--target DT]`: remesh until the recommended step
+ * reaches DT (default: the scene's <time target>) without raising the
+ * cost, printing each round (elements, recommended step, element-steps and
+ * their change), then write the kept mesh with all its views and the
+ * report (by default SCENE_refined.msh, never run's SCENE_dt.msh). Exit 1
+ * when the target is not met. */
+#include <math.h>
 #include <omp.h>
 #include <stdio.h>
 
@@ -9,47 +13,62 @@
 #include "dtmap/refine.h"
 #include "dtmap/scene.h"
 
+static void print_round(const dtm_refine_result *rr, int i) {
+  const dtm_refine_round *r = &rr->rounds[i];
+  double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
+  printf("%5d %10zu %12.4e %12.4e %12.4e %+9.1f%% %9zu %9zu %9.2f%s%s\n", i, r->elements, r->dt_min, r->recommended, c,
+         100.0 * (c / c0 - 1.0), r->below, r->shape_limited, r->seconds,
+         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
+}
+
 static void print_rounds(const dtm_refine_result *rr) {
-  printf("\n%5s %10s %12s %14s %9s\n", "round", "elements", "dt min (s)", "recommended", "time (s)");
-  for (int i = 0; i < rr->nrounds; i++) {
-    const dtm_refine_round *r = &rr->rounds[i];
-    printf("%5d %10zu %12.4e %14.4e %9.2f%s\n", i, r->elements, r->dt_min, r->recommended, r->seconds,
-           r->recommended >= rr->target ? "  target met" : "");
-  }
+  int rate = isnan(rr->rounds[0].element_steps);
+  printf("\n%5s %10s %12s %12s %12s %10s %9s %9s %9s\n", "round", "elements", "elem. bound", "recommended",
+         rate ? "elem-steps/s" : "element-steps", "change", "below", "shape-lim", "time (s)");
+  for (int i = 0; i < rr->nrounds; i++) print_round(rr, i);
+  printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
+  if (rr->stop == DTM_REFINE_ONLY_SHAPE)
+    printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
+           "the mass-scaling alternative for exactly these elements follow\n");
 }
 
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
-  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0};
+  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
   if (o->verbosity) print_rounds(rr), printf("\n"), dtm_summary_print(&res, stdout);
-  int r = dtm_cli_write_outputs(&res, o);
+  int r = dtm_cli_write_outputs(&res, o, "_refined");
   dtm_cost_destroy(&cost);
   return r;
 }
 
-static int refine_scene(const dtm_scene *s, const cli_opts *o) {
+static int refine_scene(const dtm_scene *s, double target, const cli_opts *o) {
   dtm_refine_result *rr = NULL;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
-  if (r == DTM_OK) r = dtm_refine_run(s, o->target, o->max_iter, &rr);
+  if (r == DTM_OK) r = dtm_refine_run(s, target, o->max_iter, &rr);
   if (r == DTM_OK) r = report_rounds(rr, o);
   double best = rr ? dtm_analysis_recommended(rr->analysis) : 0;
-  if (r == DTM_OK && best < o->target)
-    r = DTM_ERR(DTM_ERR_TARGET, "refine: the target %.4e s was not met after %d round(s); best recommended step %.4e s",
-                o->target, rr->nrounds - 1, best);
+  if (r == DTM_OK && best < target)
+    r = DTM_ERR(DTM_ERR_TARGET,
+                "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s", target,
+                rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best);
   dtm_refine_destroy(&rr);
   dtm_gmsh_stop();
   return r;
 }
 
 int dtm_cli_refine(const cli_opts *o) {
-  if (!(o->target > 0)) return dtm_cli_usage_error(&dtm_cli_commands[2], "needs --target DT (s)");
   if (o->threads > 0) omp_set_num_threads(o->threads);
   dtm_scene *s = NULL;
   int r = dtm_scene_load(o->scene, &s);
+  double target = o->target > 0 ? o->target : s ? s->target : 0;
+  if (r == DTM_OK && !(target > 0)) {
+    dtm_scene_destroy(&s);
+    return dtm_cli_usage_error(&dtm_cli_commands[2], "needs --target DT (s), or a <time target> in the scene");
+  }
   if (r == DTM_OK) {
-    if (o->verbosity) printf("dtmap %s: refining %s to %.4e s\n", DTM_VERSION, s->path, o->target);
-    r = refine_scene(s, o);
+    if (o->verbosity) printf("dtmap %s: refining %s to %.4e s\n", DTM_VERSION, s->path, target);
+    r = refine_scene(s, target, o);
   }
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;

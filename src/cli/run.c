@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
@@ -20,11 +21,37 @@ static const char *output_path(const dtm_scene *s, const cli_opts *o, char *def,
   return def;
 }
 
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o) {
-  char def[4096];
-  const dtm_scene *s = dtm_analysis_scene(res->analysis);
-  const char *out = output_path(s, o, def, sizeof def);
-  const char *rep = o->report ? o->report : s->out_report;
+/* path with suffix before its extension ("a/b.msh" -> "a/b_refined.msh"). */
+static void with_suffix(const char *path, const char *suffix, char *buf, size_t len) {
+  const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
+  if (!dot || (slash && dot < slash)) dot = path + strlen(path);
+  snprintf(buf, len, "%.*s%s%s", (int)(dot - path), path, suffix, dot);
+}
+
+/* The default output names: the scene's, or SCENE<suffix>.msh. */
+static void default_names(const dtm_scene *s, const char *suffix, char *mesh, char *rep, size_t len) {
+  rep[0] = 0;
+  if (!suffix) {
+    if (s->out_mesh)
+      snprintf(mesh, len, "%s", s->out_mesh);
+    else
+      dtm_cli_default_out(s->path, "_dt.msh", mesh, len);
+    if (s->out_report) snprintf(rep, len, "%s", s->out_report);
+    return;
+  }
+  char tail[64];
+  snprintf(tail, sizeof tail, "%s.msh", suffix);
+  if (s->out_mesh)
+    with_suffix(s->out_mesh, suffix, mesh, len);
+  else
+    dtm_cli_default_out(s->path, tail, mesh, len);
+  if (s->out_report) with_suffix(s->out_report, suffix, rep, len);
+}
+
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix) {
+  char mesh[4096], report[4096];
+  default_names(dtm_analysis_scene(res->analysis), suffix, mesh, report, sizeof mesh);
+  const char *out = o->out ? o->out : mesh, *rep = o->report ? o->report : report[0] ? report : NULL;
   double t0 = dtm_wtime();
   DTM_CHECK(dtm_output_write(res, out));
   res->t_output = dtm_wtime() - t0;
@@ -51,10 +78,20 @@ static int verify_step(const dtm_analysis *a, const cli_opts *o) {
   if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = dtm_verify(a, dt, o->steps, v), unstable = 0;
   if (r == DTM_OK && o->verbosity) print_verify(a, dt, o->steps, v);
+  dtm_verify_report vr = {dt, dt / dtm_analysis_recommended(a), o->steps, v};
+  if (r == DTM_OK && o->report) r = dtm_verify_report_write(a, &vr, o->report);
+  if (r == DTM_OK && o->report && o->verbosity) printf("\nwrote        %s\n", o->report);
   for (int k = 0; k < dtm_analysis_neffects(a) && r == DTM_OK; k++) unstable |= v[k].unstable;
   free(v);
   if (r == DTM_OK && unstable) r = DTM_ERR(DTM_ERR_TARGET, "verify: the step %.4e s is unstable", dt);
   return r;
+}
+
+/* The global estimate: verify needs its modes; only --posterior lets a
+ * converged one become the basis, so that verify checks exactly the step
+ * run reports. */
+static unsigned global_flags(const cli_opts *o, int verify) {
+  return (verify ? DTM_GLOBAL_MODES : 0u) | (o->posterior ? DTM_GLOBAL_BASIS : 0u);
 }
 
 /* Analyse, then summarise and either write the outputs or verify. */
@@ -63,12 +100,13 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   dtm_cost *cost = NULL;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
-  if (r == DTM_OK && (o->posterior || verify)) r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, verify);
+  if (r == DTM_OK && (o->posterior || verify))
+    r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, 0.0};
+    dtm_results res = {a, cost, NULL, t_scene, 0.0, o->top};
     if (o->verbosity) dtm_summary_print(&res, stdout);
-    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o);
+    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL);
   }
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);

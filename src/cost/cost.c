@@ -1,9 +1,12 @@
 /* The cost object: what a run of the scene's duration costs on the
  * analysed mesh in element-steps, with one global step (the recommended
  * step) and with ideal subcycling, plus the subcycling levels and, when the
- * scene has a target, the mass scaling that would reach it. */
+ * scene has a target, the mass scaling that would reach it and the mass
+ * the shape-limited elements need. Everything rests on one step,
+ * dt.recommended, and its basis. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/cost.h"
 
@@ -13,10 +16,7 @@ double dtm_cost_element_steps(const dtm_analysis *a) {
 }
 
 double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const dtm_subcycling *sc) {
-  const dtm_scene *s = dtm_analysis_scene(a);
-  if (!(s->duration > 0)) return NAN;
-  double step = s->safety * dtm_analysis_dt_min(a, NULL);
-  return (double)dtm_analysis_nelements(a) * ceil(s->duration / step) / sc->speedup;
+  return dtm_cost_element_steps(a) / sc->speedup;
 }
 
 void dtm_cost_destroy(dtm_cost **pc) {
@@ -24,9 +24,37 @@ void dtm_cost_destroy(dtm_cost **pc) {
   if (!c) return;
   dtm_subcycling_free(&c->subcycling);
   if (c->mass) dtm_mass_scaling_free(c->mass);
+  if (c->shape_mass) dtm_mass_scaling_free(c->shape_mass);
   free(c->mass);
+  free(c->shape_mass);
   free(c);
   *pc = NULL;
+}
+
+/* Mass scaling to the scene's target from the basis: element by element
+ * on the element bound, at the nodes otherwise. */
+static int target_mass(const dtm_analysis *a, dtm_cost *c) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  c->mass = calloc(1, sizeof *c->mass);
+  if (!c->mass) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!strcmp(dtm_analysis_basis(a), "element bound"))
+    return dtm_mass_scaling_compute(a, s->target / s->safety, c->mass);
+  return dtm_mass_scaling_nodal(a, s->target / s->safety, NULL, c->mass);
+}
+
+/* The mass the shape-limited elements' nodes need, when there are any. */
+static int shape_mass(const dtm_analysis *a, dtm_cost *c) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  size_t n;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
+  if (!n) return DTM_OK;
+  unsigned char *only = calloc(dtm_analysis_nelements(a) + 1, 1);
+  c->shape_mass = calloc(1, sizeof *c->shape_mass);
+  if (!only || !c->shape_mass) return free(only), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; j < n; j++) only[sl[j].element] = 1;
+  int r = dtm_mass_scaling_nodal(a, s->target / s->safety, only, c->shape_mass);
+  free(only);
+  return r;
 }
 
 int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
@@ -35,13 +63,12 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   if (!c) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = dtm_subcycling_compute(a, &c->subcycling);
   c->duration = s->duration;
+  c->basis = dtm_analysis_recommended(a);
+  c->steps = s->duration > 0 ? ceil(s->duration / c->basis) : NAN;
   c->element_steps = dtm_cost_element_steps(a);
   c->element_steps_subcycled = r ? NAN : dtm_cost_element_steps_subcycled(a, &c->subcycling);
-  if (r == DTM_OK && s->target > 0) {
-    c->mass = calloc(1, sizeof *c->mass);
-    r = c->mass ? dtm_mass_scaling_compute(a, s->target / s->safety, c->mass)
-                : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  }
+  if (r == DTM_OK && s->target > 0) r = target_mass(a, c);
+  if (r == DTM_OK && s->target > 0) r = shape_mass(a, c);
   if (r) {
     dtm_cost_destroy(&c);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);

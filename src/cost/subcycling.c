@@ -1,9 +1,17 @@
-/* Subcycling levels from the dt map: element e steps at dt_min 2^k, k the
- * largest level with dt_min 2^k <= dt_e (so an element whose step is
- * exactly dt_min 2^k is on level k), clamped to DTM_MAX_LEVELS - 1. The
- * ideal speed-up over one global step dt_min is N / sum_k N_k 2^-k.
- * Elements without a finite step (no effect limits them) join the highest
- * finite level; a NaN step is put on level 0, the safe side. */
+/* Subcycling levels from the recommended step: element e steps at b 2^k,
+ * b the basis of dt.recommended (before safety), k the largest level with
+ * b 2^k <= s_e, s_e the element's own safe step (the larger of its element
+ * bound and the smallest nodal bound at its nodes, per effect: the two
+ * estimators the recommendation combines, taken locally), so an element
+ * whose step is exactly b 2^k is on level k; clamped to DTM_MAX_LEVELS - 1.
+ * Level 0 is the recommended step itself, and no element is below it: s_e
+ * >= b whenever the basis is a bound (min_e max(x_e, y_e) >= max(min x,
+ * min y)), and with the global estimate as the basis the whole mesh is
+ * stable at b, so an element below it stays on level 0. Every level is
+ * >= 0, hence the ideal speed-up N / sum_k N_k 2^-k is >= 1 and the
+ * subcycled cost never exceeds the plain one. Elements without a finite
+ * step (no effect limits them) join the highest finite level; a NaN step is
+ * put on level 0, the safe side. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,24 +19,24 @@
 #include "dtmap/cost.h"
 #include "dtmap/error.h"
 
-/* Level of a finite step dt >= dt_min: floor(log2(dt/dt_min)), corrected by
- * exact comparisons with dt_min 2^k (ldexp is exact) so that rounding in
- * log2 never moves an element across a level boundary. */
-static int level_of(double dt, double dt_min) {
-  if (!(dt > dt_min)) return 0;
-  double l = floor(log2(dt / dt_min));
+/* Level of a finite step dt against the basis b: floor(log2(dt/b)), 0 below
+ * b, corrected by exact comparisons with b 2^k (ldexp is exact) so that
+ * rounding in log2 never moves an element across a level boundary. */
+static int level_of(double dt, double b) {
+  if (!(dt > b)) return 0;
+  double l = floor(log2(dt / b));
   int k = l < 0 ? 0 : l > DTM_MAX_LEVELS - 1 ? DTM_MAX_LEVELS - 1 : (int)l;
-  while (k > 0 && ldexp(dt_min, k) > dt) k--;
-  while (k < DTM_MAX_LEVELS - 1 && ldexp(dt_min, k + 1) <= dt) k++;
+  while (k > 0 && ldexp(b, k) > dt) k--;
+  while (k < DTM_MAX_LEVELS - 1 && ldexp(b, k + 1) <= dt) k++;
   return k;
 }
 
 /* Highest level of the finite steps. */
-static int top_finite_level(const double *dt, size_t n, double dt_min) {
+static int top_finite_level(const double *dt, size_t n, double b) {
   int top = 0;
   for (size_t i = 0; i < n; i++)
     if (isfinite(dt[i])) {
-      int k = level_of(dt[i], dt_min);
+      int k = level_of(dt[i], b);
       if (k > top) top = k;
     }
   return top;
@@ -41,20 +49,26 @@ static double speedup_of(const dtm_subcycling *sc, size_t n) {
 }
 
 int dtm_subcycling_compute(const dtm_analysis *a, dtm_subcycling *sc) {
-  size_t n = dtm_analysis_nelements(a);
-  const double *dts = dtm_analysis_dt(a), dt_min = dtm_analysis_dt_min(a, NULL);
+  DTM_CHECK(
+      dtm_subcycling_levels(dtm_analysis_local_step(a), dtm_analysis_nelements(a), dtm_analysis_basis_step(a), sc));
+  sc->basis = dtm_analysis_recommended(a);
+  return DTM_OK;
+}
+
+int dtm_subcycling_levels(const double *own, size_t n, double b, dtm_subcycling *sc) {
   memset(sc, 0, sizeof *sc);
   sc->level = calloc(n + 1, sizeof *sc->level);
   if (!sc->level) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the levels of %zu elements", n);
-  int ok = dt_min > 0 && isfinite(dt_min), top = ok ? top_finite_level(dts, n, dt_min) : 0;
+  int ok = b > 0 && isfinite(b), top = ok ? top_finite_level(own, n, b) : 0;
   for (size_t i = 0; i < n; i++) {
-    double dt = dts[i];
-    int k = !ok ? 0 : isinf(dt) && dt > 0 ? top : level_of(dt, dt_min);
+    double dt = own[i];
+    int k = !ok ? 0 : isinf(dt) && dt > 0 ? top : level_of(dt, b);
     sc->level[i] = k;
     sc->count[k]++;
     if (k + 1 > sc->nlevels) sc->nlevels = k + 1;
   }
   sc->speedup = speedup_of(sc, n);
+  sc->basis = b;
   return DTM_OK;
 }
 

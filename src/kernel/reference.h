@@ -40,6 +40,13 @@ double dtm_mat_hadamard(int d, const double J[3][3]);
 /* K = J^-1 (d x d blocks), given dj = det J. */
 void dtm_mat_inverse(int d, const double J[3][3], double dj, double K[3][3]);
 
+/* Coordinates x[nn][3] (m) of a well-shaped element of type whose mean
+ * edge length is h: equilateral triangle, regular tetrahedron, square,
+ * cube, right prism on an equilateral triangle with square sides, pyramid
+ * with all eight edges h, bar; second-order nodes at the mid-edges and
+ * face and cell centres. DTM_ERR_INPUT for an unsupported type. */
+int dtm_elem_regular(int type, double h, double *x);
+
 /* Raise DTM_ERR_INPUT unless formulation f suits an element of dimension d. */
 int dtm_form_check(int type, int d, int f);
 

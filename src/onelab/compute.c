@@ -163,7 +163,7 @@ int dtm_ol_compute(ol_conn *c, const ol_model *m, const ol_panel *pn, int poster
   t_scene = dtm_wtime() - t0;
   if (r == DTM_OK) r = analyse(c, s, posterior || pn->posterior, &a, &cost);
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, 0.0};
+    dtm_results res = {a, cost, NULL, t_scene, 0.0, 0};
     r = write_and_send(c, m, &res);
   }
   if (r == DTM_OK) r = save_scene(c, pn, xml);

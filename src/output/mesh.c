@@ -1,6 +1,8 @@
 /* The output .msh and its .opt: gather the contract views (dt,
  * characteristic length, limiting effect, size suggestion) plus one
- * "dt <effect>" view per limiting effect, write them through Gmsh to a
+ * "dt <effect>" view per limiting effect, "shape limited" (the feature
+ * kind, 1 flat angle, 2 small angle, 3 short curve, 4 thin) where there
+ * are such elements, write them through Gmsh to a
  * temporary file, then rename into place. The scene's input mesh is never
  * overwritten. */
 #include <math.h>
@@ -61,11 +63,15 @@ typedef struct {
   size_t **ftags;        /* [2 neffects] tags of the finite values of a view */
   double **fvals;        /* [2 neffects] those values */
   dtm_view *views;       /* [4 + 2 neffects] */
+  size_t *stags;         /* tags of the shape-limited elements */
+  double *svals;         /* their feature (dtm_feature_kind) */
 } view_set;
 
 static void free_views(view_set *vs, int ne) {
   free(vs->btags);
   free(vs->bvals);
+  free(vs->stags);
+  free(vs->svals);
   free(vs->level);
   free(vs->dtags);
   free(vs->dvals);
@@ -92,7 +98,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 8, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 9, sizeof *vs->views);
   vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
   vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
   if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
@@ -156,27 +162,44 @@ static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
   return scratch[(n - 1) / 100];
 }
 
-/* "below target [s]": the elements whose step is below the target (without
- * one, the 1 % smallest), with their steps. It goes first among the views:
+/* "below target [s]": with a target, the elements below it on the one
+ * basis of the recommendation (safety x their own safe step, the count
+ * the summary and report give as below_target), with that step; without
+ * one, the 1 % smallest element steps. It goes first among the views:
  * Gmsh draws views in order, and the faint (translucent) dt view drawn over
  * it in 3D must not hide it in the depth buffer. */
 static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
   size_t nel = dtm_analysis_nelements(a), n = 0;
-  const double *dt = dtm_analysis_dt(a);
-  double target = dtm_analysis_scene(a)->target;
+  const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a);
+  double target = dtm_analysis_scene(a)->target, safety = dtm_analysis_scene(a)->safety;
   vs->below_at = target > 0 ? target : quantile_1pc(dt, nel, vs->bvals);
-  for (size_t i = 0; i < nel; i++)
-    if (dt[i] < vs->below_at || (target <= 0 && dt[i] == vs->below_at))
-      vs->btags[n] = vs->etags[i], vs->bvals[n++] = dt[i];
+  for (size_t i = 0; i < nel; i++) {
+    double step = target > 0 ? safety * own[i] : dt[i];
+    if (step < vs->below_at || (target <= 0 && step == vs->below_at))
+      vs->btags[n] = vs->etags[i], vs->bvals[n++] = step;
+  }
   if (!n) return;
   memmove(vs->views + 1, vs->views, (size_t)*k * sizeof *vs->views);
   vs->views[0] = (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n};
   (*k)++;
 }
 
+/* "shape limited": the feature kind on the shape-limited elements. */
+static int shape_view(const dtm_analysis *a, view_set *vs, int *k) {
+  size_t n;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
+  if (!n) return DTM_OK;
+  vs->stags = malloc(n * sizeof *vs->stags), vs->svals = malloc(n * sizeof *vs->svals);
+  if (!vs->stags || !vs->svals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; j < n; j++) vs->stags[j] = dtm_analysis_tag(a, sl[j].element), vs->svals[j] = sl[j].feature;
+  vs->views[(*k)++] = (dtm_view){"shape limited", 0, vs->stags, vs->svals, n};
+  return DTM_OK;
+}
+
 static int build_views(const dtm_results *r, view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
+  DTM_CHECK(shape_view(r->analysis, vs, nviews));
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
   below_view(r->analysis, vs, nviews);
   return DTM_OK;

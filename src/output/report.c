@@ -1,14 +1,16 @@
 /* The JSON report (cJSON): mesh counts, effects in scene order, the step
  * summary (dt.min, dt.element, dt.effect, dt.safety, dt.recommended, and
  * where the minimum sits), each effect's own minimum, accuracy findings, the
- * cost (subcycling, mass scaling), the refine rounds, and stage timings.
- * Written atomically. */
+ * cost from the one basis (element-steps, subcycling, mass scaling), the
+ * cohesive zone, damping factors, the shape-limited elements, the smallest
+ * steps, the refine rounds, warnings and stage timings. Written
+ * atomically. */
 #include <cJSON.h>
 #include <math.h>
 #include <stdlib.h>
 
-#include "dtmap/output.h"
 #include "dtmap/util.h"
+#include "output-impl.h"
 
 static cJSON *where_json(const dtm_analysis *a, size_t i) {
   cJSON *o = cJSON_CreateObject();
@@ -30,8 +32,10 @@ static cJSON *dt_json(const dtm_analysis *a) {
   cJSON_AddNumberToObject(dt, "min", dt_min);
   cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, dtm_analysis_limiting(a)[el])->name);
   cJSON_AddNumberToObject(dt, "safety", s->safety);
+  cJSON_AddStringToObject(dt, "min_is", "the element bound: the dt map's own minimum, not the step to use");
   cJSON_AddNumberToObject(dt, "recommended", dtm_analysis_recommended(a));
   cJSON_AddStringToObject(dt, "basis", dtm_analysis_basis(a));
+  cJSON_AddNumberToObject(dt, "basis_step", dtm_analysis_basis_step(a));
   if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
   if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
   if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
@@ -122,7 +126,132 @@ static cJSON *subcycling_json(const dtm_subcycling *sc) {
   cJSON *o = cJSON_CreateObject(), *lv = cJSON_AddArrayToObject(o, "levels");
   for (int k = 0; k < sc->nlevels; k++) cJSON_AddItemToArray(lv, cJSON_CreateNumber((double)sc->count[k]));
   cJSON_AddNumberToObject(o, "speedup", sc->speedup);
+  cJSON_AddNumberToObject(o, "basis", sc->basis);
   return o;
+}
+
+/* A number, or null when it is not one (no duration). */
+static void add_number(cJSON *o, const char *key, double v) {
+  if (isfinite(v))
+    cJSON_AddNumberToObject(o, key, v);
+  else
+    cJSON_AddNullToObject(o, key);
+}
+
+static cJSON *cost_json(const dtm_analysis *a, const dtm_cost *c) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "duration", c->duration);
+  add_number(o, "steps", c->steps);
+  add_number(o, "element_steps", c->element_steps);
+  add_number(o, "element_steps_subcycled", c->element_steps_subcycled);
+  cJSON_AddNumberToObject(o, "basis", c->basis);
+  cJSON_AddStringToObject(o, "basis_estimate", dtm_analysis_basis(a));
+  return o;
+}
+
+static cJSON *zones_json(const dtm_analysis *a) {
+  dtm_zone_row *rows = NULL;
+  int n = 0;
+  cJSON *arr = cJSON_CreateArray();
+  if (dtm_zone_rows(a, &rows, &n)) n = 0;
+  for (int j = 0; j < n; j++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "material", dtm_analysis_scene(a)->materials[rows[j].mat].m.name);
+    cJSON_AddNumberToObject(o, "R", rows[j].R);
+    cJSON_AddNumberToObject(o, "h_max", rows[j].hmax);
+    cJSON_AddItemToArray(arr, o);
+  }
+  free(rows);
+  return arr;
+}
+
+static cJSON *damping_json(const dtm_analysis *a) {
+  dtm_damping_row *rows = NULL;
+  int n = 0;
+  cJSON *arr = cJSON_CreateArray();
+  if (dtm_damping_rows(a, &rows, &n)) n = 0;
+  for (int j = 0; j < n; j++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "effect", dtm_analysis_effect(a, rows[j].effect)->name);
+    cJSON_AddStringToObject(o, "material", dtm_analysis_scene(a)->materials[rows[j].mat].m.name);
+    cJSON_AddNumberToObject(o, "omega", rows[j].omega);
+    cJSON_AddNumberToObject(o, "factor", rows[j].factor);
+    add_number(o, "element_factor_min", rows[j].emin);
+    add_number(o, "element_factor_max", rows[j].emax);
+    cJSON_AddItemToArray(arr, o);
+  }
+  free(rows);
+  return arr;
+}
+
+static cJSON *worst_json(const dtm_results *r) {
+  const dtm_analysis *a = r->analysis;
+  size_t *idx = NULL;
+  int n = dtm_worst(a, dtm_results_top(r), &idx);
+  cJSON *arr = cJSON_CreateArray();
+  for (int j = 0; j < n; j++) {
+    size_t i = idx[j];
+    int b;
+    size_t l;
+    char lbl[64];
+    dtm_analysis_locate(a, i, &b, &l);
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
+    cJSON_AddStringToObject(o, "type", dtm_elem_name(dtm_analysis_mesh(a)->blocks[b].type));
+    cJSON_AddStringToObject(o, "group",
+                            dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, i), lbl, sizeof lbl));
+    cJSON_AddNumberToObject(o, "dt", dtm_analysis_dt(a)[i]);
+    cJSON_AddNumberToObject(o, "length", dtm_analysis_length(a)[i]);
+    cJSON_AddStringToObject(o, "effect", dtm_analysis_effect(a, dtm_analysis_limiting(a)[i])->name);
+    cJSON_AddItemToArray(arr, o);
+  }
+  free(idx);
+  return arr;
+}
+
+#define SHAPE_LISTED 100 /* shape-limited elements listed in the report */
+
+static cJSON *shape_entry(const dtm_results *r, const dtm_shape_limited *s) {
+  char buf[256];
+  cJSON *o = where_json(r->analysis, s->element), *f = cJSON_CreateObject(), *m = cJSON_CreateObject();
+  cJSON_AddStringToObject(f, "kind", dtm_feature_name(s->feature));
+  add_number(f, "angle", s->angle);
+  cJSON_AddNumberToObject(f, "entity_dim", s->entity_dim);
+  cJSON_AddNumberToObject(f, "entity", s->entity_tag);
+  cJSON_AddNumberToObject(f, "size", s->size);
+  cJSON_AddStringToObject(f, "text", dtm_feature_text(r->analysis, s, buf, sizeof buf));
+  cJSON_AddItemToObject(o, "feature", f);
+  cJSON_AddNumberToObject(o, "quality", s->quality);
+  cJSON_AddNumberToObject(o, "reach", s->reach);
+  cJSON_AddStringToObject(m, "kind", dtm_remedy_name(s->remedy));
+  add_number(m, "size", s->split);
+  if (r->cost && r->cost->shape_mass) cJSON_AddNumberToObject(m, "mass", r->cost->shape_mass->added[s->element]);
+  cJSON_AddStringToObject(m, "text", dtm_remedy_text(r, s, buf, sizeof buf));
+  cJSON_AddItemToObject(o, "remedy", m);
+  return o;
+}
+
+static cJSON *shape_json(const dtm_results *r) {
+  size_t n;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(r->analysis, &n);
+  cJSON *arr = cJSON_CreateArray();
+  for (size_t j = 0; j < n && j < SHAPE_LISTED; j++) cJSON_AddItemToArray(arr, shape_entry(r, &sl[j]));
+  return arr;
+}
+
+static cJSON *advice_json(const dtm_results *r, cJSON *root) {
+  size_t n;
+  dtm_analysis_shape_limited(r->analysis, &n);
+  cJSON_AddItemToObject(root, "shape_limited", shape_json(r));
+  cJSON_AddNumberToObject(root, "shape_limited_count", (double)n);
+  cJSON_AddNumberToObject(root, "below_target", (double)dtm_analysis_below_target(r->analysis));
+  const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
+  if (ms) {
+    cJSON *o = cJSON_AddObjectToObject(root, "shape_limited_mass");
+    cJSON_AddNumberToObject(o, "added", ms->total_added);
+    cJSON_AddNumberToObject(o, "percent_added", 100.0 * ms->total_added / ms->total_mass);
+  }
+  return root;
 }
 
 #define TOP_ADDED 10 /* elements listed with the most added mass */
@@ -159,6 +288,7 @@ static cJSON *group_mass_json(const dtm_mesh *mesh, const dtm_mass_scaling *ms, 
 static cJSON *mass_json(const dtm_analysis *a, const dtm_mass_scaling *ms) {
   cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
   cJSON_AddNumberToObject(o, "element_step_target", ms->target);
+  cJSON_AddStringToObject(o, "where", ms->nodal ? "nodes" : "elements");
   cJSON_AddNumberToObject(o, "total_mass", ms->total_mass);
   cJSON_AddNumberToObject(o, "total_added", ms->total_added);
   cJSON_AddNumberToObject(o, "percent_added", 100.0 * ms->total_added / ms->total_mass);
@@ -169,18 +299,40 @@ static cJSON *mass_json(const dtm_analysis *a, const dtm_mass_scaling *ms) {
   return o;
 }
 
+static cJSON *round_json(const dtm_refine_result *rr, int i) {
+  const dtm_refine_round *r = &rr->rounds[i];
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "round", i);
+  cJSON_AddNumberToObject(o, "elements", (double)r->elements);
+  cJSON_AddNumberToObject(o, "dt_min", r->dt_min);
+  cJSON_AddNumberToObject(o, "recommended", r->recommended);
+  add_number(o, "element_steps", r->element_steps);
+  cJSON_AddNumberToObject(o, "element_steps_per_second", r->rate);
+  cJSON_AddNumberToObject(o, "below_target", (double)r->below);
+  cJSON_AddNumberToObject(o, "shape_limited", (double)r->shape_limited);
+  cJSON_AddNumberToObject(o, "seconds", r->seconds);
+  return o;
+}
+
 static cJSON *refine_json(const dtm_refine_result *rr) {
+  cJSON *o = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(o, "rounds");
+  for (int i = 0; i < rr->nrounds; i++) cJSON_AddItemToArray(arr, round_json(rr, i));
+  cJSON_AddNumberToObject(o, "target", rr->target);
+  cJSON_AddNumberToObject(o, "best", rr->best);
+  cJSON_AddStringToObject(o, "stopped", dtm_refine_stop_text(rr->stop));
+  cJSON_AddBoolToObject(o, "met", rr->rounds[rr->best].recommended >= rr->target);
+  double c0 = dtm_refine_cost(&rr->rounds[0]), c1 = dtm_refine_cost(&rr->rounds[rr->best]);
+  cJSON_AddNumberToObject(o, "cost_change", c1 / c0 - 1.0);
+  if (rr->forced_by) cJSON_AddStringToObject(o, "accuracy_bound", rr->forced_by);
+  if (rr->forced_by) cJSON_AddNumberToObject(o, "accuracy_elements", rr->forced);
+  return o;
+}
+
+static cJSON *warnings_json(const dtm_results *r) {
+  dtm_warnings w;
+  dtm_output_warnings(r, &w);
   cJSON *arr = cJSON_CreateArray();
-  for (int i = 0; i < rr->nrounds; i++) {
-    const dtm_refine_round *r = &rr->rounds[i];
-    cJSON *o = cJSON_CreateObject();
-    cJSON_AddNumberToObject(o, "round", i);
-    cJSON_AddNumberToObject(o, "elements", (double)r->elements);
-    cJSON_AddNumberToObject(o, "dt_min", r->dt_min);
-    cJSON_AddNumberToObject(o, "recommended", r->recommended);
-    cJSON_AddNumberToObject(o, "seconds", r->seconds);
-    cJSON_AddItemToArray(arr, o);
-  }
+  for (int j = 0; j < w.n; j++) cJSON_AddItemToArray(arr, cJSON_CreateString(w.text[j]));
   return arr;
 }
 
@@ -215,8 +367,14 @@ static cJSON *report_json(const dtm_results *r) {
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
+  if (r->cost) cJSON_AddItemToObject(root, "cost", cost_json(a, r->cost));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", subcycling_json(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", mass_json(a, r->cost->mass));
+  cJSON_AddItemToObject(root, "cohesive", zones_json(a));
+  cJSON_AddItemToObject(root, "damping", damping_json(a));
+  advice_json(r, root);
+  cJSON_AddItemToObject(root, "worst", worst_json(r));
+  cJSON_AddItemToObject(root, "warnings", warnings_json(r));
   cJSON_AddItemToObject(root, "timings", timings_json(r));
   return root;
 }

@@ -1,15 +1,15 @@
 /* The terminal summary of an analysis, in the manner of an explicit solver's
- * starter listing: counts, the smallest step and where it is, the
- * recommendation, accuracy, the cost, the ten smallest elements, and a
- * histogram by decade. */
+ * starter listing: counts, the recommended step and its basis with the
+ * element bound (the map's own minimum) labelled as such beside it,
+ * accuracy, the cost from that one step, the shape-limited elements,
+ * damping factors, the smallest elements, a histogram by decade and the
+ * warnings. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "dtmap/output.h"
-
-#define NSMALL 10
+#include "output-impl.h"
 
 static const char *effect_name(const dtm_analysis *a, int k) { return dtm_analysis_effect(a, k)->name; }
 
@@ -70,42 +70,32 @@ static void print_min(const dtm_analysis *a, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
   size_t el;
   double rec = dtm_analysis_recommended(a);
-  fprintf(f, "dt min       %.4e s at ", dtm_analysis_dt_min(a, &el));
+  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s): the step; cost, subcycling, mass scaling\n", rec,
+          s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  fprintf(f, "             and verify all use it\n");
+  fprintf(f, "elem. bound  %.4e s, the dt map's own minimum (a bound, not the step) at ", dtm_analysis_dt_min(a, &el));
   print_where(a, el, f);
   fprintf(f, ", limited by %s\n", effect_name(a, dtm_analysis_limiting(a)[el]));
   print_effect_minima(a, f);
-  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s)\n", rec, s->safety, rec / s->safety,
-          dtm_analysis_basis(a));
   if (s->target > 0)
     fprintf(f, "target       %.4e s: %s\n", s->target,
             rec >= s->target ? "met" : "NOT met (see the size suggestion view)");
 }
 
-/* Indices of the k smallest dt, ascending, by a bounded insertion. */
-static int smallest(const dtm_analysis *a, size_t *idx) {
-  const double *dt = dtm_analysis_dt(a);
-  int k = 0;
-  for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
-    if (k == NSMALL && dt[i] >= dt[idx[k - 1]]) continue;
-    int j = k < NSMALL ? k++ : NSMALL - 1;
-    while (j > 0 && dt[idx[j - 1]] > dt[i]) idx[j] = idx[j - 1], j--;
-    idx[j] = i;
-  }
-  return k;
-}
-
-static void print_smallest(const dtm_analysis *a, FILE *f) {
-  size_t idx[NSMALL];
-  int k = smallest(a, idx);
+static void print_smallest(const dtm_results *res, FILE *f) {
+  const dtm_analysis *a = res->analysis;
+  size_t *idx = NULL;
+  int k = dtm_worst(a, dtm_results_top(res), &idx);
   char lbl[64];
-  fprintf(f, "\n%d smallest steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type", "group",
-          "dt (s)", "length (m)", "effect");
+  fprintf(f, "\n%d smallest element steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type",
+          "group", "dt (s)", "length (m)", "effect");
   for (int r = 0; r < k; r++) {
     size_t i = idx[r];
     fprintf(f, "  %4d %10zu %-7s %-16s %-12.4e %-12.4e %s\n", r + 1, dtm_analysis_tag(a, i), type_name(a, i),
             group_name(a, i, lbl, sizeof lbl), dtm_analysis_dt(a)[i], dtm_analysis_length(a)[i],
             effect_name(a, dtm_analysis_limiting(a)[i]));
   }
+  free(idx);
 }
 
 static void print_conflict(const dtm_analysis *a, const dtm_accuracy *ac, FILE *f) {
@@ -140,7 +130,7 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
 static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
   const dtm_subcycling *sc = &c->subcycling;
   double rec = dtm_analysis_recommended(a);
-  fprintf(f, "subcycling   %d level(s) of dt_min x 2^k:", sc->nlevels);
+  fprintf(f, "subcycling   %d level(s) of the recommended step x 2^k:", sc->nlevels);
   for (int k = 0; k < sc->nlevels && k < 8; k++) fprintf(f, " %zu", sc->count[k]);
   fprintf(f, "%s; ideal speed-up %.2fx\n", sc->nlevels > 8 ? " ..." : "", sc->speedup);
   if (c->duration > 0)
@@ -148,8 +138,61 @@ static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
             c->duration, ceil(c->duration / rec), rec, c->element_steps, c->element_steps_subcycled);
   const dtm_mass_scaling *ms = c->mass;
   if (ms)
-    fprintf(f, "mass scaling to reach the target: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
-            100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass, ms->scaled);
+    fprintf(f,
+            "mass scaling to reach the target%s: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
+            ms->nodal ? " at the nodes" : "", 100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass,
+            ms->scaled);
+}
+
+#define SHAPE_LISTED 20 /* shape-limited elements printed */
+
+static void print_shape(const dtm_results *r, FILE *f) {
+  const dtm_analysis *a = r->analysis;
+  size_t n, below = dtm_analysis_below_target(a);
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
+  if (!below) return;
+  fprintf(f, "below target %zu element(s); %zu of them shape-limited (no larger size lifts their step)%s\n", below, n,
+          n ? " (view 'shape limited'):" : "");
+  for (size_t j = 0; j < n && j < SHAPE_LISTED; j++) {
+    char ft[200], rt[200];
+    fprintf(f, "  ");
+    print_where(a, sl[j].element, f);
+    fprintf(f, ":\n    %s; reaches %.4e s at most; remedy: %s\n", dtm_feature_text(a, &sl[j], ft, sizeof ft),
+            sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
+  }
+  if (n > SHAPE_LISTED) fprintf(f, "  ... and %zu more (the report lists them)\n", n - SHAPE_LISTED);
+  const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
+  if (ms)
+    fprintf(f, "  mass alternative for exactly these: +%.4g kg (%.3g%% of the model) at their nodes\n", ms->total_added,
+            100.0 * ms->total_added / ms->total_mass);
+}
+
+static void print_damping(const dtm_analysis *a, FILE *f) {
+  dtm_damping_row *rows = NULL;
+  int n = 0;
+  if (dtm_damping_rows(a, &rows, &n) == DTM_OK)
+    for (int j = 0; j < n; j++)
+      fprintf(f, "damping      %-10s x %.4f on '%s' at omega %.4g rad/s (elements: %.4f to %.4f)\n",
+              effect_name(a, rows[j].effect), rows[j].factor, dtm_analysis_scene(a)->materials[rows[j].mat].m.name,
+              rows[j].omega, rows[j].emin, rows[j].emax);
+  free(rows);
+}
+
+static void print_zones(const dtm_analysis *a, FILE *f) {
+  dtm_zone_row *rows = NULL;
+  int n = 0;
+  if (dtm_zone_rows(a, &rows, &n) == DTM_OK)
+    for (int j = 0; j < n; j++)
+      fprintf(f, "cohesive     '%s': process zone R = %.4g m, h_max = R/N = %.4g m\n",
+              dtm_analysis_scene(a)->materials[rows[j].mat].m.name, rows[j].R, rows[j].hmax);
+  free(rows);
+}
+
+static void print_warnings(const dtm_results *r, FILE *f) {
+  dtm_warnings w;
+  dtm_output_warnings(r, &w);
+  if (w.n) fputc('\n', f);
+  for (int j = 0; j < w.n; j++) fprintf(f, "WARNING: %s\n", w.text[j]);
 }
 
 static void print_histogram(const dtm_analysis *a, FILE *f) {
@@ -179,8 +222,12 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   FILE *f = stream;
   print_counts(r->analysis, f);
   print_min(r->analysis, f);
+  print_damping(r->analysis, f);
+  print_zones(r->analysis, f);
   print_accuracy(r->analysis, f);
   if (r->cost) print_cost(r->analysis, r->cost, f);
-  print_smallest(r->analysis, f);
+  print_shape(r, f);
+  print_smallest(r, f);
   print_histogram(r->analysis, f);
+  print_warnings(r, f);
 }

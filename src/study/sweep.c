@@ -96,8 +96,8 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
 
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   FILE *f = stream;
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "h", "elements", "nodes", "dt min", "dt rec.",
-          "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave", "time");
+  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "h", "elements", "nodes", "elem.bound",
+          "dt rec.", "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave", "time");
   fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "(m)", "", "", "(s)", "(s)", "", "", "", "",
           "(min)", "(min)", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);

@@ -1,0 +1,387 @@
+/* Below the target: size-limited or shape-limited. With a target, every
+ * element whose own safe step (safety included) is below it is counted; for
+ * each, the question is whether a larger element there would lift its
+ * step. The element's step is compared with that of the well-shaped
+ * (regular) element of its size, its quality q, and with the typical
+ * quality of the mesh, q_typ (the median over a sample of its elements: a
+ * fresh mesh is made of such elements, not of regular ones). The model
+ * feature it sits on is read from the Gmsh classification of its nodes:
+ *  - a near-flat angle (>= 150 deg) between model curves (2D, at a model
+ *    point) or surfaces (3D, along a model curve) that this one element
+ *    holds: a remesh at any size puts the angle in one element again;
+ *  - a small angle (< 30 deg) there: every element at it is a needle;
+ *  - a model curve through two of its corners that is shorter than the size
+ *    a typical element needs for the target, or two boundaries that do not
+ *    touch, closer than that (a thin feature): the size cannot grow.
+ * At an angle the shape stays (when it is what limits: q < 0.6 q_typ) and
+ * only the size can grow, up to the shortest model curve at the feature; at
+ * a short or thin feature the shape can improve (to q_typ) but the size
+ * cannot exceed the curve or the gap. Either size is taken times the
+ * spread of a fresh Gmsh mesh (its worst elements are about 0.78 (3D), 0.8
+ * (2D) of its nominal size, dtm_analysis_mesh_spread). When the step that
+ * allows stays below the target the element is shape-limited, with its
+ * cheapest remedy: splitting a near-flat 2D angle by local refinement, an
+ * optimiser pass for a flat 3D dihedral or a small angle split finer than
+ * the geometry forces, else the mass its nodes need (the cost module
+ * computes it). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+#include "dtmap/topology.h"
+#include "reference.h"
+
+#define FLAT_DEG 150.0   /* an element angle at least this is near-flat */
+#define SMALL_DEG 30.0   /* a model angle below this is small */
+#define POOR_QUALITY 0.6 /* below this x q_typ the shape, not the size, sets the step */
+#define SAMPLE 401       /* elements sampled for the typical quality */
+#define RAD2DEG 57.295779513082323
+
+int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double *x, double *dt) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  const dtm_block *blk = &a->mesh->blocks[b];
+  const dtm_material *mat = &a->scene->materials[blk->mat[l]].m;
+  dtm_batch bt = {type, blk->dim, blk->nn, 1, x, blk->tags + l, blk->group + l, blk->gmask ? blk->gmask + l : NULL,
+                  &mat};
+  *dt = INFINITY;
+  for (int k = 0; k < a->neffects; k++) {
+    const dtm_effect *ef = &a->effects[k];
+    double dk, len, f = 1.0;
+    if (!a->dt_effect[k]) continue;
+    DTM_CHECK(ef->cls->element_dt(ef->state, &bt, &dk, &len));
+    if (dtm_analysis_is_wave(a, k) && isfinite(dk)) DTM_CHECK(dtm_analysis_wave_factor(a, blk->mat[l], 2.0 / dk, &f));
+    *dt = fmin(*dt, dk * f);
+  }
+  return DTM_OK;
+}
+
+/* Element i's steps over that of the well-shaped element of its size: its
+ * element step (*q) and its own safe step (*r, the ratio decisions use). */
+static int quality(const dtm_analysis *a, size_t i, double *q, double *r) {
+  int b;
+  size_t l;
+  double x[DTM_MAX_NODES * 3], well;
+  dtm_analysis_locate(a, i, &b, &l);
+  DTM_CHECK(dtm_elem_regular(a->mesh->blocks[b].type, a->h[i], x));
+  DTM_CHECK(dtm_analysis_step_at(a, i, a->mesh->blocks[b].type, x, &well));
+  int ok = well > 0 && isfinite(well);
+  *q = ok ? a->dt[i] / well : 1.0;
+  *r = ok ? a->local[i] / well : 1.0;
+  return DTM_OK;
+}
+
+double dtm_analysis_mesh_spread(int dim) { return dim == 3 ? 0.78 : dim == 2 ? 0.8 : 1.0; }
+
+static int cmp_double(const void *x, const void *y) {
+  double u = *(const double *)x, v = *(const double *)y;
+  return u < v ? -1 : u > v;
+}
+
+/* Median of the own-step ratio r over a strided sample of the elements
+ * (those some effect limits). */
+static int typical_quality(const dtm_analysis *a, double *r_typ) {
+  size_t n = a->nel < SAMPLE ? a->nel : SAMPLE, stride = a->nel / n, k = 0;
+  double r[SAMPLE], q;
+  for (size_t j = 0; j < n; j++)
+    if (isfinite(a->local[j * stride])) DTM_CHECK(quality(a, j * stride, &q, &r[k++]));
+  qsort(r, k, sizeof r[0], cmp_double);
+  *r_typ = k ? r[k / 2] : 1.0;
+  return DTM_OK;
+}
+
+/* Elements around each node (CSR over all nodes). */
+typedef struct {
+  size_t *start; /* [nnodes + 1] */
+  size_t *list;  /* [start[nnodes]] global element indices */
+} incidence;
+
+/* Pass 0 counts the elements of each node into start[v + 2]; pass 1,
+ * after the prefix sums, files them (start[v + 1] runs over v's range). */
+static void scatter(const dtm_analysis *a, incidence *inc, int fill) {
+  const dtm_mesh *m = a->mesh;
+  for (int b = 0; b < m->nblocks; b++)
+    for (size_t e = 0; e < m->blocks[b].n; e++)
+      for (int c = 0; c < m->blocks[b].nn; c++) {
+        size_t v = m->blocks[b].conn[e * m->blocks[b].nn + c];
+        if (fill)
+          inc->list[inc->start[v + 1]++] = a->offset[b] + e;
+        else
+          inc->start[v + 2]++;
+      }
+}
+
+static int build_incidence(const dtm_analysis *a, incidence *inc) {
+  const dtm_mesh *m = a->mesh;
+  size_t total = 0;
+  for (int b = 0; b < m->nblocks; b++) total += m->blocks[b].n * (size_t)m->blocks[b].nn;
+  inc->start = calloc(m->nnodes + 2, sizeof *inc->start);
+  inc->list = malloc((total + 1) * sizeof *inc->list);
+  if (!inc->start || !inc->list) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  scatter(a, inc, 0);
+  for (size_t v = 0; v < m->nnodes; v++) inc->start[v + 2] += inc->start[v + 1];
+  scatter(a, inc, 1);
+  return DTM_OK;
+}
+
+/* The corners of element i: type of the linear parent's count, node
+ * indices and coordinates. */
+typedef struct {
+  int type, nc;       /* element type, corner count */
+  size_t v[8];        /* corner node indices */
+  const double *x[8]; /* their coordinates */
+} corners;
+
+/* Corners of a type from its dimension and edge count: a polygon has as
+ * many as edges; tet 6 edges -> 4, pyramid 8 -> 5, prism 9 -> 6, hex 12 -> 8. */
+static int corner_count(int dim, int nedges) {
+  if (dim < 2) return 2;
+  if (dim == 2) return nedges;
+  return nedges == 6 ? 4 : nedges == 8 ? 5 : nedges == 9 ? 6 : 8;
+}
+
+static void get_corners(const dtm_analysis *a, size_t i, corners *c) {
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  const dtm_block *blk = &a->mesh->blocks[b];
+  const int(*edges)[2];
+  c->type = blk->type;
+  c->nc = corner_count(blk->dim, dtm_elem_edges(blk->type, &edges));
+  for (int k = 0; k < c->nc && k < 8; k++) c->v[k] = blk->conn[l * blk->nn + k], c->x[k] = a->mesh->xyz + 3 * c->v[k];
+}
+
+static double angle_between(const double *o, const double *p, const double *q) {
+  double u[3], w[3], uu = 0, ww = 0, uw = 0;
+  for (int d = 0; d < 3; d++) u[d] = p[d] - o[d], w[d] = q[d] - o[d], uu += u[d] * u[d], ww += w[d] * w[d];
+  for (int d = 0; d < 3; d++) uw += u[d] * w[d];
+  double cs = uw / sqrt(uu * ww);
+  return acos(cs > 1 ? 1 : cs < -1 ? -1 : cs) * RAD2DEG;
+}
+
+/* 2D: the angle of corner k (its neighbours in the cyclic corner order). */
+static double corner_angle(const corners *c, int k) {
+  return angle_between(c->x[k], c->x[(k + 1) % c->nc], c->x[(k + c->nc - 1) % c->nc]);
+}
+
+/* 3D tetrahedron: the dihedral angle along edge (j, k): between the
+ * directions to the two other corners, projected normal to the edge. */
+static double dihedral(const corners *c, int j, int k) {
+  int o[2], n = 0;
+  double e[3], ee = 0, u[2][3];
+  for (int m = 0; m < 4; m++)
+    if (m != j && m != k) o[n++] = m;
+  for (int d = 0; d < 3; d++) e[d] = c->x[k][d] - c->x[j][d], ee += e[d] * e[d];
+  for (int s = 0; s < 2; s++) {
+    double t = 0;
+    for (int d = 0; d < 3; d++) u[s][d] = c->x[o[s]][d] - c->x[j][d], t += u[s][d] * e[d];
+    for (int d = 0; d < 3; d++) u[s][d] -= t / ee * e[d];
+  }
+  const double zero[3] = {0, 0, 0};
+  return angle_between(zero, u[0], u[1]);
+}
+
+static int corner_of(const corners *c, size_t v) {
+  for (int k = 0; k < c->nc; k++)
+    if (c->v[k] == v) return k;
+  return -1;
+}
+
+/* What one element sits on. */
+typedef struct {
+  int kind;     /* dtm_feature_kind, 0: none */
+  double angle; /* model angle, degrees */
+  double own;   /* the element's own angle there, degrees */
+  int dim, tag; /* entity of the feature */
+  double size;  /* the largest size the feature allows, m */
+} feature;
+
+/* Shortest model curve through model point p (2D), +inf if none. */
+static double shortest_curve_at(const dtm_geo *g, int p) {
+  double best = INFINITY;
+  for (int e = 0; e < g->nent; e++) {
+    const dtm_geo_entity *en = &g->ent[e];
+    if (en->dim != 1 || !(en->size > 0)) continue;
+    for (int k = 0; k < en->npoints; k++)
+      if (en->points[k] == p) best = fmin(best, en->size);
+  }
+  return best;
+}
+
+/* 2D: the model angle at corner k of element i (point node), summed over
+ * the elements of i's entity around the node. */
+static double model_angle_2d(const dtm_analysis *a, const incidence *inc, size_t i, size_t v) {
+  double sum = 0;
+  for (size_t j = inc->start[v]; j < inc->start[v + 1]; j++) {
+    size_t o = inc->list[j];
+    corners c;
+    if (a->geo->elem_entity[o] != a->geo->elem_entity[i]) continue;
+    get_corners(a, o, &c);
+    int k = corner_of(&c, v);
+    if (k >= 0) sum += corner_angle(&c, k);
+  }
+  return sum;
+}
+
+/* 3D: the model dihedral along edge (v, w), summed over the tetrahedra of
+ * i's entity around it. */
+static double model_angle_3d(const dtm_analysis *a, const incidence *inc, size_t i, size_t v, size_t w) {
+  double sum = 0;
+  for (size_t j = inc->start[v]; j < inc->start[v + 1]; j++) {
+    size_t o = inc->list[j];
+    corners c;
+    if (a->geo->elem_entity[o] != a->geo->elem_entity[i]) continue;
+    get_corners(a, o, &c);
+    int p = corner_of(&c, v), q = corner_of(&c, w);
+    if (p >= 0 && q >= 0 && c.nc == 4) sum += dihedral(&c, p, q);
+  }
+  return sum;
+}
+
+static void set_angle(feature *f, double model, double own, int dim, int tag, double size) {
+  int kind = own >= FLAT_DEG ? DTM_FEATURE_FLAT_ANGLE : model < SMALL_DEG ? DTM_FEATURE_SMALL_ANGLE : 0;
+  if (!kind || f->kind == DTM_FEATURE_FLAT_ANGLE) return;
+  *f = (feature){kind, model, own, dim, tag, size};
+}
+
+/* Angles at the model points among the corners of a 2D element. */
+static void angles_2d(const dtm_analysis *a, const incidence *inc, size_t i, const corners *c, feature *f) {
+  for (int k = 0; k < c->nc; k++) {
+    size_t v = c->v[k];
+    if (a->geo->node_dim[v] != 0) continue;
+    int p = a->geo->node_tag[v];
+    set_angle(f, model_angle_2d(a, inc, i, v), corner_angle(c, k), 0, p, shortest_curve_at(a->geo, p));
+  }
+}
+
+/* The model curve through corners v and w (3D edge on a curve), or NULL. */
+static const dtm_geo_entity *curve_of_edge(const dtm_geo *g, size_t v, size_t w) {
+  size_t on = g->node_dim[v] == 1 ? v : g->node_dim[w] == 1 ? w : (size_t)-1;
+  if (on == (size_t)-1) return NULL;
+  const dtm_geo_entity *cv = dtm_geo_find(g, 1, g->node_tag[on]);
+  return cv && dtm_geo_node_on(g, v, cv) && dtm_geo_node_on(g, w, cv) ? cv : NULL;
+}
+
+/* Dihedral angles along the edges of a tetrahedron that lie on model curves. */
+static void angles_3d(const dtm_analysis *a, const incidence *inc, size_t i, const corners *c, feature *f) {
+  for (int j = 0; j < 4 && c->nc == 4; j++)
+    for (int k = j + 1; k < 4; k++) {
+      const dtm_geo_entity *cv = curve_of_edge(a->geo, c->v[j], c->v[k]);
+      if (cv) set_angle(f, model_angle_3d(a, inc, i, c->v[j], c->v[k]), dihedral(c, j, k), 1, cv->tag, cv->size);
+    }
+}
+
+/* The shortest model curve touching the element (a corner on it or on one
+ * of its points) whose length, times the spread of a fresh mesh, is below
+ * need: the size the element needs with its shape. */
+static void short_curves(const dtm_geo *g, const corners *c, double need, double spread, feature *f) {
+  for (int e = 0; e < g->nent; e++) {
+    const dtm_geo_entity *en = &g->ent[e];
+    int on = 0;
+    if (en->dim != 1 || !(en->size > 0) || !(spread * en->size < need) || en->size >= f->size) continue;
+    for (int k = 0; k < c->nc; k++) on += dtm_geo_node_on(g, c->v[k], en);
+    if (on) *f = (feature){DTM_FEATURE_SHORT_CURVE, NAN, NAN, 1, en->tag, en->size};
+  }
+}
+
+/* Two corners on boundaries that do not touch, closer than need. */
+static void thin_parts(const dtm_analysis *a, const corners *c, double need, feature *f) {
+  const dtm_geo *g = a->geo;
+  for (int j = 0; j < c->nc; j++)
+    for (int k = j + 1; k < c->nc; k++) {
+      size_t v = c->v[j], w = c->v[k];
+      if (g->node_dim[v] >= a->mesh->dim || g->node_dim[w] >= a->mesh->dim || dtm_geo_touch(g, v, w)) continue;
+      double t = 0;
+      for (int d = 0; d < 3; d++) t += (c->x[j][d] - c->x[k][d]) * (c->x[j][d] - c->x[k][d]);
+      t = sqrt(t);
+      if (t < need && t < f->size) *f = (feature){DTM_FEATURE_THIN, NAN, NAN, g->node_dim[v], g->node_tag[v], t};
+    }
+}
+
+/* Step exponent of the effect that limits element i. */
+static double exponent_of(const dtm_analysis *a, size_t i) {
+  int k = a->limiting[i];
+  return k >= 0 ? a->effects[k].cls->exponent : 1.0;
+}
+
+static double pow_p(double r, double p) { return p == 1.0 ? r : pow(r, p); }
+
+/* What the classification of one mesh shares. */
+typedef struct {
+  incidence inc; /* elements around each node */
+  double q_typ;  /* typical own-step ratio of the mesh (median of r) */
+  double spread; /* worst / nominal size of a fresh mesh */
+} judge_ctx;
+
+/* The remedy of a shape-limited element with feature f, quality ratio
+ * qr = q / q_typ, need factor F (target over its step). */
+static void remedy(const dtm_analysis *a, size_t i, const feature *f, double qr, double F, dtm_shape_limited *s) {
+  double p = exponent_of(a, i);
+  s->remedy = DTM_REMEDY_MASS, s->split = NAN;
+  if (f->kind == DTM_FEATURE_FLAT_ANGLE && a->mesh->dim == 3) s->remedy = DTM_REMEDY_OPTIMISE;
+  if (f->kind == DTM_FEATURE_SMALL_ANGLE && f->own < 0.5 * f->angle) s->remedy = DTM_REMEDY_OPTIMISE;
+  if (f->kind != DTM_FEATURE_FLAT_ANGLE || a->mesh->dim != 2) return;
+  double split = a->h[i] * pow(F * qr, 1.0 / p); /* a typical element meeting the target */
+  if (split <= f->size) s->remedy = DTM_REMEDY_SPLIT, s->split = split;
+}
+
+/* The feature element i sits on, if any; need_own and need_typ are the
+ * sizes it needs with its own shape and with the typical one. */
+static void find_feature(const dtm_analysis *a, const judge_ctx *jc, size_t i, double qr, double need_own,
+                         double need_typ, feature *f) {
+  corners c;
+  get_corners(a, i, &c);
+  if (qr < POOR_QUALITY) (a->mesh->dim == 2 ? angles_2d : angles_3d)(a, &jc->inc, i, &c, f);
+  if (!f->kind) short_curves(a->geo, &c, need_own, jc->spread, f);
+  if (!f->kind) thin_parts(a, &c, need_typ, f);
+}
+
+/* Decide element i (below the target by the factor F). */
+static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F, int *limited, dtm_shape_limited *s) {
+  feature f = {0, NAN, NAN, -1, -1, INFINITY};
+  double q = 1.0, rq = 1.0, p = exponent_of(a, i);
+  DTM_CHECK(quality(a, i, &q, &rq));
+  double qr = rq / jc->q_typ, need = a->h[i] * pow(F * qr, 1.0 / p);
+  find_feature(a, jc, i, qr, a->h[i] * pow(F, 1.0 / p), need, &f);
+  *limited = 0;
+  if (!f.kind) return DTM_OK;
+  int angle = f.kind <= DTM_FEATURE_SMALL_ANGLE;
+  double grow = pow_p(fmax(jc->spread * f.size, a->h[i]) / a->h[i], p);
+  if (f.kind == DTM_FEATURE_THIN) grow *= fmax(1.0, 1.0 / qr); /* across a gap the shape can improve */
+  if (!(grow < F)) return DTM_OK;
+  *limited = 1;
+  *s = (dtm_shape_limited){
+      i, f.kind, angle ? f.angle : NAN, f.dim, f.tag, f.size, q, a->scene->safety * a->local[i] * grow, 0, NAN};
+  remedy(a, i, &f, qr, F, s);
+  return DTM_OK;
+}
+
+static int classify_all(dtm_analysis *a, double target) {
+  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim)};
+  int r = build_incidence(a, &jc.inc);
+  if (r == DTM_OK) r = typical_quality(a, &jc.q_typ);
+  a->shape = r ? NULL : malloc((a->below + 1) * sizeof *a->shape);
+  if (r == DTM_OK && !a->shape) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < a->nel && r == DTM_OK; i++) {
+    double step = a->scene->safety * a->local[i];
+    int limited = 0;
+    if (!(step < target)) continue;
+    r = judge(a, &jc, i, target / step, &limited, &a->shape[a->nshape]);
+    a->nshape += limited;
+  }
+  free(jc.inc.start), free(jc.inc.list);
+  return r;
+}
+
+int dtm_shape_classify(dtm_analysis *a) {
+  double target = a->scene->target;
+  free(a->shape);
+  a->shape = NULL, a->nshape = a->below = 0;
+  if (!(target > 0)) return DTM_OK;
+  for (size_t i = 0; i < a->nel; i++) a->below += a->scene->safety * a->local[i] < target;
+  if (!a->below || !a->geo) return DTM_OK;
+  DTM_CHECK(classify_all(a, target));
+  return DTM_OK;
+}

@@ -1,0 +1,60 @@
+/* Private to src/output/: what the terminal summary and the JSON report
+ * both show about the advice (advice.c): warnings, the wording of
+ * shape-limited features and remedies, the damping factors, the cohesive
+ * zone per material and the smallest steps. Nothing here computes a step:
+ * it reads the results bundle. */
+#ifndef DTM_OUTPUT_IMPL_H
+#define DTM_OUTPUT_IMPL_H
+
+#include <stddef.h>
+
+#include "dtmap/output.h"
+
+#define DTM_MASS_WARN 5.0 /* percent of added mass above which a warning is given */
+#define DTM_WARN_MAX 32
+#define DTM_TOP_DEFAULT 10
+
+/* Warnings for the user, one sentence each. */
+typedef struct {
+  int n;                        /* warnings kept */
+  char text[DTM_WARN_MAX][400]; /* their sentences */
+} dtm_warnings;
+
+void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+
+/* One line on the feature and one on the remedy of a shape-limited element. */
+const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, char *buf, size_t len);
+const char *dtm_remedy_text(const dtm_results *r, const dtm_shape_limited *s, char *buf, size_t len);
+const char *dtm_feature_name(int kind);
+const char *dtm_remedy_name(int remedy);
+
+/* The damping factor of one wave effect on one material: at the undamped
+ * top frequency where the effect's basis sits, and its range over the
+ * material's elements in the dt map. */
+typedef struct {
+  int effect;        /* scene index of the wave effect */
+  int mat;           /* scene index of the material */
+  double omega;      /* rad/s */
+  double factor;     /* at omega */
+  double emin, emax; /* over the material's elements */
+} dtm_damping_row;
+
+/* Rows (malloc'ed, *rows; NULL and 0 without damping). */
+int dtm_damping_rows(const dtm_analysis *a, dtm_damping_row **rows, int *n);
+
+/* The cohesive process zone of one material. */
+typedef struct {
+  int effect;  /* scene index of the cohesive effect */
+  int mat;     /* scene index of the material */
+  double R;    /* process-zone length, m */
+  double hmax; /* R / elements-per-zone, m */
+} dtm_zone_row;
+
+int dtm_zone_rows(const dtm_analysis *a, dtm_zone_row **rows, int *n);
+
+/* The elements with the smallest steps, ascending: at most top of them
+ * into idx (malloc'ed); returns the count. */
+int dtm_worst(const dtm_analysis *a, int top, size_t **idx);
+int dtm_results_top(const dtm_results *r);
+
+#endif
