@@ -1,6 +1,6 @@
 /* `dtmap refine` on two bundled geometries: the target is met within the
- * round budget (round 0 plus at most 3 remeshes), the final mesh carries
- * all the views, and the report lists the rounds. For the box, whose scene
+ * round budget (round 0 plus at most 3 remeshes), the kept mesh carries
+ * all the views, and the report lists the rounds and which one is kept. For the box, whose scene
  * mesh is uniform, the refined mesh is compared with the ideal uniform mesh
  * at the target: N_ideal = N_0 (R_0 / target)^3 (dt scales linearly with the
  * size, the count with its cube), and the refined count must be at most
@@ -31,13 +31,14 @@ static cJSON *refine(const char *geo, const char *target, int *code) {
 }
 
 static void check_met(const cJSON *j, double target) {
-  const cJSON *rounds = cJSON_GetObjectItem(j, "refine");
+  const cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "refine"), "rounds");
   assert_non_null(rounds);
-  int n = cJSON_GetArraySize(rounds);
+  int n = cJSON_GetArraySize(rounds), best = (int)tu_json_number(j, "refine.best");
   assert_true(n >= 1 && n <= 4);
+  assert_true(best >= 0 && best < n);
   assert_true(tu_json_number(j, "dt.recommended") >= target);
-  const cJSON *last = cJSON_GetArrayItem(rounds, n - 1);
-  assert_true(cJSON_GetObjectItem(last, "recommended")->valuedouble == tu_json_number(j, "dt.recommended"));
+  const cJSON *kept = cJSON_GetArrayItem(rounds, best);
+  assert_true(cJSON_GetObjectItem(kept, "recommended")->valuedouble == tu_json_number(j, "dt.recommended"));
 }
 
 static void views_present(const char *geo) {
@@ -61,7 +62,7 @@ static void box(void **unused) {
   cJSON *j = refine("box", "4e-7", &code);
   assert_int_equal(code, 0);
   check_met(j, target);
-  const cJSON *r0 = cJSON_GetArrayItem(cJSON_GetObjectItem(j, "refine"), 0);
+  const cJSON *r0 = cJSON_GetArrayItem(cJSON_GetObjectItem(cJSON_GetObjectItem(j, "refine"), "rounds"), 0);
   double n0 = cJSON_GetObjectItem(r0, "elements")->valuedouble,
          rec0 = cJSON_GetObjectItem(r0, "recommended")->valuedouble;
   double ideal = n0 * pow(rec0 / target, 3), n = tu_json_number(j, "mesh.elements");
