@@ -13,6 +13,7 @@
 #include <stddef.h>
 
 #include "dtmap/export.h"
+#include "dtmap/gmsh.h"
 #include "dtmap/mesh.h"
 #include "dtmap/operator.h"
 #include "dtmap/effect_set.h"
@@ -208,6 +209,8 @@ DTM_EXPORT int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double o
  * owned by the analysis). Features need the Gmsh model (dtm_analysis_run
  * or _current); an analysis of hand-built blocks lists none. */
 DTM_EXPORT size_t dtm_analysis_below_target(const dtm_analysis *a);
+/* Where the mesh sits on the model (NULL for hand-built blocks). */
+DTM_EXPORT const dtm_geo *dtm_analysis_geo(const dtm_analysis *a);
 /* The spread of a fresh Gmsh mesh of dimension dim: its smallest nodal
  * step over its median one at a uniform size (measured: 0.78 in 3D, 0.8
  * in 2D; 1 in 1D). */

@@ -18,7 +18,7 @@
 static double effect_safe(const dtm_effect_min *pe, int use_global, const char **basis) {
   double safe = pe->min;
   *basis = "element bound";
-  if (isfinite(pe->nodal) && (pe->nodal > safe || !pe->element_rigorous)) safe = pe->nodal, *basis = "nodal bound";
+  if (isfinite(pe->nodal) && (pe->nodal >= safe || !pe->element_rigorous)) safe = pe->nodal, *basis = "nodal bound";
   if (use_global && isfinite(pe->global) && pe->global > safe) safe = pe->global, *basis = "global estimate";
   return safe;
 }

@@ -6,7 +6,6 @@
  * dt.recommended, and its basis. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "dtmap/cost.h"
 
@@ -31,14 +30,15 @@ void dtm_cost_destroy(dtm_cost **pc) {
   *pc = NULL;
 }
 
-/* Mass scaling to the scene's target from the basis: element by element
- * on the element bound, at the nodes otherwise. */
+/* Mass scaling to the scene's target from the basis: at the nodes whenever
+ * there is a nodal bound (then the recommendation, never below it, reaches
+ * the target too), element by element when the element bound is all there
+ * is. */
 static int target_mass(const dtm_analysis *a, dtm_cost *c) {
   const dtm_scene *s = dtm_analysis_scene(a);
   c->mass = calloc(1, sizeof *c->mass);
   if (!c->mass) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (!strcmp(dtm_analysis_basis(a), "element bound"))
-    return dtm_mass_scaling_compute(a, s->target / s->safety, c->mass);
+  if (!isfinite(dtm_analysis_dt_nodal(a))) return dtm_mass_scaling_compute(a, s->target / s->safety, c->mass);
   return dtm_mass_scaling_nodal(a, s->target / s->safety, NULL, c->mass);
 }
 

@@ -1,4 +1,8 @@
-/* Grading of a size field on a mesh: no node's size may exceed that of
+/* Shaping a size field to what the geometry and the mesher allow: no node
+ * on a model curve (or point) is asked for more than the length of that
+ * curve (or of the shortest curve through the point), since an element
+ * there cannot be larger and asking for it only distorts its neighbours;
+ * and grading: no node's size may exceed that of
  * another by more than g times their distance along mesh edges,
  * s_b <= min_a (s_a + g d_ab), computed as a shortest-path problem from
  * every node at once (Dijkstra with a binary heap over the mesh's edges),
@@ -96,6 +100,28 @@ static void relax(const dtm_mesh *m, const adjacency *g, heap *h, double *s, dou
       s[v] = t;
       up(h, h->pos[v]);
     }
+  }
+}
+
+/* Shortest model curve through each model point: [nent] by entity index. */
+static double point_cap(const dtm_geo *g, int p) {
+  double cap = INFINITY;
+  for (int e = 0; e < g->nent; e++)
+    for (int k = 0; g->ent[e].dim == 1 && g->ent[e].size > 0 && k < g->ent[e].npoints; k++)
+      if (g->ent[e].points[k] == p) cap = fmin(cap, g->ent[e].size);
+  return cap;
+}
+
+void dtm_cap_at_features(const dtm_geo *g, const double *floor, double *size) {
+  for (size_t v = 0; g && v < g->nnodes; v++) {
+    double cap = INFINITY;
+    if (g->node_dim[v] == 1) {
+      const dtm_geo_entity *c = dtm_geo_find(g, 1, g->node_tag[v]);
+      cap = c && c->size > 0 ? c->size : INFINITY;
+    } else if (g->node_dim[v] == 0) {
+      cap = point_cap(g, g->node_tag[v]);
+    }
+    if (size[v] > cap) size[v] = fmax(cap, floor[v]);
   }
 }
 

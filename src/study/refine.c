@@ -14,8 +14,11 @@
  * reaches the target is therefore scaled by a calibration c: the first
  * round uses 1/0.72 (2D) or 1/0.8 (3D), and each later one corrects c by
  * the shortfall it measured, c <- c (target / recommended)^(1/p) x 1.02
- * (at most x 1.5), p the size exponent of the effect that sets the step.
- * The field is graded (slope 0.3) so that the mesher can follow it.
+ * (at least x 1.08, as the worst node of a fresh mesh scatters by about
+ * 5 % from one mesh to the next; at most x 1.5), p the size exponent of
+ * the effect that sets the step.
+ * The field is capped at the length of the model curves a node lies on and
+ * graded (slope 0.3), so that the mesher can follow it.
  * Every round remeshes the geometry (which stays loaded) with the size field
  * of the input mesh, so the rounds are a one-dimensional search over c; a
  * round that fell short is followed by a coarser one. The loop keeps the
@@ -35,8 +38,9 @@
 #include "dtmap/util.h"
 #include "study-impl.h"
 
-#define GRADE 0.3      /* size slope of the field (m per m): a fresh mesh follows it */
-#define MAX_GROWTH 1.5 /* of the calibration from one round to the next */
+#define GRADE 0.3       /* size slope of the field (m per m): a fresh mesh follows it */
+#define MAX_GROWTH 1.5  /* of the calibration from one round to the next */
+#define MIN_GROWTH 1.08 /* above the round-to-round scatter of a fresh mesh's worst node (+-5 %) */
 
 /* Size exponent of the effect whose step is the recommendation's basis. */
 static double basis_exponent(const dtm_analysis *a) {
@@ -76,11 +80,13 @@ static int better(const dtm_refine_result *rr, int i) {
   return !met(rr, rr->best) && r->recommended > b->recommended && dtm_refine_cost(r) <= dtm_refine_cost(&rr->rounds[0]);
 }
 
-/* The size field of a round: the calibrated suggestion, graded, never below
- * the current size (the field with c = 0). */
+/* The size field of a round: the calibrated suggestion, capped at the
+ * model's short curves, graded, never below the current size (the field
+ * with c = 0). */
 static int round_field(const dtm_analysis *a, double c, double *size, double *floor) {
   DTM_CHECK(dtm_analysis_size_field(a, c, size));
   DTM_CHECK(dtm_analysis_size_field(a, 0.0, floor));
+  dtm_cap_at_features(dtm_analysis_geo(a), floor, size);
   return dtm_grade_sizes(dtm_analysis_mesh(a), GRADE, floor, size);
 }
 
@@ -179,7 +185,8 @@ static int rounds(dtm_refine_result *rr, loop_state *st, int dim, int max_rounds
   while (!should_stop(rr, st, max_rounds)) {
     double t0 = dtm_wtime(), last = rr->rounds[rr->nrounds - 1].recommended;
     dtm_analysis *next = NULL;
-    if (rr->nrounds > 1) c *= fmin(MAX_GROWTH, 1.02 * pow(rr->target / last, 1.0 / basis_exponent(st->cur)));
+    if (rr->nrounds > 1)
+      c *= fmin(MAX_GROWTH, fmax(MIN_GROWTH, 1.02 * pow(rr->target / last, 1.0 / basis_exponent(st->cur))));
     DTM_CHECK(save_best(rr, st));
     DTM_CHECK(remesh(rr, st->input, dim, c, &next));
     record(next, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
