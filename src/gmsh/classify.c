@@ -200,11 +200,15 @@ int dtm_geo_touch(const dtm_geo *g, size_t v, size_t w) {
 
 int dtm_gmsh_save_mesh(const char *path) {
   int ierr = 0;
+  double all = 0, binary = 0;
+  gmshOptionGetNumber("Mesh.SaveAll", &all, &ierr);
+  gmshOptionGetNumber("Mesh.Binary", &binary, &ierr);
   gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
   gmshOptionSetNumber("Mesh.Binary", 1, &ierr);
   gmshWrite(path, &ierr);
   int bad = ierr;
-  gmshOptionSetNumber("Mesh.Binary", 0, &ierr);
+  gmshOptionSetNumber("Mesh.SaveAll", all, &ierr);
+  gmshOptionSetNumber("Mesh.Binary", binary, &ierr);
   DTM_GMSH_CHECK(bad, DTM_ERR_INTERNAL, path);
   return DTM_OK;
 }

@@ -53,14 +53,26 @@ static int size_view(const dtm_mesh *m, const double *size, double scale, int *v
   return DTM_OK;
 }
 
-/* Only the background field sets sizes. */
-static void size_options(void) {
-  static const char *const off[] = {"Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
-                                    "Mesh.MeshSizeFromCurvature"};
+/* The options a remesh changes: only the background field sets sizes. */
+static const char *const size_keys[] = {"Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
+                                        "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin", "Mesh.MeshSizeMax"};
+#define NKEYS 5
+
+/* Set them for the remesh, keeping the old values in old[NKEYS]. */
+static void size_options(double *old) {
+  static const double set[NKEYS] = {0, 0, 0, 0, 1e22};
   int ierr = 0;
-  for (int i = 0; i < 3; i++) gmshOptionSetNumber(off[i], 0, &ierr);
-  gmshOptionSetNumber("Mesh.MeshSizeMin", 0, &ierr);
-  gmshOptionSetNumber("Mesh.MeshSizeMax", 1e22, &ierr);
+  for (int i = 0; i < NKEYS; i++) {
+    gmshOptionGetNumber(size_keys[i], &old[i], &ierr);
+    gmshOptionSetNumber(size_keys[i], set[i], &ierr);
+  }
+}
+
+/* Give them back, so that a later load of a scene in the same process
+ * meshes as it would in a fresh one. */
+static void restore_options(const double *old) {
+  int ierr = 0;
+  for (int i = 0; i < NKEYS; i++) gmshOptionSetNumber(size_keys[i], old[i], &ierr);
 }
 
 int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order) {
@@ -70,13 +82,15 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
-  size_options();
+  double old[NKEYS];
+  size_options(old);
   dtm_gmsh_serial();
   gmshModelMeshGenerate(dim, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
   if (!ierr && order > 1) gmshModelMeshSetOrder(order, &ierr);
   int bad = ierr;
+  restore_options(old);
   dtm_gmsh_restore_threads();
   gmshModelMeshFieldRemove(field, &ierr);
   gmshViewRemove(view, &ierr);
