@@ -43,8 +43,8 @@ static int row(const char *name, const dtm_scene *s, double target, const char *
   double t = dtm_wtime() - t0;
   const dtm_refine_round *in = &rr->rounds[0], *out = &rr->rounds[rr->best];
   printf("| %s | %s = %.3e | %zu | %.4g | %zu | %.4g | %.3f | %d | %s | %.1f |\n", name, label, target, in->elements,
-         in->element_steps, out->elements, out->element_steps, out->element_steps / in->element_steps,
-         rr->nrounds - 1, out->recommended >= target ? "yes" : "no", t);
+         in->element_steps, out->elements, out->element_steps, out->element_steps / in->element_steps, rr->nrounds - 1,
+         out->recommended >= target ? "yes" : "no", t);
   fflush(stdout);
   dtm_refine_destroy(&rr);
   return 0;

@@ -37,10 +37,11 @@ static dtm_analysis *bars(dtm_scene *s, dtm_scene_effect *se, double k2) {
   static const double len[2] = {L, 2 * L};
   static const int grp[2] = {0, 1};
   *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
-  mat = (dtm_scene_material){{"steel", "mem.xml", 3, {0}, 0}, 1, 0, NULL};
-  mat.m.prop[DTM_PROP_E] = E, mat.m.prop[DTM_PROP_RHO] = RHO;
-  mat.m.have = DTM_PROP_BIT(DTM_PROP_E) | DTM_PROP_BIT(DTM_PROP_RHO);
+  mat = (dtm_scene_material){0};
+  tu_material(&mat.m, "steel", "E", E, "rho", RHO, NULL);
+  mat.is_default = 1;
   *s = (dtm_scene){0};
+  tu_scene_catalogue(s);
   s->path = "mem.xml", s->nmaterials = 1, s->materials = &mat, s->neffects = 1, s->effects = se, s->safety = 0.9;
   s->target = 0.9 * sqrt(k2) * L / sqrt(E / RHO);
   dtm_mesh *m = tu_bar_mesh(2, len, grp, NULL);
