@@ -27,40 +27,19 @@
 #include "output-impl.h"
 
 #define L 0.5
-#define RHO 8000.0
+#define RHO 8000.0 /* tu_bar_scene's steel */
 #define E 200e9
 
-static dtm_scene_material mat;
-static char *keys[] = {"formulation"}, *vals[] = {"bar"};
-
-static dtm_analysis *bars(dtm_scene *s, dtm_scene_effect *se, double k2) {
-  static const double len[2] = {L, 2 * L};
-  static const int grp[2] = {0, 1};
-  *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
-  mat = (dtm_scene_material){0};
-  tu_material(&mat.m, "steel", "E", E, "rho", RHO, NULL);
-  mat.is_default = 1;
-  *s = (dtm_scene){0};
-  tu_scene_catalogue(s);
-  s->path = "mem.xml", s->nmaterials = 1, s->materials = &mat, s->neffects = 1, s->effects = se, s->safety = 0.9;
-  s->target = 0.9 * sqrt(k2) * L / sqrt(E / RHO);
-  dtm_mesh *m = tu_bar_mesh(2, len, grp, NULL);
-  m->ngroups = 2;
-  m->groups = calloc(2, sizeof *m->groups);
-  m->groups[0] = (dtm_group){1, 1, strdup("a")}, m->groups[1] = (dtm_group){1, 2, strdup("b")};
-  dtm_effect *ef = NULL;
-  int ne = 0;
-  assert_int_equal(dtm_effects_create(s, m, &ef, &ne), 0);
-  dtm_analysis *a = NULL;
-  assert_int_equal(dtm_analysis_compute(s, m, ef, ne, &a), 0);
-  return a;
-}
+static const double len[2] = {L, 2 * L};
+static const int grp[2] = {0, 1};
 
 /* Warnings for k^2: whether one names the model, whether one names group a. */
 static void warnings_at(double k2, int *model, int *group) {
   dtm_scene s;
   dtm_scene_effect se;
-  dtm_analysis *a = bars(&s, &se, k2);
+  dtm_scene_material sm;
+  tu_bar_scene(&s, &se, &sm, 0.9 * sqrt(k2) * L / sqrt(E / RHO));
+  dtm_analysis *a = tu_bar_analysis(&s, 2, len, grp, 2);
   dtm_cost *c = NULL;
   assert_int_equal(dtm_cost_create(a, &c), 0);
   /* (k^2 - 1)/6 of the model's mass: 1e-12 relative */
@@ -92,15 +71,11 @@ static void added_mass(void **unused) {
 static int forbidden(double k) {
   dtm_scene s;
   dtm_scene_effect se;
-  dtm_analysis *a = bars(&s, &se, 1.0);
-  dtm_analysis_destroy(&a);
-  s.f_max = sqrt(E / RHO) / (10 * L), s.elements_per_wavelength = 10, s.target = 0.9 * k * L / sqrt(E / RHO);
-  static const double len[2] = {L, 2 * L};
-  dtm_mesh *m = tu_bar_mesh(2, len, NULL, NULL);
-  dtm_effect *ef = NULL;
-  int ne = 0, found = 0;
-  assert_int_equal(dtm_effects_create(&s, m, &ef, &ne), 0);
-  assert_int_equal(dtm_analysis_compute(&s, m, ef, ne, &a), 0);
+  dtm_scene_material sm;
+  tu_bar_scene(&s, &se, &sm, 0.9 * k * L / sqrt(E / RHO));
+  s.f_max = sqrt(E / RHO) / (10 * L), s.elements_per_wavelength = 10;
+  dtm_analysis *a = tu_bar_analysis(&s, 2, len, NULL, 0);
+  int found = 0;
   dtm_results r = {a, NULL, NULL, 0, 0, 0};
   dtm_warnings w;
   dtm_output_warnings(&r, &w);

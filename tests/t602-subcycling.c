@@ -105,13 +105,8 @@ static void basis_levels(void **unused) {
   dtm_scene s;
   dtm_scene_effect se;
   dtm_scene_material sm;
-  dtm_analysis *a = analyse(&s, &se, &sm);
-  dtm_analysis_destroy(&a);
-  dtm_mesh *m = tu_bar_mesh(3, len, NULL, NULL);
-  dtm_effect *ef = NULL;
-  int ne = 0;
-  assert_int_equal(dtm_effects_create(&s, m, &ef, &ne), 0);
-  assert_int_equal(dtm_analysis_compute(&s, m, ef, ne, &a), 0);
+  tu_bar_scene(&s, &se, &sm, 0);
+  dtm_analysis *a = tu_bar_analysis(&s, 3, len, NULL, 0);
   const double *own = dtm_analysis_local_step(a), want[3] = {2 * L / c, sqrt(2.0) * L / c, 2 * L / c};
   for (int e = 0; e < 3; e++) assert_true(fabs(own[e] - want[e]) <= 1e-12 * want[e]);
   assert_true(fabs(dtm_analysis_recommended(a) - 0.9 * want[1]) <= 1e-12 * want[1]);

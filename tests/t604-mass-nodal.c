@@ -26,28 +26,14 @@
 #include "effect-impl.h"
 
 #define L 0.5
-#define RHO 8000.0
+#define RHO 8000.0 /* tu_bar_scene's steel */
 #define E 200e9
 
-static dtm_scene_material mat;
-static char *keys[] = {"formulation"}, *vals[] = {"bar"};
+static const double len[2] = {L, 2 * L};
 
-static dtm_analysis *bars(dtm_scene *s, dtm_scene_effect *se) {
-  static const double len[2] = {L, 2 * L};
-  *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
-  mat = (dtm_scene_material){0};
-  tu_material(&mat.m, "steel", "E", E, "rho", RHO, NULL);
-  mat.is_default = 1;
-  *s = (dtm_scene){0};
-  tu_scene_catalogue(s);
-  s->path = "mem.xml", s->nmaterials = 1, s->materials = &mat, s->neffects = 1, s->effects = se, s->safety = 0.9;
-  dtm_mesh *m = tu_bar_mesh(2, len, NULL, NULL);
-  dtm_effect *ef = NULL;
-  int ne = 0;
-  assert_int_equal(dtm_effects_create(s, m, &ef, &ne), 0);
-  dtm_analysis *a = NULL;
-  assert_int_equal(dtm_analysis_compute(s, m, ef, ne, &a), 0);
-  return a;
+static dtm_analysis *bars(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm, double target) {
+  tu_bar_scene(s, se, sm, target);
+  return tu_bar_analysis(s, 2, len, NULL, 0);
 }
 
 static void close_to(double got, double want) {
@@ -57,7 +43,8 @@ static void close_to(double got, double want) {
 static void nodal_closed_form(void **unused) {
   dtm_scene s;
   dtm_scene_effect se;
-  dtm_analysis *a = bars(&s, &se);
+  dtm_scene_material sm;
+  dtm_analysis *a = bars(&s, &se, &sm, 0);
   const double c = sqrt(E / RHO), target = 1.5 * L / c;
   const double *nd = dtm_analysis_nodal(a);
   close_to(nd[0], L / c), close_to(nd[1], sqrt(2.0) * L / c), close_to(nd[2], 2 * L / c);
@@ -78,7 +65,8 @@ static void nodal_closed_form(void **unused) {
 static void nodal_only(void **unused) {
   dtm_scene s;
   dtm_scene_effect se;
-  dtm_analysis *a = bars(&s, &se);
+  dtm_scene_material sm;
+  dtm_analysis *a = bars(&s, &se, &sm, 0);
   const double c = sqrt(E / RHO);
   const unsigned char only[2] = {0, 1};
   dtm_mass_scaling ms;
@@ -97,17 +85,8 @@ static void nodal_only(void **unused) {
 static void cost_uses_basis(void **unused) {
   dtm_scene s;
   dtm_scene_effect se;
-  dtm_analysis *a = bars(&s, &se);
-  dtm_analysis_destroy(&a);
-  const double c = sqrt(E / RHO);
-  s.target = 0.9 * 1.5 * L / c;
-  a = NULL;
-  static const double len[2] = {L, 2 * L};
-  dtm_mesh *m = tu_bar_mesh(2, len, NULL, NULL);
-  dtm_effect *ef = NULL;
-  int ne = 0;
-  assert_int_equal(dtm_effects_create(&s, m, &ef, &ne), 0);
-  assert_int_equal(dtm_analysis_compute(&s, m, ef, ne, &a), 0);
+  dtm_scene_material sm;
+  dtm_analysis *a = bars(&s, &se, &sm, 0.9 * 1.5 * L / sqrt(E / RHO));
   assert_string_equal(dtm_analysis_basis(a), "nodal bound");
   dtm_cost *cost = NULL;
   assert_int_equal(dtm_cost_create(a, &cost), 0);

@@ -210,31 +210,20 @@ static double shortest_curve_at(const dtm_geo *g, int p) {
   return best;
 }
 
-/* 2D: the model angle at corner k of element i (point node), summed over
- * the elements of i's entity around the node. */
-static double model_angle_2d(const dtm_analysis *a, const incidence *inc, size_t i, size_t v) {
-  double sum = 0;
-  for (size_t j = inc->start[v]; j < inc->start[v + 1]; j++) {
-    size_t o = inc->list[j];
-    corners c;
-    if (a->geo->elem_entity[o] != a->geo->elem_entity[i]) continue;
-    get_corners(a, o, &c);
-    int k = corner_of(&c, v);
-    if (k >= 0) sum += corner_angle(&c, k);
-  }
-  return sum;
-}
+#define NO_NODE ((size_t)-1)
 
-/* 3D: the model dihedral along edge (v, w), summed over the tetrahedra of
- * i's entity around it. */
-static double model_angle_3d(const dtm_analysis *a, const incidence *inc, size_t i, size_t v, size_t w) {
+/* The model's angle, summed over the elements of i's entity around node v:
+ * 2D (w = NO_NODE) the corner angles at v; 3D the dihedral angles of the
+ * tetrahedra along the edge (v, w). */
+static double model_angle(const dtm_analysis *a, const incidence *inc, size_t i, size_t v, size_t w) {
   double sum = 0;
   for (size_t j = inc->start[v]; j < inc->start[v + 1]; j++) {
     size_t o = inc->list[j];
     corners c;
     if (a->geo->elem_entity[o] != a->geo->elem_entity[i]) continue;
     get_corners(a, o, &c);
-    int p = corner_of(&c, v), q = corner_of(&c, w);
+    int p = corner_of(&c, v), q = w == NO_NODE ? -1 : corner_of(&c, w);
+    if (p >= 0 && w == NO_NODE) sum += corner_angle(&c, p);
     if (p >= 0 && q >= 0 && c.nc == 4) sum += dihedral(&c, p, q);
   }
   return sum;
@@ -252,7 +241,7 @@ static void angles_2d(const dtm_analysis *a, const incidence *inc, size_t i, con
     size_t v = c->v[k];
     if (a->geo->node_dim[v] != 0) continue;
     int p = a->geo->node_tag[v];
-    set_angle(f, model_angle_2d(a, inc, i, v), corner_angle(c, k), 0, p, shortest_curve_at(a->geo, p));
+    set_angle(f, model_angle(a, inc, i, v, NO_NODE), corner_angle(c, k), 0, p, shortest_curve_at(a->geo, p));
   }
 }
 
@@ -269,7 +258,7 @@ static void angles_3d(const dtm_analysis *a, const incidence *inc, size_t i, con
   for (int j = 0; j < 4 && c->nc == 4; j++)
     for (int k = j + 1; k < 4; k++) {
       const dtm_geo_entity *cv = curve_of_edge(a->geo, c->v[j], c->v[k]);
-      if (cv) set_angle(f, model_angle_3d(a, inc, i, c->v[j], c->v[k]), dihedral(c, j, k), 1, cv->tag, cv->size);
+      if (cv) set_angle(f, model_angle(a, inc, i, c->v[j], c->v[k]), dihedral(c, j, k), 1, cv->tag, cv->size);
     }
 }
 

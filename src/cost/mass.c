@@ -52,12 +52,32 @@ static double element_mass_w(const dtm_analysis *a, const dtm_block *blk, size_t
   return isfinite(v) ? dtm_material_get(m, irho) * v : 0.0;
 }
 
-static double element_mass(const dtm_analysis *a, const dtm_block *blk, size_t e, int irho) {
-  return element_mass_w(a, blk, e, irho, NULL);
-}
-
 /* Index of the density among the scene's properties. */
 static int rho_index(const dtm_analysis *a) { return dtm_scene_property_index(dtm_analysis_scene(a), "rho"); }
+
+/* One element as the passes below see it. */
+typedef struct {
+  const dtm_block *blk;    /* its block */
+  size_t e, i;             /* index in the block, global index */
+  double m;                /* rho V, kg */
+  double w[DTM_MAX_NODES]; /* lumped weights (when asked for) */
+} elem;
+
+typedef void (*elem_fn)(const dtm_analysis *a, const elem *el, void *ctx);
+
+/* Call fn on every element, in the global order. */
+static void each_element(const dtm_analysis *a, int weights, elem_fn fn, void *ctx) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  int irho = rho_index(a);
+  size_t first = 0;
+  elem el;
+  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++)
+    for (size_t e = 0; e < m->blocks[b].n; e++) {
+      el.blk = &m->blocks[b], el.e = e, el.i = first + e;
+      el.m = element_mass_w(a, el.blk, e, irho, weights ? el.w : NULL);
+      fn(a, &el, ctx);
+    }
+}
 
 /* Mass to add to an element of mass m and wave step dt to reach target. */
 static double added_mass(double m, double dt, double target) {
@@ -93,25 +113,33 @@ static double element_ratio(const dtm_analysis *a, size_t i, double target) {
   return dt > 0 && isfinite(dt) && dt < target ? r * r : 1.0;
 }
 
+/* The nodal form's passes: the selection, the node fields, the result. */
+typedef struct {
+  const unsigned char *only; /* [nel] selected elements, or NULL: all */
+  node_mass *nm;
+  dtm_mass_scaling *ms;
+} nodal_ctx;
+
 /* Pass 0: node masses before and after the element part (and that part
- * into ms); pass 1: attribute the node additions to the elements. */
-static void node_pass(const dtm_analysis *a, const unsigned char *only, node_mass *nm, dtm_mass_scaling *ms, int pass) {
-  const dtm_mesh *m = dtm_analysis_mesh(a);
-  size_t first = 0;
-  int irho = rho_index(a);
-  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++) {
-    const dtm_block *blk = &m->blocks[b];
-    for (size_t e = 0; e < blk->n; e++) {
-      size_t i = first + e;
-      double w[DTM_MAX_NODES], me = element_mass_w(a, blk, e, irho, w);
-      double r = only && !only[i] ? 1.0 : element_ratio(a, i, ms->target);
-      for (int c = 0; c < blk->nn && me > 0; c++) {
-        size_t v = blk->conn[e * blk->nn + c];
-        if (pass == 0) nm->m0[v] += me * w[c], nm->m1[v] += r * me * w[c], nm->in[v] |= !only || only[i];
-        if (pass == 1 && nm->m1[v] > 0) ms->added[i] += nm->add[v] * r * me * w[c] / nm->m1[v];
-      }
-      if (pass == 0) ms->added[i] = (r - 1.0) * me;
-    }
+ * into ms). */
+static void node_pass0(const dtm_analysis *a, const elem *el, void *ctx) {
+  nodal_ctx *c = ctx;
+  int sel = !c->only || c->only[el->i];
+  double r = sel ? element_ratio(a, el->i, c->ms->target) : 1.0;
+  for (int k = 0; k < el->blk->nn && el->m > 0; k++) {
+    size_t v = el->blk->conn[el->e * el->blk->nn + k];
+    c->nm->m0[v] += el->m * el->w[k], c->nm->m1[v] += r * el->m * el->w[k], c->nm->in[v] |= sel;
+  }
+  c->ms->added[el->i] = (r - 1.0) * el->m;
+}
+
+/* Pass 1: the node additions shared out to the elements. */
+static void node_pass1(const dtm_analysis *a, const elem *el, void *ctx) {
+  nodal_ctx *c = ctx;
+  double r = !c->only || c->only[el->i] ? element_ratio(a, el->i, c->ms->target) : 1.0;
+  for (int k = 0; k < el->blk->nn && el->m > 0; k++) {
+    size_t v = el->blk->conn[el->e * el->blk->nn + k];
+    if (c->nm->m1[v] > 0) c->ms->added[el->i] += c->nm->add[v] * r * el->m * el->w[k] / c->nm->m1[v];
   }
 }
 
@@ -127,21 +155,13 @@ static double node_need(const dtm_analysis *a, const node_mass *nm, size_t v, do
 }
 
 /* Totals, groups and counts from ms->added. */
-static void tally(const dtm_analysis *a, dtm_mass_scaling *ms) {
-  const dtm_mesh *m = dtm_analysis_mesh(a);
-  size_t first = 0;
-  int irho = rho_index(a);
-  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++) {
-    const dtm_block *blk = &m->blocks[b];
-    for (size_t e = 0; e < blk->n; e++) {
-      size_t i = first + e;
-      double me = element_mass(a, blk, e, irho);
-      int g = blk->group[e] >= 0 && blk->group[e] < ms->ngroups - 1 ? blk->group[e] : ms->ngroups - 1;
-      ms->total_mass += me, ms->total_added += ms->added[i];
-      ms->group_mass[g] += me, ms->group_added[g] += ms->added[i];
-      ms->scaled += ms->added[i] > 0;
-    }
-  }
+static void tally_one(const dtm_analysis *a, const elem *el, void *ctx) {
+  dtm_mass_scaling *ms = ctx;
+  int g = el->blk->group[el->e], slot = g >= 0 && g < ms->ngroups - 1 ? g : ms->ngroups - 1;
+  ms->total_mass += el->m, ms->total_added += ms->added[el->i];
+  ms->group_mass[slot] += el->m, ms->group_added[slot] += ms->added[el->i];
+  ms->scaled += ms->added[el->i] > 0;
+  (void)a;
 }
 
 int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned char *only, dtm_mass_scaling *ms) {
@@ -153,15 +173,22 @@ int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned 
   size_t nn = dtm_analysis_mesh(a)->nnodes + 1;
   node_mass nm = {calloc(nn, sizeof(double)), calloc(nn, sizeof(double)), calloc(nn, sizeof(double)), calloc(nn, 1)};
   int r = nm.m0 && nm.m1 && nm.add && nm.in ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  nodal_ctx ctx = {only, &nm, ms};
   if (r == DTM_OK) {
-    node_pass(a, only, &nm, ms, 0);
+    each_element(a, 1, node_pass0, &ctx);
     for (size_t v = 0; v + 1 < nn; v++) nm.add[v] = nm.in[v] ? node_need(a, &nm, v, target) : 0.0;
-    node_pass(a, only, &nm, ms, 1);
-    tally(a, ms);
+    each_element(a, 1, node_pass1, &ctx);
+    each_element(a, 0, tally_one, ms);
   }
   free(nm.m0), free(nm.m1), free(nm.add), free(nm.in);
   if (r) dtm_mass_scaling_free(ms);
   return r;
+}
+
+/* The element-by-element form. */
+static void element_added(const dtm_analysis *a, const elem *el, void *ctx) {
+  dtm_mass_scaling *ms = ctx;
+  ms->added[el->i] = added_mass(el->m, wave_dt(a, el->i), ms->target);
 }
 
 int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dtm_mass_scaling *ms) {
@@ -170,13 +197,8 @@ int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dtm_mass_scal
   if (!(target > 0) || !isfinite(target))
     return DTM_ERR(DTM_ERR_INPUT, "mass scaling: the target step must be positive and finite, got %g s", target);
   DTM_CHECK(alloc_scaling(a, ms));
-  const dtm_mesh *m = dtm_analysis_mesh(a);
-  size_t first = 0;
-  int irho = rho_index(a);
-  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++)
-    for (size_t e = 0; e < m->blocks[b].n; e++)
-      ms->added[first + e] = added_mass(element_mass(a, &m->blocks[b], e, irho), wave_dt(a, first + e), target);
-  tally(a, ms);
+  each_element(a, 0, element_added, ms);
+  each_element(a, 0, tally_one, ms);
   return DTM_OK;
 }
 

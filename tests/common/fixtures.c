@@ -1,4 +1,5 @@
 /* In-memory fixtures for effect tests (see fixtures.h). */
+#include "dtmap/analysis.h"
 #include "fixtures.h"
 #include "dtmap/registry.h"
 
@@ -105,4 +106,32 @@ dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat
     b->group[e] = group ? group[e] : -1, b->mat[e] = mat ? mat[e] : 0;
   }
   return m;
+}
+
+void tu_bar_scene(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm, double target) {
+  static char *keys[] = {"formulation"}, *vals[] = {"bar"};
+  *se = (dtm_scene_effect){"elastic", NULL, 5, 1, keys, vals};
+  *sm = (dtm_scene_material){0};
+  tu_material(&sm->m, "steel", "E", 200e9, "rho", 8000.0, NULL);
+  sm->is_default = 1;
+  *s = (dtm_scene){0};
+  tu_scene_catalogue(s);
+  s->path = "mem.xml", s->nmaterials = 1, s->materials = sm, s->neffects = 1, s->effects = se;
+  s->safety = 0.9, s->target = target;
+}
+
+struct dtm_analysis *tu_bar_analysis(const dtm_scene *s, int n, const double *len, const int *group, int ngroups) {
+  static const char *const names[] = {"a", "b", "c", "d"};
+  dtm_mesh *m = tu_bar_mesh(n, len, group, NULL);
+  m->ngroups = ngroups;
+  m->groups = ngroups ? calloc((size_t)ngroups, sizeof *m->groups) : NULL;
+  for (int g = 0; g < ngroups && g < 4; g++) m->groups[g] = (dtm_group){1, g + 1, strdup(names[g])};
+  dtm_effect *ef = NULL;
+  int ne = 0;
+  dtm_analysis *a = NULL;
+  if (dtm_effects_create(s, m, &ef, &ne) || dtm_analysis_compute(s, m, ef, ne, &a)) {
+    fprintf(stderr, "tu_bar_analysis: %s\n", dtm_error_message());
+    abort();
+  }
+  return a;
 }

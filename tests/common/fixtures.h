@@ -38,4 +38,13 @@ dtm_batch tu_batch1(int type, const double *x, const dtm_material **m);
  * analysis it is handed to): dtm_mesh_destroy frees it. */
 dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat);
 
+/* A steel bar scene in s (path "mem.xml", material steel: E 200 GPa,
+ * rho 8000 kg/m^3, the default; one elastic effect in the bar formulation;
+ * safety 0.9; target in s), with se and sm its effect and material (all
+ * caller-owned, they must outlive any analysis of s). */
+void tu_bar_scene(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm, double target);
+/* The analysis of scene s on the bar chain of lengths len[n] (m), groups
+ * group[n] (NULL: none) among ngroups groups named "a", "b", ... */
+struct dtm_analysis *tu_bar_analysis(const dtm_scene *s, int n, const double *len, const int *group, int ngroups);
+
 #endif
