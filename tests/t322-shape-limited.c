@@ -7,6 +7,11 @@
  *    angle", that angle (1e-9 relative: one triangle, straight sides), the
  *    model point, and the remedy "split the angle"; the view "shape
  *    limited" marks it with 1 (DTM_FEATURE_FLAT_ANGLE).
+ *  - thin: a strip 1 m x 5 mm meshed at 2 cm, whose triangles span it from
+ *    one long side to the other (the sides do not touch): with a target
+ *    twice the recommended step some are listed as "thin", with the gap
+ *    (the distance of their corners across it) between 5 mm and the mesh
+ *    size, and the remedy "mass" (the gap cannot grow).
  *  - platen: a Brazilian disc (R = 25 mm) whose platens meet it on 1 mm
  *    flats, so the contact corners are shallow and the flats short; with a
  *    target twice the recommended step refine either meets it, or exits 1
@@ -97,6 +102,53 @@ static void flat(void **unused) {
   (void)unused;
 }
 
+/* The strip's scene, with a target (0: none). */
+static void strip_scene(double target) {
+  char text[1024], t[64] = "";
+  if (target > 0) snprintf(t, sizeof t, "target=\"%.17g\" ", target);
+  snprintf(text, sizeof text,
+           "<dtmap-scene version=\"1\">\n  <geometry file=\"strip.geo\"/>\n"
+           "  <meshing size=\"0.02\" dim=\"2\"/>\n"
+           "  <material name=\"steel\" groups=\"strip\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+           "  <effects>\n    <elastic formulation=\"plane-stress\"/>\n  </effects>\n"
+           "  <time %sduration=\"1e-3\"/>\n</dtmap-scene>\n",
+           t);
+  tu_write(in_tmp(1, "strip.xml"), text);
+}
+
+static cJSON *strip_run(void) {
+  char *log = NULL;
+  int code = tu_run(&log, "%s run %s -o %s --report %s -q", tu_cli(), buf[1], in_tmp(2, "strip_dt.msh"),
+                    in_tmp(3, "strip_dt.json"));
+  free(log);
+  assert_int_equal(code, 0);
+  return tu_json_load(buf[3]);
+}
+
+static void thin(void **unused) {
+  tu_write(in_tmp(0, "strip.geo"), "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 1, 0.005};\n"
+                                   "Physical Surface(\"strip\") = {1};\n");
+  strip_scene(0);
+  cJSON *j = strip_run();
+  double target = 2.0 * tu_json_number(j, "dt.recommended");
+  cJSON_Delete(j);
+  strip_scene(target);
+  j = strip_run();
+  const cJSON *e;
+  int n = 0;
+  cJSON_ArrayForEach(e, cJSON_GetObjectItem(j, "shape_limited")) {
+    const cJSON *f = cJSON_GetObjectItem(e, "feature");
+    if (strcmp(cJSON_GetObjectItem(f, "kind")->valuestring, "thin")) continue;
+    double gap = tu_json_number(f, "size");
+    assert_true(gap >= 0.005 * (1 - 1e-12) && gap <= 0.02);
+    assert_string_equal(cJSON_GetObjectItem(cJSON_GetObjectItem(e, "remedy"), "kind")->valuestring, "mass");
+    n++;
+  }
+  assert_true(n > 0);
+  cJSON_Delete(j);
+  (void)unused;
+}
+
 static const char platen_geo[] =
     "SetFactory(\"OpenCASCADE\");\n"
     "R = 0.025; a = 0.0005; W = 0.060; T = 0.010; yc = Sqrt(R^2 - a^2); eps = 1e-6;\n"
@@ -167,7 +219,7 @@ static void platen(void **unused) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   tu_gmsh_begin();
-  const struct CMUnitTest tests[] = {cmocka_unit_test(flat), cmocka_unit_test(platen)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(flat), cmocka_unit_test(thin), cmocka_unit_test(platen)};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
   tu_gmsh_end();
   return r;
