@@ -116,8 +116,8 @@ static double element_ratio(const dtm_analysis *a, size_t i, double target) {
 /* The nodal form's passes: the selection, the node fields, the result. */
 typedef struct {
   const unsigned char *only; /* [nel] selected elements, or NULL: all */
-  node_mass *nm;
-  dtm_mass_scaling *ms;
+  node_mass *nm;             /* the node fields */
+  dtm_mass_scaling *ms;      /* the result, target included */
 } nodal_ctx;
 
 /* Pass 0: node masses before and after the element part (and that part

@@ -17,7 +17,7 @@
 /* A map from Gmsh tags to dense indices. */
 typedef struct {
   size_t *index; /* [max + 1], SIZE_MAX where none */
-  size_t max;
+  size_t max;    /* largest tag */
 } tag_map;
 
 static int map_build(const size_t *tags, size_t n, tag_map *tm) {

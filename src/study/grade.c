@@ -51,10 +51,10 @@ static int build(const dtm_mesh *m, adjacency *g) {
 
 /* A binary min-heap of nodes keyed by size, with positions for decrease-key. */
 typedef struct {
-  size_t *node; /* [n] heap order */
-  size_t *pos;  /* [nnodes] position in node[], SIZE_MAX when out */
-  size_t n;
-  const double *key;
+  size_t *node;      /* [n] heap order */
+  size_t *pos;       /* [nnodes] position in node[], SIZE_MAX when out */
+  size_t n;          /* nodes in the heap */
+  const double *key; /* [nnodes] the sizes it orders by */
 } heap;
 
 static void swap_at(heap *h, size_t i, size_t j) {
