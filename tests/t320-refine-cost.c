@@ -7,7 +7,11 @@
  * (refine.rounds[0].element_steps), and the report's cost is that of the
  * kept round. Also: refine's default outputs never overwrite what `run`
  * wrote for the same scene, and the target comes from the scene's
- * <time target> when --target is absent. */
+ * <time target> when --target is absent. Last, where an accuracy bound
+ * forces smaller elements (the plate with f-max 3e5 Hz: h <= C_S/(10 f) =
+ * 1.04 mm, below its 5 mm bulk), refine says which bound and how many
+ * elements it asks for, warns that the target is forbidden, exits 1 and
+ * keeps a mesh no dearer than the input. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -127,9 +131,44 @@ static void defaults(void **unused) {
   (void)unused;
 }
 
+static int has_warning(const cJSON *j, const char *text) {
+  const cJSON *w;
+  cJSON_ArrayForEach(w, cJSON_GetObjectItem(j, "warnings")) if (strstr(w->valuestring, text)) return 1;
+  return 0;
+}
+
+static void forced(void **unused) {
+  char scene[512], rep[512], text[2048], *log = NULL;
+  snprintf(scene, sizeof scene, "%s/plate_fmax.xml", tu_tmpdir());
+  snprintf(rep, sizeof rep, "%s/plate_fmax.json", tu_tmpdir());
+  snprintf(text, sizeof text,
+           "<dtmap-scene version=\"1\">\n  <geometry file=\"%s/geometries/plate_with_hole.geo\"/>\n"
+           "  <meshing size=\"5e-3\" min-size=\"1e-3\" dim=\"2\"/>\n"
+           "  <material name=\"aluminium\" groups=\"plate\" E=\"70e9\" nu=\"0.33\" rho=\"2700\"/>\n"
+           "  <effects>\n    <elastic formulation=\"plane-stress\"/>\n  </effects>\n"
+           "  <time duration=\"1e-4\" f-max=\"3e5\"/>\n</dtmap-scene>\n",
+           tu_src());
+  tu_write(scene, text);
+  int code = tu_run(&log, "%s refine %s --target 1.07e-7 --max-iter 2 -o %s/pf.msh --report %s", tu_cli(), scene,
+                    tu_tmpdir(), rep);
+  assert_non_null(strstr(log, "accuracy: the bound 'elements per wavelength' asks for about"));
+  free(log);
+  assert_int_equal(code, 1);
+  cJSON *j = tu_json_load(rep);
+  assert_string_equal(cJSON_GetObjectItem(cJSON_GetObjectItem(j, "refine"), "accuracy_bound")->valuestring,
+                      "elements per wavelength");
+  assert_true(tu_json_number(j, "refine.accuracy_elements") > 0);
+  assert_true(has_warning(j, "forbidden by the accuracy bound 'elements per wavelength'"));
+  const cJSON *rounds = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "refine"), "rounds");
+  assert_true(tu_json_number(j, "cost.element_steps") <=
+              cJSON_GetObjectItem(cJSON_GetArrayItem(rounds, 0), "element_steps")->valuedouble);
+  cJSON_Delete(j);
+  (void)unused;
+}
+
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {cmocka_unit_test(plate), cmocka_unit_test(disc), cmocka_unit_test(beam),
-                                     cmocka_unit_test(defaults)};
+                                     cmocka_unit_test(defaults), cmocka_unit_test(forced)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -27,6 +27,11 @@ static void print_rounds(const dtm_refine_result *rr) {
          rate ? "elem-steps/s" : "element-steps", "change", "below", "shape-lim", "time (s)");
   for (int i = 0; i < rr->nrounds; i++) print_round(rr, i);
   printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
+  if (rr->forced_by && rr->forced >= 0.5)
+    printf("accuracy: the bound '%s' asks for about %.0f more elements than the input's sizes give (%.4g "
+           "element-steps at the kept step)\n",
+           rr->forced_by, rr->forced,
+           rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");
