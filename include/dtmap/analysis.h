@@ -89,6 +89,13 @@ DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
 DTM_EXPORT const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a);
 DTM_EXPORT size_t dtm_analysis_nelements(const dtm_analysis *a);
 DTM_EXPORT int dtm_analysis_neffects(const dtm_analysis *a);
+/* Nodes of the analysed mesh, and their Gmsh tags [nnodes] (the order of
+ * the per-node arrays). */
+DTM_EXPORT size_t dtm_analysis_nnodes(const dtm_analysis *a);
+DTM_EXPORT const size_t *dtm_analysis_node_tags(const dtm_analysis *a);
+/* The Gmsh tag of every element, in global element order, into the
+ * caller's tags[nelements]. */
+DTM_EXPORT void dtm_analysis_tags(const dtm_analysis *a, size_t *tags);
 /* Class of effect k (scene order). */
 DTM_EXPORT const dtm_effect_class *dtm_analysis_effect(const dtm_analysis *a, int k);
 

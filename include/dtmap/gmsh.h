@@ -15,6 +15,18 @@
  * through dtmap's messages), 1 warnings, 2 Gmsh's info messages. */
 DTM_EXPORT int dtm_gmsh_start(int verbosity);
 DTM_EXPORT void dtm_gmsh_stop(void);
+/* Work in a Gmsh session the caller opened (a script that called
+ * gmsh.initialize() through Gmsh's Python module, in the same process and
+ * on the same libgmsh): DTM_ERR_INPUT when Gmsh is not initialised. dtmap's
+ * loops get threads OpenMP threads (0: all cores), since Gmsh sets OpenMP's
+ * count to its General.NumThreads when it starts and when it meshes. The
+ * caller's Gmsh options are left as they are. */
+DTM_EXPORT int dtm_gmsh_attach(int threads);
+/* The Gmsh libdtmap runs on: its version at run time (General.Version,
+ * e.g. "4.8.4") into buf[len], and in *api (may be NULL) the Gmsh API
+ * version of the headers libdtmap was built with (owned by the library).
+ * Starts and stops Gmsh when no session is open. */
+DTM_EXPORT int dtm_gmsh_version(char *buf, size_t len, const char **api);
 /* Give dtmap's loops back the thread count in force at dtm_gmsh_start
  * (Gmsh resets it to its own General.NumThreads when it meshes). */
 DTM_EXPORT void dtm_gmsh_restore_threads(void);
@@ -29,6 +41,12 @@ DTM_EXPORT int dtm_gmsh_load(const dtm_scene *s, int *dim);
 /* Open a geometry or a .msh (no meshing) as the only model; *dim receives
  * its highest dimension. DTM_ERR_INPUT naming the file when Gmsh cannot. */
 DTM_EXPORT int dtm_gmsh_open(const char *path, int *dim);
+
+/* The dimension to analyse in the current model (for a model a program
+ * built): the scene's <meshing dim>, else the model's dimension.
+ * DTM_ERR_INPUT when the model has no element of that dimension (not
+ * meshed, or Gmsh not initialised). */
+DTM_EXPORT int dtm_gmsh_model_dim(const dtm_scene *s, int *dim);
 
 /* Physical groups of dimension dim in the current model. */
 DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
@@ -53,7 +71,7 @@ typedef struct {
   int node_data;        /* 1: NodeData over node tags; 0: ElementData */
   const size_t *tags;   /* [n] element or node tags */
   const double *values; /* [n] */
-  size_t n;
+  size_t n;             /* number of tags and values */
 } dtm_view;
 
 /* Write the current mesh and the views to path (a .msh), appending views
@@ -73,5 +91,21 @@ typedef struct {
  * when there is none. Leaves Gmsh finalized. DTM_ERR_INPUT naming the file
  * when Gmsh cannot open it or write a picture. */
 DTM_EXPORT int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshots, int width, int height);
+
+/* Add the views to the current model of the open session, where they stay
+ * (nothing is written); tags[nviews] receives their Gmsh view tags (tags
+ * may be NULL). On failure the views added so far are removed. */
+DTM_EXPORT int dtm_gmsh_add_views(const dtm_view *views, int nviews, int *tags);
+
+/* A display option of a view, View[i].<name>: a number, or a string when
+ * text is not NULL. */
+typedef struct {
+  const char *name; /* option name after "View[i].", e.g. "ScaleType" */
+  double number;    /* its value when text is NULL */
+  const char *text; /* its value for a string option, or NULL */
+} dtm_view_option;
+
+/* Set option o of the view with Gmsh tag tag in the open session. */
+DTM_EXPORT int dtm_gmsh_view_option(int tag, const dtm_view_option *o);
 
 #endif

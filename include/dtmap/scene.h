@@ -36,7 +36,8 @@ typedef struct dtm_scene {
   char *dir;            /* its directory ("." if none) */
   char *geometry;       /* resolved <geometry file>, or NULL */
   char *mesh;           /* resolved <mesh file>, or NULL */
-  int source_line;      /* line of <geometry> or <mesh> */
+  int model;            /* 1: <model/>, the current Gmsh model of the program (no file) */
+  int source_line;      /* line of <geometry>, <mesh> or <model/> */
   double mesh_size;     /* <meshing size>, m; 0 when unset */
   double mesh_min_size; /* <meshing min-size>, m; 0 when unset */
   int mesh_order;       /* <meshing order>; 1 when unset */
@@ -69,6 +70,10 @@ DTM_EXPORT int dtm_scene_load(const char *path, dtm_scene **out);
  * resolved ("mem.xml" resolves against the current directory). */
 DTM_EXPORT int dtm_scene_load_memory(const char *text, size_t len, const char *name, dtm_scene **out);
 DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
+/* Take the current Gmsh model as the scene's source, as <model/> does:
+ * forget <geometry> or <mesh>, so that messages name the current model (a
+ * program that built or opened the model itself analyses a scene file). */
+DTM_EXPORT int dtm_scene_use_model(dtm_scene *s);
 
 /* Index of property name in the scene's catalogue (dtm_material_get), or -1. */
 DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);

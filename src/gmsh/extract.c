@@ -1,7 +1,7 @@
-/* Reading the current Gmsh model into a dtm_mesh: physical groups of the
- * analysed dimension, a dense node index, and one structure-of-arrays block
- * per element type, with each element's group and material resolved per
- * model entity. */
+/* Reading the current Gmsh model into a dtm_mesh: the dimension to
+ * analyse, physical groups of that dimension, a dense node index, and one
+ * structure-of-arrays block per element type, with each element's group
+ * and material resolved per model entity. */
 #include <gmshc.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -17,6 +17,26 @@ static char *dup_str(const char *s) {
   char *d = malloc(n);
   if (d) memcpy(d, s, n);
   return d;
+}
+
+/* What messages call the model: the scene's file, or the current model. */
+static const char *source_name(const dtm_scene *s) {
+  return s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model";
+}
+
+int dtm_gmsh_model_dim(const dtm_scene *s, int *dim) {
+  int ierr = 0, *types = NULL;
+  size_t nt = 0;
+  int d = s->mesh_dim > 0 ? s->mesh_dim : gmshModelGetDimension(&ierr);
+  if (ierr || d < 1 || d > 3)
+    return DTM_ERR(DTM_ERR_INPUT, "the current Gmsh model has no curve, surface or volume "
+                                  "(is Gmsh initialised, and the model built or opened?)");
+  gmshModelMeshGetElementTypes(&types, &nt, d, -1, &ierr);
+  gmshFree(types);
+  if (ierr || !nt)
+    return DTM_ERR(DTM_ERR_INPUT, "the current Gmsh model has no element of dimension %d: mesh it first", d);
+  *dim = d;
+  return DTM_OK;
 }
 
 int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
@@ -147,7 +167,7 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t ta
   *out = mat;
   if (mat >= 0) return DTM_OK;
   char lbl[64];
-  const char *src = c->s->mesh ? c->s->mesh : c->s->geometry;
+  const char *src = source_name(c->s);
   if (g < 0)
     return DTM_ERR(DTM_ERR_INPUT,
                    "%s: element %zu is in no physical group of dimension %d, and scene %s has "
@@ -218,7 +238,7 @@ int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_s
   if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
   DTM_CHECK(r);
   if (dtm_mesh_nelements(m) == 0)
-    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", s->mesh ? s->mesh : s->geometry,
-                   s->mesh ? "the mesh has" : "meshing produced", dim);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", source_name(s),
+                   s->geometry ? "meshing produced" : "it has", dim);
   return DTM_OK;
 }

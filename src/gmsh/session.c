@@ -1,5 +1,6 @@
-/* Gmsh session: start/stop, error translation, and loading the scene's
- * geometry (meshed here with the scene's <meshing> options) or .msh. */
+/* Gmsh session: start/stop or attach to a session a script opened, error
+ * translation, the versions, and loading the scene's geometry (meshed here
+ * with the scene's <meshing> options) or .msh. */
 #include <gmshc.h>
 #include <omp.h>
 #include <stdio.h>
@@ -50,6 +51,39 @@ void dtm_gmsh_stop(void) {
   gmshFinalize(&ierr);
 }
 
+/* Gmsh 4.8 has no query for it, but an initialised Gmsh always has a model
+ * (and lists none, silently, before gmshInitialize). */
+static int is_initialized(void) {
+  char **names = NULL;
+  size_t n = 0;
+  int ierr = 0;
+  gmshModelList(&names, &n, &ierr);
+  for (size_t i = 0; i < n; i++) gmshFree(names[i]);
+  gmshFree(names);
+  return !ierr && n > 0;
+}
+
+int dtm_gmsh_attach(int threads) {
+  if (!is_initialized())
+    return DTM_ERR(DTM_ERR_INPUT, "Gmsh is not initialised: call gmsh.initialize() and build or open a model first");
+  dtm_threads = threads > 0 ? threads : omp_get_num_procs();
+  dtm_gmsh_restore_threads();
+  return DTM_OK;
+}
+
+int dtm_gmsh_version(char *buf, size_t len, const char **api) {
+  int ierr = 0, own = !is_initialized();
+  char *v = NULL;
+  if (own) gmshInitialize(0, NULL, 0, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot initialise Gmsh");
+  gmshOptionGetString("General.Version", &v, &ierr);
+  snprintf(buf, len, "%s", !ierr && v ? v : "unknown");
+  gmshFree(v);
+  if (own) gmshFinalize(&ierr);
+  if (api) *api = GMSH_API_VERSION;
+  return DTM_OK;
+}
+
 static int mesh_geometry(const dtm_scene *s, int dim) {
   int ierr = 0;
   char what[4200];
@@ -67,6 +101,11 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {
+  if (s->model)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s:%d: <model/> stands for the current Gmsh model of a program that builds it (the Python "
+                   "module's dtmap.analyse); the command line needs <geometry file=...> or <mesh file=...>",
+                   s->path, s->source_line);
   const char *src = s->mesh ? s->mesh : s->geometry;
   int d;
   DTM_CHECK(dtm_gmsh_open(src, &d));

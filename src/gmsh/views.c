@@ -1,7 +1,8 @@
-/* Writing the analysed mesh and its views to a .msh through Gmsh: the mesh
+/* Views of the analysed mesh through Gmsh. Written to a .msh: the mesh
  * first, then each view appended with PostProcessing.SaveMesh=0 so the mesh
- * is not written again. Views are removed afterwards, so repeated writes
- * (refinement rounds) do not accumulate them. */
+ * is not written again, and removed afterwards, so repeated writes
+ * (refinement rounds) do not accumulate them. Or added to the open session
+ * of a script, where they stay, with their display options. */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,9 +10,11 @@
 #include "dtmap/gmsh.h"
 #include "gmsh-impl.h"
 
+/* Create view v on model; *tag is its tag, or -1 when none was created. */
 static int add_view(const char *model, const dtm_view *v, int *tag) {
   int ierr = 0;
   *tag = gmshViewAdd(v->name, -1, &ierr);
+  if (ierr) *tag = -1;
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot create a view");
   gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", (size_t *)v->tags, v->n,
                                   (double *)v->values, v->n, 0.0, 1, 0, &ierr);
@@ -32,6 +35,41 @@ static int write_views(const char *path, const char *model, const dtm_view *view
   return r;
 }
 
+static int current_model(char **model) {
+  int ierr = 0;
+  gmshModelGetCurrent(model, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no current model");
+  return DTM_OK;
+}
+
+int dtm_gmsh_add_views(const dtm_view *views, int nviews, int *tags) {
+  char *model = NULL;
+  DTM_CHECK(current_model(&model));
+  int r = DTM_OK, n = 0, ierr = 0, *own = malloc(((size_t)nviews + 1) * sizeof *own);
+  if (!own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (; r == DTM_OK && n < nviews; n++) r = add_view(model, &views[n], &own[n]);
+  for (int i = 0; r && own && i < n; i++)
+    if (own[i] >= 0) gmshViewRemove(own[i], &ierr);
+  for (int i = 0; r == DTM_OK && tags && i < nviews; i++) tags[i] = own[i];
+  gmshFree(model);
+  free(own);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_gmsh_view_option(int tag, const dtm_view_option *o) {
+  int ierr = 0;
+  char name[256];
+  int index = gmshViewGetIndex(tag, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no such view");
+  snprintf(name, sizeof name, "View[%d].%s", index, o->name);
+  if (o->text)
+    gmshOptionSetString(name, o->text, &ierr);
+  else
+    gmshOptionSetNumber(name, o->number, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, name);
+  return DTM_OK;
+}
+
 int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
   int ierr = 0;
   char *model = NULL;
@@ -39,8 +77,7 @@ int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
   gmshOptionSetNumber("Mesh.Binary", 0, &ierr);
   gmshWrite(path, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
-  gmshModelGetCurrent(&model, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no current model");
+  DTM_CHECK(current_model(&model));
   gmshOptionSetNumber("PostProcessing.SaveMesh", 0, &ierr);
   int r = write_views(path, model, views, nviews);
   gmshFree(model);

@@ -2,7 +2,8 @@
  * characteristic length, limiting effect, size suggestion) plus one
  * "dt <effect>" view per limiting effect, write them through Gmsh to a
  * temporary file, then rename into place. The scene's input mesh is never
- * overwritten. */
+ * overwritten. The same views, styled the same way, can instead be added to
+ * the open Gmsh session of a script. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,8 +23,8 @@ static int same_file(const char *a, const char *b) {
 
 static int check_target(const dtm_analysis *a, const char *path) {
   const dtm_scene *s = dtm_analysis_scene(a);
-  const char *in = s->mesh ? s->mesh : s->geometry;
-  if (same_file(in, path) || same_file(s->path, path))
+  const char *in = s->mesh ? s->mesh : s->geometry; /* NULL for the current model */
+  if ((in && same_file(in, path)) || same_file(s->path, path))
     return DTM_ERR(DTM_ERR_INPUT, "%s: refusing to overwrite an input file; choose another output with -o", path);
   size_t n = strlen(path);
   if (n < 4 || strcmp(path + n - 4, ".msh"))
@@ -193,21 +194,52 @@ static int is_below(const char *name) {
   return !strcmp(name, DTM_VIEW_BELOW_TARGET) || !strcmp(name, DTM_VIEW_SMALLEST);
 }
 
-static void style_view(FILE *f, int i, const char *name, int dim) {
+/* One display option of a view, with its comment in the .opt. */
+typedef struct {
+  dtm_view_option o; /* View[i].<name> = value */
+  const char *why;   /* comment in the .opt, or NULL */
+} styled;
+#define MAX_STYLE 12
+
+static void add_style(styled *s, int *k, const char *name, double number, const char *text, const char *why) {
+  s[(*k)++] = (styled){{name, number, text}, why};
+}
+
+/* The options of the view called name in a mesh of dimension dim: unlit;
+ * steps on a log scale, viridis (dark is small); colour bars in s or m; dt
+ * visible (a faint skin in 3D), the below-target view too in 3D, the
+ * others hidden until ticked. Returns the count written to s[MAX_STYLE]. */
+static int view_style(const char *name, int dim, styled *s) {
   const char *u = unit_of(name);
-  int primary = !strcmp(name, "dt"), below = is_below(name);
-  fprintf(f, "View[dtmap_v0 + %d].Light = 0; // %s\n", i, name);
-  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ScaleType = 2; // logarithmic\n", i);
-  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ColormapNumber = 23; // viridis: dark = small\n", i);
-  fprintf(f, "View[dtmap_v0 + %d].Format = \"%%.3g%s%s\";\n", i, u[0] ? " " : "", u);
-  if (primary || below) fprintf(f, "View[dtmap_v0 + %d].IntervalsType = 3; View[dtmap_v0 + %d].NbIso = 12;\n", i, i);
-  int visible = primary || (below && dim == 3);
-  fprintf(f, "View[dtmap_v0 + %d].Visible = %d;\n", i, visible);
-  if (primary && dim == 3)
-    fprintf(f,
-            "View[dtmap_v0 + %d].ColormapAlpha = 0.2; View[dtmap_v0 + %d].DrawSkinOnly = 1; "
-            "View[dtmap_v0 + %d].ShowScale = 0; // a faint skin over the worst elements\n",
-            i, i, i);
+  int primary = !strcmp(name, "dt"), below = is_below(name), k = 0;
+  add_style(s, &k, "Light", 0, NULL, name);
+  if (u[0] == 's') add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
+  if (u[0] == 's') add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
+  add_style(s, &k, "Format", 0, u[0] == 's' ? "%.3g s" : u[0] == 'm' ? "%.3g m" : "%.3g", NULL);
+  if (primary || below) add_style(s, &k, "IntervalsType", 3, NULL, NULL), add_style(s, &k, "NbIso", 12, NULL, NULL);
+  add_style(s, &k, "Visible", primary || (below && dim == 3), NULL, NULL);
+  if (primary && dim == 3) {
+    add_style(s, &k, "ColormapAlpha", 0.2, NULL, "a faint skin over the worst elements");
+    add_style(s, &k, "DrawSkinOnly", 1, NULL, NULL);
+    add_style(s, &k, "ShowScale", 0, NULL, NULL);
+  }
+  return k;
+}
+
+static void style_view(FILE *f, int i, const char *name, int dim) {
+  styled s[MAX_STYLE];
+  int n = view_style(name, dim, s);
+  for (int k = 0; k < n; k++) {
+    fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
+    if (s[k].o.text)
+      fprintf(f, "\"%s\";", s[k].o.text);
+    else
+      fprintf(f, "%g;", s[k].o.number);
+    if (s[k].why)
+      fprintf(f, " // %s\n", s[k].why);
+    else
+      fputc('\n', f);
+  }
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
@@ -271,6 +303,32 @@ int dtm_output_write(const dtm_results *res, const char *path) {
     r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
   }
   if (r == DTM_OK) r = write_opt(path, res, &vs, nviews);
+  free_views(&vs, dtm_analysis_neffects(res->analysis));
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* The views in the session, styled as the .opt styles them (the .opt's
+ * global options and its text view stay out of a script's session). */
+static int show_views(const dtm_results *r, const view_set *vs, const int *tags, int nviews) {
+  int dim = dtm_analysis_mesh(r->analysis)->dim;
+  for (int i = 0; i < nviews; i++) {
+    styled s[MAX_STYLE];
+    int n = view_style(vs->views[i].name, dim, s);
+    for (int k = 0; k < n; k++) DTM_CHECK(dtm_gmsh_view_option(tags[i], &s[k].o));
+  }
+  return DTM_OK;
+}
+
+int dtm_output_add_views(const dtm_results *res, int *tags, int cap, int *n) {
+  view_set vs = {0};
+  int nviews = 0, r = build_views(res, &vs, &nviews);
+  int *own = r ? NULL : malloc(((size_t)nviews + 1) * sizeof *own);
+  if (r == DTM_OK && !own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = dtm_gmsh_add_views(vs.views, nviews, own);
+  if (r == DTM_OK) r = show_views(res, &vs, own, nviews);
+  for (int i = 0; r == DTM_OK && tags && i < nviews && i < cap; i++) tags[i] = own[i];
+  if (n) *n = r ? 0 : nviews;
+  free(own);
   free_views(&vs, dtm_analysis_neffects(res->analysis));
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

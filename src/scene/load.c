@@ -59,7 +59,7 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
   const char *kind = is_mesh ? "mesh" : "geometry";
   char **dst = is_mesh ? &s->mesh : &s->geometry;
   char *file;
-  if (s->geometry || s->mesh) return DTM_SCENE_ERR(s, n, "a second <%s>; give one source", kind);
+  if (s->geometry || s->mesh || s->model) return DTM_SCENE_ERR(s, n, "a second <%s>; give one source", kind);
   s->source_line = dtm_scene_line(n);
   DTM_CHECK(dtm_scene_attr(n, "file", &file));
   if (!file || !*file) {
@@ -71,6 +71,22 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
   if (!rc) rc = check_exists(s, n, kind, file, *dst);
   free(file);
   return rc ? dtm_error_trace(rc, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* <model/>: the current Gmsh model of the program that loads the scene. */
+static int read_model(dtm_scene *s, const xmlNode *n) {
+  if (s->geometry || s->mesh || s->model) return DTM_SCENE_ERR(s, n, "a second source <model/>; give one source");
+  s->model = 1;
+  s->source_line = dtm_scene_line(n);
+  return DTM_OK;
+}
+
+int dtm_scene_use_model(dtm_scene *s) {
+  free(s->geometry);
+  free(s->mesh);
+  s->geometry = s->mesh = NULL;
+  s->model = 1;
+  return DTM_OK;
 }
 
 static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi, int *out) {
@@ -136,6 +152,7 @@ static element_reader reader_for(const xmlNode *n) {
     element_reader read; /* what reads it */
   } table[] = {{"geometry", read_source},
                {"mesh", read_source},
+               {"model", read_model},
                {"meshing", read_meshing},
                {"material", dtm_scene_read_material},
                {"effects", dtm_scene_read_effects},
@@ -164,7 +181,8 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
     if (!read) return DTM_SCENE_ERR(s, c, "unknown element <%s>", (const char *)c->name);
     DTM_CHECK(read(s, c));
   }
-  if (!s->geometry && !s->mesh) return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
+  if (!s->geometry && !s->mesh && !s->model)
+    return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
   if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
   if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
   return dtm_scene_check_properties(s, NULL, 0);
