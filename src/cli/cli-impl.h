@@ -64,8 +64,18 @@ extern const struct cli_command dtm_cli_commands[];
 int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
 /* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
 int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* The help of one command (usage line, about, options). */
+/* The documentation (help.c), all from the command tables: the help of
+ * one command (usage line, about, options); the usage lines of every
+ * command (stream is a FILE *); `dtmap --help`; `dtmap effects` (effects.c,
+ * to stdout or a stream); and, for the build, the
+ * man page or the bash completion on stdout (what: "man" or
+ * "bash-completion"). The int functions return the exit code. */
 void dtm_cli_print_help(const struct cli_command *c, void *stream);
+void dtm_cli_print_usage(void *stream);
+int dtm_cli_print_overview(void);
+int dtm_cli_print_effects(void);
+void dtm_cli_print_effects_to(void *stream);
+int dtm_cli_generate(const char *what);
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
 /* SCENE<suffix> in the current directory (SCENE: the scene's base name
@@ -104,6 +114,9 @@ int dtm_cli_snapshot(const cli_opts *o);
  * step. DTM_ERR_INPUT when path cannot be written or no row has a positive,
  * finite cost and accuracy value. */
 int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
+/* 1 when this dtmap draws plots (built with PLplot; else noplot.c stands
+ * in for plot.c and the plot functions fail with DTM_ERR_INPUT). */
+int dtm_cli_can_plot(void);
 int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
 
 #endif

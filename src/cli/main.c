@@ -1,14 +1,17 @@
 /* The dtmap command line: the table of commands with their options, the
- * dispatch, `dtmap effects`, --help and --version. Exit codes: 0 ok, 1 target
- * or verification not met, 2 bad input or usage, 3 internal error. */
+ * dispatch, `dtmap effects` and --version (the help, the man page and the
+ * completion are printed from these tables by help.c). Exit codes: 0 ok,
+ * 1 target or verification not met, 2 bad input or usage, 3 internal
+ * error. */
 #include <float.h>
-#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "cli-impl.h"
+#include "dtmap/gmsh.h"
 #include "dtmap/registry.h"
+#include "dtmap/version.h"
 
 #define OPT(field) offsetof(cli_opts, field)
 #define POSITIVE DBL_MIN, DBL_MAX
@@ -93,9 +96,10 @@ const cli_command dtm_cli_commands[] = {
     {"sweep", "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-j N] [-v|-q]",
      "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
      "and prints, per size: elements, nodes, the smallest element step, the recommended\n"
-     "step, the steps the scene's <time duration> takes, its cost in element-steps with\n"
-     "one global step and with ideal subcycling (levels dt_min 2^k), the smallest\n"
-     "elements per cohesive zone and per wavelength, and dtmap's own time; CSV + PNG.",
+     "step, the whole steps the scene's <time duration> takes, its cost in element-steps\n"
+     "with one global step and with ideal subcycling (levels dt_min 2^k) and that\n"
+     "speed-up, the smallest elements per cohesive zone and per wavelength, and dtmap's\n"
+     "own time; then the table as CSV (units in the header) and the plot as PNG.",
      sweep_options, dtm_cli_sweep},
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
@@ -105,83 +109,23 @@ const cli_command dtm_cli_commands[] = {
      snapshot_options, dtm_cli_snapshot},
     {NULL, NULL, NULL, NULL, NULL}};
 
-static const char lengths_help[] =
-    "Element step of the elastic effect, <elastic length=...>:\n"
-    "  eigen         2/sqrt(lambda_max(Me^-1 Ke)), lumped mass (default; provably safe)\n"
-    "  safe          2/sqrt(d+1) (sum_a h_a^-2)^-1/2 / C_D on simplices (safe for nu >= 0)\n"
-    "  min-edge      shortest edge / C_D            UNSAFE: up to 17x too large on slivers\n"
-    "  min-altitude  smallest altitude / C_D        UNSAFE on needles (1.06-1.13x)\n"
-    "  inradius      2 x inradius / C_D             UNSAFE on needle triangles (1.05x)\n"
-    "  volume-area   V / A_max / C_D                UNSAFE on hex and quad (1.04-1.21x)\n"
-    "\n"
-    "Exit codes: 0 success, 1 target or verification not met, 2 bad input or usage,\n"
-    "3 internal error.\n";
-
-static void print_usage(FILE *f) {
-  for (const cli_command *c = dtm_cli_commands; c->name; c++)
-    fprintf(f, "%s dtmap %s %s\n", c == dtm_cli_commands ? "usage:" : "      ", c->name, c->args);
-  fprintf(f, "       dtmap effects        list the effects a scene can name\n");
-  fprintf(f, "       dtmap --help | --version\n");
-  fprintf(f, "       dtmap [run] [SCENE.xml] [-v|-q] [-j N] -onelab NAME ADDRESS   (as Gmsh's ONELAB solver)\n");
-}
-
-static int print_help(void) {
-  print_usage(stdout);
-  for (const cli_command *c = dtm_cli_commands; c->name; c++) printf("\n%-6s %s\n", c->name, c->about);
-  printf("\nEach command's options: dtmap CMD --help.\n\n%s", lengths_help);
-  return 0;
-}
-
-/* "[lo, hi]" style range of a number, or "" when unbounded. */
-static void range_text(double lo, double hi, unsigned open, char *buf, size_t n) {
-  buf[0] = '\0';
-  if (isfinite(lo) && isfinite(hi))
-    snprintf(buf, n, "%s%g, %g%s", open & DTM_OPEN_LO ? "(" : "[", lo, hi, open & DTM_OPEN_HI ? ")" : "]");
-  else if (isfinite(lo))
-    snprintf(buf, n, "%s %g", open & DTM_OPEN_LO ? ">" : ">=", lo);
-  else if (isfinite(hi))
-    snprintf(buf, n, "%s %g", open & DTM_OPEN_HI ? "<" : "<=", hi);
-}
-
-static void print_param(const dtm_param *p) {
-  char what[256] = "";
-  if (p->type == DTM_PARAM_NUMBER) range_text(p->lo, p->hi, p->open, what, sizeof what);
-  for (int i = 0; p->type == DTM_PARAM_CHOICE && p->choices[i]; i++)
-    snprintf(what + strlen(what), sizeof what - strlen(what), "%s%s", i ? "|" : "", p->choices[i]);
-  if (p->type == DTM_PARAM_GROUPS) snprintf(what, sizeof what, "physical groups");
-  printf("    %-18s %s%s%s%s%s%s%s%s\n", p->name, what, p->unit && p->unit[0] ? " " : "", p->unit ? p->unit : "",
-         p->def ? ", default " : "", p->def ? p->def : "", p->required ? ", required" : "", "; ", p->help);
-}
-
-static void print_property(const dtm_property *p) {
-  char range[128];
-  range_text(p->lo, p->hi, p->open, range, sizeof range);
-  printf("    %-18s %s%s%s%s; %s\n", p->name, range, p->unit[0] ? " " : "", p->unit, p->required ? ", required" : "",
-         p->help);
-}
-
-static void print_effect(const dtm_effect_class *c) {
-  static const char *const schemes[] = {"modifies the wave steps", "central differences", "forward Euler"};
-  printf("%s: %s\n  %s", c->name, c->summary, schemes[c->scheme]);
-  if (c->role & DTM_ROLE_LIMITS) printf(", dt ~ h^%g", c->exponent);
-  printf("\n");
-  if (c->params && c->params->name) printf("  attributes:\n");
-  for (const dtm_param *p = c->params; p && p->name; p++) print_param(p);
-  if (c->properties && c->properties->name) printf("  material properties:\n");
-  for (const dtm_property *p = c->properties; p && p->name; p++) print_property(p);
-  if (c->indicator.name) printf("  accuracy: view '%s' (%s)\n", c->indicator.view, c->indicator.help);
-}
-
-static int cmd_effects(void) {
-  for (int i = 0; i < dtm_registry_count(); i++) print_effect(dtm_registry_get(i)), printf("\n");
-  printf("effect: an external effect, <effect library=\"libX.so\" name=\"X\" .../>; its attributes and\n"
-         "  properties are those its library declares (see docs/effects.md)\n");
+/* dtmap's version, the Gmsh it runs on, and the effect API it loads. */
+static int print_version(void) {
+  char gmsh[64];
+  const char *api = NULL;
+  printf("dtmap %s (libdtmap %s)\n", DTM_VERSION, dtm_version());
+  if (dtm_gmsh_version(gmsh, sizeof gmsh, &api) == DTM_OK)
+    printf("Gmsh %s (built against the Gmsh API %s)\n", gmsh, api);
+  else
+    printf("Gmsh: unknown (%s)\n", dtm_error_message());
+  printf("effect API %d (external effects declare DTM_EFFECT_API_VERSION %d)\n", dtm_registry_api_version(),
+         DTM_EFFECT_API_VERSION);
   return 0;
 }
 
 static int usage_error(const char *what, const char *arg) {
   fprintf(stderr, "dtmap: %s%s\n", what, arg);
-  print_usage(stderr);
+  dtm_cli_print_usage(stderr);
   fprintf(stderr, "(dtmap --help explains the commands)\n");
   return 2;
 }
@@ -190,9 +134,12 @@ int main(int argc, char **argv) {
   int onelab = dtm_cli_onelab(argc, argv);
   if (onelab >= 0) return onelab;
   const char *cmd = argc > 1 ? argv[1] : "";
-  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return print_help();
-  if (!strcmp(cmd, "--version")) return printf("dtmap %s\n", DTM_VERSION), 0;
-  if (!strcmp(cmd, "effects")) return argc > 2 ? usage_error("effects takes no arguments: ", argv[2]) : cmd_effects();
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return dtm_cli_print_overview();
+  if (!strcmp(cmd, "--version"))
+    return argc > 2 ? usage_error("--version takes no arguments: ", argv[2]) : print_version();
+  if (!strcmp(cmd, "--generate")) return dtm_cli_generate(argc == 3 ? argv[2] : NULL); /* for the build */
+  if (!strcmp(cmd, "effects"))
+    return argc > 2 ? usage_error("effects takes no arguments: ", argv[2]) : dtm_cli_print_effects();
   for (const cli_command *c = dtm_cli_commands; c->name; c++) {
     if (strcmp(cmd, c->name)) continue;
     cli_opts o;
