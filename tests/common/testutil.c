@@ -21,11 +21,25 @@ char *mkdtemp(char *);
 static const char *src_dir = ".", *cli_path = "dtmap";
 static char tmp_dir[256];
 
+/* Every report the program wrote (the *.json of its temporary folder)
+ * must follow the report schema; a violation fails the program. */
+static int check_reports(void) {
+  char cmd[8192];
+  snprintf(cmd, sizeof cmd, "'%s' '%s/tests/common/report_schema.py' '%s/schema/dtmap-report.schema.json' '%s' >&2",
+           DTM_TEST_PYTHON, src_dir, src_dir, tmp_dir);
+  int st = system(cmd);
+  if (st == 0) return 0;
+  fprintf(stderr, "a report written by this test does not follow schema/dtmap-report.schema.json (above)\n");
+  return 1;
+}
+
 static void cleanup(void) {
   if (!tmp_dir[0]) return;
   char cmd[300];
+  int bad = check_reports();
   snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp_dir);
   if (system(cmd)) fprintf(stderr, "could not remove %s\n", tmp_dir);
+  if (bad) _exit(1);
 }
 
 void tu_init(int argc, char **argv) {

@@ -12,7 +12,10 @@ struct cJSON;
 void tu_init(int argc, char **argv);
 const char *tu_src(void);
 const char *tu_cli(void);
-/* A fresh temporary directory (owned by the library, removed at exit). */
+/* A fresh temporary directory (owned by the library, removed at exit).
+ * At exit every *.json in it, the reports the program wrote, is validated
+ * against schema/dtmap-report.schema.json (tests/common/report_schema.py);
+ * a report that does not follow it makes the program fail. */
 const char *tu_tmpdir(void);
 /* Write text to path (aborts the test program on failure). */
 void tu_write(const char *path, const char *text);
