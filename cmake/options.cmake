@@ -10,9 +10,10 @@ option(DTM_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer"
 option(DTM_WERROR "Treat compiler warnings as errors (-Werror)" OFF)
 set(DTM_PLOT AUTO CACHE STRING "PLplot for the plot of `dtmap sweep`: AUTO (when found), ON (required), OFF")
 set_property(CACHE DTM_PLOT PROPERTY STRINGS AUTO ON OFF)
-set(DTM_PYTHON /usr/bin/python3 CACHE FILEPATH "The python3 the tests drive the Python module with (Debian's, with python3-gmsh)")
+set(DTM_PYTHON /usr/bin/python3 CACHE FILEPATH
+    "The python3 the tests drive the Python module with (Debian's, with python3-gmsh)")
 set(DTM_PYTHON_INSTALL_DIR lib/python3/dist-packages CACHE STRING
-    "Where the Python module dtmap is installed, relative to the prefix (Debian's python3 searches /usr/local/lib/python3/dist-packages)")
+    "Where the Python module dtmap goes, relative to the prefix (on Debian's path for /usr/local)")
 
 add_compile_options(-Wall -Wextra)
 if(DTM_WERROR)

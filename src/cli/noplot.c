@@ -9,8 +9,8 @@ int dtm_cli_can_plot(void) { return 0; }
 int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n) {
   (void)title, (void)rows, (void)n;
   return DTM_ERR(DTM_ERR_INPUT,
-                 "%s: this dtmap was built without PLplot, so it cannot draw the sweep plot; the CSV has the "
-                 "table (install libplplot-dev and plplot-driver-cairo and rebuild for the plot)",
+                 "%s: this dtmap was built without PLplot, so it cannot draw the sweep plot; leave out --plot "
+                 "for the CSV alone, or install libplplot-dev and plplot-driver-cairo and rebuild",
                  path);
 }
 

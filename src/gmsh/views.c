@@ -1,8 +1,9 @@
 /* Views of the analysed mesh through Gmsh. Written to a .msh: the mesh
  * first, then each view appended with PostProcessing.SaveMesh=0 so the mesh
  * is not written again, and removed afterwards, so repeated writes
- * (refinement rounds) do not accumulate them. Or added to the open session
- * of a script, where they stay, with their display options. */
+ * (refinement rounds) do not accumulate them; the options this sets are
+ * given their values back. Or added to the open session of a script, where
+ * they stay, with their display options. */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,16 +71,36 @@ int dtm_gmsh_view_option(int tag, const dtm_view_option *o) {
   return DTM_OK;
 }
 
-int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
+/* The options dtm_gmsh_write sets, kept so a script's session gets its own
+ * values back. */
+static const char *const write_options[] = {"Mesh.SaveAll", "Mesh.Binary", "PostProcessing.SaveMesh"};
+#define NWRITE_OPTIONS (sizeof write_options / sizeof write_options[0])
+
+static void swap_options(const double *set, double *old) {
+  int ierr = 0;
+  for (size_t i = 0; i < NWRITE_OPTIONS; i++) {
+    if (old) gmshOptionGetNumber(write_options[i], &old[i], &ierr);
+    gmshOptionSetNumber(write_options[i], set[i], &ierr);
+  }
+}
+
+/* The mesh, then the views appended without it. */
+static int write_all(const char *path, const dtm_view *views, int nviews) {
   int ierr = 0;
   char *model = NULL;
-  gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
-  gmshOptionSetNumber("Mesh.Binary", 0, &ierr);
   gmshWrite(path, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
   DTM_CHECK(current_model(&model));
-  gmshOptionSetNumber("PostProcessing.SaveMesh", 0, &ierr);
   int r = write_views(path, model, views, nviews);
   gmshFree(model);
+  return r;
+}
+
+int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
+  const double set[NWRITE_OPTIONS] = {1, 0, 0}; /* all elements, as text; views without the mesh */
+  double old[NWRITE_OPTIONS];
+  swap_options(set, old);
+  int r = write_all(path, views, nviews);
+  swap_options(old, NULL);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

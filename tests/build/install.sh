@@ -174,9 +174,10 @@ py_rec=$(sed -n 's/^recommended step \([^ ]*\) s.*/\1/p' py/box.out)
   fail "the Python script printed $py_rec, dtmap run recommends $(recommended py/box.json)"
 
 # ---- the man page and the completion ----
-"${clean[@]}" MANPAGER=cat MANWIDTH=100 man -M "$P/share/man" dtmap >man.txt 2>man.err || fail "man dtmap: $(cat man.err)"
+"${clean[@]}" MANPAGER=cat MANWIDTH=100 man -M "$P/share/man" dtmap >man.txt 2>man.err ||
+  fail "man dtmap: $(cat man.err)"
 grep -q "dtmap run SCENE.xml" man.txt && grep -q "EXIT\|Exit codes" man.txt || fail "man dtmap shows: $(head man.txt)"
-words=$("${clean[@]}" bash -c "source '$P/share/bash-completion/completions/dtmap'; COMP_WORDS=(dtmap r); COMP_CWORD=1; _dtmap;
-  echo \${COMPREPLY[*]}")
+words=$("${clean[@]}" bash -c "source '$P/share/bash-completion/completions/dtmap';
+  COMP_WORDS=(dtmap r); COMP_CWORD=1; _dtmap; echo \${COMPREPLY[*]}")
 [ "$words" = "run refine" ] || fail "completing 'dtmap r' gives '$words'"
 echo "t003-install: the package installed in $P works on its own (recommended step $rec s)"
