@@ -175,7 +175,7 @@ class Analyse(tu.unittest.TestCase):
         v = dtmap.version()
         self.assertEqual(v["dtmap"], dtmap.__version__)
         self.assertEqual(v["gmsh"], gmsh.option.getString("General.Version"))
-        self.assertEqual(v["effect_api"], 1)
+        self.assertEqual(v["effect_api"], tu.effect_api_version())
 
     def test_one_libgmsh(self):
         # gmsh.py and libdtmap share the libgmsh of this process ...

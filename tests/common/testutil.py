@@ -7,6 +7,7 @@ end, and a report that does not follow it fails the script."""
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -49,6 +50,12 @@ def run(*args, cwd=None):
     p = subprocess.run([CLI] + [str(a) for a in args], cwd=cwd or tmpdir(), stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, universal_newlines=True)
     return p.returncode, p.stdout
+
+
+def effect_api_version():
+    """DTM_EFFECT_API_VERSION of include/dtmap/effect.h."""
+    with open(os.path.join(SRC, "include", "dtmap", "effect.h")) as f:
+        return int(re.search(r"#define DTM_EFFECT_API_VERSION (\d+)", f.read()).group(1))
 
 
 def report(name):
