@@ -12,8 +12,15 @@ set(DTM_PLOT AUTO CACHE STRING "PLplot for the plot of `dtmap sweep`: AUTO (when
 set_property(CACHE DTM_PLOT PROPERTY STRINGS AUTO ON OFF)
 set(DTM_PYTHON /usr/bin/python3 CACHE FILEPATH
     "The python3 the tests drive the Python module with (Debian's, with python3-gmsh)")
-set(DTM_PYTHON_INSTALL_DIR lib/python3/dist-packages CACHE STRING
-    "Where the Python module dtmap goes, relative to the prefix (on Debian's path for /usr/local)")
+# Debian's python3 searches PREFIX/lib/python3.X/dist-packages for /usr and
+# /usr/local (and lib/python3/dist-packages only for /usr).
+execute_process(COMMAND ${DTM_PYTHON} -c "import sys; print('lib/python%d.%d/dist-packages' % sys.version_info[:2])"
+                OUTPUT_VARIABLE dtm_py_dir OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+if(NOT dtm_py_dir)
+  set(dtm_py_dir lib/python3/dist-packages)
+endif()
+set(DTM_PYTHON_INSTALL_DIR ${dtm_py_dir} CACHE STRING
+    "Where the Python module dtmap goes, relative to the prefix (on Debian's python3 path for /usr/local)")
 
 add_compile_options(-Wall -Wextra)
 if(DTM_WERROR)
