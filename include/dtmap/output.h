@@ -27,9 +27,10 @@ typedef struct {
  * Refuses to overwrite the scene's input mesh or the scene itself. */
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
 /* Add the same views to the current model of the open Gmsh session (a
- * script's), shown as X.msh.opt shows them (dt on a log scale, the others
- * hidden); nothing is written. tags[cap] (may be NULL) receives the Gmsh
- * view tags in order, and *n (may be NULL) the number of views added. */
+ * script's), styled as X.msh.opt styles them (without its text view and its
+ * mesh display options); nothing is written. tags[cap] (may be NULL)
+ * receives the Gmsh view tags in order, and *n (may be NULL) the number of
+ * views added. */
 DTM_EXPORT int dtm_output_add_views(const dtm_results *r, int *tags, int cap, int *n);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);

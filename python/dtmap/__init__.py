@@ -13,8 +13,8 @@ time settings of a scene file (its ``<geometry>`` or ``<mesh>`` is not
 opened: the current model is analysed).  The result holds numpy arrays
 (element and node tags, element steps, nodal steps, size suggestion), the
 recommended step and what it rests on, and the tags of the views dtmap
-added to the open Gmsh session (``dt`` on a log scale, the others hidden),
-which ``gmsh.fltk.run()`` shows.  Every dtmap error raises
+added to the open Gmsh session (styled as ``dtmap run``'s .opt styles
+them), which ``gmsh.fltk.run()`` shows.  Every dtmap error raises
 :class:`dtmap.Error` with dtmap's message.  Units are SI: steps in s,
 lengths in m.
 
@@ -33,7 +33,7 @@ from . import _scene
 __all__ = ["analyse", "Result", "Error", "version", "LIBRARY", "GMSH_LIBRARY"]
 __version__ = lib.dtm_version().decode()
 
-_VIEWS_MAX = 256  # more views than dtmap ever adds (7 + 2 per effect)
+_VIEWS_MAX = 256  # more views than dtmap ever adds (a few, plus two per effect)
 
 
 def version():

@@ -18,6 +18,8 @@ static const char summary[] =
     "into the .msh as Gmsh views, plus a JSON report.";
 
 static const char effects_line[] = "list the effects a scene can name";
+static const char onelab_usage[] = "[run] [SCENE.xml] [-v|-q] [-j N] -onelab NAME ADDRESS";
+static const char onelab_line[] = "(as Gmsh's ONELAB solver)";
 
 /* Sections after the commands: a title and its text, preformatted (a
  * table kept as printed) or a paragraph. */
@@ -47,6 +49,7 @@ void dtm_cli_print_usage(void *stream) {
     fprintf(f, "%s dtmap %s %s\n", c == dtm_cli_commands ? "usage:" : "      ", c->name, c->args);
   fprintf(f, "       dtmap effects        %s\n", effects_line);
   fprintf(f, "       dtmap --help | --version\n");
+  fprintf(f, "       dtmap %s   %s\n", onelab_usage, onelab_line);
 }
 
 int dtm_cli_print_overview(void) {
@@ -96,7 +99,11 @@ static void man_synopsis(FILE *f) {
     roff(f, c->args);
     fputc('\n', f);
   }
-  fputs("\\fBdtmap effects\\fR\n\\fBdtmap \\-\\-help\\fR | \\fB\\-\\-version\\fR\n.fi\n", f);
+  fputs("\\fBdtmap effects\\fR\n\\fBdtmap \\-\\-help\\fR | \\fB\\-\\-version\\fR\n\\fBdtmap\\fR ", f);
+  roff(f, onelab_usage);
+  fputs("   ", f);
+  roff(f, onelab_line);
+  fputs("\n.fi\n", f);
 }
 
 static void man_command(FILE *f, const cli_command *c) {
@@ -172,8 +179,17 @@ static void completion_value(FILE *f, const cli_option *p) {
     fputs("_dtmap_files ''; return ;;\n", f);
 }
 
+/* The extension of a command's positional argument (SCENE.xml -> xml). */
+static int positional_ext(const cli_command *c, char *ext, size_t len) {
+  size_t n = strcspn(c->args, " ");
+  const char *dot = memchr(c->args, '.', n);
+  return snprintf(ext, len, "%.*s", dot ? (int)(c->args + n - dot - 1) : 0, dot ? dot + 1 : "");
+}
+
 static void completion_command(FILE *f, const cli_command *c) {
-  fprintf(f, "    %s)\n      case $prev in\n", c->name);
+  char ext[16];
+  positional_ext(c, ext, sizeof ext);
+  fprintf(f, "    %s)\n      ext='%s'\n      case $prev in\n", c->name, ext);
   for (const cli_option *p = c->options; p && p->name; p++)
     if (p->kind != CLI_FLAG) completion_value(f, p);
   fprintf(f, "      esac\n      opts='--help");
@@ -190,7 +206,7 @@ static int print_completion(FILE *f) {
         "  else COMPREPLY=($(compgen -f -- \"$cur\")); fi\n"
         "}\n"
         "_dtmap() {\n"
-        "  local cur=${COMP_WORDS[COMP_CWORD]} prev=${COMP_WORDS[COMP_CWORD-1]} opts=''\n"
+        "  local cur=${COMP_WORDS[COMP_CWORD]} prev=${COMP_WORDS[COMP_CWORD-1]} opts='' ext=''\n"
         "  if [ \"$COMP_CWORD\" -eq 1 ]; then\n"
         "    COMPREPLY=($(compgen -W '",
         f);
@@ -199,7 +215,7 @@ static int print_completion(FILE *f) {
   for (const cli_command *c = dtm_cli_commands; c->name; c++) completion_command(f, c);
   fputs("    *) COMPREPLY=(); return ;;\n  esac\n"
         "  if [[ $cur == -* ]]; then COMPREPLY=($(compgen -W \"$opts\" -- \"$cur\"))\n"
-        "  else _dtmap_files xml; fi\n"
+        "  else _dtmap_files \"$ext\"; fi\n"
         "}\n"
         "complete -o filenames -F _dtmap dtmap\n",
         f);

@@ -37,7 +37,7 @@ class Errors(tu.unittest.TestCase):
         self.expect("Gmsh is not initialised: call gmsh.initialize()", materials=STEEL, effects=["elastic"])
 
     def test_in_a_session(self):
-        gmsh.initialize(["t802", "-v", "0"])
+        gmsh.initialize(["t902", "-v", "0"])
         try:
             self.session_errors()
         finally:

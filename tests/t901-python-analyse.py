@@ -63,8 +63,22 @@ def cli_on(mesh, effects="<elastic/>", extra=()):
     return tu.report("cli.json")
 
 
-def views_of_file(path):
-    """{name: (tags, values)} of the views a .msh brings into the session."""
+STYLE = ("Light", "ScaleType", "ColormapNumber", "IntervalsType", "NbIso", "Visible", "ColormapAlpha", "DrawSkinOnly",
+         "ShowScale")
+
+
+def style(tag):
+    """The display options dtmap sets on a view (numbers, and the legend's format)."""
+    i = gmsh.view.getIndex(tag)
+    out = {o: gmsh.option.getNumber("View[%d].%s" % (i, o)) for o in STYLE}
+    out["Format"] = gmsh.option.getString("View[%d].Format" % i)
+    return out
+
+
+def views_of_file(path, read=()):
+    """{name: (tags, values) for the names in read, else the view's style} of the
+    views a .msh brings into the session with its .opt (which also adds a text
+    view, "dtmap", without model data)."""
     before = set(gmsh.view.getTags())
     gmsh.merge(path)
     out = {}
@@ -72,15 +86,18 @@ def views_of_file(path):
         if t in before:
             continue
         name = gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(t))
-        _, tags, data, _, _ = gmsh.view.getModelData(t, 0)
-        out[name] = (numpy.array(tags, dtype=numpy.uint64), numpy.array([d[0] for d in data]))
+        out[name] = style(t)
+        if name in read:
+            _, tags, data, _, _ = gmsh.view.getModelData(t, 0)
+            out[name] = (numpy.array(tags, dtype=numpy.uint64), numpy.array([d[0] for d in data]))
+    for t in set(gmsh.view.getTags()) - before:
         gmsh.view.remove(t)
     return out
 
 
 class Analyse(tu.unittest.TestCase):
     def setUp(self):
-        gmsh.initialize(["t801", "-v", "0"])
+        gmsh.initialize(["t901", "-v", "0"])
 
     def tearDown(self):
         gmsh.finalize()
@@ -114,7 +131,7 @@ class Analyse(tu.unittest.TestCase):
         self.assertEqual(len(r.dt), rep["mesh"]["elements"])
         self.assertEqual(len(r.node_tags), rep["mesh"]["nodes"])
         # The arrays against the CLI's views, element by element and node by node.
-        views = views_of_file(tu.path("cli_dt.msh"))
+        views = views_of_file(tu.path("cli_dt.msh"), read=("dt", "characteristic length", "nodal dt"))
         for name, tags, values in (("dt", r.element_tags, r.dt), ("characteristic length", r.element_tags, r.length),
                                    ("nodal dt", r.node_tags, r.nodal_dt)):
             vtags, vvalues = views[name]
@@ -136,18 +153,19 @@ class Analyse(tu.unittest.TestCase):
         _, tags, data, _, _ = gmsh.view.getModelData(r.views["dt"], 0)
         by_tag = dict(zip(tags, (d[0] for d in data)))
         self.assertEqual([by_tag[int(t)] for t in r.element_tags], list(r.dt))
-        dt_index = gmsh.view.getIndex(r.views["dt"])
-        self.assertEqual(gmsh.option.getNumber("View[%d].ScaleType" % dt_index), 2)  # log scale, as the .opt
-        for name, tag in r.views.items():
-            visible = gmsh.option.getNumber("View[%d].Visible" % gmsh.view.getIndex(tag))
-            self.assertEqual(visible, 1 if name == "dt" else 0, name)
+        self.assertEqual(style(r.views["dt"])["ScaleType"], 2)  # log scale
+        self.assertEqual(style(r.views["characteristic length"])["Visible"], 0)  # hidden until ticked
         r.write_report(tu.path("live.json"))
         gmsh.option.setNumber("Mesh.Binary", 1)  # the script's own choice, which writing must not change
         r.write(tu.path("live_dt.msh"))
         self.assertEqual(gmsh.option.getNumber("Mesh.Binary"), 1)
         self.assertEqual(gmsh.option.getNumber("PostProcessing.SaveMesh"), 1)
         self.assertTrue(os.path.exists(tu.path("live_dt.msh.opt")))
-        self.assertEqual(set(views_of_file(tu.path("live_dt.msh"))), set(r.views))
+        # The session's views are styled as the .msh's .opt styles them on opening.
+        opened = views_of_file(tu.path("live_dt.msh"))
+        self.assertEqual(set(opened) - {"dtmap"}, set(r.views))
+        for name, tag in r.views.items():
+            self.assertEqual(style(tag), opened[name], name)
         same_double(self, r.recommended, tu.report("live.json")["dt"]["recommended"])
         self.assertEqual(tu.report("live.json")["scene"], "dtmap.analyse.xml")
 
