@@ -51,17 +51,18 @@ void dtm_gmsh_stop(void) {
   gmshFinalize(&ierr);
 }
 
-/* Gmsh 4.8 has no query for it, but an initialised Gmsh always has a model
- * (and lists none, silently, before gmshInitialize). */
-static int is_initialized(void) {
+int dtm_gmsh_model_count(void) {
   char **names = NULL;
   size_t n = 0;
   int ierr = 0;
   gmshModelList(&names, &n, &ierr);
   for (size_t i = 0; i < n; i++) gmshFree(names[i]);
   gmshFree(names);
-  return !ierr && n > 0;
+  return ierr ? 0 : (int)n;
 }
+
+/* Gmsh 4.8 has no query for it, but an initialised Gmsh always has a model. */
+static int is_initialized(void) { return dtm_gmsh_model_count() > 0; }
 
 int dtm_gmsh_attach(int threads) {
   if (!is_initialized())
