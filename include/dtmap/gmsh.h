@@ -56,9 +56,20 @@ typedef struct {
   size_t n;
 } dtm_view;
 
-/* Write the current mesh and the views to path (a .msh), appending views
- * with PostProcessing.SaveMesh=0. The caller makes the write atomic. */
-DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
+/* How dtm_gmsh_write encodes the file. */
+typedef struct {
+  int binary;     /* 1: binary .msh 4.1 (mesh and views), 0: ASCII */
+  int views_only; /* 1: only the format header and the views, no mesh: a
+                     file Gmsh merges on top of the mesh it has open
+                     (`gmsh input.msh views.msh`) */
+} dtm_msh_format;
+
+/* Write the current mesh (Gmsh's writer, Mesh.SaveAll=1) and then the views
+ * to path (a .msh), or only the views (fmt->views_only). Views are written
+ * directly, without creating Gmsh views; tags must be at most INT_MAX
+ * (Gmsh's view format). fmt NULL: ASCII with the mesh. The caller makes
+ * the write atomic. */
+DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
 
 /* One picture of a result: which views it shows. */
 typedef struct {

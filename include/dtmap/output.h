@@ -26,6 +26,21 @@ typedef struct {
 /* Write the mesh with its views to path atomically, plus path.opt.
  * Refuses to overwrite the scene's input mesh or the scene itself. */
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
+/* Above this many analysed elements the output .msh is binary unless the
+ * caller or the scene's <output format> says otherwise. */
+#define DTM_BINARY_ABOVE 100000
+
+/* How the output mesh is written. */
+typedef struct {
+  int format;     /* DTM_MSH_AUTO (the scene's <output format>, else binary
+                     above DTM_BINARY_ABOVE elements), DTM_MSH_ASCII or
+                     DTM_MSH_BINARY */
+  int views_only; /* 1: write only the views, for Gmsh to merge on top of the
+                     scene's input .msh (needs a <mesh> scene) */
+} dtm_output_opts;
+
+/* dtm_output_write with options (NULL: the defaults above). */
+DTM_EXPORT int dtm_output_write_ex(const dtm_results *r, const char *path, const dtm_output_opts *o);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
 /* Print the terminal summary (counts, min dt and where, recommendation,

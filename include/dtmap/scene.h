@@ -31,6 +31,9 @@ typedef struct {
  * does not say. */
 #define DTM_SCENE_PER_WAVELENGTH 10.0
 
+/* Encodings of an output .msh (<output format>). */
+enum { DTM_MSH_AUTO = 0, DTM_MSH_ASCII = 1, DTM_MSH_BINARY = 2 };
+
 typedef struct dtm_scene {
   char *path;           /* scene file as given */
   char *dir;            /* its directory ("." if none) */
@@ -57,6 +60,7 @@ typedef struct dtm_scene {
   int nknown;                     /* the first nknown names are the built-in effects' properties */
   char *out_mesh;                 /* resolved <output mesh>, or NULL */
   char *out_report;               /* resolved <output report>, or NULL */
+  int out_format;                 /* <output format>: DTM_MSH_AUTO (unset), _ASCII, _BINARY */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

@@ -19,6 +19,8 @@ typedef struct {
   const char *sizes;  /* sweep --sizes h1,h2,... */
   const char *csv;    /* sweep --csv, or NULL */
   const char *plot;   /* sweep --plot, or NULL */
+  const char *format; /* --format ascii|binary|auto, or NULL (the scene's) */
+  int views_only;     /* run --views-only */
   int threads;        /* -j N, 0 = all cores */
   int verbosity;      /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
   int posterior;      /* run --posterior */
@@ -71,6 +73,10 @@ int dtm_cli_fail(int code, int verbosity);
 /* SCENE<suffix> in the current directory (SCENE: the scene's base name
  * without its extension). */
 void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);
+
+/* The encoding --format names into *out (DTM_MSH_*; NULL: DTM_MSH_AUTO);
+ * the usage exit code 2 for another word. */
+int dtm_cli_format(const struct cli_command *c, const char *word, int *out);
 
 /* Write the output mesh (+ .opt) and the report of res where o and the
  * scene say; res->t_output gets the mesh's write time, s. */

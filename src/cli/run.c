@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
@@ -20,16 +21,27 @@ static const char *output_path(const dtm_scene *s, const cli_opts *o, char *def,
   return def;
 }
 
+int dtm_cli_format(const cli_command *c, const char *word, int *out) {
+  static const char *const names[] = {"auto", "ascii", "binary"}; /* DTM_MSH_* order */
+  *out = DTM_MSH_AUTO;
+  for (int i = 0; word && i < 3; i++)
+    if (!strcmp(word, names[i])) return *out = i, DTM_OK;
+  return word ? dtm_cli_usage_error(c, "--format '%s' is not ascii, binary or auto", word) : DTM_OK;
+}
+
 int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o) {
   char def[4096];
   const dtm_scene *s = dtm_analysis_scene(res->analysis);
   const char *out = output_path(s, o, def, sizeof def);
   const char *rep = o->report ? o->report : s->out_report;
   double t0 = dtm_wtime();
-  DTM_CHECK(dtm_output_write(res, out));
+  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only};
+  dtm_cli_format(NULL, o->format, &oo.format); /* checked before the analysis */
+  DTM_CHECK(dtm_output_write_ex(res, out, &oo));
   res->t_output = dtm_wtime() - t0;
   if (rep) DTM_CHECK(dtm_report_write(res, rep));
   if (o->verbosity) printf("\nwrote        %s (+ .opt)%s%s\n", out, rep ? ", " : "", rep ? rep : "");
+  if (o->verbosity && o->views_only) printf("             views only: gmsh %s %s\n", s->mesh, out);
   return DTM_OK;
 }
 
@@ -92,5 +104,9 @@ static int run_scene(const cli_opts *o, int verify) {
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }
 
-int dtm_cli_run(const cli_opts *o) { return run_scene(o, 0); }
+int dtm_cli_run(const cli_opts *o) {
+  int f;
+  if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
+  return run_scene(o, 0);
+}
 int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }

@@ -3,7 +3,10 @@
 #ifndef DTM_GMSH_UTIL_H
 #define DTM_GMSH_UTIL_H
 
+#include <stdio.h>
+
 #include "dtmap/error.h"
+#include "dtmap/gmsh.h"
 
 /* Raise DTM_ERR_INPUT or code with "<what>: <Gmsh's last error>". */
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what);
@@ -11,5 +14,11 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
   do {                                                                                                                 \
     if (ierr) return dtm_gmsh_fail((code), __FILE__, __LINE__, __func__, (what));                                      \
   } while (0)
+
+/* The .msh 4.1 format header ($MeshFormat ... $EndMeshFormat) of a file
+ * that holds only views; 0, or -1 on a write error. */
+int dtm_msh_header(FILE *f, int binary);
+/* Append one view as $ElementData or $NodeData (msh_data.c). */
+int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary);
 
 #endif

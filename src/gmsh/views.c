@@ -1,48 +1,35 @@
-/* Writing the analysed mesh and its views to a .msh through Gmsh: the mesh
- * first, then each view appended with PostProcessing.SaveMesh=0 so the mesh
- * is not written again. Views are removed afterwards, so repeated writes
- * (refinement rounds) do not accumulate them. */
+/* Writing the analysed mesh and its views to a .msh: the mesh through
+ * Gmsh's own writer (ASCII or binary, Mesh.SaveAll=1), then every view
+ * appended directly in the same encoding (msh_data.c), or, for a views-only
+ * file, just the format header and the views, which Gmsh merges on top of
+ * the mesh it already has open (a .msh without $Nodes adds views to the
+ * current model). No Gmsh view is created. */
+#include <errno.h>
 #include <gmshc.h>
 #include <stdio.h>
-#include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/gmsh.h"
 #include "gmsh-impl.h"
 
-static int add_view(const char *model, const dtm_view *v, int *tag) {
+static int write_mesh(const char *path, int binary) {
   int ierr = 0;
-  *tag = gmshViewAdd(v->name, -1, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot create a view");
-  gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", (size_t *)v->tags, v->n,
-                                  (double *)v->values, v->n, 0.0, 1, 0, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, v->name);
+  gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
+  gmshOptionSetNumber("Mesh.Binary", binary ? 1 : 0, &ierr);
+  gmshOptionSetNumber("Mesh.MshFileVersion", 4.1, &ierr);
+  gmshWrite(path, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
   return DTM_OK;
 }
 
-static int write_views(const char *path, const char *model, const dtm_view *views, int nviews) {
-  int ierr = 0, r = DTM_OK;
-  for (int i = 0; i < nviews && r == DTM_OK; i++) {
-    int tag;
-    r = add_view(model, &views[i], &tag);
-    if (r) break;
-    gmshViewWrite(tag, path, 1, &ierr);
-    if (ierr) r = dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, path);
-    gmshViewRemove(tag, &ierr);
-  }
-  return r;
-}
-
-int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
-  int ierr = 0;
-  char *model = NULL;
-  gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
-  gmshOptionSetNumber("Mesh.Binary", 0, &ierr);
-  gmshWrite(path, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
-  gmshModelGetCurrent(&model, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no current model");
-  gmshOptionSetNumber("PostProcessing.SaveMesh", 0, &ierr);
-  int r = write_views(path, model, views, nviews);
-  gmshFree(model);
+int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
+  dtm_msh_format def = {0, 0};
+  if (!fmt) fmt = &def;
+  if (!fmt->views_only) DTM_CHECK(write_mesh(path, fmt->binary));
+  FILE *f = fopen(path, fmt->views_only ? "wb" : "ab");
+  if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  int r = fmt->views_only && dtm_msh_header(f, fmt->binary) ? DTM_ERR(DTM_ERR_INPUT, "%s: cannot write", path) : DTM_OK;
+  for (int i = 0; i < nviews && r == DTM_OK; i++) r = dtm_msh_write_view(f, &views[i], fmt->binary);
+  if (fclose(f) && r == DTM_OK) r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

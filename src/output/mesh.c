@@ -1,8 +1,10 @@
 /* The output .msh and its .opt: gather the contract views (dt,
  * characteristic length, limiting effect, size suggestion) plus one
- * "dt <effect>" view per limiting effect, write them through Gmsh to a
- * temporary file, then rename into place. The scene's input mesh is never
- * overwritten. */
+ * "dt <effect>" view per limiting effect, write them (after the mesh, or
+ * alone in a views-only file) to a temporary file, then rename into place.
+ * The encoding is the caller's choice, else the scene's <output format>,
+ * else binary above DTM_BINARY_ABOVE elements and ASCII below (small files
+ * stay readable). The scene's input mesh is never overwritten. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -260,14 +262,34 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
   return dtm_atomic_commit(&w);
 }
 
-int dtm_output_write(const dtm_results *res, const char *path) {
+/* The encoding of the output: the caller's, else the scene's, else by size. */
+static dtm_msh_format format_of(const dtm_analysis *a, const dtm_output_opts *o) {
+  int f = o && o->format ? o->format : dtm_analysis_scene(a)->out_format;
+  if (f == DTM_MSH_AUTO) f = dtm_analysis_nelements(a) > DTM_BINARY_ABOVE ? DTM_MSH_BINARY : DTM_MSH_ASCII;
+  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0};
+}
+
+static int check_views_only(const dtm_analysis *a, const dtm_output_opts *o) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  if (!o || !o->views_only || s->mesh) return DTM_OK;
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s: a views-only output needs a <mesh file=\"...\"> input to merge onto; this scene meshes "
+                 "%s, whose mesh exists only in a full output",
+                 s->path, s->geometry);
+}
+
+int dtm_output_write(const dtm_results *res, const char *path) { return dtm_output_write_ex(res, path, NULL); }
+
+int dtm_output_write_ex(const dtm_results *res, const char *path, const dtm_output_opts *o) {
   DTM_CHECK(check_target(res->analysis, path));
+  DTM_CHECK(check_views_only(res->analysis, o));
+  dtm_msh_format fmt = format_of(res->analysis, o);
   view_set vs = {0};
   int nviews = 0, r = build_views(res, &vs, &nviews);
   dtm_atomic w;
   if (r == DTM_OK) r = dtm_atomic_open(&w, path, ".msh", 0);
   if (r == DTM_OK) {
-    r = dtm_gmsh_write(w.tmp, vs.views, nviews);
+    r = dtm_gmsh_write(w.tmp, vs.views, nviews, &fmt);
     r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
   }
   if (r == DTM_OK) r = write_opt(path, res, &vs, nviews);

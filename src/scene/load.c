@@ -123,7 +123,20 @@ static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, cha
   return rc;
 }
 
+/* <output format="auto|ascii|binary"> (the schema admits only these). */
+static int read_format(dtm_scene *s, const xmlNode *n) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "format", &text));
+  s->out_format = !text                     ? DTM_MSH_AUTO
+                  : !strcmp(text, "ascii")  ? DTM_MSH_ASCII
+                  : !strcmp(text, "binary") ? DTM_MSH_BINARY
+                                            : DTM_MSH_AUTO;
+  free(text);
+  return DTM_OK;
+}
+
 static int read_output(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(read_format(s, n));
   DTM_CHECK(read_output_path(s, n, "mesh", &s->out_mesh));
   return read_output_path(s, n, "report", &s->out_report);
 }
