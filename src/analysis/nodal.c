@@ -142,9 +142,11 @@ static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
 
 static void record_min(dtm_analysis *a, int k, const double *dt) {
   dtm_effect_min *pe = &a->per_effect[k];
+  const size_t *tags = a->mesh->node_tags;
   pe->nodal = INFINITY;
   for (size_t v = 0; v < a->mesh->nnodes; v++) {
-    if (dt[v] < pe->nodal) pe->nodal = dt[v], pe->node = v;
+    int tie = dt[v] == pe->nodal && tags && tags[v] < tags[pe->node]; /* by Gmsh tag, whatever the node order */
+    if (dt[v] < pe->nodal || tie) pe->nodal = dt[v], pe->node = v;
     a->nodal_node[v] = fmin(a->nodal_node[v], dt[v]);
   }
 }

@@ -46,14 +46,14 @@ static double dot(size_t n, const double *x, const double *y) {
   return s;
 }
 
-/* v_0: uniform in [-1, 1) on the dofs with mass, unit norm; 0 when there
+/* v_0: uniform in [-1, 1) on the dofs with mass (drawn per Gmsh node tag,
+ * so the start does not depend on the node order), unit norm; 0 when there
  * are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  uint64_t x = z->seed;
+  dtm_operator_draw(z->op, z->seed, -1.0, 1.0, z->v);
   for (size_t i = 0; i < z->n; i++) {
-    double r = dtm_rng_uniform(&x, -1.0, 1.0);
-    z->v[i] = m[i] > 0 ? r : 0;
+    z->v[i] = m[i] > 0 ? z->v[i] : 0;
     z->vp[i] = 0;
   }
   double nv = sqrt(dot(z->n, z->v, z->v));
