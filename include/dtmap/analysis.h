@@ -13,6 +13,7 @@
 #include <stddef.h>
 
 #include "dtmap/export.h"
+#include "dtmap/gmsh.h"
 #include "dtmap/mesh.h"
 #include "dtmap/operator.h"
 #include "dtmap/effect_set.h"
@@ -139,6 +140,10 @@ DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, 
 DTM_EXPORT const dtm_global_info *dtm_analysis_global(const dtm_analysis *a, int k);
 DTM_EXPORT void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out);
 
+/* How the analysed mesh was made: Gmsh's 3D algorithm and threads, and
+ * whether its numbering is reproducible (all zero with reproducible = 1
+ * for a hand-built mesh given to dtm_analysis_compute). */
+DTM_EXPORT const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a);
 /* Wall time of stage t (DTM_T_*), s, and the OpenMP threads of the element
  * loop. */
 DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);

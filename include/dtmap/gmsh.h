@@ -20,6 +20,28 @@ DTM_EXPORT void dtm_gmsh_stop(void);
 DTM_EXPORT void dtm_gmsh_restore_threads(void);
 /* Mesh on one thread: the same scene then always gives the same mesh. */
 DTM_EXPORT void dtm_gmsh_serial(void);
+/* Before meshing: the scene's <meshing algorithm threads> where it names
+ * them (s may be NULL: keep what is set), else what the geometry file set;
+ * records them for dtm_gmsh_mesher. */
+DTM_EXPORT void dtm_gmsh_mesher_apply(const dtm_scene *s);
+/* The current model was read from a .msh. */
+DTM_EXPORT void dtm_gmsh_mesher_read(void);
+/* Back to Gmsh's default mesher (Delaunay, one thread) before a geometry is
+ * opened, so that a previous scene's choice does not carry over. */
+DTM_EXPORT void dtm_gmsh_mesher_defaults(void);
+
+/* How the current model's mesh was made. */
+typedef struct {
+  int algorithm;    /* Gmsh's Mesh.Algorithm3D (1 Delaunay, 10 HXT, ...); 0: read from a .msh */
+  int threads;      /* threads Gmsh meshed with; 0: read from a .msh */
+  int reproducible; /* 1: read, or meshed on one thread by a mesher other
+                       than HXT (the same scene gives the same numbering);
+                       0: a parallel mesher or HXT, whose numbering and
+                       even element count may vary between runs */
+} dtm_mesher_info;
+
+/* The mesher of the current model (after dtm_gmsh_load or dtm_gmsh_remesh). */
+DTM_EXPORT void dtm_gmsh_mesher(dtm_mesher_info *out);
 
 /* Open the scene's source: mesh its geometry with the <meshing> options, or
  * open its .msh. *dim receives the dimension to analyse. Errors name the
@@ -43,8 +65,9 @@ DTM_EXPORT int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, 
 /* Clear the current model's mesh and mesh it again (dimension dim, then
  * order) with the size scale * size[v] (m) at node v of m, the current mesh
  * (NaN: no value there), interpolated over its elements, as the only size
- * source; in 3D the default and Netgen optimisers run after. Meshes on one
- * thread (reproducible numbering). DTM_ERR_INPUT when Gmsh fails. */
+ * source; in 3D the default and Netgen optimisers run after. Meshes with
+ * the mesher of the scene's load (dtm_gmsh_mesher_apply). DTM_ERR_INPUT
+ * when Gmsh fails. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order);
 
 /* A view to write: name, ElementData or NodeData, one value per tag. */

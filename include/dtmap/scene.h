@@ -44,6 +44,8 @@ typedef struct dtm_scene {
   double mesh_min_size; /* <meshing min-size>, m; 0 when unset */
   int mesh_order;       /* <meshing order>; 1 when unset */
   int mesh_dim;         /* <meshing dim>; 0 when unset (highest dimension) */
+  int mesh_algorithm;   /* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code; 0 when unset (the geometry's) */
+  int mesh_threads;     /* <meshing threads>; 0 when unset (the geometry's General.NumThreads) */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
   int neffects;
@@ -81,6 +83,9 @@ DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);
  * of the scene's external effects) declares. With extra NULL, a scene that
  * loads external effects passes (they are not known yet). */
 DTM_EXPORT int dtm_scene_check_properties(const dtm_scene *s, const dtm_property *const *extra, int nextra);
+/* The <meshing algorithm> name of a Gmsh Mesh.Algorithm3D code ("read"
+ * for 0, a mesh read from a .msh; "other" for a code without a name). */
+DTM_EXPORT const char *dtm_scene_algorithm_name(int code);
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);

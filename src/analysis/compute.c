@@ -215,6 +215,7 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   a->effects = effects;
   a->neffects = neffects;
   a->threads = omp_get_max_threads();
+  a->mesher = (dtm_mesher_info){0, 0, 1};
   int r = setup(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);

@@ -83,6 +83,7 @@ int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
   }
   DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
+  dtm_gmsh_mesher(&(*out)->mesher);
   return DTM_OK;
 }
 

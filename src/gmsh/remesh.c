@@ -71,7 +71,7 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
   size_options();
-  dtm_gmsh_serial();
+  dtm_gmsh_mesher_apply(NULL); /* the algorithm and threads of the scene's load */
   gmshModelMeshGenerate(dim, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
