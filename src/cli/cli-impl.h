@@ -93,6 +93,11 @@ int dtm_cli_with_display(int (*draw)(void *arg), void *arg);
 /* `-onelab NAME ADDRESS` anywhere in argv: run the ONELAB client and return
  * its exit code; -1 when argv has no -onelab. */
 int dtm_cli_onelab(int argc, char **argv);
+/* The progress line (progress.c): on a terminal and unless quiet
+ * (verbosity 0), install the library's progress hook and draw long stages
+ * on stderr; stop erases the line and ends the drawing thread. */
+void dtm_cli_progress_start(int verbosity);
+void dtm_cli_progress_stop(void);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);

@@ -208,7 +208,11 @@ int main(int argc, char **argv) {
     if (strcmp(cmd, c->name)) continue;
     cli_opts o;
     int r = dtm_cli_parse(c, argc, argv, &o);
-    return r < 0 ? 0 : r ? r : c->main(&o);
+    if (r) return r < 0 ? 0 : r;
+    dtm_cli_progress_start(o.verbosity);
+    r = c->main(&o);
+    dtm_cli_progress_stop();
+    return r;
   }
   return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

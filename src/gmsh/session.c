@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/progress.h"
 #include "gmsh-impl.h"
 
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what) {
@@ -57,7 +58,9 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
   if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
   dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  dtm_progress_begin("meshing");
   gmshModelMeshGenerate(dim, &ierr);
+  dtm_progress_end();
   snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   if (s->mesh_order > 1) {
@@ -85,7 +88,9 @@ int dtm_gmsh_open(const char *path, int *dim) {
   snprintf(what, sizeof what, "%s: Gmsh cannot open it", path);
   gmshClear(&ierr);
   dtm_gmsh_mesher_defaults();
+  dtm_progress_begin("reading");
   gmshOpen(path, &ierr);
+  dtm_progress_end();
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);

@@ -14,6 +14,7 @@
 
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
+#include "dtmap/progress.h"
 #include "dtmap/util.h"
 
 static int same_file(const char *a, const char *b) {
@@ -289,7 +290,9 @@ int dtm_output_write_ex(const dtm_results *res, const char *path, const dtm_outp
   dtm_atomic w;
   if (r == DTM_OK) r = dtm_atomic_open(&w, path, ".msh", 0);
   if (r == DTM_OK) {
+    dtm_progress_begin("writing the mesh");
     r = dtm_gmsh_write(w.tmp, vs.views, nviews, &fmt);
+    dtm_progress_end();
     r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
   }
   if (r == DTM_OK) r = write_opt(path, res, &vs, nviews);

@@ -32,8 +32,8 @@ static void print_counts(const dtm_analysis *a, FILE *f) {
   fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   if (!mi->reproducible)
-    fprintf(f, "mesher       %s on %d threads: another run may number (and count) the elements differently\n",
-            dtm_scene_algorithm_name(mi->algorithm), mi->threads);
+    fprintf(f, "mesher       %s on %d thread%s: another run may number (and count) the elements differently\n",
+            dtm_scene_algorithm_name(mi->algorithm), mi->threads, mi->threads == 1 ? "" : "s");
   fprintf(f, "effects     ");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) fprintf(f, " [%d] %s", k, effect_name(a, k));
   fprintf(f, "\n");
