@@ -94,6 +94,11 @@ static void check_all(const dtm_analysis *a) {
     for (size_t e = 0; e < m->blocks[b].n; e++) etags[k++] = m->blocks[b].tags[e];
   check_view("dt", etags, dtm_analysis_dt(a), nel);
   check_view("characteristic length", etags, dtm_analysis_length(a), nel);
+  double *lim = malloc(nel * sizeof *lim); /* integers, written as numbers */
+  for (size_t i = 0; i < nel; i++) lim[i] = dtm_analysis_limiting(a)[i];
+  check_view("limiting effect", etags, lim, nel);
+  check_view("dt elastic", etags, dtm_analysis_effect_dt(a, 0), nel); /* every value finite here: all kept */
+  free(lim);
   const double *sz = dtm_analysis_size_suggestion(a);
   size_t *ntags = malloc(m->nnodes * sizeof *ntags);
   double *nvals = malloc(m->nnodes * sizeof *nvals);

@@ -67,6 +67,14 @@ enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_
  * analysis): load/mesh through Gmsh, map groups to materials, create only
  * the scene's effects, compute. Gmsh must be started. */
 DTM_EXPORT int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out);
+/* Called by dtm_analysis_run_ex once the mesh is extracted and before the
+ * effects compute: the current Gmsh model (nelements analysed elements)
+ * is no longer needed by the analysis, so the hook may write it
+ * (dtm_output_begin) and release it (dtm_gmsh_release). A non-zero return
+ * (a DTM_ERR_* code, with the error recorded) stops the run. */
+typedef int (*dtm_extracted_fn)(void *user, size_t nelements);
+/* dtm_analysis_run with that hook (NULL: none). */
+DTM_EXPORT int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, dtm_analysis **out);
 /* The same on the current Gmsh model, already meshed, in dimension dim. */
 DTM_EXPORT int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out);
 /* Compute steps on an already extracted mesh with created effects (used by

@@ -75,8 +75,10 @@ typedef struct {
   const char *name;     /* exact view name */
   int node_data;        /* 1: NodeData over node tags; 0: ElementData */
   const size_t *tags;   /* [n] element or node tags */
-  const double *values; /* [n] */
+  const double *values; /* [n] (ignored when ivalues is set) */
   size_t n;
+  const int *ivalues; /* [n] integer values (written as numbers), or NULL */
+  int finite_only;    /* 1: leave out the tags whose value is not finite */
 } dtm_view;
 
 /* How dtm_gmsh_write encodes the file. */
@@ -93,6 +95,15 @@ typedef struct {
  * (Gmsh's view format). fmt NULL: ASCII with the mesh. The caller makes
  * the write atomic. */
 DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
+/* The two halves of dtm_gmsh_write: the current mesh alone (path created),
+ * and the views (appended after the mesh, or, with fmt->views_only, in a
+ * new file with the format header). */
+DTM_EXPORT int dtm_gmsh_write_mesh(const char *path, int binary);
+DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
+/* Drop the current model and give its memory back (once its mesh is
+ * extracted and, where wanted, written): a run from a 1e6-tet .msh then
+ * holds one copy of the mesh, not two. */
+DTM_EXPORT void dtm_gmsh_release(void);
 
 /* One picture of a result: which views it shows. */
 typedef struct {

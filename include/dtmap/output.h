@@ -41,6 +41,19 @@ typedef struct {
 
 /* dtm_output_write with options (NULL: the defaults above). */
 DTM_EXPORT int dtm_output_write_ex(const dtm_results *r, const char *path, const dtm_output_opts *o);
+
+/* The same in two steps, so that the current Gmsh model's mesh can be
+ * written as soon as it is extracted and the model released before the
+ * analysis computes (dtm_analysis_run_ex): begin checks path (as
+ * dtm_output_write), opens its temporary and writes the mesh (not for
+ * views_only; nelements chooses the automatic encoding); finish appends
+ * the views of r, renames the file into place, writes path.opt and frees
+ * the handle; abort removes the temporary. */
+typedef struct dtm_output_file dtm_output_file;
+DTM_EXPORT int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
+                                dtm_output_file **out);
+DTM_EXPORT int dtm_output_finish(dtm_output_file **f, const dtm_results *r);
+DTM_EXPORT void dtm_output_abort(dtm_output_file **f);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
 /* Print the terminal summary (counts, min dt and where, recommendation,

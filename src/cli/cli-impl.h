@@ -79,8 +79,10 @@ void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_
 int dtm_cli_format(const struct cli_command *c, const char *word, int *out);
 
 /* Write the output mesh (+ .opt) and the report of res where o and the
- * scene say; res->t_output gets the mesh's write time, s. */
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o);
+ * scene say; res->t_output accumulates the mesh's write time, s. *begun
+ * (when begun is not NULL and *begun is set): the output already begun
+ * with the mesh in it (taken over). */
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, dtm_output_file **begun);
 
 /* The pictures of a result msh (with its .opt) through Gmsh's renderer:
  * PREFIX_worst.png (the views as the .opt shows them: the worst elements)

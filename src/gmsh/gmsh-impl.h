@@ -18,6 +18,8 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
 /* The .msh 4.1 format header ($MeshFormat ... $EndMeshFormat) of a file
  * that holds only views; 0, or -1 on a write error. */
 int dtm_msh_header(FILE *f, int binary);
+/* The records a view writes (the finite values only with finite_only). */
+size_t dtm_msh_view_records(const dtm_view *v);
 /* Append one view as $ElementData or $NodeData (msh_data.c). */
 int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary);
 

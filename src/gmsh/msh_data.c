@@ -12,6 +12,7 @@
  * in the machine's byte order, followed by a newline after the last record.
  * Gmsh reads the tag as an int, so tags above INT_MAX cannot be written. */
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -28,26 +29,37 @@ int dtm_msh_header(FILE *f, int binary) {
   return ferror(f) ? -1 : 0;
 }
 
+static double value(const dtm_view *v, size_t i) { return v->ivalues ? (double)v->ivalues[i] : v->values[i]; }
+static int kept(const dtm_view *v, size_t i) { return !v->finite_only || isfinite(value(v, i)); }
+
+size_t dtm_msh_view_records(const dtm_view *v) {
+  size_t n = 0;
+  for (size_t i = 0; i < v->n; i++) n += kept(v, i);
+  return n;
+}
+
 static void section_head(FILE *f, const dtm_view *v, const char *kind) {
-  fprintf(f, "$%s\n1\n\"%s\"\n1\n0\n3\n0\n1\n%zu\n", kind, v->name, v->n);
+  fprintf(f, "$%s\n1\n\"%s\"\n1\n0\n3\n0\n1\n%zu\n", kind, v->name, dtm_msh_view_records(v));
 }
 
 static void records_binary(FILE *f, const dtm_view *v) {
   char buf[RECORDS_PER_WRITE * 12];
-  for (size_t i0 = 0; i0 < v->n; i0 += RECORDS_PER_WRITE) {
-    size_t n = v->n - i0 < RECORDS_PER_WRITE ? v->n - i0 : RECORDS_PER_WRITE;
-    for (size_t i = 0; i < n; i++) {
-      int tag = (int)v->tags[i0 + i];
-      memcpy(buf + 12 * i, &tag, 4);
-      memcpy(buf + 12 * i + 4, &v->values[i0 + i], 8);
-    }
-    fwrite(buf, 12, n, f);
+  size_t k = 0;
+  for (size_t i = 0; i < v->n; i++) {
+    if (!kept(v, i)) continue;
+    int tag = (int)v->tags[i];
+    double x = value(v, i);
+    memcpy(buf + 12 * k, &tag, 4);
+    memcpy(buf + 12 * k + 4, &x, 8);
+    if (++k == RECORDS_PER_WRITE) fwrite(buf, 12, k, f), k = 0;
   }
+  fwrite(buf, 12, k, f);
   fputc('\n', f);
 }
 
 static void records_ascii(FILE *f, const dtm_view *v) {
-  for (size_t i = 0; i < v->n; i++) fprintf(f, "%zu %.17g\n", v->tags[i], v->values[i]);
+  for (size_t i = 0; i < v->n; i++)
+    if (kept(v, i)) fprintf(f, "%zu %.17g\n", v->tags[i], value(v, i));
 }
 
 static int check_tags(const dtm_view *v) {
