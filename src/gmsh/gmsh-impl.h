@@ -1,5 +1,6 @@
-/* Private helpers around the Gmsh C API: turning a non-zero ierr into a
- * dtmap error that carries Gmsh's own last message. */
+/* Private to src/gmsh/: turning a non-zero ierr of the Gmsh C API into a
+ * dtmap error that carries Gmsh's own last message, and the writers of the
+ * .msh view sections (msh_data.c). */
 #ifndef DTM_GMSH_UTIL_H
 #define DTM_GMSH_UTIL_H
 
