@@ -83,7 +83,8 @@ static const cli_option snapshot_options[] = {
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
 const cli_command dtm_cli_commands[] = {
-    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--format F] [--views-only] [-j N] [-v|-q]",
+    {"run",
+     "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--format F] [--views-only] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"

@@ -157,7 +157,8 @@ static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
       vs->btags[n] = vs->etags[i], vs->bvals[n++] = dt[i];
   if (!n) return;
   memmove(vs->views + 1, vs->views, (size_t)*k * sizeof *vs->views);
-  vs->views[0] = (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n, NULL, 0};
+  vs->views[0] =
+      (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n, NULL, 0};
   (*k)++;
 }
 
