@@ -21,30 +21,7 @@
 #include "dtmap/output.h"
 #include "testutil.h"
 
-static const char geo[] =
-    "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume(\"block\") = {1};\n";
-
-static void write_scene(const char *name, const char *source, const char *output) {
-  char path[600], text[4096];
-  snprintf(text, sizeof text,
-           "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n%s\n<meshing size=\"0.3\" dim=\"3\"/>\n"
-           "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
-           "<effects><elastic/></effects>\n%s\n</dtmap-scene>\n",
-           source, output);
-  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
-  tu_write(path, text);
-}
-
-static dtm_analysis *analyse(const char *name, dtm_scene **s) {
-  char path[600];
-  dtm_analysis *a = NULL;
-  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
-  assert_int_equal(dtm_scene_load(path, s), 0);
-  int r = dtm_analysis_run(*s, &a);
-  if (r) fprintf(stderr, "%s\n", dtm_error_message());
-  assert_int_equal(r, 0);
-  return a;
-}
+#define MESHING "size=\"0.3\" dim=\"3\"" /* about 200 tets */
 
 static void tmp_path(char *buf, size_t len, const char *name) { snprintf(buf, len, "%s/%s", tu_tmpdir(), name); }
 
@@ -110,8 +87,8 @@ static void check_all(const dtm_analysis *a) {
 
 static void round_trip(int format, const char *header) {
   dtm_scene *s = NULL;
-  write_scene("cube", "<geometry file=\"cube.geo\"/>", "");
-  dtm_analysis *a = analyse("cube", &s);
+  tu_steel_scene("cube", "<geometry file=\"cube.geo\"/>", MESHING, "");
+  dtm_analysis *a = tu_analyse("cube", &s);
   char out[600];
   tmp_path(out, sizeof out, "cube_out.msh");
   dtm_results res = {a, NULL, NULL, 0, 0};
@@ -173,9 +150,9 @@ static void views_only(void **unused) {
   tmp_path(in, sizeof in, "cube_in.msh");
   tmp_path(out, sizeof out, "cube_views.msh");
   make_input(in);
-  write_scene("from_msh", "<mesh file=\"cube_in.msh\"/>", "");
+  tu_steel_scene("from_msh", "<mesh file=\"cube_in.msh\"/>", MESHING, "");
   dtm_scene *s = NULL;
-  dtm_analysis *a = analyse("from_msh", &s);
+  dtm_analysis *a = tu_analyse("from_msh", &s);
   dtm_results res = {a, NULL, NULL, 0, 0};
   for (int format = DTM_MSH_ASCII; format <= DTM_MSH_BINARY; format++) {
     dtm_output_opts o = {format, 1};
@@ -206,8 +183,8 @@ static void views_only(void **unused) {
 
 static void views_only_needs_mesh(void **unused) {
   dtm_scene *s = NULL;
-  write_scene("cube", "<geometry file=\"cube.geo\"/>", "");
-  dtm_analysis *a = analyse("cube", &s);
+  tu_steel_scene("cube", "<geometry file=\"cube.geo\"/>", MESHING, "");
+  dtm_analysis *a = tu_analyse("cube", &s);
   char out[600];
   tmp_path(out, sizeof out, "never.msh");
   dtm_results res = {a, NULL, NULL, 0, 0};
@@ -223,7 +200,7 @@ static void views_only_needs_mesh(void **unused) {
 
 static void cli_format_words(void **unused) {
   char *log = NULL, scene[600];
-  write_scene("cli", "<geometry file=\"cube.geo\"/>", "<output format=\"binary\"/>");
+  tu_steel_scene("cli", "<geometry file=\"cube.geo\"/>", MESHING, "<output format=\"binary\"/>");
   tmp_path(scene, sizeof scene, "cli.xml");
   assert_int_equal(tu_run(&log, "cd %s && %s run %s --format hex -q", tu_tmpdir(), tu_cli(), scene), 2);
   assert_non_null(strstr(log, "--format 'hex'"));
@@ -244,9 +221,7 @@ static void cli_format_words(void **unused) {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  char path[600];
-  tmp_path(path, sizeof path, "cube.geo");
-  tu_write(path, geo);
+  tu_cube_geo("cube.geo", "");
   if (dtm_gmsh_start(0)) return 3;
   const struct CMUnitTest tests[] = {cmocka_unit_test(ascii),
                                      cmocka_unit_test(binary),

@@ -31,13 +31,9 @@ static dtm_scene *scene;
 
 static void setup_scene(void) {
   char path[600];
-  snprintf(path, sizeof path, "%s/cube.geo", tu_tmpdir());
-  tu_write(path, "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume(\"block\") = {1};\n");
+  tu_cube_geo("cube.geo", "");
+  tu_steel_scene("cube", "<geometry file=\"cube.geo\"/>", "size=\"0.08\" dim=\"3\"", "");
   snprintf(path, sizeof path, "%s/cube.xml", tu_tmpdir());
-  tu_write(path, "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n<geometry file=\"cube.geo\"/>\n"
-                 "<meshing size=\"0.08\" dim=\"3\"/>\n"
-                 "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
-                 "<effects><elastic/></effects>\n</dtmap-scene>\n");
   assert_int_equal(dtm_scene_load(path, &scene), 0);
 }
 

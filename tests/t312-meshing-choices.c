@@ -25,31 +25,16 @@
 #include "dtmap/output.h"
 #include "testutil.h"
 
-static void write_scene(const char *name, const char *source, const char *meshing) {
-  char path[600], text[4096];
-  snprintf(text, sizeof text,
-           "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n%s\n<meshing size=\"0.15\" dim=\"3\"%s/>\n"
-           "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
-           "<effects><elastic/></effects>\n</dtmap-scene>\n",
-           source, meshing);
-  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
-  tu_write(path, text);
-}
-
-static dtm_analysis *analyse(const char *name, dtm_scene **s) {
-  char path[600];
-  dtm_analysis *a = NULL;
-  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
-  assert_int_equal(dtm_scene_load(path, s), 0);
-  int r = dtm_analysis_run(*s, &a);
-  if (r) fprintf(stderr, "%s\n", dtm_error_message());
-  assert_int_equal(r, 0);
-  return a;
+/* The steel cube scene name with extra <meshing> attributes. */
+static void write_scene(const char *name, const char *source, const char *extra) {
+  char meshing[256];
+  snprintf(meshing, sizeof meshing, "size=\"0.15\" dim=\"3\"%s", extra);
+  tu_steel_scene(name, source, meshing, "");
 }
 
 static void check(const char *name, int algorithm, int threads, int reproducible) {
   dtm_scene *s = NULL;
-  dtm_analysis *a = analyse(name, &s);
+  dtm_analysis *a = tu_analyse(name, &s);
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   assert_int_equal(mi->algorithm, algorithm);
   assert_int_equal(mi->threads, threads);
@@ -78,7 +63,7 @@ static void scene_choice(void **unused) {
 /* Element tags of a run of scene name (caller frees), count in *n. */
 static size_t *tags_of(const char *name, size_t *n) {
   dtm_scene *s = NULL;
-  dtm_analysis *a = analyse(name, &s);
+  dtm_analysis *a = tu_analyse(name, &s);
   *n = dtm_analysis_nelements(a);
   size_t *t = malloc(*n * sizeof *t);
   for (size_t i = 0; i < *n; i++) t[i] = dtm_analysis_tag(a, i);
@@ -128,15 +113,8 @@ static void bad_algorithm(void **unused) {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  char path[600];
-  static const char box[] =
-      "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume(\"block\") = {1};\n";
-  snprintf(path, sizeof path, "%s/cube.geo", tu_tmpdir());
-  tu_write(path, box);
-  snprintf(path, sizeof path, "%s/cube_hxt.geo", tu_tmpdir());
-  char text[512];
-  snprintf(text, sizeof text, "%sMesh.Algorithm3D = 10;\n", box);
-  tu_write(path, text);
+  tu_cube_geo("cube.geo", "");
+  tu_cube_geo("cube_hxt.geo", "Mesh.Algorithm3D = 10;\n");
   if (dtm_gmsh_start(0)) return 3;
   const struct CMUnitTest tests[] = {cmocka_unit_test(scene_choice), cmocka_unit_test(geometry_choice),
                                      cmocka_unit_test(read_mesh), cmocka_unit_test(bad_algorithm)};

@@ -84,14 +84,9 @@ static void cli_terminal_only(void **unused) {
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  char path[600];
-  snprintf(path, sizeof path, "%s/cube.geo", tu_tmpdir());
-  tu_write(path, "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume(\"block\") = {1};\n");
+  tu_cube_geo("cube.geo", "");
+  tu_steel_scene("cube", "<geometry file=\"cube.geo\"/>", "size=\"0.2\" dim=\"3\"", "");
   snprintf(scene, sizeof scene, "%s/cube.xml", tu_tmpdir());
-  tu_write(scene, "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n<geometry file=\"cube.geo\"/>\n"
-                  "<meshing size=\"0.2\" dim=\"3\"/>\n"
-                  "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
-                  "<effects><elastic/></effects>\n</dtmap-scene>\n");
   if (dtm_gmsh_start(0)) return 3;
   const struct CMUnitTest tests[] = {cmocka_unit_test(library_hook), cmocka_unit_test(cli_terminal_only)};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
