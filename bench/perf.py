@@ -85,6 +85,25 @@ def report(name):
 
 ROWS = []
 
+NOTES = """
+What the rows measure: `dtmap run` end to end (reading, meshing where it meshes, extraction,
+the locality order, the element map, nodal bound, size suggestion, cost, writing the mesh and
+its views and the report) against Gmsh doing only its own part of that work (reading and
+writing the same mesh, or meshing and writing it). dtmap writes binary above 1e5 elements, so
+its Gmsh counterpart writes binary too (`-bin`); the ASCII row compares ASCII with ASCII.
+The global estimate row is the `global` stage of `run --posterior --tol 1e-3 -j 2`
+(operator set-up and Lanczos without the Ritz vector); eigsh is ARPACK's implicitly
+restarted Lanczos (k = 1, which = 'LA', the same tolerance) on the assembled
+M^-1/2 K M^-1/2 in CSR, timed alone.
+
+The choices behind these figures (README, "Views written into the .msh" and "Speed"):
+binary output above 1e5 elements (`--format`, `<output format>`); views written directly as
+$ElementData/$NodeData, never through a Gmsh view; `run` writes the mesh right after
+extraction and releases Gmsh's model before computing (one copy of the mesh in memory);
+`--views-only` writes no mesh at all; the mesh is renumbered for locality (Hilbert order of
+the nodes, elements by smallest node) and the operator keeps 32-bit connectivity and
+preallocated per-thread buffers."""
+
 
 def row(what, dt, other, ot, dm=None, om=None, goal=""):
     r = f"| {what} | {dt:.2f} s | {other} | {ot:.2f} s | **{dt / ot:.2f}x** |"

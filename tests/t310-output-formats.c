@@ -213,6 +213,9 @@ static void cli_format_words(void **unused) {
   char *buf = slurp(out, &n);
   assert_int_equal(strncmp(buf, "$MeshFormat\n4.1 1 8\n", 20), 0); /* the scene's <output format="binary"> */
   free(buf);
+  assert_int_equal(tu_run(&log, "cd %s && %s run %s --views-only --png p -q", tu_tmpdir(), tu_cli(), scene), 2);
+  assert_non_null(strstr(log, "--views-only"));
+  free(log);
   assert_int_equal(tu_run(&log, "cd %s && %s run %s --views-only -q -o v.msh", tu_tmpdir(), tu_cli(), scene), 2);
   assert_non_null(strstr(log, "views-only"));
   free(log);

@@ -138,6 +138,8 @@ static int run_scene(const cli_opts *o, int verify) {
 int dtm_cli_run(const cli_opts *o) {
   int f;
   if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
+  if (o->png && o->views_only)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
   return run_scene(o, 0);
 }
 int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }
