@@ -13,6 +13,7 @@
 #include <stddef.h>
 
 #include "dtmap/export.h"
+#include "dtmap/gmsh.h"
 #include "dtmap/mesh.h"
 #include "dtmap/operator.h"
 #include "dtmap/effect_set.h"
@@ -66,6 +67,14 @@ enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_
  * analysis): load/mesh through Gmsh, map groups to materials, create only
  * the scene's effects, compute. Gmsh must be started. */
 DTM_EXPORT int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out);
+/* Called by dtm_analysis_run_ex once the mesh is extracted and before the
+ * effects compute: the current Gmsh model (nelements analysed elements)
+ * is no longer needed by the analysis, so the hook may write it
+ * (dtm_output_begin) and release it (dtm_gmsh_release). A non-zero return
+ * (a DTM_ERR_* code, with the error recorded) stops the run. */
+typedef int (*dtm_extracted_fn)(void *user, size_t nelements);
+/* dtm_analysis_run with that hook (NULL: none). */
+DTM_EXPORT int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, dtm_analysis **out);
 /* The same on the current Gmsh model, already meshed, in dimension dim. */
 DTM_EXPORT int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out);
 /* Compute steps on an already extracted mesh with created effects (used by
@@ -146,6 +155,10 @@ DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, 
 DTM_EXPORT const dtm_global_info *dtm_analysis_global(const dtm_analysis *a, int k);
 DTM_EXPORT void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out);
 
+/* How the analysed mesh was made: Gmsh's 3D algorithm and threads, and
+ * whether its numbering is reproducible (all zero with reproducible = 1
+ * for a hand-built mesh given to dtm_analysis_compute). */
+DTM_EXPORT const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a);
 /* Wall time of stage t (DTM_T_*), s, and the OpenMP threads of the element
  * loop. */
 DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);

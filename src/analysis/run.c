@@ -54,27 +54,37 @@ static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   DTM_CHECK(map_materials(s, m, &gm, &def));
   int r = dtm_gmsh_extract(dim, gm, def, s, m);
   free(gm);
+  if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
-int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) {
+int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) { return dtm_analysis_run_ex(s, NULL, NULL, out); }
+
+static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_analysis **out);
+
+int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, dtm_analysis **out) {
   double t0 = dtm_wtime();
   int dim;
   DTM_CHECK(dtm_gmsh_load(s, &dim));
   double t_mesh = dtm_wtime() - t0;
-  DTM_CHECK(dtm_analysis_current(s, dim, out));
+  DTM_CHECK(current(s, dim, hook, user, out));
   (*out)->timings[DTM_T_MESH] = t_mesh;
   return DTM_OK;
 }
 
-int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
+int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) { return current(s, dim, NULL, NULL, out); }
+
+static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_analysis **out) {
   double t[DTM_T_COUNT] = {0};
   dtm_mesh *m = calloc(1, sizeof *m);
   dtm_effect *e = NULL;
+  dtm_mesher_info mi;
   int ne = 0;
   if (!m) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = extract_mesh(s, dim, m, t);
+  dtm_gmsh_mesher(&mi);
+  if (r == DTM_OK && hook) r = hook(user, dtm_mesh_nelements(m));
   if (r == DTM_OK) r = dtm_effects_create(s, m, &e, &ne);
   if (r) {
     dtm_mesh_destroy(&m);
@@ -82,6 +92,7 @@ int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
   }
   DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
+  (*out)->mesher = mi;
   return DTM_OK;
 }
 

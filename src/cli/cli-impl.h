@@ -19,6 +19,8 @@ typedef struct {
   const char *sizes;  /* sweep --sizes h1,h2,... */
   const char *csv;    /* sweep --csv, or NULL */
   const char *plot;   /* sweep --plot, or NULL */
+  const char *format; /* --format ascii|binary|auto, or NULL (the scene's) */
+  int views_only;     /* run --views-only */
   int threads;        /* -j N, 0 = all cores */
   int verbosity;      /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
   int posterior;      /* run --posterior */
@@ -82,9 +84,15 @@ int dtm_cli_fail(int code, int verbosity);
  * without its extension). */
 void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);
 
+/* The encoding --format names into *out (DTM_MSH_*; NULL: DTM_MSH_AUTO);
+ * the usage exit code 2 for another word. */
+int dtm_cli_format(const struct cli_command *c, const char *word, int *out);
+
 /* Write the output mesh (+ .opt) and the report of res where o and the
- * scene say; res->t_output gets the mesh's write time, s. */
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o);
+ * scene say; res->t_output accumulates the mesh's write time, s. *begun
+ * (when begun is not NULL and *begun is set): the output already begun
+ * with the mesh in it (taken over). */
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, dtm_output_file **begun);
 
 /* The pictures of a result msh (with its .opt) through Gmsh's renderer:
  * PREFIX_worst.png (the views as the .opt shows them: the worst elements)
@@ -97,6 +105,11 @@ int dtm_cli_with_display(int (*draw)(void *arg), void *arg);
 /* `-onelab NAME ADDRESS` anywhere in argv: run the ONELAB client and return
  * its exit code; -1 when argv has no -onelab. */
 int dtm_cli_onelab(int argc, char **argv);
+/* The progress line (progress.c): on a terminal and unless quiet
+ * (verbosity 0), install the library's progress hook and draw long stages
+ * on stderr; stop erases the line and ends the drawing thread. */
+void dtm_cli_progress_start(int verbosity);
+void dtm_cli_progress_stop(void);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);

@@ -32,12 +32,21 @@
     "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                         \
   }
 
+#define FORMAT_OPTION                                                                                                  \
+  {                                                                                                                    \
+    "--format", CLI_STRING, OPT(format), 0, 0, 0, "F",                                                                 \
+        "output .msh: ascii, binary or auto (binary above 1e5 elements; default: <output format>)"                     \
+  }
+
 static const cli_option run_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
     {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL, "also estimate the global step (Lanczos)"},
     {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "pictures PREFIX_worst.png and PREFIX_dt.png (Gmsh's renderer)"},
     PICTURE_OPTIONS,
+    FORMAT_OPTION,
+    {"--views-only", CLI_FLAG, OPT(views_only), 1, 0, 0, NULL,
+     "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
     LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
@@ -57,6 +66,7 @@ static const cli_option refine_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
     {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 31, "K", "remeshing rounds at most (default 3)"},
+    FORMAT_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -76,11 +86,13 @@ static const cli_option snapshot_options[] = {
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
 const cli_command dtm_cli_commands[] = {
-    {"run", "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [-j N] [-v|-q]",
+    {"run",
+     "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--format F] [--views-only] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
-     "'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt.",
+     "'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt. With --views-only (a <mesh>\n"
+     "scene) OUT.msh holds only the views: gmsh IN.msh OUT.msh shows them on the input.",
      run_options, dtm_cli_run},
     {"verify", "SCENE.xml [--factor F | --dt DT] [--steps N] [-j N] [-v|-q]",
      "Simulates the scene's spectral effects on its mesh (central differences with the\n"
@@ -88,7 +100,7 @@ const cli_command dtm_cli_commands[] = {
      "mode of the global estimate plus a random part, at F x the recommended step or at\n"
      "DT. Exit 1 if the energy grows (the step is unstable).",
      verify_options, dtm_cli_verify},
-    {"refine", "SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K] [-j N] [-v|-q]",
+    {"refine", "SCENE.xml --target DT [-o OUT.msh] [--report R.json] [--max-iter K] [--format F] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step as the\n"
      "background size field, then Gmsh's optimisers, until the recommended step reaches\n"
      "DT. Exit 1 if it does not.",
@@ -144,7 +156,11 @@ int main(int argc, char **argv) {
     if (strcmp(cmd, c->name)) continue;
     cli_opts o;
     int r = dtm_cli_parse(c, argc, argv, &o);
-    return r < 0 ? 0 : r ? r : c->main(&o);
+    if (r) return r < 0 ? 0 : r;
+    dtm_cli_progress_start(o.verbosity);
+    r = c->main(&o);
+    dtm_cli_progress_stop();
+    return r;
   }
   return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

@@ -5,6 +5,7 @@
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
@@ -20,16 +21,39 @@ static const char *output_path(const dtm_scene *s, const cli_opts *o, char *def,
   return def;
 }
 
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o) {
+int dtm_cli_format(const cli_command *c, const char *word, int *out) {
+  static const char *const names[] = {"auto", "ascii", "binary"}; /* DTM_MSH_* order */
+  *out = DTM_MSH_AUTO;
+  for (int i = 0; word && i < 3; i++)
+    if (!strcmp(word, names[i])) return *out = i, DTM_OK;
+  return word ? dtm_cli_usage_error(c, "--format '%s' is not ascii, binary or auto", word) : DTM_OK;
+}
+
+/* Begin the output mesh (write the mesh now); *seconds accumulates. */
+static int begin_output(const dtm_scene *s, const cli_opts *o, size_t nel, dtm_output_file **f, double *seconds) {
+  char def[4096];
+  double t0 = dtm_wtime();
+  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only};
+  dtm_cli_format(NULL, o->format, &oo.format); /* checked before the analysis */
+  int r = dtm_output_begin(s, output_path(s, o, def, sizeof def), &oo, nel, f);
+  *seconds += dtm_wtime() - t0;
+  return r;
+}
+
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, dtm_output_file **begun) {
   char def[4096];
   const dtm_scene *s = dtm_analysis_scene(res->analysis);
   const char *out = output_path(s, o, def, sizeof def);
   const char *rep = o->report ? o->report : s->out_report;
+  dtm_output_file *f = begun ? *begun : NULL;
+  if (begun) *begun = NULL;
+  if (!f) DTM_CHECK(begin_output(s, o, dtm_analysis_nelements(res->analysis), &f, &res->t_output));
   double t0 = dtm_wtime();
-  DTM_CHECK(dtm_output_write(res, out));
-  res->t_output = dtm_wtime() - t0;
+  DTM_CHECK(dtm_output_finish(&f, res));
+  res->t_output += dtm_wtime() - t0;
   if (rep) DTM_CHECK(dtm_report_write(res, rep));
   if (o->verbosity) printf("\nwrote        %s (+ .opt)%s%s\n", out, rep ? ", " : "", rep ? rep : "");
+  if (o->verbosity && o->views_only) printf("             views only: gmsh %s %s\n", s->mesh, out);
   return DTM_OK;
 }
 
@@ -57,19 +81,38 @@ static int verify_step(const dtm_analysis *a, const cli_opts *o) {
   return r;
 }
 
+/* The output of `run`, begun as soon as the mesh is extracted: the mesh is
+ * written then and Gmsh's copy of the model released, so the analysis
+ * never holds two copies of a large mesh. */
+typedef struct {
+  const dtm_scene *s;    /* the scene */
+  const cli_opts *o;     /* the options */
+  dtm_output_file *file; /* the output being written, or NULL */
+  double seconds;        /* time spent writing, s */
+} early_output;
+
+static int write_early(void *user, size_t nelements) {
+  early_output *e = user;
+  DTM_CHECK(begin_output(e->s, e->o, nelements, &e->file, &e->seconds));
+  dtm_gmsh_release();
+  return DTM_OK;
+}
+
 /* Analyse, then summarise and either write the outputs or verify. */
 static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
+  early_output early = {s, o, NULL, 0.0};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
-  if (r == DTM_OK) r = dtm_analysis_run(s, &a);
+  if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK && (o->posterior || verify)) r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, verify);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, 0.0};
+    dtm_results res = {a, cost, NULL, t_scene, early.seconds};
     if (o->verbosity) dtm_summary_print(&res, stdout);
-    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o);
+    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, &early.file);
   }
+  dtm_output_abort(&early.file); /* after a failure: no partial output */
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_gmsh_stop();
@@ -92,5 +135,11 @@ static int run_scene(const cli_opts *o, int verify) {
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }
 
-int dtm_cli_run(const cli_opts *o) { return run_scene(o, 0); }
+int dtm_cli_run(const cli_opts *o) {
+  int f;
+  if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
+  if (o->png && o->views_only)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
+  return run_scene(o, 0);
+}
 int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }

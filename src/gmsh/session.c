@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/progress.h"
 #include "gmsh-impl.h"
 
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what) {
@@ -19,9 +20,10 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
 }
 
 /* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
- * when it starts and when it meshes. Gmsh keeps meshing on one thread, so
- * that the same scene always gives the same mesh and element numbering;
- * dtmap's own loops get back the caller's count (all cores, or -j). */
+ * when it starts and when it meshes. Gmsh meshes with the threads the scene
+ * or the geometry file asks for (mesher.c; one unless they say otherwise,
+ * so that the same scene gives the same numbering); dtmap's own loops get
+ * back the caller's count (all cores, or -j). */
 static int dtm_threads = 1;
 
 void dtm_gmsh_restore_threads(void) { omp_set_num_threads(dtm_threads); }
@@ -90,8 +92,10 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
   char what[4200];
   if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
-  dtm_gmsh_serial();
+  dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  dtm_progress_begin("meshing");
   gmshModelMeshGenerate(dim, &ierr);
+  dtm_progress_end();
   snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   if (s->mesh_order > 1) {
@@ -111,6 +115,7 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   int d;
   DTM_CHECK(dtm_gmsh_open(src, &d));
   if (s->mesh_dim > 0) d = s->mesh_dim;
+  if (s->mesh) dtm_gmsh_mesher_read();
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
   dtm_gmsh_restore_threads();
   *dim = d;
@@ -122,7 +127,10 @@ int dtm_gmsh_open(const char *path, int *dim) {
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot open it", path);
   gmshClear(&ierr);
+  dtm_gmsh_mesher_defaults();
+  dtm_progress_begin("reading");
   gmshOpen(path, &ierr);
+  dtm_progress_end();
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);

@@ -105,11 +105,38 @@ static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int l
   return rc;
 }
 
+static const struct {
+  const char *name; /* <meshing algorithm> */
+  int code;         /* Gmsh's Mesh.Algorithm3D */
+} algorithms[] = {{"delaunay", 1}, {"frontal", 4}, {"mmg3d", 7}, {"rtree", 9}, {"hxt", 10}};
+
+const char *dtm_scene_algorithm_name(int code) {
+  for (size_t i = 0; i < sizeof algorithms / sizeof *algorithms; i++)
+    if (algorithms[i].code == code) return algorithms[i].name;
+  return code ? "other" : "read";
+}
+
+/* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code (the schema admits
+ * only the names of the table). */
+static int read_algorithm(dtm_scene *s, const xmlNode *n) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "algorithm", &text));
+  for (size_t i = 0; text && i < sizeof algorithms / sizeof *algorithms; i++)
+    if (!strcmp(text, algorithms[i].name)) s->mesh_algorithm = algorithms[i].code;
+  int bad = text && !s->mesh_algorithm;
+  int rc = bad ? DTM_SCENE_ERR(s, n, "<meshing> algorithm=\"%s\" is not delaunay, frontal, mmg3d, rtree or hxt", text)
+               : DTM_OK;
+  free(text);
+  return rc;
+}
+
 static int read_meshing(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(dtm_scene_attr_positive(s, n, "size", 0, &s->mesh_size));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "min-size", 0, &s->mesh_min_size));
   DTM_CHECK(read_int(s, n, "order", 1, 2, &s->mesh_order));
   DTM_CHECK(read_int(s, n, "dim", 1, 3, &s->mesh_dim));
+  DTM_CHECK(read_int(s, n, "threads", 1, 4096, &s->mesh_threads));
+  DTM_CHECK(read_algorithm(s, n));
   if (s->mesh_size > 0 && s->mesh_min_size > s->mesh_size)
     return DTM_SCENE_ERR(s, n, "<meshing> min-size=%g is larger than size=%g", s->mesh_min_size, s->mesh_size);
   return DTM_OK;
@@ -139,7 +166,20 @@ static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, cha
   return rc;
 }
 
+/* <output format="auto|ascii|binary"> (the schema admits only these). */
+static int read_format(dtm_scene *s, const xmlNode *n) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "format", &text));
+  s->out_format = !text                     ? DTM_MSH_AUTO
+                  : !strcmp(text, "ascii")  ? DTM_MSH_ASCII
+                  : !strcmp(text, "binary") ? DTM_MSH_BINARY
+                                            : DTM_MSH_AUTO;
+  free(text);
+  return DTM_OK;
+}
+
 static int read_output(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(read_format(s, n));
   DTM_CHECK(read_output_path(s, n, "mesh", &s->out_mesh));
   return read_output_path(s, n, "report", &s->out_report);
 }

@@ -11,9 +11,11 @@
  * effect that sets the step. */
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/progress.h"
 #include "dtmap/refine.h"
 #include "dtmap/util.h"
 
@@ -42,8 +44,13 @@ static void record(const dtm_analysis *a, double seconds, dtm_refine_round *r) {
 static int refine_round(dtm_refine_result *rr, int dim, double c) {
   const dtm_analysis *a = rr->analysis;
   dtm_analysis *next = NULL;
-  DTM_CHECK(dtm_gmsh_remesh(dtm_analysis_mesh(a), dtm_analysis_size_suggestion(a), c, dim, rr->scene.mesh_order));
-  DTM_CHECK(dtm_analysis_current(&rr->scene, dim, &next));
+  char stage[64];
+  snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
+  dtm_progress_begin(stage);
+  int r = dtm_gmsh_remesh(dtm_analysis_mesh(a), dtm_analysis_size_suggestion(a), c, dim, rr->scene.mesh_order);
+  if (r == DTM_OK) r = dtm_analysis_current(&rr->scene, dim, &next);
+  dtm_progress_end();
+  DTM_CHECK(r);
   dtm_analysis_destroy(&rr->analysis);
   rr->analysis = next;
   return DTM_OK;

@@ -5,6 +5,8 @@
 
 #include <cJSON.h>
 #include <gmshc.h>
+
+#include "dtmap/analysis.h"
 #include <dirent.h>
 #include <limits.h>
 #include <math.h>
@@ -175,6 +177,38 @@ void tu_view_free(tu_view *v) {
   gmshFree(v->tags);
   gmshFree(v->values);
   memset(v, 0, sizeof *v);
+}
+
+dtm_analysis *tu_analyse(const char *name, dtm_scene **s) {
+  char path[600];
+  dtm_analysis *a = NULL;
+  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
+  if (dtm_scene_load(path, s) || dtm_analysis_run(*s, &a)) {
+    fprintf(stderr, "%s: %s\n", path, dtm_error_message());
+    abort();
+  }
+  return a;
+}
+
+void tu_steel_scene(const char *name, const char *source, const char *meshing, const char *tail) {
+  char path[600], text[4096];
+  snprintf(text, sizeof text,
+           "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n%s\n<meshing %s/>\n"
+           "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+           "<effects><elastic/></effects>\n%s\n</dtmap-scene>\n",
+           source, meshing, tail);
+  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
+  tu_write(path, text);
+}
+
+void tu_cube_geo(const char *file, const char *extra) {
+  char path[600], text[1024];
+  snprintf(path, sizeof path, "%s/%s", tu_tmpdir(), file);
+  snprintf(text, sizeof text,
+           "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\n"
+           "Physical Volume(\"block\") = {1};\n%s",
+           extra);
+  tu_write(path, text);
 }
 
 void tu_gmsh_begin(void) {

@@ -30,6 +30,20 @@ struct cJSON *tu_json_load(const char *path);
 /* Number at a dotted path ("dt.min") of a JSON object; NaN if absent. */
 double tu_json_number(const struct cJSON *root, const char *dotted);
 
+struct dtm_scene;
+struct dtm_analysis;
+/* Load <tmpdir>/<name>.xml into *s and run its analysis (Gmsh started);
+ * aborts the test program with dtmap's message when either fails. */
+struct dtm_analysis *tu_analyse(const char *name, struct dtm_scene **s);
+/* Write <tmpdir>/<name>.xml: the source element (<geometry .../> or
+ * <mesh .../>), <meshing ATTRS/> with the given attributes, one steel
+ * material on group "block", the elastic effect, then tail (e.g. an
+ * <output .../>; "" for none). */
+void tu_steel_scene(const char *name, const char *source, const char *meshing, const char *tail);
+/* The OpenCASCADE unit cube with its volume in physical group "block", as
+ * <tmpdir>/<file>, followed by extra lines (e.g. options; "" for none). */
+void tu_cube_geo(const char *file, const char *extra);
+
 /* Start Gmsh quietly in the test process (General.AbortOnError=0), and
  * stop it. */
 void tu_gmsh_begin(void);
