@@ -94,9 +94,9 @@ typedef struct {
   int node_data;        /* 1: NodeData over node tags; 0: ElementData */
   const size_t *tags;   /* [n] element or node tags */
   const double *values; /* [n] (ignored when ivalues is set) */
-  size_t n;            /* number of tags and values */
-  const int *ivalues; /* [n] integer values (written as numbers), or NULL */
-  int finite_only;    /* 1: leave out the tags whose value is not finite */
+  size_t n;             /* number of tags and values */
+  const int *ivalues;   /* [n] integer values (written as numbers), or NULL */
+  int finite_only;      /* 1: leave out the tags whose value is not finite */
 } dtm_view;
 
 /* How dtm_gmsh_write encodes the file. */

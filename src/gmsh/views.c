@@ -91,8 +91,8 @@ static int add_view(const char *model, const dtm_view *v, int *tag) {
   *tag = gmshViewAdd(v->name, -1, &ierr);
   if (ierr) *tag = -1;
   if (!ierr)
-    gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", tags, n, vals, n, 0.0,
-                                    1, 0, &ierr);
+    gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", tags, n, vals, n, 0.0, 1,
+                                    0, &ierr);
   free(tags), free(vals);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, v->name);
   return DTM_OK;
