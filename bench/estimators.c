@@ -22,7 +22,7 @@ static const char geo[] =
     "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nPhysical Volume(\"block\") = {1};\n";
 static const char scene_fmt[] =
     "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n<geometry file=\"dtmap-est-cube.geo\"/>\n"
-    "<meshing size=\"%g\" dim=\"3\"/>\n"
+    "<meshing size=\"%g\" dim=\"3\" algorithm=\"hxt\" threads=\"2\"/>\n"
     "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
     "<effects><elastic formulation=\"3d\" length=\"%s\"/></effects>\n</dtmap-scene>\n";
 
@@ -90,8 +90,6 @@ int main(int argc, char **argv) {
   static const double defaults[] = {0.08, 0.034, 0.0158}; /* ~1e4, 1e5, 1e6 tets */
   write_file("/tmp/dtmap-est-cube.geo", geo);
   if (dtm_gmsh_start(0)) return 3;
-  int ierr = 0;
-  gmshOptionSetNumber("Mesh.Algorithm3D", 10, &ierr);
   printf("Steel unit cube (E = 210 GPa, nu = 0.3, rho = 7850), lumped mass, undamped.\n");
   printf("The global step is Lanczos to a relative residual of 1e-10.\n");
   for (int i = 1; i < argc; i++) one_mesh(atof(argv[i]));

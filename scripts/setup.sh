@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Install the Debian 12 packages dtmap needs to build, test and run, when
-# they are missing. Needs root (or sudo). Safe to run again.
+# they are missing. Needs root (or sudo). Safe to run again. The Python
+# module's companions (python3-gmsh, python3-numpy) and python3-jsonschema
+# (the report schema) are for scripting dtmap and for its tests; man-db
+# reads the generated man page.
 set -euo pipefail
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
-          xvfb xfonts-base)  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
+          xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
+          python3 python3-gmsh python3-numpy python3-jsonschema man-db)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -36,22 +36,10 @@ static void write_scene(const char *name, const char *material, const char *effe
   tu_write(path, text);
 }
 
-/* Run the scene in-process; returns the analysis (caller destroys). */
-static dtm_analysis *analyse(const char *name, dtm_scene **s) {
-  char path[600];
-  dtm_analysis *a = NULL;
-  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
-  assert_int_equal(dtm_scene_load(path, s), 0);
-  int r = dtm_analysis_run(*s, &a);
-  if (r) fprintf(stderr, "%s\n", dtm_error_message());
-  assert_int_equal(r, 0);
-  return a;
-}
-
 static void thermal_only(void **unused) {
   dtm_scene *s = NULL;
   write_scene("thermal", "conductivity=\"3\" heat-capacity=\"790\" rho=\"2700\"", "<thermal/>");
-  dtm_analysis *a = analyse("thermal", &s);
+  dtm_analysis *a = tu_analyse("thermal", &s);
   assert_int_equal(a->neffects, 1);
   assert_ptr_equal(a->effects[0].cls, &dtm_effect_thermal);
   char out[600];
@@ -73,7 +61,7 @@ static void thermal_only(void **unused) {
 static void elastic_only(void **unused) {
   dtm_scene *s = NULL;
   write_scene("elastic", "E=\"1e9\" nu=\"0.2\" rho=\"2000\"", "<elastic/>");
-  dtm_analysis *a = analyse("elastic", &s);
+  dtm_analysis *a = tu_analyse("elastic", &s);
   assert_int_equal(a->neffects, 1);
   assert_ptr_equal(a->effects[0].cls, &dtm_effect_elastic);
   dtm_analysis_destroy(&a);

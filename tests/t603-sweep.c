@@ -26,8 +26,10 @@
 
 #define NS 3
 static const double sizes[NS] = {0.2, 0.1, 0.05};
-static const char header[] = "h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
-                             "elements_per_zone,elements_per_wavelength,seconds";
+static const char header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
+                             "element_steps_subcycled,subcycling_speedup,elements_per_zone,"
+                             "elements_per_wavelength,time_s";
+#define NCOL 12
 
 static char path_buf[4][512];
 static const char *in_tmp(int slot, const char *name) {
@@ -53,14 +55,15 @@ static dtm_scene *square_scene(void) {
 /* Within each row: steps, costs and the wavelength indicator follow from
  * its own fields (1e-15 relative: one division or multiplication each).
  * The recommended step is never below safety (0.9) x the element bound;
- * costs count whole steps; subcycled levels step at the recommended step
- * x 2^k, so the subcycled cost is the plain one over the speed-up (>= 1). */
+ * steps are whole (the same ceil, so exact) and costs count them;
+ * subcycled levels step at the recommended step x 2^k, so the subcycled
+ * cost is the plain one over the speed-up (>= 1). */
 static void check_row(const dtm_sweep_row *r, double h) {
   assert_true(r->h == h);
   assert_true(r->elements > 0 && r->nodes > 0);
   assert_true(r->dt_min > 0 && r->recommended >= 0.9 * r->dt_min * (1 - 1e-15));
-  assert_true(fabs(r->steps - 1e-3 / r->recommended) <= 1e-15 * r->steps);
-  assert_true(fabs(r->cost - (double)r->elements * ceil(r->steps)) <= 1e-15 * r->cost);
+  assert_true(r->steps == ceil(1e-3 / r->recommended) && r->steps >= 1e-3 / r->recommended);
+  assert_true(fabs(r->cost - (double)r->elements * r->steps) <= 1e-15 * r->cost);
   assert_true(r->speedup >= 1.0);
   double sub = r->cost / r->speedup;
   assert_true(fabs(r->cost_subcycled - sub) <= 1e-15 * sub);
@@ -70,8 +73,30 @@ static void check_row(const dtm_sweep_row *r, double h) {
   assert_true(r->seconds > 0);
 }
 
-/* Parse the CSV back: the exact header and one row of 11 fields per
- * size; h, elements and dt_min agree with the rows to %.9g (5e-9 relative). */
+/* A count's cell: digits only (a whole number, no exponent). */
+static int whole_cell(const char *p) {
+  size_t n = strspn(p, "0123456789");
+  return n > 0 && (p[n] == ',' || p[n] == '\n' || p[n] == '\0');
+}
+
+/* Parse one CSV line into v[NCOL] (NaN for empty cells); counts (elements,
+ * nodes, steps, element-steps) must be written as whole numbers. */
+static int parse_line(char *line, double *v) {
+  static const int whole[NCOL] = {0, 1, 1, 0, 0, 1, 1, 1, 0, 0, 0, 0};
+  int k = 0;
+  for (char *p = line, *end; k < NCOL; p = end + 1) {
+    if (whole[k] && *p != ',' && !whole_cell(p)) return -1;
+    v[k++] = *p == ',' || *p == '\n' ? NAN : strtod(p, &end);
+    if (isnan(v[k - 1])) end = p;
+    if (*end != ',') break;
+  }
+  return k;
+}
+
+/* Parse the CSV back: the exact header and one row of 12 fields per size;
+ * h, elements, dt_min and the speed-up agree with the rows to %.9g (5e-9
+ * relative), the counts exactly (whole numbers; the subcycled element-steps
+ * rounded up). */
 static void check_csv(const char *path, const dtm_sweep_row *rows) {
   FILE *f = fopen(path, "r");
   assert_non_null(f);
@@ -81,19 +106,16 @@ static void check_csv(const char *path, const dtm_sweep_row *rows) {
   assert_string_equal(line, header);
   int n = 0;
   while (fgets(line, sizeof line, f)) {
-    double v[11];
-    int k = 0;
-    for (char *p = line, *end; k < 11; p = end + 1) {
-      v[k++] = *p == ',' || *p == '\n' ? NAN : strtod(p, &end);
-      if (isnan(v[k - 1])) end = p;
-      if (*end != ',') break;
-    }
-    assert_int_equal(k, 11);
+    double v[NCOL];
+    assert_int_equal(parse_line(line, v), NCOL);
     assert_true(n < NS);
-    assert_true(fabs(v[0] - rows[n].h) <= 5e-9 * rows[n].h);
-    assert_true(v[1] == (double)rows[n].elements && v[2] == (double)rows[n].nodes);
-    assert_true(fabs(v[3] - rows[n].dt_min) <= 5e-9 * rows[n].dt_min);
-    assert_true(isnan(v[8]) && v[9] > 0);
+    const dtm_sweep_row *r = &rows[n];
+    assert_true(fabs(v[0] - r->h) <= 5e-9 * r->h);
+    assert_true(v[1] == (double)r->elements && v[2] == (double)r->nodes);
+    assert_true(fabs(v[3] - r->dt_min) <= 5e-9 * r->dt_min);
+    assert_true(v[5] == r->steps && v[6] == r->cost && v[7] == ceil(r->cost_subcycled));
+    assert_true(fabs(v[8] - r->speedup) <= 5e-9 * r->speedup);
+    assert_true(isnan(v[9]) && v[10] > 0);
     n++;
   }
   fclose(f);
@@ -192,7 +214,7 @@ static void no_duration(void **unused) {
   assert_non_null(fgets(line, sizeof line, f));
   assert_non_null(fgets(line, sizeof line, f));
   fclose(f);
-  assert_non_null(strstr(line, "9e-07,,,,,,0.01"));
+  assert_non_null(strstr(line, "9e-07,,,,1.5,,,0.01"));
   assert_int_equal(dtm_cli_sweep_plot(in_tmp(3, "nodur.png"), r, 2), 0);
   check_png(path_buf[3]);
   (void)unused;

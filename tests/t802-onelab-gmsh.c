@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gmsh-impl.h"
 #include "testutil.h"
 
 static char dir[512], plain[600], report[600];
@@ -225,16 +226,6 @@ static void test_two_results(void **state) {
   tu_gmsh_end();
 }
 
-static int model_count(void) {
-  char **names = NULL;
-  size_t n = 0;
-  int ierr = 0;
-  gmshModelList(&names, &n, &ierr);
-  for (size_t i = 0; i < n; i++) gmshFree(names[i]);
-  gmshFree(names);
-  return (int)n;
-}
-
 /* With the analysed .msh open in Gmsh (its scene beside it names it), only
  * the views are sent: no second model appears, and dt covers this model's
  * elements. */
@@ -254,9 +245,9 @@ static void test_views_only_on_open_mesh(void **state) {
   int ierr = 0;
   gmshOpen(msh, &ierr);
   assert_int_equal(ierr, 0);
-  int before = tu_view_count(), models = model_count();
+  int before = tu_view_count(), models = dtm_gmsh_model_count();
   run_dtmap();
-  assert_int_equal(model_count(), models);
+  assert_int_equal(dtm_gmsh_model_count(), models);
   assert_true(tu_view_count() > before);
   assert_int_equal(last_view("dt", &got), 0);
   assert_same_view(&got, &ref[0]);

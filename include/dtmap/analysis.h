@@ -107,6 +107,14 @@ enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_
  * analysis): load/mesh through Gmsh, map groups to materials, create only
  * the scene's effects, compute. Gmsh must be started. */
 DTM_EXPORT int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out);
+/* Called by dtm_analysis_run_ex once the mesh is extracted and before the
+ * effects compute: the current Gmsh model (nelements analysed elements)
+ * is no longer needed by the analysis, so the hook may write it
+ * (dtm_output_begin) and release it (dtm_gmsh_release). A non-zero return
+ * (a DTM_ERR_* code, with the error recorded) stops the run. */
+typedef int (*dtm_extracted_fn)(void *user, size_t nelements);
+/* dtm_analysis_run with that hook (NULL: none). */
+DTM_EXPORT int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, dtm_analysis **out);
 /* The same on the current Gmsh model, already meshed, in dimension dim. */
 DTM_EXPORT int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out);
 /* Compute steps on an already extracted mesh with created effects (used by
@@ -134,6 +142,13 @@ DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
 DTM_EXPORT const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a);
 DTM_EXPORT size_t dtm_analysis_nelements(const dtm_analysis *a);
 DTM_EXPORT int dtm_analysis_neffects(const dtm_analysis *a);
+/* Nodes of the analysed mesh, and their Gmsh tags [nnodes] (the order of
+ * the per-node arrays). */
+DTM_EXPORT size_t dtm_analysis_nnodes(const dtm_analysis *a);
+DTM_EXPORT const size_t *dtm_analysis_node_tags(const dtm_analysis *a);
+/* The Gmsh tag of every element, in global element order, into the
+ * caller's tags[nelements]. */
+DTM_EXPORT void dtm_analysis_tags(const dtm_analysis *a, size_t *tags);
 /* Class of effect k (scene order). */
 DTM_EXPORT const dtm_effect_class *dtm_analysis_effect(const dtm_analysis *a, int k);
 
@@ -222,6 +237,10 @@ DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, 
 DTM_EXPORT const dtm_global_info *dtm_analysis_global(const dtm_analysis *a, int k);
 DTM_EXPORT void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out);
 
+/* How the analysed mesh was made: Gmsh's 3D algorithm and threads, and
+ * whether its numbering is reproducible (all zero with reproducible = 1
+ * for a hand-built mesh given to dtm_analysis_compute). */
+DTM_EXPORT const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a);
 /* Wall time of stage t (DTM_T_*), s, and the OpenMP threads of the element
  * loop. */
 DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);

@@ -15,11 +15,45 @@
  * through dtmap's messages), 1 warnings, 2 Gmsh's info messages. */
 DTM_EXPORT int dtm_gmsh_start(int verbosity);
 DTM_EXPORT void dtm_gmsh_stop(void);
+/* Work in a Gmsh session the caller opened (a script that called
+ * gmsh.initialize() through Gmsh's Python module, in the same process and
+ * on the same libgmsh): DTM_ERR_INPUT when Gmsh is not initialised. dtmap's
+ * loops get threads OpenMP threads (0: all cores), since Gmsh sets OpenMP's
+ * count to its General.NumThreads when it starts and when it meshes. The
+ * caller's Gmsh options are left as they are. */
+DTM_EXPORT int dtm_gmsh_attach(int threads);
+/* The Gmsh libdtmap runs on: its version at run time (General.Version,
+ * e.g. "4.8.4") into buf[len], and in *api (may be NULL) the Gmsh API
+ * version of the headers libdtmap was built with (owned by the library).
+ * Starts and stops Gmsh when no session is open. */
+DTM_EXPORT int dtm_gmsh_version(char *buf, size_t len, const char **api);
 /* Give dtmap's loops back the thread count in force at dtm_gmsh_start
  * (Gmsh resets it to its own General.NumThreads when it meshes). */
 DTM_EXPORT void dtm_gmsh_restore_threads(void);
 /* Mesh on one thread: the same scene then always gives the same mesh. */
 DTM_EXPORT void dtm_gmsh_serial(void);
+/* Before meshing: the scene's <meshing algorithm threads> where it names
+ * them (s may be NULL: keep what is set), else what the geometry file set;
+ * records them for dtm_gmsh_mesher. */
+DTM_EXPORT void dtm_gmsh_mesher_apply(const dtm_scene *s);
+/* The current model was read from a .msh. */
+DTM_EXPORT void dtm_gmsh_mesher_read(void);
+/* Back to Gmsh's default mesher (Delaunay, one thread) before a geometry is
+ * opened, so that a previous scene's choice does not carry over. */
+DTM_EXPORT void dtm_gmsh_mesher_defaults(void);
+
+/* How the current model's mesh was made. */
+typedef struct {
+  int algorithm;    /* Gmsh's Mesh.Algorithm3D (1 Delaunay, 10 HXT, ...); 0: read from a .msh */
+  int threads;      /* threads Gmsh meshed with; 0: read from a .msh */
+  int reproducible; /* 1: read, or meshed on one thread by a mesher other
+                       than HXT (the same scene gives the same numbering);
+                       0: a parallel mesher or HXT, whose numbering and
+                       even element count may vary between runs */
+} dtm_mesher_info;
+
+/* The mesher of the current model (after dtm_gmsh_load or dtm_gmsh_remesh). */
+DTM_EXPORT void dtm_gmsh_mesher(dtm_mesher_info *out);
 
 /* Open the scene's source: mesh its geometry with the <meshing> options, or
  * open its .msh. *dim receives the dimension to analyse. Errors name the
@@ -29,6 +63,12 @@ DTM_EXPORT int dtm_gmsh_load(const dtm_scene *s, int *dim);
 /* Open a geometry or a .msh (no meshing) as the only model; *dim receives
  * its highest dimension. DTM_ERR_INPUT naming the file when Gmsh cannot. */
 DTM_EXPORT int dtm_gmsh_open(const char *path, int *dim);
+
+/* The dimension to analyse in the current model (for a model a program
+ * built): the scene's <meshing dim>, else the model's dimension.
+ * DTM_ERR_INPUT when the model has no element of that dimension (not
+ * meshed, or Gmsh not initialised). */
+DTM_EXPORT int dtm_gmsh_model_dim(const dtm_scene *s, int *dim);
 
 /* Physical groups of dimension dim in the current model. */
 DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
@@ -43,8 +83,9 @@ DTM_EXPORT int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, 
 /* Clear the current model's mesh and mesh it again (dimension dim, then
  * order) with the size scale * size[v] (m) at node v of m, the current mesh
  * (NaN: no value there), interpolated over its elements, as the only size
- * source; in 3D the default and Netgen optimisers run after. Meshes on one
- * thread (reproducible numbering). DTM_ERR_INPUT when Gmsh fails. */
+ * source; in 3D the default and Netgen optimisers run after. Meshes with
+ * the mesher of the scene's load (dtm_gmsh_mesher_apply). DTM_ERR_INPUT
+ * when Gmsh fails. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order);
 
 /* Where the mesh sits on the model, for the advice on shape-limited
@@ -95,13 +136,35 @@ typedef struct {
   const char *name;     /* exact view name */
   int node_data;        /* 1: NodeData over node tags; 0: ElementData */
   const size_t *tags;   /* [n] element or node tags */
-  const double *values; /* [n] */
-  size_t n;
+  const double *values; /* [n] (ignored when ivalues is set) */
+  size_t n;             /* number of tags and values */
+  const int *ivalues;   /* [n] integer values (written as numbers), or NULL */
+  int finite_only;      /* 1: leave out the tags whose value is not finite */
 } dtm_view;
 
-/* Write the current mesh and the views to path (a .msh), appending views
- * with PostProcessing.SaveMesh=0. The caller makes the write atomic. */
-DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews);
+/* How dtm_gmsh_write encodes the file. */
+typedef struct {
+  int binary;     /* 1: binary .msh 4.1 (mesh and views), 0: ASCII */
+  int views_only; /* 1: only the format header and the views, no mesh: a
+                     file Gmsh merges on top of the mesh it has open
+                     (`gmsh input.msh views.msh`) */
+} dtm_msh_format;
+
+/* Write the current mesh (Gmsh's writer, Mesh.SaveAll=1) and then the views
+ * to path (a .msh), or only the views (fmt->views_only). Views are written
+ * directly, without creating Gmsh views; tags must be at most INT_MAX
+ * (Gmsh's view format). fmt NULL: ASCII with the mesh. The caller makes
+ * the write atomic. */
+DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
+/* The two halves of dtm_gmsh_write: the current mesh alone (path created),
+ * and the views (appended after the mesh, or, with fmt->views_only, in a
+ * new file with the format header). */
+DTM_EXPORT int dtm_gmsh_write_mesh(const char *path, int binary);
+DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
+/* Drop the current model and give its memory back (once its mesh is
+ * extracted and, where wanted, written): a run from a 1e6-tet .msh then
+ * holds one copy of the mesh, not two. */
+DTM_EXPORT void dtm_gmsh_release(void);
 
 /* One picture of a result: which views it shows. */
 typedef struct {
@@ -116,5 +179,21 @@ typedef struct {
  * when there is none. Leaves Gmsh finalized. DTM_ERR_INPUT naming the file
  * when Gmsh cannot open it or write a picture. */
 DTM_EXPORT int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshots, int width, int height);
+
+/* Add the views to the current model of the open session, where they stay
+ * (nothing is written); tags[nviews] receives their Gmsh view tags (tags
+ * may be NULL). On failure the views added so far are removed. */
+DTM_EXPORT int dtm_gmsh_add_views(const dtm_view *views, int nviews, int *tags);
+
+/* A display option of a view, View[i].<name>: a number, or a string when
+ * text is not NULL. */
+typedef struct {
+  const char *name; /* option name after "View[i].", e.g. "ScaleType" */
+  double number;    /* its value when text is NULL */
+  const char *text; /* its value for a string option, or NULL */
+} dtm_view_option;
+
+/* Set option o of the view with Gmsh tag tag in the open session. */
+DTM_EXPORT int dtm_gmsh_view_option(int tag, const dtm_view_option *o);
 
 #endif

@@ -53,6 +53,12 @@ DTM_EXPORT int dtm_mesh_group_find(const dtm_mesh *m, const char *ref);
 DTM_EXPORT void dtm_mesh_materials_used(const dtm_mesh *m, int nmat, char *used);
 /* Gather the coordinates of block b: x[n][nn][3]. x is caller-owned. */
 DTM_EXPORT void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x);
+/* Renumber for locality (src/mesh/order.c): the elements of each block
+ * along a Hilbert curve through their centroids, the nodes in the order
+ * those elements first use them. Tags and every per-element and per-node
+ * array move with their element or node, so results reported by tag are
+ * unchanged. O(n). */
+DTM_EXPORT int dtm_mesh_reorder(dtm_mesh *m);
 DTM_EXPORT void dtm_mesh_destroy(dtm_mesh **m);
 
 #endif

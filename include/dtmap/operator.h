@@ -33,6 +33,11 @@ DTM_EXPORT int dtm_operator_ncomp(const dtm_operator *op);
 DTM_EXPORT int dtm_operator_kind(const dtm_operator *op);
 /* Lumped diagonal [ndof] (kg, or J/K ...); 0 for nodes of no element. */
 DTM_EXPORT const double *dtm_operator_mass(const dtm_operator *op);
+/* x[ndof] uniform in [lo, hi), each dof's value drawn from the seed and
+ * its node's Gmsh tag (the mesh's node_tags; index + 1 when it has none)
+ * and component: the same field whatever order the nodes are stored in
+ * (dtm_mesh_reorder). */
+DTM_EXPORT void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double lo, double hi, double *x);
 /* y = K u ([ndof] each). */
 DTM_EXPORT void dtm_operator_apply(const dtm_operator *op, const double *u, double *y);
 /* y = M^-1/2 K M^-1/2 x; dofs with zero mass give 0. */

@@ -28,6 +28,41 @@ typedef struct {
 /* Write the mesh with its views to path atomically, plus path.opt.
  * Refuses to overwrite the scene's input mesh or the scene itself. */
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
+/* Above this many analysed elements the output .msh is binary unless the
+ * caller or the scene's <output format> says otherwise. */
+#define DTM_BINARY_ABOVE 100000
+
+/* How the output mesh is written. */
+typedef struct {
+  int format;     /* DTM_MSH_AUTO (the scene's <output format>, else binary
+                     above DTM_BINARY_ABOVE elements), DTM_MSH_ASCII or
+                     DTM_MSH_BINARY */
+  int views_only; /* 1: write only the views, for Gmsh to merge on top of the
+                     scene's input .msh (needs a <mesh> scene) */
+} dtm_output_opts;
+
+/* dtm_output_write with options (NULL: the defaults above). */
+DTM_EXPORT int dtm_output_write_ex(const dtm_results *r, const char *path, const dtm_output_opts *o);
+
+/* The same in two steps, so that the current Gmsh model's mesh can be
+ * written as soon as it is extracted and the model released before the
+ * analysis computes (dtm_analysis_run_ex): begin checks path (as
+ * dtm_output_write), opens its temporary and writes the mesh (not for
+ * views_only; nelements chooses the automatic encoding); finish appends
+ * the views of r, renames the file into place, writes path.opt and frees
+ * the handle; abort removes the temporary. */
+typedef struct dtm_output_file dtm_output_file;
+DTM_EXPORT int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
+                                dtm_output_file **out);
+DTM_EXPORT int dtm_output_finish(dtm_output_file **f, const dtm_results *r);
+DTM_EXPORT void dtm_output_abort(dtm_output_file **f);
+
+/* Add the same views to the current model of the open Gmsh session (a
+ * script's), styled as X.msh.opt styles them (without its text view and its
+ * mesh display options); nothing is written. tags[cap] (may be NULL)
+ * receives the Gmsh view tags in order, and *n (may be NULL) the number of
+ * views added. */
+DTM_EXPORT int dtm_output_add_views(const dtm_results *r, int *tags, int cap, int *n);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
 /* Print the terminal summary (counts, the recommended step and its basis

@@ -12,6 +12,9 @@
 #include "dtmap/effect.h"
 #include "dtmap/export.h"
 
+/* The effect API version this libdtmap loads (DTM_EFFECT_API_VERSION of
+ * the headers it was built with): an external effect must declare it. */
+DTM_EXPORT int dtm_registry_api_version(void);
 /* Number of built-in effects and the i-th one, in registration order. */
 DTM_EXPORT int dtm_registry_count(void);
 DTM_EXPORT const dtm_effect_class *dtm_registry_get(int i);

@@ -31,16 +31,22 @@ typedef struct {
  * does not say. */
 #define DTM_SCENE_PER_WAVELENGTH 10.0
 
+/* Encodings of an output .msh (<output format>). */
+enum { DTM_MSH_AUTO = 0, DTM_MSH_ASCII = 1, DTM_MSH_BINARY = 2 };
+
 typedef struct dtm_scene {
   char *path;           /* scene file as given */
   char *dir;            /* its directory ("." if none) */
   char *geometry;       /* resolved <geometry file>, or NULL */
   char *mesh;           /* resolved <mesh file>, or NULL */
-  int source_line;      /* line of <geometry> or <mesh> */
+  int model;            /* 1: <model/>, the current Gmsh model of the program (no file) */
+  int source_line;      /* line of <geometry>, <mesh> or <model/> */
   double mesh_size;     /* <meshing size>, m; 0 when unset */
   double mesh_min_size; /* <meshing min-size>, m; 0 when unset */
   int mesh_order;       /* <meshing order>; 1 when unset */
   int mesh_dim;         /* <meshing dim>; 0 when unset (highest dimension) */
+  int mesh_algorithm;   /* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code; 0 when unset (the geometry's) */
+  int mesh_threads;     /* <meshing threads>; 0 when unset (the geometry's General.NumThreads) */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
   int neffects;
@@ -57,6 +63,7 @@ typedef struct dtm_scene {
   int nknown;                     /* the first nknown names are the built-in effects' properties */
   char *out_mesh;                 /* resolved <output mesh>, or NULL */
   char *out_report;               /* resolved <output report>, or NULL */
+  int out_format;                 /* <output format>: DTM_MSH_AUTO (unset), _ASCII, _BINARY */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and
@@ -69,6 +76,10 @@ DTM_EXPORT int dtm_scene_load(const char *path, dtm_scene **out);
  * resolved ("mem.xml" resolves against the current directory). */
 DTM_EXPORT int dtm_scene_load_memory(const char *text, size_t len, const char *name, dtm_scene **out);
 DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
+/* Take the current Gmsh model as the scene's source, as <model/> does:
+ * forget <geometry> or <mesh>, so that messages name the current model (a
+ * program that built or opened the model itself analyses a scene file). */
+DTM_EXPORT int dtm_scene_use_model(dtm_scene *s);
 
 /* Index of property name in the scene's catalogue (dtm_material_get), or -1. */
 DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);
@@ -77,6 +88,9 @@ DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);
  * of the scene's external effects) declares. With extra NULL, a scene that
  * loads external effects passes (they are not known yet). */
 DTM_EXPORT int dtm_scene_check_properties(const dtm_scene *s, const dtm_property *const *extra, int nextra);
+/* The <meshing algorithm> name of a Gmsh Mesh.Algorithm3D code ("read"
+ * for 0, a mesh read from a .msh; "other" for a code without a name). */
+DTM_EXPORT const char *dtm_scene_algorithm_name(int code);
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);

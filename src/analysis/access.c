@@ -9,6 +9,13 @@ const dtm_scene *dtm_analysis_scene(const dtm_analysis *a) { return a->scene; }
 const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a) { return a->mesh; }
 size_t dtm_analysis_nelements(const dtm_analysis *a) { return a->nel; }
 int dtm_analysis_neffects(const dtm_analysis *a) { return a->neffects; }
+size_t dtm_analysis_nnodes(const dtm_analysis *a) { return a->mesh->nnodes; }
+const size_t *dtm_analysis_node_tags(const dtm_analysis *a) { return a->mesh->node_tags; }
+
+void dtm_analysis_tags(const dtm_analysis *a, size_t *tags) {
+  for (int b = 0; b < a->mesh->nblocks; b++)
+    for (size_t l = 0; l < a->mesh->blocks[b].n; l++) *tags++ = a->mesh->blocks[b].tags[l];
+}
 
 const dtm_effect_class *dtm_analysis_effect(const dtm_analysis *a, int k) {
   return k >= 0 && k < a->neffects ? a->effects[k].cls : NULL;
@@ -76,3 +83,4 @@ const dtm_global_info *dtm_analysis_global(const dtm_analysis *a, int k) {
 void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out) { *out = a->accuracy; }
 double dtm_analysis_timing(const dtm_analysis *a, int t) { return t >= 0 && t < DTM_T_COUNT ? a->timings[t] : 0.0; }
 int dtm_analysis_threads(const dtm_analysis *a) { return a->threads; }
+const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a) { return &a->mesher; }

@@ -59,6 +59,7 @@ struct dtm_analysis {
   dtm_global_info *global;     /* [neffects], filled by dtm_analysis_estimate_global */
   double timings[DTM_T_COUNT]; /* s */
   int threads;                 /* OpenMP threads used for the element loop */
+  dtm_mesher_info mesher;      /* how the mesh was made (dtm_analysis_run and _current) */
 };
 
 /* Fill a->size_node and a->accuracy from the per-element steps (size.c). */

@@ -197,11 +197,18 @@ static void drop_empty_accuracy(dtm_analysis *a) {
   }
 }
 
+/* Whether element i's step v comes before the best so far (best at j):
+ * smaller, or equal with a smaller Gmsh tag, so that ties do not depend on
+ * the internal element order (dtm_mesh_reorder). */
+static int before(const dtm_analysis *a, double v, size_t i, double best, size_t j) {
+  return v < best || (v == best && dtm_analysis_tag(a, i) < dtm_analysis_tag(a, j));
+}
+
 static void summarize(dtm_analysis *a) {
   drop_empty_accuracy(a);
   a->dt_min = INFINITY;
   for (size_t i = 0; i < a->nel; i++)
-    if (a->dt[i] < a->dt_min) a->dt_min = a->dt[i], a->el_min = i;
+    if (before(a, a->dt[i], i, a->dt_min, a->el_min)) a->dt_min = a->dt[i], a->el_min = i;
   for (int k = 0; k < a->neffects; k++) {
     a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
     a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */
@@ -209,7 +216,8 @@ static void summarize(dtm_analysis *a) {
     if (!a->dt_effect[k]) continue;
     double best = INFINITY;
     for (size_t i = 0; i < a->nel; i++)
-      if (a->dt_effect[k][i] < best) best = a->dt_effect[k][i], a->per_effect[k].element = i;
+      if (before(a, a->dt_effect[k][i], i, best, a->per_effect[k].element))
+        best = a->dt_effect[k][i], a->per_effect[k].element = i;
     a->per_effect[k].min = best;
     const double *bare = a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
     if (dtm_analysis_is_wave(a, k)) a->per_effect[k].omega = 2.0 / bare[a->per_effect[k].element];
@@ -224,6 +232,7 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   a->effects = effects;
   a->neffects = neffects;
   a->threads = omp_get_max_threads();
+  a->mesher = (dtm_mesher_info){0, 0, 1};
   int r = setup(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);

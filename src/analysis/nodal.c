@@ -43,19 +43,22 @@ static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_
   return DTM_OK;
 }
 
-/* lambda_e and the lumped contributions mw[e][i] = capacity V w_i of every
- * element of block b. */
-static int block_lambdas(const dtm_analysis *a, int k, int b, const coeff_cache *cc, double *lam, double *mw) {
+#define NODAL_CHUNK 65536 /* elements whose lambda_e and masses are held at once */
+
+/* lambda_e and the lumped contributions mw[e - e0][i] = capacity V w_i of
+ * elements [e0, e1) of block b. */
+static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t e1, const coeff_cache *cc, double *lam,
+                         double *mw) {
   const dtm_block *blk = &a->mesh->blocks[b];
   dtm_par_error pe = {0, ""};
 #pragma omp parallel for schedule(static)
-  for (size_t e = 0; e < blk->n; e++) {
-    double x[DTM_MAX_NODES * 3], *w = mw + e * blk->nn;
+  for (size_t e = e0; e < e1; e++) {
+    double x[DTM_MAX_NODES * 3], *w = mw + (e - e0) * blk->nn;
     dtm_block one = *blk;
     one.n = 1, one.conn = blk->conn + e * blk->nn;
     dtm_mesh_gather(a->mesh, &one, x);
     const dtm_operator_coeffs *c = &cc->c[blk->mat[e]];
-    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e]);
+    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]);
     if (r) dtm_par_error_keep(&pe, r);
     double m = c->capacity * dtm_elem_measure(blk->type, x);
     dtm_elem_lumped_weights(blk->type, x, w);
@@ -75,24 +78,35 @@ static int block_coeffs(const dtm_analysis *a, int k, coeff_cache *cc, const dtm
   return DTM_OK;
 }
 
-/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements. */
+/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over elements [e0, e1). */
+static void scatter_chunk(const dtm_block *blk, size_t e0, size_t e1, const double *lam, const double *mw, double *num,
+                          double *den) {
+  size_t nn = (size_t)blk->nn;
+  for (size_t e = e0; e < e1; e++)
+    for (size_t i = 0; i < nn; i++) {
+      size_t v = blk->conn[e * nn + i];
+      num[v] += lam[e - e0] * mw[(e - e0) * nn + i];
+      den[v] += mw[(e - e0) * nn + i];
+    }
+}
+
+/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements, a chunk
+ * at a time (the scatter is serial, in element order: with the mesh in
+ * locality order it walks the node arrays nearly in sequence). */
 static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, double *num, double *den) {
-  for (int b = 0; b < a->mesh->nblocks; b++) {
+  double *lam = malloc(NODAL_CHUNK * sizeof *lam), *mw = malloc(NODAL_CHUNK * DTM_MAX_NODES * sizeof *mw);
+  int r = lam && mw ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < a->mesh->nblocks && r == DTM_OK; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
-    DTM_CHECK(block_coeffs(a, k, cc, blk));
-    double *lam = malloc((blk->n + 1) * sizeof *lam), *mw = malloc((blk->n * blk->nn + 1) * sizeof *mw);
-    int r = (lam && mw) ? block_lambdas(a, k, b, cc, lam, mw) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-    for (size_t e = 0; e < blk->n && r == DTM_OK; e++)
-      for (int i = 0; i < blk->nn; i++) {
-        size_t v = blk->conn[e * blk->nn + i];
-        num[v] += lam[e] * mw[e * blk->nn + i];
-        den[v] += mw[e * blk->nn + i];
-      }
-    free(lam);
-    free(mw);
-    DTM_CHECK(r);
+    r = block_coeffs(a, k, cc, blk);
+    for (size_t e0 = 0; e0 < blk->n && r == DTM_OK; e0 += NODAL_CHUNK) {
+      size_t e1 = blk->n - e0 < NODAL_CHUNK ? blk->n : e0 + NODAL_CHUNK;
+      r = block_lambdas(a, k, b, e0, e1, cc, lam, mw);
+      if (r == DTM_OK) scatter_chunk(blk, e0, e1, lam, mw, num, den);
+    }
   }
-  return DTM_OK;
+  free(lam), free(mw);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
 /* Smallest damping factor over the materials of the elements around each
@@ -144,9 +158,11 @@ static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
  * omega[] there. */
 static void record_min(dtm_analysis *a, int k, const double *dt, const double *omega) {
   dtm_effect_min *pe = &a->per_effect[k];
+  const size_t *tags = a->mesh->node_tags;
   pe->nodal = INFINITY;
   for (size_t v = 0; v < a->mesh->nnodes; v++) {
-    if (dt[v] < pe->nodal) pe->nodal = dt[v], pe->node = v;
+    int tie = dt[v] == pe->nodal && tags && tags[v] < tags[pe->node]; /* by Gmsh tag, whatever the node order */
+    if (dt[v] < pe->nodal || tie) pe->nodal = dt[v], pe->node = v;
     a->nodal_node[v] = fmin(a->nodal_node[v], dt[v]);
   }
   pe->omega = dtm_analysis_is_wave(a, k) && isfinite(pe->nodal) ? omega[pe->node] : NAN;

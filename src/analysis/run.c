@@ -55,41 +55,60 @@ static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   DTM_CHECK(map_materials(s, m, &gm, &def));
   int r = dtm_gmsh_extract(dim, gm, def, s, m);
   free(gm);
+  if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
-int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) {
+int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) { return dtm_analysis_run_ex(s, NULL, NULL, out); }
+
+static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_analysis **out);
+
+int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, dtm_analysis **out) {
   double t0 = dtm_wtime();
   int dim;
   DTM_CHECK(dtm_gmsh_load(s, &dim));
   double t_mesh = dtm_wtime() - t0;
-  DTM_CHECK(dtm_analysis_current(s, dim, out));
+  DTM_CHECK(current(s, dim, hook, user, out));
   (*out)->timings[DTM_T_MESH] = t_mesh;
   return DTM_OK;
 }
 
-int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) {
+int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) { return current(s, dim, NULL, NULL, out); }
+
+/* Extract the mesh and read where it sits on the model, both before the
+ * hook (which may release the model), then create the scene's effects. */
+static int prepare(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_mesh *m, dtm_geo **geo,
+                   dtm_effect **e, int *ne, double *t) {
+  int r = extract_mesh(s, dim, m, t);
+  if (r == DTM_OK) r = dtm_gmsh_geo(m, geo);
+  if (r == DTM_OK && hook) r = hook(user, dtm_mesh_nelements(m));
+  if (r == DTM_OK) r = dtm_effects_create(s, m, e, ne);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_analysis **out) {
   double t[DTM_T_COUNT] = {0};
   dtm_mesh *m = calloc(1, sizeof *m);
   dtm_effect *e = NULL;
+  dtm_geo *geo = NULL;
+  dtm_mesher_info mi;
   int ne = 0;
   if (!m) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  int r = extract_mesh(s, dim, m, t);
-  if (r == DTM_OK) r = dtm_effects_create(s, m, &e, &ne);
+  int r = prepare(s, dim, hook, user, m, &geo, &e, &ne, t);
+  dtm_gmsh_mesher(&mi);
+  if (r) dtm_mesh_destroy(&m);
+  if (r == DTM_OK) r = dtm_analysis_compute(s, m, e, ne, out);
   if (r) {
-    dtm_mesh_destroy(&m);
+    dtm_gmsh_geo_destroy(&geo);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
   }
-  DTM_CHECK(dtm_analysis_compute(s, m, e, ne, out));
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
-  r = dtm_gmsh_geo((*out)->mesh, &(*out)->geo);
-  if (r == DTM_OK) r = dtm_shape_classify(*out); /* again, now with the model's features */
-  if (r) {
-    dtm_analysis_destroy(out);
-    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
-  }
-  return DTM_OK;
+  (*out)->mesher = mi;
+  (*out)->geo = geo;
+  r = dtm_shape_classify(*out); /* again, now with the model's features */
+  if (r) dtm_analysis_destroy(out);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
 void dtm_analysis_locate(const dtm_analysis *a, size_t i, int *block, size_t *local) {

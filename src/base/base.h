@@ -15,6 +15,9 @@
 uint64_t dtm_rng_next(uint64_t *state);
 /* Uniform in [lo, hi) with 53 random bits: lo + (hi - lo) (bits >> 11) 2^-53. */
 double dtm_rng_uniform(uint64_t *state, double lo, double hi);
+/* Uniform in [lo, hi) for one key of a seeded field, independent of any
+ * other draw (order-free: the same key always gives the same value). */
+double dtm_rng_uniform_at(uint64_t seed, uint64_t key, double lo, double hi);
 
 /* The first error raised inside an OpenMP parallel region. The error record
  * is thread-local, so a worker's message would otherwise be lost (and stay

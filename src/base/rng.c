@@ -1,7 +1,9 @@
 /* The seeded random generator behind the Lanczos start vector and the
  * random part of `dtmap verify`'s initial field: splitmix64 (Steele, Lea and
  * Flood), which is fast, passes BigCrush, and needs one word of state, so a
- * seed reproduces a run exactly. */
+ * seed reproduces a run exactly. dtm_rng_uniform_at draws the value of one
+ * key (a Gmsh node tag and a component) without a sequence, so a field
+ * drawn per node does not depend on the order the nodes are stored in. */
 #include "base.h"
 
 uint64_t dtm_rng_next(uint64_t *state) {
@@ -13,4 +15,10 @@ uint64_t dtm_rng_next(uint64_t *state) {
 
 double dtm_rng_uniform(uint64_t *state, double lo, double hi) {
   return lo + (hi - lo) * ((double)(dtm_rng_next(state) >> 11) * 0x1.0p-53);
+}
+
+double dtm_rng_uniform_at(uint64_t seed, uint64_t key, double lo, double hi) {
+  uint64_t state = seed ^ (key * 0xd1b54a32d192ed03u); /* a distinct stream start per key */
+  dtm_rng_next(&state);
+  return dtm_rng_uniform(&state, lo, hi);
 }

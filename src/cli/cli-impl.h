@@ -19,6 +19,8 @@ typedef struct {
   const char *sizes;  /* sweep --sizes h1,h2,... */
   const char *csv;    /* sweep --csv, or NULL */
   const char *plot;   /* sweep --plot, or NULL */
+  const char *format; /* --format ascii|binary|auto, or NULL (the scene's) */
+  int views_only;     /* run --views-only */
   int threads;        /* -j N, 0 = all cores */
   int verbosity;      /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
   int posterior;      /* run/verify --posterior */
@@ -65,20 +67,36 @@ extern const struct cli_command dtm_cli_commands[];
 int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
 /* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
 int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* The help of one command (usage line, about, options). */
+/* The documentation (help.c), all from the command tables: the help of
+ * one command (usage line, about, options); the usage lines of every
+ * command (stream is a FILE *); `dtmap --help`; `dtmap effects` (effects.c,
+ * to stdout or a stream); and, for the build, the
+ * man page or the bash completion on stdout (what: "man" or
+ * "bash-completion"). The int functions return the exit code. */
 void dtm_cli_print_help(const struct cli_command *c, void *stream);
+void dtm_cli_print_usage(void *stream);
+int dtm_cli_print_overview(void);
+int dtm_cli_print_effects(void);
+void dtm_cli_print_effects_to(void *stream);
+int dtm_cli_generate(const char *what);
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
 /* SCENE<suffix> in the current directory (SCENE: the scene's base name
  * without its extension). */
 void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);
 
+/* The encoding --format names into *out (DTM_MSH_*; NULL: DTM_MSH_AUTO);
+ * the usage exit code 2 for another word. */
+int dtm_cli_format(const struct cli_command *c, const char *word, int *out);
+
 /* Write the output mesh (+ .opt) and the report of res where o and the
- * scene say; res->t_output gets the mesh's write time, s. With a suffix
- * (refine: "_refined") the defaults are the scene's <output> names with the
- * suffix before the extension, else SCENE<suffix>.msh and no report, so
- * they never overwrite what `run` writes for the same scene. */
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix);
+ * scene say; res->t_output accumulates the mesh's write time, s. With a
+ * suffix (refine: "_refined") the defaults are the scene's <output> names
+ * with the suffix before the extension, else SCENE<suffix>.msh and no
+ * report, so they never overwrite what `run` writes for the same scene.
+ * *begun (when begun is not NULL and *begun is set): the output already
+ * begun with the mesh in it (taken over). */
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix, dtm_output_file **begun);
 
 /* The pictures of a result msh (with its .opt) through Gmsh's renderer:
  * PREFIX_worst.png (the views as the .opt shows them: the worst elements)
@@ -91,6 +109,11 @@ int dtm_cli_with_display(int (*draw)(void *arg), void *arg);
 /* `-onelab NAME ADDRESS` anywhere in argv: run the ONELAB client and return
  * its exit code; -1 when argv has no -onelab. */
 int dtm_cli_onelab(int argc, char **argv);
+/* The progress line (progress.c): on a terminal and unless quiet
+ * (verbosity 0), install the library's progress hook and draw long stages
+ * on stderr; stop erases the line and ends the drawing thread. */
+void dtm_cli_progress_start(int verbosity);
+void dtm_cli_progress_stop(void);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);
@@ -108,6 +131,9 @@ int dtm_cli_snapshot(const cli_opts *o);
  * step. DTM_ERR_INPUT when path cannot be written or no row has a positive,
  * finite cost and accuracy value. */
 int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
+/* 1 when this dtmap draws plots (built with PLplot; else noplot.c stands
+ * in for plot.c and the plot functions fail with DTM_ERR_INPUT). */
+int dtm_cli_can_plot(void);
 int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
 
 #endif

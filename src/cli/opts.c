@@ -93,17 +93,6 @@ int dtm_cli_parse(const cli_command *c, int argc, char **argv, cli_opts *o) {
   return DTM_OK;
 }
 
-void dtm_cli_print_help(const cli_command *c, void *stream) {
-  FILE *f = stream;
-  fprintf(f, "usage: dtmap %s %s\n\n%s\n", c->name, c->args, c->about);
-  if (c->options && c->options->name) fprintf(f, "\noptions:\n");
-  for (const cli_option *p = c->options; p && p->name; p++) {
-    char head[64];
-    snprintf(head, sizeof head, "%s%s%s", p->name, p->value ? " " : "", p->value ? p->value : "");
-    fprintf(f, "  %-18s %s\n", head, p->help);
-  }
-}
-
 int dtm_cli_fail(int code, int verbosity) {
   fprintf(stderr, "dtmap: error: %s\n", dtm_error_message());
   if (verbosity > 1) fprintf(stderr, "traceback:\n%s", dtm_error_traceback());

@@ -193,3 +193,5 @@ int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_swe
 int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n) {
   return dtm_cli_sweep_plot_titled(path, NULL, rows, n);
 }
+
+int dtm_cli_can_plot(void) { return 1; }

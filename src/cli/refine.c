@@ -42,7 +42,7 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
   dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
   if (o->verbosity) print_rounds(rr), printf("\n"), dtm_summary_print(&res, stdout);
-  int r = dtm_cli_write_outputs(&res, o, "_refined");
+  int r = dtm_cli_write_outputs(&res, o, "_refined", NULL);
   dtm_cost_destroy(&cost);
   return r;
 }
@@ -63,6 +63,8 @@ static int refine_scene(const dtm_scene *s, double target, const cli_opts *o) {
 }
 
 int dtm_cli_refine(const cli_opts *o) {
+  int f;
+  if (dtm_cli_format(&dtm_cli_commands[2], o->format, &f)) return DTM_ERR_INPUT;
   if (o->threads > 0) omp_set_num_threads(o->threads);
   dtm_scene *s = NULL;
   int r = dtm_scene_load(o->scene, &s);

@@ -13,14 +13,6 @@
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
 
-/* The output mesh: -o, else the scene's <output mesh>, else SCENE_dt.msh. */
-static const char *output_path(const dtm_scene *s, const cli_opts *o, char *def, size_t n) {
-  if (o->out) return o->out;
-  if (s->out_mesh) return s->out_mesh;
-  dtm_cli_default_out(s->path, "_dt.msh", def, n);
-  return def;
-}
-
 /* path with suffix before its extension ("a/b.msh" -> "a/b_refined.msh"). */
 static void with_suffix(const char *path, const char *suffix, char *buf, size_t len) {
   const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
@@ -28,35 +20,62 @@ static void with_suffix(const char *path, const char *suffix, char *buf, size_t 
   snprintf(buf, len, "%.*s%s%s", (int)(dot - path), path, suffix, dot);
 }
 
-/* The default output names: the scene's, or SCENE<suffix>.msh. */
-static void default_names(const dtm_scene *s, const char *suffix, char *mesh, char *rep, size_t len) {
-  rep[0] = 0;
-  if (!suffix) {
-    if (s->out_mesh)
-      snprintf(mesh, len, "%s", s->out_mesh);
-    else
-      dtm_cli_default_out(s->path, "_dt.msh", mesh, len);
-    if (s->out_report) snprintf(rep, len, "%s", s->out_report);
-    return;
-  }
+/* The output mesh: -o, else the scene's <output mesh>, else SCENE_dt.msh.
+ * With a suffix (refine: "_refined") the defaults carry it before their
+ * extension (SCENE_refined.msh), so they never overwrite run's. */
+static const char *output_path(const dtm_scene *s, const cli_opts *o, const char *suffix, char *def, size_t n) {
   char tail[64];
-  snprintf(tail, sizeof tail, "%s.msh", suffix);
+  if (o->out) return o->out;
+  if (s->out_mesh && !suffix) return s->out_mesh;
+  snprintf(tail, sizeof tail, "%s.msh", suffix ? suffix : "_dt");
   if (s->out_mesh)
-    with_suffix(s->out_mesh, suffix, mesh, len);
+    with_suffix(s->out_mesh, suffix, def, n);
   else
-    dtm_cli_default_out(s->path, tail, mesh, len);
-  if (s->out_report) with_suffix(s->out_report, suffix, rep, len);
+    dtm_cli_default_out(s->path, tail, def, n);
+  return def;
 }
 
-int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix) {
-  char mesh[4096], report[4096];
-  default_names(dtm_analysis_scene(res->analysis), suffix, mesh, report, sizeof mesh);
-  const char *out = o->out ? o->out : mesh, *rep = o->report ? o->report : report[0] ? report : NULL;
+/* The report: --report, else the scene's <output report> (with the
+ * suffix), else none. */
+static const char *report_path(const dtm_scene *s, const cli_opts *o, const char *suffix, char *def, size_t n) {
+  if (o->report || !s->out_report || !suffix) return o->report ? o->report : s->out_report;
+  with_suffix(s->out_report, suffix, def, n);
+  return def;
+}
+
+int dtm_cli_format(const cli_command *c, const char *word, int *out) {
+  static const char *const names[] = {"auto", "ascii", "binary"}; /* DTM_MSH_* order */
+  *out = DTM_MSH_AUTO;
+  for (int i = 0; word && i < 3; i++)
+    if (!strcmp(word, names[i])) return *out = i, DTM_OK;
+  return word ? dtm_cli_usage_error(c, "--format '%s' is not ascii, binary or auto", word) : DTM_OK;
+}
+
+/* Begin the output mesh at out (write the mesh now); *seconds accumulates. */
+static int begin_output(const dtm_scene *s, const cli_opts *o, const char *out, size_t nel, dtm_output_file **f,
+                        double *seconds) {
   double t0 = dtm_wtime();
-  DTM_CHECK(dtm_output_write(res, out));
-  res->t_output = dtm_wtime() - t0;
+  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only};
+  dtm_cli_format(NULL, o->format, &oo.format); /* checked before the analysis */
+  int r = dtm_output_begin(s, out, &oo, nel, f);
+  *seconds += dtm_wtime() - t0;
+  return r;
+}
+
+int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix, dtm_output_file **begun) {
+  char mesh[4096], report[4096];
+  const dtm_scene *s = dtm_analysis_scene(res->analysis);
+  const char *out = output_path(s, o, suffix, mesh, sizeof mesh);
+  const char *rep = report_path(s, o, suffix, report, sizeof report);
+  dtm_output_file *f = begun ? *begun : NULL;
+  if (begun) *begun = NULL;
+  if (!f) DTM_CHECK(begin_output(s, o, out, dtm_analysis_nelements(res->analysis), &f, &res->t_output));
+  double t0 = dtm_wtime();
+  DTM_CHECK(dtm_output_finish(&f, res));
+  res->t_output += dtm_wtime() - t0;
   if (rep) DTM_CHECK(dtm_report_write(res, rep));
   if (o->verbosity) printf("\nwrote        %s (+ .opt)%s%s\n", out, rep ? ", " : "", rep ? rep : "");
+  if (o->verbosity && o->views_only) printf("             views only: gmsh %s %s\n", s->mesh, out);
   return DTM_OK;
 }
 
@@ -94,20 +113,40 @@ static unsigned global_flags(const cli_opts *o, int verify) {
   return (verify ? DTM_GLOBAL_MODES : 0u) | (o->posterior ? DTM_GLOBAL_BASIS : 0u);
 }
 
+/* The output of `run`, begun as soon as the mesh is extracted: the mesh is
+ * written then and Gmsh's copy of the model released, so the analysis
+ * never holds two copies of a large mesh. */
+typedef struct {
+  const dtm_scene *s;    /* the scene */
+  const cli_opts *o;     /* the options */
+  dtm_output_file *file; /* the output being written, or NULL */
+  double seconds;        /* time spent writing, s */
+} early_output;
+
+static int write_early(void *user, size_t nelements) {
+  early_output *e = user;
+  char def[4096];
+  DTM_CHECK(begin_output(e->s, e->o, output_path(e->s, e->o, NULL, def, sizeof def), nelements, &e->file, &e->seconds));
+  dtm_gmsh_release();
+  return DTM_OK;
+}
+
 /* Analyse, then summarise and either write the outputs or verify. */
 static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
+  early_output early = {s, o, NULL, 0.0};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
-  if (r == DTM_OK) r = dtm_analysis_run(s, &a);
+  if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK && (o->posterior || verify))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, 0.0, o->top};
+    dtm_results res = {a, cost, NULL, t_scene, early.seconds, o->top};
     if (o->verbosity) dtm_summary_print(&res, stdout);
-    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL);
+    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL, &early.file);
   }
+  dtm_output_abort(&early.file); /* after a failure: no partial output */
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_gmsh_stop();
@@ -125,10 +164,16 @@ static int run_scene(const cli_opts *o, int verify) {
   }
   char def[4096];
   if (r == DTM_OK && o->png)
-    r = dtm_cli_pictures(output_path(s, o, def, sizeof def), o->png, o->width, o->height, o->verbosity);
+    r = dtm_cli_pictures(output_path(s, o, NULL, def, sizeof def), o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }
 
-int dtm_cli_run(const cli_opts *o) { return run_scene(o, 0); }
+int dtm_cli_run(const cli_opts *o) {
+  int f;
+  if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
+  if (o->png && o->views_only)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
+  return run_scene(o, 0);
+}
 int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }

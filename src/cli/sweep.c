@@ -1,8 +1,10 @@
 /* `dtmap sweep SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png]`: mesh
  * and analyse the scene at each size, print the cost/accuracy table, write
  * it as CSV and draw it as a PNG (defaults SCENE_sweep.csv and
- * SCENE_sweep.png in the current directory). Exit 0 on success, 2 for bad
- * input or usage (with a message saying what), 3 for internal errors. */
+ * SCENE_sweep.png in the current directory; a dtmap built without PLplot
+ * writes no PNG unless --plot asks for one, which is then an error before
+ * the sweep starts). Exit 0 on success, 2 for bad input or usage (with a
+ * message saying what), 3 for internal errors. */
 #include <errno.h>
 #include <math.h>
 #include <omp.h>
@@ -47,12 +49,14 @@ static int check_writable(const char *path) {
   return DTM_OK;
 }
 
-/* The CSV and PNG paths: the options, else SCENE_sweep.csv/.png. */
+/* The CSV and PNG paths: the options, else SCENE_sweep.csv/.png; png is
+ * "" when this dtmap cannot plot and no plot was asked for. */
 static void output_paths(const cli_opts *o, char *csv, char *png, size_t len) {
   dtm_cli_default_out(o->scene, "_sweep.csv", csv, len);
   dtm_cli_default_out(o->scene, "_sweep.png", png, len);
   if (o->csv) snprintf(csv, len, "%s", o->csv);
   if (o->plot) snprintf(png, len, "%s", o->plot);
+  if (!o->plot && !dtm_cli_can_plot()) png[0] = '\0';
 }
 
 static int write_files(const cli_opts *o, const dtm_sweep_row *rows, int n) {
@@ -60,8 +64,8 @@ static int write_files(const cli_opts *o, const dtm_sweep_row *rows, int n) {
   const char *base = strrchr(o->scene, '/');
   output_paths(o, csv, png, sizeof csv);
   DTM_CHECK(dtm_sweep_write_csv(csv, rows, n));
-  DTM_CHECK(dtm_cli_sweep_plot_titled(png, base ? base + 1 : o->scene, rows, n));
-  if (o->verbosity) printf("\nwrote        %s, %s\n", csv, png);
+  if (png[0]) DTM_CHECK(dtm_cli_sweep_plot_titled(png, base ? base + 1 : o->scene, rows, n));
+  if (o->verbosity) printf("\nwrote        %s%s%s\n", csv, png[0] ? ", " : " (no plot: built without PLplot)", png);
   return DTM_OK;
 }
 
@@ -72,7 +76,8 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   char csv[4096], png[4096];
   output_paths(o, csv, png, sizeof csv);
   int r = check_writable(csv), started = 0;
-  if (r == DTM_OK) r = check_writable(png);
+  if (r == DTM_OK && png[0]) r = check_writable(png);
+  if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
   if (r == DTM_OK) r = dtm_scene_load(o->scene, &s);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");

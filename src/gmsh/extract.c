@@ -1,7 +1,13 @@
-/* Reading the current Gmsh model into a dtm_mesh: physical groups of the
- * analysed dimension, a dense node index, and one structure-of-arrays block
+/* Reading the current Gmsh model into a dtm_mesh: the dimension to analyse,
+ * physical groups of that dimension, a dense node index, and one structure-of-arrays block
  * per element type, with each element's group and material resolved per
- * model entity. */
+ * model entity. The arrays Gmsh hands over are kept, not copied, where they
+ * can be: the node tags and coordinates always, and a block's element tags
+ * and connectivity (node tags turned into indices in place) when one
+ * entity holds all its elements, as in most meshes. Node tags that are
+ * 1..N in order (what Gmsh gives) need no index: index = tag - 1. So
+ * extraction streams through memory and costs the same per element at 1e7
+ * as at 1e6. */
 #include <gmshc.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -17,6 +23,26 @@ static char *dup_str(const char *s) {
   char *d = malloc(n);
   if (d) memcpy(d, s, n);
   return d;
+}
+
+/* What messages call the model: the scene's file, or the current model. */
+static const char *source_name(const dtm_scene *s) {
+  return s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model";
+}
+
+int dtm_gmsh_model_dim(const dtm_scene *s, int *dim) {
+  int ierr = 0, *types = NULL;
+  size_t nt = 0;
+  int d = s->mesh_dim > 0 ? s->mesh_dim : gmshModelGetDimension(&ierr);
+  if (ierr || d < 1 || d > 3)
+    return DTM_ERR(DTM_ERR_INPUT, "the current Gmsh model has no curve, surface or volume "
+                                  "(is Gmsh initialised, and the model built or opened?)");
+  gmshModelMeshGetElementTypes(&types, &nt, d, -1, &ierr);
+  gmshFree(types);
+  if (ierr || !nt)
+    return DTM_ERR(DTM_ERR_INPUT, "the current Gmsh model has no element of dimension %d: mesh it first", d);
+  *dim = d;
+  return DTM_OK;
 }
 
 int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
@@ -42,8 +68,9 @@ int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
 
 /* Dense node numbering: index[tag] = position in m->node_tags. */
 typedef struct {
-  size_t *index; /* [max_tag + 1], SIZE_MAX where no node */
-  size_t max_tag;
+  size_t *index;  /* [max_tag + 1], SIZE_MAX where no node; NULL when identity */
+  size_t max_tag; /* largest node tag */
+  int identity;   /* node tags are 1..N in order: index = tag - 1 */
 } node_index;
 
 static int read_nodes(dtm_mesh *m, node_index *ni) {
@@ -53,16 +80,19 @@ static int read_nodes(dtm_mesh *m, node_index *ni) {
   gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, -1, -1, 0, 0, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read the mesh nodes");
   gmshFree(par);
-  ni->max_tag = 0;
-  for (size_t i = 0; i < n; i++)
+  ni->max_tag = 0, ni->identity = 1;
+  for (size_t i = 0; i < n; i++) {
     if (tags[i] > ni->max_tag) ni->max_tag = tags[i];
+    ni->identity &= tags[i] == i + 1;
+  }
+  m->nnodes = n;
+  m->node_tags = tags; /* gmshFree and free are both the C allocator here */
+  m->xyz = xyz;
+  if (ni->identity) return DTM_OK;
   ni->index = malloc((ni->max_tag + 1) * sizeof *ni->index);
   if (!ni->index) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   memset(ni->index, 0xff, (ni->max_tag + 1) * sizeof *ni->index);
   for (size_t i = 0; i < n; i++) ni->index[tags[i]] = i;
-  m->nnodes = n;
-  m->node_tags = tags; /* gmshFree and free are both the C allocator here */
-  m->xyz = xyz;
   return DTM_OK;
 }
 
@@ -147,7 +177,7 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t ta
   *out = mat;
   if (mat >= 0) return DTM_OK;
   char lbl[64];
-  const char *src = c->s->mesh ? c->s->mesh : c->s->geometry;
+  const char *src = source_name(c->s);
   if (g < 0)
     return DTM_ERR(DTM_ERR_INPUT,
                    "%s: element %zu is in no physical group of dimension %d, and scene %s has "
@@ -159,27 +189,59 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t ta
                  src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
 }
 
-static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, const size_t *tags,
-                       size_t n, const size_t *nodes) {
+/* Node tags nodes[n] into indices, in place; the position of a tag that
+ * names no node, or SIZE_MAX. */
+static size_t tags_to_indices(const node_index *ni, size_t *nodes, size_t n) {
+  size_t bad = SIZE_MAX;
+  if (ni->identity) {
+    for (size_t k = 0; k < n; k++) {
+      size_t t = nodes[k];
+      if (t - 1 >= ni->max_tag) bad = bad == SIZE_MAX ? k : bad; /* t = 0 wraps around */
+      nodes[k] = t - 1;
+    }
+    return bad;
+  }
+  for (size_t k = 0; k < n && bad == SIZE_MAX; k++) {
+    size_t t = nodes[k];
+    if (t > ni->max_tag || ni->index[t] == SIZE_MAX) bad = k;
+    nodes[k] = bad == SIZE_MAX ? ni->index[t] : t;
+  }
+  return bad;
+}
+
+/* Give b the n elements tags[n], conn[n][nn] (indices), adopting the two
+ * arrays when b is empty (*owned is then set: the caller must not free
+ * them), else appending a copy. */
+static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int *owned) {
+  if (b->n == 0 && !b->tags) {
+    b->tags = tags, b->conn = conn, *owned = 1;
+    b->group = malloc((n + 1) * sizeof *b->group), b->mat = malloc((n + 1) * sizeof *b->mat);
+    b->gmask = malloc((n + 1) * sizeof *b->gmask);
+    return b->group && b->mat && b->gmask ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  DTM_CHECK(block_grow(b, n));
+  memcpy(b->tags + b->n, tags, n * sizeof *tags);
+  memcpy(b->conn + b->n * (size_t)b->nn, conn, n * (size_t)b->nn * sizeof *conn);
+  return DTM_OK;
+}
+
+/* Append one entity's elements of one type; takes tags and nodes (Gmsh's
+ * arrays) when *owned is set on return. */
+static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, size_t *tags,
+                       size_t n, size_t *nodes, int *owned) {
+  *owned = 0;
   DTM_CHECK(check_type(type, n ? tags[0] : 0));
   int mat;
   DTM_CHECK(material_of(c, m, g, n ? tags[0] : 0, &mat));
   dtm_block *b = block_for(m, type);
   if (!b) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  DTM_CHECK(block_grow(b, n));
-  for (size_t e = 0; e < n; e++) {
-    size_t k = b->n + e;
-    b->tags[k] = tags[e];
-    b->group[k] = g;
-    b->gmask[k] = mask;
-    b->mat[k] = mat;
-    for (int a = 0; a < b->nn; a++) {
-      size_t t = nodes[e * b->nn + a];
-      if (t > c->ni.max_tag || c->ni.index[t] == SIZE_MAX)
-        return DTM_ERR(DTM_ERR_INPUT, "element %zu references node %zu, which does not exist", tags[e], t);
-      b->conn[k * b->nn + a] = c->ni.index[t];
-    }
-  }
+  size_t bad = tags_to_indices(&c->ni, nodes, n * (size_t)b->nn);
+  if (bad != SIZE_MAX)
+    return DTM_ERR(DTM_ERR_INPUT, "element %zu references node %zu, which does not exist", tags[bad / b->nn],
+                   nodes[bad] + (c->ni.identity ? 1 : 0));
+  size_t n0 = b->n;
+  DTM_CHECK(take_elements(b, tags, nodes, n, owned));
+  for (size_t e = n0; e < n0 + n; e++) b->group[e] = g, b->gmask[e] = mask, b->mat[e] = mat;
   b->n += n;
   return DTM_OK;
 }
@@ -191,8 +253,11 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read elements");
   unsigned long long mask;
   int g = entity_group(m, m->dim, tag, c->group_mat, &mask);
-  for (size_t i = 0; i < nt && r == DTM_OK; i++)
-    r = append_type(c, m, g, mask, types[i], etags[i], netags[i], ntags[i]);
+  for (size_t i = 0; i < nt && r == DTM_OK; i++) {
+    int owned = 0;
+    r = append_type(c, m, g, mask, types[i], etags[i], netags[i], ntags[i], &owned);
+    if (owned) etags[i] = ntags[i] = NULL; /* the block has them now */
+  }
   for (size_t i = 0; i < nt; i++) {
     gmshFree(etags[i]);
     gmshFree(ntags[i]);
@@ -206,7 +271,7 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
 }
 
 int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
-  extract_ctx c = {s, group_mat, default_mat, {NULL, 0}};
+  extract_ctx c = {s, group_mat, default_mat, {NULL, 0, 0}};
   int *ents = NULL, ierr = 0, r = DTM_OK;
   size_t ne = 0;
   m->dim = dim;
@@ -218,7 +283,7 @@ int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_s
   if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
   DTM_CHECK(r);
   if (dtm_mesh_nelements(m) == 0)
-    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", s->mesh ? s->mesh : s->geometry,
-                   s->mesh ? "the mesh has" : "meshing produced", dim);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", source_name(s),
+                   s->geometry ? "meshing produced" : "it has", dim);
   return DTM_OK;
 }

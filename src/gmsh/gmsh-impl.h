@@ -1,9 +1,14 @@
-/* Private helpers around the Gmsh C API: turning a non-zero ierr into a
- * dtmap error that carries Gmsh's own last message. */
+/* Private to src/gmsh/ (white-box tests may include it; nothing here is
+ * exported): turning a non-zero ierr of the Gmsh C API into a dtmap error
+ * that carries Gmsh's own last message, counting models, and the writers of
+ * the .msh view sections (msh_data.c). */
 #ifndef DTM_GMSH_UTIL_H
 #define DTM_GMSH_UTIL_H
 
+#include <stdio.h>
+
 #include "dtmap/error.h"
+#include "dtmap/gmsh.h"
 
 /* Raise DTM_ERR_INPUT or code with "<what>: <Gmsh's last error>". */
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what);
@@ -11,5 +16,16 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
   do {                                                                                                                 \
     if (ierr) return dtm_gmsh_fail((code), __FILE__, __LINE__, __func__, (what));                                      \
   } while (0)
+
+/* Number of models in the session: at least one once Gmsh is initialised,
+ * none (silently) before gmshInitialize. */
+int dtm_gmsh_model_count(void);
+/* The .msh 4.1 format header ($MeshFormat ... $EndMeshFormat) of a file
+ * that holds only views; 0, or -1 on a write error. */
+int dtm_msh_header(FILE *f, int binary);
+/* The records a view writes (the finite values only with finite_only). */
+size_t dtm_msh_view_records(const dtm_view *v);
+/* Append one view as $ElementData or $NodeData (msh_data.c). */
+int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary);
 
 #endif

@@ -9,6 +9,7 @@
 
 #include "dtmap/gmsh.h"
 #include "dtmap/kernel.h"
+#include "dtmap/progress.h"
 #include "gmsh-impl.h"
 
 /* List-view type of a linear parent element ("ST" = scalar triangle...). */
@@ -84,11 +85,13 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
   double old[NKEYS];
   size_options(old);
-  dtm_gmsh_serial();
+  dtm_gmsh_mesher_apply(NULL); /* the algorithm and threads of the scene's load */
+  dtm_progress_begin("meshing");
   gmshModelMeshGenerate(dim, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
   if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
   if (!ierr && order > 1) gmshModelMeshSetOrder(order, &ierr);
+  dtm_progress_end();
   int bad = ierr;
   restore_options(old);
   dtm_gmsh_restore_threads();

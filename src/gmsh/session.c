@@ -1,11 +1,13 @@
-/* Gmsh session: start/stop, error translation, and loading the scene's
- * geometry (meshed here with the scene's <meshing> options) or .msh. */
+/* Gmsh session: start/stop or attach to a session a script opened, error
+ * translation, the versions, and loading the scene's geometry (meshed here
+ * with the scene's <meshing> options) or .msh. */
 #include <gmshc.h>
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/progress.h"
 #include "gmsh-impl.h"
 
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what) {
@@ -18,9 +20,10 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
 }
 
 /* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
- * when it starts and when it meshes. Gmsh keeps meshing on one thread, so
- * that the same scene always gives the same mesh and element numbering;
- * dtmap's own loops get back the caller's count (all cores, or -j). */
+ * when it starts and when it meshes. Gmsh meshes with the threads the scene
+ * or the geometry file asks for (mesher.c; one unless they say otherwise,
+ * so that the same scene gives the same numbering); dtmap's own loops get
+ * back the caller's count (all cores, or -j). */
 static int dtm_threads = 1;
 
 void dtm_gmsh_restore_threads(void) { omp_set_num_threads(dtm_threads); }
@@ -50,13 +53,49 @@ void dtm_gmsh_stop(void) {
   gmshFinalize(&ierr);
 }
 
+int dtm_gmsh_model_count(void) {
+  char **names = NULL;
+  size_t n = 0;
+  int ierr = 0;
+  gmshModelList(&names, &n, &ierr);
+  for (size_t i = 0; i < n; i++) gmshFree(names[i]);
+  gmshFree(names);
+  return ierr ? 0 : (int)n;
+}
+
+/* Gmsh 4.8 has no query for it, but an initialised Gmsh always has a model. */
+static int is_initialized(void) { return dtm_gmsh_model_count() > 0; }
+
+int dtm_gmsh_attach(int threads) {
+  if (!is_initialized())
+    return DTM_ERR(DTM_ERR_INPUT, "Gmsh is not initialised: call gmsh.initialize() and build or open a model first");
+  dtm_threads = threads > 0 ? threads : omp_get_num_procs();
+  dtm_gmsh_restore_threads();
+  return DTM_OK;
+}
+
+int dtm_gmsh_version(char *buf, size_t len, const char **api) {
+  int ierr = 0, own = !is_initialized();
+  char *v = NULL;
+  if (own) gmshInitialize(0, NULL, 0, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot initialise Gmsh");
+  gmshOptionGetString("General.Version", &v, &ierr);
+  snprintf(buf, len, "%s", !ierr && v ? v : "unknown");
+  gmshFree(v);
+  if (own) gmshFinalize(&ierr);
+  if (api) *api = GMSH_API_VERSION;
+  return DTM_OK;
+}
+
 static int mesh_geometry(const dtm_scene *s, int dim) {
   int ierr = 0;
   char what[4200];
   if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
-  dtm_gmsh_serial();
+  dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  dtm_progress_begin("meshing");
   gmshModelMeshGenerate(dim, &ierr);
+  dtm_progress_end();
   snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   if (s->mesh_order > 1) {
@@ -67,10 +106,16 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {
+  if (s->model)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s:%d: <model/> stands for the current Gmsh model of a program that builds it (the Python "
+                   "module's dtmap.analyse); the command line needs <geometry file=...> or <mesh file=...>",
+                   s->path, s->source_line);
   const char *src = s->mesh ? s->mesh : s->geometry;
   int d;
   DTM_CHECK(dtm_gmsh_open(src, &d));
   if (s->mesh_dim > 0) d = s->mesh_dim;
+  if (s->mesh) dtm_gmsh_mesher_read();
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
   dtm_gmsh_restore_threads();
   *dim = d;
@@ -82,7 +127,10 @@ int dtm_gmsh_open(const char *path, int *dim) {
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot open it", path);
   gmshClear(&ierr);
+  dtm_gmsh_mesher_defaults();
+  dtm_progress_begin("reading");
   gmshOpen(path, &ierr);
+  dtm_progress_end();
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);

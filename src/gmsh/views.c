@@ -1,48 +1,134 @@
-/* Writing the analysed mesh and its views to a .msh through Gmsh: the mesh
- * first, then each view appended with PostProcessing.SaveMesh=0 so the mesh
- * is not written again. Views are removed afterwards, so repeated writes
- * (refinement rounds) do not accumulate them. */
+/* Views of the analysed mesh through Gmsh. Written to a .msh: the mesh
+ * through Gmsh's own writer (ASCII or binary, Mesh.SaveAll=1; the options
+ * this sets get their values back, so a script's session keeps its own),
+ * then every view appended directly in the same encoding (msh_data.c), or,
+ * for a views-only file, just the format header and the views, which Gmsh
+ * merges on top of the mesh it already has open. No Gmsh view is created
+ * for a file. Or added to the open session of a script, where they stay as
+ * Gmsh views, with their display options. */
+#include <errno.h>
 #include <gmshc.h>
+#include <math.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/gmsh.h"
 #include "gmsh-impl.h"
 
+/* The options dtm_gmsh_write_mesh sets, given back their values after. */
+static const char *const write_options[] = {"Mesh.SaveAll", "Mesh.Binary", "Mesh.MshFileVersion"};
+#define NWRITE_OPTIONS (sizeof write_options / sizeof write_options[0])
+
+static void swap_options(const double *set, double *old) {
+  int ierr = 0;
+  for (size_t i = 0; i < NWRITE_OPTIONS; i++) {
+    if (old) gmshOptionGetNumber(write_options[i], &old[i], &ierr);
+    gmshOptionSetNumber(write_options[i], set[i], &ierr);
+  }
+}
+
+int dtm_gmsh_write_mesh(const char *path, int binary) {
+  int ierr = 0;
+  const double set[NWRITE_OPTIONS] = {1, binary ? 1 : 0, 4.1};
+  double old[NWRITE_OPTIONS];
+  swap_options(set, old);
+  gmshWrite(path, &ierr);
+  swap_options(old, NULL);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
+  return DTM_OK;
+}
+
+void dtm_gmsh_release(void) {
+  int ierr = 0;
+  gmshClear(&ierr);
+#ifdef __GLIBC__
+  malloc_trim(0); /* Gmsh's many small blocks: give the pages back */
+#endif
+}
+
+int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
+  dtm_msh_format def = {0, 0};
+  if (!fmt) fmt = &def;
+  if (!fmt->views_only) DTM_CHECK(dtm_gmsh_write_mesh(path, fmt->binary));
+  return dtm_gmsh_write_views(path, views, nviews, fmt);
+}
+
+int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
+  FILE *f = fopen(path, fmt->views_only ? "wb" : "ab");
+  if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  int r = fmt->views_only && dtm_msh_header(f, fmt->binary) ? DTM_ERR(DTM_ERR_INPUT, "%s: cannot write", path) : DTM_OK;
+  for (int i = 0; i < nviews && r == DTM_OK; i++) r = dtm_msh_write_view(f, &views[i], fmt->binary);
+  if (fclose(f) && r == DTM_OK) r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* ---- views in the open session of a script --------------------------- */
+
+/* The records of v as Gmsh's API takes them: tags and doubles (integer
+ * values converted; only finite ones with finite_only). */
+static size_t view_arrays(const dtm_view *v, size_t *tags, double *vals) {
+  size_t k = 0;
+  for (size_t i = 0; i < v->n; i++) {
+    double x = v->ivalues ? (double)v->ivalues[i] : v->values[i];
+    if (v->finite_only && !isfinite(x)) continue;
+    tags[k] = v->tags[i], vals[k++] = x;
+  }
+  return k;
+}
+
+/* Create view v on model; *tag is its tag, or -1 when none was created. */
 static int add_view(const char *model, const dtm_view *v, int *tag) {
   int ierr = 0;
+  size_t *tags = malloc((v->n + 1) * sizeof *tags);
+  double *vals = malloc((v->n + 1) * sizeof *vals);
+  *tag = -1;
+  if (!tags || !vals) return free(tags), free(vals), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t n = view_arrays(v, tags, vals);
   *tag = gmshViewAdd(v->name, -1, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot create a view");
-  gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", (size_t *)v->tags, v->n,
-                                  (double *)v->values, v->n, 0.0, 1, 0, &ierr);
+  if (ierr) *tag = -1;
+  if (!ierr)
+    gmshViewAddHomogeneousModelData(*tag, 0, model, v->node_data ? "NodeData" : "ElementData", tags, n, vals, n, 0.0, 1,
+                                    0, &ierr);
+  free(tags), free(vals);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, v->name);
   return DTM_OK;
 }
 
-static int write_views(const char *path, const char *model, const dtm_view *views, int nviews) {
-  int ierr = 0, r = DTM_OK;
-  for (int i = 0; i < nviews && r == DTM_OK; i++) {
-    int tag;
-    r = add_view(model, &views[i], &tag);
-    if (r) break;
-    gmshViewWrite(tag, path, 1, &ierr);
-    if (ierr) r = dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, path);
-    gmshViewRemove(tag, &ierr);
-  }
-  return r;
+static int current_model(char **model) {
+  int ierr = 0;
+  gmshModelGetCurrent(model, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no current model");
+  return DTM_OK;
 }
 
-int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews) {
-  int ierr = 0;
+int dtm_gmsh_add_views(const dtm_view *views, int nviews, int *tags) {
   char *model = NULL;
-  gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
-  gmshOptionSetNumber("Mesh.Binary", 0, &ierr);
-  gmshWrite(path, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
-  gmshModelGetCurrent(&model, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no current model");
-  gmshOptionSetNumber("PostProcessing.SaveMesh", 0, &ierr);
-  int r = write_views(path, model, views, nviews);
+  DTM_CHECK(current_model(&model));
+  int r = DTM_OK, n = 0, ierr = 0, *own = malloc(((size_t)nviews + 1) * sizeof *own);
+  if (!own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (; r == DTM_OK && n < nviews; n++) r = add_view(model, &views[n], &own[n]);
+  for (int i = 0; r && own && i < n; i++)
+    if (own[i] >= 0) gmshViewRemove(own[i], &ierr);
+  for (int i = 0; r == DTM_OK && tags && i < nviews; i++) tags[i] = own[i];
   gmshFree(model);
+  free(own);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_gmsh_view_option(int tag, const dtm_view_option *o) {
+  int ierr = 0;
+  char name[256];
+  int index = gmshViewGetIndex(tag, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "no such view");
+  snprintf(name, sizeof name, "View[%d].%s", index, o->name);
+  if (o->text)
+    gmshOptionSetString(name, o->text, &ierr);
+  else
+    gmshOptionSetNumber(name, o->number, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, name);
+  return DTM_OK;
 }

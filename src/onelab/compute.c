@@ -125,7 +125,7 @@ static int analyse(ol_conn *c, const dtm_scene *s, int posterior, dtm_analysis *
   DTM_CHECK(dtm_analysis_run(s, a));
   if (posterior) {
     DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS, "global estimate (Lanczos)"));
-    DTM_CHECK(dtm_analysis_estimate_global(*a, 1e-4, 400, 0));
+    DTM_CHECK(dtm_analysis_estimate_global(*a, 1e-4, 400, DTM_GLOBAL_BASIS)); /* as run --posterior */
   }
   return dtm_cost_create(*a, cost);
 }

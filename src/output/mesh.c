@@ -2,9 +2,12 @@
  * characteristic length, limiting effect, size suggestion) plus one
  * "dt <effect>" view per limiting effect, "shape limited" (the feature
  * kind, 1 flat angle, 2 small angle, 3 short curve, 4 thin) where there
- * are such elements, write them through Gmsh to a
- * temporary file, then rename into place. The scene's input mesh is never
- * overwritten. */
+ * are such elements, write them (after the mesh, or alone in a views-only
+ * file) to a temporary file, then rename into place. The encoding is the
+ * caller's choice, else the scene's <output format>, else binary above
+ * DTM_BINARY_ABOVE elements and ASCII below (small files stay readable).
+ * The scene's input mesh is never overwritten. The same views, styled the
+ * same way, can instead be added to the open Gmsh session of a script. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,6 +17,7 @@
 
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
+#include "dtmap/progress.h"
 #include "dtmap/util.h"
 
 static int same_file(const char *a, const char *b) {
@@ -22,10 +26,9 @@ static int same_file(const char *a, const char *b) {
   return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-static int check_target(const dtm_analysis *a, const char *path) {
-  const dtm_scene *s = dtm_analysis_scene(a);
-  const char *in = s->mesh ? s->mesh : s->geometry;
-  if (same_file(in, path) || same_file(s->path, path))
+static int check_target(const dtm_scene *s, const char *path) {
+  const char *in = s->mesh ? s->mesh : s->geometry; /* NULL for the current model */
+  if ((in && same_file(in, path)) || same_file(s->path, path))
     return DTM_ERR(DTM_ERR_INPUT, "%s: refusing to overwrite an input file; choose another output with -o", path);
   size_t n = strlen(path);
   if (n < 4 || strcmp(path + n - 4, ".msh"))
@@ -41,46 +44,40 @@ static size_t node_view(const dtm_mesh *m, const double *src, size_t *tags, doub
   return k;
 }
 
-/* Element data restricted to finite values (an effect that applies to some
- * groups only is +inf or NaN elsewhere). Returns the count kept. */
-static size_t finite_view(const size_t *etags, const double *src, size_t n, size_t *tags, double *vals) {
-  size_t k = 0;
+/* Whether src[n] has a finite value. */
+static int any_finite(const double *src, size_t n) {
   for (size_t i = 0; i < n; i++)
-    if (isfinite(src[i])) tags[k] = etags[i], vals[k++] = src[i];
-  return k;
+    if (isfinite(src[i])) return 1;
+  return 0;
 }
 
+/* The views and what they point to: element views share one tag array and
+ * are written straight from the analysis' arrays (integers and the finite
+ * subset of an effect's values included: the writer converts and filters),
+ * so writing copies no per-element value. */
 typedef struct {
   size_t *etags, *ntags; /* element tags [nel], node tags [nnodes] */
-  double *lim, *nvals;   /* limiting effect as double [nel], node values [nnodes] */
-  double *level;         /* subcycling level as double [nel] */
+  double *nvals;         /* node values [nnodes] */
   size_t *dtags;         /* node tags of the nodal-dt view [nnodes] */
   double *dvals;         /* its values [nnodes] */
   size_t *btags;         /* element tags of the "below target" view [nel] */
   double *bvals;         /* their steps [nel] */
   double below_at;       /* its threshold, s: the target, or the 1 % quantile */
   char (*names)[96];     /* "dt <effect>" names [neffects] */
-  size_t **ftags;        /* [2 neffects] tags of the finite values of a view */
-  double **fvals;        /* [2 neffects] those values */
-  dtm_view *views;       /* [4 + 2 neffects] */
+  dtm_view *views;       /* [9 + 2 neffects] */
   size_t *stags;         /* tags of the shape-limited elements */
   double *svals;         /* their feature (dtm_feature_kind) */
 } view_set;
 
-static void free_views(view_set *vs, int ne) {
+static void free_views(view_set *vs) {
   free(vs->btags);
   free(vs->bvals);
   free(vs->stags);
   free(vs->svals);
-  free(vs->level);
   free(vs->dtags);
   free(vs->dvals);
-  for (int j = 0; vs->ftags && j < 2 * ne; j++) free(vs->ftags[j]), free(vs->fvals[j]);
-  free(vs->ftags);
-  free(vs->fvals);
   free(vs->etags);
   free(vs->ntags);
-  free(vs->lim);
   free(vs->nvals);
   free(vs->names);
   free(vs->views);
@@ -89,8 +86,6 @@ static void free_views(view_set *vs, int ne) {
 static int alloc_views(const dtm_analysis *a, view_set *vs) {
   size_t nel = dtm_analysis_nelements(a), nn = dtm_analysis_mesh(a)->nnodes, ne = (size_t)dtm_analysis_neffects(a);
   vs->etags = malloc(nel * sizeof *vs->etags);
-  vs->lim = malloc(nel * sizeof *vs->lim);
-  vs->level = malloc((nel + 1) * sizeof *vs->level);
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
   vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
   vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
@@ -99,10 +94,8 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
   vs->views = calloc(2 * ne + 9, sizeof *vs->views);
-  vs->ftags = calloc(2 * ne + 1, sizeof *vs->ftags);
-  vs->fvals = calloc(2 * ne + 1, sizeof *vs->fvals);
-  if (!vs->etags || !vs->lim || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->ftags || !vs->fvals ||
-      !vs->dtags || !vs->dvals || !vs->level || !vs->btags || !vs->bvals)
+  if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
+      !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
@@ -114,18 +107,17 @@ static int mesh_views(const dtm_results *r, view_set *vs) {
   size_t nel = dtm_analysis_nelements(a), first = 0;
   for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++)
     memcpy(vs->etags + first, m->blocks[b].tags, m->blocks[b].n * sizeof(size_t));
-  for (size_t i = 0; i < nel; i++) vs->lim[i] = dtm_analysis_limiting(a)[i];
-  for (size_t i = 0; i < nel && r->cost; i++) vs->level[i] = r->cost->subcycling.level[i];
   size_t nnv = node_view(m, dtm_analysis_size_suggestion(a), vs->ntags, vs->nvals);
   size_t ndv = node_view(m, dtm_analysis_nodal(a), vs->dtags, vs->dvals);
   int k = 0;
-  vs->views[k++] = (dtm_view){"dt", 0, vs->etags, dtm_analysis_dt(a), nel};
-  vs->views[k++] = (dtm_view){"characteristic length", 0, vs->etags, dtm_analysis_length(a), nel};
-  vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, vs->lim, nel};
-  vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv};
-  if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv};
-  if (r->cost) vs->views[k++] = (dtm_view){"subcycling level", 0, vs->etags, vs->level, nel};
-  if (r->cost && r->cost->mass) vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, r->cost->mass->added, nel};
+  vs->views[k++] = (dtm_view){"dt", 0, vs->etags, dtm_analysis_dt(a), nel, NULL, 0};
+  vs->views[k++] = (dtm_view){"characteristic length", 0, vs->etags, dtm_analysis_length(a), nel, NULL, 0};
+  vs->views[k++] = (dtm_view){"limiting effect", 0, vs->etags, NULL, nel, dtm_analysis_limiting(a), 0};
+  vs->views[k++] = (dtm_view){"size suggestion", 1, vs->ntags, vs->nvals, nnv, NULL, 0};
+  if (ndv) vs->views[k++] = (dtm_view){"nodal dt", 1, vs->dtags, vs->dvals, ndv, NULL, 0};
+  if (r->cost) vs->views[k++] = (dtm_view){"subcycling level", 0, vs->etags, NULL, nel, r->cost->subcycling.level, 0};
+  if (r->cost && r->cost->mass)
+    vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, r->cost->mass->added, nel, NULL, 0};
   return k;
 }
 
@@ -136,13 +128,9 @@ static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
   for (size_t j = 0; j < 2 * ne; j++) {
     const dtm_effect_class *c = dtm_analysis_effect(a, (int)(j % ne));
     const double *src = j < ne ? dtm_analysis_effect_dt(a, (int)j) : dtm_analysis_resolution(a, (int)(j - ne));
-    if (!src) continue;
-    vs->ftags[j] = malloc(nel * sizeof **vs->ftags);
-    vs->fvals[j] = malloc(nel * sizeof **vs->fvals);
-    if (!vs->ftags[j] || !vs->fvals[j]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-    size_t n = finite_view(vs->etags, src, nel, vs->ftags[j], vs->fvals[j]);
+    if (!src || !any_finite(src, nel)) continue;
     if (j < ne) snprintf(vs->names[j], sizeof vs->names[j], "dt %s", c->name);
-    if (n) vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->indicator.view, 0, vs->ftags[j], vs->fvals[j], n};
+    vs->views[(*k)++] = (dtm_view){j < ne ? vs->names[j] : c->indicator.view, 0, vs->etags, src, nel, NULL, 1};
   }
   return DTM_OK;
 }
@@ -180,7 +168,8 @@ static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
   }
   if (!n) return;
   memmove(vs->views + 1, vs->views, (size_t)*k * sizeof *vs->views);
-  vs->views[0] = (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n};
+  vs->views[0] =
+      (dtm_view){target > 0 ? DTM_VIEW_BELOW_TARGET : DTM_VIEW_SMALLEST, 0, vs->btags, vs->bvals, n, NULL, 0};
   (*k)++;
 }
 
@@ -192,7 +181,7 @@ static int shape_view(const dtm_analysis *a, view_set *vs, int *k) {
   vs->stags = malloc(n * sizeof *vs->stags), vs->svals = malloc(n * sizeof *vs->svals);
   if (!vs->stags || !vs->svals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t j = 0; j < n; j++) vs->stags[j] = dtm_analysis_tag(a, sl[j].element), vs->svals[j] = sl[j].feature;
-  vs->views[(*k)++] = (dtm_view){"shape limited", 0, vs->stags, vs->svals, n};
+  vs->views[(*k)++] = (dtm_view){"shape limited", 0, vs->stags, vs->svals, n, NULL, 0};
   return DTM_OK;
 }
 
@@ -216,21 +205,52 @@ static int is_below(const char *name) {
   return !strcmp(name, DTM_VIEW_BELOW_TARGET) || !strcmp(name, DTM_VIEW_SMALLEST);
 }
 
-static void style_view(FILE *f, int i, const char *name, int dim) {
+/* One display option of a view, with its comment in the .opt. */
+typedef struct {
+  dtm_view_option o; /* View[i].<name> = value */
+  const char *why;   /* comment in the .opt, or NULL */
+} styled;
+#define MAX_STYLE 12
+
+static void add_style(styled *s, int *k, const char *name, double number, const char *text, const char *why) {
+  s[(*k)++] = (styled){{name, number, text}, why};
+}
+
+/* The options of the view called name in a mesh of dimension dim: unlit;
+ * steps on a log scale, viridis (dark is small); colour bars in s or m; dt
+ * visible (a faint skin in 3D), the below-target view too in 3D, the
+ * others hidden until ticked. Returns the count written to s[MAX_STYLE]. */
+static int view_style(const char *name, int dim, styled *s) {
   const char *u = unit_of(name);
-  int primary = !strcmp(name, "dt"), below = is_below(name);
-  fprintf(f, "View[dtmap_v0 + %d].Light = 0; // %s\n", i, name);
-  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ScaleType = 2; // logarithmic\n", i);
-  if (u[0] == 's') fprintf(f, "View[dtmap_v0 + %d].ColormapNumber = 23; // viridis: dark = small\n", i);
-  fprintf(f, "View[dtmap_v0 + %d].Format = \"%%.3g%s%s\";\n", i, u[0] ? " " : "", u);
-  if (primary || below) fprintf(f, "View[dtmap_v0 + %d].IntervalsType = 3; View[dtmap_v0 + %d].NbIso = 12;\n", i, i);
-  int visible = primary || (below && dim == 3);
-  fprintf(f, "View[dtmap_v0 + %d].Visible = %d;\n", i, visible);
-  if (primary && dim == 3)
-    fprintf(f,
-            "View[dtmap_v0 + %d].ColormapAlpha = 0.2; View[dtmap_v0 + %d].DrawSkinOnly = 1; "
-            "View[dtmap_v0 + %d].ShowScale = 0; // a faint skin over the worst elements\n",
-            i, i, i);
+  int primary = !strcmp(name, "dt"), below = is_below(name), k = 0;
+  add_style(s, &k, "Light", 0, NULL, name);
+  if (u[0] == 's') add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
+  if (u[0] == 's') add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
+  add_style(s, &k, "Format", 0, u[0] == 's' ? "%.3g s" : u[0] == 'm' ? "%.3g m" : "%.3g", NULL);
+  if (primary || below) add_style(s, &k, "IntervalsType", 3, NULL, NULL), add_style(s, &k, "NbIso", 12, NULL, NULL);
+  add_style(s, &k, "Visible", primary || (below && dim == 3), NULL, NULL);
+  if (primary && dim == 3) {
+    add_style(s, &k, "ColormapAlpha", 0.2, NULL, "a faint skin over the worst elements");
+    add_style(s, &k, "DrawSkinOnly", 1, NULL, NULL);
+    add_style(s, &k, "ShowScale", 0, NULL, NULL);
+  }
+  return k;
+}
+
+static void style_view(FILE *f, int i, const char *name, int dim) {
+  styled s[MAX_STYLE];
+  int n = view_style(name, dim, s);
+  for (int k = 0; k < n; k++) {
+    fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
+    if (s[k].o.text)
+      fprintf(f, "\"%s\";", s[k].o.text);
+    else
+      fprintf(f, "%g;", s[k].o.number);
+    if (s[k].why)
+      fprintf(f, " // %s\n", s[k].why);
+    else
+      fputc('\n', f);
+  }
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
@@ -283,17 +303,103 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
   return dtm_atomic_commit(&w);
 }
 
-int dtm_output_write(const dtm_results *res, const char *path) {
-  DTM_CHECK(check_target(res->analysis, path));
+/* The encoding of the output: the caller's, else the scene's, else by size. */
+static dtm_msh_format format_of(const dtm_scene *s, size_t nel, const dtm_output_opts *o) {
+  int f = o && o->format ? o->format : s->out_format;
+  if (f == DTM_MSH_AUTO) f = nel > DTM_BINARY_ABOVE ? DTM_MSH_BINARY : DTM_MSH_ASCII;
+  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0};
+}
+
+static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
+  if (!o || !o->views_only || s->mesh) return DTM_OK;
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s: a views-only output needs a <mesh file=\"...\"> input to merge onto; this scene meshes "
+                 "%s, whose mesh exists only in a full output",
+                 s->path, s->geometry);
+}
+
+/* An output mesh being written: the mesh first (possibly long before the
+ * views exist), the views when the results are there. */
+struct dtm_output_file {
+  dtm_atomic w;       /* the temporary beside the target */
+  dtm_msh_format fmt; /* its encoding; views_only: no mesh */
+};
+
+int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
+                     dtm_output_file **out) {
+  *out = NULL;
+  DTM_CHECK(check_target(s, path));
+  DTM_CHECK(check_views_only(s, o));
+  dtm_output_file *f = calloc(1, sizeof *f);
+  if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  f->fmt = format_of(s, nelements, o);
+  int r = dtm_atomic_open(&f->w, path, ".msh", 0);
+  if (r == DTM_OK && !f->fmt.views_only) {
+    dtm_progress_begin("writing the mesh");
+    r = dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary);
+    dtm_progress_end();
+    if (r) dtm_atomic_abort(&f->w);
+  }
+  if (r) return free(f), dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  *out = f;
+  return DTM_OK;
+}
+
+void dtm_output_abort(dtm_output_file **pf) {
+  if (!*pf) return;
+  dtm_atomic_abort(&(*pf)->w);
+  free(*pf);
+  *pf = NULL;
+}
+
+int dtm_output_finish(dtm_output_file **pf, const dtm_results *res) {
+  dtm_output_file *f = *pf;
   view_set vs = {0};
   int nviews = 0, r = build_views(res, &vs, &nviews);
-  dtm_atomic w;
-  if (r == DTM_OK) r = dtm_atomic_open(&w, path, ".msh", 0);
   if (r == DTM_OK) {
-    r = dtm_gmsh_write(w.tmp, vs.views, nviews);
-    r = r ? (dtm_atomic_abort(&w), r) : dtm_atomic_commit(&w);
+    dtm_progress_begin("writing the views");
+    r = dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt);
+    dtm_progress_end();
   }
-  if (r == DTM_OK) r = write_opt(path, res, &vs, nviews);
-  free_views(&vs, dtm_analysis_neffects(res->analysis));
+  r = r ? (dtm_atomic_abort(&f->w), r) : dtm_atomic_commit(&f->w);
+  if (r == DTM_OK) r = write_opt(f->w.path, res, &vs, nviews);
+  free_views(&vs);
+  free(f);
+  *pf = NULL;
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_output_write(const dtm_results *res, const char *path) { return dtm_output_write_ex(res, path, NULL); }
+
+int dtm_output_write_ex(const dtm_results *res, const char *path, const dtm_output_opts *o) {
+  dtm_output_file *f = NULL;
+  const dtm_analysis *a = res->analysis;
+  DTM_CHECK(dtm_output_begin(dtm_analysis_scene(a), path, o, dtm_analysis_nelements(a), &f));
+  return dtm_output_finish(&f, res);
+}
+
+/* The views in the session, styled as the .opt styles them (the .opt's
+ * global options and its text view stay out of a script's session). */
+static int show_views(const dtm_results *r, const view_set *vs, const int *tags, int nviews) {
+  int dim = dtm_analysis_mesh(r->analysis)->dim;
+  for (int i = 0; i < nviews; i++) {
+    styled s[MAX_STYLE];
+    int n = view_style(vs->views[i].name, dim, s);
+    for (int k = 0; k < n; k++) DTM_CHECK(dtm_gmsh_view_option(tags[i], &s[k].o));
+  }
+  return DTM_OK;
+}
+
+int dtm_output_add_views(const dtm_results *res, int *tags, int cap, int *n) {
+  view_set vs = {0};
+  int nviews = 0, r = build_views(res, &vs, &nviews);
+  int *own = r ? NULL : malloc(((size_t)nviews + 1) * sizeof *own);
+  if (r == DTM_OK && !own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = dtm_gmsh_add_views(vs.views, nviews, own);
+  if (r == DTM_OK) r = show_views(res, &vs, own, nviews);
+  for (int i = 0; r == DTM_OK && tags && i < nviews && i < cap; i++) tags[i] = own[i];
+  if (n) *n = r ? 0 : nviews;
+  free(own);
+  free_views(&vs);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -351,6 +351,10 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
   cJSON_AddNumberToObject(mesh, "nodes", (double)dtm_analysis_mesh(a)->nnodes);
   cJSON_AddNumberToObject(mesh, "dim", dtm_analysis_mesh(a)->dim);
+  const dtm_mesher_info *mi = dtm_analysis_mesher(a);
+  cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(mi->algorithm));
+  cJSON_AddNumberToObject(mesh, "threads", mi->threads);
+  cJSON_AddBoolToObject(mesh, "reproducible", mi->reproducible);
   return mesh;
 }
 

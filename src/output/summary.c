@@ -30,6 +30,10 @@ static void print_counts(const dtm_analysis *a, FILE *f) {
   for (int b = 0; b < m->nblocks; b++)
     fprintf(f, "%s%s %zu", b ? ", " : "", dtm_elem_name(m->blocks[b].type), m->blocks[b].n);
   fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
+  const dtm_mesher_info *mi = dtm_analysis_mesher(a);
+  if (!mi->reproducible)
+    fprintf(f, "mesher       %s on %d thread%s: another run may number (and count) the elements differently\n",
+            dtm_scene_algorithm_name(mi->algorithm), mi->threads, mi->threads == 1 ? "" : "s");
   fprintf(f, "effects     ");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) fprintf(f, " [%d] %s", k, effect_name(a, k));
   fprintf(f, "\n");

@@ -19,6 +19,8 @@ static const dtm_effect_class *const builtin[] = {
 #undef DTM_EFFECT
 };
 
+int dtm_registry_api_version(void) { return DTM_EFFECT_API_VERSION; }
+
 int dtm_registry_count(void) { return (int)(sizeof builtin / sizeof builtin[0]); }
 
 const dtm_effect_class *dtm_registry_get(int i) { return (i >= 0 && i < dtm_registry_count()) ? builtin[i] : NULL; }

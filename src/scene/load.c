@@ -59,7 +59,7 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
   const char *kind = is_mesh ? "mesh" : "geometry";
   char **dst = is_mesh ? &s->mesh : &s->geometry;
   char *file;
-  if (s->geometry || s->mesh) return DTM_SCENE_ERR(s, n, "a second <%s>; give one source", kind);
+  if (s->geometry || s->mesh || s->model) return DTM_SCENE_ERR(s, n, "a second <%s>; give one source", kind);
   s->source_line = dtm_scene_line(n);
   DTM_CHECK(dtm_scene_attr(n, "file", &file));
   if (!file || !*file) {
@@ -71,6 +71,22 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
   if (!rc) rc = check_exists(s, n, kind, file, *dst);
   free(file);
   return rc ? dtm_error_trace(rc, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+/* <model/>: the current Gmsh model of the program that loads the scene. */
+static int read_model(dtm_scene *s, const xmlNode *n) {
+  if (s->geometry || s->mesh || s->model) return DTM_SCENE_ERR(s, n, "a second source <model/>; give one source");
+  s->model = 1;
+  s->source_line = dtm_scene_line(n);
+  return DTM_OK;
+}
+
+int dtm_scene_use_model(dtm_scene *s) {
+  free(s->geometry);
+  free(s->mesh);
+  s->geometry = s->mesh = NULL;
+  s->model = 1;
+  return DTM_OK;
 }
 
 static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi, int *out) {
@@ -89,11 +105,38 @@ static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int l
   return rc;
 }
 
+static const struct {
+  const char *name; /* <meshing algorithm> */
+  int code;         /* Gmsh's Mesh.Algorithm3D */
+} algorithms[] = {{"delaunay", 1}, {"frontal", 4}, {"mmg3d", 7}, {"rtree", 9}, {"hxt", 10}};
+
+const char *dtm_scene_algorithm_name(int code) {
+  for (size_t i = 0; i < sizeof algorithms / sizeof *algorithms; i++)
+    if (algorithms[i].code == code) return algorithms[i].name;
+  return code ? "other" : "read";
+}
+
+/* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code (the schema admits
+ * only the names of the table). */
+static int read_algorithm(dtm_scene *s, const xmlNode *n) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "algorithm", &text));
+  for (size_t i = 0; text && i < sizeof algorithms / sizeof *algorithms; i++)
+    if (!strcmp(text, algorithms[i].name)) s->mesh_algorithm = algorithms[i].code;
+  int bad = text && !s->mesh_algorithm;
+  int rc = bad ? DTM_SCENE_ERR(s, n, "<meshing> algorithm=\"%s\" is not delaunay, frontal, mmg3d, rtree or hxt", text)
+               : DTM_OK;
+  free(text);
+  return rc;
+}
+
 static int read_meshing(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(dtm_scene_attr_positive(s, n, "size", 0, &s->mesh_size));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "min-size", 0, &s->mesh_min_size));
   DTM_CHECK(read_int(s, n, "order", 1, 2, &s->mesh_order));
   DTM_CHECK(read_int(s, n, "dim", 1, 3, &s->mesh_dim));
+  DTM_CHECK(read_int(s, n, "threads", 1, 4096, &s->mesh_threads));
+  DTM_CHECK(read_algorithm(s, n));
   if (s->mesh_size > 0 && s->mesh_min_size > s->mesh_size)
     return DTM_SCENE_ERR(s, n, "<meshing> min-size=%g is larger than size=%g", s->mesh_min_size, s->mesh_size);
   return DTM_OK;
@@ -123,7 +166,20 @@ static int read_output_path(dtm_scene *s, const xmlNode *n, const char *key, cha
   return rc;
 }
 
+/* <output format="auto|ascii|binary"> (the schema admits only these). */
+static int read_format(dtm_scene *s, const xmlNode *n) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "format", &text));
+  s->out_format = !text                     ? DTM_MSH_AUTO
+                  : !strcmp(text, "ascii")  ? DTM_MSH_ASCII
+                  : !strcmp(text, "binary") ? DTM_MSH_BINARY
+                                            : DTM_MSH_AUTO;
+  free(text);
+  return DTM_OK;
+}
+
 static int read_output(dtm_scene *s, const xmlNode *n) {
+  DTM_CHECK(read_format(s, n));
   DTM_CHECK(read_output_path(s, n, "mesh", &s->out_mesh));
   return read_output_path(s, n, "report", &s->out_report);
 }
@@ -136,6 +192,7 @@ static element_reader reader_for(const xmlNode *n) {
     element_reader read; /* what reads it */
   } table[] = {{"geometry", read_source},
                {"mesh", read_source},
+               {"model", read_model},
                {"meshing", read_meshing},
                {"material", dtm_scene_read_material},
                {"effects", dtm_scene_read_effects},
@@ -164,7 +221,8 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
     if (!read) return DTM_SCENE_ERR(s, c, "unknown element <%s>", (const char *)c->name);
     DTM_CHECK(read(s, c));
   }
-  if (!s->geometry && !s->mesh) return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
+  if (!s->geometry && !s->mesh && !s->model)
+    return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
   if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
   if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
   return dtm_scene_check_properties(s, NULL, 0);

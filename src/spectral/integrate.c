@@ -17,6 +17,7 @@
 #include "dtmap/error.h"
 #include "dtmap/util.h"
 #include "dtmap/operator.h"
+#include "dtmap/progress.h"
 
 #define GROWTH_LIMIT 1e6
 
@@ -73,6 +74,7 @@ static void integrate(vr_state *s, int steps, double e0, dtm_verify_result *r) {
       return;
     }
     if (n == steps) return;
+    if (n % 16 == 0) dtm_progress_update((double)n / steps);
     if (s->elastic)
       step_elastic(s);
     else
@@ -124,7 +126,9 @@ int dtm_verify_run(const dtm_operator *op, double dt, int steps, const double *u
                    "to verify",
                    e0);
   }
+  dtm_progress_begin("verify");
   integrate(&s, steps, e0, r);
+  dtm_progress_end();
   vr_free(&s);
   r->seconds = dtm_wtime() - t0;
   return DTM_OK;

@@ -22,6 +22,7 @@
 
 #include "base.h"
 #include "dtmap/operator.h"
+#include "dtmap/progress.h"
 
 typedef struct {
   const dtm_operator *op;
@@ -46,14 +47,14 @@ static double dot(size_t n, const double *x, const double *y) {
   return s;
 }
 
-/* v_0: uniform in [-1, 1) on the dofs with mass, unit norm; 0 when there
+/* v_0: uniform in [-1, 1) on the dofs with mass (drawn per Gmsh node tag,
+ * so the start does not depend on the node order), unit norm; 0 when there
  * are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  uint64_t x = z->seed;
+  dtm_operator_draw(z->op, z->seed, -1.0, 1.0, z->v);
   for (size_t i = 0; i < z->n; i++) {
-    double r = dtm_rng_uniform(&x, -1.0, 1.0);
-    z->v[i] = m[i] > 0 ? r : 0;
+    z->v[i] = m[i] > 0 ? z->v[i] : 0;
     z->vp[i] = 0;
   }
   double nv = sqrt(dot(z->n, z->v, z->v));
@@ -179,10 +180,19 @@ static void tri_update(lz_tri *t) {
 
 /* First pass: steps until the estimate meets tol, T_k becomes invariant
  * or maxit steps are taken. */
+/* How far the residual estimate est has come down towards tol * theta,
+ * on a log scale (for the progress hook). */
+static double fraction_done(const lz_tri *t, double tol) {
+  if (!(t->est > 0) || !(tol > 0) || !(t->theta > 0)) return -1;
+  double f = log(t->theta / t->est) / log(1 / tol);
+  return f < 0 ? 0 : f > 1 ? 1 : f;
+}
+
 static void first_pass(lz_state *z, lz_tri *t, double tol, int maxit) {
   for (t->k = 1;; t->k++) {
     lz_step(z, &t->a[t->k - 1], &t->b[t->k - 1]);
     tri_update(t);
+    dtm_progress_update(fraction_done(t, tol));
     if (t->est <= tol * t->theta || t->invariant || t->k == maxit) return;
     lz_advance(z, t->b[t->k - 1]);
   }
@@ -267,7 +277,9 @@ int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned s
   lz_state z = {.op = op, .n = dtm_operator_ndof(op), .seed = seed};
   lz_tri t = {0};
   DTM_CHECK(lz_alloc(&z, &t, maxit));
+  dtm_progress_begin("Lanczos");
   int e = run(&z, &t, tol, maxit, want_mode, r);
+  dtm_progress_end();
   lz_free(&z, &t);
   r->seconds = dtm_wtime() - t0;
   return e ? dtm_error_trace(e, __FILE__, __LINE__, __func__) : DTM_OK;

@@ -6,17 +6,16 @@
  * rule (dtm_ref_rule, dtm_ref_eval; no type is hard-coded): per point the
  * inverse Jacobian (d x d) and dv = |det J| * weight are stored, and the
  * reference gradients once per block, so a tet4 costs 10 doubles and a
- * hex8 80. Types whose reference gradients are the same at every rule
- * point (the linear simplices) keep a single point with the summed
- * weight, which is exact. The product sums the element forces of each
- * thread's contiguous share of elements into its own buffer (the first
- * thread writes y itself) and the buffers are then added in a fixed order,
- * so results do not depend on scheduling. On 2 cores this beat element
+ * hex8 80, with the connectivity in 32 bits when the nodes fit. Types whose reference gradients are the same at every
+ * rule point (the linear simplices) keep a single point with the summed weight, which is exact. The product sums the
+ * element forces of each thread's contiguous share of elements into its own buffer (the first thread writes y itself)
+ * and the buffers are then added in a fixed order, so results do not depend on scheduling. On 2 cores this beat element
  * colouring by 2x on a 1e6-tet mesh: a colour's elements are spread over
  * the whole mesh, so each of the ~30 colours sweeps u and y again, while
  * the extra buffer costs one zeroing and one addition of ndof values. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,6 +23,8 @@
 #include <omp.h>
 #endif
 
+#include "base.h"
+#include "spectral.h"
 #include "dtmap/error.h"
 #include "dtmap/operator.h"
 #include "reference.h"
@@ -32,7 +33,8 @@ typedef struct {
   int type, nn;
   int nq; /* stored points per element */
   size_t n;
-  const size_t *conn, *tags;
+  const size_t *conn, *tags; /* the mesh's (not owned) */
+  uint32_t *c32;             /* [n][nn] conn in 32 bits when the nodes fit (owned), else NULL */
   const int *mat;
   double dn[DTM_K_QP][DTM_K_NODES][3]; /* reference gradients per point */
   double *geo;                         /* [n][nq][d*d + 1]: J^-1 row-major (d x d), then dv */
@@ -45,18 +47,35 @@ typedef struct {
   double alpha, beta; /* Rayleigh */
 } op_mat;
 
+/* What one share of the product (a contiguous range of every block's
+ * elements) writes: dofs [lo, hi). Share 0 writes y itself, share s > 0
+ * its own buffer buf + off, added into y afterwards. */
+typedef struct {
+  size_t lo, hi; /* dof range its elements touch */
+  size_t off;    /* its buffer's offset in dtm_operator.buf */
+} op_share;
+
 struct dtm_operator {
   int kind, d, ncomp, nmat, nblocks;
   size_t ndof;
+  int nshares;     /* shares of the product, fixed at creation */
+  op_share *share; /* [nshares] */
+  double *buf;     /* the buffers of shares 1.. (allocated once: no
+                      allocation per product) */
   op_block *blocks;
   op_mat *mats;
-  double *mass;       /* [ndof] lumped diagonal */
-  double *mass_alpha; /* [ndof] sum_e alpha_e M_e, or NULL */
-  double *dsq;        /* [ndof] M^-1/2, 0 where the mass is 0 */
+  double *mass;            /* [ndof] lumped diagonal */
+  double *mass_alpha;      /* [ndof] sum_e alpha_e M_e, or NULL */
+  double *dsq;             /* [ndof] M^-1/2, 0 where the mass is 0 */
+  const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
+
+static int shares_setup(dtm_operator *op);
+
+size_t dtm_operator_narrow_max = UINT32_MAX;
 
 /* The element loops are specialised per dimension (and node count) by
  * inlining them with constant arguments, and their short loops unrolled;
@@ -255,6 +274,11 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
   double wq[DTM_K_QP];
   b->type = mb->type, b->nn = nn, b->n = mb->n;
   b->conn = mb->conn, b->tags = mb->tags, b->mat = mb->mat;
+  if (m->nnodes <= dtm_operator_narrow_max) { /* 32-bit connectivity: half the index traffic of the product */
+    b->c32 = malloc((b->n * (size_t)nn + 1) * sizeof *b->c32);
+    if (!b->c32) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    for (size_t k = 0; k < b->n * (size_t)nn; k++) b->c32[k] = (uint32_t)b->conn[k];
+  }
   block_rule(b, wq);
   b->geo = malloc(b->n * (size_t)b->nq * (size_t)(op->d * op->d + 1) * sizeof *b->geo);
   if (!b->geo && b->n) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -355,6 +379,7 @@ static int any_alpha(const dtm_operator *op, const double *alpha) {
 static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
                   const double *beta) {
   op->ndof = m->nnodes * (size_t)op->ncomp;
+  op->node_tags = m->node_tags;
   op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->nblocks = m->nblocks; /* zeroed: destroy frees what was set up */
@@ -365,6 +390,7 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   if (any_alpha(op, alpha)) op->mass_alpha = calloc(op->ndof, sizeof *op->mass_alpha);
   if (!op->mass || !op->dsq || (any_alpha(op, alpha) && !op->mass_alpha))
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  DTM_CHECK(shares_setup(op));
   return mass_setup(op, m);
 }
 
@@ -386,7 +412,9 @@ int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeff
 
 void dtm_operator_destroy(dtm_operator **op) {
   if (!op || !*op) return;
-  for (int ib = 0; ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo);
+  for (int ib = 0; ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo), free((*op)->blocks[ib].c32);
+  free((*op)->share);
+  free((*op)->buf);
   free((*op)->blocks);
   free((*op)->mats);
   free((*op)->mass);
@@ -400,6 +428,14 @@ size_t dtm_operator_ndof(const dtm_operator *op) { return op->ndof; }
 int dtm_operator_ncomp(const dtm_operator *op) { return op->ncomp; }
 int dtm_operator_kind(const dtm_operator *op) { return op->kind; }
 const double *dtm_operator_mass(const dtm_operator *op) { return op->mass; }
+
+void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double lo, double hi, double *x) {
+  size_t nc = (size_t)op->ncomp;
+  for (size_t k = 0; k < op->ndof; k++) {
+    uint64_t tag = op->node_tags ? op->node_tags[k / nc] : k / nc + 1;
+    x[k] = dtm_rng_uniform_at(seed, tag * nc + k % nc, lo, hi);
+  }
+}
 
 /* ---- element kernels ------------------------------------------------- */
 
@@ -472,14 +508,17 @@ static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const
  * known at compile time, else 0. */
 static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
                                              const double *u, const double *in, double *y, int which, const int d,
-                                             const int el, const int nnc) {
+                                             const int el, const int nnc, const int narrow) {
   const int nc = el ? d : 1, nn = nnc ? nnc : b->nn, st = d * d + 1;
   double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
   for (size_t e = e0; e < e1; e++) {
     const op_mat *mt = &op->mats[b->mat[e]];
     double s = which == APPLY_BETA ? mt->beta : 1;
-    const size_t *c = b->conn + e * (size_t)nn;
+    size_t c[DTM_K_NODES];
     if (s == 0) continue;
+    UNROLL
+    for (int a = 0; a < nn; a++)
+      c[a] = narrow ? b->c32[e * (size_t)nn + (size_t)a] : b->conn[e * (size_t)nn + (size_t)a];
     UNROLL
     for (int a = 0; a < nn; a++) UNROLL
     for (int i = 0; i < nc; i++) {
@@ -497,11 +536,21 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
   }
 }
 
-#define RANGE(d, el, nn) block_range(op, b, e0, e1, u, in, y, which, d, el, nn)
+#define RANGE(d, el, nn) block_range(op, b, e0, e1, u, in, y, which, d, el, nn, 1)
+#define RANGE_WIDE(d, el) block_range(op, b, e0, e1, u, in, y, which, d, el, 0, 0)
 
 /* Elastic blocks, specialised for the node counts of the linear types. */
 static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
                           const double *in, double *y, int which) {
+  if (!b->c32) { /* 64-bit connectivity: generic loops */
+    if (op->d == 3)
+      RANGE_WIDE(3, 1);
+    else if (op->d == 2)
+      RANGE_WIDE(2, 1);
+    else
+      RANGE_WIDE(1, 1);
+    return;
+  }
   int key = op->d * 100 + b->nn;
   switch (key) {
   case 102: RANGE(1, 1, 2); break;
@@ -521,6 +570,15 @@ static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, 
 
 static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
                             const double *in, double *y, int which) {
+  if (!b->c32) { /* 64-bit connectivity: generic loops */
+    if (op->d == 3)
+      RANGE_WIDE(3, 0);
+    else if (op->d == 2)
+      RANGE_WIDE(2, 0);
+    else
+      RANGE_WIDE(1, 0);
+    return;
+  }
   int key = op->d * 100 + b->nn;
   switch (key) {
   case 102: RANGE(1, 0, 2); break;
@@ -579,33 +637,75 @@ static int threads_for(const dtm_operator *op) {
 #endif
 }
 
-/* Thread t of nt: its share of every block into yt. */
+/* Share t of nt: its range [e0, e1) of block b's elements. */
+static void share_range(const op_block *b, int t, int nt, size_t *e0, size_t *e1) {
+  *e0 = b->n * (size_t)t / (size_t)nt, *e1 = b->n * (size_t)(t + 1) / (size_t)nt;
+}
+
+/* Share t of nt: its part of every block into yt. */
 static void share(const dtm_operator *op, int t, int nt, const double *u, const double *in, double *yt, int which) {
   for (int ib = 0; ib < op->nblocks; ib++) {
     const op_block *b = &op->blocks[ib];
-    size_t e0 = b->n * (size_t)t / (size_t)nt, e1 = b->n * (size_t)(t + 1) / (size_t)nt;
+    size_t e0, e1;
+    share_range(b, t, nt, &e0, &e1);
     block_apply(op, b, e0, e1, u, in, yt, which);
   }
 }
 
-/* y = sum_e s_e K_e (D u), D = diag(in) or I when in is NULL. */
+/* The dof range [lo, hi) the elements of share t touch. With the mesh in
+ * locality order (dtm_mesh_reorder) it is a slice of about ndof / nt. */
+static void share_extent(const dtm_operator *op, int t, op_share *sh) {
+  size_t nc = (size_t)op->ncomp;
+  sh->lo = op->ndof, sh->hi = 0;
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    size_t e0, e1, nn = (size_t)b->nn;
+    share_range(b, t, op->nshares, &e0, &e1);
+    for (size_t k = e0 * nn; k < e1 * nn; k++) {
+      size_t v = b->conn[k] * nc;
+      sh->lo = v < sh->lo ? v : sh->lo, sh->hi = v + nc > sh->hi ? v + nc : sh->hi;
+    }
+  }
+  if (sh->lo > sh->hi) sh->lo = sh->hi = 0;
+}
+
+/* The shares and their buffers, once: share s > 0 accumulates into
+ * buf + (s - 1) ndof, of which it only touches its own range (the rest is
+ * never written, so never backed by memory). */
+static int shares_setup(dtm_operator *op) {
+  op->nshares = threads_for(op);
+  op->share = calloc((size_t)op->nshares, sizeof *op->share);
+  if (op->nshares > 1) op->buf = malloc((size_t)(op->nshares - 1) * op->ndof * sizeof *op->buf);
+  if (!op->share || (op->nshares > 1 && !op->buf)) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int t = 0; t < op->nshares; t++) share_extent(op, t, &op->share[t]);
+  return DTM_OK;
+}
+
+/* y = sum_e s_e K_e (D u), D = diag(in) or I when in is NULL. Shares are
+ * summed in a fixed order, so the result does not depend on scheduling. */
 static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *in) {
-  int nt = threads_for(op);
+  int ns = op->nshares;
   size_t n = op->ndof;
-  double *buf = nt > 1 ? malloc((size_t)(nt - 1) * n * sizeof *buf) : NULL;
-  if (!buf) nt = 1;
-#pragma omp parallel num_threads(nt) if (nt > 1)
+#pragma omp parallel num_threads(ns) if (ns > 1)
   {
     int t = thread_id(), tn = team_size();
-    double *yt = t ? buf + (size_t)(t - 1) * n : y;
-    memset(yt, 0, n * sizeof *yt);
-    share(op, t, tn, u, in, yt, which);
+    for (int s = t; s < ns; s += tn) {
+      const op_share *sh = &op->share[s];
+      double *ys = s ? op->buf + (size_t)(s - 1) * n : y;
+      if (s)
+        memset(ys + sh->lo, 0, (sh->hi - sh->lo) * sizeof *ys);
+      else
+        memset(y, 0, n * sizeof *y);
+      share(op, s, ns, u, in, ys, which);
+    }
 #pragma omp barrier
     size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
-    for (int s = 1; s < tn; s++)
-      for (size_t k = k0; k < k1; k++) y[k] += buf[(size_t)(s - 1) * n + k];
+    for (int s = 1; s < ns; s++) {
+      const op_share *sh = &op->share[s];
+      const double *bs = op->buf + (size_t)(s - 1) * n;
+      for (size_t k = k0 > sh->lo ? k0 : sh->lo; k < k1 && k < sh->hi; k++) y[k] += bs[k];
+    }
   }
-  free(buf);
 }
 
 void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }

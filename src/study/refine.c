@@ -34,6 +34,7 @@
 #include <unistd.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/progress.h"
 #include "dtmap/refine.h"
 #include "dtmap/util.h"
 #include "study-impl.h"
@@ -91,20 +92,22 @@ static int round_field(const dtm_analysis *a, double c, double *size, double *fl
 }
 
 /* One remesh of the current model from analysis a with calibration c, and
- * its analysis. */
+ * its analysis (a progress stage "refine round N"). */
 static int remesh(const dtm_refine_result *rr, const dtm_analysis *a, int dim, double c, dtm_analysis **next) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   double *size = malloc((m->nnodes + 1) * sizeof *size), *floor = malloc((m->nnodes + 1) * sizeof *floor);
+  char stage[64];
+  snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
+  dtm_progress_begin(stage);
   int r = size && floor ? round_field(a, c, size, floor) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order);
+  if (r == DTM_OK) r = dtm_analysis_current(&rr->scene, dim, next);
+  dtm_progress_end();
   free(size), free(floor);
   DTM_CHECK(r);
-  DTM_CHECK(dtm_analysis_current(&rr->scene, dim, next));
   return DTM_OK;
 }
 
-/* The loop's state: the current and the kept analyses, the Gmsh model's
- * round, and where the kept mesh is saved. */
 /* The loop's state: the input, last and kept (rr->analysis) analyses (two
  * or three of them may be the same), the Gmsh model's round, and where the
  * kept mesh is saved. */

@@ -1,8 +1,9 @@
 /* `dtmap sweep`: the scene meshed and analysed at each requested size, one
  * row per size with the mesh, the steps, the run's cost in element-steps
- * with and without ideal subcycling, the smallest accuracy indicators
- * (elements per process zone, per wavelength) and dtmap's own time; the
- * table for the terminal and the CSV file. The plot is in sweep_plot.c. */
+ * with and without ideal subcycling and that speed-up, the smallest
+ * accuracy indicators (elements per process zone, per wavelength) and
+ * dtmap's own time; the table for the terminal and the CSV file (units in
+ * its header, counts as whole numbers). The plot is in src/cli/plot.c. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -36,7 +37,7 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   row->nodes = dtm_analysis_mesh(a)->nnodes;
   row->dt_min = dtm_analysis_dt_min(a, NULL);
   row->recommended = dtm_analysis_recommended(a);
-  row->steps = duration > 0 ? duration / row->recommended : NAN;
+  row->steps = duration > 0 ? ceil(duration / row->recommended) : NAN;
   row->cost = c->element_steps;
   row->speedup = c->subcycling.speedup;
   row->cost_subcycled = c->element_steps_subcycled;
@@ -89,7 +90,7 @@ static const char *cell(char *buf, size_t len, const char *f, double v) {
 static void print_row(FILE *f, const dtm_sweep_row *r) {
   char c[8][32];
   fprintf(f, "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %8.3f\n", r->h, r->elements, r->nodes,
-          r->dt_min, r->recommended, cell(c[0], 32, "%.4g", r->steps), cell(c[1], 32, "%.4e", r->cost),
+          r->dt_min, r->recommended, cell(c[0], 32, "%.0f", r->steps), cell(c[1], 32, "%.4e", r->cost),
           cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup, cell(c[3], 32, "%.3g", r->per_zone),
           cell(c[4], 32, "%.3g", r->per_wavelength), r->seconds);
 }
@@ -103,26 +104,38 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
 }
 
-/* One CSV number: %.9g, empty for NaN. */
-static void csv_number(FILE *f, double v, const char *sep) {
-  if (!isnan(v)) fprintf(f, "%.9g", v);
-  fputs(sep, f);
-}
+/* The CSV header: units after the last underscore (_m metres, _s
+ * seconds); the other columns are counts or ratios. */
+static const char csv_header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
+                                 "element_steps_subcycled,subcycling_speedup,elements_per_zone,"
+                                 "elements_per_wavelength,time_s\n";
 
+/* One CSV row in the header's order: %.9g, counts as whole numbers
+ * (rounded up), empty for NaN. */
 static void csv_row(FILE *f, const dtm_sweep_row *r) {
-  const double v[] = {r->h,    (double)r->elements, (double)r->nodes, r->dt_min,         r->recommended, r->steps,
-                      r->cost, r->cost_subcycled,   r->per_zone,      r->per_wavelength, r->seconds};
-  const int nv = (int)(sizeof v / sizeof v[0]);
-  for (int k = 0; k < nv; k++) csv_number(f, v[k], k + 1 < nv ? "," : "\n");
+  const struct {
+    double v;  /* the value */
+    int whole; /* a count */
+  } c[] = {{r->h, 0},        {(double)r->elements, 1}, {(double)r->nodes, 1},
+           {r->dt_min, 0},   {r->recommended, 0},      {r->steps, 1},
+           {r->cost, 1},     {r->cost_subcycled, 1},   {r->speedup, 0},
+           {r->per_zone, 0}, {r->per_wavelength, 0},   {r->seconds, 0}};
+  const size_t nc = sizeof c / sizeof c[0];
+  for (size_t k = 0; k < nc; k++) {
+    if (isnan(c[k].v))
+      ;
+    else if (c[k].whole)
+      fprintf(f, "%.0f", ceil(c[k].v));
+    else
+      fprintf(f, "%.9g", c[k].v);
+    fputs(k + 1 < nc ? "," : "\n", f);
+  }
 }
 
 int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n) {
   dtm_atomic w;
   DTM_CHECK(dtm_atomic_open(&w, path, "", 1));
-  FILE *f = w.f;
-  fputs("h,elements,nodes,dt_min,dt_recommended,steps,element_steps,element_steps_subcycled,"
-        "elements_per_zone,elements_per_wavelength,seconds\n",
-        f);
-  for (int i = 0; i < n; i++) csv_row(f, &rows[i]);
+  fputs(csv_header, w.f);
+  for (int i = 0; i < n; i++) csv_row(w.f, &rows[i]);
   return dtm_atomic_commit(&w);
 }

@@ -19,9 +19,9 @@
 static void start_field(const dtm_operator *op, const double *mode, double *u0) {
   size_t n = dtm_operator_ndof(op);
   const double *m = dtm_operator_mass(op);
-  uint64_t seed = 12345;
   double norm = 0;
-  for (size_t i = 0; i < n; i++) u0[i] = m[i] > 0 ? dtm_rng_uniform(&seed, -0.5, 0.5) : 0, norm += m[i] * u0[i] * u0[i];
+  dtm_operator_draw(op, 12345, -0.5, 0.5, u0); /* per node tag: independent of the node order */
+  for (size_t i = 0; i < n; i++) u0[i] = m[i] > 0 ? u0[i] : 0, norm += m[i] * u0[i] * u0[i];
   double s = norm > 0 ? RANDOM_PART / sqrt(norm) : 0;
   for (size_t i = 0; i < n; i++) u0[i] = mode[i] + s * u0[i];
 }

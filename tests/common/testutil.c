@@ -5,6 +5,8 @@
 
 #include <cJSON.h>
 #include <gmshc.h>
+
+#include "dtmap/analysis.h"
 #include <dirent.h>
 #include <limits.h>
 #include <math.h>
@@ -21,11 +23,25 @@ char *mkdtemp(char *);
 static const char *src_dir = ".", *cli_path = "dtmap";
 static char tmp_dir[256];
 
+/* Every report the program wrote (the *.json of its temporary folder)
+ * must follow the report schema; a violation fails the program. */
+static int check_reports(void) {
+  char cmd[8192];
+  snprintf(cmd, sizeof cmd, "'%s' '%s/tests/common/report_schema.py' '%s/schema/dtmap-report.schema.json' '%s' >&2",
+           DTM_TEST_PYTHON, src_dir, src_dir, tmp_dir);
+  int st = system(cmd);
+  if (st == 0) return 0;
+  fprintf(stderr, "a report written by this test does not follow schema/dtmap-report.schema.json (above)\n");
+  return 1;
+}
+
 static void cleanup(void) {
   if (!tmp_dir[0]) return;
   char cmd[300];
+  int bad = check_reports();
   snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmp_dir);
   if (system(cmd)) fprintf(stderr, "could not remove %s\n", tmp_dir);
+  if (bad) _exit(1);
 }
 
 void tu_init(int argc, char **argv) {
@@ -161,6 +177,38 @@ void tu_view_free(tu_view *v) {
   gmshFree(v->tags);
   gmshFree(v->values);
   memset(v, 0, sizeof *v);
+}
+
+dtm_analysis *tu_analyse(const char *name, dtm_scene **s) {
+  char path[600];
+  dtm_analysis *a = NULL;
+  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
+  if (dtm_scene_load(path, s) || dtm_analysis_run(*s, &a)) {
+    fprintf(stderr, "%s: %s\n", path, dtm_error_message());
+    abort();
+  }
+  return a;
+}
+
+void tu_steel_scene(const char *name, const char *source, const char *meshing, const char *tail) {
+  char path[600], text[4096];
+  snprintf(text, sizeof text,
+           "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\">\n%s\n<meshing %s/>\n"
+           "<material name=\"steel\" groups=\"block\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+           "<effects><elastic/></effects>\n%s\n</dtmap-scene>\n",
+           source, meshing, tail);
+  snprintf(path, sizeof path, "%s/%s.xml", tu_tmpdir(), name);
+  tu_write(path, text);
+}
+
+void tu_cube_geo(const char *file, const char *extra) {
+  char path[600], text[1024];
+  snprintf(path, sizeof path, "%s/%s", tu_tmpdir(), file);
+  snprintf(text, sizeof text,
+           "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\n"
+           "Physical Volume(\"block\") = {1};\n%s",
+           extra);
+  tu_write(path, text);
 }
 
 void tu_gmsh_begin(void) {

@@ -12,7 +12,10 @@ struct cJSON;
 void tu_init(int argc, char **argv);
 const char *tu_src(void);
 const char *tu_cli(void);
-/* A fresh temporary directory (owned by the library, removed at exit). */
+/* A fresh temporary directory (owned by the library, removed at exit).
+ * At exit every *.json in it, the reports the program wrote, is validated
+ * against schema/dtmap-report.schema.json (tests/common/report_schema.py);
+ * a report that does not follow it makes the program fail. */
 const char *tu_tmpdir(void);
 /* Write text to path (aborts the test program on failure). */
 void tu_write(const char *path, const char *text);
@@ -26,6 +29,20 @@ int tu_run(char **out, const char *fmt, ...) __attribute__((format(printf, 2, 3)
 struct cJSON *tu_json_load(const char *path);
 /* Number at a dotted path ("dt.min") of a JSON object; NaN if absent. */
 double tu_json_number(const struct cJSON *root, const char *dotted);
+
+struct dtm_scene;
+struct dtm_analysis;
+/* Load <tmpdir>/<name>.xml into *s and run its analysis (Gmsh started);
+ * aborts the test program with dtmap's message when either fails. */
+struct dtm_analysis *tu_analyse(const char *name, struct dtm_scene **s);
+/* Write <tmpdir>/<name>.xml: the source element (<geometry .../> or
+ * <mesh .../>), <meshing ATTRS/> with the given attributes, one steel
+ * material on group "block", the elastic effect, then tail (e.g. an
+ * <output .../>; "" for none). */
+void tu_steel_scene(const char *name, const char *source, const char *meshing, const char *tail);
+/* The OpenCASCADE unit cube with its volume in physical group "block", as
+ * <tmpdir>/<file>, followed by extra lines (e.g. options; "" for none). */
+void tu_cube_geo(const char *file, const char *extra);
 
 /* Start Gmsh quietly in the test process (General.AbortOnError=0), and
  * stop it. */

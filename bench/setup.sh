@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# What the benchmarks need beyond scripts/setup.sh (not the tests): scipy
+# for the eigsh comparison, Gmsh's Python API for reading meshes there.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+bash "$root/scripts/setup.sh"
+missing=()
+for p in python3-scipy python3-gmsh; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

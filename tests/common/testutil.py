@@ -1,0 +1,83 @@
+"""Helpers of the Python test scripts (tests/tNNN-*.py), the counterpart of
+testutil.c: the source tree and the dtmap CLI from the command line, a
+temporary folder removed at the end, running the CLI, reading reports, and
+unittest's runner.  As in the C tests, every *.json the script leaves in its
+temporary folder is checked against schema/dtmap-report.schema.json at the
+end, and a report that does not follow it fails the script."""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+SRC = sys.argv[1] if len(sys.argv) > 1 else "."
+CLI = sys.argv[2] if len(sys.argv) > 2 else "dtmap"
+_tmp = None
+
+
+def tmpdir():
+    """This script's temporary folder (created on first use)."""
+    global _tmp
+    if _tmp is None:
+        _tmp = tempfile.mkdtemp(prefix="dtmap-pytest-")
+    return _tmp
+
+
+def path(name):
+    return os.path.join(tmpdir(), name)
+
+
+def write(name, text):
+    with open(path(name), "w") as f:
+        f.write(text)
+    return path(name)
+
+
+def plain_env(**extra):
+    """The environment for programs that are not dtmap's (man, bash): without
+    the sanitizer runtimes a sanitizer build preloads into python3."""
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    env.update(extra)
+    return env
+
+
+def run(*args, cwd=None):
+    """Run the dtmap CLI; returns (exit code, stdout + stderr)."""
+    p = subprocess.run([CLI] + [str(a) for a in args], cwd=cwd or tmpdir(), stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, universal_newlines=True)
+    return p.returncode, p.stdout
+
+
+def effect_api_version():
+    """DTM_EFFECT_API_VERSION of include/dtmap/effect.h."""
+    with open(os.path.join(SRC, "include", "dtmap", "effect.h")) as f:
+        return int(re.search(r"#define DTM_EFFECT_API_VERSION (\d+)", f.read()).group(1))
+
+
+def report(name):
+    with open(path(name) if not os.path.isabs(name) else name) as f:
+        return json.load(f)
+
+
+def _check_reports():
+    if _tmp is None:
+        return 0
+    checker = os.path.join(SRC, "tests", "common", "report_schema.py")
+    schema = os.path.join(SRC, "schema", "dtmap-report.schema.json")
+    code = subprocess.call([sys.executable, checker, schema, _tmp])
+    if code:
+        print("a report written by this test does not follow schema/dtmap-report.schema.json (above)")
+    return code
+
+
+def main():
+    """Run the script's unittest cases, then check its reports; exit 1 on any failure."""
+    result = unittest.main(argv=[sys.argv[0]], exit=False).result
+    bad = _check_reports()
+    if _tmp is not None:
+        shutil.rmtree(_tmp, ignore_errors=True)
+    sys.exit(0 if result.wasSuccessful() and not bad else 1)

@@ -1,0 +1,109 @@
+"""The report's JSON Schema (schema/dtmap-report.schema.json) is a valid
+draft 2020-12 schema that documents every field with its unit, accepts a
+real report (the bundled plate with --posterior: global estimate, Lanczos
+details, subcycling, mass scaling), and catches mistakes: a missing
+required field, a field nobody documented, a wrong type, a non-integer
+count, a negative or zero step, an unknown basis, an element without its
+step, and NaN (which is not JSON). Every report the suite writes is also
+checked against it as each test program ends (testutil.c, testutil.py)."""
+
+import copy
+import json
+import os
+import re
+
+import report_schema
+import testutil as tu
+
+SCHEMA = os.path.join(tu.SRC, "schema", "dtmap-report.schema.json")
+# A unit after a comma or in parentheses (", s", "(kg/m in 2D)", ", %"), or "dimensionless".
+UNIT = re.compile(r"([,(] ?(s|m|kg|kg/m|%|1/s\^2|1/s)([ ),]|$))|dimensionless")
+
+
+def resolve(prop, defs):
+    return resolve(defs[prop["$ref"].split("/")[-1]], defs) if "$ref" in prop else prop
+
+
+def real_valued(prop, defs):
+    """True when the property holds real numbers (directly, through $ref or
+    as array items); integers are counts or tags and carry no unit."""
+    p = resolve(prop, defs)
+    return p.get("type") == "number" or (p.get("type") == "array" and real_valued(p.get("items", {}), defs))
+
+
+def properties(node, where=""):
+    """Every (path, property schema) of the schema, recursively."""
+    for name, prop in node.get("properties", {}).items():
+        yield where + "/" + name, prop
+        yield from properties(prop, where + "/" + name)
+        yield from properties(prop.get("items", {}), where + "/" + name + "[]")
+    for name, d in node.get("$defs", {}).items():
+        yield from properties(d, "$defs/" + name)
+
+
+class Schema(tu.unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.v = report_schema.validator(SCHEMA)
+        scene = os.path.join(tu.SRC, "geometries", "plate_with_hole.xml")
+        code, out = tu.run("run", scene, "-q", "--posterior", "-o", "plate_dt.msh", "--report", "plate.json")
+        assert code == 0, out
+        cls.report = tu.report("plate.json")
+
+    def test_every_field_documented_with_its_unit(self):
+        schema = report_schema.load(SCHEMA)
+        defs = schema["$defs"]
+        count = 0
+        for where, prop in properties(schema):
+            text = prop.get("description") or resolve(prop, defs).get("description")
+            self.assertTrue(text, where + " has no description")
+            if real_valued(prop, defs):
+                self.assertRegex(text, UNIT, where + ": the description names no unit")
+            count += 1
+        self.assertGreater(count, 60)
+
+    def test_real_report_is_valid(self):
+        self.assertEqual(report_schema.problems(self.v, self.report), [])
+        for key in ("subcycling", "mass_scaling"):
+            self.assertIn(key, self.report)
+        self.assertIn("lanczos", self.report["effect_minima"][0])
+        self.assertEqual(self.report["dt"]["basis"], "global estimate")
+
+    def mutated(self, change):
+        r = copy.deepcopy(self.report)
+        change(r)
+        return report_schema.problems(self.v, r)
+
+    def test_mistakes_are_caught(self):
+        mistakes = {
+            "missing dt.recommended": lambda r: r["dt"].pop("recommended"),
+            "missing timings": lambda r: r.pop("timings"),
+            "undocumented top-level field": lambda r: r.update(cost={"element_steps": 1}),
+            "undocumented dt field": lambda r: r["dt"].update(recommend=1e-7),
+            "step as a string": lambda r: r["dt"].update(min="1e-7"),
+            "negative step": lambda r: r["dt"].update(recommended=-1e-7),
+            "zero step": lambda r: r["effect_minima"][0].update(min=0),
+            "unknown basis": lambda r: r["dt"].update(basis="guess"),
+            "fractional count": lambda r: r["mesh"].update(elements=10.5),
+            "no threads": lambda r: r["timings"].update(threads=0),
+            "safety above 1": lambda r: r["dt"].update(safety=1.5),
+            "centroid of 2 coordinates": lambda r: r["dt"].update(centroid=[0, 0]),
+            "element without its step": lambda r: r["effect_minima"][0].pop("min"),
+            "speed-up below 1": lambda r: r["subcycling"].update(speedup=0.5),
+            "level count negative": lambda r: r["subcycling"]["levels"].append(-1),
+            "lanczos field missing": lambda r: r["effect_minima"][0]["lanczos"].pop("converged"),
+            "NaN as null": lambda r: r["dt"].update(nodal=None),
+        }
+        for what, change in mistakes.items():
+            self.assertNotEqual(self.mutated(change), [], what)
+
+    def test_nan_is_refused(self):
+        text = json.dumps(self.report).replace('"safety": 0.9', '"safety": NaN')
+        self.assertIn("NaN", text)
+        path = tu.write("nan.txt", text)  # not *.json: the end-of-script check would refuse it too
+        with self.assertRaises(ValueError):
+            report_schema.load(path)
+
+
+if __name__ == "__main__":
+    tu.main()
