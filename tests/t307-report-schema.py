@@ -1,10 +1,11 @@
 """The report's JSON Schema (schema/dtmap-report.schema.json) is a valid
 draft 2020-12 schema that documents every field with its unit, accepts a
 real report (the bundled plate with --posterior: global estimate, Lanczos
-details, subcycling, mass scaling), and catches mistakes: a missing
-required field, a field nobody documented, a wrong type, a non-integer
-count, a negative or zero step, an unknown basis, an element without its
-step, and NaN (which is not JSON). Every report the suite writes is also
+details, subcycling, mass scaling, the advice) and a real `verify
+--report` (its own document in the same schema), and catches mistakes: a
+missing required field, a field nobody documented, a wrong type, a
+non-integer count, a negative or zero step, an unknown basis, an element
+without its step, and NaN (which is not JSON). Every report the suite writes is also
 checked against it as each test program ends (testutil.c, testutil.py)."""
 
 import copy
@@ -16,8 +17,8 @@ import report_schema
 import testutil as tu
 
 SCHEMA = os.path.join(tu.SRC, "schema", "dtmap-report.schema.json")
-# A unit after a comma or in parentheses (", s", "(kg/m in 2D)", ", %"), or "dimensionless".
-UNIT = re.compile(r"([,(] ?(s|m|kg|kg/m|%|1/s\^2|1/s)([ ),]|$))|dimensionless")
+# A unit after a comma or in parentheses (", s", "(kg/m in 2D)", ", %", ", rad/s"), or "dimensionless".
+UNIT = re.compile(r"([,(] ?(s|m|kg|kg/m|%|1/s\^2|1/s|rad/s|degrees)([ ),]|$))|dimensionless")
 
 
 def resolve(prop, defs):
@@ -49,6 +50,9 @@ class Schema(tu.unittest.TestCase):
         code, out = tu.run("run", scene, "-q", "--posterior", "-o", "plate_dt.msh", "--report", "plate.json")
         assert code == 0, out
         cls.report = tu.report("plate.json")
+        code, out = tu.run("verify", scene, "-q", "--steps", "200", "--report", "plate_verify.json")
+        assert code == 0, out
+        cls.verify = tu.report("plate_verify.json")
 
     def test_every_field_documented_with_its_unit(self):
         schema = report_schema.load(SCHEMA)
@@ -78,7 +82,7 @@ class Schema(tu.unittest.TestCase):
         mistakes = {
             "missing dt.recommended": lambda r: r["dt"].pop("recommended"),
             "missing timings": lambda r: r.pop("timings"),
-            "undocumented top-level field": lambda r: r.update(cost={"element_steps": 1}),
+            "undocumented top-level field": lambda r: r.update(costs={"element_steps": 1}),
             "undocumented dt field": lambda r: r["dt"].update(recommend=1e-7),
             "step as a string": lambda r: r["dt"].update(min="1e-7"),
             "negative step": lambda r: r["dt"].update(recommended=-1e-7),
@@ -93,9 +97,24 @@ class Schema(tu.unittest.TestCase):
             "level count negative": lambda r: r["subcycling"]["levels"].append(-1),
             "lanczos field missing": lambda r: r["effect_minima"][0]["lanczos"].pop("converged"),
             "NaN as null": lambda r: r["dt"].update(nodal=None),
+            "cost without its basis": lambda r: r["cost"].pop("basis"),
+            "undocumented field of a worst element": lambda r: r["worst"].append({"element": 1, "type": "tri3", "group": "a", "dt": 1e-7,
+                                                          "length": 1e-3, "effect": "elastic", "remedy": "x"}),
+            "warning not a sentence": lambda r: r["warnings"].append(""),
+            "refine rounds as a list": lambda r: r.update(refine=[{"round": 0}]),
         }
         for what, change in mistakes.items():
             self.assertNotEqual(self.mutated(change), [], what)
+
+    def test_verify_report(self):
+        self.assertEqual(report_schema.problems(self.v, self.verify), [])
+        self.assertEqual(self.verify["step"], self.verify["recommended"])  # no --factor: exactly the recommended step
+        self.assertEqual(self.verify["verdict"], "stable")
+        for change in (lambda r: r.pop("steps"), lambda r: r.update(verdict="fine"), lambda r: r.update(cost={}),
+                       lambda r: r["effects"][0].pop("growth")):
+            r = copy.deepcopy(self.verify)
+            change(r)
+            self.assertNotEqual(report_schema.problems(self.v, r), [])
 
     def test_nan_is_refused(self):
         text = json.dumps(self.report).replace('"safety": 0.9', '"safety": NaN')
