@@ -57,4 +57,9 @@ int dtm_zone_rows(const dtm_analysis *a, dtm_zone_row **rows, int *n);
 int dtm_worst(const dtm_analysis *a, int top, size_t **idx);
 int dtm_results_top(const dtm_results *r);
 
+/* Print the JSON document root (a cJSON tree, freed here) to path
+ * atomically; what names it in the error when it cannot be printed. */
+struct cJSON;
+int dtm_json_write(struct cJSON *root, const char *path, const char *what);
+
 #endif

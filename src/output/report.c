@@ -383,12 +383,15 @@ static cJSON *report_json(const dtm_results *r) {
   return root;
 }
 
-int dtm_report_write(const dtm_results *r, const char *path) {
-  cJSON *root = report_json(r);
+int dtm_json_write(struct cJSON *root, const char *path, const char *what) {
   char *text = root ? cJSON_Print(root) : NULL;
   cJSON_Delete(root);
-  if (!text) return DTM_ERR(DTM_ERR_INTERNAL, "cannot build the JSON report");
+  if (!text) return DTM_ERR(DTM_ERR_INTERNAL, "cannot build the %s", what);
   int rc = dtm_atomic_write_text(path, text, 1);
   free(text);
   return rc;
+}
+
+int dtm_report_write(const dtm_results *r, const char *path) {
+  return dtm_json_write(report_json(r), path, "JSON report");
 }

@@ -3,10 +3,8 @@
  * each simulated effect's energy growth and verdict, and the overall
  * verdict. Written atomically. */
 #include <cJSON.h>
-#include <stdlib.h>
 
-#include "dtmap/output.h"
-#include "dtmap/util.h"
+#include "output-impl.h"
 
 static cJSON *effect_json(const dtm_analysis *a, int k, const dtm_verify_effect *v) {
   cJSON *o = cJSON_CreateObject();
@@ -41,11 +39,5 @@ static cJSON *verify_json(const dtm_analysis *a, const dtm_verify_report *v) {
 }
 
 int dtm_verify_report_write(const dtm_analysis *a, const dtm_verify_report *v, const char *path) {
-  cJSON *root = verify_json(a, v);
-  char *text = root ? cJSON_Print(root) : NULL;
-  cJSON_Delete(root);
-  if (!text) return DTM_ERR(DTM_ERR_INTERNAL, "cannot build the verify report");
-  int rc = dtm_atomic_write_text(path, text, 1);
-  free(text);
-  return rc;
+  return dtm_json_write(verify_json(a, v), path, "verify report");
 }
