@@ -76,12 +76,15 @@ int dtm_analysis_run_ex(const dtm_scene *s, dtm_extracted_fn hook, void *user, d
 
 int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) { return current(s, dim, NULL, NULL, out); }
 
-/* Extract the mesh and read where it sits on the model, both before the
- * hook (which may release the model), then create the scene's effects. */
+/* Extract the mesh and read where it sits on the model (timed with the
+ * extraction), both before the hook (which may release the model), then
+ * create the scene's effects. */
 static int prepare(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_mesh *m, dtm_geo **geo,
                    dtm_effect **e, int *ne, double *t) {
   int r = extract_mesh(s, dim, m, t);
+  double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_gmsh_geo(m, geo);
+  t[DTM_T_EXTRACT] += dtm_wtime() - t0;
   if (r == DTM_OK && hook) r = hook(user, dtm_mesh_nelements(m));
   if (r == DTM_OK) r = dtm_effects_create(s, m, e, ne);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
