@@ -39,6 +39,8 @@ typedef struct dtm_scene {
   char *dir;            /* its directory ("." if none) */
   char *geometry;       /* resolved <geometry file>, or NULL */
   char *mesh;           /* resolved <mesh file>, or NULL */
+  int partitions;       /* <mesh partitions>: the mesh is that many part files
+                           (dtm_scene_part_path); 0: one file */
   int model;            /* 1: <model/>, the current Gmsh model of the program (no file) */
   int source_line;      /* line of <geometry>, <mesh> or <model/> */
   double mesh_size;     /* <meshing size>, m; 0 when unset */
@@ -91,6 +93,13 @@ DTM_EXPORT int dtm_scene_check_properties(const dtm_scene *s, const dtm_property
 /* The <meshing algorithm> name of a Gmsh Mesh.Algorithm3D code ("read"
  * for 0, a mesh read from a .msh; "other" for a code without a name). */
 DTM_EXPORT const char *dtm_scene_algorithm_name(int code);
+
+/* Path of part `part` (1 ...) of a partitioned file into buf[len]: file
+ * with "{part}" replaced by the number, or, as Gmsh names the files it
+ * splits, "_<part>" inserted before ".msh" (model.msh -> model_3.msh). For
+ * a scene's <mesh partitions="P">, file is s->mesh. DTM_ERR_INPUT when it
+ * does not fit. */
+DTM_EXPORT int dtm_scene_part_path(const char *file, int part, char *buf, size_t len);
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);

@@ -54,6 +54,17 @@ static int check_exists(const dtm_scene *s, const xmlNode *n, const char *kind, 
   return DTM_SCENE_ERR(s, n, "%s file '%s' not found (looked for '%s')", kind, file, resolved);
 }
 
+static int read_int(const dtm_scene *s, const xmlNode *n, const char *key, int lo, int hi, int *out);
+
+/* <mesh partitions="P">: the part files are looked for by each rank of the
+ * distributed run (its own only); "{part}" in the file needs partitions. */
+static int read_partitions(dtm_scene *s, const xmlNode *n, const char *file) {
+  DTM_CHECK(read_int(s, n, "partitions", 1, 1 << 24, &s->partitions));
+  if (strstr(file, "{part}") && !s->partitions)
+    return DTM_SCENE_ERR(s, n, "mesh file '%s' names {part} but <mesh> has no partitions=\"P\"", file);
+  return DTM_OK;
+}
+
 static int read_source(dtm_scene *s, const xmlNode *n) {
   int is_mesh = dtm_scene_is(n, "mesh");
   const char *kind = is_mesh ? "mesh" : "geometry";
@@ -67,8 +78,9 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
     return DTM_SCENE_ERR(s, n, "<%s> needs a file=\"...\"", kind);
   }
   int rc = check_extension(s, n, file, is_mesh);
+  if (!rc && is_mesh) rc = read_partitions(s, n, file);
   if (!rc) rc = dtm_scene_resolve(s, file, dst);
-  if (!rc) rc = check_exists(s, n, kind, file, *dst);
+  if (!rc && !s->partitions) rc = check_exists(s, n, kind, file, *dst);
   free(file);
   return rc ? dtm_error_trace(rc, __FILE__, __LINE__, __func__) : DTM_OK;
 }
