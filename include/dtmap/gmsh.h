@@ -148,6 +148,9 @@ typedef struct {
   int views_only; /* 1: only the format header and the views, no mesh: a
                      file Gmsh merges on top of the mesh it has open
                      (`gmsh input.msh views.msh`) */
+  int partition;  /* part number (1 ...) of one part of a partitioned result: the
+                     views carry it, so Gmsh merges the parts' views into one
+                     view each; 0: a whole mesh */
 } dtm_msh_format;
 
 /* Write the current mesh (Gmsh's writer, Mesh.SaveAll=1) and then the views
@@ -195,5 +198,16 @@ typedef struct {
 
 /* Set option o of the view with Gmsh tag tag in the open session. */
 DTM_EXPORT int dtm_gmsh_view_option(int tag, const dtm_view_option *o);
+
+/* Partition the current model's mesh into nparts with METIS and write the
+ * parts as Gmsh names them: path "dir/x.msh" gives dir/x_1.msh ...
+ * dir/x_<nparts>.msh (binary MSH 4.1: coordinates exact). The model stays
+ * partitioned. DTM_ERR_INPUT naming path when Gmsh fails. */
+DTM_EXPORT int dtm_gmsh_partition_write(int nparts, const char *path);
+/* What the current model says about its partitions: *part is the partition
+ * every entity of dimension dim that holds elements belongs to (0: they are
+ * not partition entities, -1: they belong to different or several
+ * partitions), *maxpart the highest partition number any entity names. */
+DTM_EXPORT int dtm_gmsh_partition_info(int dim, int *part, int *maxpart);
 
 #endif

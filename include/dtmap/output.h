@@ -39,6 +39,8 @@ typedef struct {
                      DTM_MSH_BINARY */
   int views_only; /* 1: write only the views, for Gmsh to merge on top of the
                      scene's input .msh (needs a <mesh> scene) */
+  int partition;  /* part number (1 ...) of a distributed run's part: its views
+                     carry it, so Gmsh merges the parts' views; 0: a whole mesh */
 } dtm_output_opts;
 
 /* dtm_output_write with options (NULL: the defaults above). */

@@ -55,7 +55,7 @@ int dtm_cli_format(const cli_command *c, const char *word, int *out) {
 static int begin_output(const dtm_scene *s, const cli_opts *o, const char *out, size_t nel, dtm_output_file **f,
                         double *seconds) {
   double t0 = dtm_wtime();
-  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only};
+  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only, 0};
   dtm_cli_format(NULL, o->format, &oo.format); /* checked before the analysis */
   int r = dtm_output_begin(s, out, &oo, nel, f);
   *seconds += dtm_wtime() - t0;

@@ -25,7 +25,8 @@ int dtm_gmsh_model_count(void);
 int dtm_msh_header(FILE *f, int binary);
 /* The records a view writes (the finite values only with finite_only). */
 size_t dtm_msh_view_records(const dtm_view *v);
-/* Append one view as $ElementData or $NodeData (msh_data.c). */
-int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary);
+/* Append one view as $ElementData or $NodeData (msh_data.c), with the part
+ * number of a partitioned result (0: none). */
+int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition);
 
 #endif

@@ -5,7 +5,8 @@
  * per view). The layout is the one Gmsh's own view writer uses
  * (Post/PViewDataGModelIO.cpp in its sources) and reads back:
  *   $ElementData / 1 string tag (the name) / 1 real tag (time 0) /
- *   3 integer tags (time step 0, 1 component, number of records) /
+ *   3 integer tags (time step 0, 1 component, number of records; a 4th,
+ *   the part number, for a part of a partitioned result) /
  *   records / $EndElementData,
  * a record being "tag value" (ASCII, here %.17g so that the value reads back
  * bit for bit) or, in a binary file, a 4-byte int tag and an 8-byte double
@@ -38,8 +39,11 @@ size_t dtm_msh_view_records(const dtm_view *v) {
   return n;
 }
 
-static void section_head(FILE *f, const dtm_view *v, const char *kind) {
-  fprintf(f, "$%s\n1\n\"%s\"\n1\n0\n3\n0\n1\n%zu\n", kind, v->name, dtm_msh_view_records(v));
+/* The head of a section; a part of a partitioned result adds its part
+ * number as a fourth integer tag (Gmsh merges the parts' views by it). */
+static void section_head(FILE *f, const dtm_view *v, const char *kind, int partition) {
+  fprintf(f, "$%s\n1\n\"%s\"\n1\n0\n%d\n0\n1\n%zu\n", kind, v->name, partition ? 4 : 3, dtm_msh_view_records(v));
+  if (partition) fprintf(f, "%d\n", partition);
 }
 
 static void records_binary(FILE *f, const dtm_view *v) {
@@ -70,10 +74,10 @@ static int check_tags(const dtm_view *v) {
   return DTM_OK;
 }
 
-int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary) {
+int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition) {
   const char *kind = v->node_data ? "NodeData" : "ElementData";
   DTM_CHECK(check_tags(v));
-  section_head(f, v, kind);
+  section_head(f, v, kind, partition);
   if (binary)
     records_binary(f, v);
   else

@@ -51,7 +51,7 @@ void dtm_gmsh_release(void) {
 }
 
 int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
-  dtm_msh_format def = {0, 0};
+  dtm_msh_format def = {0, 0, 0};
   if (!fmt) fmt = &def;
   if (!fmt->views_only) DTM_CHECK(dtm_gmsh_write_mesh(path, fmt->binary));
   return dtm_gmsh_write_views(path, views, nviews, fmt);
@@ -61,7 +61,7 @@ int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, co
   FILE *f = fopen(path, fmt->views_only ? "wb" : "ab");
   if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
   int r = fmt->views_only && dtm_msh_header(f, fmt->binary) ? DTM_ERR(DTM_ERR_INPUT, "%s: cannot write", path) : DTM_OK;
-  for (int i = 0; i < nviews && r == DTM_OK; i++) r = dtm_msh_write_view(f, &views[i], fmt->binary);
+  for (int i = 0; i < nviews && r == DTM_OK; i++) r = dtm_msh_write_view(f, &views[i], fmt->binary, fmt->partition);
   if (fclose(f) && r == DTM_OK) r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -292,7 +292,9 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
   snprintf(opt, sizeof opt, "%s.opt", path);
   DTM_CHECK(dtm_atomic_open(&w, opt, "", 1));
   FILE *f = w.f;
-  fprintf(f, "// Written by dtmap: styles the %d views of %s, counted back from the last view loaded.\n", nviews, path);
+  const char *base = strrchr(path, '/');
+  fprintf(f, "// Written by dtmap: styles the %d views of %s, counted back from the last view loaded.\n", nviews,
+          base ? base + 1 : path);
   fprintf(
       f,
       "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n",
@@ -307,7 +309,7 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
 static dtm_msh_format format_of(const dtm_scene *s, size_t nel, const dtm_output_opts *o) {
   int f = o && o->format ? o->format : s->out_format;
   if (f == DTM_MSH_AUTO) f = nel > DTM_BINARY_ABOVE ? DTM_MSH_BINARY : DTM_MSH_ASCII;
-  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0};
+  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0, o ? o->partition : 0};
 }
 
 static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
