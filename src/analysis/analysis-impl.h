@@ -6,6 +6,7 @@
 #define DTM_ANALYSIS_IMPL_H
 
 #include "base.h"
+#include "distributed.h"
 #include "dtmap/analysis.h"
 #include "dtmap/gmsh.h"
 
@@ -60,7 +61,15 @@ struct dtm_analysis {
   double timings[DTM_T_COUNT]; /* s */
   int threads;                 /* OpenMP threads used for the element loop */
   dtm_mesher_info mesher;      /* how the mesh was made (dtm_analysis_run and _current) */
+  const dtm_exchange *x;       /* the other parts of a distributed run (not owned), or NULL */
 };
+
+/* The exchange's operations (distributed.h), or, without one, the status
+ * unchanged (exchange.c): agree on a status, combine node values, reduce
+ * scalars. */
+int dtm_x_agree(const dtm_analysis *a, int status);
+int dtm_x_nodes(const dtm_analysis *a, int status, double *v, dtm_x_op op);
+int dtm_x_reduce(const dtm_analysis *a, int status, double *v, int n, dtm_x_op op);
 
 /* Fill a->size_node and a->accuracy from the per-element steps (size.c). */
 int dtm_size_suggest(dtm_analysis *a);

@@ -187,14 +187,17 @@ static int compute_block(const dtm_analysis *a, int b) {
 }
 
 /* Drop the accuracy rows of effects whose bound applies nowhere (e.g. the
- * elastic wavelength bound without <time f-max>). */
-static void drop_empty_accuracy(dtm_analysis *a) {
-  for (int k = 0; k < a->neffects; k++) {
-    if (!a->resolution[k]) continue;
-    size_t i = 0;
-    while (i < a->nel && isnan(a->resolution[k][i])) i++;
-    if (i == a->nel) free(a->resolution[k]), a->resolution[k] = NULL, free(a->hmax_effect[k]), a->hmax_effect[k] = NULL;
-  }
+ * elastic wavelength bound without <time f-max>), on any part. */
+static int drop_empty_accuracy(dtm_analysis *a) {
+  double *any = calloc((size_t)a->neffects + 1, sizeof *any);
+  for (int k = 0; k < a->neffects && any; k++)
+    for (size_t i = 0; a->resolution[k] && i < a->nel && !any[k]; i++) any[k] = !isnan(a->resolution[k][i]);
+  int r = dtm_x_reduce(a, any ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), any, a->neffects, DTM_X_MAX);
+  for (int k = 0; k < a->neffects && r == DTM_OK; k++)
+    if (a->resolution[k] && !any[k])
+      free(a->resolution[k]), a->resolution[k] = NULL, free(a->hmax_effect[k]), a->hmax_effect[k] = NULL;
+  free(any);
+  return r;
 }
 
 /* Whether element i's step v comes before the best so far (best at j):
@@ -204,8 +207,23 @@ static int before(const dtm_analysis *a, double v, size_t i, double best, size_t
   return v < best || (v == best && dtm_analysis_tag(a, i) < dtm_analysis_tag(a, j));
 }
 
-static void summarize(dtm_analysis *a) {
-  drop_empty_accuracy(a);
+/* The smallest element step and each effect's, over every part (the
+ * indices stay those of this part's own minima). */
+static int global_minima(dtm_analysis *a) {
+  int n = a->neffects + 1;
+  double *v = malloc((size_t)n * sizeof *v);
+  for (int k = 0; k < a->neffects && v; k++) v[k + 1] = a->dt_effect[k] ? a->per_effect[k].min : INFINITY;
+  if (v) v[0] = a->dt_min;
+  int r = dtm_x_reduce(a, v ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), v, n, DTM_X_MIN);
+  if (r == DTM_OK) a->dt_min = v[0];
+  for (int k = 0; k < a->neffects && r == DTM_OK; k++)
+    if (a->dt_effect[k]) a->per_effect[k].min = v[k + 1];
+  free(v);
+  return r;
+}
+
+static int summarize(dtm_analysis *a) {
+  DTM_CHECK(drop_empty_accuracy(a));
   a->dt_min = INFINITY;
   for (size_t i = 0; i < a->nel; i++)
     if (before(a, a->dt[i], i, a->dt_min, a->el_min)) a->dt_min = a->dt[i], a->el_min = i;
@@ -222,21 +240,32 @@ static void summarize(dtm_analysis *a) {
     const double *bare = a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
     if (dtm_analysis_is_wave(a, k)) a->per_effect[k].omega = 2.0 / bare[a->per_effect[k].element];
   }
+  return global_minima(a);
 }
 
 int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects, dtm_analysis **out) {
+  return dtm_analysis_compute_shared(s, mesh, effects, neffects, NULL, out);
+}
+
+int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects,
+                                const dtm_exchange *x, dtm_analysis **out) {
   dtm_analysis *a = calloc(1, sizeof *a);
-  if (!a) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!a) { /* the other parts wait at the first agreement below */
+    int r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    return x ? x->reduce(x->ctx, r, NULL, 0, DTM_X_MAX) : r;
+  }
   a->scene = s;
   a->mesh = mesh;
   a->effects = effects;
   a->neffects = neffects;
   a->threads = omp_get_max_threads();
   a->mesher = (dtm_mesher_info){0, 0, 1};
+  a->x = x;
   int r = setup(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
-  if (r == DTM_OK) summarize(a);
+  r = dtm_x_agree(a, r);
+  if (r == DTM_OK) r = summarize(a);
   if (r == DTM_OK && !isfinite(a->dt_min))
     r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;

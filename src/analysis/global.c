@@ -60,13 +60,13 @@ int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, dtm_op
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
-/* Smallest damping factor over the used materials at omega. */
+/* Smallest damping factor over the used materials (of every part) at
+ * omega. */
 static int damping_factor(const dtm_analysis *a, double omega, double *fac) {
   char *used = calloc((size_t)a->scene->nmaterials + 1, 1);
-  if (!used) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  dtm_mesh_materials_used(a->mesh, a->scene->nmaterials, used);
+  int r = used ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (used) dtm_mesh_materials_used(a->mesh, a->scene->nmaterials, used);
   *fac = 1.0;
-  int r = DTM_OK;
   for (int j = 0; j < a->neffects && r == DTM_OK; j++) {
     const dtm_effect *mj = &a->effects[j];
     if (!(mj->cls->role & DTM_ROLE_MODIFIES_WAVES)) continue;
@@ -77,7 +77,7 @@ static int damping_factor(const dtm_analysis *a, double omega, double *fac) {
     }
   }
   free(used);
-  return r;
+  return dtm_x_reduce(a, r, fac, 1, DTM_X_MIN);
 }
 
 /* Steps from an eigenvalue estimate lam of effect k. */
@@ -94,8 +94,11 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   dtm_operator *op = NULL;
   dtm_lanczos_result lr;
   memset(&lr, 0, sizeof lr);
-  DTM_CHECK(dtm_analysis_operator(a, k, 0.0, &op));
-  int r = dtm_lanczos_max_ex(op, tol, maxit, LANCZOS_SEED, want_mode, &lr);
+  int r = dtm_analysis_operator(a, k, 0.0, &op);
+  if (a->x) /* the whole mesh's operator, of which op is this part's share */
+    r = a->x->eigen(a->x->ctx, r, op, tol, maxit, LANCZOS_SEED, &lr);
+  else if (r == DTM_OK)
+    r = dtm_lanczos_max_ex(op, tol, maxit, LANCZOS_SEED, want_mode, &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
   *g = (dtm_global_info){
@@ -111,7 +114,7 @@ int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigne
   double t0 = dtm_wtime();
   int want_modes = (flags & DTM_GLOBAL_MODES) != 0;
   a->global = calloc((size_t)a->neffects + 1, sizeof *a->global);
-  if (!a->global) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  DTM_CHECK(dtm_x_agree(a, a->global ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory")));
   for (int k = 0; k < a->neffects; k++)
     if (a->dt_effect[k] && a->effects[k].cls->coefficients) DTM_CHECK(estimate_effect(a, k, tol, maxit, want_modes));
   a->global_basis = (flags & DTM_GLOBAL_BASIS) != 0;

@@ -130,19 +130,22 @@ static int node_factors(const dtm_analysis *a, const double *omega, double *fac)
   return DTM_OK;
 }
 
-/* Node steps of effect k into dt[] (+inf where no element of it). */
-static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, double *dt, double *work) {
+/* Node steps of effect k into dt[] (+inf where no element of it); the sums
+ * and the damping factors of nodes shared with other parts are combined
+ * over the parts (r: the caller's status, agreed with them). */
+static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, int r, double *dt, double *work) {
   size_t nn = a->mesh->nnodes;
   double *num = work, *den = work + nn, *fac = work + 2 * nn;
-  memset(work, 0, 3 * nn * sizeof *work);
-  DTM_CHECK(scatter(a, k, cc, num, den));
+  if (r == DTM_OK) memset(work, 0, 3 * nn * sizeof *work), r = scatter(a, k, cc, num, den);
+  r = dtm_x_nodes(a, r, num, DTM_X_SUM);
+  DTM_CHECK(dtm_x_nodes(a, r, den, DTM_X_SUM));
   int wave = dtm_analysis_is_wave(a, k);
   for (size_t v = 0; v < nn; v++) {
     double lam = den[v] > 0 ? num[v] / den[v] : 0;
     num[v] = wave ? sqrt(lam) : lam; /* omega (waves) or lambda (diffusion) */
     fac[v] = 1.0;
   }
-  if (wave) DTM_CHECK(node_factors(a, num, fac));
+  if (wave) DTM_CHECK(dtm_x_nodes(a, node_factors(a, num, fac), fac, DTM_X_MIN));
   for (size_t v = 0; v < nn; v++) dt[v] = num[v] > 0 ? 2.0 / num[v] * fac[v] : INFINITY;
   return DTM_OK;
 }
@@ -168,6 +171,24 @@ static void record_min(dtm_analysis *a, int k, const double *dt, const double *o
   pe->omega = dtm_analysis_is_wave(a, k) && isfinite(pe->nodal) ? omega[pe->node] : NAN;
 }
 
+/* Each effect's nodal minimum and whether its element steps are bounds,
+ * over every part (the node index stays this part's minimum). */
+static int global_nodal(dtm_analysis *a) {
+  int ne = a->neffects;
+  double *v = malloc(2 * ((size_t)ne + 1) * sizeof *v);
+  for (int k = 0; k < ne && v; k++) {
+    v[k] = isnan(a->per_effect[k].nodal) ? INFINITY : a->per_effect[k].nodal;
+    v[ne + k] = a->per_effect[k].element_rigorous; /* the min of the flags is their AND */
+  }
+  int r = dtm_x_reduce(a, v ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), v, 2 * ne, DTM_X_MIN);
+  for (int k = 0; k < ne && r == DTM_OK; k++) {
+    if (!isnan(a->per_effect[k].nodal)) a->per_effect[k].nodal = v[k];
+    a->per_effect[k].element_rigorous = v[ne + k] > 0;
+  }
+  free(v);
+  return r;
+}
+
 int dtm_nodal_bounds(dtm_analysis *a) {
   size_t nn = a->mesh->nnodes, nm = (size_t)a->scene->nmaterials + 1;
   a->nodal_node = malloc((nn + 1) * sizeof *a->nodal_node);
@@ -177,15 +198,18 @@ int dtm_nodal_bounds(dtm_analysis *a) {
   int r =
       (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t v = 0; v < nn && r == DTM_OK; v++) a->nodal_node[v] = INFINITY;
+  r = dtm_x_agree(a, r);
   for (int k = 0; k < a->neffects && r == DTM_OK; k++) {
     a->per_effect[k].nodal = NAN;
     if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue; /* not spectral */
     memset(cc.ready, 0, nm);
     a->node_dt[k] = malloc((nn + 1) * sizeof **a->node_dt);
-    r = a->node_dt[k] ? effect_nodal(a, k, &cc, a->node_dt[k], work) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    r = effect_nodal(a, k, &cc, a->node_dt[k] ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), a->node_dt[k],
+                     work);
     a->per_effect[k].element_rigorous = r == DTM_OK && all_bounds(a, &cc);
     if (r == DTM_OK) record_min(a, k, a->node_dt[k], work);
   }
+  if (r == DTM_OK) r = global_nodal(a);
   free(work);
   free(cc.c);
   free(cc.ready);

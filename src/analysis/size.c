@@ -51,6 +51,25 @@ static void gather_nodes(const dtm_analysis *a, node_fields *nf) {
   }
 }
 
+/* Nodes shared with other parts of a distributed run: the sums (size,
+ * count) and minima (bound, element steps) over every part (r: the caller's
+ * status, agreed with them). */
+static int exchange_fields(const dtm_analysis *a, node_fields *nf, int r) {
+  if (!a->x) return r;
+  size_t nn = a->mesh->nnodes;
+  double *c = malloc((nn + 1) * sizeof *c);
+  if (r == DTM_OK && !c) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) c[v] = nf->count[v];
+  r = dtm_x_nodes(a, r, nf->h, DTM_X_SUM);
+  r = dtm_x_nodes(a, r, c, DTM_X_SUM);
+  r = dtm_x_nodes(a, r, nf->hcap, DTM_X_MIN);
+  for (int k = 0; k < a->neffects; k++)
+    if (a->dt_effect[k] && !(a->node_dt && a->node_dt[k])) r = dtm_x_nodes(a, r, nf->emin[k], DTM_X_MIN);
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) nf->count[v] = (unsigned)c[v];
+  free(c);
+  return r;
+}
+
 /* The size at which node v reaches the target (its current size where no
  * effect has a step there). */
 static double node_need(const dtm_analysis *a, const node_fields *nf, size_t v, double target) {
@@ -153,8 +172,9 @@ static void suggest_node(const dtm_analysis *a, node_fields *nf, size_t v, doubl
 }
 
 static int field(const dtm_analysis *a, double c, double *size, node_fields *nf) {
-  DTM_CHECK(alloc_fields(a, nf));
-  gather_nodes(a, nf);
+  int r = alloc_fields(a, nf);
+  if (r == DTM_OK) gather_nodes(a, nf);
+  DTM_CHECK(exchange_fields(a, nf, r)); /* the nodes shared with other parts of a distributed run */
   for (size_t v = 0; v < a->mesh->nnodes; v++) suggest_node(a, nf, v, c, size);
   return DTM_OK;
 }
@@ -170,7 +190,8 @@ int dtm_size_suggest(dtm_analysis *a) {
   node_fields nf = {0};
   a->size_node = malloc((a->mesh->nnodes + 1) * sizeof *a->size_node);
   a->forced = calloc((size_t)a->neffects + 1, sizeof *a->forced);
-  int r = a->size_node && a->forced ? field(a, 1.0, a->size_node, &nf) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = dtm_x_agree(a, a->size_node && a->forced ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
+  if (r == DTM_OK) r = field(a, 1.0, a->size_node, &nf);
   if (r == DTM_OK) {
     element_accounting(a, a->scene->target);
     forced_accounting(a, &nf);

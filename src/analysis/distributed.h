@@ -1,0 +1,51 @@
+/* The analysis module's interface to the distributed run (src/parallel/;
+ * internal to libdtmap, hidden): an analysis of one part of a partitioned
+ * mesh reaches the other parts only through a dtm_exchange, a table of
+ * collective operations the caller provides. With it, every per-node
+ * result (nodal bound, size suggestion) is the whole mesh's at the part's
+ * nodes, and every figure the recommendation rests on is global: the
+ * smallest element step, each effect's element, nodal and global minima,
+ * hence the recommended step. Element indices (the element and node where
+ * a minimum occurs, the accuracy bookkeeping) stay those of the part.
+ * Each operation is collective and carries the caller's status: a part
+ * that failed still calls it, and every part gets back the same status,
+ * so no part waits for one that gave up. */
+#ifndef DTMAP_ANALYSIS_DISTRIBUTED_H
+#define DTMAP_ANALYSIS_DISTRIBUTED_H
+
+#include <stddef.h>
+
+#include "dtmap/analysis.h"
+#include "dtmap/operator.h"
+
+typedef enum { DTM_X_SUM, DTM_X_MIN, DTM_X_MAX } dtm_x_op;
+
+typedef struct dtm_exchange {
+  void *ctx; /* the caller's, passed back to every operation */
+  /* Agree on status (the first non-zero status of any part, else DTM_OK);
+   * when it is DTM_OK, combine v[nnodes] (one value per node of this
+   * part's mesh) so that every node shared by several parts gets the sum,
+   * min or max over them. Returns the agreed status. */
+  int (*nodes)(void *ctx, int status, double *v, dtm_x_op op);
+  /* Agree on status; when DTM_OK, v[n] becomes the elementwise sum, min or
+   * max over the parts (n = 0: only agree). */
+  int (*reduce)(void *ctx, int status, double *v, int n, dtm_x_op op);
+  /* Agree on status; when DTM_OK, estimate lambda_max of the whole mesh's
+   * M^-1 K from op, this part's operator (its masses are this part's
+   * contributions only), from a start drawn from seed: theta, residual (an
+   * eigenvalue lies within it), iterations (operator products), converged,
+   * seconds; no mode. */
+  int (*eigen)(void *ctx, int status, const dtm_operator *op, double tol, int maxit, unsigned seed,
+               dtm_lanczos_result *r);
+} dtm_exchange;
+
+/* Extract the current Gmsh model's elements of dimension dim into *out,
+ * groups mapped to the scene's materials (as dtm_analysis_current does);
+ * *seconds receives the time. */
+int dtm_analysis_extract(const dtm_scene *s, int dim, dtm_mesh **out, double *seconds);
+/* dtm_analysis_compute on one part, with x reaching the others (x must
+ * outlive the analysis; NULL: a whole mesh). Collective. */
+int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects,
+                                const dtm_exchange *x, dtm_analysis **out);
+
+#endif
