@@ -5,9 +5,12 @@
 # every module gets a build-time layer check (cmake/layers.cmake) that its
 # object library depends on, so an include that reaches up fails the build.
 
-# dtm_module(<name> <folder> USES <module>... [HEADERS_ONLY])
+# dtm_module(<name> <folder> USES <module>... [HEADERS_ONLY] [EXCLUDE <regex>])
+# EXCLUDE drops the sources whose path matches regex from the build (a
+# module built two ways, e.g. src/parallel/ with or without MPI); the layer
+# check still reads them all.
 function(dtm_module name dir)
-  cmake_parse_arguments(M "HEADERS_ONLY" "" "USES" ${ARGN})
+  cmake_parse_arguments(M "HEADERS_ONLY" "EXCLUDE" "USES" ${ARGN})
   set(allowed ${name})
   set(dirs ${CMAKE_SOURCE_DIR}/${dir})
   foreach(d ${M_USES})
@@ -28,6 +31,9 @@ function(dtm_module name dir)
   endif()
   file(GLOB_RECURSE srcs CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/${dir}/*.c)
   list(FILTER srcs EXCLUDE REGEX "/plugins/examples/")
+  if(M_EXCLUDE)
+    list(FILTER srcs EXCLUDE REGEX "${M_EXCLUDE}")
+  endif()
   add_library(dtm_${name} OBJECT ${srcs})
   set_target_properties(dtm_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON C_VISIBILITY_PRESET hidden)
   target_include_directories(dtm_${name} PRIVATE ${CMAKE_SOURCE_DIR}/include ${dirs})

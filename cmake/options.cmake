@@ -8,6 +8,7 @@ option(DTM_TESTS "Build the ctest suite (needs cmocka, PLplot and Debian's pytho
 option(DTM_BENCHMARKS "Build the benchmark programs of bench/ (never run by ctest)" OFF)
 option(DTM_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
 option(DTM_WERROR "Treat compiler warnings as errors (-Werror)" OFF)
+option(DTM_MPI "Build the distributed run, mpirun -n P dtmap run (needs Open MPI, PETSc and SLEPc)" OFF)
 set(DTM_PLOT AUTO CACHE STRING "PLplot for the plot of `dtmap sweep`: AUTO (when found), ON (required), OFF")
 set_property(CACHE DTM_PLOT PROPERTY STRINGS AUTO ON OFF)
 set(DTM_PYTHON /usr/bin/python3 CACHE FILEPATH
@@ -65,5 +66,20 @@ if(DTM_TESTS)
     message(FATAL_ERROR "DTM_TESTS=ON needs ${DTM_PYTHON} with the modules gmsh, numpy and jsonschema "
                         "(Debian: python3-gmsh python3-numpy python3-jsonschema; bash scripts/setup.sh installs them), "
                         "or configure with -DDTM_TESTS=OFF. Python said: ${py_err}")
+  endif()
+endif()
+
+# The distributed run (src/parallel/): MPI, PETSc and SLEPc from Debian
+# (openmpi-bin, libopenmpi-dev, libpetsc-real-dev, libslepc-real-dev);
+# without DTM_MPI dtmap needs none of them.
+if(DTM_MPI)
+  find_package(MPI COMPONENTS C)
+  pkg_check_modules(PETSC IMPORTED_TARGET petsc)
+  pkg_check_modules(SLEPC IMPORTED_TARGET slepc)
+  find_program(DTM_MPIEXEC NAMES mpirun mpiexec)
+  if(NOT MPI_C_FOUND OR NOT PETSC_FOUND OR NOT SLEPC_FOUND OR NOT DTM_MPIEXEC)
+    message(FATAL_ERROR "DTM_MPI=ON needs Open MPI, PETSc and SLEPc: install openmpi-bin, libopenmpi-dev, "
+                        "libpetsc-real-dev and libslepc-real-dev (bash scripts/setup.sh does), "
+                        "or configure with -DDTM_MPI=OFF.")
   endif()
 endif()

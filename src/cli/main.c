@@ -10,6 +10,7 @@
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/parallel.h"
 #include "dtmap/registry.h"
 #include "dtmap/version.h"
 
@@ -173,6 +174,8 @@ int main(int argc, char **argv) {
   for (const cli_command *c = dtm_cli_commands; c->name; c++) {
     if (strcmp(cmd, c->name)) continue;
     cli_opts o;
+    if (c->main != dtm_cli_run && c->main != dtm_cli_verify && dtm_parallel_launched())
+      return usage_error("only run is distributed; run this command without mpirun: ", c->name);
     int r = dtm_cli_parse(c, argc, argv, &o);
     if (r) return r < 0 ? 0 : r;
     dtm_cli_progress_start(o.verbosity);

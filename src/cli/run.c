@@ -10,6 +10,7 @@
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
+#include "dtmap/parallel.h"
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
 
@@ -153,12 +154,27 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   return r;
 }
 
+/* mpirun -n P dtmap run, or a scene of partition files: every rank runs
+ * this; the rank where an error arose has it pending and prints it. */
+static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
+  char def[4096];
+  const char *out = o->out ? o->out : s->out_mesh;
+  if (!out) dtm_cli_default_out(s->path, "_dt.msh", def, sizeof def), out = def;
+  dtm_parallel_opts po = {
+      out,    o->report ? o->report : s->out_report, o->posterior, o->tol, o->lanczos_max, o->threads, o->verbosity,
+      t_scene};
+  return dtm_parallel_run(s, &po);
+}
+
 static int run_scene(const cli_opts *o, int verify) {
   if (o->threads > 0) omp_set_num_threads(o->threads);
   dtm_scene *s = NULL;
   double t0 = dtm_wtime();
   int r = dtm_scene_load(o->scene, &s);
-  if (r == DTM_OK) {
+  if (r == DTM_OK && dtm_parallel_wanted(s))
+    r = verify ? DTM_ERR(DTM_ERR_INPUT, "%s: dtmap verify runs on one whole mesh, without mpirun", s->path)
+               : run_parallel(s, o, dtm_wtime() - t0);
+  else if (r == DTM_OK) {
     if (o->verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
     r = analyse(s, o, dtm_wtime() - t0, verify);
   }
@@ -166,7 +182,7 @@ static int run_scene(const cli_opts *o, int verify) {
   if (r == DTM_OK && o->png)
     r = dtm_cli_pictures(output_path(s, o, NULL, def, sizeof def), o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
-  return r ? dtm_cli_fail(r, o->verbosity) : 0;
+  return r && dtm_error_code() ? dtm_cli_fail(r, o->verbosity) : r;
 }
 
 int dtm_cli_run(const cli_opts *o) {

@@ -1,0 +1,131 @@
+/* Private to src/parallel/ (the MPI build): the state of one rank in a
+ * distributed run and the stages its files share. A rank analyses one part
+ * of the mesh; the parts meet at interface nodes, which the lowest rank
+ * holding them owns. The part's nodes are renumbered owned first, then the
+ * ghosts (the nodes other ranks own), so that a PETSc ghosted Vec's local
+ * form is indexed like the mesh's nodes. */
+#ifndef DTM_PARALLEL_IMPL_H
+#define DTM_PARALLEL_IMPL_H
+
+#include <mpi.h>
+#include <petscvec.h>
+#include <stddef.h>
+
+#include "distributed.h"
+#include "dtmap/cost.h"
+#include "dtmap/parallel.h"
+#include "dtmap/util.h"
+
+/* Stages each rank times, s. */
+enum { PAR_T_READ, PAR_T_EXTRACT, PAR_T_LAYOUT, PAR_T_EFFECTS, PAR_T_NODAL, PAR_T_GLOBAL, PAR_T_OUTPUT, PAR_T_COUNT };
+
+typedef struct {
+  MPI_Comm comm;          /* MPI_COMM_WORLD */
+  int rank, size;         /* this rank, the number of ranks (= parts) */
+  int quiet;              /* 1 when the failure agreed on is another rank's to print */
+  const dtm_scene *scene; /* the user's scene (not owned) */
+  dtm_scene part;         /* a shallow copy whose <mesh> is this rank's part file */
+  char part_path[4200];   /* this rank's part file */
+  char tmpdir[4096];      /* part files rank 0 wrote for a one-mesh scene, or "" */
+  int dim;                /* dimension analysed */
+  dtm_mesh *mesh;         /* this part (owned by the analysis once it exists) */
+  size_t nowned, nghost;  /* owned nodes (first), ghost nodes (last) */
+  PetscInt first;         /* global number of the first owned node */
+  PetscInt *ghosts;       /* [nghost] global numbers of the ghosts */
+  Vec node;               /* ghosted, one value per node of the part */
+  dtm_exchange x;         /* the analysis's way to the other parts (ctx = this) */
+  dtm_analysis *analysis; /* this part's analysis */
+  dtm_cost *cost;         /* its cost (subcycling, mass scaling) */
+  double t[PAR_T_COUNT];  /* stage times, s */
+  long products;          /* operator products of the eigensolver */
+} dtm_par;
+
+/* PETSc's error code as a dtmap error naming the call. */
+int dtm_par_petsc_fail(PetscErrorCode e, const char *call, const char *file, int line, const char *func);
+#define PAR_PETSC(call)                                                                                                \
+  do {                                                                                                                 \
+    PetscErrorCode par_e_ = (call);                                                                                    \
+    if (par_e_) return dtm_par_petsc_fail(par_e_, #call, __FILE__, __LINE__, __func__);                                \
+  } while (0)
+
+/* comm.c: start and stop MPI, PETSc and SLEPc; agree on a status (the
+ * highest code of any rank; a rank that was fine gets an error record
+ * saying another part failed and is quiet); agree on a status every rank
+ * computed alike (only rank 0 prints it). */
+int dtm_par_init(dtm_par *p);
+void dtm_par_finalize(void);
+int dtm_par_agree(dtm_par *p, int status);
+int dtm_par_agree_alike(dtm_par *p, int status);
+
+/* load.c: this rank's part of the mesh, read and extracted into p->mesh
+ * (rank 0 first partitions a one-mesh scene into p->tmpdir); remove what
+ * rank 0 wrote. */
+int dtm_par_load(dtm_par *p, const char *out);
+void dtm_par_load_cleanup(dtm_par *p);
+
+/* layout.c: owners and global numbers of the part's nodes, the owned-first
+ * renumbering of p->mesh, the ghosted node Vec; refuses parts whose shared
+ * nodes differ in position or whose elements overlap another part's. */
+int dtm_par_layout(dtm_par *p);
+void dtm_par_layout_destroy(dtm_par *p);
+/* A ghosted Vec with bs values per node of the part. */
+int dtm_par_vec(const dtm_par *p, int bs, Vec *v);
+/* v[nnodes * bs] (node-major): nodes shared with other ranks get the sum
+ * (ADD_VALUES), min or max over them. */
+int dtm_par_combine(Vec g, double *v, size_t n, InsertMode mode);
+
+/* exchange.c: p->x, the dtm_exchange the analysis uses. */
+void dtm_par_exchange_init(dtm_par *p);
+
+/* eigen.c: lambda_max of the whole mesh's M^-1 K (SLEPc on a PETSc shell
+ * matrix around this part's operator). */
+int dtm_par_eigen(dtm_par *p, const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
+
+/* Where a global minimum is: the rank holding it (ties to the smaller
+ * Gmsh tag, then the lower rank) broadcasts its record. */
+typedef struct {
+  int found;              /* 0 when no rank holds a finite candidate */
+  unsigned long long tag; /* Gmsh element or node tag */
+  char group[64];         /* the element's physical group */
+  double centroid[3];     /* the element's centroid, m */
+  int effect;             /* its limiting effect (scene order) */
+  char type[16];          /* its element type */
+} dtm_par_where;
+
+/* One rank's row of the per-part figures. */
+enum { ROW_ELEMENTS, ROW_NODES, ROW_OWNED, ROW_GHOSTS, ROW_MEMORY, ROW_T, ROW_COUNT = ROW_T + PAR_T_COUNT };
+
+/* The global figures of a distributed run, as a serial run would report
+ * them, plus the per-part ones. */
+typedef struct {
+  double elements, nodes;        /* of the whole mesh (nodes counted once) */
+  dtm_par_where dt;              /* the smallest element step */
+  dtm_par_where *element;        /* [neffects] each effect's smallest element step */
+  dtm_par_where *node;           /* [neffects] each effect's smallest nodal step */
+  double under_resolved;         /* elements coarser than an accuracy bound */
+  double conflicts;              /* elements whose size for the target exceeds the bound */
+  double dt_cap;                 /* smallest step the accuracy bounds allow (NaN: none) */
+  dtm_par_where cap;             /* where */
+  double cap_hmax;               /* its bound, m */
+  int cap_effect;                /* the effect whose bound it is */
+  double levels[DTM_MAX_LEVELS]; /* subcycling: elements per level */
+  int nlevels;                   /* highest level + 1 */
+  double speedup;                /* N / sum_k N_k 2^-k */
+  double *mass;                  /* [5 + 2 ngroups] total, added, scaled, then per group mass, added; or NULL */
+  double *rows;                  /* [size][ROW_COUNT] on rank 0, else NULL */
+} dtm_par_figures;
+
+/* figures.c: collect them (collective); free them. */
+int dtm_par_collect(dtm_par *p, dtm_par_figures *f);
+void dtm_par_figures_free(dtm_par_figures *f);
+
+/* report.c: the JSON report text on rank 0 (free()). */
+int dtm_par_report(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f, char **json);
+/* summary.c: the terminal summary, rank 0. */
+void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f);
+
+/* write.c: every part's mesh and views, the figures into f, rank 0's
+ * report, committed only when every rank succeeded (collective). */
+int dtm_par_write(dtm_par *p, const dtm_parallel_opts *o, dtm_par_figures *f);
+
+#endif

@@ -1,0 +1,187 @@
+/* The JSON report of a distributed run, written by rank 0 from the global
+ * figures (figures.c): the fields of the serial report under the same
+ * names and meanings (mesh counts, effects, dt with where the minimum is,
+ * each effect's minima and global estimate, accuracy, subcycling, mass
+ * scaling, timings: the slowest part's), without its lists of individual
+ * elements (under-resolved, most added mass: the parts' views hold them),
+ * plus "parallel": ranks, and per part its elements (they sum to
+ * mesh.elements), nodes (own and ghost), peak memory and stage times. */
+#include <cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "parallel-impl.h"
+
+static cJSON *where_json(const dtm_par_where *w) {
+  cJSON *o = cJSON_CreateObject();
+  if (!w->found) return o;
+  cJSON_AddNumberToObject(o, "element", (double)w->tag);
+  cJSON_AddStringToObject(o, "group", w->group);
+  cJSON_AddItemToObject(o, "centroid", cJSON_CreateDoubleArray(w->centroid, 3));
+  return o;
+}
+
+static cJSON *dt_json(const dtm_analysis *a, const dtm_par_figures *f) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  cJSON *dt = where_json(&f->dt);
+  cJSON_AddNumberToObject(dt, "min", dtm_analysis_dt_min(a, NULL));
+  cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, f->dt.effect)->name);
+  cJSON_AddNumberToObject(dt, "safety", s->safety);
+  cJSON_AddNumberToObject(dt, "recommended", dtm_analysis_recommended(a));
+  cJSON_AddStringToObject(dt, "basis", dtm_analysis_basis(a));
+  if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
+  if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
+  if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
+  return dt;
+}
+
+static cJSON *global_json(const dtm_global_info *g) {
+  cJSON *o = cJSON_CreateObject();
+  double br[2] = {g->dt_low, g->dt_high};
+  cJSON_AddStringToObject(o, "solver", "SLEPc Krylov-Schur");
+  cJSON_AddNumberToObject(o, "theta", g->theta);
+  cJSON_AddNumberToObject(o, "residual", g->residual);
+  cJSON_AddNumberToObject(o, "iterations", g->iterations);
+  cJSON_AddBoolToObject(o, "converged", g->converged);
+  cJSON_AddNumberToObject(o, "seconds", g->seconds);
+  cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
+  return o;
+}
+
+static cJSON *effect_json(const dtm_analysis *a, const dtm_par_figures *f, int k) {
+  const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
+  int limits = dtm_analysis_effect_dt(a, k) != NULL;
+  cJSON *o = limits ? where_json(&f->element[k]) : cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "name", dtm_analysis_effect(a, k)->name);
+  cJSON_AddNumberToObject(o, "index", k);
+  if (limits) cJSON_AddNumberToObject(o, "min", pe->min);
+  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
+  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)f->node[k].tag);
+  if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
+  if (dtm_analysis_global(a, k)) cJSON_AddItemToObject(o, "lanczos", global_json(dtm_analysis_global(a, k)));
+  if (limits) cJSON_AddNumberToObject(o, "safe", pe->safe);
+  return o;
+}
+
+static int has_accuracy(const dtm_analysis *a) {
+  for (int k = 0; k < dtm_analysis_neffects(a); k++)
+    if (dtm_analysis_resolution(a, k)) return 1;
+  return 0;
+}
+
+static cJSON *accuracy_json(const dtm_analysis *a, const dtm_par_figures *f) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "under_resolved", f->under_resolved);
+  cJSON_AddNumberToObject(o, "target_conflicts", f->conflicts);
+  if (!f->conflicts) return o;
+  cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", f->dt_cap);
+  cJSON_AddStringToObject(o, "binding_bound", dtm_analysis_effect(a, f->cap_effect)->indicator.view);
+  cJSON_AddNumberToObject(o, "binding_hmax", f->cap_hmax);
+  cJSON_AddNumberToObject(o, "binding_element", (double)f->cap.tag);
+  double d = dtm_analysis_scene(a)->duration;
+  if (d > 0) cJSON_AddNumberToObject(o, "element_steps_at_cap", f->elements * d / f->dt_cap);
+  return o;
+}
+
+static cJSON *subcycling_json(const dtm_par_figures *f) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddItemToObject(o, "levels", cJSON_CreateDoubleArray(f->levels, f->nlevels));
+  cJSON_AddNumberToObject(o, "speedup", f->speedup);
+  return o;
+}
+
+static cJSON *mass_json(const dtm_par *p, const dtm_par_figures *f) {
+  const dtm_mass_scaling *ms = p->cost->mass;
+  const dtm_mesh *m = dtm_analysis_mesh(p->analysis);
+  cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
+  cJSON_AddNumberToObject(o, "element_step_target", ms->target);
+  cJSON_AddNumberToObject(o, "total_mass", f->mass[0]);
+  cJSON_AddNumberToObject(o, "total_added", f->mass[1]);
+  cJSON_AddNumberToObject(o, "percent_added", 100.0 * f->mass[1] / f->mass[0]);
+  cJSON_AddNumberToObject(o, "elements_scaled", f->mass[2]);
+  for (int g = 0; g < ms->ngroups; g++) {
+    double gm = f->mass[3 + g], ga = f->mass[3 + ms->ngroups + g];
+    char lbl[64];
+    if (!(gm > 0)) continue;
+    cJSON *go = cJSON_CreateObject();
+    cJSON_AddStringToObject(go, "group", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl));
+    cJSON_AddNumberToObject(go, "mass", gm);
+    cJSON_AddNumberToObject(go, "added", ga);
+    cJSON_AddNumberToObject(go, "percent_added", 100.0 * ga / gm);
+    cJSON_AddItemToArray(groups, go);
+  }
+  return o;
+}
+
+/* Column c of the per-part rows. */
+static cJSON *column(const dtm_par *p, const dtm_par_figures *f, int c) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int r = 0; r < p->size; r++) cJSON_AddItemToArray(arr, cJSON_CreateNumber(f->rows[r * ROW_COUNT + c]));
+  return arr;
+}
+
+/* The slowest part's time of stage t. */
+static double slowest(const dtm_par *p, const dtm_par_figures *f, int t) {
+  double s = 0;
+  for (int r = 0; r < p->size; r++) s = fmax(s, f->rows[r * ROW_COUNT + ROW_T + t]);
+  return s;
+}
+
+static const char *const stage_names[PAR_T_COUNT] = {"read",  "extract", "layout", "effects",
+                                                     "nodal", "global",  "output"};
+
+static cJSON *parallel_json(const dtm_par *p, const dtm_par_figures *f) {
+  cJSON *o = cJSON_CreateObject(), *t = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "ranks", p->size);
+  cJSON_AddStringToObject(o, "parts",
+                          p->scene->partitions ? "the scene's part files" : "split by rank 0 (Gmsh, METIS)");
+  cJSON_AddItemToObject(o, "elements", column(p, f, ROW_ELEMENTS));
+  cJSON_AddItemToObject(o, "nodes", column(p, f, ROW_NODES));
+  cJSON_AddItemToObject(o, "owned_nodes", column(p, f, ROW_OWNED));
+  cJSON_AddItemToObject(o, "ghost_nodes", column(p, f, ROW_GHOSTS));
+  cJSON_AddItemToObject(o, "memory_mb", column(p, f, ROW_MEMORY));
+  for (int s = 0; s < PAR_T_COUNT; s++) cJSON_AddItemToObject(t, stage_names[s], column(p, f, ROW_T + s));
+  cJSON_AddItemToObject(o, "timings", t);
+  return o;
+}
+
+static cJSON *timings_json(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f) {
+  static const int stage[] = {PAR_T_READ, PAR_T_EXTRACT, PAR_T_EFFECTS, PAR_T_NODAL, PAR_T_GLOBAL, PAR_T_OUTPUT};
+  static const char *const names[] = {"mesh", "extract", "effects", "nodal", "global", "output"};
+  cJSON *t = cJSON_CreateObject();
+  cJSON_AddNumberToObject(t, "scene", o->t_scene);
+  for (size_t i = 0; i < sizeof stage / sizeof *stage; i++)
+    cJSON_AddNumberToObject(t, names[i], slowest(p, f, stage[i]));
+  cJSON_AddNumberToObject(t, "threads", dtm_analysis_threads(p->analysis));
+  return t;
+}
+
+static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f) {
+  const dtm_analysis *a = p->analysis;
+  cJSON *root = cJSON_CreateObject(), *mesh = cJSON_CreateObject(), *names;
+  cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
+  cJSON_AddStringToObject(root, "scene", p->scene->path);
+  cJSON_AddNumberToObject(mesh, "elements", f->elements);
+  cJSON_AddNumberToObject(mesh, "nodes", f->nodes);
+  cJSON_AddNumberToObject(mesh, "dim", p->dim);
+  cJSON_AddItemToObject(root, "mesh", mesh);
+  names = cJSON_AddArrayToObject(root, "effects");
+  for (int k = 0; k < dtm_analysis_neffects(a); k++)
+    cJSON_AddItemToArray(names, cJSON_CreateString(dtm_analysis_effect(a, k)->name));
+  cJSON_AddItemToObject(root, "dt", dt_json(a, f));
+  cJSON *minima = cJSON_AddArrayToObject(root, "effect_minima");
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) cJSON_AddItemToArray(minima, effect_json(a, f, k));
+  if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a, f));
+  cJSON_AddItemToObject(root, "subcycling", subcycling_json(f));
+  if (f->mass) cJSON_AddItemToObject(root, "mass_scaling", mass_json(p, f));
+  cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));
+  cJSON_AddItemToObject(root, "parallel", parallel_json(p, f));
+  return root;
+}
+
+int dtm_par_report(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f, char **json) {
+  cJSON *root = report_json(p, o, f);
+  *json = root ? cJSON_Print(root) : NULL;
+  cJSON_Delete(root);
+  return *json ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot build the JSON report");
+}

@@ -1,0 +1,64 @@
+/* dtm_parallel_run: one rank's whole distributed run. Start MPI, PETSc,
+ * SLEPc and Gmsh; read this rank's part (load.c); find how the parts meet
+ * and renumber the part's nodes (layout.c); create the scene's effects and
+ * analyse the part with an exchange to the others (the analysis module's
+ * distributed interface), then the global estimate and the cost; write the
+ * parts, the report and the summary (write.c, summary.c). Every step ends
+ * in an agreement, so all ranks stop together; only the rank where an
+ * error arose keeps it to print. */
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/gmsh.h"
+#include "parallel-impl.h"
+
+static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
+  dtm_effect *e = NULL;
+  int ne = 0, r = dtm_par_agree(p, dtm_effects_create(&p->part, p->mesh, &e, &ne));
+  if (r) return dtm_effects_destroy(&e, ne), r;
+  dtm_par_exchange_init(p);
+  r = dtm_analysis_compute_shared(&p->part, p->mesh, e, ne, &p->x, &p->analysis);
+  if (r) p->mesh = NULL; /* the analysis took the mesh and the effects, and freed them */
+  if (r == DTM_OK && o->posterior) r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, 0);
+  if (r == DTM_OK) r = dtm_par_agree(p, dtm_cost_create(p->analysis, &p->cost));
+  if (p->analysis) {
+    p->t[PAR_T_EFFECTS] = dtm_analysis_timing(p->analysis, DTM_T_EFFECTS);
+    p->t[PAR_T_NODAL] = dtm_analysis_timing(p->analysis, DTM_T_NODAL);
+    p->t[PAR_T_GLOBAL] = dtm_analysis_timing(p->analysis, DTM_T_GLOBAL);
+  }
+  return r;
+}
+
+static int run(dtm_par *p, const dtm_parallel_opts *o) {
+  dtm_par_figures f = {0};
+  int r = dtm_par_agree(p, dtm_gmsh_start(o->verbosity > 1 ? 2 : 0));
+  if (r == DTM_OK) r = dtm_par_load(p, o->out);
+  double t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_par_layout(p);
+  p->t[PAR_T_LAYOUT] = dtm_wtime() - t0;
+  if (r == DTM_OK) r = analyse(p, o);
+  if (r == DTM_OK) r = dtm_par_write(p, o, &f);
+  if (r == DTM_OK) dtm_par_summary(p, o, &f);
+  dtm_par_figures_free(&f);
+  dtm_gmsh_stop();
+  return r;
+}
+
+int dtm_parallel_run(const dtm_scene *s, const dtm_parallel_opts *o) {
+  dtm_par p;
+  memset(&p, 0, sizeof p);
+  p.scene = s;
+  omp_set_num_threads(o->threads > 0 ? o->threads : 1);
+  int r = dtm_par_init(&p);
+  if (r == DTM_OK) r = run(&p, o);
+  dtm_cost_destroy(&p.cost);
+  if (p.analysis)
+    dtm_analysis_destroy(&p.analysis); /* and the mesh it owns */
+  else
+    dtm_mesh_destroy(&p.mesh);
+  dtm_par_layout_destroy(&p);
+  if (r && p.quiet) dtm_error_clear(); /* another rank prints it */
+  dtm_par_finalize();
+  return r;
+}

@@ -1,0 +1,68 @@
+/* The terminal summary of a distributed run, printed by rank 0 from the
+ * global figures: the whole mesh and how it was split, the smallest step
+ * and where, the nodal bound and the global estimate, the recommendation,
+ * subcycling and mass scaling, and the slowest part's time per stage. */
+#include <math.h>
+#include <stdio.h>
+
+#include "parallel-impl.h"
+
+static void print_parts(const dtm_par *p, const dtm_par_figures *f) {
+  printf("mesh         %.0f elements, %.0f nodes, analysed in %dD, in %d parts (%s):", f->elements, f->nodes, p->dim,
+         p->size, p->scene->partitions ? "the scene's part files" : "split by Gmsh with METIS");
+  for (int r = 0; r < p->size; r++) printf("%s %.0f", r ? "," : "", f->rows[r * ROW_COUNT + ROW_ELEMENTS]);
+  printf(" elements\n");
+}
+
+static void print_steps(const dtm_par *p, const dtm_par_figures *f) {
+  const dtm_analysis *a = p->analysis;
+  const dtm_scene *s = p->scene;
+  const dtm_par_where *w = &f->dt;
+  double rec = dtm_analysis_recommended(a);
+  printf("dt min       %.4e s at element %llu (%s) in '%s' at (%.4g, %.4g, %.4g), limited by %s\n",
+         dtm_analysis_dt_min(a, NULL), w->tag, w->type, w->group, w->centroid[0], w->centroid[1], w->centroid[2],
+         dtm_analysis_effect(a, w->effect)->name);
+  for (int k = 0; k < dtm_analysis_neffects(a); k++) {
+    const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
+    const dtm_global_info *g = dtm_analysis_global(a, k);
+    if (isfinite(pe->nodal))
+      printf("nodal bound  %-10s %.4e s (%.2fx its element bound)\n", dtm_analysis_effect(a, k)->name, pe->nodal,
+             pe->nodal / pe->min);
+    if (g)
+      printf("global       %-10s dt in [%.4e, %.4e] s after %d products (SLEPc, %.2f s), %s\n",
+             dtm_analysis_effect(a, k)->name, g->dt_low, g->dt_high, g->iterations, g->seconds,
+             g->converged ? "converged" : "NOT converged: the nodal bound stays the basis");
+  }
+  printf("recommended  %.4e s = safety %.2f x %.4e s (%s)\n", rec, s->safety, rec / s->safety, dtm_analysis_basis(a));
+}
+
+static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
+  printf("subcycling   %d level(s), ideal speed-up %.2fx\n", f->nlevels, f->speedup);
+  if (f->mass)
+    printf("mass scaling to %.4e s: %.4g kg added to %.0f element(s), %.3g%% of %.4g kg\n", p->cost->mass->target,
+           f->mass[1], f->mass[2], 100.0 * f->mass[1] / f->mass[0], f->mass[0]);
+}
+
+static void print_times(const dtm_par *p, const dtm_par_figures *f) {
+  static const char *const names[PAR_T_COUNT] = {"read", "extract", "layout", "effects", "nodal", "global", "output"};
+  printf("time (s)    ");
+  for (int t = 0; t < PAR_T_COUNT; t++) {
+    double mx = 0;
+    for (int r = 0; r < p->size; r++) mx = fmax(mx, f->rows[r * ROW_COUNT + ROW_T + t]);
+    printf(" %s %.3f", names[t], mx);
+  }
+  printf(" (slowest part)\n");
+}
+
+void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f) {
+  if (p->rank != 0 || !o->verbosity) return;
+  printf("dtmap %s: %s, distributed over %d ranks\n", DTM_VERSION, p->scene->path, p->size);
+  print_parts(p, f);
+  print_steps(p, f);
+  print_cost(p, f);
+  print_times(p, f);
+  char out[4096];
+  if (dtm_scene_part_path(o->out, 1, out, sizeof out) == DTM_OK)
+    printf("\nwrote        %s ... (%d parts, + .opt)%s%s\n", out, p->size, o->report ? ", " : "",
+           o->report ? o->report : "");
+}
