@@ -1,13 +1,14 @@
 /* Reading the current Gmsh model into a dtm_mesh: the dimension to analyse,
- * physical groups of that dimension, a dense node index, and one structure-of-arrays block
+ * physical groups of that dimension, a node index, and one structure-of-arrays block
  * per element type, with each element's group and material resolved per
  * model entity. The arrays Gmsh hands over are kept, not copied, where they
  * can be: the node tags and coordinates always, and a block's element tags
  * and connectivity (node tags turned into indices in place) when one
  * entity holds all its elements, as in most meshes. Node tags that are
- * 1..N in order (what Gmsh gives) need no index: index = tag - 1. So
- * extraction streams through memory and costs the same per element at 1e7
- * as at 1e6. */
+ * 1..N in order (what Gmsh gives) need no index: index = tag - 1; the
+ * sparse tags of one part of a partitioned mesh are looked up in a sorted
+ * list, in memory proportional to the part. So extraction streams through
+ * memory and costs the same per element at 1e7 as at 1e6. */
 #include <gmshc.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -66,12 +67,54 @@ int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
   return DTM_OK;
 }
 
-/* Dense node numbering: index[tag] = position in m->node_tags. */
+/* Node numbering: position in m->node_tags of a Gmsh node tag. The
+ * identity when the tags are 1..N in order; dense (index[tag]) when they
+ * are nearly so; a sorted list of tags searched by bisection when they are
+ * sparse, as in one part of a partitioned mesh, so that memory follows the
+ * part's nodes and not the whole mesh's largest tag. */
 typedef struct {
-  size_t *index;  /* [max_tag + 1], SIZE_MAX where no node; NULL when identity */
+  size_t *index;  /* dense: [max_tag + 1], SIZE_MAX where no node; else NULL */
+  size_t *sorted; /* sparse: [n] (tag, position) pairs by tag; else NULL */
+  size_t n;       /* nodes */
   size_t max_tag; /* largest node tag */
   int identity;   /* node tags are 1..N in order: index = tag - 1 */
 } node_index;
+
+static int by_tag(const void *a, const void *b) {
+  size_t x = *(const size_t *)a, y = *(const size_t *)b;
+  return x < y ? -1 : x > y;
+}
+
+static int index_nodes(node_index *ni, const size_t *tags) {
+  size_t n = ni->n;
+  if (ni->max_tag <= 2 * n + 1024) {
+    ni->index = malloc((ni->max_tag + 1) * sizeof *ni->index);
+    if (!ni->index) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    memset(ni->index, 0xff, (ni->max_tag + 1) * sizeof *ni->index);
+    for (size_t i = 0; i < n; i++) ni->index[tags[i]] = i;
+    return DTM_OK;
+  }
+  ni->sorted = malloc((2 * n + 1) * sizeof *ni->sorted);
+  if (!ni->sorted) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < n; i++) ni->sorted[2 * i] = tags[i], ni->sorted[2 * i + 1] = i;
+  qsort(ni->sorted, n, 2 * sizeof *ni->sorted, by_tag);
+  return DTM_OK;
+}
+
+/* Position of node tag t (not the identity), SIZE_MAX when no such node. */
+static size_t node_at(const node_index *ni, size_t t) {
+  if (t > ni->max_tag) return SIZE_MAX;
+  if (ni->index) return ni->index[t];
+  size_t lo = 0, hi = ni->n;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (ni->sorted[2 * mid] < t)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < ni->n && ni->sorted[2 * lo] == t ? ni->sorted[2 * lo + 1] : SIZE_MAX;
+}
 
 static int read_nodes(dtm_mesh *m, node_index *ni) {
   size_t *tags = NULL, n = 0, nc = 0, np = 0;
@@ -80,7 +123,7 @@ static int read_nodes(dtm_mesh *m, node_index *ni) {
   gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, -1, -1, 0, 0, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read the mesh nodes");
   gmshFree(par);
-  ni->max_tag = 0, ni->identity = 1;
+  ni->max_tag = 0, ni->identity = 1, ni->n = n;
   for (size_t i = 0; i < n; i++) {
     if (tags[i] > ni->max_tag) ni->max_tag = tags[i];
     ni->identity &= tags[i] == i + 1;
@@ -88,12 +131,7 @@ static int read_nodes(dtm_mesh *m, node_index *ni) {
   m->nnodes = n;
   m->node_tags = tags; /* gmshFree and free are both the C allocator here */
   m->xyz = xyz;
-  if (ni->identity) return DTM_OK;
-  ni->index = malloc((ni->max_tag + 1) * sizeof *ni->index);
-  if (!ni->index) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  memset(ni->index, 0xff, (ni->max_tag + 1) * sizeof *ni->index);
-  for (size_t i = 0; i < n; i++) ni->index[tags[i]] = i;
-  return DTM_OK;
+  return ni->identity ? DTM_OK : index_nodes(ni, tags);
 }
 
 /* Group of an entity: its first physical group that has a material, else its
@@ -202,9 +240,9 @@ static size_t tags_to_indices(const node_index *ni, size_t *nodes, size_t n) {
     return bad;
   }
   for (size_t k = 0; k < n && bad == SIZE_MAX; k++) {
-    size_t t = nodes[k];
-    if (t > ni->max_tag || ni->index[t] == SIZE_MAX) bad = k;
-    nodes[k] = bad == SIZE_MAX ? ni->index[t] : t;
+    size_t t = nodes[k], v = node_at(ni, t);
+    if (v == SIZE_MAX) bad = k;
+    nodes[k] = bad == SIZE_MAX ? v : t;
   }
   return bad;
 }
@@ -271,7 +309,7 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
 }
 
 int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
-  extract_ctx c = {s, group_mat, default_mat, {NULL, 0, 0}};
+  extract_ctx c = {s, group_mat, default_mat, {NULL, NULL, 0, 0, 0}};
   int *ents = NULL, ierr = 0, r = DTM_OK;
   size_t ne = 0;
   m->dim = dim;
@@ -280,6 +318,7 @@ int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_s
   for (size_t i = 0; i < ne / 2 && r == DTM_OK && !ierr; i++) r = extract_entity(&c, m, ents[2 * i + 1]);
   gmshFree(ents);
   free(c.ni.index);
+  free(c.ni.sorted);
   if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
   DTM_CHECK(r);
   if (dtm_mesh_nelements(m) == 0)
