@@ -5,10 +5,13 @@
 # (the report schema) are for scripting dtmap and for its tests; man-db
 # reads the generated man page.
 set -euo pipefail
+# The last four are for the distributed run (cmake -DDTM_MPI=ON): Open MPI,
+# PETSc and SLEPc; a build without DTM_MPI does not need them.
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
           xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
-          python3 python3-gmsh python3-numpy python3-jsonschema man-db)
+          python3 python3-gmsh python3-numpy python3-jsonschema man-db
+          openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

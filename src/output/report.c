@@ -11,6 +11,7 @@
 
 #include "dtmap/util.h"
 #include "output-impl.h"
+#include "report.h"
 
 static cJSON *where_json(const dtm_analysis *a, size_t i) {
   cJSON *o = cJSON_CreateObject();
@@ -24,13 +25,10 @@ static cJSON *where_json(const dtm_analysis *a, size_t i) {
   return o;
 }
 
-static cJSON *dt_json(const dtm_analysis *a) {
+void dtm_report_steps(cJSON *dt, const dtm_analysis *a, int effect) {
   const dtm_scene *s = dtm_analysis_scene(a);
-  size_t el;
-  double dt_min = dtm_analysis_dt_min(a, &el);
-  cJSON *dt = where_json(a, el);
-  cJSON_AddNumberToObject(dt, "min", dt_min);
-  cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, dtm_analysis_limiting(a)[el])->name);
+  cJSON_AddNumberToObject(dt, "min", dtm_analysis_dt_min(a, NULL));
+  cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, effect)->name);
   cJSON_AddNumberToObject(dt, "safety", s->safety);
   cJSON_AddStringToObject(dt, "min_is", "the element bound: the dt map's own minimum, not the step to use");
   cJSON_AddNumberToObject(dt, "recommended", dtm_analysis_recommended(a));
@@ -39,6 +37,13 @@ static cJSON *dt_json(const dtm_analysis *a) {
   if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
   if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
   if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
+}
+
+static cJSON *dt_json(const dtm_analysis *a) {
+  size_t el;
+  dtm_analysis_dt_min(a, &el);
+  cJSON *dt = where_json(a, el);
+  dtm_report_steps(dt, a, dtm_analysis_limiting(a)[el]);
   return dt;
 }
 
@@ -54,18 +59,23 @@ static cJSON *lanczos_json(const dtm_global_info *g) {
   return o;
 }
 
-static cJSON *effect_detail(const dtm_analysis *a, int k) {
+void dtm_report_effect(cJSON *o, const dtm_analysis *a, int k, size_t nodal_node) {
   const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
   int limits = dtm_analysis_effect_dt(a, k) != NULL;
-  cJSON *o = limits ? where_json(a, pe->element) : cJSON_CreateObject();
   cJSON_AddStringToObject(o, "name", dtm_analysis_effect(a, k)->name);
   cJSON_AddNumberToObject(o, "index", k);
   if (limits) cJSON_AddNumberToObject(o, "min", pe->min);
   if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
-  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)dtm_analysis_mesh(a)->node_tags[pe->node]);
+  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)nodal_node);
   if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
   if (dtm_analysis_global(a, k)) cJSON_AddItemToObject(o, "lanczos", lanczos_json(dtm_analysis_global(a, k)));
   if (limits) cJSON_AddNumberToObject(o, "safe", pe->safe);
+}
+
+static cJSON *effect_detail(const dtm_analysis *a, int k) {
+  const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
+  cJSON *o = dtm_analysis_effect_dt(a, k) ? where_json(a, pe->element) : cJSON_CreateObject();
+  dtm_report_effect(o, a, k, isfinite(pe->nodal) ? dtm_analysis_mesh(a)->node_tags[pe->node] : 0);
   return o;
 }
 

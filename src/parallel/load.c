@@ -73,10 +73,11 @@ static int locate_part(dtm_par *p, const char *out) {
 static int check_partition(const dtm_par *p, int dim) {
   int part, maxpart;
   DTM_CHECK(dtm_gmsh_partition_info(dim, &part, &maxpart));
+  if (part == 0 && p->size == 1) return DTM_OK; /* one part: the whole mesh is it */
   if (part == 0)
     return DTM_ERR(DTM_ERR_INPUT,
                    "%s: not a part file (no partition entities); write the parts with Gmsh, e.g. "
-                   "gmsh model.msh -part %d -part_split",
+                   "gmsh model.msh -part %d -part_split -part_no_topo -save -o model.msh",
                    p->part_path, p->size);
   if (part != p->rank + 1)
     return DTM_ERR(DTM_ERR_INPUT, "%s: holds %s, not partition %d of the mesh", p->part_path,

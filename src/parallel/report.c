@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "parallel-impl.h"
+#include "report.h"
 
 static cJSON *where_json(const dtm_par_where *w) {
   cJSON *o = cJSON_CreateObject();
@@ -22,44 +23,16 @@ static cJSON *where_json(const dtm_par_where *w) {
 }
 
 static cJSON *dt_json(const dtm_analysis *a, const dtm_par_figures *f) {
-  const dtm_scene *s = dtm_analysis_scene(a);
   cJSON *dt = where_json(&f->dt);
-  cJSON_AddNumberToObject(dt, "min", dtm_analysis_dt_min(a, NULL));
-  cJSON_AddStringToObject(dt, "effect", dtm_analysis_effect(a, f->dt.effect)->name);
-  cJSON_AddNumberToObject(dt, "safety", s->safety);
-  cJSON_AddNumberToObject(dt, "recommended", dtm_analysis_recommended(a));
-  cJSON_AddStringToObject(dt, "basis", dtm_analysis_basis(a));
-  if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
-  if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
-  if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
+  dtm_report_steps(dt, a, f->dt.effect);
   return dt;
 }
 
-static cJSON *global_json(const dtm_global_info *g) {
-  cJSON *o = cJSON_CreateObject();
-  double br[2] = {g->dt_low, g->dt_high};
-  cJSON_AddStringToObject(o, "solver", "SLEPc Krylov-Schur");
-  cJSON_AddNumberToObject(o, "theta", g->theta);
-  cJSON_AddNumberToObject(o, "residual", g->residual);
-  cJSON_AddNumberToObject(o, "iterations", g->iterations);
-  cJSON_AddBoolToObject(o, "converged", g->converged);
-  cJSON_AddNumberToObject(o, "seconds", g->seconds);
-  cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
-  return o;
-}
-
 static cJSON *effect_json(const dtm_analysis *a, const dtm_par_figures *f, int k) {
-  const dtm_effect_min *pe = dtm_analysis_effect_min(a, k);
-  int limits = dtm_analysis_effect_dt(a, k) != NULL;
-  cJSON *o = limits ? where_json(&f->element[k]) : cJSON_CreateObject();
-  cJSON_AddStringToObject(o, "name", dtm_analysis_effect(a, k)->name);
-  cJSON_AddNumberToObject(o, "index", k);
-  if (limits) cJSON_AddNumberToObject(o, "min", pe->min);
-  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal", pe->nodal);
-  if (isfinite(pe->nodal)) cJSON_AddNumberToObject(o, "nodal_node", (double)f->node[k].tag);
-  if (isfinite(pe->global)) cJSON_AddNumberToObject(o, "global", pe->global);
-  if (dtm_analysis_global(a, k)) cJSON_AddItemToObject(o, "lanczos", global_json(dtm_analysis_global(a, k)));
-  if (limits) cJSON_AddNumberToObject(o, "safe", pe->safe);
+  cJSON *o = dtm_analysis_effect_dt(a, k) ? where_json(&f->element[k]) : cJSON_CreateObject();
+  dtm_report_effect(o, a, k, f->node[k].tag);
+  cJSON *lz = cJSON_GetObjectItem(o, "lanczos");
+  if (lz) cJSON_AddStringToObject(lz, "solver", "SLEPc Krylov-Schur"); /* on the distributed operator */
   return o;
 }
 

@@ -32,6 +32,7 @@ void tu_mesh_and_split(const char *geo, int dim, double h, const char *dir, cons
   gmshModelMeshGenerate(dim, &ierr);
   snprintf(path, sizeof path, "%s/%s.msh", dir, name);
   gmshWrite(path, &ierr);
+  gmshOptionSetNumber("Mesh.PartitionCreateTopology", 0, &ierr); /* see src/gmsh/partition.c */
   gmshModelMeshPartition(nparts, &ierr);
   gmshOptionSetNumber("Mesh.PartitionSplitMeshFiles", 1, &ierr);
   snprintf(path, sizeof path, "%s/%s_parts.msh", dir, name);
