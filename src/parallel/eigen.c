@@ -17,6 +17,7 @@
 #include <slepceps.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "base.h"
 #include "parallel-impl.h"
@@ -28,8 +29,25 @@ typedef struct {
   Vec xg, yg;             /* ghosted, ncomp values per node */
   double *dsq;            /* [local dofs] M^-1/2 of the whole mesh, 0 where no mass */
   PetscInt nown;          /* owned dofs */
-  long *products;         /* counter of applications */
+  dtm_par *p;             /* counts the products, their CPU and exchange times */
 } shell;
+
+/* CPU time of the calling thread, s: the part's own work, whatever else
+ * runs on its core. */
+static double cpu_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static PetscErrorCode ghost_update(shell *s, Vec v, InsertMode mode, ScatterMode dir) {
+  double t0 = dtm_wtime();
+  PetscFunctionBeginUser;
+  PetscCall(VecGhostUpdateBegin(v, mode, dir));
+  PetscCall(VecGhostUpdateEnd(v, mode, dir));
+  s->p->exchange += dtm_wtime() - t0;
+  PetscFunctionReturn(0);
+}
 
 /* y = M^-1/2 K M^-1/2 x over the whole mesh. */
 static PetscErrorCode shell_mult(Mat A, Vec x, Vec y) {
@@ -44,25 +62,25 @@ static PetscErrorCode shell_mult(Mat A, Vec x, Vec y) {
   for (PetscInt i = 0; i < s->nown; i++) out[i] = in[i] * s->dsq[i];
   PetscCall(VecRestoreArray(s->xg, &out));
   PetscCall(VecRestoreArrayRead(x, &in));
-  PetscCall(VecGhostUpdateBegin(s->xg, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecGhostUpdateEnd(s->xg, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(ghost_update(s, s->xg, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecGhostGetLocalForm(s->xg, &lxv));
   PetscCall(VecGhostGetLocalForm(s->yg, &lyv));
   PetscCall(VecGetArrayRead(lxv, &lx));
   PetscCall(VecGetArray(lyv, &ky));
+  double c0 = cpu_now();
   dtm_operator_apply(s->op, lx, ky);
+  s->p->product_cpu += cpu_now() - c0;
   PetscCall(VecRestoreArray(lyv, &ky));
   PetscCall(VecRestoreArrayRead(lxv, &lx));
   PetscCall(VecGhostRestoreLocalForm(s->yg, &lyv));
   PetscCall(VecGhostRestoreLocalForm(s->xg, &lxv));
-  PetscCall(VecGhostUpdateBegin(s->yg, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecGhostUpdateEnd(s->yg, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(ghost_update(s, s->yg, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecGetArrayRead(s->yg, &ly));
   PetscCall(VecGetArray(y, &out));
   for (PetscInt i = 0; i < s->nown; i++) out[i] = ly[i] * s->dsq[i];
   PetscCall(VecRestoreArray(y, &out));
   PetscCall(VecRestoreArrayRead(s->yg, &ly));
-  (*s->products)++;
+  s->p->products++;
   PetscFunctionReturn(0);
 }
 
@@ -145,9 +163,9 @@ int dtm_par_eigen(dtm_par *p, const dtm_operator *op, double tol, int maxit, uns
   double t0 = dtm_wtime();
   int nc = dtm_operator_ncomp(op);
   size_t n = dtm_operator_ndof(op);
-  shell s = {op, NULL, NULL, malloc((n + 1) * sizeof(double)), (PetscInt)p->nowned * nc, &p->products};
+  shell s = {op, NULL, NULL, malloc((n + 1) * sizeof(double)), (PetscInt)p->nowned * nc, p};
   memset(res, 0, sizeof *res);
-  p->products = 0;
+  p->products = 0, p->product_cpu = p->exchange = 0;
   int r = s.dsq ? dtm_par_vec(p, nc, &s.xg) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = dtm_par_vec(p, nc, &s.yg);
   if (r == DTM_OK) r = global_mass(&s, n);

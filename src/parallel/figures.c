@@ -147,6 +147,7 @@ static int rows(dtm_par *p, dtm_par_figures *f) {
   row[ROW_NODES] = (double)p->mesh->nnodes;
   row[ROW_OWNED] = (double)p->nowned, row[ROW_GHOSTS] = (double)p->nghost;
   row[ROW_MEMORY] = (double)ru.ru_maxrss / 1024.0; /* ru_maxrss is in KiB on Linux */
+  row[ROW_PRODUCT_CPU] = p->product_cpu, row[ROW_EXCHANGE] = p->exchange;
   for (int t = 0; t < PAR_T_COUNT; t++) row[ROW_T + t] = p->t[t];
   f->rows = p->rank == 0 ? malloc((size_t)p->size * ROW_COUNT * sizeof *f->rows) : NULL;
   int r = dtm_par_agree(p, p->rank == 0 && !f->rows ? DTM_ERR(DTM_ERR_INTERNAL, "out of memory") : DTM_OK);

@@ -38,6 +38,8 @@ typedef struct {
   dtm_cost *cost;         /* its cost (subcycling, mass scaling) */
   double t[PAR_T_COUNT];  /* stage times, s */
   long products;          /* operator products of the eigensolver */
+  double product_cpu;     /* CPU time of this part's share of them, s */
+  double exchange;        /* wall time of their ghost exchanges, s */
 } dtm_par;
 
 /* PETSc's error code as a dtmap error naming the call. */
@@ -93,7 +95,17 @@ typedef struct {
 } dtm_par_where;
 
 /* One rank's row of the per-part figures. */
-enum { ROW_ELEMENTS, ROW_NODES, ROW_OWNED, ROW_GHOSTS, ROW_MEMORY, ROW_T, ROW_COUNT = ROW_T + PAR_T_COUNT };
+enum {
+  ROW_ELEMENTS,
+  ROW_NODES,
+  ROW_OWNED,
+  ROW_GHOSTS,
+  ROW_MEMORY,
+  ROW_PRODUCT_CPU,
+  ROW_EXCHANGE,
+  ROW_T,
+  ROW_COUNT = ROW_T + PAR_T_COUNT
+};
 
 /* The global figures of a distributed run, as a serial run would report
  * them, plus the per-part ones. */

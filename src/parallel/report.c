@@ -5,7 +5,9 @@
  * scaling, timings: the slowest part's), without its lists of individual
  * elements (under-resolved, most added mass: the parts' views hold them),
  * plus "parallel": ranks, and per part its elements (they sum to
- * mesh.elements), nodes (own and ghost), peak memory and stage times. */
+ * mesh.elements), nodes (own and ghost), peak memory, stage times and,
+ * for the global estimate, the CPU time of its operator products and the
+ * wall time of their ghost exchanges. */
 #include <cJSON.h>
 #include <math.h>
 #include <stdlib.h>
@@ -114,6 +116,8 @@ static cJSON *parallel_json(const dtm_par *p, const dtm_par_figures *f) {
   cJSON_AddItemToObject(o, "ghost_nodes", column(p, f, ROW_GHOSTS));
   cJSON_AddItemToObject(o, "memory_mb", column(p, f, ROW_MEMORY));
   for (int s = 0; s < PAR_T_COUNT; s++) cJSON_AddItemToObject(t, stage_names[s], column(p, f, ROW_T + s));
+  cJSON_AddItemToObject(t, "products_cpu", column(p, f, ROW_PRODUCT_CPU)); /* the part's own work */
+  cJSON_AddItemToObject(t, "exchange", column(p, f, ROW_EXCHANGE));        /* ghost scatters, wall */
   cJSON_AddItemToObject(o, "timings", t);
   return o;
 }
