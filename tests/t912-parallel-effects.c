@@ -3,8 +3,9 @@
  * Rayleigh damping in the scene and a damping ratio of the steel's own,
  * cohesive springs in the rock and a wavelength bound, from one .msh that
  * rank 0 splits with Gmsh (mpirun -n 4 on a one-mesh scene); (b) heat and
- * pore-fluid diffusion next to the elastic waves, from part files Gmsh
- * wrote. Every view of the serial output is in the merged parts: element
+ * pore-fluid diffusion next to the elastic waves, without a target (so the
+ * view of the 1 % smallest steps rests on the whole mesh's quantile), from
+ * part files Gmsh wrote. Every view of the serial output is in the merged parts: element
  * views bit-identical, node views within 1e-14; each effect's element,
  * nodal and global minima, the recommendation, the subcycling counts and
  * the mass-scaling totals agree. */
@@ -35,7 +36,7 @@ static const char waves[] = "<effects><elastic formulation=\"plane-strain\"/><da
                             "<cohesive groups=\"rock\" stiffness=\"1e16\"/></effects>\n"
                             "<time safety=\"0.8\" target=\"8e-8\" duration=\"1e-4\" f-max=\"1e6\"/>\n";
 static const char diffusion[] = "<effects><thermal/><hydraulic/><elastic formulation=\"plane-strain\"/></effects>\n"
-                                "<time target=\"1e-7\" duration=\"1e-3\"/>\n";
+                                "<time duration=\"1e-3\"/>\n";
 
 static void write_scene(const char *name, const char *source, const char *effects) {
   char path[1024], text[4096];
@@ -84,6 +85,7 @@ static void views(const char *tag) {
   assert_true(n >= 8);
   for (int i = 0; i < n; i++) {
     tu_view a, b;
+    if (!strcmp(names[i], "dtmap")) continue; /* the .opt's text view, not data */
     tu_view_diff d;
     assert_int_equal(tu_view_pair(whole, parts, NP, names[i], &a, &b), 0);
     tu_view_compare(&a, &b, &d);
@@ -139,9 +141,11 @@ static void report(const char *tag) {
   char *lp = cJSON_PrintUnformatted(cJSON_GetObjectItem(cJSON_GetObjectItem(p, "subcycling"), "levels"));
   assert_string_equal(ls, lp); /* the same level for every element */
   free(ls), free(lp);
-  assert_true(rel(tu_json_number(s, "mass_scaling.total_added"), tu_json_number(p, "mass_scaling.total_added")) <=
-              1e-12); /* sums of ~5000 positive terms in another order */
-  assert_true(tu_json_number(s, "mass_scaling.elements_scaled") == tu_json_number(p, "mass_scaling.elements_scaled"));
+  double added = tu_json_number(s, "mass_scaling.total_added"); /* with a target */
+  assert_true(isnan(added) == isnan(tu_json_number(p, "mass_scaling.total_added")));
+  assert_true(isnan(added) || rel(added, tu_json_number(p, "mass_scaling.total_added")) <= 1e-12); /* ~5000 terms */
+  assert_true(isnan(added) ||
+              tu_json_number(s, "mass_scaling.elements_scaled") == tu_json_number(p, "mass_scaling.elements_scaled"));
   assert_true(tu_json_number(s, "accuracy.under_resolved") == tu_json_number(p, "accuracy.under_resolved") ||
               isnan(tu_json_number(s, "accuracy.under_resolved")));
   cJSON_Delete(s), cJSON_Delete(p);

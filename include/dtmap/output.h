@@ -32,15 +32,26 @@ DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);
  * caller or the scene's <output format> says otherwise. */
 #define DTM_BINARY_ABOVE 100000
 
+/* One part of a distributed run's output (src/parallel/): what its views
+ * and its .opt take from the whole mesh rather than from the part. */
+typedef struct {
+  int part;                       /* this part's number, 1 ...: its views carry it, so Gmsh merges the
+                                     parts' views; only part 1 gets the .opt (opened first) */
+  double below_at;                /* without a target: the whole mesh's 1 % smallest step, s */
+  size_t below;                   /* elements of the whole mesh in the below-target (or 1 %) view */
+  size_t elements;                /* elements of the whole mesh */
+  unsigned long long min_element; /* Gmsh tag of the element with the smallest step */
+  const char *min_group;          /* its physical group */
+} dtm_output_part;
+
 /* How the output mesh is written. */
 typedef struct {
-  int format;     /* DTM_MSH_AUTO (the scene's <output format>, else binary
-                     above DTM_BINARY_ABOVE elements), DTM_MSH_ASCII or
-                     DTM_MSH_BINARY */
-  int views_only; /* 1: write only the views, for Gmsh to merge on top of the
-                     scene's input .msh (needs a <mesh> scene) */
-  int partition;  /* part number (1 ...) of a distributed run's part: its views
-                     carry it, so Gmsh merges the parts' views; 0: a whole mesh */
+  int format;                  /* DTM_MSH_AUTO (the scene's <output format>, else binary
+                                  above DTM_BINARY_ABOVE elements), DTM_MSH_ASCII or
+                                  DTM_MSH_BINARY */
+  int views_only;              /* 1: write only the views, for Gmsh to merge on top of the
+                                  scene's input .msh (needs a <mesh> scene) */
+  const dtm_output_part *part; /* a distributed run's part (read when the views are written), or NULL */
 } dtm_output_opts;
 
 /* dtm_output_write with options (NULL: the defaults above). */
@@ -51,8 +62,9 @@ DTM_EXPORT int dtm_output_write_ex(const dtm_results *r, const char *path, const
  * analysis computes (dtm_analysis_run_ex): begin checks path (as
  * dtm_output_write), opens its temporary and writes the mesh (not for
  * views_only; nelements chooses the automatic encoding); finish appends
- * the views of r, renames the file into place, writes path.opt and frees
- * the handle; abort removes the temporary. */
+ * the views of r, renames the file into place, writes path.opt (not for a
+ * distributed run's parts after the first) and frees the handle; abort
+ * removes the temporary. */
 typedef struct dtm_output_file dtm_output_file;
 DTM_EXPORT int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
                                 dtm_output_file **out);

@@ -30,6 +30,10 @@ typedef struct {
   int threads;        /* OpenMP threads per rank (0: 1) */
   int verbosity;      /* 0 quiet, 1 summary (rank 0), 2 also Gmsh's messages and tracebacks */
   double t_scene;     /* reading the scene, s (the caller's stage) */
+  int format;         /* the parts' encoding: DTM_MSH_AUTO (binary above DTM_BINARY_ABOVE
+                         elements per part), DTM_MSH_ASCII or DTM_MSH_BINARY */
+  int views_only;     /* 1: the parts' views only, for Gmsh to merge on top of the
+                         input parts (or the input mesh) */
 } dtm_parallel_opts;
 
 /* 1 when scene s is to be run distributed: this process is one of several

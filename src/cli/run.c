@@ -158,11 +158,18 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
  * this; the rank where an error arose has it pending and prints it. */
 static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
   char def[4096];
-  const char *out = o->out ? o->out : s->out_mesh;
-  if (!out) dtm_cli_default_out(s->path, "_dt.msh", def, sizeof def), out = def;
-  dtm_parallel_opts po = {
-      out,    o->report ? o->report : s->out_report, o->posterior, o->tol, o->lanczos_max, o->threads, o->verbosity,
-      t_scene};
+  if (o->png)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --png draws one output mesh; a distributed run writes one per part", s->path);
+  dtm_parallel_opts po = {.out = output_path(s, o, NULL, def, sizeof def),
+                          .report = o->report ? o->report : s->out_report,
+                          .posterior = o->posterior,
+                          .tol = o->tol,
+                          .max_products = o->lanczos_max,
+                          .threads = o->threads,
+                          .verbosity = o->verbosity,
+                          .t_scene = t_scene,
+                          .views_only = o->views_only};
+  dtm_cli_format(NULL, o->format, &po.format); /* checked before */
   return dtm_parallel_run(s, &po);
 }
 
@@ -179,7 +186,7 @@ static int run_scene(const cli_opts *o, int verify) {
     r = analyse(s, o, dtm_wtime() - t0, verify);
   }
   char def[4096];
-  if (r == DTM_OK && o->png)
+  if (r == DTM_OK && o->png && !dtm_parallel_wanted(s))
     r = dtm_cli_pictures(output_path(s, o, NULL, def, sizeof def), o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
   return r && dtm_error_code() ? dtm_cli_fail(r, o->verbosity) : r;

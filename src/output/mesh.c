@@ -156,11 +156,11 @@ static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
  * one, the 1 % smallest element steps. It goes first among the views:
  * Gmsh draws views in order, and the faint (translucent) dt view drawn over
  * it in 3D must not hide it in the depth buffer. */
-static void below_view(const dtm_analysis *a, view_set *vs, int *k) {
+static void below_view(const dtm_analysis *a, const dtm_output_part *part, view_set *vs, int *k) {
   size_t nel = dtm_analysis_nelements(a), n = 0;
   const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a);
   double target = dtm_analysis_scene(a)->target, safety = dtm_analysis_scene(a)->safety;
-  vs->below_at = target > 0 ? target : quantile_1pc(dt, nel, vs->bvals);
+  vs->below_at = target > 0 ? target : part ? part->below_at : quantile_1pc(dt, nel, vs->bvals);
   for (size_t i = 0; i < nel; i++) {
     double step = target > 0 ? safety * own[i] : dt[i];
     if (step < vs->below_at || (target <= 0 && step == vs->below_at))
@@ -185,12 +185,12 @@ static int shape_view(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
-static int build_views(const dtm_results *r, view_set *vs, int *nviews) {
+static int build_views(const dtm_results *r, const dtm_output_part *part, view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
   DTM_CHECK(shape_view(r->analysis, vs, nviews));
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
-  below_view(r->analysis, vs, nviews);
+  below_view(r->analysis, part, vs, nviews);
   return DTM_OK;
 }
 
@@ -254,23 +254,38 @@ static void style_view(FILE *f, int i, const char *name, int dim) {
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
-static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t nbelow) {
+/* The smallest step's element and group, and the elements below the target
+ * (or in the 1 % view) out of all: this mesh's, or a distributed run's
+ * whole mesh's. */
+typedef struct {
+  size_t element, below, elements; /* Gmsh tag, counts */
+  char group[160];                 /* physical group, quotes replaced */
+} annotated;
+
+static void annotated_of(const dtm_analysis *a, const dtm_output_part *part, size_t nbelow, annotated *n) {
+  size_t e = 0;
+  char buf[32];
+  dtm_analysis_dt_min(a, &e);
+  n->element = part ? part->min_element : dtm_analysis_tag(a, e);
+  n->below = part ? part->below : nbelow;
+  n->elements = part ? part->elements : dtm_analysis_nelements(a);
+  snprintf(n->group, sizeof n->group, "%s",
+           part ? part->min_group
+                : dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
+  for (char *c = n->group; *c; c++)
+    if (*c == '"') *c = '\'';
+}
+
+static void annotation(FILE *f, const dtm_results *r, const view_set *vs, const annotated *n) {
   const dtm_analysis *a = r->analysis;
   const dtm_scene *s = dtm_analysis_scene(a);
-  size_t e = 0;
-  double dmin = dtm_analysis_dt_min(a, &e);
-  char group[160], buf[32];
-  snprintf(group, sizeof group, "%s",
-           dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, e), buf, sizeof buf));
-  for (char *c = group; *c; c++)
-    if (*c == '"') *c = '\'';
   fprintf(f, "View \"dtmap\" {\n  T2(10, 22, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
           dtm_analysis_recommended(a), s->safety, dtm_analysis_basis(a));
-  fprintf(f, "  T2(10, 42, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n", dmin,
-          dtm_analysis_tag(a, e), group);
+  fprintf(f, "  T2(10, 42, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n",
+          dtm_analysis_dt_min(a, NULL), n->element, n->group);
   if (s->target > 0)
-    fprintf(f, "  T2(10, 62, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, nbelow,
-            dtm_analysis_nelements(a), DTM_VIEW_BELOW_TARGET);
+    fprintf(f, "  T2(10, 62, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, n->below,
+            n->elements, DTM_VIEW_BELOW_TARGET);
   else
     fprintf(f, "  T2(10, 62, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n", vs->below_at,
             DTM_VIEW_SMALLEST);
@@ -282,7 +297,8 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, size_t
  * dark is small), colour bars in s or m, dt visible (faint in 3D, where the
  * below-target view shows the worst elements inside), the others hidden
  * until ticked, the mesh wireframe off; then a text view with the figures. */
-static int write_opt(const char *path, const dtm_results *r, const view_set *vs, int nviews) {
+static int write_opt(const char *path, const dtm_results *r, const dtm_output_part *part, const view_set *vs,
+                     int nviews) {
   char opt[DTM_PATH_MAX + 8];
   dtm_atomic w;
   int dim = dtm_analysis_mesh(r->analysis)->dim;
@@ -300,7 +316,9 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
       "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n",
       nviews);
   for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, dim);
-  annotation(f, r, vs, nbelow);
+  annotated n;
+  annotated_of(r->analysis, part, nbelow, &n);
+  annotation(f, r, vs, &n);
   fprintf(f, "View[PostProcessing.NbViews - 1].Visible = 1;\n");
   return dtm_atomic_commit(&w);
 }
@@ -309,7 +327,7 @@ static int write_opt(const char *path, const dtm_results *r, const view_set *vs,
 static dtm_msh_format format_of(const dtm_scene *s, size_t nel, const dtm_output_opts *o) {
   int f = o && o->format ? o->format : s->out_format;
   if (f == DTM_MSH_AUTO) f = nel > DTM_BINARY_ABOVE ? DTM_MSH_BINARY : DTM_MSH_ASCII;
-  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0, o ? o->partition : 0};
+  return (dtm_msh_format){f == DTM_MSH_BINARY, o ? o->views_only : 0, o && o->part ? o->part->part : 0};
 }
 
 static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
@@ -323,8 +341,9 @@ static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
 /* An output mesh being written: the mesh first (possibly long before the
  * views exist), the views when the results are there. */
 struct dtm_output_file {
-  dtm_atomic w;       /* the temporary beside the target */
-  dtm_msh_format fmt; /* its encoding; views_only: no mesh */
+  dtm_atomic w;                /* the temporary beside the target */
+  dtm_msh_format fmt;          /* its encoding; views_only: no mesh */
+  const dtm_output_part *part; /* a distributed run's part, or NULL */
 };
 
 int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
@@ -335,6 +354,7 @@ int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts
   dtm_output_file *f = calloc(1, sizeof *f);
   if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   f->fmt = format_of(s, nelements, o);
+  f->part = o ? o->part : NULL;
   int r = dtm_atomic_open(&f->w, path, ".msh", 0);
   if (r == DTM_OK && !f->fmt.views_only) {
     dtm_progress_begin("writing the mesh");
@@ -357,14 +377,14 @@ void dtm_output_abort(dtm_output_file **pf) {
 int dtm_output_finish(dtm_output_file **pf, const dtm_results *res) {
   dtm_output_file *f = *pf;
   view_set vs = {0};
-  int nviews = 0, r = build_views(res, &vs, &nviews);
+  int nviews = 0, r = build_views(res, f->part, &vs, &nviews);
   if (r == DTM_OK) {
     dtm_progress_begin("writing the views");
     r = dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt);
     dtm_progress_end();
   }
   r = r ? (dtm_atomic_abort(&f->w), r) : dtm_atomic_commit(&f->w);
-  if (r == DTM_OK) r = write_opt(f->w.path, res, &vs, nviews);
+  if (r == DTM_OK && (!f->part || f->part->part == 1)) r = write_opt(f->w.path, res, f->part, &vs, nviews);
   free_views(&vs);
   free(f);
   *pf = NULL;
@@ -394,7 +414,7 @@ static int show_views(const dtm_results *r, const view_set *vs, const int *tags,
 
 int dtm_output_add_views(const dtm_results *res, int *tags, int cap, int *n) {
   view_set vs = {0};
-  int nviews = 0, r = build_views(res, &vs, &nviews);
+  int nviews = 0, r = build_views(res, NULL, &vs, &nviews);
   int *own = r ? NULL : malloc(((size_t)nviews + 1) * sizeof *own);
   if (r == DTM_OK && !own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = dtm_gmsh_add_views(vs.views, nviews, own);

@@ -85,19 +85,17 @@ static cJSON *effects_detail(const dtm_analysis *a) {
   return arr;
 }
 
-#define MAX_LISTED 100 /* under-resolved elements listed by tag */
-
 static int has_accuracy(const dtm_analysis *a) {
   for (int k = 0; k < dtm_analysis_neffects(a); k++)
     if (dtm_analysis_resolution(a, k)) return 1;
   return 0;
 }
 
-static cJSON *under_resolved_list(const dtm_analysis *a) {
+cJSON *dtm_report_under_resolved(const dtm_analysis *a) {
   const double *h = dtm_analysis_size(a), *hmax = dtm_analysis_hmax(a);
   cJSON *arr = cJSON_CreateArray();
   int listed = 0;
-  for (size_t i = 0; i < dtm_analysis_nelements(a) && listed < MAX_LISTED; i++) {
+  for (size_t i = 0; i < dtm_analysis_nelements(a) && listed < DTM_REPORT_LISTED; i++) {
     if (!(h[i] > hmax[i])) continue;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(a, i));
@@ -125,14 +123,14 @@ static cJSON *accuracy_json(const dtm_analysis *a) {
   dtm_analysis_accuracy(a, &ac);
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "under_resolved", (double)ac.under_resolved);
-  cJSON_AddItemToObject(o, "under_resolved_elements", under_resolved_list(a));
-  cJSON_AddNumberToObject(o, "listed_at_most", MAX_LISTED);
+  cJSON_AddItemToObject(o, "under_resolved_elements", dtm_report_under_resolved(a));
+  cJSON_AddNumberToObject(o, "listed_at_most", DTM_REPORT_LISTED);
   cJSON_AddNumberToObject(o, "target_conflicts", (double)ac.conflicts);
   if (ac.conflicts) binding_json(a, &ac, o);
   return o;
 }
 
-static cJSON *subcycling_json(const dtm_subcycling *sc) {
+cJSON *dtm_report_subcycling(const dtm_subcycling *sc) {
   cJSON *o = cJSON_CreateObject(), *lv = cJSON_AddArrayToObject(o, "levels");
   for (int k = 0; k < sc->nlevels; k++) cJSON_AddItemToArray(lv, cJSON_CreateNumber((double)sc->count[k]));
   cJSON_AddNumberToObject(o, "speedup", sc->speedup);
@@ -264,14 +262,12 @@ static cJSON *advice_json(const dtm_results *r, cJSON *root) {
   return root;
 }
 
-#define TOP_ADDED 10 /* elements listed with the most added mass */
-
-static cJSON *top_added(const dtm_analysis *a, const double *m) {
-  size_t idx[TOP_ADDED];
+cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m) {
+  size_t idx[DTM_REPORT_TOP_ADDED];
   int k = 0;
   for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
-    if (!(m[i] > 0) || (k == TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
-    int j = k < TOP_ADDED ? k++ : TOP_ADDED - 1;
+    if (!(m[i] > 0) || (k == DTM_REPORT_TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
+    int j = k < DTM_REPORT_TOP_ADDED ? k++ : DTM_REPORT_TOP_ADDED - 1;
     while (j > 0 && m[idx[j - 1]] < m[i]) idx[j] = idx[j - 1], j--;
     idx[j] = i;
   }
@@ -295,7 +291,7 @@ static cJSON *group_mass_json(const dtm_mesh *mesh, const dtm_mass_scaling *ms, 
   return go;
 }
 
-static cJSON *mass_json(const dtm_analysis *a, const dtm_mass_scaling *ms) {
+cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON *most_added) {
   cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
   cJSON_AddNumberToObject(o, "element_step_target", ms->target);
   cJSON_AddStringToObject(o, "where", ms->nodal ? "nodes" : "elements");
@@ -305,7 +301,7 @@ static cJSON *mass_json(const dtm_analysis *a, const dtm_mass_scaling *ms) {
   cJSON_AddNumberToObject(o, "elements_scaled", (double)ms->scaled);
   for (int g = 0; g < ms->ngroups; g++)
     if (ms->group_mass[g] > 0) cJSON_AddItemToArray(groups, group_mass_json(dtm_analysis_mesh(a), ms, g));
-  cJSON_AddItemToObject(o, "most_added", top_added(a, ms->added));
+  cJSON_AddItemToObject(o, "most_added", most_added ? most_added : dtm_report_top_added(a, ms->added));
   return o;
 }
 
@@ -382,8 +378,8 @@ static cJSON *report_json(const dtm_results *r) {
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
   if (r->cost) cJSON_AddItemToObject(root, "cost", cost_json(a, r->cost));
-  if (r->cost) cJSON_AddItemToObject(root, "subcycling", subcycling_json(&r->cost->subcycling));
-  if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", mass_json(a, r->cost->mass));
+  if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
+  if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));
   cJSON_AddItemToObject(root, "cohesive", zones_json(a));
   cJSON_AddItemToObject(root, "damping", damping_json(a));
   advice_json(r, root);

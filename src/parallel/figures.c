@@ -16,6 +16,7 @@
 
 #include "dtmap/kernel.h"
 #include "parallel-impl.h"
+#include "report.h"
 
 /* The holder of a minimum: the smallest tag among the ranks that have a
  * candidate, then the lowest such rank; -1 when none has one. */
@@ -113,29 +114,138 @@ static int accuracy(const dtm_par *p, dtm_par_figures *f) {
   return DTM_OK;
 }
 
+/* The levels' counts summed over the parts (each part's levels already
+ * rest on the global smallest step), then the speed-up as
+ * src/cost/subcycling.c defines it, over every part. */
 static void subcycling(const dtm_par *p, dtm_par_figures *f) {
-  const dtm_subcycling *sc = &p->cost->subcycling;
-  double work = 0;
-  for (int k = 0; k < DTM_MAX_LEVELS; k++) f->levels[k] = (double)sc->count[k];
-  MPI_Allreduce(MPI_IN_PLACE, f->levels, DTM_MAX_LEVELS, MPI_DOUBLE, MPI_SUM, p->comm);
-  for (int k = 0; k < DTM_MAX_LEVELS; k++)
-    if (f->levels[k] > 0) f->nlevels = k + 1, work += ldexp(f->levels[k], -k);
-  f->speedup = work > 0 ? f->elements / work : 1.0; /* as src/cost/subcycling.c, over every part */
+  double c[DTM_MAX_LEVELS], work = 0;
+  for (int k = 0; k < DTM_MAX_LEVELS; k++) c[k] = (double)p->cost->subcycling.count[k];
+  MPI_Allreduce(MPI_IN_PLACE, c, DTM_MAX_LEVELS, MPI_DOUBLE, MPI_SUM, p->comm);
+  for (int k = 0; k < DTM_MAX_LEVELS; k++) {
+    f->sub.count[k] = (size_t)c[k];
+    if (c[k] > 0) f->sub.nlevels = k + 1, work += ldexp(c[k], -k);
+  }
+  f->sub.speedup = work > 0 ? f->elements / work : 1.0;
 }
 
 /* Mass scaling totals and per-group sums (the parts name the same groups). */
 static int mass(dtm_par *p, dtm_par_figures *f) {
   const dtm_mass_scaling *ms = p->cost->mass;
   if (!ms) return DTM_OK;
-  int n = 3 + 2 * ms->ngroups;
-  f->mass = malloc((size_t)n * sizeof *f->mass);
-  int r = dtm_par_agree(p, f->mass ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
-  if (r) return r;
-  f->mass[0] = ms->total_mass, f->mass[1] = ms->total_added, f->mass[2] = (double)ms->scaled;
-  for (int g = 0; g < ms->ngroups; g++)
-    f->mass[3 + g] = ms->group_mass[g], f->mass[3 + ms->ngroups + g] = ms->group_added[g];
-  MPI_Allreduce(MPI_IN_PLACE, f->mass, n, MPI_DOUBLE, MPI_SUM, p->comm);
+  int ng = ms->ngroups, n = 3 + 2 * ng;
+  double *v = malloc((size_t)n * sizeof *v);
+  f->mass = calloc(1, sizeof *f->mass);
+  if (f->mass)
+    f->mass->group_mass = malloc((size_t)ng * sizeof(double)),
+    f->mass->group_added = malloc((size_t)ng * sizeof(double));
+  int ok = v && f->mass && f->mass->group_mass && f->mass->group_added;
+  int r = dtm_par_agree(p, ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
+  if (r) return free(v), r;
+  v[0] = ms->total_mass, v[1] = ms->total_added, v[2] = (double)ms->scaled;
+  for (int g = 0; g < ng; g++) v[3 + g] = ms->group_mass[g], v[3 + ng + g] = ms->group_added[g];
+  MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_SUM, p->comm);
+  dtm_mass_scaling *m = f->mass;
+  m->target = ms->target, m->ngroups = ng, m->total_mass = v[0], m->total_added = v[1], m->scaled = (size_t)v[2];
+  for (int g = 0; g < ng; g++) m->group_mass[g] = v[3 + g], m->group_added[g] = v[3 + ng + g];
+  free(v);
   return DTM_OK;
+}
+
+/* Each rank's JSON array (taken over) gathered on rank 0 into *all, the
+ * items in rank order; NULL elsewhere. */
+static int gather_json(dtm_par *p, cJSON *mine, cJSON **all) {
+  char *text = cJSON_PrintUnformatted(mine);
+  int len = text ? (int)strlen(text) + 1 : 0, *lens = NULL, *at = NULL, total = 0;
+  cJSON_Delete(mine);
+  *all = NULL;
+  if (p->rank == 0) lens = calloc((size_t)p->size, sizeof *lens), at = calloc((size_t)p->size, sizeof *at);
+  int r = dtm_par_agree(p, text && (p->rank || (lens && at)) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
+  if (r == DTM_OK) MPI_Gather(&len, 1, MPI_INT, lens, 1, MPI_INT, 0, p->comm);
+  for (int k = 0; r == DTM_OK && p->rank == 0 && k < p->size; k++) at[k] = total, total += lens[k];
+  char *buf = r == DTM_OK && p->rank == 0 ? malloc((size_t)total + 1) : NULL;
+  r = r ? r : dtm_par_agree(p, p->rank == 0 && !buf ? DTM_ERR(DTM_ERR_INTERNAL, "out of memory") : DTM_OK);
+  if (r == DTM_OK) MPI_Gatherv(text, len, MPI_CHAR, buf, lens, at, MPI_CHAR, 0, p->comm);
+  if (r == DTM_OK && p->rank == 0) *all = cJSON_CreateArray();
+  for (int k = 0; r == DTM_OK && p->rank == 0 && k < p->size; k++) {
+    cJSON *part = cJSON_Parse(buf + at[k]), *item;
+    while (part && (item = cJSON_DetachItemFromArray(part, 0))) cJSON_AddItemToArray(*all, item);
+    cJSON_Delete(part);
+  }
+  free(text), free(lens), free(at), free(buf);
+  return r;
+}
+
+/* Keep the first n items of arr. */
+static void truncate_array(cJSON *arr, int n) {
+  while (arr && cJSON_GetArraySize(arr) > n) cJSON_DeleteItemFromArray(arr, n);
+}
+
+static int by_added(const void *x, const void *y) {
+  double a = cJSON_GetObjectItem(*(cJSON *const *)x, "added")->valuedouble;
+  double b = cJSON_GetObjectItem(*(cJSON *const *)y, "added")->valuedouble;
+  return a > b ? -1 : a < b;
+}
+
+/* The most added mass first, DTM_REPORT_TOP_ADDED of them. */
+static void sort_added(cJSON *arr) {
+  int n = cJSON_GetArraySize(arr);
+  cJSON **items = malloc(((size_t)n + 1) * sizeof *items);
+  for (int i = 0; items && i < n; i++) items[i] = cJSON_DetachItemFromArray(arr, 0);
+  if (items) qsort(items, (size_t)n, sizeof *items, by_added);
+  for (int i = 0; items && i < n; i++) cJSON_AddItemToArray(arr, items[i]);
+  free(items);
+  truncate_array(arr, DTM_REPORT_TOP_ADDED);
+}
+
+/* The lists of individual elements: each part's own, merged on rank 0. */
+static int lists(dtm_par *p, dtm_par_figures *f) {
+  DTM_CHECK(gather_json(p, dtm_report_under_resolved(p->analysis), &f->under_list));
+  truncate_array(f->under_list, DTM_REPORT_LISTED);
+  if (!p->cost->mass) return DTM_OK;
+  DTM_CHECK(gather_json(p, dtm_report_top_added(p->analysis, p->cost->mass->added), &f->most_added));
+  if (f->most_added) sort_added(f->most_added);
+  return DTM_OK;
+}
+
+/* Exact k-th smallest (from 0) of the finite positive values v[n] of every
+ * part: bisection over the bit patterns of positive doubles, which order
+ * as the values do, with the global count at or below each probe. */
+static double kth_smallest(const dtm_par *p, const double *v, size_t n, unsigned long long k) {
+  uint64_t lo = 0, hi = 0x7ff0000000000000ull; /* +inf */
+  while (lo < hi) {
+    uint64_t mid = lo + (hi - lo) / 2;
+    double x;
+    unsigned long long c = 0, all = 0;
+    memcpy(&x, &mid, sizeof x);
+    for (size_t i = 0; i < n; i++) c += v[i] > 0 && v[i] <= x;
+    MPI_Allreduce(&c, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+    if (all > k)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  double x;
+  memcpy(&x, &lo, sizeof x);
+  return x;
+}
+
+/* What the part's views and .opt take from the whole mesh: the 1 % smallest
+ * step (without a target, as src/output/mesh.c takes it on one mesh), the
+ * elements below it or the target, where the smallest step is. */
+static void output_part(dtm_par *p, const dtm_par_figures *f) {
+  const double *dt = dtm_analysis_dt(p->analysis);
+  size_t n = dtm_analysis_nelements(p->analysis);
+  double target = p->scene->target;
+  unsigned long long fin = 0, all = 0, below = 0;
+  for (size_t i = 0; i < n; i++) fin += isfinite(dt[i]) && dt[i] > 0;
+  MPI_Allreduce(&fin, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+  dtm_output_part *o = &p->outpart;
+  o->below_at = target > 0 || !all ? NAN : kth_smallest(p, dt, n, (all - 1) / 100);
+  double at = target > 0 ? target : o->below_at;
+  for (size_t i = 0; i < n; i++) below += dt[i] < at || (target <= 0 && dt[i] == at);
+  MPI_Allreduce(MPI_IN_PLACE, &below, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
+  o->below = (size_t)below, o->elements = (size_t)f->elements;
+  o->min_element = f->dt.tag, o->min_group = f->dt.group;
 }
 
 /* Each rank's counts, peak memory and stage times, gathered on rank 0. */
@@ -169,10 +279,16 @@ int dtm_par_collect(dtm_par *p, dtm_par_figures *f) {
   DTM_CHECK(accuracy(p, f));
   subcycling(p, f);
   DTM_CHECK(mass(p, f));
-  return rows(p, f);
+  DTM_CHECK(lists(p, f));
+  output_part(p, f);
+  return DTM_OK;
 }
 
+int dtm_par_collect_rows(dtm_par *p, dtm_par_figures *f) { return rows(p, f); }
+
 void dtm_par_figures_free(dtm_par_figures *f) {
+  if (f->mass) free(f->mass->group_mass), free(f->mass->group_added);
   free(f->element), free(f->node), free(f->mass), free(f->rows);
+  cJSON_Delete(f->under_list), cJSON_Delete(f->most_added);
   memset(f, 0, sizeof *f);
 }

@@ -36,6 +36,7 @@ static int split_source(dtm_par *p, const char *out) {
     return r;
   }
   DTM_CHECK(dtm_gmsh_load(p->scene, &dim));
+  dtm_gmsh_mesher(&p->mesher); /* for the report: how rank 0 got the mesh */
   snprintf(path, sizeof path, "%s/part.msh", p->tmpdir);
   return dtm_gmsh_partition_write(p->size, path);
 }

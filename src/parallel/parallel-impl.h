@@ -7,39 +7,56 @@
 #ifndef DTM_PARALLEL_IMPL_H
 #define DTM_PARALLEL_IMPL_H
 
+#include <cJSON.h>
 #include <mpi.h>
 #include <petscvec.h>
 #include <stddef.h>
 
 #include "distributed.h"
 #include "dtmap/cost.h"
+#include "dtmap/gmsh.h"
+#include "dtmap/output.h"
 #include "dtmap/parallel.h"
 #include "dtmap/util.h"
 
 /* Stages each rank times, s. */
 enum { PAR_T_READ, PAR_T_EXTRACT, PAR_T_LAYOUT, PAR_T_EFFECTS, PAR_T_NODAL, PAR_T_GLOBAL, PAR_T_OUTPUT, PAR_T_COUNT };
 
+/* A rank's outputs on their way: the part's mesh (+ .opt) under its own
+ * name in a temporary directory rank 0 makes beside the output, and rank
+ * 0's report beside its own; renamed into place when every rank is done. */
 typedef struct {
-  MPI_Comm comm;          /* MPI_COMM_WORLD */
-  int rank, size;         /* this rank, the number of ranks (= parts) */
-  int quiet;              /* 1 when the failure agreed on is another rank's to print */
-  const dtm_scene *scene; /* the user's scene (not owned) */
-  dtm_scene part;         /* a shallow copy whose <mesh> is this rank's part file */
-  char part_path[4200];   /* this rank's part file */
-  char tmpdir[4096];      /* part files rank 0 wrote for a one-mesh scene, or "" */
-  int dim;                /* dimension analysed */
-  dtm_mesh *mesh;         /* this part (owned by the analysis once it exists) */
-  size_t nowned, nghost;  /* owned nodes (first), ghost nodes (last) */
-  PetscInt first;         /* global number of the first owned node */
-  PetscInt *ghosts;       /* [nghost] global numbers of the ghosts */
-  Vec node;               /* ghosted, one value per node of the part */
-  dtm_exchange x;         /* the analysis's way to the other parts (ctx = this) */
-  dtm_analysis *analysis; /* this part's analysis */
-  dtm_cost *cost;         /* its cost (subcycling, mass scaling) */
-  double t[PAR_T_COUNT];  /* stage times, s */
-  long products;          /* operator products of the eigensolver */
-  double product_cpu;     /* CPU time of this part's share of them, s */
-  double exchange;        /* wall time of their ghost exchanges, s */
+  char dir[4096];                     /* the temporary directory (every rank's), "" until made */
+  char mesh[4096], opt[4200];         /* where the part goes */
+  char mesh_tmp[8200], opt_tmp[8300]; /* where it is written first */
+  char report_tmp[4200];              /* the report's temporary, "" if none */
+  dtm_output_file *file;              /* the part's mesh, written, awaiting its views */
+} dtm_par_outputs;
+
+typedef struct {
+  MPI_Comm comm;           /* MPI_COMM_WORLD */
+  int rank, size;          /* this rank, the number of ranks (= parts) */
+  int quiet;               /* 1 when the failure agreed on is another rank's to print */
+  const dtm_scene *scene;  /* the user's scene (not owned) */
+  dtm_scene part;          /* a shallow copy whose <mesh> is this rank's part file */
+  char part_path[4200];    /* this rank's part file */
+  char tmpdir[4096];       /* part files rank 0 wrote for a one-mesh scene, or "" */
+  int dim;                 /* dimension analysed */
+  dtm_mesh *mesh;          /* this part (owned by the analysis once it exists) */
+  size_t nowned, nghost;   /* owned nodes (first), ghost nodes (last) */
+  PetscInt first;          /* global number of the first owned node */
+  PetscInt *ghosts;        /* [nghost] global numbers of the ghosts */
+  Vec node;                /* ghosted, one value per node of the part */
+  dtm_exchange x;          /* the analysis's way to the other parts (ctx = this) */
+  dtm_analysis *analysis;  /* this part's analysis */
+  dtm_cost *cost;          /* its cost (subcycling, mass scaling) */
+  double t[PAR_T_COUNT];   /* stage times, s */
+  dtm_mesher_info mesher;  /* how rank 0 got the mesh (read, or meshed a geometry) */
+  dtm_par_outputs out;     /* this rank's outputs */
+  dtm_output_part outpart; /* what its part of the output takes from the whole mesh */
+  long products;           /* operator products of the eigensolver */
+  double product_cpu;      /* CPU time of this part's share of them, s */
+  double exchange;         /* wall time of their ghost exchanges, s */
 } dtm_par;
 
 /* PETSc's error code as a dtmap error naming the call. */
@@ -110,25 +127,28 @@ enum {
 /* The global figures of a distributed run, as a serial run would report
  * them, plus the per-part ones. */
 typedef struct {
-  double elements, nodes;        /* of the whole mesh (nodes counted once) */
-  dtm_par_where dt;              /* the smallest element step */
-  dtm_par_where *element;        /* [neffects] each effect's smallest element step */
-  dtm_par_where *node;           /* [neffects] each effect's smallest nodal step */
-  double under_resolved;         /* elements coarser than an accuracy bound */
-  double conflicts;              /* elements whose size for the target exceeds the bound */
-  double dt_cap;                 /* smallest step the accuracy bounds allow (NaN: none) */
-  dtm_par_where cap;             /* where */
-  double cap_hmax;               /* its bound, m */
-  int cap_effect;                /* the effect whose bound it is */
-  double levels[DTM_MAX_LEVELS]; /* subcycling: elements per level */
-  int nlevels;                   /* highest level + 1 */
-  double speedup;                /* N / sum_k N_k 2^-k */
-  double *mass;                  /* [5 + 2 ngroups] total, added, scaled, then per group mass, added; or NULL */
-  double *rows;                  /* [size][ROW_COUNT] on rank 0, else NULL */
+  double elements, nodes; /* of the whole mesh (nodes counted once) */
+  dtm_par_where dt;       /* the smallest element step */
+  dtm_par_where *element; /* [neffects] each effect's smallest element step */
+  dtm_par_where *node;    /* [neffects] each effect's smallest nodal step */
+  double under_resolved;  /* elements coarser than an accuracy bound */
+  double conflicts;       /* elements whose size for the target exceeds the bound */
+  double dt_cap;          /* smallest step the accuracy bounds allow (NaN: none) */
+  dtm_par_where cap;      /* where */
+  double cap_hmax;        /* its bound, m */
+  int cap_effect;         /* the effect whose bound it is */
+  dtm_subcycling sub;     /* subcycling: counts summed over the parts (no levels array) */
+  dtm_mass_scaling *mass; /* mass scaling: totals and groups summed (no added array), or NULL */
+  cJSON *under_list;      /* rank 0: the parts' first under-resolved elements, in rank order */
+  cJSON *most_added;      /* rank 0: the elements with the most added mass */
+  double *rows;           /* [size][ROW_COUNT] on rank 0, else NULL */
 } dtm_par_figures;
 
-/* figures.c: collect them (collective); free them. */
+/* figures.c: collect them (collective), and p->outpart from them; then
+ * the per-part rows (collective, last: they hold the output times); free
+ * them. */
 int dtm_par_collect(dtm_par *p, dtm_par_figures *f);
+int dtm_par_collect_rows(dtm_par *p, dtm_par_figures *f);
 void dtm_par_figures_free(dtm_par_figures *f);
 
 /* report.c: the JSON report text on rank 0 (free()). */
@@ -136,8 +156,13 @@ int dtm_par_report(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_f
 /* summary.c: the terminal summary, rank 0. */
 void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f);
 
-/* write.c: every part's mesh and views, the figures into f, rank 0's
- * report, committed only when every rank succeeded (collective). */
-int dtm_par_write(dtm_par *p, const dtm_parallel_opts *o, dtm_par_figures *f);
+/* write.c (collective): the part's mesh, as soon as it is extracted, then
+ * Gmsh's model released; later its views, the figures into f and rank 0's
+ * report, committed only when every rank succeeded; what is left of the
+ * temporaries removed (cleanup: local; remove_dir: collective). */
+int dtm_par_write_begin(dtm_par *p, const dtm_parallel_opts *o);
+int dtm_par_write_finish(dtm_par *p, const dtm_parallel_opts *o, dtm_par_figures *f);
+void dtm_par_write_cleanup(dtm_par *p);
+void dtm_par_write_remove_dir(dtm_par *p);
 
 #endif

@@ -2,9 +2,9 @@
  * figures (figures.c): the fields of the serial report under the same
  * names and meanings (mesh counts, effects, dt with where the minimum is,
  * each effect's minima and global estimate, accuracy, subcycling, mass
- * scaling, timings: the slowest part's), without its lists of individual
- * elements (under-resolved, most added mass: the parts' views hold them),
- * plus "parallel": ranks, and per part its elements (they sum to
+ * scaling, timings: the slowest part's; the lists of individual elements
+ * merged from the parts' own), plus "parallel": ranks, the eigensolver,
+ * and per part its elements (they sum to
  * mesh.elements), nodes (own and ghost), peak memory, stage times and,
  * for the global estimate, the CPU time of its operator products and the
  * wall time of their ghost exchanges. */
@@ -33,8 +33,6 @@ static cJSON *dt_json(const dtm_analysis *a, const dtm_par_figures *f) {
 static cJSON *effect_json(const dtm_analysis *a, const dtm_par_figures *f, int k) {
   cJSON *o = dtm_analysis_effect_dt(a, k) ? where_json(&f->element[k]) : cJSON_CreateObject();
   dtm_report_effect(o, a, k, f->node[k].tag);
-  cJSON *lz = cJSON_GetObjectItem(o, "lanczos");
-  if (lz) cJSON_AddStringToObject(lz, "solver", "SLEPc Krylov-Schur"); /* on the distributed operator */
   return o;
 }
 
@@ -47,6 +45,8 @@ static int has_accuracy(const dtm_analysis *a) {
 static cJSON *accuracy_json(const dtm_analysis *a, const dtm_par_figures *f) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "under_resolved", f->under_resolved);
+  cJSON_AddItemToObject(o, "under_resolved_elements", cJSON_Duplicate(f->under_list, 1));
+  cJSON_AddNumberToObject(o, "listed_at_most", DTM_REPORT_LISTED);
   cJSON_AddNumberToObject(o, "target_conflicts", f->conflicts);
   if (!f->conflicts) return o;
   cJSON_AddNumberToObject(o, "dt_allowed_by_accuracy", f->dt_cap);
@@ -55,36 +55,6 @@ static cJSON *accuracy_json(const dtm_analysis *a, const dtm_par_figures *f) {
   cJSON_AddNumberToObject(o, "binding_element", (double)f->cap.tag);
   double d = dtm_analysis_scene(a)->duration;
   if (d > 0) cJSON_AddNumberToObject(o, "element_steps_at_cap", f->elements * d / f->dt_cap);
-  return o;
-}
-
-static cJSON *subcycling_json(const dtm_par_figures *f) {
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddItemToObject(o, "levels", cJSON_CreateDoubleArray(f->levels, f->nlevels));
-  cJSON_AddNumberToObject(o, "speedup", f->speedup);
-  return o;
-}
-
-static cJSON *mass_json(const dtm_par *p, const dtm_par_figures *f) {
-  const dtm_mass_scaling *ms = p->cost->mass;
-  const dtm_mesh *m = dtm_analysis_mesh(p->analysis);
-  cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
-  cJSON_AddNumberToObject(o, "element_step_target", ms->target);
-  cJSON_AddNumberToObject(o, "total_mass", f->mass[0]);
-  cJSON_AddNumberToObject(o, "total_added", f->mass[1]);
-  cJSON_AddNumberToObject(o, "percent_added", 100.0 * f->mass[1] / f->mass[0]);
-  cJSON_AddNumberToObject(o, "elements_scaled", f->mass[2]);
-  for (int g = 0; g < ms->ngroups; g++) {
-    double gm = f->mass[3 + g], ga = f->mass[3 + ms->ngroups + g];
-    char lbl[64];
-    if (!(gm > 0)) continue;
-    cJSON *go = cJSON_CreateObject();
-    cJSON_AddStringToObject(go, "group", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl));
-    cJSON_AddNumberToObject(go, "mass", gm);
-    cJSON_AddNumberToObject(go, "added", ga);
-    cJSON_AddNumberToObject(go, "percent_added", 100.0 * ga / gm);
-    cJSON_AddItemToArray(groups, go);
-  }
   return o;
 }
 
@@ -110,6 +80,7 @@ static cJSON *parallel_json(const dtm_par *p, const dtm_par_figures *f) {
   cJSON_AddNumberToObject(o, "ranks", p->size);
   cJSON_AddStringToObject(o, "parts",
                           p->scene->partitions ? "the scene's part files" : "split by rank 0 (Gmsh, METIS)");
+  cJSON_AddStringToObject(o, "eigensolver", "SLEPc Krylov-Schur"); /* the global estimate */
   cJSON_AddItemToObject(o, "elements", column(p, f, ROW_ELEMENTS));
   cJSON_AddItemToObject(o, "nodes", column(p, f, ROW_NODES));
   cJSON_AddItemToObject(o, "owned_nodes", column(p, f, ROW_OWNED));
@@ -141,6 +112,9 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
   cJSON_AddNumberToObject(mesh, "elements", f->elements);
   cJSON_AddNumberToObject(mesh, "nodes", f->nodes);
   cJSON_AddNumberToObject(mesh, "dim", p->dim);
+  cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(p->mesher.algorithm));
+  cJSON_AddNumberToObject(mesh, "threads", p->mesher.threads);
+  cJSON_AddBoolToObject(mesh, "reproducible", p->mesher.reproducible);
   cJSON_AddItemToObject(root, "mesh", mesh);
   names = cJSON_AddArrayToObject(root, "effects");
   for (int k = 0; k < dtm_analysis_neffects(a); k++)
@@ -149,8 +123,9 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
   cJSON *minima = cJSON_AddArrayToObject(root, "effect_minima");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) cJSON_AddItemToArray(minima, effect_json(a, f, k));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a, f));
-  cJSON_AddItemToObject(root, "subcycling", subcycling_json(f));
-  if (f->mass) cJSON_AddItemToObject(root, "mass_scaling", mass_json(p, f));
+  cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&f->sub));
+  if (f->mass)
+    cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, f->mass, cJSON_Duplicate(f->most_added, 1)));
   cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));
   cJSON_AddItemToObject(root, "parallel", parallel_json(p, f));
   return root;

@@ -1,9 +1,10 @@
 /* dtm_parallel_run: one rank's whole distributed run. Start MPI, PETSc,
- * SLEPc and Gmsh; read this rank's part (load.c); find how the parts meet
- * and renumber the part's nodes (layout.c); create the scene's effects and
+ * SLEPc and Gmsh; read this rank's part (load.c) and write its mesh
+ * (write.c; Gmsh's model is then released); find how the parts meet and
+ * renumber the part's nodes (layout.c); create the scene's effects and
  * analyse the part with an exchange to the others (the analysis module's
  * distributed interface), then the global estimate and the cost; write the
- * parts, the report and the summary (write.c, summary.c). Every step ends
+ * views, the report and the summary (write.c, summary.c). Every step ends
  * in an agreement, so all ranks stop together; only the rank where an
  * error arose keeps it to print. */
 #include <omp.h>
@@ -34,12 +35,15 @@ static int run(dtm_par *p, const dtm_parallel_opts *o) {
   dtm_par_figures f = {0};
   int r = dtm_par_agree(p, dtm_gmsh_start(o->verbosity > 1 ? 2 : 0));
   if (r == DTM_OK) r = dtm_par_load(p, o->out);
+  if (r == DTM_OK) r = dtm_par_write_begin(p, o);
   double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_par_layout(p);
   p->t[PAR_T_LAYOUT] = dtm_wtime() - t0;
   if (r == DTM_OK) r = analyse(p, o);
-  if (r == DTM_OK) r = dtm_par_write(p, o, &f);
+  if (r == DTM_OK) r = dtm_par_write_finish(p, o, &f);
   if (r == DTM_OK) dtm_par_summary(p, o, &f);
+  dtm_par_write_cleanup(p);
+  dtm_par_write_remove_dir(p);
   dtm_par_figures_free(&f);
   dtm_gmsh_stop();
   return r;
@@ -49,6 +53,7 @@ int dtm_parallel_run(const dtm_scene *s, const dtm_parallel_opts *o) {
   dtm_par p;
   memset(&p, 0, sizeof p);
   p.scene = s;
+  p.mesher = (dtm_mesher_info){0, 0, 1}; /* the parts are read from files */
   omp_set_num_threads(o->threads > 0 ? o->threads : 1);
   int r = dtm_par_init(&p);
   if (r == DTM_OK) r = run(&p, o);

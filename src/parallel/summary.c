@@ -36,11 +36,12 @@ static void print_steps(const dtm_par *p, const dtm_par_figures *f) {
   printf("recommended  %.4e s = safety %.2f x %.4e s (%s)\n", rec, s->safety, rec / s->safety, dtm_analysis_basis(a));
 }
 
-static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
-  printf("subcycling   %d level(s), ideal speed-up %.2fx\n", f->nlevels, f->speedup);
+static void print_cost(const dtm_par_figures *f) {
+  printf("subcycling   %d level(s), ideal speed-up %.2fx\n", f->sub.nlevels, f->sub.speedup);
   if (f->mass)
-    printf("mass scaling to %.4e s: %.4g kg added to %.0f element(s), %.3g%% of %.4g kg\n", p->cost->mass->target,
-           f->mass[1], f->mass[2], 100.0 * f->mass[1] / f->mass[0], f->mass[0]);
+    printf("mass scaling to %.4e s: %.4g kg added to %zu element(s), %.3g%% of %.4g kg\n", f->mass->target,
+           f->mass->total_added, f->mass->scaled, 100.0 * f->mass->total_added / f->mass->total_mass,
+           f->mass->total_mass);
 }
 
 static void print_times(const dtm_par *p, const dtm_par_figures *f) {
@@ -59,7 +60,7 @@ void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par
   printf("dtmap %s: %s, distributed over %d ranks\n", DTM_VERSION, p->scene->path, p->size);
   print_parts(p, f);
   print_steps(p, f);
-  print_cost(p, f);
+  print_cost(f);
   print_times(p, f);
   char out[4096];
   if (dtm_scene_part_path(o->out, 1, out, sizeof out) == DTM_OK)
