@@ -150,7 +150,7 @@ static void run(double h, int p) {
   char memory[64] = "-", label[16] = "serial";
   if (p) {
     array_max(at(r, "parallel", "elements"), &lo);
-    mem = array_max(at(r, "parallel", "memory_mb"), &memlo);
+    mem = array_max(at(r, "parallel", "memory_bytes"), &memlo) / 1048576.0, memlo /= 1048576.0;
     for (int i = 0; i < p; i++) ghosts += cJSON_GetArrayItem(at(r, "parallel", "ghost_nodes"), i)->valuedouble;
     snprintf(memory, sizeof memory, "%.0f-%.0f", memlo, mem), snprintf(label, sizeof label, "%d", p);
   }

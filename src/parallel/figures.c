@@ -256,7 +256,7 @@ static int rows(dtm_par *p, dtm_par_figures *f) {
   row[ROW_ELEMENTS] = (double)dtm_analysis_nelements(p->analysis);
   row[ROW_NODES] = (double)p->mesh->nnodes;
   row[ROW_OWNED] = (double)p->nowned, row[ROW_GHOSTS] = (double)p->nghost;
-  row[ROW_MEMORY] = (double)ru.ru_maxrss / 1024.0; /* ru_maxrss is in KiB on Linux */
+  row[ROW_MEMORY] = 1024.0 * (double)ru.ru_maxrss; /* ru_maxrss is in KiB on Linux */
   row[ROW_PRODUCT_CPU] = p->product_cpu, row[ROW_EXCHANGE] = p->exchange;
   for (int t = 0; t < PAR_T_COUNT; t++) row[ROW_T + t] = p->t[t];
   f->rows = p->rank == 0 ? malloc((size_t)p->size * ROW_COUNT * sizeof *f->rows) : NULL;

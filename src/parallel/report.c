@@ -85,7 +85,7 @@ static cJSON *parallel_json(const dtm_par *p, const dtm_par_figures *f) {
   cJSON_AddItemToObject(o, "nodes", column(p, f, ROW_NODES));
   cJSON_AddItemToObject(o, "owned_nodes", column(p, f, ROW_OWNED));
   cJSON_AddItemToObject(o, "ghost_nodes", column(p, f, ROW_GHOSTS));
-  cJSON_AddItemToObject(o, "memory_mb", column(p, f, ROW_MEMORY));
+  cJSON_AddItemToObject(o, "memory_bytes", column(p, f, ROW_MEMORY));
   for (int s = 0; s < PAR_T_COUNT; s++) cJSON_AddItemToObject(t, stage_names[s], column(p, f, ROW_T + s));
   cJSON_AddItemToObject(t, "products_cpu", column(p, f, ROW_PRODUCT_CPU)); /* the part's own work */
   cJSON_AddItemToObject(t, "exchange", column(p, f, ROW_EXCHANGE));        /* ghost scatters, wall */
