@@ -156,10 +156,12 @@ static void run(double h, int p) {
   }
   const cJSON *lz = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(r, "effect_minima"), 0), "lanczos");
   int products = cJSON_GetObjectItem(lz, "iterations")->valueint;
-  printf("| %s | %.0f | %.0f | %.0f | %.2f | %.2f | %.3f | %.3f | %.3f | %d | %.1f | %.1f | %.2f | %.2f | %s |\n",
-         label, el, lo, ghosts, best[F_WALL], best[F_READ], best[F_LAYOUT], best[F_MAP], best[F_GLOBAL], products,
-         1e3 * best[F_GLOBAL] / products, 1e3 * best[F_CPU] / products, 1e3 * best[F_EXCHANGE] / products,
-         best[F_OUTPUT], memory);
+  char cpu[32] = "-", exch[32] = "-"; /* not measured by the serial run */
+  if (p) snprintf(cpu, sizeof cpu, "%.1f", 1e3 * best[F_CPU] / products);
+  if (p) snprintf(exch, sizeof exch, "%.2f", 1e3 * best[F_EXCHANGE] / products);
+  printf("| %s | %.0f | %.0f | %.0f | %.2f | %.2f | %.3f | %.3f | %.3f | %d | %.1f | %s | %s | %.2f | %s |\n", label,
+         el, lo, ghosts, best[F_WALL], best[F_READ], best[F_LAYOUT], best[F_MAP], best[F_GLOBAL], products,
+         1e3 * best[F_GLOBAL] / products, cpu, exch, best[F_OUTPUT], memory);
   fflush(stdout);
   cJSON_Delete(r);
 }
