@@ -75,49 +75,39 @@ static void expect_refused(int np, const char *opts, const char *needle1, const 
   assert_true(empty_dir(path));
 }
 
+/* A fresh case where the shell command cmd (run in the temporary
+ * directory) spoils one part: refused naming file, with reason. */
+static void spoiled(const char *cmd, const char *file, const char *reason) {
+  char *out = NULL;
+  fresh_case();
+  tu_run(&out, "cd %s && %s", dir, cmd);
+  free(out);
+  expect_refused(NP, "-o out/r.msh", file, reason);
+}
+
 static void missing_part(void **state) {
   (void)state;
-  fresh_case();
-  char *out = NULL;
-  tu_run(&out, "rm %s/case/box_parts_3.msh", dir);
-  free(out);
-  expect_refused(NP, "-o out/r.msh", "case/box_parts_3.msh", "not found");
+  spoiled("rm case/box_parts_3.msh", "case/box_parts_3.msh", "not found");
 }
 
 static void part_of_another_mesh(void **state) {
   (void)state;
-  fresh_case();
-  char *out = NULL;
-  tu_run(&out, "cp %s/other_parts_2.msh %s/case/box_parts_2.msh", dir, dir);
-  free(out);
-  expect_refused(NP, "-o out/r.msh", "box_parts_2.msh", "different meshes");
+  spoiled("cp other_parts_2.msh case/box_parts_2.msh", "box_parts_2.msh", "different meshes");
 }
 
 static void part_of_another_split(void **state) {
   (void)state;
-  fresh_case();
-  char *out = NULL;
-  tu_run(&out, "cp %s/three_parts_3.msh %s/case/box_parts_3.msh", dir, dir);
-  free(out);
-  expect_refused(NP, "-o out/r.msh", "box_parts_3.msh", "overlap");
+  spoiled("cp three_parts_3.msh case/box_parts_3.msh", "box_parts_3.msh", "overlap");
 }
 
 static void wrong_partition_number(void **state) {
   (void)state;
-  fresh_case();
-  char *out = NULL;
-  tu_run(&out, "cp %s/box_parts_1.msh %s/case/box_parts_4.msh", dir, dir);
-  free(out);
-  expect_refused(NP, "-o out/r.msh", "case/box_parts_4.msh", "not partition 4");
+  spoiled("cp box_parts_1.msh case/box_parts_4.msh", "case/box_parts_4.msh", "not partition 4");
 }
 
 static void whole_mesh_as_part(void **state) {
   (void)state;
-  fresh_case();
-  char *out = NULL;
-  tu_run(&out, "cp %s/box.msh %s/case/box_parts_2.msh", dir, dir);
-  free(out);
-  expect_refused(NP, "-o out/r.msh", "case/box_parts_2.msh", "not a part file");
+  spoiled("cp box.msh case/box_parts_2.msh", "case/box_parts_2.msh", "not a part file");
 }
 
 static void wrong_rank_count(void **state) {
