@@ -70,6 +70,10 @@ struct dtm_analysis {
 int dtm_x_agree(const dtm_analysis *a, int status);
 int dtm_x_nodes(const dtm_analysis *a, int status, double *v, dtm_x_op op);
 int dtm_x_reduce(const dtm_analysis *a, int status, double *v, int n, dtm_x_op op);
+/* *value, a quantity at this part's own minimum mine, becomes that of the
+ * part whose minimum is the global one, min (the smallest value when parts
+ * tie). */
+int dtm_x_at_min(const dtm_analysis *a, int status, double mine, double min, double *value);
 
 /* Fill a->size_node and a->accuracy from the per-element steps (size.c). */
 int dtm_size_suggest(dtm_analysis *a);

@@ -207,8 +207,9 @@ static int before(const dtm_analysis *a, double v, size_t i, double best, size_t
   return v < best || (v == best && dtm_analysis_tag(a, i) < dtm_analysis_tag(a, j));
 }
 
-/* The smallest element step and each effect's, over every part (the
- * indices stay those of this part's own minima). */
+/* The smallest element step and each effect's, over every part, and the
+ * top frequency of the part that holds each effect's minimum (the indices
+ * stay those of this part's own minima). */
 static int global_minima(dtm_analysis *a) {
   int n = a->neffects + 1;
   double *v = malloc((size_t)n * sizeof *v);
@@ -216,8 +217,11 @@ static int global_minima(dtm_analysis *a) {
   if (v) v[0] = a->dt_min;
   int r = dtm_x_reduce(a, v ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), v, n, DTM_X_MIN);
   if (r == DTM_OK) a->dt_min = v[0];
-  for (int k = 0; k < a->neffects && r == DTM_OK; k++)
-    if (a->dt_effect[k]) a->per_effect[k].min = v[k + 1];
+  for (int k = 0; k < a->neffects && r == DTM_OK; k++) {
+    if (!a->dt_effect[k]) continue;
+    if (dtm_analysis_is_wave(a, k)) r = dtm_x_at_min(a, r, a->per_effect[k].min, v[k + 1], &a->per_effect[k].omega);
+    a->per_effect[k].min = v[k + 1];
+  }
   free(v);
   return r;
 }
@@ -272,7 +276,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_nodal_bounds(a);
   if (r == DTM_OK) dtm_recommend(a);
-  if (r == DTM_OK) r = dtm_local_steps(a);
+  if (r == DTM_OK) r = dtm_x_agree(a, dtm_local_steps(a));
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
   if (r == DTM_OK) r = dtm_size_suggest(a);
   if (r == DTM_OK) r = dtm_shape_classify(a);

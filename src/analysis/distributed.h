@@ -39,6 +39,13 @@ typedef struct dtm_exchange {
                dtm_lanczos_result *r);
 } dtm_exchange;
 
+/* For the modules above the analysis (the cost module's nodal mass
+ * scaling): 1 when a is one part of a distributed run, and v[nnodes] (a
+ * value per node of a's mesh) combined over the parts sharing each node,
+ * after agreeing on status (without an exchange: status, v unchanged). */
+int dtm_analysis_is_distributed(const dtm_analysis *a);
+int dtm_analysis_combine_nodes(const dtm_analysis *a, int status, double *v, dtm_x_op op);
+
 /* Extract the current Gmsh model's elements of dimension dim into *out,
  * groups mapped to the scene's materials (as dtm_analysis_current does);
  * *seconds receives the time. */

@@ -172,7 +172,8 @@ static void record_min(dtm_analysis *a, int k, const double *dt, const double *o
 }
 
 /* Each effect's nodal minimum and whether its element steps are bounds,
- * over every part (the node index stays this part's minimum). */
+ * over every part, and the top frequency where the minimum is (the node
+ * index stays this part's minimum). */
 static int global_nodal(dtm_analysis *a) {
   int ne = a->neffects;
   double *v = malloc(2 * ((size_t)ne + 1) * sizeof *v);
@@ -182,8 +183,10 @@ static int global_nodal(dtm_analysis *a) {
   }
   int r = dtm_x_reduce(a, v ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), v, 2 * ne, DTM_X_MIN);
   for (int k = 0; k < ne && r == DTM_OK; k++) {
-    if (!isnan(a->per_effect[k].nodal)) a->per_effect[k].nodal = v[k];
     a->per_effect[k].element_rigorous = v[ne + k] > 0;
+    if (isnan(a->per_effect[k].nodal)) continue;
+    if (dtm_analysis_is_wave(a, k)) r = dtm_x_at_min(a, r, a->per_effect[k].nodal, v[k], &a->per_effect[k].omega);
+    a->per_effect[k].nodal = v[k];
   }
   free(v);
   return r;

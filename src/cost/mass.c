@@ -12,11 +12,15 @@
  * around the node in proportion to their share of it. Reported per
  * element, per physical group (the last slot collects the elements in no
  * group) and in total. Elements whose material has no density count no
- * mass; elements without a finite wave step get none. */
+ * mass; elements without a finite wave step get none. In one part of a
+ * distributed run the node masses are summed over the parts sharing a
+ * node, so each part's elements get their share of the whole node's
+ * addition. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "distributed.h"
 #include "dtmap/cost.h"
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
@@ -164,18 +168,32 @@ static void tally_one(const dtm_analysis *a, const elem *el, void *ctx) {
   (void)a;
 }
 
+/* A node of a distributed run shared with other parts: its masses summed
+ * over them, and selected when any of them selects it (r: the caller's
+ * status, agreed with the other parts; the add field is the scratch). */
+static int combine_parts(const dtm_analysis *a, int r, node_mass *nm, size_t nn) {
+  if (!dtm_analysis_is_distributed(a)) return r;
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) nm->add[v] = nm->in[v];
+  r = dtm_analysis_combine_nodes(a, r, nm->m0, DTM_X_SUM);
+  r = dtm_analysis_combine_nodes(a, r, nm->m1, DTM_X_SUM);
+  r = dtm_analysis_combine_nodes(a, r, nm->add, DTM_X_MAX);
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) nm->in[v] = nm->add[v] > 0;
+  return r;
+}
+
 int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned char *only, dtm_mass_scaling *ms) {
   memset(ms, 0, sizeof *ms);
   ms->target = target, ms->nodal = 1;
   if (!(target > 0) || !isfinite(target))
     return DTM_ERR(DTM_ERR_INPUT, "mass scaling: the target step must be positive and finite, got %g s", target);
-  DTM_CHECK(alloc_scaling(a, ms));
   size_t nn = dtm_analysis_mesh(a)->nnodes + 1;
   node_mass nm = {calloc(nn, sizeof(double)), calloc(nn, sizeof(double)), calloc(nn, sizeof(double)), calloc(nn, 1)};
-  int r = nm.m0 && nm.m1 && nm.add && nm.in ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = alloc_scaling(a, ms);
+  if (r == DTM_OK && !(nm.m0 && nm.m1 && nm.add && nm.in)) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   nodal_ctx ctx = {only, &nm, ms};
+  if (r == DTM_OK) each_element(a, 1, node_pass0, &ctx);
+  r = combine_parts(a, r, &nm, nn - 1);
   if (r == DTM_OK) {
-    each_element(a, 1, node_pass0, &ctx);
     for (size_t v = 0; v + 1 < nn; v++) nm.add[v] = nm.in[v] ? node_need(a, &nm, v, target) : 0.0;
     each_element(a, 1, node_pass1, &ctx);
     each_element(a, 0, tally_one, ms);
