@@ -21,7 +21,7 @@ static void warn(dtm_warnings *w, const char *fmt, ...) {
   va_end(ap);
 }
 
-static void mass_warnings(const dtm_analysis *a, const dtm_mass_scaling *ms, const char *what, dtm_warnings *w) {
+void dtm_output_mass_warnings(const dtm_analysis *a, const dtm_mass_scaling *ms, const char *what, dtm_warnings *w) {
   char lbl[64];
   const dtm_mesh *m = dtm_analysis_mesh(a);
   double total = 100.0 * ms->total_added / ms->total_mass;
@@ -48,23 +48,29 @@ static void refine_warning(const dtm_refine_result *rr, dtm_warnings *w) {
     warn(w, "the refined mesh costs %.3g %% more than the input", 100.0 * (c1 / c0 - 1.0));
 }
 
+void dtm_output_conflict_warning(dtm_warnings *w, double target, const char *bound, double hmax, double dt_cap,
+                                 size_t n) {
+  warn(
+      w,
+      "the target %.4e s is forbidden by the accuracy bound '%s': h <= %.4g m caps the step at %.4e s (%zu element(s))",
+      target, bound, hmax, dt_cap, n);
+}
+
 static void conflict_warning(const dtm_analysis *a, dtm_warnings *w) {
   dtm_accuracy ac;
   dtm_analysis_accuracy(a, &ac);
   if (!ac.conflicts) return;
   size_t i = ac.cap_element;
-  warn(w,
-       "the target %.4e s is forbidden by the accuracy bound '%s': h <= %.4g m caps the step at %.4e s "
-       "(%zu element(s))",
-       dtm_analysis_scene(a)->target, dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->indicator.view,
-       dtm_analysis_hmax(a)[i], ac.dt_cap, ac.conflicts);
+  dtm_output_conflict_warning(w, dtm_analysis_scene(a)->target,
+                              dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->indicator.view,
+                              dtm_analysis_hmax(a)[i], ac.dt_cap, ac.conflicts);
 }
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   w->n = 0;
-  if (r->cost && r->cost->mass) mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
+  if (r->cost && r->cost->mass) dtm_output_mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
   if (r->cost && r->cost->shape_mass)
-    mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
+    dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
 }

@@ -21,6 +21,12 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+/* Its parts: the added mass of ms (what: which mass scaling) above
+ * DTM_MASS_WARN of the model or a group; a target the accuracy bound
+ * forbids at n elements (the bound's view, its size, the step it allows). */
+void dtm_output_mass_warnings(const dtm_analysis *a, const dtm_mass_scaling *ms, const char *what, dtm_warnings *w);
+void dtm_output_conflict_warning(dtm_warnings *w, double target, const char *bound, double hmax, double dt_cap,
+                                 size_t n);
 
 /* One line on the feature and one on the remedy of a shape-limited element. */
 const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, char *buf, size_t len);

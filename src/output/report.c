@@ -7,6 +7,7 @@
  * atomically. */
 #include <cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "dtmap/util.h"
@@ -146,7 +147,7 @@ static void add_number(cJSON *o, const char *key, double v) {
     cJSON_AddNullToObject(o, key);
 }
 
-static cJSON *cost_json(const dtm_analysis *a, const dtm_cost *c) {
+cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "duration", c->duration);
   add_number(o, "steps", c->steps);
@@ -157,7 +158,7 @@ static cJSON *cost_json(const dtm_analysis *a, const dtm_cost *c) {
   return o;
 }
 
-static cJSON *zones_json(const dtm_analysis *a) {
+cJSON *dtm_report_zones(const dtm_analysis *a) {
   dtm_zone_row *rows = NULL;
   int n = 0;
   cJSON *arr = cJSON_CreateArray();
@@ -173,7 +174,7 @@ static cJSON *zones_json(const dtm_analysis *a) {
   return arr;
 }
 
-static cJSON *damping_json(const dtm_analysis *a) {
+cJSON *dtm_report_damping(const dtm_analysis *a) {
   dtm_damping_row *rows = NULL;
   int n = 0;
   cJSON *arr = cJSON_CreateArray();
@@ -192,7 +193,7 @@ static cJSON *damping_json(const dtm_analysis *a) {
   return arr;
 }
 
-static cJSON *worst_json(const dtm_results *r) {
+cJSON *dtm_report_worst(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   size_t *idx = NULL;
   int n = dtm_worst(a, dtm_results_top(r), &idx);
@@ -334,12 +335,26 @@ static cJSON *refine_json(const dtm_refine_result *rr) {
   return o;
 }
 
+static cJSON *warnings_array(const dtm_warnings *w) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int j = 0; j < w->n; j++) cJSON_AddItemToArray(arr, cJSON_CreateString(w->text[j]));
+  return arr;
+}
+
 static cJSON *warnings_json(const dtm_results *r) {
   dtm_warnings w;
   dtm_output_warnings(r, &w);
-  cJSON *arr = cJSON_CreateArray();
-  for (int j = 0; j < w.n; j++) cJSON_AddItemToArray(arr, cJSON_CreateString(w.text[j]));
-  return arr;
+  return warnings_array(&w);
+}
+
+cJSON *dtm_report_warnings_of(const dtm_analysis *a, const dtm_mass_scaling *ms, const dtm_report_conflict *c,
+                              const char *note) {
+  dtm_warnings w = {0, {{0}}};
+  if (ms) dtm_output_mass_warnings(a, ms, "mass scaling to the target", &w);
+  if (c && c->conflicts)
+    dtm_output_conflict_warning(&w, dtm_analysis_scene(a)->target, c->bound, c->hmax, c->dt_cap, c->conflicts);
+  if (note && w.n < DTM_WARN_MAX) snprintf(w.text[w.n++], sizeof w.text[0], "%s", note);
+  return warnings_array(&w);
 }
 
 static cJSON *timings_json(const dtm_results *r) {
@@ -377,13 +392,13 @@ static cJSON *report_json(const dtm_results *r) {
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
-  if (r->cost) cJSON_AddItemToObject(root, "cost", cost_json(a, r->cost));
+  if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));
-  cJSON_AddItemToObject(root, "cohesive", zones_json(a));
-  cJSON_AddItemToObject(root, "damping", damping_json(a));
+  cJSON_AddItemToObject(root, "cohesive", dtm_report_zones(a));
+  cJSON_AddItemToObject(root, "damping", dtm_report_damping(a));
   advice_json(r, root);
-  cJSON_AddItemToObject(root, "worst", worst_json(r));
+  cJSON_AddItemToObject(root, "worst", dtm_report_worst(r));
   cJSON_AddItemToObject(root, "warnings", warnings_json(r));
   cJSON_AddItemToObject(root, "timings", timings_json(r));
   return root;

@@ -9,6 +9,7 @@
 
 #include "dtmap/analysis.h"
 #include "dtmap/cost.h"
+#include "dtmap/output.h"
 
 /* Into dt: min, effect (the name of effect index `effect`, the one that
  * limits the smallest step), safety, recommended, basis, nodal and global
@@ -32,5 +33,28 @@ cJSON *dtm_report_subcycling(const dtm_subcycling *sc);
 /* The mass scaling ms (totals, groups of a's mesh), with most_added as its
  * list (taken over), or NULL for dtm_report_top_added(a, ms->added). */
 cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON *most_added);
+
+/* The cost c ({duration, steps, element_steps, ...}), the cohesive process
+ * zone and the damping factor per material, the smallest steps of r (its
+ * top, ascending), as the report writes them. */
+cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c);
+cJSON *dtm_report_zones(const dtm_analysis *a);
+cJSON *dtm_report_damping(const dtm_analysis *a);
+cJSON *dtm_report_worst(const dtm_results *r);
+/* The elements r lists as the smallest steps: r->top, or the default. */
+int dtm_results_top(const dtm_results *r);
+
+/* A target the accuracy bounds forbid, over a whole distributed mesh. */
+typedef struct {
+  size_t conflicts;  /* elements whose size for the target exceeds their bound */
+  double dt_cap;     /* the smallest step the bounds allow there, s */
+  double hmax;       /* that bound's size at its element, m */
+  const char *bound; /* the bound's view name */
+} dtm_report_conflict;
+/* The report's warnings from the given figures rather than a's own: the
+ * mass scaling ms (NULL: none), the conflict c (NULL: none), then note
+ * (NULL: none), as a JSON array of sentences. */
+cJSON *dtm_report_warnings_of(const dtm_analysis *a, const dtm_mass_scaling *ms, const dtm_report_conflict *c,
+                              const char *note);
 
 #endif
