@@ -168,7 +168,8 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
                           .threads = o->threads,
                           .verbosity = o->verbosity,
                           .t_scene = t_scene,
-                          .views_only = o->views_only};
+                          .views_only = o->views_only,
+                          .top = o->top};
   dtm_cli_format(NULL, o->format, &po.format); /* checked before */
   return dtm_parallel_run(s, &po);
 }

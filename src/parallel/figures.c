@@ -94,14 +94,16 @@ static int minima(const dtm_par *p, dtm_par_figures *f) {
   return DTM_OK;
 }
 
-/* Under-resolved and conflicting elements summed; the tightest cap. */
+/* Under-resolved, conflicting and below-target elements summed; the
+ * tightest cap. */
 static int accuracy(const dtm_par *p, dtm_par_figures *f) {
   dtm_accuracy ac;
   dtm_analysis_accuracy(p->analysis, &ac);
-  double v[2] = {(double)ac.under_resolved, (double)ac.conflicts}, cap = isnan(ac.dt_cap) ? INFINITY : ac.dt_cap;
-  MPI_Allreduce(MPI_IN_PLACE, v, 2, MPI_DOUBLE, MPI_SUM, p->comm);
+  double v[3] = {(double)ac.under_resolved, (double)ac.conflicts, (double)dtm_analysis_below_target(p->analysis)};
+  double cap = isnan(ac.dt_cap) ? INFINITY : ac.dt_cap;
+  MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_DOUBLE, MPI_SUM, p->comm);
   MPI_Allreduce(&cap, &f->dt_cap, 1, MPI_DOUBLE, MPI_MIN, p->comm);
-  f->under_resolved = v[0], f->conflicts = v[1];
+  f->under_resolved = v[0], f->conflicts = v[1], f->below = v[2];
   if (!isfinite(f->dt_cap)) return f->dt_cap = NAN, DTM_OK;
   int who;
   DTM_CHECK(where_index(p, cap == f->dt_cap ? ac.cap_element : SIZE_MAX, &f->cap, &who));
@@ -126,6 +128,7 @@ static void subcycling(const dtm_par *p, dtm_par_figures *f) {
     if (c[k] > 0) f->sub.nlevels = k + 1, work += ldexp(c[k], -k);
   }
   f->sub.speedup = work > 0 ? f->elements / work : 1.0;
+  f->sub.basis = p->cost->subcycling.basis;
 }
 
 /* Mass scaling totals and per-group sums (the parts name the same groups). */
@@ -145,7 +148,8 @@ static int mass(dtm_par *p, dtm_par_figures *f) {
   for (int g = 0; g < ng; g++) v[3 + g] = ms->group_mass[g], v[3 + ng + g] = ms->group_added[g];
   MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_SUM, p->comm);
   dtm_mass_scaling *m = f->mass;
-  m->target = ms->target, m->ngroups = ng, m->total_mass = v[0], m->total_added = v[1], m->scaled = (size_t)v[2];
+  m->target = ms->target, m->nodal = ms->nodal, m->ngroups = ng, m->total_mass = v[0], m->total_added = v[1],
+  m->scaled = (size_t)v[2];
   for (int g = 0; g < ng; g++) m->group_mass[g] = v[3 + g], m->group_added[g] = v[3 + ng + g];
   free(v);
   return DTM_OK;
@@ -180,30 +184,105 @@ static void truncate_array(cJSON *arr, int n) {
   while (arr && cJSON_GetArraySize(arr) > n) cJSON_DeleteItemFromArray(arr, n);
 }
 
+static double number(const cJSON *o, const char *key) {
+  const cJSON *v = cJSON_GetObjectItem(o, key);
+  return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
 static int by_added(const void *x, const void *y) {
-  double a = cJSON_GetObjectItem(*(cJSON *const *)x, "added")->valuedouble;
-  double b = cJSON_GetObjectItem(*(cJSON *const *)y, "added")->valuedouble;
+  double a = number(*(cJSON *const *)x, "added"), b = number(*(cJSON *const *)y, "added");
   return a > b ? -1 : a < b;
 }
 
-/* The most added mass first, DTM_REPORT_TOP_ADDED of them. */
-static void sort_added(cJSON *arr) {
+/* The smallest step first, then the smaller tag. */
+static int by_dt(const void *x, const void *y) {
+  const cJSON *a = *(cJSON *const *)x, *b = *(cJSON *const *)y;
+  double da = number(a, "dt"), db = number(b, "dt"), ta = number(a, "element"), tb = number(b, "element");
+  return da < db ? -1 : da > db ? 1 : (ta > tb) - (ta < tb);
+}
+
+/* arr sorted by cmp, its first keep items kept. */
+static void sort_array(cJSON *arr, int (*cmp)(const void *, const void *), int keep) {
   int n = cJSON_GetArraySize(arr);
   cJSON **items = malloc(((size_t)n + 1) * sizeof *items);
   for (int i = 0; items && i < n; i++) items[i] = cJSON_DetachItemFromArray(arr, 0);
-  if (items) qsort(items, (size_t)n, sizeof *items, by_added);
+  if (items) qsort(items, (size_t)n, sizeof *items, cmp);
   for (int i = 0; items && i < n; i++) cJSON_AddItemToArray(arr, items[i]);
   free(items);
-  truncate_array(arr, DTM_REPORT_TOP_ADDED);
+  truncate_array(arr, keep);
 }
 
-/* The lists of individual elements: each part's own, merged on rank 0. */
+/* The index of the effect or the material an item names (-1: none). */
+static int effect_index(const dtm_analysis *a, const cJSON *item) {
+  const char *name = cJSON_GetStringValue(cJSON_GetObjectItem(item, "effect"));
+  for (int k = 0; name && k < dtm_analysis_neffects(a); k++)
+    if (!strcmp(dtm_analysis_effect(a, k)->name, name)) return k;
+  return -1;
+}
+
+static int material_index(const dtm_analysis *a, const cJSON *item) {
+  const char *name = cJSON_GetStringValue(cJSON_GetObjectItem(item, "material"));
+  const dtm_scene *s = dtm_analysis_scene(a);
+  for (int i = 0; name && i < s->nmaterials; i++)
+    if (!strcmp(s->materials[i].m.name, name)) return i;
+  return -1;
+}
+
+/* Each item's place in the serial rows' order: by effect, then material. */
+static int row_key(const dtm_analysis *a, const cJSON *item) {
+  return (effect_index(a, item) + 1) * (dtm_analysis_scene(a)->nmaterials + 1) + material_index(a, item) + 1;
+}
+
+/* The lower of two numbers or nulls (max: the higher), null when neither
+ * is a number. */
+static void widen(cJSON *into, const cJSON *from, const char *key, int max) {
+  double a = number(into, key), b = number(from, key);
+  double v = isnan(a) ? b : isnan(b) ? a : max ? fmax(a, b) : fmin(a, b);
+  if (!isnan(v)) cJSON_ReplaceItemInObject(into, key, cJSON_CreateNumber(v));
+}
+
+/* The parts' rows merged, in the serial order: one row per effect and
+ * material, the lowest part's (a cohesive zone's R is the material's, its
+ * h_max the bound of the first element where it applies), the damping's
+ * element range widened to every part's. */
+static void merge_rows(const dtm_analysis *a, cJSON **arr) {
+  cJSON *in = *arr, *out = cJSON_CreateArray(), *item;
+  int n = cJSON_GetArraySize(in), best, key;
+  while (out && (n = cJSON_GetArraySize(in)) > 0) {
+    best = 0, key = row_key(a, cJSON_GetArrayItem(in, 0));
+    for (int j = 1; j < n; j++)
+      if (row_key(a, cJSON_GetArrayItem(in, j)) < key) best = j, key = row_key(a, cJSON_GetArrayItem(in, j));
+    item = cJSON_DetachItemFromArray(in, best);
+    for (int j = 0; j < cJSON_GetArraySize(in);) {
+      cJSON *other = cJSON_GetArrayItem(in, j);
+      if (row_key(a, other) != key) {
+        j++;
+        continue;
+      }
+      widen(item, other, "element_factor_min", 0), widen(item, other, "element_factor_max", 1);
+      cJSON_DeleteItemFromArray(in, j);
+    }
+    cJSON_AddItemToArray(out, item);
+  }
+  cJSON_Delete(in);
+  *arr = out;
+}
+
+/* The lists of individual elements and the rows per material: each part's
+ * own, merged on rank 0. */
 static int lists(dtm_par *p, dtm_par_figures *f) {
+  dtm_results res = {p->analysis, p->cost, NULL, 0.0, 0.0, p->top};
   DTM_CHECK(gather_json(p, dtm_report_under_resolved(p->analysis), &f->under_list));
   truncate_array(f->under_list, DTM_REPORT_LISTED);
+  DTM_CHECK(gather_json(p, dtm_report_worst(&res), &f->worst));
+  if (f->worst) sort_array(f->worst, by_dt, dtm_results_top(&res));
+  DTM_CHECK(gather_json(p, dtm_report_zones(p->analysis), &f->zones));
+  if (f->zones) merge_rows(p->analysis, &f->zones);
+  DTM_CHECK(gather_json(p, dtm_report_damping(p->analysis), &f->damping));
+  if (f->damping) merge_rows(p->analysis, &f->damping);
   if (!p->cost->mass) return DTM_OK;
   DTM_CHECK(gather_json(p, dtm_report_top_added(p->analysis, p->cost->mass->added), &f->most_added));
-  if (f->most_added) sort_added(f->most_added);
+  if (f->most_added) sort_array(f->most_added, by_added, DTM_REPORT_TOP_ADDED);
   return DTM_OK;
 }
 
@@ -233,16 +312,17 @@ static double kth_smallest(const dtm_par *p, const double *v, size_t n, unsigned
  * step (without a target, as src/output/mesh.c takes it on one mesh), the
  * elements below it or the target, where the smallest step is. */
 static void output_part(dtm_par *p, const dtm_par_figures *f) {
-  const double *dt = dtm_analysis_dt(p->analysis);
+  const double *dt = dtm_analysis_dt(p->analysis), *own = dtm_analysis_local_step(p->analysis);
   size_t n = dtm_analysis_nelements(p->analysis);
-  double target = p->scene->target;
+  double target = p->scene->target, safety = p->scene->safety;
   unsigned long long fin = 0, all = 0, below = 0;
   for (size_t i = 0; i < n; i++) fin += isfinite(dt[i]) && dt[i] > 0;
   MPI_Allreduce(&fin, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
   dtm_output_part *o = &p->outpart;
   o->below_at = target > 0 || !all ? NAN : kth_smallest(p, dt, n, (all - 1) / 100);
   double at = target > 0 ? target : o->below_at;
-  for (size_t i = 0; i < n; i++) below += dt[i] < at || (target <= 0 && dt[i] == at);
+  for (size_t i = 0; i < n && target > 0; i++) below += safety * own[i] < target;
+  for (size_t i = 0; i < n && target <= 0; i++) below += dt[i] <= at;
   MPI_Allreduce(MPI_IN_PLACE, &below, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);
   o->below = (size_t)below, o->elements = (size_t)f->elements;
   o->min_element = f->dt.tag, o->min_group = f->dt.group;
@@ -289,6 +369,7 @@ int dtm_par_collect_rows(dtm_par *p, dtm_par_figures *f) { return rows(p, f); }
 void dtm_par_figures_free(dtm_par_figures *f) {
   if (f->mass) free(f->mass->group_mass), free(f->mass->group_added);
   free(f->element), free(f->node), free(f->mass), free(f->rows);
-  cJSON_Delete(f->under_list), cJSON_Delete(f->most_added);
+  cJSON_Delete(f->under_list), cJSON_Delete(f->most_added), cJSON_Delete(f->worst);
+  cJSON_Delete(f->zones), cJSON_Delete(f->damping);
   memset(f, 0, sizeof *f);
 }

@@ -52,6 +52,7 @@ typedef struct {
   dtm_cost *cost;          /* its cost (subcycling, mass scaling) */
   double t[PAR_T_COUNT];   /* stage times, s */
   dtm_mesher_info mesher;  /* how rank 0 got the mesh (read, or meshed a geometry) */
+  int top;                 /* elements the report lists as the smallest steps (0: 10) */
   dtm_par_outputs out;     /* this rank's outputs */
   dtm_output_part outpart; /* what its part of the output takes from the whole mesh */
   long products;           /* operator products of the eigensolver */
@@ -141,6 +142,10 @@ typedef struct {
   dtm_mass_scaling *mass; /* mass scaling: totals and groups summed (no added array), or NULL */
   cJSON *under_list;      /* rank 0: the parts' first under-resolved elements, in rank order */
   cJSON *most_added;      /* rank 0: the elements with the most added mass */
+  cJSON *worst;           /* rank 0: the smallest steps of every part, smallest first, top of them */
+  cJSON *zones;           /* rank 0: the cohesive process zone per material (the parts' rows merged) */
+  cJSON *damping;         /* rank 0: the damping factor per effect and material (element ranges widened) */
+  double below;           /* elements whose own safe step is below the target */
   double *rows;           /* [size][ROW_COUNT] on rank 0, else NULL */
 } dtm_par_figures;
 
@@ -151,8 +156,12 @@ int dtm_par_collect(dtm_par *p, dtm_par_figures *f);
 int dtm_par_collect_rows(dtm_par *p, dtm_par_figures *f);
 void dtm_par_figures_free(dtm_par_figures *f);
 
-/* report.c: the JSON report text on rank 0 (free()). */
+/* report.c: the JSON report text on rank 0 (free()); the serial run's
+ * warnings from the whole mesh's figures, and a note when elements below
+ * the target are not classified (that needs the whole model), as a JSON
+ * array of strings. */
 int dtm_par_report(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f, char **json);
+cJSON *dtm_par_warnings(const dtm_par *p, const dtm_par_figures *f);
 /* summary.c: the terminal summary, rank 0. */
 void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f);
 

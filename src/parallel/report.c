@@ -10,6 +10,7 @@
  * wall time of their ghost exchanges. */
 #include <cJSON.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "parallel-impl.h"
@@ -56,6 +57,27 @@ static cJSON *accuracy_json(const dtm_analysis *a, const dtm_par_figures *f) {
   double d = dtm_analysis_scene(a)->duration;
   if (d > 0) cJSON_AddNumberToObject(o, "element_steps_at_cap", f->elements * d / f->dt_cap);
   return o;
+}
+
+/* The cost of the whole mesh: the serial cost's figures from its element
+ * count and the summed subcycling. */
+static cJSON *cost_json(const dtm_par *p, const dtm_par_figures *f) {
+  dtm_cost c = *p->cost;
+  if (c.duration > 0)
+    c.element_steps = f->elements * c.steps, c.element_steps_subcycled = c.element_steps / f->sub.speedup;
+  return dtm_report_cost(p->analysis, &c);
+}
+
+cJSON *dtm_par_warnings(const dtm_par *p, const dtm_par_figures *f) {
+  const dtm_analysis *a = p->analysis;
+  dtm_report_conflict c = {(size_t)f->conflicts, f->dt_cap, f->cap_hmax, NULL};
+  if (f->conflicts) c.bound = dtm_analysis_effect(a, f->cap_effect)->indicator.view;
+  char note[256];
+  snprintf(note, sizeof note,
+           "%.0f element(s) below the target: a distributed run does not tell which are shape-limited "
+           "(that needs the model); run the scene serially for that advice",
+           f->below);
+  return dtm_report_warnings_of(a, f->mass, &c, p->scene->target > 0 && f->below > 0 ? note : NULL);
 }
 
 /* Column c of the per-part rows. */
@@ -123,9 +145,17 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
   cJSON *minima = cJSON_AddArrayToObject(root, "effect_minima");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) cJSON_AddItemToArray(minima, effect_json(a, f, k));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a, f));
+  cJSON_AddItemToObject(root, "cost", cost_json(p, f));
   cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&f->sub));
   if (f->mass)
     cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, f->mass, cJSON_Duplicate(f->most_added, 1)));
+  cJSON_AddItemToObject(root, "cohesive", cJSON_Duplicate(f->zones, 1));
+  cJSON_AddItemToObject(root, "damping", cJSON_Duplicate(f->damping, 1));
+  cJSON_AddItemToObject(root, "shape_limited", cJSON_CreateArray()); /* needs the model: not classified */
+  cJSON_AddNumberToObject(root, "shape_limited_count", 0);
+  cJSON_AddNumberToObject(root, "below_target", f->below);
+  cJSON_AddItemToObject(root, "worst", cJSON_Duplicate(f->worst, 1));
+  cJSON_AddItemToObject(root, "warnings", dtm_par_warnings(p, f));
   cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));
   cJSON_AddItemToObject(root, "parallel", parallel_json(p, f));
   return root;

@@ -21,7 +21,8 @@ static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
   dtm_par_exchange_init(p);
   r = dtm_analysis_compute_shared(&p->part, p->mesh, e, ne, &p->x, &p->analysis);
   if (r) p->mesh = NULL; /* the analysis took the mesh and the effects, and freed them */
-  if (r == DTM_OK && o->posterior) r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, 0);
+  if (r == DTM_OK && o->posterior)
+    r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_par_agree(p, dtm_cost_create(p->analysis, &p->cost));
   if (p->analysis) {
     p->t[PAR_T_EFFECTS] = dtm_analysis_timing(p->analysis, DTM_T_EFFECTS);
@@ -53,6 +54,7 @@ int dtm_parallel_run(const dtm_scene *s, const dtm_parallel_opts *o) {
   dtm_par p;
   memset(&p, 0, sizeof p);
   p.scene = s;
+  p.top = o->top;
   p.mesher = (dtm_mesher_info){0, 0, 1}; /* the parts are read from files */
   omp_set_num_threads(o->threads > 0 ? o->threads : 1);
   int r = dtm_par_init(&p);

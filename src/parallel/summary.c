@@ -1,7 +1,8 @@
 /* The terminal summary of a distributed run, printed by rank 0 from the
  * global figures: the whole mesh and how it was split, the smallest step
  * and where, the nodal bound and the global estimate, the recommendation,
- * subcycling and mass scaling, and the slowest part's time per stage. */
+ * subcycling, the cost and mass scaling, the elements below the target,
+ * the slowest part's time per stage and the warnings. */
 #include <math.h>
 #include <stdio.h>
 
@@ -36,12 +37,25 @@ static void print_steps(const dtm_par *p, const dtm_par_figures *f) {
   printf("recommended  %.4e s = safety %.2f x %.4e s (%s)\n", rec, s->safety, rec / s->safety, dtm_analysis_basis(a));
 }
 
-static void print_cost(const dtm_par_figures *f) {
+static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
+  const dtm_scene *s = p->scene;
+  double rec = dtm_analysis_recommended(p->analysis), steps = ceil(s->duration / rec);
   printf("subcycling   %d level(s), ideal speed-up %.2fx\n", f->sub.nlevels, f->sub.speedup);
+  if (s->duration > 0)
+    printf("cost         %g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n", s->duration,
+           steps, rec, steps * f->elements, steps * f->elements / f->sub.speedup);
   if (f->mass)
-    printf("mass scaling to %.4e s: %.4g kg added to %zu element(s), %.3g%% of %.4g kg\n", f->mass->target,
-           f->mass->total_added, f->mass->scaled, 100.0 * f->mass->total_added / f->mass->total_mass,
-           f->mass->total_mass);
+    printf("mass scaling to %.4e s at the %s: %.4g kg added to %zu element(s), %.3g%% of %.4g kg\n", f->mass->target,
+           f->mass->nodal ? "nodes" : "elements", f->mass->total_added, f->mass->scaled,
+           100.0 * f->mass->total_added / f->mass->total_mass, f->mass->total_mass);
+  if (s->target > 0) printf("below target %.0f element(s)\n", f->below);
+}
+
+static void print_warnings(const dtm_par *p, const dtm_par_figures *f) {
+  cJSON *w = dtm_par_warnings(p, f), *it;
+  if (cJSON_GetArraySize(w) > 0) printf("\n");
+  cJSON_ArrayForEach(it, w) printf("WARNING: %s\n", it->valuestring);
+  cJSON_Delete(w);
 }
 
 static void print_times(const dtm_par *p, const dtm_par_figures *f) {
@@ -60,8 +74,9 @@ void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par
   printf("dtmap %s: %s, distributed over %d ranks\n", DTM_VERSION, p->scene->path, p->size);
   print_parts(p, f);
   print_steps(p, f);
-  print_cost(f);
+  print_cost(p, f);
   print_times(p, f);
+  print_warnings(p, f);
   char out[4096];
   if (dtm_scene_part_path(o->out, 1, out, sizeof out) == DTM_OK)
     printf("\nwrote        %s ... (%d parts, + .opt)%s%s\n", out, p->size, o->report ? ", " : "",
