@@ -97,6 +97,7 @@ static tag_value *sorted(const tu_view *v) {
 void tu_view_compare(const tu_view *a, const tu_view *b, tu_view_diff *d) {
   tag_value *x = sorted(a), *y = sorted(b);
   size_t j = 0;
+  double diff = 0, big = 0;
   memset(d, 0, sizeof *d);
   d->missing = a->n > b->n ? a->n - b->n : b->n - a->n;
   for (size_t i = 0; i < a->n; i++) {
@@ -108,6 +109,8 @@ void tu_view_compare(const tu_view *a, const tu_view *b, tu_view_diff *d) {
     d->bitequal += memcmp(&x[i].v, &y[j].v, sizeof(double)) == 0;
     double rel = fabs(y[j].v - x[i].v) / fmax(fabs(x[i].v), 1e-300);
     d->worst = fmax(d->worst, rel);
+    diff = fmax(diff, fabs(y[j].v - x[i].v)), big = fmax(big, fabs(x[i].v));
   }
+  d->scaled = diff / fmax(big, 1e-300);
   free(x), free(y);
 }

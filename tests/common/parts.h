@@ -36,6 +36,7 @@ typedef struct {
   size_t missing;  /* tags of a not in b, plus |n_a - n_b| */
   size_t bitequal; /* values identical to the bit */
   double worst;    /* max |b - a| / |a| */
+  double scaled;   /* max |b - a| / max |a|: against the view's largest value */
 } tu_view_diff;
 void tu_view_compare(const tu_view *a, const tu_view *b, tu_view_diff *d);
 
