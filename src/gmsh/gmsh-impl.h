@@ -1,7 +1,10 @@
 /* Private to src/gmsh/ (white-box tests may include it; nothing here is
  * exported): turning a non-zero ierr of the Gmsh C API into a dtmap error
- * that carries Gmsh's own last message, counting models, and the writers of
- * the .msh view sections (msh_data.c). */
+ * that carries Gmsh's own last message (or the errors Gmsh only logged:
+ * many input problems, a .geo syntax error or a .msh cut inside $Elements,
+ * are logged as "Error: ..." with ierr = 0, so every call that reads user
+ * input is bracketed by dtm_gmsh_log_reset() and DTM_GMSH_CHECK_LOG),
+ * counting models, and the writers of the .msh view sections (msh_data.c). */
 #ifndef DTM_GMSH_UTIL_H
 #define DTM_GMSH_UTIL_H
 
@@ -28,5 +31,16 @@ size_t dtm_msh_view_records(const dtm_view *v);
 /* Append one view as $ElementData or $NodeData (msh_data.c), with the part
  * number of a partitioned result (0: none). */
 int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition);
+/* Forget what Gmsh has logged so far. */
+void dtm_gmsh_log_reset(void);
+/* Raise code with "<what>: <the errors Gmsh logged since the last reset>"
+ * (at most three, "; "-separated; Gmsh's last error, or ierr's, when none
+ * was logged) when ierr is set or Gmsh logged an error; else DTM_OK. */
+int dtm_gmsh_check_log(int ierr, int code, const char *file, int line, const char *func, const char *what);
+#define DTM_GMSH_CHECK_LOG(ierr, code, what)                                                                           \
+  do {                                                                                                                 \
+    int dtm_glog_ = dtm_gmsh_check_log((ierr), (code), __FILE__, __LINE__, __func__, (what));                          \
+    if (dtm_glog_) return dtm_glog_;                                                                                   \
+  } while (0)
 
 #endif

@@ -1,6 +1,7 @@
 /* Gmsh session: start/stop or attach to a session a script opened, error
- * translation, the versions, and loading the scene's geometry (meshed here
- * with the scene's <meshing> options) or .msh. */
+ * translation (ierr and the errors Gmsh only logs), the versions, and
+ * loading the scene's geometry (meshed here with the scene's <meshing>
+ * options) or .msh. */
 #include <gmshc.h>
 #include <omp.h>
 #include <stdio.h>
@@ -17,6 +18,40 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
   int r = dtm_error_raise(code, file, line, func, "%s: %s", what, (msg && msg[0]) ? msg : "Gmsh reported an error");
   if (msg) gmshFree(msg);
   return r;
+}
+
+void dtm_gmsh_log_reset(void) {
+  int ierr = 0;
+  gmshLoggerStop(&ierr);
+  gmshLoggerStart(&ierr);
+}
+
+/* Up to three "Error: " lines of the log, without the prefix, into buf;
+ * returns how many the log holds. */
+static int logged_errors(char *buf, size_t len) {
+  char **log = NULL;
+  size_t n = 0;
+  int ierr = 0, count = 0;
+  static const char prefix[] = "Error: ";
+  gmshLoggerGet(&log, &n, &ierr);
+  buf[0] = '\0';
+  for (size_t i = 0; i < n; i++) {
+    if (!strncmp(log[i], prefix, sizeof prefix - 1) && count++ < 3) {
+      size_t used = strlen(buf);
+      snprintf(buf + used, len - used, "%s%s", used ? "; " : "", log[i] + sizeof prefix - 1);
+    }
+    gmshFree(log[i]);
+  }
+  gmshFree(log);
+  return count;
+}
+
+int dtm_gmsh_check_log(int ierr, int code, const char *file, int line, const char *func, const char *what) {
+  char errors[2048];
+  int n = logged_errors(errors, sizeof errors);
+  if (!n && !ierr) return DTM_OK;
+  if (!n) return dtm_gmsh_fail(code, file, line, func, what);
+  return dtm_error_raise(code, file, line, func, "%s: %s%s", what, errors, n > 3 ? " (and more)" : "");
 }
 
 /* Gmsh sets OpenMP's thread count from General.NumThreads (1 by default)
@@ -93,14 +128,15 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
   if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
   dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  dtm_gmsh_log_reset();
   dtm_progress_begin("meshing");
   gmshModelMeshGenerate(dim, &ierr);
   dtm_progress_end();
-  snprintf(what, sizeof what, "%s: meshing failed", s->geometry);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  snprintf(what, sizeof what, "%s: Gmsh cannot mesh it", s->geometry);
+  DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   if (s->mesh_order > 1) {
     gmshModelMeshSetOrder(s->mesh_order, &ierr);
-    DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+    DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   }
   return DTM_OK;
 }
@@ -125,13 +161,14 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
 int dtm_gmsh_open(const char *path, int *dim) {
   int ierr = 0;
   char what[4200];
-  snprintf(what, sizeof what, "%s: Gmsh cannot open it", path);
+  snprintf(what, sizeof what, "%s: Gmsh cannot read it", path);
   gmshClear(&ierr);
   dtm_gmsh_mesher_defaults();
+  dtm_gmsh_log_reset();
   dtm_progress_begin("reading");
   gmshOpen(path, &ierr);
   dtm_progress_end();
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);
   return DTM_OK;
