@@ -121,6 +121,37 @@ DTM_EXPORT double dtm_elem_measure(int type, const double *x);
  * zero-measure element. */
 DTM_EXPORT void dtm_elem_lumped_weights(int type, const double *x, double *w);
 
+/* The shape of an element, for dtmap's invalid-element policy (see
+ * src/kernel/shape.c): the scaled Jacobian det J / (product of the column
+ * lengths of J) at every integration point of the element's full rule and
+ * at every node. */
+enum {
+  DTM_SHAPE_VALID = 0,  /* safely positive everywhere */
+  DTM_SHAPE_CORNER = 1, /* safely positive at every integration point, not
+                           at some node: the element matrices are well
+                           defined; dtmap analyses and flags it */
+  DTM_SHAPE_FOLDED = 2, /* negative at some integration point: inverted or
+                           folded, refused */
+  DTM_SHAPE_FLAT = 3    /* no safely positive integration point, none
+                           negative (or the nodes span no line, plane or
+                           volume): zero measure, refused */
+};
+typedef struct {
+  int status;          /* DTM_SHAPE_* */
+  double min_jacobian; /* smallest scaled Jacobian over the integration
+                          points and nodes, in [-1, 1] (1: right angles) */
+  int node;            /* the node where it occurs, -1 at an integration
+                          point (always -1 on linear simplices) */
+  int point;           /* first integration point where det J is not safely
+                          positive, -1 when none */
+} dtm_shape;
+/* Classify the element of type with coordinates x[nn][3] (m) into *s.
+ * DTM_ERR_INPUT only for a type dtmap does not handle. Linear simplices
+ * take a few ns (one constant Jacobian), hex8 about a microsecond. */
+DTM_EXPORT int dtm_kernel_shape(int type, const double *x, dtm_shape *s);
+/* One phrase for a DTM_SHAPE_* status, for messages. */
+DTM_EXPORT const char *dtm_shape_describe(int status);
+
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
  * with lumped mass (see dtm_elem_lumped_weights: row sums for linear
  * types, HRZ for second-order ones): closed form on linear simplices
@@ -134,9 +165,9 @@ DTM_EXPORT void dtm_elem_lumped_weights(int type, const double *x, double *w);
  * on the collapsed cube). The element's critical step is 2/sqrt(lambda).
  * 3D types need DTM_FORM_3D, 2D types plane strain or plane stress, line2
  * the bar. Returns 0, or DTM_ERR_INPUT for an inverted or degenerate
- * element (Jacobian determinant not safely positive at a quadrature point
- * or node; on curved second-order elements these are the only points
- * checked), a type/formulation mismatch or an unsupported type. The kernel
+ * element (Jacobian determinant not safely positive at an integration
+ * point of the rule; an element inverted only at a corner is analysed, see
+ * dtm_kernel_shape), a type/formulation mismatch or an unsupported type. The kernel
  * does not know the element's Gmsh tag: a caller that wants it in the
  * message clears the error and raises its own. No allocation (second-order
  * element matrices, up to 81 x 81, live on the stack); tet4 takes ~0.1 us,

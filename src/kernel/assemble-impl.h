@@ -12,7 +12,7 @@ typedef struct {
   int nn;                    /* node count */
   double xl[DTM_K_NODES][3]; /* nodes in the element frame, m */
   dtm_qrule q;               /* full-integration rule */
-  int bad;                   /* after a failed setup: first bad point
+  int bad;                   /* after a failed setup: first bad rule point
                                 (see dtm_map_first_bad), or -1 when the
                                 nodes span no frame */
   double bad_det;            /* det J at that point */

@@ -30,12 +30,8 @@ int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg) {
   if (eg->bad < 0)
     return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: its nodes span no %s", dtm_elem_name(type),
                    eg->d == 1 ? "line" : "plane");
-  int node = eg->bad >= eg->q.n;
-  return DTM_ERR(DTM_ERR_INPUT,
-                 "degenerate or inverted %s element: Jacobian determinant %g "
-                 "at %s %d",
-                 dtm_elem_name(type), eg->bad_det, node ? "node" : "quadrature point",
-                 node ? eg->bad - eg->q.n : eg->bad);
+  return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: Jacobian determinant %g at integration point %d",
+                 dtm_elem_name(type), eg->bad_det, eg->bad);
 }
 
 /* Calls visit(ctx, N, g, dv) at every quadrature point. */

@@ -60,9 +60,13 @@ int dtm_elem_local(int type, const double *x, double (*xl)[3]);
  * volume factor dv = det J * rule weight. Returns det J. */
 double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
                     double (*g)[3], double *dv);
-/* Index of the first point where det J is not safely positive (see map.c):
- * k < q->n for rule point k, q->n + a for node a; det J there in *dj; -1
- * when the map is valid everywhere. Raises nothing. */
+/* det J of the map at rule coordinates p, and the product of the column
+ * lengths of J in *hadamard (|det J| <= hadamard). */
+double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard);
+/* Index of the first rule point k < q->n where det J is not safely
+ * positive (see map.c), det J there in *dj; -1 when the map is valid at
+ * every rule point. Nodes are not checked (dtm_kernel_shape does). Raises
+ * nothing. */
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj);
 
 /* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)

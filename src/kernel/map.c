@@ -5,7 +5,10 @@
  * Hadamard bound (the product of its column lengths): below that the sign
  * of the determinant is not trustworthy in double precision, so the element
  * is flat to rounding. Slivers of any realistic flatness pass. The check
- * covers every quadrature point and every node. */
+ * that refuses an element covers its quadrature points only: an element
+ * whose Jacobian is positive there has well-defined element matrices even
+ * when it is negative at a corner (dtm_kernel_shape, shape.c, classifies
+ * those). */
 #include <float.h>
 #include <math.h>
 
@@ -36,24 +39,23 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
   return dj;
 }
 
-/* 0 when det J at rule coordinates p is safely positive. */
-static int valid_at(int type, int d, int nn, const double (*xl)[3], const double p[3], double *dj) {
+double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard) {
   double N[DTM_K_NODES], dN[DTM_K_NODES][3], J[3][3];
   dtm_ref_eval(type, p, N, dN);
   jacobian(d, nn, xl, (const double(*)[3])dN, J);
-  *dj = dtm_mat_det(d, (const double(*)[3])J);
-  return *dj > 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J) && isfinite(*dj) ? 0 : -1;
+  *hadamard = dtm_mat_hadamard(d, (const double(*)[3])J);
+  return dtm_mat_det(d, (const double(*)[3])J);
+}
+
+/* 0 when det J at rule coordinates p is safely positive. */
+static int valid_at(int type, int d, int nn, const double (*xl)[3], const double p[3], double *dj) {
+  double had;
+  *dj = dtm_map_det(type, d, nn, xl, p, &had);
+  return *dj > 32 * DBL_EPSILON * had && isfinite(*dj) ? 0 : -1;
 }
 
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj) {
-  double p[3];
-  for (int k = 0; k < q->n + nn; k++) {
-    const double *pk = p;
-    if (k < q->n)
-      pk = q->p[k];
-    else
-      dtm_ref_node(type, k - q->n, p);
-    if (valid_at(type, d, nn, xl, pk, dj)) return k;
-  }
+  for (int k = 0; k < q->n; k++)
+    if (valid_at(type, d, nn, xl, q->p[k], dj)) return k;
   return -1;
 }
