@@ -9,6 +9,7 @@ option(DTM_BENCHMARKS "Build the benchmark programs of bench/ (never run by ctes
 option(DTM_SANITIZE "Build with AddressSanitizer and UndefinedBehaviorSanitizer" OFF)
 option(DTM_WERROR "Treat compiler warnings as errors (-Werror)" OFF)
 option(DTM_MPI "Build the distributed run, mpirun -n P dtmap run (needs Open MPI, PETSc and SLEPc)" OFF)
+option(DTM_FUZZ "Build the libFuzzer targets of tests/fuzz/ (clang, with DTM_TESTS; scripts/fuzz.sh)" OFF)
 set(DTM_PLOT AUTO CACHE STRING "PLplot for the plot of `dtmap sweep`: AUTO (when found), ON (required), OFF")
 set_property(CACHE DTM_PLOT PROPERTY STRINGS AUTO ON OFF)
 set(DTM_PYTHON /usr/bin/python3 CACHE FILEPATH
@@ -30,6 +31,10 @@ endif()
 if(DTM_SANITIZE)
   set(DTM_SANITIZE_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_compile_options(${DTM_SANITIZE_FLAGS})
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(DTM_FUZZ)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=address,undefined)
 endif()
 

@@ -31,6 +31,18 @@ typedef struct {
                    (every physical group of its entity, g < 64); may be NULL */
 } dtm_block;
 
+/* An element dtmap analyses although its Jacobian is not safely positive at
+ * one of its nodes: it is at every integration point, so its element
+ * matrices are well defined (see dtm_kernel_shape). dtmap flags it: the view
+ * "invalid elements", the report's list and a warning. */
+typedef struct {
+  int block;           /* index into dtm_mesh.blocks */
+  size_t index;        /* element index in that block */
+  double min_jacobian; /* smallest scaled Jacobian over its integration
+                          points and nodes (negative: inverted there) */
+  int node;            /* local node where it occurs (-1: a rule point) */
+} dtm_flagged;
+
 typedef struct dtm_mesh {
   int dim;           /* dimension of the analysed elements */
   size_t nnodes;     /* number of nodes */
@@ -39,7 +51,9 @@ typedef struct dtm_mesh {
   int nblocks;
   dtm_block *blocks; /* [nblocks], one per element type present */
   int ngroups;
-  dtm_group *groups; /* [ngroups] physical groups of dimension dim */
+  dtm_group *groups;    /* [ngroups] physical groups of dimension dim */
+  size_t nflagged;      /* elements analysed although inverted at a node */
+  dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
 } dtm_mesh;
 
 /* Total number of elements over all blocks. */
@@ -59,6 +73,19 @@ DTM_EXPORT void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x
  * array move with their element or node, so results reported by tag are
  * unchanged. O(n). */
 DTM_EXPORT int dtm_mesh_reorder(dtm_mesh *m);
+/* "element T (type) in group 'G' at (x, y, z)" for element e of block b
+ * (the centroid of its nodes, m; "in no physical group" when it has none),
+ * into buf; returns buf. */
+DTM_EXPORT const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e, char *buf, size_t len);
+/* Check the mesh before anything is computed on it: every node's
+ * coordinates are finite, every element's nodes exist, and every element
+ * has a shape dtmap can analyse (dtm_kernel_shape). Elements inverted,
+ * folded or flat at an integration point are DTM_ERR_INPUT, naming src (the
+ * mesh's file) and, for the first 20, the element's tag, type, group and
+ * centroid, how it fails and its scaled Jacobian, then how many there are
+ * in all. Elements valid at every integration point but not at a node are
+ * recorded in m->flagged (replacing an earlier list). */
+DTM_EXPORT int dtm_mesh_check(dtm_mesh *m, const char *src);
 DTM_EXPORT void dtm_mesh_destroy(dtm_mesh **m);
 
 #endif

@@ -56,6 +56,7 @@ static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   int r = dtm_gmsh_extract(dim, gm, def, s, m);
   free(gm);
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
+  if (r == DTM_OK) r = dtm_mesh_check(m, s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model");
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

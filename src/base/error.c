@@ -7,7 +7,7 @@
 
 #include "dtmap/error.h"
 
-#define DTM_MSG_MAX 2048
+#define DTM_MSG_MAX 8192 /* room for a list of 20 elements with their places */
 #define DTM_TRACE_MAX 4096
 
 static _Thread_local int err_code;

@@ -66,6 +66,7 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
   for (int g = 0; g < m->ngroups; g++) free(m->groups[g].name);
   free(m->blocks);
   free(m->groups);
+  free(m->flagged);
   free(m->node_tags);
   free(m->xyz);
   free(m);

@@ -290,12 +290,16 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
     if (elem_geometry(op, b, m->xyz, e, wq, &djt) && e < bad) bad = e;
   }
   if (bad == b->n) return DTM_OK;
-  char t[32];
+  char place[256];
   elem_geometry(op, b, m->xyz, bad, wq, &dj);
+  if (mb->tags)
+    dtm_mesh_element_place(m, (int)(mb - m->blocks), bad, place, sizeof place);
+  else
+    snprintf(place, sizeof place, "element #%zu (%s)", bad, dtm_elem_name(b->type));
   return DTM_ERR(DTM_ERR_INPUT,
-                 "element %s (%s) is degenerate, inverted or folded "
-                 "(det J = %g at a quadrature point): the global estimate cannot use it",
-                 tag_text(b, bad, t, sizeof t), dtm_elem_name(b->type), dj);
+                 "%s is degenerate, inverted or folded "
+                 "(det J = %g at an integration point): the global estimate cannot use it",
+                 place, dj);
 }
 
 /* ---- creation: lumped diagonals ------------------------------------- */
