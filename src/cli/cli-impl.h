@@ -114,6 +114,8 @@ int dtm_cli_onelab(int argc, char **argv);
  * on stderr; stop erases the line and ends the drawing thread. */
 void dtm_cli_progress_start(int verbosity);
 void dtm_cli_progress_stop(void);
+/* Warn on stderr about the elements analysed although inverted at a node. */
+void dtm_cli_warn_flagged(const dtm_analysis *a);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);

@@ -41,6 +41,7 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
   dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
+  dtm_cli_warn_flagged(rr->analysis);
   if (o->verbosity) print_rounds(rr), printf("\n"), dtm_summary_print(&res, stdout);
   int r = dtm_cli_write_outputs(&res, o, "_refined", NULL);
   dtm_cost_destroy(&cost);

@@ -64,9 +64,11 @@ typedef struct {
   double *bvals;         /* their steps [nel] */
   double below_at;       /* its threshold, s: the target, or the 1 % quantile */
   char (*names)[96];     /* "dt <effect>" names [neffects] */
-  dtm_view *views;       /* [9 + 2 neffects] */
+  dtm_view *views;       /* [10 + 2 neffects] */
   size_t *stags;         /* tags of the shape-limited elements */
   double *svals;         /* their feature (dtm_feature_kind) */
+  size_t *itags;         /* tags of the flagged elements [nflagged] */
+  double *ivals;         /* their smallest scaled Jacobians [nflagged] */
 } view_set;
 
 static void free_views(view_set *vs) {
@@ -80,6 +82,8 @@ static void free_views(view_set *vs) {
   free(vs->ntags);
   free(vs->nvals);
   free(vs->names);
+  free(vs->itags);
+  free(vs->ivals);
   free(vs->views);
 }
 
@@ -93,10 +97,27 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 9, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 10, sizeof *vs->views);
   if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
       !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
+
+/* "invalid elements": the smallest scaled Jacobian of each element dtmap
+ * analysed although it is inverted at a node (dtm_mesh_check); no view
+ * when there is none. */
+static int invalid_view(const dtm_mesh *m, view_set *vs, int *k) {
+  if (!m->nflagged) return DTM_OK;
+  vs->itags = malloc(m->nflagged * sizeof *vs->itags);
+  vs->ivals = malloc(m->nflagged * sizeof *vs->ivals);
+  if (!vs->itags || !vs->ivals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < m->nflagged; i++) {
+    const dtm_flagged *f = &m->flagged[i];
+    vs->itags[i] = m->blocks[f->block].tags[f->index];
+    vs->ivals[i] = f->min_jacobian;
+  }
+  vs->views[(*k)++] = (dtm_view){"invalid elements", 0, vs->itags, vs->ivals, m->nflagged, NULL, 0};
   return DTM_OK;
 }
 
@@ -191,6 +212,7 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, view_s
   DTM_CHECK(shape_view(r->analysis, vs, nviews));
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
   below_view(r->analysis, part, vs, nviews);
+  DTM_CHECK(invalid_view(dtm_analysis_mesh(r->analysis), vs, nviews));
   return DTM_OK;
 }
 

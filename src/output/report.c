@@ -3,8 +3,8 @@
  * where the minimum sits), each effect's own minimum, accuracy findings, the
  * cost from the one basis (element-steps, subcycling, mass scaling), the
  * cohesive zone, damping factors, the shape-limited elements, the smallest
- * steps, the refine rounds, warnings and stage timings. Written
- * atomically. */
+ * steps, the refine rounds, the elements analysed although inverted at a
+ * node, warnings and stage timings. Written atomically. */
 #include <cJSON.h>
 #include <math.h>
 #include <stdio.h>
@@ -379,6 +379,31 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   return mesh;
 }
 
+/* Gmsh tag of the node where a flagged element is worst (-1: a rule point). */
+static double flagged_node(const dtm_mesh *m, const dtm_flagged *f) {
+  const dtm_block *b = &m->blocks[f->block];
+  return f->node < 0 ? -1.0 : (double)m->node_tags[b->conn[f->index * (size_t)b->nn + (size_t)f->node]];
+}
+
+/* Elements analysed although inverted at a node (dtm_mesh_check): where
+ * they are, their smallest scaled Jacobian and the node where it is. */
+static cJSON *invalid_json(const dtm_analysis *a) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  cJSON *o = cJSON_CreateObject(), *arr = cJSON_CreateArray();
+  cJSON_AddNumberToObject(o, "count", (double)m->nflagged);
+  for (size_t i = 0; i < m->nflagged; i++) {
+    const dtm_flagged *f = &m->flagged[i];
+    size_t g = f->index;
+    for (int b = 0; b < f->block; b++) g += m->blocks[b].n;
+    cJSON *e = where_json(a, g);
+    cJSON_AddNumberToObject(e, "min_scaled_jacobian", f->min_jacobian);
+    cJSON_AddNumberToObject(e, "node", flagged_node(m, f));
+    cJSON_AddItemToArray(arr, e);
+  }
+  cJSON_AddItemToObject(o, "elements", arr);
+  return o;
+}
+
 static cJSON *report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
@@ -390,6 +415,7 @@ static cJSON *report_json(const dtm_results *r) {
     cJSON_AddItemToArray(names, cJSON_CreateString(dtm_analysis_effect(a, k)->name));
   cJSON_AddItemToObject(root, "dt", dt_json(a));
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
+  cJSON_AddItemToObject(root, "invalid_elements", invalid_json(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));

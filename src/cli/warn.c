@@ -1,0 +1,26 @@
+/* Warnings the CLI prints on stderr after an analysis (even with -q): the
+ * elements dtmap analysed although they are inverted at a node (valid at
+ * every integration point; see dtm_mesh_check), the first 20 by tag, group,
+ * centroid and smallest scaled Jacobian, and how many in all. */
+#include <stdio.h>
+
+#include "cli-impl.h"
+#include "dtmap/analysis.h"
+
+#define WARN_LISTED 20 /* flagged elements named on the terminal */
+
+void dtm_cli_warn_flagged(const dtm_analysis *a) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  if (!m->nflagged) return;
+  fprintf(stderr,
+          "dtmap: warning: %zu element%s inverted at a node but valid at every integration point: analysed, "
+          "and flagged in the view 'invalid elements' and the report's invalid_elements\n",
+          m->nflagged, m->nflagged == 1 ? " is" : "s are");
+  for (size_t i = 0; i < m->nflagged && i < WARN_LISTED; i++) {
+    const dtm_flagged *f = &m->flagged[i];
+    char place[256];
+    dtm_mesh_element_place(m, f->block, f->index, place, sizeof place);
+    fprintf(stderr, "  %s: smallest scaled Jacobian %.3g\n", place, f->min_jacobian);
+  }
+  if (m->nflagged > WARN_LISTED) fprintf(stderr, "  ... and %zu more\n", m->nflagged - WARN_LISTED);
+}
