@@ -25,6 +25,14 @@ typedef struct {
 #define DTM_VIEW_BELOW_TARGET "below target [s]"
 #define DTM_VIEW_SMALLEST "smallest 1% [s]"
 
+/* Check, before any work, that path can receive an output of scene s (s
+ * may be NULL): it names a regular file or none yet (not a directory or a
+ * device), its directory exists and accepts a new file, it is not the
+ * scene file, its geometry or its mesh, and it ends in ext unless ext is
+ * NULL (".msh"). origin says where the path came from, for the message
+ * ("-o", "scene.xml:12: <output mesh>"; NULL: nothing). DTM_ERR_INPUT
+ * "<origin> <path>: <reason>" otherwise. Leaves nothing behind. */
+DTM_EXPORT int dtm_output_path_check(const dtm_scene *s, const char *path, const char *ext, const char *origin);
 /* Write the mesh with its views to path atomically, plus path.opt.
  * Refuses to overwrite the scene's input mesh or the scene itself. */
 DTM_EXPORT int dtm_output_write(const dtm_results *r, const char *path);

@@ -66,6 +66,7 @@ typedef struct dtm_scene {
   char *out_mesh;                 /* resolved <output mesh>, or NULL */
   char *out_report;               /* resolved <output report>, or NULL */
   int out_format;                 /* <output format>: DTM_MSH_AUTO (unset), _ASCII, _BINARY */
+  int out_line;                   /* line of <output>, 0 when there is none */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

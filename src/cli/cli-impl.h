@@ -89,6 +89,20 @@ void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_
  * the usage exit code 2 for another word. */
 int dtm_cli_format(const struct cli_command *c, const char *word, int *out);
 
+/* The files run and refine write, and where each name came from. */
+typedef struct {
+  char mesh[4096];        /* output mesh (its .opt goes beside it) */
+  char mesh_from[4200];   /* "-o", "scene.xml:12: <output mesh>", "default output" */
+  char report[4096];      /* JSON report, "" for none */
+  char report_from[4200]; /* "--report" or "scene.xml:12: <output report>" */
+  char pictures[2][4200]; /* run --png PREFIX: PREFIX_worst.png, PREFIX_dt.png; "" for none */
+} cli_outputs;
+/* The outputs of run and refine for scene s and options o; suffix (refine:
+ * "_refined", NULL for run) goes before the extension of the scene's and
+ * the default names. */
+void dtm_cli_output_names(const dtm_scene *s, const cli_opts *o, const char *suffix, cli_outputs *out);
+/* Check them before any work (dtm_output_path_check, and no two alike). */
+int dtm_cli_check_outputs(const dtm_scene *s, const cli_outputs *out);
 /* Write the output mesh (+ .opt) and the report of res where o and the
  * scene say; res->t_output accumulates the mesh's write time, s. With a
  * suffix (refine: "_refined") the defaults are the scene's <output> names

@@ -75,6 +75,11 @@ int dtm_cli_refine(const cli_opts *o) {
     return dtm_cli_usage_error(&dtm_cli_commands[2], "needs --target DT (s), or a <time target> in the scene");
   }
   if (r == DTM_OK) {
+    cli_outputs out;
+    dtm_cli_output_names(s, o, "_refined", &out);
+    r = dtm_cli_check_outputs(s, &out);
+  }
+  if (r == DTM_OK) {
     if (o->verbosity) printf("dtmap %s: refining %s to %.4e s\n", DTM_VERSION, s->path, target);
     r = refine_scene(s, target, o);
   }

@@ -14,36 +14,6 @@
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
 
-/* path with suffix before its extension ("a/b.msh" -> "a/b_refined.msh"). */
-static void with_suffix(const char *path, const char *suffix, char *buf, size_t len) {
-  const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-  if (!dot || (slash && dot < slash)) dot = path + strlen(path);
-  snprintf(buf, len, "%.*s%s%s", (int)(dot - path), path, suffix, dot);
-}
-
-/* The output mesh: -o, else the scene's <output mesh>, else SCENE_dt.msh.
- * With a suffix (refine: "_refined") the defaults carry it before their
- * extension (SCENE_refined.msh), so they never overwrite run's. */
-static const char *output_path(const dtm_scene *s, const cli_opts *o, const char *suffix, char *def, size_t n) {
-  char tail[64];
-  if (o->out) return o->out;
-  if (s->out_mesh && !suffix) return s->out_mesh;
-  snprintf(tail, sizeof tail, "%s.msh", suffix ? suffix : "_dt");
-  if (s->out_mesh)
-    with_suffix(s->out_mesh, suffix, def, n);
-  else
-    dtm_cli_default_out(s->path, tail, def, n);
-  return def;
-}
-
-/* The report: --report, else the scene's <output report> (with the
- * suffix), else none. */
-static const char *report_path(const dtm_scene *s, const cli_opts *o, const char *suffix, char *def, size_t n) {
-  if (o->report || !s->out_report || !suffix) return o->report ? o->report : s->out_report;
-  with_suffix(s->out_report, suffix, def, n);
-  return def;
-}
-
 int dtm_cli_format(const cli_command *c, const char *word, int *out) {
   static const char *const names[] = {"auto", "ascii", "binary"}; /* DTM_MSH_* order */
   *out = DTM_MSH_AUTO;
@@ -64,10 +34,10 @@ static int begin_output(const dtm_scene *s, const cli_opts *o, const char *out, 
 }
 
 int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffix, dtm_output_file **begun) {
-  char mesh[4096], report[4096];
+  cli_outputs names;
   const dtm_scene *s = dtm_analysis_scene(res->analysis);
-  const char *out = output_path(s, o, suffix, mesh, sizeof mesh);
-  const char *rep = report_path(s, o, suffix, report, sizeof report);
+  dtm_cli_output_names(s, o, suffix, &names);
+  const char *out = names.mesh, *rep = names.report[0] ? names.report : NULL;
   dtm_output_file *f = begun ? *begun : NULL;
   if (begun) *begun = NULL;
   if (!f) DTM_CHECK(begin_output(s, o, out, dtm_analysis_nelements(res->analysis), &f, &res->t_output));
@@ -126,8 +96,9 @@ typedef struct {
 
 static int write_early(void *user, size_t nelements) {
   early_output *e = user;
-  char def[4096];
-  DTM_CHECK(begin_output(e->s, e->o, output_path(e->s, e->o, NULL, def, sizeof def), nelements, &e->file, &e->seconds));
+  cli_outputs names;
+  dtm_cli_output_names(e->s, e->o, NULL, &names);
+  DTM_CHECK(begin_output(e->s, e->o, names.mesh, nelements, &e->file, &e->seconds));
   dtm_gmsh_release();
   return DTM_OK;
 }
@@ -158,11 +129,12 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
 /* mpirun -n P dtmap run, or a scene of partition files: every rank runs
  * this; the rank where an error arose has it pending and prints it. */
 static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
-  char def[4096];
+  cli_outputs names;
   if (o->png)
     return DTM_ERR(DTM_ERR_INPUT, "%s: --png draws one output mesh; a distributed run writes one per part", s->path);
-  dtm_parallel_opts po = {.out = output_path(s, o, NULL, def, sizeof def),
-                          .report = o->report ? o->report : s->out_report,
+  dtm_cli_output_names(s, o, NULL, &names);
+  dtm_parallel_opts po = {.out = names.mesh,
+                          .report = names.report[0] ? names.report : NULL,
                           .posterior = o->posterior,
                           .tol = o->tol,
                           .max_products = o->lanczos_max,
@@ -178,8 +150,11 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
 static int run_scene(const cli_opts *o, int verify) {
   if (o->threads > 0) omp_set_num_threads(o->threads);
   dtm_scene *s = NULL;
+  cli_outputs out;
   double t0 = dtm_wtime();
   int r = dtm_scene_load(o->scene, &s);
+  if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
+  if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
   if (r == DTM_OK && dtm_parallel_wanted(s))
     r = verify ? DTM_ERR(DTM_ERR_INPUT, "%s: dtmap verify runs on one whole mesh, without mpirun", s->path)
                : run_parallel(s, o, dtm_wtime() - t0);
@@ -187,9 +162,8 @@ static int run_scene(const cli_opts *o, int verify) {
     if (o->verbosity) printf("dtmap %s: %s\n", DTM_VERSION, s->path);
     r = analyse(s, o, dtm_wtime() - t0, verify);
   }
-  char def[4096];
   if (r == DTM_OK && o->png && !dtm_parallel_wanted(s))
-    r = dtm_cli_pictures(output_path(s, o, NULL, def, sizeof def), o->png, o->width, o->height, o->verbosity);
+    r = dtm_cli_pictures(out.mesh, o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
   return r && dtm_error_code() ? dtm_cli_fail(r, o->verbosity) : r;
 }

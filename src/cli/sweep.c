@@ -5,17 +5,16 @@
  * writes no PNG unless --plot asks for one, which is then an error before
  * the sweep starts). Exit 0 on success, 2 for bad input or usage (with a
  * message saying what), 3 for internal errors. */
-#include <errno.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "cli-impl.h"
 #include "dtmap/error.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/output.h"
 #include "dtmap/scene.h"
 #include "dtmap/sweep.h"
 
@@ -40,15 +39,6 @@ static int parse_sizes(const char *text, double **sizes, int *n) {
   return DTM_OK;
 }
 
-/* Fail before a long sweep when an output's directory is not writable. */
-static int check_writable(const char *path) {
-  char dir[4096];
-  const char *slash = strrchr(path, '/');
-  snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + 1 : 1, slash ? path : ".");
-  if (access(dir, W_OK)) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
-  return DTM_OK;
-}
-
 /* The CSV and PNG paths: the options, else SCENE_sweep.csv/.png; png is
  * "" when this dtmap cannot plot and no plot was asked for. */
 static void output_paths(const cli_opts *o, char *csv, char *png, size_t len) {
@@ -57,6 +47,14 @@ static void output_paths(const cli_opts *o, char *csv, char *png, size_t len) {
   if (o->csv) snprintf(csv, len, "%s", o->csv);
   if (o->plot) snprintf(png, len, "%s", o->plot);
   if (!o->plot && !dtm_cli_can_plot()) png[0] = '\0';
+}
+
+/* Fail before a long sweep when an output cannot be written. */
+static int check_outputs(const dtm_scene *s, const cli_opts *o, const char *csv, const char *png) {
+  DTM_CHECK(dtm_output_path_check(s, csv, NULL, o->csv ? "--csv" : "default CSV"));
+  if (png[0]) DTM_CHECK(dtm_output_path_check(s, png, NULL, o->plot ? "--plot" : "default plot"));
+  if (strcmp(csv, png)) return DTM_OK;
+  return DTM_ERR(DTM_ERR_INPUT, "--csv %s and --plot %s: two outputs with one name", csv, png);
 }
 
 static int write_files(const cli_opts *o, const dtm_sweep_row *rows, int n) {
@@ -75,10 +73,9 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   if (!rows) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   char csv[4096], png[4096];
   output_paths(o, csv, png, sizeof csv);
-  int r = check_writable(csv), started = 0;
-  if (r == DTM_OK && png[0]) r = check_writable(png);
+  int r = dtm_scene_load(o->scene, &s), started = 0;
+  if (r == DTM_OK) r = check_outputs(s, o, csv, png);
   if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
-  if (r == DTM_OK) r = dtm_scene_load(o->scene, &s);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");
   if (r == DTM_OK) r = dtm_sweep_run(s, sizes, n, rows);

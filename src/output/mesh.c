@@ -12,28 +12,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
 #include "dtmap/progress.h"
 #include "dtmap/util.h"
 
-static int same_file(const char *a, const char *b) {
-  struct stat sa, sb;
-  if (stat(a, &sa) || stat(b, &sb)) return 0;
-  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
-
 static int check_target(const dtm_scene *s, const char *path) {
-  const char *in = s->mesh ? s->mesh : s->geometry; /* NULL for the current model */
-  if ((in && same_file(in, path)) || same_file(s->path, path))
-    return DTM_ERR(DTM_ERR_INPUT, "%s: refusing to overwrite an input file; choose another output with -o", path);
-  size_t n = strlen(path);
-  if (n < 4 || strcmp(path + n - 4, ".msh"))
-    return DTM_ERR(DTM_ERR_INPUT, "%s: the output mesh must end in .msh", path);
-  return DTM_OK;
+  return dtm_output_path_check(s, path, ".msh", NULL);
 }
 
 /* Node data over the nodes that carry a finite value. */

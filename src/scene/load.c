@@ -191,6 +191,7 @@ static int read_format(dtm_scene *s, const xmlNode *n) {
 }
 
 static int read_output(dtm_scene *s, const xmlNode *n) {
+  s->out_line = dtm_scene_line(n);
   DTM_CHECK(read_format(s, n));
   DTM_CHECK(read_output_path(s, n, "mesh", &s->out_mesh));
   return read_output_path(s, n, "report", &s->out_report);
