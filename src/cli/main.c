@@ -4,6 +4,7 @@
  * 1 target or verification not met, 2 bad input or usage, 3 internal
  * error. */
 #include <float.h>
+#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include "dtmap/parallel.h"
 #include "dtmap/registry.h"
 #include "dtmap/version.h"
+#include "dtmap/util.h"
 
 #define OPT(field) offsetof(cli_opts, field)
 #define POSITIVE DBL_MIN, DBL_MAX
@@ -161,7 +163,25 @@ static int usage_error(const char *what, const char *arg) {
   return 2;
 }
 
+/* Interrupted (Ctrl-C, kill, a closed terminal): remove the temporaries
+ * being written, then end as the signal would have. */
+static void on_signal(int sig) {
+  dtm_atomic_cleanup_signal();
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+static void catch_signals(void) {
+  static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  for (size_t i = 0; i < sizeof sigs / sizeof *sigs; i++) sigaction(sigs[i], &sa, NULL);
+}
+
 int main(int argc, char **argv) {
+  catch_signals();
   int onelab = dtm_cli_onelab(argc, argv);
   if (onelab >= 0) return onelab;
   const char *cmd = argc > 1 ? argv[1] : "";
