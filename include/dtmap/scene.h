@@ -49,6 +49,7 @@ typedef struct dtm_scene {
   int mesh_dim;         /* <meshing dim>; 0 when unset (highest dimension) */
   int mesh_algorithm;   /* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code; 0 when unset (the geometry's) */
   int mesh_threads;     /* <meshing threads>; 0 when unset (the geometry's General.NumThreads) */
+  int meshing_line;     /* line of <meshing>, 0 when there is none */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
   int neffects;

@@ -1,6 +1,7 @@
 /* The base layer's interface to the rest of libdtmap (internal, hidden):
  * the seeded random generator, carrying the first error out of an OpenMP
- * region, and building "'a', 'b', 'c'" lists for messages. The public part
+ * region, building "'a', 'b', 'c'" lists for messages, and the memory limit of
+ * the kill switches. The public part
  * of the base layer is include/dtmap/error.h and include/dtmap/util.h. */
 #ifndef DTMAP_BASE_H
 #define DTMAP_BASE_H
@@ -37,5 +38,11 @@ int dtm_par_error_raise(const dtm_par_error *pe);
 /* Append item to the list in buf, quoted as 'item' when quote is set, after
  * ", " when buf is not empty; truncates silently at len. */
 void dtm_strlist_add(char *buf, size_t len, const char *item, int quote);
+
+/* Bytes this process may use at most: the smallest of the machine's
+ * physical memory, the cgroup limit and the rlimits (memory.c). */
+double dtm_memory_limit(void);
+/* bytes as "1.5 GB" (powers of 1000) in buf; returns buf. */
+const char *dtm_bytes_text(double bytes, char *buf, size_t len);
 
 #endif

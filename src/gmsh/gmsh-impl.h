@@ -8,10 +8,12 @@
 #ifndef DTM_GMSH_UTIL_H
 #define DTM_GMSH_UTIL_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "dtmap/error.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/scene.h"
 
 /* Raise DTM_ERR_INPUT or code with "<what>: <Gmsh's last error>". */
 int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const char *what);
@@ -31,6 +33,29 @@ size_t dtm_msh_view_records(const dtm_view *v);
 /* Append one view as $ElementData or $NodeData (msh_data.c), with the part
  * number of a partitioned result (0: none). */
 int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition);
+/* What a .msh file's headers say (msh_scan.c). */
+typedef struct {
+  double version;    /* $MeshFormat version (1 for MSH 1) */
+  int binary;        /* file-type: 1 binary, 0 ASCII */
+  int dsize;         /* data-size (sizeof size_t in MSH 4 binary files) */
+  long long bytes;   /* size of the file */
+  size_t nodes;      /* node count of $Nodes ($NOD) */
+  size_t elements;   /* element count of $Elements ($ELM), all dimensions */
+  int have_nodes;    /* the $Nodes header was found */
+  int have_elements; /* the $Elements header was found */
+} dtm_msh_head;
+/* Scan path's headers into h: 0, or -1 when it cannot be read or is not a
+ * .msh the scan understands (then Gmsh alone judges it). */
+int dtm_msh_scan(const char *path, dtm_msh_head *h);
+
+/* The kill switches (budget.c): refuse, before Gmsh allocates, a .msh
+ * whose headers promise more than the file holds or than the machine's
+ * memory can take, and a geometry whose <meshing size> would give more
+ * elements than the memory can take. DTM_ERR_INPUT naming the file (and
+ * the scene line of <meshing>) with the figures. */
+int dtm_gmsh_check_msh(const char *path);
+int dtm_gmsh_check_meshing(const dtm_scene *s, int dim);
+
 /* Forget what Gmsh has logged so far. */
 void dtm_gmsh_log_reset(void);
 /* Raise code with "<what>: <the errors Gmsh logged since the last reset>"

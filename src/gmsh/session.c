@@ -152,6 +152,7 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   DTM_CHECK(dtm_gmsh_open(src, &d));
   if (s->mesh_dim > 0) d = s->mesh_dim;
   if (s->mesh) dtm_gmsh_mesher_read();
+  if (!s->mesh) DTM_CHECK(dtm_gmsh_check_meshing(s, d));
   if (!s->mesh) DTM_CHECK(mesh_geometry(s, d));
   dtm_gmsh_restore_threads();
   *dim = d;
@@ -162,6 +163,7 @@ int dtm_gmsh_open(const char *path, int *dim) {
   int ierr = 0;
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot read it", path);
+  DTM_CHECK(dtm_gmsh_check_msh(path)); /* only .msh files are scanned */
   gmshClear(&ierr);
   dtm_gmsh_mesher_defaults();
   dtm_gmsh_log_reset();

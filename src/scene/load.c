@@ -143,6 +143,7 @@ static int read_algorithm(dtm_scene *s, const xmlNode *n) {
 }
 
 static int read_meshing(dtm_scene *s, const xmlNode *n) {
+  s->meshing_line = dtm_scene_line(n);
   DTM_CHECK(dtm_scene_attr_positive(s, n, "size", 0, &s->mesh_size));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "min-size", 0, &s->mesh_min_size));
   DTM_CHECK(read_int(s, n, "order", 1, 2, &s->mesh_order));

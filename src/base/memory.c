@@ -1,0 +1,51 @@
+/* How much memory this process may use, for the kill switches that refuse
+ * an input too big for the machine before anything is allocated: the
+ * smallest of the machine's physical memory (MemTotal), the cgroup's limit
+ * (v2 memory.max, v1 memory.limit_in_bytes) and the address-space and data
+ * rlimits (ulimit -v, -d). Total memory, not what is free now: the switch
+ * is for inputs that cannot fit at all, never for a busy machine. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#include "base.h"
+
+/* The first number in file after key (key NULL: at the start); 0 if none. */
+static double number_in(const char *file, const char *key) {
+  char line[256];
+  double v = 0;
+  FILE *f = fopen(file, "r");
+  if (!f) return 0;
+  while (fgets(line, sizeof line, f)) {
+    const char *p = key ? strstr(line, key) : line;
+    if (!p) continue;
+    v = strtod(p + (key ? strlen(key) : 0), NULL);
+    break;
+  }
+  fclose(f);
+  return v;
+}
+
+static double at_most(double a, double b) { return b > 0 && b < a ? b : a; }
+
+double dtm_memory_limit(void) {
+  double m = number_in("/proc/meminfo", "MemTotal:") * 1024.0;
+  if (!(m > 0)) m = 1e300;
+  m = at_most(m, number_in("/sys/fs/cgroup/memory.max", NULL));
+  m = at_most(m, number_in("/sys/fs/cgroup/memory/memory.limit_in_bytes", NULL));
+  static const int limits[] = {RLIMIT_AS, RLIMIT_DATA};
+  for (int i = 0; i < 2; i++) {
+    struct rlimit r;
+    if (!getrlimit(limits[i], &r) && r.rlim_cur != RLIM_INFINITY) m = at_most(m, (double)r.rlim_cur);
+  }
+  return m;
+}
+
+const char *dtm_bytes_text(double bytes, char *buf, size_t len) {
+  static const char *const unit[] = {"B", "kB", "MB", "GB", "TB", "PB"};
+  int u = 0;
+  while (bytes >= 1000 && u < 5) bytes /= 1000, u++;
+  snprintf(buf, len, "%.3g %s", bytes, unit[u]);
+  return buf;
+}

@@ -1,0 +1,97 @@
+/* The kill switches: inputs that cannot fit in this machine's memory are
+ * refused with the figures before anything is allocated for them, instead
+ * of ending in the OOM killer or a half-read mesh.
+ *  - A .msh: its headers' node and element counts (msh_scan.c) must fit in
+ *    the file (at least 8 bytes a node and 4 an element in ASCII, more in
+ *    binary: fewer means a truncated or corrupt file whose headers lie),
+ *    and reading and analysing them must fit in dtm_memory_limit().
+ *  - A geometry: <meshing size=h> gives at least c_d M / h^d elements of
+ *    dimension d, M the measure of the model's entities of that dimension
+ *    (OpenCASCADE's for OCC entities, else the product of the d largest
+ *    extents of each entity's bounding box), c_d the elements a Gmsh mesh
+ *    of size h puts in h^d (measured on box.geo: 4.5 tetrahedra; 2.3
+ *    triangles for an equilateral tiling; 1 segment), rounded down. The
+ *    size is the largest Gmsh may use (Mesh.MeshSizeMax); smaller sizes
+ *    from the geometry only add elements, so this is a lower bound.
+ * Bytes per element and node were measured with /usr/bin/time (peak RSS,
+ * dtmap run -j 1, tet4): 445 B per element, nodes included, reading a
+ * .msh; 620 B per element meshing a .geo. The constants below are lower
+ * (the switch must never refuse what fits); second order triples them. */
+#include <gmshc.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "base.h"
+#include "gmsh-impl.h"
+
+#define READ_PER_ELEMENT 300.0 /* bytes, reading and analysing a .msh */
+#define READ_PER_NODE 150.0    /* bytes */
+#define MESH_PER_ELEMENT 450.0 /* bytes, meshing and analysing */
+
+static const double per_hd[4] = {0, 1.0, 2.0, 4.0}; /* elements per h^d, rounded down */
+
+static int too_big(const char *what, double need) {
+  char a[32], b[32];
+  double limit = dtm_memory_limit();
+  if (!(need > limit)) return DTM_OK;
+  return DTM_ERR(DTM_ERR_INPUT, "%s, which need about %s of memory; this machine allows %s (memory, cgroup and ulimit)",
+                 what, dtm_bytes_text(need, a, sizeof a), dtm_bytes_text(limit, b, sizeof b));
+}
+
+int dtm_gmsh_check_msh(const char *path) {
+  dtm_msh_head h;
+  char what[4300], sz[32];
+  if (dtm_msh_scan(path, &h)) return DTM_OK;
+  double per_node = h.binary ? 24.0 + (h.version >= 4 ? h.dsize : 4) : 8.0, per_el = h.binary ? 8.0 : 4.0;
+  double least = (double)h.nodes * per_node + (double)h.elements * per_el;
+  if (least > (double)h.bytes)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s: its headers announce %zu nodes and %zu elements, more than the %s file can hold: it is "
+                   "truncated or corrupt",
+                   path, h.nodes, h.elements, dtm_bytes_text((double)h.bytes, sz, sizeof sz));
+  snprintf(what, sizeof what, "%s: the mesh has %zu elements and %zu nodes", path, h.elements, h.nodes);
+  return too_big(what, (double)h.elements * READ_PER_ELEMENT + (double)h.nodes * READ_PER_NODE);
+}
+
+/* Measure of entity (dim, tag), m^dim: OpenCASCADE's when it is one of
+ * its entities (occ lists them), else from its bounding box. */
+static double entity_measure(int dim, int tag, const int *occ, size_t nocc) {
+  int ierr = 0;
+  double m = 0, b[6], e[3];
+  for (size_t i = 0; i + 1 < nocc; i += 2)
+    if (occ[i] == dim && occ[i + 1] == tag) {
+      gmshModelOccGetMass(dim, tag, &m, &ierr);
+      if (!ierr && m > 0) return m;
+    }
+  gmshModelGetBoundingBox(dim, tag, &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &ierr);
+  for (int i = 0; i < 3; i++) e[i] = ierr ? 0 : fabs(b[i + 3] - b[i]);
+  for (int i = 0; i < 2; i++) /* sort the extents, largest first */
+    for (int j = i + 1; j < 3; j++)
+      if (e[j] > e[i]) m = e[i], e[i] = e[j], e[j] = m;
+  m = 1;
+  for (int i = 0; i < dim; i++) m *= e[i];
+  return m;
+}
+
+static double model_measure(int dim) {
+  int *ents = NULL, *occ = NULL, ierr = 0;
+  size_t n = 0, nocc = 0;
+  double m = 0;
+  gmshModelGetEntities(&ents, &n, dim, &ierr);
+  gmshModelOccGetEntities(&occ, &nocc, dim, &ierr);
+  for (size_t i = 0; i + 1 < n; i += 2) m += entity_measure(dim, ents[i + 1], occ, nocc);
+  gmshFree(ents);
+  gmshFree(occ);
+  return m;
+}
+
+int dtm_gmsh_check_meshing(const dtm_scene *s, int dim) {
+  if (!(s->mesh_size > 0) || dim < 1 || dim > 3) return DTM_OK;
+  char what[4400];
+  double measure = model_measure(dim);
+  double n = per_hd[dim] * measure / pow(s->mesh_size, dim);
+  snprintf(what, sizeof what,
+           "%s:%d: <meshing size=\"%g\"> on %s (measure %.3g m^%d in dimension %d) gives at least %.3g elements",
+           s->path, s->meshing_line, s->mesh_size, s->geometry, measure, dim, dim, n);
+  return too_big(what, n * MESH_PER_ELEMENT * (s->mesh_order > 1 ? 3 : 1));
+}
