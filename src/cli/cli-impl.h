@@ -29,7 +29,7 @@ typedef struct {
   int lanczos_max;    /* --lanczos-max: Lanczos steps */
   int max_iter;       /* refine --max-iter: rounds */
   double target;      /* refine --target, s (0: the scene's <time target>) */
-  double factor;      /* verify --factor: multiple of the recommended step */
+  double factor;      /* verify --factor: multiple of the recommended step (0: not given, 1) */
   double dt;          /* verify --dt, s (0: use factor x recommended) */
   int steps;          /* verify --steps */
   const char *png;    /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */

@@ -19,7 +19,6 @@ static cli_opts defaults(void) {
   o.tol = 1e-4;
   o.lanczos_max = 400;
   o.max_iter = 3;
-  o.factor = 1.0;
   o.steps = 2000;
   o.width = 1024;
   o.height = 768;

@@ -63,7 +63,7 @@ static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_
 }
 
 static int verify_step(const dtm_analysis *a, const cli_opts *o) {
-  double dt = o->dt > 0 ? o->dt : o->factor * dtm_analysis_recommended(a);
+  double dt = o->dt > 0 ? o->dt : (o->factor > 0 ? o->factor : 1.0) * dtm_analysis_recommended(a);
   dtm_verify_effect *v = calloc((size_t)dtm_analysis_neffects(a) + 1, sizeof *v);
   if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = dtm_verify(a, dt, o->steps, v), unstable = 0;
@@ -175,4 +175,8 @@ int dtm_cli_run(const cli_opts *o) {
     return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
   return run_scene(o, 0);
 }
-int dtm_cli_verify(const cli_opts *o) { return run_scene(o, 1); }
+int dtm_cli_verify(const cli_opts *o) {
+  if (o->factor > 0 && o->dt > 0)
+    return dtm_cli_usage_error(&dtm_cli_commands[1], "--factor and --dt both give the step; give one");
+  return run_scene(o, 1);
+}
