@@ -100,7 +100,8 @@ static int differences(const char *name, const snapshot *a, const snapshot *b) {
 /* Copy the case directory src into dst (X.in becomes X), not args/expect. */
 static void copy_case(const char *src, const char *dst) {
   char *log = NULL;
-  assert_int_equal(tu_run(&log, "cp -R '%s'/. '%s'/ && cd '%s' && rm -f args expect && "
+  assert_int_equal(tu_run(&log,
+                          "cp -R '%s'/. '%s'/ && cd '%s' && rm -f args expect && "
                           "for f in $(find . -name '*.in'); do mv \"$f\" \"${f%%.in}\"; done",
                           src, dst, dst),
                    0);
