@@ -10,6 +10,7 @@
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/output.h"
 #include "dtmap/util.h"
 
 typedef struct {
@@ -34,6 +35,17 @@ int dtm_cli_pictures(const char *msh, const char *prefix, int width, int height,
   return DTM_OK;
 }
 
+/* The pictures can be written (dtm_output_path_check), before Xvfb starts. */
+static int check_pictures(const char *prefix, const char *origin) {
+  char path[DTM_PATH_MAX];
+  static const char *const suffix[2] = {"_worst.png", "_dt.png"};
+  for (int i = 0; i < 2; i++) {
+    snprintf(path, sizeof path, "%.4000s%s", prefix, suffix[i]);
+    DTM_CHECK(dtm_output_path_check(NULL, path, NULL, origin));
+  }
+  return DTM_OK;
+}
+
 int dtm_cli_snapshot(const cli_opts *o) {
   char prefix[DTM_PATH_MAX];
   size_t n = strlen(o->scene);
@@ -41,6 +53,7 @@ int dtm_cli_snapshot(const cli_opts *o) {
     return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: not a .msh result of dtmap run", o->scene), o->verbosity);
   if (access(o->scene, R_OK)) return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: cannot read it", o->scene), o->verbosity);
   snprintf(prefix, sizeof prefix, "%.*s", (int)(n - 4), o->scene);
-  int r = dtm_cli_pictures(o->scene, o->png ? o->png : prefix, o->width, o->height, o->verbosity);
+  int r = check_pictures(o->png ? o->png : prefix, o->png ? "--png" : "default picture");
+  if (r == DTM_OK) r = dtm_cli_pictures(o->scene, o->png ? o->png : prefix, o->width, o->height, o->verbosity);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }

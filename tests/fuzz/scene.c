@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "dtmap/error.h"
+#include "dtmap/registry.h"
 #include "dtmap/scene.h"
 
 static char scene_name[256]; /* <dir>/fuzz.xml */
@@ -67,12 +68,17 @@ static void broken(const char *what) {
   abort();
 }
 
-static void check_material(const dtm_scene_material *sm) {
+/* Every property a material gives is finite and, when a built-in effect
+ * declares it, within the declared range. */
+static void check_material(const dtm_scene *s, const dtm_scene_material *sm) {
   const dtm_material *m = &sm->m;
   if (!m->name || !m->name[0] || m->line <= 0) broken("a material without name or line");
-  for (int p = 0; p < DTM_PROP_COUNT; p++) {
-    if (!(m->have & DTM_PROP_BIT(p))) continue;
-    if (!isfinite(m->prop[p]) || dtm_prop_check(m, p, m->prop[p]) != DTM_OK) broken("an inadmissible property");
+  if (m->nprops != s->nprops) broken("a material outside the scene's property catalogue");
+  for (int i = 0; i < m->nprops; i++) {
+    if (!dtm_material_has(m, i)) continue;
+    const dtm_property *p = dtm_registry_property(m->prop_names[i], NULL);
+    if (!isfinite(m->prop[i]) || (p && dtm_property_check(p, m, m->prop[i]) != DTM_OK))
+      broken("an inadmissible property");
   }
   for (int g = 0; g < sm->ngroups; g++)
     if (!sm->groups[g] || !sm->groups[g][0]) broken("an empty group reference");
@@ -84,7 +90,7 @@ static void check_scene(const dtm_scene *s) {
   if (s->nmaterials < 1 || s->neffects < 1) broken("no material or no effect");
   int defaults = 0;
   for (int i = 0; i < s->nmaterials; i++) {
-    check_material(&s->materials[i]);
+    check_material(s, &s->materials[i]);
     defaults += s->materials[i].is_default;
     for (int j = 0; j < i; j++)
       if (!strcmp(s->materials[i].m.name, s->materials[j].m.name)) broken("two materials with one name");
