@@ -75,9 +75,10 @@ static int open_window(const char *msh, int width, int height) {
   gmshOptionSetNumber("General.GraphicsWidth", width + menu, &ierr); /* the window holds the module tree too */
   gmshOptionSetNumber("General.GraphicsHeight", height, &ierr);
   gmshLoggerStart(&ierr);
-  snprintf(what, sizeof what, "%s: Gmsh cannot open it", msh);
+  snprintf(what, sizeof what, "%s: Gmsh cannot read it", msh);
+  DTM_CHECK(dtm_gmsh_check_msh(msh));
   gmshOpen(msh, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
+  DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   oblique_camera();
   gmshFltkInitialize(&ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, "Gmsh cannot open a window (is DISPLAY a working X display?)");
