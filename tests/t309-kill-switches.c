@@ -9,6 +9,11 @@
  *    (estimated 300 B per element and 150 B per node, about 126 MB) is
  *    refused, naming the counts and the limit; not under ASan, whose
  *    shadow memory needs more than such a limit allows.
+ *  - Sparse node tags (a .msh keeps its writer's tags): up to 10^6 for four
+ *    nodes, they are looked up by bisection and the run succeeds, its
+ *    report naming the element by its own tag; up to 10^15, the views
+ *    (which Gmsh indexes by tag: 8 B a tag number in each of 8 views, 64 PB)
+ *    cannot be written, and the run is refused before any work on them.
  *  - <meshing size=1e-4> on the 0.1 m cube of geometries/box.geo: at least
  *    4 x 0.001 / 1e-12 = 4e9 tetrahedra, refused naming the scene line and
  *    the volume OpenCASCADE gives; on a built-in-kernel square the measure
@@ -18,6 +23,7 @@
 #include <stddef.h>
 #include <cmocka.h>
 
+#include <cJSON.h>
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -132,6 +138,43 @@ static void test_memory_limit(void **state) {
   free(log);
 }
 
+/* A one-tet mesh whose node tags are base + 1 ... base + 4. */
+static int run_sparse(size_t base, char **log) {
+  char msh[600], scene[600], text[1024];
+  snprintf(msh, sizeof msh, "%s/sparse.msh", tu_tmpdir());
+  snprintf(scene, sizeof scene, "%s/sparse.xml", tu_tmpdir());
+  snprintf(text, sizeof text,
+           "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n%zu 0 0 0\n%zu 1 0 0\n%zu 0 1 0\n%zu 0 0 1\n"
+           "$EndNodes\n$Elements\n1\n999 4 2 1 1 %zu %zu %zu %zu\n$EndElements\n",
+           base + 1, base + 2, base + 3, base + 4, base + 1, base + 2, base + 3, base + 4);
+  tu_write(msh, text);
+  tu_write(scene, "<dtmap-scene version=\"1\">\n  <mesh file=\"sparse.msh\"/>\n"
+                  "  <material name=\"m\" default=\"true\" E=\"1e9\" nu=\"0.3\" rho=\"1000\"/>\n"
+                  "  <effects><elastic/></effects>\n</dtmap-scene>\n");
+  return tu_run(log, "%s run %s -q -o %s/sparse_out.msh --report %s/sparse.json", tu_cli(), scene, tu_tmpdir(),
+                tu_tmpdir());
+}
+
+static void test_sparse_tags(void **state) {
+  (void)state;
+  char rep[600], *log = NULL;
+  int code = run_sparse(1000000, &log);
+  if (code) fprintf(stderr, "%s\n", log);
+  assert_int_equal(code, 0);
+  free(log);
+  snprintf(rep, sizeof rep, "%s/sparse.json", tu_tmpdir());
+  struct cJSON *r = tu_json_load(rep);
+  assert_non_null(r);
+  assert_true(tu_json_number(r, "dt.element") == 999);
+  cJSON_Delete(r);
+  code = run_sparse(1000000000000000, &log);
+  assert_int_equal(code, 2);
+  /* Gmsh reads MSH 2 node tags as int: 10^15 wraps, to a tag no smaller */
+  assert_non_null(strstr(log, "sparse.msh: node tags go up to "));
+  assert_non_null(strstr(log, " for 4 nodes (renumber them densely)"));
+  free(log);
+}
+
 static void run_meshing(const char *geometry, const char *meshing, const char *const *expect) {
   char scene[600], *log = NULL;
   snprintf(scene, sizeof scene, "%s/fine.xml", tu_tmpdir());
@@ -167,10 +210,8 @@ static void test_meshing_too_fine(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_scan_formats),
-      cmocka_unit_test(test_lying_header),
-      cmocka_unit_test(test_memory_limit),
-      cmocka_unit_test(test_meshing_too_fine),
+      cmocka_unit_test(test_scan_formats), cmocka_unit_test(test_lying_header),     cmocka_unit_test(test_memory_limit),
+      cmocka_unit_test(test_sparse_tags),  cmocka_unit_test(test_meshing_too_fine),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,6 +13,10 @@
  *    triangles for an equilateral tiling; 1 segment), rounded down. The
  *    size is the largest Gmsh may use (Mesh.MeshSizeMax); smaller sizes
  *    from the geometry only add elements, so this is a lower bound.
+ *  - Tags: Gmsh's views index their data by node or element tag (a pointer
+ *    per tag number up to the largest, for each view), so a mesh whose
+ *    tags go up to 10^15 crashes Gmsh when dtmap writes its views, though
+ *    Gmsh reads it: the largest tag counts 8 B for each of at least 8 views.
  * Bytes per element and node were measured with /usr/bin/time (peak RSS,
  * dtmap run -j 1, tet4): 445 B per element, nodes included, reading a
  * .msh; 620 B per element meshing a .geo. The constants below are lower
@@ -42,6 +46,8 @@ int dtm_gmsh_check_msh(const char *path) {
   dtm_msh_head h;
   char what[4300], sz[32];
   if (dtm_msh_scan(path, &h)) return DTM_OK;
+  if (h.problem[0] && h.problem_line) return DTM_ERR(DTM_ERR_INPUT, "%s:%lld: %s", path, h.problem_line, h.problem);
+  if (h.problem[0]) return DTM_ERR(DTM_ERR_INPUT, "%s: %s", path, h.problem);
   double per_node = h.binary ? 24.0 + (h.version >= 4 ? h.dsize : 4) : 8.0, per_el = h.binary ? 8.0 : 4.0;
   double least = (double)h.nodes * per_node + (double)h.elements * per_el;
   if (least > (double)h.bytes)
@@ -51,6 +57,17 @@ int dtm_gmsh_check_msh(const char *path) {
                    path, h.nodes, h.elements, dtm_bytes_text((double)h.bytes, sz, sizeof sz));
   snprintf(what, sizeof what, "%s: the mesh has %zu elements and %zu nodes", path, h.elements, h.nodes);
   return too_big(what, (double)h.elements * READ_PER_ELEMENT + (double)h.nodes * READ_PER_NODE);
+}
+
+#define VIEW_BYTES_PER_TAG (8.0 * 8) /* a pointer per tag number in each of 8 views */
+
+int dtm_gmsh_check_tags(const char *src, const char *what, size_t max_tag, size_t count) {
+  char text[4400];
+  snprintf(text, sizeof text,
+           "%s: %s tags go up to %zu for %zu %ss (renumber them densely); the views dtmap writes index their data by "
+           "tag",
+           src, what, max_tag, count, what);
+  return too_big(text, VIEW_BYTES_PER_TAG * (double)max_tag);
 }
 
 /* Measure of entity (dim, tag), m^dim: OpenCASCADE's when it is one of

@@ -191,48 +191,17 @@ typedef struct {
   node_index ni;
 } extract_ctx;
 
-static const char *src_of(const extract_ctx *c) { return c->s->mesh ? c->s->mesh : c->s->geometry; }
-
-/* "element T at (x, y, z)" for an element not yet extracted: its nn node
- * tags enodes (the centroid of those that exist). */
-static const char *raw_place(const extract_ctx *c, const dtm_mesh *m, size_t tag, const size_t *enodes, int nn,
-                             char *buf, size_t len) {
-  double p[3] = {0, 0, 0};
-  int k = 0;
-  for (int a = 0; a < nn; a++) {
-    size_t t = enodes[a];
-    if (t > c->ni.max_tag || c->ni.index[t] == SIZE_MAX) continue;
-    for (int i = 0; i < 3; i++) p[i] += m->xyz[3 * c->ni.index[t] + i];
-    k++;
-  }
-  snprintf(buf, len, "element %zu at (%.6g, %.6g, %.6g)", tag, k ? p[0] / k : 0, k ? p[1] / k : 0, k ? p[2] / k : 0);
-  return buf;
-}
-
-/* "in group 'G'" or "in no physical group of dimension d". */
-static const char *group_phrase(const dtm_mesh *m, int g, char *buf, size_t len) {
-  char lbl[64];
-  if (g >= 0)
-    snprintf(buf, len, "in physical group '%s' (dimension %d)", dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim);
-  else
-    snprintf(buf, len, "in no physical group of dimension %d", m->dim);
-  return buf;
-}
-
-/* An element of an unsupported type: which, where, and what to do. */
-static int check_type(const extract_ctx *c, const dtm_mesh *m, int g, int type, size_t n, const size_t *tags,
-                      const size_t *nodes) {
+static int check_type(int type, size_t first_tag) {
   int d, nn;
   if (dtm_elem_info(type, &d, &nn) == DTM_OK) return DTM_OK;
   dtm_error_clear();
-  char *name = NULL, place[256], grp[128];
-  int dim, order, nnodes = 0, npv, ierr = 0;
+  char *name = NULL;
+  int dim, order, nnodes, npv, ierr = 0;
   double *lc = NULL;
   size_t nlc = 0;
   gmshModelMeshGetElementProperties(type, &name, &dim, &order, &nnodes, &lc, &nlc, &npv, &ierr);
-  raw_place(c, m, n ? tags[0] : 0, nodes, n ? nnodes : 0, place, sizeof place);
-  int r = DTM_ERR(DTM_ERR_INPUT, "%s: %s, %s, is a %s (Gmsh type %d, order %d): %s", src_of(c), place,
-                  group_phrase(m, g, grp, sizeof grp), name ? name : "?", type, order,
+  int r = DTM_ERR(DTM_ERR_INPUT, "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag, name ? name : "?", type,
+                  order,
                   order > 2 ? "dtmap handles first- and second-order elements; mesh with order=\"1\" or \"2\""
                             : "dtmap does not handle this element type");
   gmshFree(name);
@@ -240,9 +209,8 @@ static int check_type(const extract_ctx *c, const dtm_mesh *m, int g, int type, 
   return r;
 }
 
-static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, const char *place, int *out) {
+static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t tag, int *out) {
   int mat = g >= 0 ? c->group_mat[g] : -1;
-  char grp[128];
   if (mat < 0) mat = c->default_mat;
   *out = mat;
   if (mat >= 0) return DTM_OK;
@@ -250,12 +218,13 @@ static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, const cha
   const char *src = source_name(c->s);
   if (g < 0)
     return DTM_ERR(DTM_ERR_INPUT,
-                   "%s: %s is %s, and scene %s has no default material (add default=\"true\" to a <material>)",
-                   src_of(c), place, group_phrase(m, g, grp, sizeof grp), c->s->path);
+                   "%s: element %zu is in no physical group of dimension %d, and scene %s has "
+                   "no default material (add default=\"true\" to a <material>)",
+                   src, tag, m->dim, c->s->path);
   return DTM_ERR(DTM_ERR_INPUT,
-                 "%s: %s is %s, which no <material groups=...> of scene %s names, and there is no "
-                 "default material",
-                 src_of(c), place, group_phrase(m, g, grp, sizeof grp), c->s->path);
+                 "%s: element %zu is in physical group '%s' (dimension %d), which no "
+                 "<material groups=...> of scene %s names, and there is no default material",
+                 src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
 }
 
 /* Node tags nodes[n] into indices, in place; the position of a tag that

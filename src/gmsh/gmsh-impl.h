@@ -35,14 +35,16 @@ size_t dtm_msh_view_records(const dtm_view *v);
 int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition);
 /* What a .msh file's headers say (msh_scan.c). */
 typedef struct {
-  double version;    /* $MeshFormat version (1 for MSH 1) */
-  int binary;        /* file-type: 1 binary, 0 ASCII */
-  int dsize;         /* data-size (sizeof size_t in MSH 4 binary files) */
-  long long bytes;   /* size of the file */
-  size_t nodes;      /* node count of $Nodes ($NOD) */
-  size_t elements;   /* element count of $Elements ($ELM), all dimensions */
-  int have_nodes;    /* the $Nodes header was found */
-  int have_elements; /* the $Elements header was found */
+  double version;         /* $MeshFormat version (1 for MSH 1) */
+  int binary;             /* file-type: 1 binary, 0 ASCII */
+  int dsize;              /* data-size (sizeof size_t in MSH 4 binary files) */
+  long long bytes;        /* size of the file */
+  size_t nodes;           /* node count of $Nodes ($NOD) */
+  size_t elements;        /* element count of $Elements ($ELM), all dimensions */
+  int have_nodes;         /* the $Nodes header was found */
+  int have_elements;      /* the $Elements header was found */
+  char problem[160];      /* what Gmsh would crash on, "" when nothing */
+  long long problem_line; /* its line */
 } dtm_msh_head;
 /* Scan path's headers into h: 0, or -1 when it cannot be read or is not a
  * .msh the scan understands (then Gmsh alone judges it). */
@@ -55,6 +57,9 @@ int dtm_msh_scan(const char *path, dtm_msh_head *h);
  * the scene line of <meshing>) with the figures. */
 int dtm_gmsh_check_msh(const char *path);
 int dtm_gmsh_check_meshing(const dtm_scene *s, int dim);
+/* Refuse tags (of nodes or elements: what) going up to max_tag when the
+ * views dtmap writes would need more memory than the machine has. */
+int dtm_gmsh_check_tags(const char *src, const char *what, size_t max_tag, size_t count);
 
 /* Forget what Gmsh has logged so far. */
 void dtm_gmsh_log_reset(void);
