@@ -16,7 +16,7 @@ seconds=${2:-600}
 merge=${3:-}
 build=${FUZZ_BUILD_DIR:-$root/build-fuzz}
 bash "$root/scripts/setup.sh"
-CC=clang cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTM_FUZZ=ON >/dev/null
+CC=clang cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDTM_TESTS=ON -DDTM_FUZZ=ON >/dev/null
 cmake --build "$build" -j"$(nproc)" --target "fuzz-$target"
 corpus=$root/tests/data/fuzz/$target
 work=$build/corpus/$target

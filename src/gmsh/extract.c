@@ -8,7 +8,9 @@
  * 1..N in order (what Gmsh gives) need no index: index = tag - 1; the
  * sparse tags of one part of a partitioned mesh are looked up in a sorted
  * list, in memory proportional to the part. So extraction streams through
- * memory and costs the same per element at 1e7 as at 1e6. */
+ * memory and costs the same per element at 1e7 as at 1e6. Messages name an
+ * element by tag, group and centroid; node and element tags too large for
+ * the views are refused (budget.c). */
 #include <gmshc.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -191,17 +193,49 @@ typedef struct {
   node_index ni;
 } extract_ctx;
 
-static int check_type(int type, size_t first_tag) {
+static const char *src_of(const extract_ctx *c) { return source_name(c->s); }
+
+/* "element T at (x, y, z)" for an element not yet extracted: its nn node
+ * tags enodes (the centroid of those that exist). */
+static const char *raw_place(const extract_ctx *c, const dtm_mesh *m, size_t tag, const size_t *enodes, int nn,
+                             char *buf, size_t len) {
+  double p[3] = {0, 0, 0};
+  int k = 0;
+  for (int a = 0; a < nn; a++) {
+    size_t v = c->ni.identity ? (enodes[a] - 1 < c->ni.max_tag ? enodes[a] - 1 : SIZE_MAX) : node_at(&c->ni, enodes[a]);
+    if (v == SIZE_MAX) continue;
+    for (int i = 0; i < 3; i++) p[i] += m->xyz[3 * v + i];
+    k++;
+  }
+  snprintf(buf, len, "element %zu at (%.6g, %.6g, %.6g)", tag, k ? p[0] / k : 0, k ? p[1] / k : 0, k ? p[2] / k : 0);
+  return buf;
+}
+
+/* "in physical group 'G' (dimension d)" or "in no physical group of
+ * dimension d". */
+static const char *group_phrase(const dtm_mesh *m, int g, char *buf, size_t len) {
+  char lbl[64];
+  if (g >= 0)
+    snprintf(buf, len, "in physical group '%s' (dimension %d)", dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim);
+  else
+    snprintf(buf, len, "in no physical group of dimension %d", m->dim);
+  return buf;
+}
+
+/* An element of an unsupported type: which, where, and what to do. */
+static int check_type(const extract_ctx *c, const dtm_mesh *m, int g, int type, size_t n, const size_t *tags,
+                      const size_t *nodes) {
   int d, nn;
   if (dtm_elem_info(type, &d, &nn) == DTM_OK) return DTM_OK;
   dtm_error_clear();
-  char *name = NULL;
-  int dim, order, nnodes, npv, ierr = 0;
+  char *name = NULL, place[256], grp[128];
+  int dim, order, nnodes = 0, npv, ierr = 0;
   double *lc = NULL;
   size_t nlc = 0;
   gmshModelMeshGetElementProperties(type, &name, &dim, &order, &nnodes, &lc, &nlc, &npv, &ierr);
-  int r = DTM_ERR(DTM_ERR_INPUT, "element %zu is a %s (Gmsh type %d, order %d): %s", first_tag, name ? name : "?", type,
-                  order,
+  raw_place(c, m, n ? tags[0] : 0, nodes, n ? nnodes : 0, place, sizeof place);
+  int r = DTM_ERR(DTM_ERR_INPUT, "%s: %s, %s, is a %s (Gmsh type %d, order %d): %s", src_of(c), place,
+                  group_phrase(m, g, grp, sizeof grp), name ? name : "?", type, order,
                   order > 2 ? "dtmap handles first- and second-order elements; mesh with order=\"1\" or \"2\""
                             : "dtmap does not handle this element type");
   gmshFree(name);
@@ -209,22 +243,26 @@ static int check_type(int type, size_t first_tag) {
   return r;
 }
 
-static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, size_t tag, int *out) {
+static int material_of(const extract_ctx *c, const dtm_mesh *m, int g, const char *place, int *out) {
   int mat = g >= 0 ? c->group_mat[g] : -1;
+  char grp[128];
   if (mat < 0) mat = c->default_mat;
   *out = mat;
   if (mat >= 0) return DTM_OK;
-  char lbl[64];
-  const char *src = source_name(c->s);
   if (g < 0)
     return DTM_ERR(DTM_ERR_INPUT,
-                   "%s: element %zu is in no physical group of dimension %d, and scene %s has "
-                   "no default material (add default=\"true\" to a <material>)",
-                   src, tag, m->dim, c->s->path);
+                   "%s: %s is %s, and scene %s has no default material (add default=\"true\" to a <material>)",
+                   src_of(c), place, group_phrase(m, g, grp, sizeof grp), c->s->path);
   return DTM_ERR(DTM_ERR_INPUT,
-                 "%s: element %zu is in physical group '%s' (dimension %d), which no "
-                 "<material groups=...> of scene %s names, and there is no default material",
-                 src, tag, dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim, c->s->path);
+                 "%s: %s is %s, which no <material groups=...> of scene %s names, and there is no "
+                 "default material",
+                 src_of(c), place, group_phrase(m, g, grp, sizeof grp), c->s->path);
+}
+
+static int missing_node(const extract_ctx *c, const dtm_mesh *m, int g, int type, size_t tag, size_t node) {
+  char grp[128];
+  return DTM_ERR(DTM_ERR_INPUT, "%s: element %zu (%s), %s, references node %zu, which does not exist", src_of(c), tag,
+                 dtm_elem_name(type), group_phrase(m, g, grp, sizeof grp), node);
 }
 
 /* Node tags nodes[n] into indices, in place; the position of a tag that
@@ -268,15 +306,15 @@ static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int
 static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, size_t *tags,
                        size_t n, size_t *nodes, int *owned) {
   *owned = 0;
-  DTM_CHECK(check_type(type, n ? tags[0] : 0));
-  int mat;
-  DTM_CHECK(material_of(c, m, g, n ? tags[0] : 0, &mat));
+  DTM_CHECK(check_type(c, m, g, type, n, tags, nodes));
+  int mat, nn;
+  char place[256];
+  dtm_elem_info(type, NULL, &nn);
+  DTM_CHECK(material_of(c, m, g, raw_place(c, m, n ? tags[0] : 0, nodes, n ? nn : 0, place, sizeof place), &mat));
   dtm_block *b = block_for(m, type);
   if (!b) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   size_t bad = tags_to_indices(&c->ni, nodes, n * (size_t)b->nn);
-  if (bad != SIZE_MAX)
-    return DTM_ERR(DTM_ERR_INPUT, "element %zu references node %zu, which does not exist", tags[bad / b->nn],
-                   nodes[bad] + (c->ni.identity ? 1 : 0));
+  if (bad != SIZE_MAX) return missing_node(c, m, g, type, tags[bad / b->nn], nodes[bad] + (c->ni.identity ? 1 : 0));
   size_t n0 = b->n;
   DTM_CHECK(take_elements(b, tags, nodes, n, owned));
   for (size_t e = n0; e < n0 + n; e++) b->group[e] = g, b->gmask[e] = mask, b->mat[e] = mat;
@@ -308,14 +346,24 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
+/* Element tags too large for the views (budget.c). */
+static int check_element_tags(const extract_ctx *c, const dtm_mesh *m) {
+  size_t max = 0;
+  for (int b = 0; b < m->nblocks; b++)
+    for (size_t e = 0; e < m->blocks[b].n; e++) max = m->blocks[b].tags[e] > max ? m->blocks[b].tags[e] : max;
+  return dtm_gmsh_check_tags(src_of(c), "element", max, dtm_mesh_nelements(m));
+}
+
 int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
   extract_ctx c = {s, group_mat, default_mat, {NULL, NULL, 0, 0, 0}};
   int *ents = NULL, ierr = 0, r = DTM_OK;
   size_t ne = 0;
   m->dim = dim;
   DTM_CHECK(read_nodes(m, &c.ni));
+  r = dtm_gmsh_check_tags(src_of(&c), "node", c.ni.max_tag, m->nnodes);
   gmshModelGetEntities(&ents, &ne, dim, &ierr);
   for (size_t i = 0; i < ne / 2 && r == DTM_OK && !ierr; i++) r = extract_entity(&c, m, ents[2 * i + 1]);
+  if (r == DTM_OK && !ierr) r = check_element_tags(&c, m);
   gmshFree(ents);
   free(c.ni.index);
   free(c.ni.sorted);

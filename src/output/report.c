@@ -397,7 +397,7 @@ static cJSON *invalid_json(const dtm_analysis *a) {
     for (int b = 0; b < f->block; b++) g += m->blocks[b].n;
     cJSON *e = where_json(a, g);
     cJSON_AddNumberToObject(e, "min_scaled_jacobian", f->min_jacobian);
-    cJSON_AddNumberToObject(e, "node", flagged_node(m, f));
+    if (f->node >= 0) cJSON_AddNumberToObject(e, "node", flagged_node(m, f));
     cJSON_AddItemToArray(arr, e);
   }
   cJSON_AddItemToObject(o, "elements", arr);
