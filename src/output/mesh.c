@@ -18,9 +18,7 @@
 #include "dtmap/progress.h"
 #include "dtmap/util.h"
 
-static int check_target(const dtm_scene *s, const char *path) {
-  return dtm_output_path_check(s, path, ".msh", NULL);
-}
+static int check_target(const dtm_scene *s, const char *path) { return dtm_output_path_check(s, path, ".msh", NULL); }
 
 /* Node data over the nodes that carry a finite value. */
 static size_t node_view(const dtm_mesh *m, const double *src, size_t *tags, double *vals) {
