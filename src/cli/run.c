@@ -155,6 +155,7 @@ static int run_scene(const cli_opts *o, int verify) {
   int r = dtm_scene_load(o->scene, &s);
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
+  if (r == DTM_OK && verify && o->report) r = dtm_output_path_check(s, o->report, NULL, "--report");
   if (r == DTM_OK && dtm_parallel_wanted(s))
     r = verify ? DTM_ERR(DTM_ERR_INPUT, "%s: dtmap verify runs on one whole mesh, without mpirun", s->path)
                : run_parallel(s, o, dtm_wtime() - t0);
