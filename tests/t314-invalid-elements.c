@@ -2,7 +2,7 @@
  * Gmsh reader, on two unit hexahedra sharing a face (tags 11 and 12, group
  * "rock"). Node 1 of hex 11 is moved to (a, a, a):
  *  - a = 0.4: inverted at that corner only, valid at every Gauss point
- *    (t109 derives the bounds). The run succeeds; stderr warns naming the
+ *    (t111 derives the bounds). The run succeeds; stderr warns naming the
  *    element, its group, centroid and scaled Jacobian; the output mesh has
  *    the view "invalid elements" with that element alone and the value
  *    (1 - 3a)/((1-a)^2 + 2a^2)^(3/2); the report lists it with its group,

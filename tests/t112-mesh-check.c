@@ -1,6 +1,6 @@
 /* The mesh check (dtm_mesh_check) on hand-built meshes: elements inverted
  * only at a corner are kept in the flagged list with their closed-form
- * scaled Jacobian (t109 derives it: (1 - 3a)/((1-a)^2 + 2a^2)^(3/2) for a
+ * scaled Jacobian (t111 derives it: (1 - 3a)/((1-a)^2 + 2a^2)^(3/2) for a
  * unit cube whose node 0 moved to (a, a, a)); elements inverted at an
  * integration point stop the check with a message naming the mesh file,
  * the first 20 elements by tag, type, group and centroid, and how many
@@ -71,7 +71,7 @@ static void test_flagged(void **state) {
   assert_int_equal(fl->index, 1);
   assert_int_equal(fl->node, 0);
   double want = (1 - 3 * 0.4) / pow(0.6 * 0.6 + 2 * 0.16, 1.5);
-  assert_true(fabs(fl->min_jacobian - want) <= 1e-13 * fabs(want)); /* a few roundings, see t109 */
+  assert_true(fabs(fl->min_jacobian - want) <= 1e-13 * fabs(want)); /* a few roundings, see t111 */
   char place[256];
   dtm_mesh_element_place(&f.m, 0, 0, place, sizeof place);
   assert_string_equal(place, "element 7 (hex8) in group 'rock' at (0.5, 0.5, 0.5)");
