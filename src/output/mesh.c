@@ -9,6 +9,7 @@
  * The scene's input mesh is never overwritten. The same views, styled the
  * same way, can instead be added to the open Gmsh session of a script. */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,9 +141,31 @@ static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
+/* The k-th smallest (from 0) of a[n], a reordered in place: Hoare's
+ * selection with the median of three as pivot, O(n) on average (a full
+ * sort of a million steps took a tenth of a second of the output stage). */
+static double kth_smallest(double *a, size_t n, size_t k) {
+  ptrdiff_t lo = 0, hi = (ptrdiff_t)n - 1, want = (ptrdiff_t)k;
+  while (lo < hi) {
+    ptrdiff_t i = lo, j = hi;
+    double x = a[lo], y = a[lo + (hi - lo) / 2], z = a[hi];
+    double pivot = x < y ? (y < z ? y : x < z ? z : x) : (x < z ? x : y < z ? z : y);
+    while (i <= j) {
+      while (a[i] < pivot) i++;
+      while (a[j] > pivot) j--;
+      if (i <= j) {
+        double t = a[i];
+        a[i++] = a[j], a[j--] = t;
+      }
+    }
+    if (want <= j)
+      hi = j;
+    else if (want >= i)
+      lo = i;
+    else
+      return a[want]; /* between the parts: equal to the pivot */
+  }
+  return a[want];
 }
 
 /* The step below which an element is among the 1 % smallest (finite steps). */
@@ -150,9 +173,7 @@ static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
   size_t n = 0;
   for (size_t i = 0; i < nel; i++)
     if (isfinite(dt[i])) scratch[n++] = dt[i];
-  if (!n) return NAN;
-  qsort(scratch, n, sizeof *scratch, cmp_double);
-  return scratch[(n - 1) / 100];
+  return n ? kth_smallest(scratch, n, (n - 1) / 100) : NAN;
 }
 
 /* "below target [s]": with a target, the elements below it on the one
