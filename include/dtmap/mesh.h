@@ -29,6 +29,8 @@ typedef struct {
   int *mat;                  /* [n] index into the scene's materials, -1 until assigned */
   unsigned long long *gmask; /* [n] bit g set when the element is in group g
                    (every physical group of its entity, g < 64); may be NULL */
+  int *entity;               /* [n] tag of the model entity (of dimension dim) the
+                                element is classified on; may be NULL */
 } dtm_block;
 
 /* An element dtmap analyses although its Jacobian is not safely positive at

@@ -70,7 +70,8 @@ static int entity_elements(const dtm_mesh *m, const tag_map *nodes, const tag_ma
   for (size_t i = 0; i < nt; i++) {
     size_t per = net[i] ? nnt[i] / net[i] : 0;
     for (size_t e = 0; e < net[i]; e++) {
-      if (dim == m->dim && map_get(els, et[i][e]) != SIZE_MAX) g->elem_entity[map_get(els, et[i][e])] = tag;
+      if (dim == m->dim && els->index && map_get(els, et[i][e]) != SIZE_MAX)
+        g->elem_entity[map_get(els, et[i][e])] = tag;
       size_t a = per >= 2 ? map_get(nodes, nt_[i][e * per]) : SIZE_MAX,
              b = per >= 2 ? map_get(nodes, nt_[i][e * per + 1]) : SIZE_MAX;
       if (dim != 1 || a == SIZE_MAX || b == SIZE_MAX) continue;
@@ -116,30 +117,52 @@ static int alloc_geo(const dtm_mesh *m, size_t nel, size_t nent, dtm_geo *g) {
   return DTM_OK;
 }
 
+/* The element entities extraction recorded (every block's entity array),
+ * copied into g in global order; 0, copying nothing, when a block has none
+ * (the elements of the mesh's dimension are then read from Gmsh again). */
+static int entities_known(const dtm_mesh *m, dtm_geo *g) {
+  for (int b = 0; b < m->nblocks; b++)
+    if (!m->blocks[b].entity) return 0;
+  size_t k = 0;
+  for (int b = 0; b < m->nblocks; k += m->blocks[b].n, b++)
+    memcpy(g->elem_entity + k, m->blocks[b].entity, m->blocks[b].n * sizeof *g->elem_entity);
+  return 1;
+}
+
 /* One model entity: its nodes, its elements, and below the mesh's
  * dimension its record. Gmsh lists entities by dimension, then tag. */
 static int visit(const dtm_mesh *m, const tag_map *nodes, const tag_map *els, int dim, int tag, dtm_geo *g) {
   double length = 0;
   if (dim < m->dim) DTM_CHECK(classify_nodes(nodes, dim, tag, g));
-  if (dim == 1 || dim == m->dim) DTM_CHECK(entity_elements(m, nodes, els, dim, tag, g, &length));
+  if (dim == 1 || (dim == m->dim && els->index)) DTM_CHECK(entity_elements(m, nodes, els, dim, tag, g, &length));
   if (dim >= m->dim) return DTM_OK;
   dtm_geo_entity *e = &g->ent[g->nent++];
   e->dim = dim, e->tag = tag, e->size = dim == 1 ? length : 0;
   return entity_points(e);
 }
 
+/* The dense index of the elements by tag, needed only when extraction
+ * recorded no entities (els->index then stays NULL). */
+static int element_map(const dtm_mesh *m, dtm_geo *g, tag_map *els) {
+  if (entities_known(m, g)) return DTM_OK;
+  size_t nel = 0, *etags = element_tags(m, &nel);
+  int r = etags ? map_build(etags, nel, els) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  free(etags);
+  return r;
+}
+
 static int fill(const dtm_mesh *m, dtm_geo *g) {
   int *dt = NULL, ierr = 0, r = DTM_OK;
-  size_t n = 0, nel = 0, *etags = element_tags(m, &nel);
+  size_t n = 0;
   tag_map nodes = {NULL, 0}, els = {NULL, 0};
   gmshModelGetEntities(&dt, &n, -1, &ierr);
   if (ierr) r = dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list the model entities");
-  if (r == DTM_OK) r = etags ? alloc_geo(m, nel, n / 2, g) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = alloc_geo(m, dtm_mesh_nelements(m), n / 2, g);
   if (r == DTM_OK) r = map_build(m->node_tags, m->nnodes, &nodes);
-  if (r == DTM_OK) r = map_build(etags, nel, &els);
+  if (r == DTM_OK) r = element_map(m, g, &els);
   for (size_t i = 0; i < n / 2 && r == DTM_OK; i++) r = visit(m, &nodes, &els, dt[2 * i], dt[2 * i + 1], g);
   gmshFree(dt);
-  free(etags), free(nodes.index), free(els.index);
+  free(nodes.index), free(els.index);
   return r;
 }
 

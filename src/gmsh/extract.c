@@ -181,7 +181,9 @@ static int block_grow(dtm_block *b, size_t add) {
   if (mat) b->mat = mat;
   unsigned long long *gmask = realloc(b->gmask, n * sizeof *gmask);
   if (gmask) b->gmask = gmask;
-  if (!tags || !conn || !group || !mat || !gmask) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int *entity = realloc(b->entity, n * sizeof *entity);
+  if (entity) b->entity = entity;
+  if (!tags || !conn || !group || !mat || !gmask || !entity) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
 
@@ -292,8 +294,8 @@ static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int
   if (b->n == 0 && !b->tags) {
     b->tags = tags, b->conn = conn, *owned = 1;
     b->group = malloc((n + 1) * sizeof *b->group), b->mat = malloc((n + 1) * sizeof *b->mat);
-    b->gmask = malloc((n + 1) * sizeof *b->gmask);
-    return b->group && b->mat && b->gmask ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    b->gmask = malloc((n + 1) * sizeof *b->gmask), b->entity = malloc((n + 1) * sizeof *b->entity);
+    return b->group && b->mat && b->gmask && b->entity ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
   DTM_CHECK(block_grow(b, n));
   memcpy(b->tags + b->n, tags, n * sizeof *tags);
@@ -303,8 +305,8 @@ static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int
 
 /* Append one entity's elements of one type; takes tags and nodes (Gmsh's
  * arrays) when *owned is set on return. */
-static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long long mask, int type, size_t *tags,
-                       size_t n, size_t *nodes, int *owned) {
+static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsigned long long mask, int type,
+                       size_t *tags, size_t n, size_t *nodes, int *owned) {
   *owned = 0;
   DTM_CHECK(check_type(c, m, g, type, n, tags, nodes));
   int mat, nn;
@@ -317,7 +319,7 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int g, unsigned long l
   if (bad != SIZE_MAX) return missing_node(c, m, g, type, tags[bad / b->nn], nodes[bad] + (c->ni.identity ? 1 : 0));
   size_t n0 = b->n;
   DTM_CHECK(take_elements(b, tags, nodes, n, owned));
-  for (size_t e = n0; e < n0 + n; e++) b->group[e] = g, b->gmask[e] = mask, b->mat[e] = mat;
+  for (size_t e = n0; e < n0 + n; e++) b->group[e] = g, b->gmask[e] = mask, b->mat[e] = mat, b->entity[e] = ent;
   b->n += n;
   return DTM_OK;
 }
@@ -331,7 +333,7 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
   int g = entity_group(m, m->dim, tag, c->group_mat, &mask);
   for (size_t i = 0; i < nt && r == DTM_OK; i++) {
     int owned = 0;
-    r = append_type(c, m, g, mask, types[i], etags[i], netags[i], ntags[i], &owned);
+    r = append_type(c, m, tag, g, mask, types[i], etags[i], netags[i], ntags[i], &owned);
     if (owned) etags[i] = ntags[i] = NULL; /* the block has them now */
   }
   for (size_t i = 0; i < nt; i++) {

@@ -61,6 +61,7 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
     free(m->blocks[b].conn);
     free(m->blocks[b].group);
     free(m->blocks[b].gmask);
+    free(m->blocks[b].entity);
     free(m->blocks[b].mat);
   }
   for (int g = 0; g < m->ngroups; g++) free(m->groups[g].name);

@@ -100,6 +100,7 @@ dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat
                    malloc(2 * ne * sizeof(size_t)),
                    malloc(ne * sizeof(int)),
                    malloc(ne * sizeof(int)),
+                   NULL,
                    NULL};
   for (size_t e = 0; e < ne; e++) {
     b->tags[e] = e + 1, b->conn[2 * e] = e, b->conn[2 * e + 1] = e + 1;
