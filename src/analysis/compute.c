@@ -139,6 +139,30 @@ static int accuracy_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0)
   return DTM_OK;
 }
 
+/* An effect's element_dt failed on a batch (block b from element e0):
+ * run it again an element at a time to find which, and name that element
+ * by tag, type, physical group and centroid with the effect's own message
+ * (an effect sees coordinates and tags, not groups' names or positions). */
+static int name_failure(const dtm_analysis *a, const dtm_effect *ef, const dtm_batch *bt, int b, size_t e0, int r) {
+  char first[512], place[256];
+  snprintf(first, sizeof first, "%s", dtm_error_message());
+  for (size_t e = 0; e < bt->n; e++) {
+    dtm_batch one = *bt;
+    double dt, len;
+    one.n = 1, one.x = bt->x + 3 * (size_t)bt->nn * e, one.tags = bt->tags + e, one.group = bt->group + e;
+    one.gmask = bt->gmask ? bt->gmask + e : NULL, one.mat = bt->mat + e;
+    dtm_error_clear();
+    int r1 = ef->cls->element_dt(ef->state, &one, &dt, &len);
+    if (!r1) continue;
+    snprintf(first, sizeof first, "%s", dtm_error_message());
+    dtm_error_clear();
+    return DTM_ERR(r1, "%s: effect '%s' on %s: %s", a->scene->path, ef->cls->name,
+                   dtm_mesh_element_place(a->mesh, b, e0 + e, place, sizeof place), first);
+  }
+  dtm_error_clear(); /* not reproduced an element at a time: the batch's message */
+  return DTM_ERR(r, "%s: effect '%s': %s", a->scene->path, ef->cls->name, first);
+}
+
 static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   const dtm_block *blk = &a->mesh->blocks[b];
   size_t n = blk->n - e0 < CHUNK ? blk->n - e0 : CHUNK, g0 = a->offset[b] + e0;
@@ -153,7 +177,8 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;
-    DTM_CHECK(ef->cls->element_dt(ef->state, &bt, a->dt_effect[k] + g0, w->lens + (size_t)k * CHUNK));
+    int r = ef->cls->element_dt(ef->state, &bt, a->dt_effect[k] + g0, w->lens + (size_t)k * CHUNK);
+    if (r) return name_failure(a, ef, &bt, b, e0, r);
   }
   for (int k = 0; k < a->neffects; k++)
     if (a->dt_bare[k]) memcpy(a->dt_bare[k] + g0, a->dt_effect[k] + g0, n * sizeof(double));
