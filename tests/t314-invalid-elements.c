@@ -9,6 +9,7 @@
  *    centroid, worst node and value; its dt is finite and positive.
  *  - a = 0.6: inverted at a Gauss point: exit 2 naming element 11, its
  *    group and centroid, and no output written.
+ *  - sweep warns about the flagged element at every size.
  * Tolerance 1e-12 relative on the scaled Jacobian: the closed form against
  * the kernel's value after a round trip through the report's and Gmsh's
  * text (17 significant digits). */
@@ -120,11 +121,35 @@ static void test_gauss_refused(void **state) {
   free(log);
 }
 
+/* sweep warns too, per size, even with -q: a .geo that merges the mesh
+ * (Gmsh keeps a merged mesh of discrete entities at every size). */
+static void test_sweep_warns(void **state) {
+  (void)state;
+  char msh[512], geo[512], scene[512], csv[512], png[512], *log = NULL;
+  snprintf(msh, sizeof msh, "%s/hexes.msh", tu_tmpdir());
+  snprintf(geo, sizeof geo, "%s/hexes.geo", tu_tmpdir());
+  snprintf(scene, sizeof scene, "%s/sweep.xml", tu_tmpdir());
+  snprintf(csv, sizeof csv, "%s/sweep.csv", tu_tmpdir());
+  snprintf(png, sizeof png, "%s/sweep.png", tu_tmpdir());
+  write_mesh(msh, 0.4);
+  tu_write(geo, "Merge \"hexes.msh\";\n");
+  tu_write(scene, "<dtmap-scene version=\"1\">\n  <geometry file=\"hexes.geo\"/>\n"
+                  "  <material name=\"steel\" groups=\"rock\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+                  "  <effects><elastic/></effects>\n</dtmap-scene>\n");
+  int code = tu_run(&log, "%s sweep %s -q --sizes 0.5,0.25 --csv %s --plot %s", tu_cli(), scene, csv, png);
+  if (code) fprintf(stderr, "%s\n", log);
+  assert_int_equal(code, 0);
+  assert_non_null(strstr(log, "warning: at size 0.5 m, 1 element is inverted at a node"));
+  assert_non_null(strstr(log, "warning: at size 0.25 m, 1 element is inverted at a node"));
+  free(log);
+}
+
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_corner_flagged),
       cmocka_unit_test(test_gauss_refused),
+      cmocka_unit_test(test_sweep_warns),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

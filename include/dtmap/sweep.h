@@ -28,6 +28,8 @@ typedef struct {
                             (elastic), NaN without <time f-max> */
   double seconds;        /* dtmap's wall time for this size */
   double speedup;        /* ideal subcycling speed-up N / sum_k N_k 2^-k */
+  size_t flagged;        /* elements analysed although inverted at a node
+                            (dtm_mesh_check; the CLI warns) */
 } dtm_sweep_row;
 
 /* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each

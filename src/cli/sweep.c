@@ -67,6 +67,17 @@ static int write_files(const cli_opts *o, const dtm_sweep_row *rows, int n) {
   return DTM_OK;
 }
 
+/* On stderr, even with -q, as `run` does: the sizes whose mesh has
+ * elements inverted at a node (analysed; `run` at that size lists them). */
+static void warn_flagged(const dtm_sweep_row *rows, int n) {
+  for (int i = 0; i < n; i++)
+    if (rows[i].flagged)
+      fprintf(stderr,
+              "dtmap: warning: at size %g m, %zu element%s inverted at a node but valid at every integration "
+              "point: analysed (dtmap run at that size names them)\n",
+              rows[i].h, rows[i].flagged, rows[i].flagged == 1 ? " is" : "s are");
+}
+
 static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   dtm_scene *s = NULL;
   dtm_sweep_row *rows = calloc((size_t)n, sizeof *rows);
@@ -80,6 +91,7 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");
   if (r == DTM_OK) r = dtm_sweep_run(s, sizes, n, rows);
   if (r == DTM_OK && o->verbosity) dtm_sweep_print(rows, n, stdout);
+  if (r == DTM_OK) warn_flagged(rows, n);
   if (r == DTM_OK && o->verbosity && !(s->duration > 0))
     printf("(no <time duration>: steps and element-steps need one; the plot shows cost per simulated second)\n");
   if (r == DTM_OK) r = write_files(o, rows, n);

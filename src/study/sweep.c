@@ -35,6 +35,7 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   row->h = h;
   row->elements = dtm_analysis_nelements(a);
   row->nodes = dtm_analysis_mesh(a)->nnodes;
+  row->flagged = dtm_analysis_mesh(a)->nflagged;
   row->dt_min = dtm_analysis_dt_min(a, NULL);
   row->recommended = dtm_analysis_recommended(a);
   row->steps = duration > 0 ? ceil(duration / row->recommended) : NAN;
