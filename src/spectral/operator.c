@@ -460,6 +460,25 @@ void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double l
 
 /* ---- element kernels ------------------------------------------------- */
 
+/* The stress s = lam tr(F) I + mu (F + F^T) of the displacement gradient
+ * F = Fr J^-1, given Fr = sum_b u_b (x) dN_b and ji = J^-1 (row-major). */
+static inline ALWAYS_INLINE void stress(const int d, const double fr[3][3], const double *ji, double lam, double mu,
+                                        double s[3][3]) {
+  double f[3][3], tr = 0;
+  UNROLL
+  for (int i = 0; i < d; i++) UNROLL
+  for (int m = 0; m < d; m++) {
+    f[i][m] = 0;
+    UNROLL
+    for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
+  }
+  UNROLL
+  for (int i = 0; i < d; i++) tr += f[i][i];
+  UNROLL
+  for (int i = 0; i < d; i++) UNROLL
+  for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
+}
+
 /* Elastic forces fe[nn][d] of displacements ue[nn][d] at the element's
  * points: F = grad u = Fr J^-1 with Fr = sum_b u_b (x) dN_b, sigma, then
  * f_a += dv sigma g_a = P dN_a with P = dv sigma J^-T. d (and nn for the
@@ -469,23 +488,12 @@ static inline ALWAYS_INLINE void elastic_elem(const int d, const int nn, const o
   const int st = d * d + 1;
   for (int k = 0; k < b->nq; k++, geo += st) {
     const double(*dn)[3] = b->dn[k], *ji = geo, dv = geo[d * d];
-    double fr[3][3] = {{0}}, f[3][3], s[3][3], p[3][3], tr = 0;
+    double fr[3][3] = {{0}}, s[3][3], p[3][3];
     UNROLL
     for (int a = 0; a < nn; a++) UNROLL
     for (int i = 0; i < d; i++) UNROLL
     for (int j = 0; j < d; j++) fr[i][j] += ue[a * d + i] * dn[a][j];
-    UNROLL
-    for (int i = 0; i < d; i++) UNROLL
-    for (int m = 0; m < d; m++) {
-      f[i][m] = 0;
-      UNROLL
-      for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
-    }
-    UNROLL
-    for (int i = 0; i < d; i++) tr += f[i][i];
-    UNROLL
-    for (int i = 0; i < d; i++) UNROLL
-    for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
+    stress(d, fr, ji, lam, mu, s);
     UNROLL
     for (int i = 0; i < d; i++) UNROLL
     for (int j = 0; j < d; j++) {
@@ -507,22 +515,11 @@ static inline ALWAYS_INLINE void elastic_elem(const int d, const int nn, const o
 static inline ALWAYS_INLINE void elastic_p1(const int d, const double *geo, const double *ue, double *fe, double lam,
                                             double mu) {
   const double *ji = geo, dv = geo[d * d];
-  double fr[3][3], f[3][3], s[3][3], tr = 0;
+  double fr[3][3], s[3][3];
   UNROLL
   for (int i = 0; i < d; i++) UNROLL
   for (int j = 0; j < d; j++) fr[i][j] = ue[(j + 1) * d + i] - ue[i];
-  UNROLL
-  for (int i = 0; i < d; i++) UNROLL
-  for (int m = 0; m < d; m++) {
-    f[i][m] = 0;
-    UNROLL
-    for (int j = 0; j < d; j++) f[i][m] += fr[i][j] * ji[j * d + m];
-  }
-  UNROLL
-  for (int i = 0; i < d; i++) tr += f[i][i];
-  UNROLL
-  for (int i = 0; i < d; i++) UNROLL
-  for (int m = 0; m < d; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : 0);
+  stress(d, fr, ji, lam, mu, s);
   UNROLL
   for (int i = 0; i < d; i++) {
     double sum = 0;
