@@ -117,10 +117,10 @@ static int alloc_geo(const dtm_mesh *m, size_t nel, size_t nent, dtm_geo *g) {
   return DTM_OK;
 }
 
-/* The element entities extraction recorded (every block's entity array),
- * copied into g in global order; 0, copying nothing, when a block has none
+/* Copy the element entities extraction recorded (every block's entity
+ * array) into g in global order; 0, copying nothing, when a block has none
  * (the elements of the mesh's dimension are then read from Gmsh again). */
-static int entities_known(const dtm_mesh *m, dtm_geo *g) {
+static int copy_entities(const dtm_mesh *m, dtm_geo *g) {
   for (int b = 0; b < m->nblocks; b++)
     if (!m->blocks[b].entity) return 0;
   size_t k = 0;
@@ -144,7 +144,7 @@ static int visit(const dtm_mesh *m, const tag_map *nodes, const tag_map *els, in
 /* The dense index of the elements by tag, needed only when extraction
  * recorded no entities (els->index then stays NULL). */
 static int element_map(const dtm_mesh *m, dtm_geo *g, tag_map *els) {
-  if (entities_known(m, g)) return DTM_OK;
+  if (copy_entities(m, g)) return DTM_OK;
   size_t nel = 0, *etags = element_tags(m, &nel);
   int r = etags ? map_build(etags, nel, els) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   free(etags);
