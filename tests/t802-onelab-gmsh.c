@@ -6,8 +6,9 @@
  * element and node counts and the values of a plain `dtmap run`; a ONELAB
  * parameter set before the run (the safety factor) changes the result as it
  * must; after two results both dt views are on a log scale and only the
- * latest result's intended views are visible; and with the analysed .msh
- * itself open, only the views are sent and land on that model. */
+ * latest result's intended views are visible; with the analysed .msh
+ * itself open, only the views are sent and land on that model; and Gmsh's
+ * Stop, pressed while dtmap runs, stops it with nothing written. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,9 +17,12 @@
 #include <cJSON.h>
 #include <gmshc.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "gmsh-impl.h"
 #include "testutil.h"
@@ -256,13 +260,65 @@ static void test_views_only_on_open_mesh(void **state) {
   tu_gmsh_end();
 }
 
+/* The user, on a second thread: wait until dtmap has declared its panel
+ * (the safety parameter appears, just before the analysis starts), then
+ * press Stop as Gmsh's GUI does, by setting dtmap/Action to "stop" (ONELAB's
+ * parameter space is locked for such concurrent use). */
+static void *press_stop(void *pressed) {
+  for (int i = 0; i < 60000 && !*(int *)pressed; i++) {
+    double *v = NULL;
+    size_t n = 0;
+    int ierr = 0;
+    gmshOnelabGetNumber("dtmap/2Time/0safety", &v, &n, &ierr);
+    gmshFree(v);
+    char *stop[] = {"stop"};
+    if (n) gmshOnelabSetString("dtmap/Action", stop, 1, &ierr), *(int *)pressed = 1;
+    nanosleep(&(struct timespec){0, 500000}, NULL);
+  }
+  return NULL;
+}
+
+/* Stop between stages: dtmap says so in Gmsh's console and sends, writes
+ * and merges nothing. Which boundary it stops at depends on when the
+ * "user" presses it (before the analysis, or before writing): either way no
+ * result. */
+static void test_stop(void **state) {
+  (void)state;
+  char out[700], **log = NULL;
+  size_t nlog = 0;
+  int ierr = 0, pressed = 0;
+  snprintf(out, sizeof out, "%s/box_dt.msh", dir);
+  unlink(out);
+  session();
+  open_box();
+  gmshLoggerStart(&ierr);
+  pthread_t user;
+  assert_int_equal(pthread_create(&user, NULL, press_stop, &pressed), 0);
+  run_dtmap();
+  pthread_join(user, NULL);
+  assert_true(pressed);
+  gmshLoggerGet(&log, &nlog, &ierr);
+  int said = 0;
+  for (size_t i = 0; i < nlog; i++) {
+    if (strstr(log[i], "stopped from Gmsh before")) said = 1, fprintf(stderr, "%s\n", log[i]);
+    gmshFree(log[i]);
+  }
+  gmshFree(log);
+  gmshLoggerStop(&ierr);
+  assert_true(said);
+  double nviews = -1;
+  gmshOptionGetNumber("PostProcessing.NbViews", &nviews, &ierr);
+  assert_true(nviews == 0);
+  assert_false(tu_exists(out));
+  tu_gmsh_end();
+}
+
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_views_arrive),
-      cmocka_unit_test(test_safety_parameter),
-      cmocka_unit_test(test_two_results),
-      cmocka_unit_test(test_views_only_on_open_mesh),
+      cmocka_unit_test(test_views_arrive), cmocka_unit_test(test_safety_parameter),
+      cmocka_unit_test(test_two_results),  cmocka_unit_test(test_views_only_on_open_mesh),
+      cmocka_unit_test(test_stop),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -2,7 +2,9 @@
  * read the action Gmsh asks for (NAME/Action), keep Gmsh from meshing and
  * saving the model itself (dtmap meshes with the scene's options), declare
  * the panel on "check", and on "compute" (or when Gmsh names no action, as
- * gmsh.onelab.run does) analyse with the panel's values. Progress goes to
+ * gmsh.onelab.run does) analyse with the panel's values, stopping between
+ * stages, with nothing written, when the user presses Gmsh's Stop (which
+ * sets NAME/Action to "stop"; compute.c). Progress goes to
  * Gmsh's status bar; any error goes to Gmsh as a ONELAB error with dtmap's
  * own message (which names the file and line, or the group and element). */
 #include <omp.h>
@@ -13,16 +15,6 @@
 #include "dtmap/gmsh.h"
 #include "onelab-impl.h"
 #include "onelab.h"
-
-static int action_of(ol_conn *c, char *action, size_t n) {
-  ol_param p;
-  int found = 0;
-  char name[200];
-  snprintf(name, sizeof name, "%s/Action", c->name);
-  DTM_CHECK(dtm_ol_get(c, name, 1, &p, &found));
-  snprintf(action, n, "%.60s", found ? p.svalue : "");
-  return DTM_OK;
-}
 
 /* Gmsh skips its own meshing and model reload before running a client
  * when IsMetamodel is set (as Gmsh's own example clients do). */
@@ -64,7 +56,7 @@ int dtm_onelab_main(const dtm_onelab_opts *o) {
   char action[64] = "";
   if (o->threads > 0) omp_set_num_threads(o->threads);
   int r = dtm_ol_connect(&c, o->name, o->address);
-  if (r == DTM_OK) r = action_of(&c, action, sizeof action);
+  if (r == DTM_OK) r = dtm_ol_action(&c, action, sizeof action);
   if (r == DTM_OK) r = act(&c, o, action);
   if (r) report(&c, r, o->verbosity);
   dtm_ol_close(&c);

@@ -119,11 +119,27 @@ static int hand_over(ol_conn *c, const ol_model *m, const char *out) {
   return r;
 }
 
-static int analyse(ol_conn *c, const dtm_scene *s, int posterior, dtm_analysis **a, dtm_cost **cost) {
+/* Whether the user pressed Gmsh's Stop (NAME/Action is "stop"; Gmsh's own
+ * example clients poll it the same way): *stop is set, and Gmsh is told
+ * what was not done. A run cannot be stopped inside a stage (Gmsh's
+ * meshing has no way to), only between them; Gmsh's Kill ends it at once
+ * (its temporaries go at the next run's clean-up). */
+static int stop_asked(ol_conn *c, const char *before, int *stop) {
+  char action[64];
+  DTM_CHECK(dtm_ol_action(c, action, sizeof action));
+  *stop = !strcmp(action, "stop");
+  if (!*stop) return DTM_OK;
+  char line[200];
+  snprintf(line, sizeof line, "stopped from Gmsh before %s: nothing written", before);
+  return dtm_ol_send_text(c, OL_INFO, line);
+}
+
+static int analyse(ol_conn *c, const dtm_scene *s, int posterior, dtm_analysis **a, dtm_cost **cost, int *stop) {
   DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS,
                              s->mesh ? "reading the mesh and computing steps" : "meshing and computing steps"));
   DTM_CHECK(dtm_analysis_run(s, a));
-  if (posterior) {
+  if (posterior) DTM_CHECK(stop_asked(c, "the global estimate", stop));
+  if (posterior && !*stop) {
     DTM_CHECK(dtm_ol_send_text(c, OL_PROGRESS, "global estimate (Lanczos)"));
     DTM_CHECK(dtm_analysis_estimate_global(*a, 1e-4, 400, DTM_GLOBAL_BASIS)); /* as run --posterior */
   }
@@ -161,12 +177,15 @@ int dtm_ol_compute(ol_conn *c, const ol_model *m, const ol_panel *pn, int poster
   double t0 = dtm_wtime(), t_scene = 0;
   if (r == DTM_OK) r = dtm_scene_load_memory(xml, strlen(xml), name, &s);
   t_scene = dtm_wtime() - t0;
-  if (r == DTM_OK) r = analyse(c, s, posterior || pn->posterior, &a, &cost);
-  if (r == DTM_OK) {
+  int stop = 0;
+  if (r == DTM_OK) r = stop_asked(c, "the analysis", &stop);
+  if (r == DTM_OK && !stop) r = analyse(c, s, posterior || pn->posterior, &a, &cost, &stop);
+  if (r == DTM_OK && !stop) r = stop_asked(c, "writing the result", &stop);
+  if (r == DTM_OK && !stop) {
     dtm_results res = {a, cost, NULL, t_scene, 0.0, 0};
     r = write_and_send(c, m, &res);
   }
-  if (r == DTM_OK) r = save_scene(c, pn, xml);
+  if (r == DTM_OK && !stop) r = save_scene(c, pn, xml);
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_scene_destroy(&s);

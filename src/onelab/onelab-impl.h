@@ -97,6 +97,9 @@ int dtm_ol_define(ol_conn *c, ol_param *p);
 /* Wait until the server has handled every message sent so far (a query
  * round trip). */
 int dtm_ol_sync(ol_conn *c);
+/* The action Gmsh asks of this client (NAME/Action: "initialize", "check",
+ * "compute", or "stop" once the user pressed Stop), "" when none. */
+int dtm_ol_action(ol_conn *c, char *action, size_t n);
 
 /* The material properties the panel offers (attribute names of
  * <material>), with their SI units. */

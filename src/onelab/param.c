@@ -267,3 +267,13 @@ int dtm_ol_sync(ol_conn *c) {
   int found;
   return dtm_ol_get(c, "General.Version", 1, &p, &found);
 }
+
+int dtm_ol_action(ol_conn *c, char *action, size_t n) {
+  ol_param p;
+  int found = 0;
+  char name[200];
+  snprintf(name, sizeof name, "%s/Action", c->name);
+  DTM_CHECK(dtm_ol_get(c, name, 1, &p, &found));
+  snprintf(action, n, "%.60s", found ? p.svalue : "");
+  return DTM_OK;
+}
