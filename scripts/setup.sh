@@ -10,7 +10,7 @@ set -euo pipefail
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
           xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
-          python3 python3-gmsh python3-numpy python3-jsonschema man-db
+          python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)
 missing=()
 for p in "${packages[@]}"; do

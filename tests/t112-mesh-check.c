@@ -35,7 +35,7 @@ typedef struct {
 static void init(fixture *f, int type, int nn) {
   memset(f, 0, sizeof *f);
   f->g = (dtm_group){3, 1, "rock"};
-  f->b = (dtm_block){type, 3, nn, 0, f->tags, f->conn, f->group, f->mat, NULL, NULL};
+  f->b = (dtm_block){type, 3, nn, 0, f->tags, f->conn, f->group, f->mat, NULL, NULL, NULL};
   f->m = (dtm_mesh){
       .dim = 3, .node_tags = f->ntags, .xyz = f->xyz, .nblocks = 1, .blocks = &f->b, .ngroups = 1, .groups = &f->g};
 }

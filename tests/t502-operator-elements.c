@@ -319,6 +319,87 @@ static void test_plane_stress(void **state) {
   dtm_operator_destroy(&op);
 }
 
+/* Membranes: tri3, quad4, tri6 and quad8 turned by the rotation R (rows
+ * (2,3,6)/7, (3,-6,2)/7, (6,2,-3)/7, orthonormal in exact rationals) into
+ * an oblique plane span 3D, so the operator has 3 unknowns per node and
+ * acts in the element's own plane only. Checks: the in-plane linear
+ * field u = R H R^T x (H a 2 x 2 field of the plane) has the plane-stress
+ * energy t A (lam tr(H)^2 + 2 mu |sym H|^2) (1e-12, exact quadrature);
+ * an out-of-plane field u = n phi(x) costs nothing (no stiffness across a
+ * membrane: 1e-12 of max |K|); the six rigid modes of 3D are in the null
+ * space (1e-10, as above); and the top eigenvalue equals the same element
+ * in the xy plane (2 unknowns) and the kernel's element eigenvalue on the
+ * turned element (1e-10, as for the eigenvalues above). The thickness
+ * (section_factor) scales K and M alike. */
+static const double R[3][3] = {{2.0 / 7, 3.0 / 7, 6.0 / 7}, {3.0 / 7, -6.0 / 7, 2.0 / 7}, {6.0 / 7, 2.0 / 7, -3.0 / 7}};
+
+static void turn(one *o) {
+  for (int a = 0; a < o->b.nn; a++) {
+    double p[3] = {o->xyz[3 * a], o->xyz[3 * a + 1], 0}, q[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) q[i] += R[j][i] * p[j]; /* x = R^T p: the plane's axes are R's first two rows */
+    for (int i = 0; i < 3; i++) o->xyz[3 * a + i] = q[i] + 0.1 * (i + 1);
+  }
+  o->m.dim = 2;
+}
+
+static void membrane_energy(const one *o, size_t n, const double *K, const dtm_operator_coeffs *c, double t) {
+  const double H[2][2] = {{0.3, -0.7}, {0.4, 0.1}};
+  double u[MAXN], ku[MAXN], mx = 0;
+  for (int a = 0; a < o->b.nn; a++) {
+    const double *x = o->xyz + 3 * a;
+    double p[2] = {0, 0}, v[2];
+    for (int i = 0; i < 2; i++)
+      for (int j = 0; j < 3; j++) p[i] += R[i][j] * x[j];
+    for (int i = 0; i < 2; i++) v[i] = H[i][0] * p[0] + H[i][1] * p[1];
+    for (int i = 0; i < 3; i++) u[3 * a + i] = R[0][i] * v[0] + R[1][i] * v[1];
+  }
+  double tr = H[0][0] + H[1][1], ss = H[0][0] * H[0][0] + H[1][1] * H[1][1] + 0.5 * pow(H[0][1] + H[1][0], 2);
+  double A = fabs(dtm_elem_measure(o->b.type, o->xyz));
+  near(quad_form(n, K, u, ku), t * A * (c->mod.lam * tr * tr + 2 * c->mod.mu * ss), 1e-12, "membrane energy");
+  for (size_t i = 0; i < n * n; i++) mx = fmax(mx, fabs(K[i]));
+  for (int a = 0; a < o->b.nn; a++)
+    for (int i = 0; i < 3; i++) u[3 * a + i] = R[2][i] * sin(3.0 * a + 1);
+  quad_form(n, K, u, ku);
+  for (size_t i = 0; i < n; i++)
+    if (!(fabs(ku[i]) <= 1e-12 * mx)) fail_msg("membrane: out-of-plane force %g (max |K| %g)", ku[i], mx);
+}
+
+static void test_membranes_in_space(void **state) {
+  (void)state;
+  static const double tri6[] = {0, 0, 0, 1, 0.1, 0, 0.2, 0.9, 0, 0.5, 0.02, 0, 0.62, 0.52, 0, 0.08, 0.45, 0};
+  static const double quad8[] = {0,   0,    0, 1,    0,    0, 1.1,  0.9,  0, 0,    1,   0,
+                                 0.5, 0.03, 0, 1.04, 0.45, 0, 0.55, 0.97, 0, 0.02, 0.5, 0};
+  const shape planar[] = {
+      {DTM_TRI3, 2, 3, tri3}, {DTM_QUAD4, 2, 4, quad4}, {DTM_TRI6, 2, 6, tri6}, {DTM_QUAD8, 2, 8, quad8}};
+  dtm_operator_coeffs c = {.kind = DTM_OP_ELASTIC, .capacity = RHO, .section_factor = 0.01};
+  assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRESS, E, NU, RHO, &c.mod), 0);
+  for (int s = 0; s < 4; s++) {
+    one o;
+    double K[MAXN * MAXN], K2[MAXN * MAXN], lk;
+    one_init(&o, &planar[s]);
+    for (int a = 0; a < o.b.nn; a++) o.xyz[3 * a + 2] = 0;
+    dtm_operator *flat = make(&o, &c);
+    size_t n2 = dtm_operator_ndof(flat);
+    assemble(flat, K2);
+    double top2 = dense_lambda(flat, n2, K2);
+    dtm_operator_destroy(&flat);
+    turn(&o);
+    dtm_operator *op = make(&o, &c);
+    assert_int_equal(dtm_operator_ncomp(op), 3);
+    size_t n = dtm_operator_ndof(op);
+    double mx = assemble(op, K);
+    check_symmetric(n, K, mx, dtm_elem_name(o.b.type));
+    check_rigid(&o, 3, n, K, dtm_elem_name(o.b.type));
+    membrane_energy(&o, n, K, &c, 0.01);
+    check_masses(op, &o, 3, RHO * 0.01);
+    near(dense_lambda(op, n, K), top2, 1e-10, "membrane lambda, turned vs flat");
+    assert_int_equal(dtm_kernel_elastic_lambda(o.b.type, &c.mod, o.xyz, &lk), 0);
+    near(dense_lambda(op, n, K), lk, 1e-10, "membrane lambda, operator vs kernel");
+    dtm_operator_destroy(&op);
+  }
+}
+
 static void expect_error(const one *o, const dtm_operator_coeffs *c, const char *text) {
   dtm_operator *op = NULL;
   dtm_error_clear();
@@ -332,10 +413,9 @@ static void test_errors(void **state) {
   one o;
   one_init(&o, &shapes[4]); /* tri3 in z = 0.5 */
   dtm_operator_coeffs c2 = elastic_coeffs(2), c3 = elastic_coeffs(3);
-  o.xyz[3 * 2 + 2] = 0.6;
-  expect_error(&o, &c2, "plane z = const");
-  o.xyz[3 * 2 + 2] = 0.5 + 1e-12; /* rounding-level tilt is accepted */
+  o.xyz[3 * 2 + 2] = 0.5 + 1e-12; /* rounding-level tilt: still a 2D mesh */
   dtm_operator *op = make(&o, &c2);
+  assert_int_equal(dtm_operator_ncomp(op), 2);
   dtm_operator_destroy(&op);
   one_init(&o, &shapes[0]);
   o.conn[0] = 1, o.conn[1] = 0; /* inverted tet */
@@ -362,7 +442,7 @@ int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_elastic_elements), cmocka_unit_test(test_diffusion_elements),
       cmocka_unit_test(test_second_order),     cmocka_unit_test(test_plane_stress),
-      cmocka_unit_test(test_errors),
+      cmocka_unit_test(test_errors),           cmocka_unit_test(test_membranes_in_space),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

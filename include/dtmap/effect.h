@@ -19,9 +19,11 @@
 #include "dtmap/kernel.h"
 #include "dtmap/material.h"
 #include "dtmap/problem.h"
+#include "dtmap/section.h"
 
-/* 2: self-describing classes (params, properties, scheme, indicator). */
-#define DTM_EFFECT_API_VERSION 2
+/* 2: self-describing classes (params, properties, scheme, indicator).
+ * 3: sections: dtm_batch.section, and coefficients() takes the section. */
+#define DTM_EFFECT_API_VERSION 3
 /* External effects export: const dtm_effect_class *dtm_effect_entry(void); */
 #define DTM_EFFECT_ENTRY_SYMBOL "dtm_effect_entry"
 /* Groups an effect can tell apart through dtm_batch.gmask. */
@@ -110,16 +112,18 @@ DTM_EXPORT void dtm_effect_free(void **state);
 
 /* One block of elements of one type, as the effects see it. */
 typedef struct {
-  int type;                        /* DTM_TET4, ... */
-  int dim;                         /* topological dimension */
-  int nn;                          /* nodes per element */
-  size_t n;                        /* number of elements */
-  const double *x;                 /* [n][nn][3] node coordinates, m */
-  const size_t *tags;              /* [n] Gmsh element tags */
-  const int *group;                /* [n] physical group index, -1 for none */
-  const unsigned long long *gmask; /* [n] every group of the element (bit g < DTM_EFFECT_MAX_GROUPS),
-                                      or NULL: then only `group` is known */
-  const dtm_material *const *mat;  /* [n] material of each element */
+  int type;                          /* DTM_TET4, ... */
+  int dim;                           /* topological dimension */
+  int nn;                            /* nodes per element */
+  size_t n;                          /* number of elements */
+  const double *x;                   /* [n][nn][3] node coordinates, m */
+  const size_t *tags;                /* [n] Gmsh element tags */
+  const int *group;                  /* [n] physical group index, -1 for none */
+  const unsigned long long *gmask;   /* [n] every group of the element (bit g < DTM_EFFECT_MAX_GROUPS),
+                                        or NULL: then only `group` is known */
+  const dtm_material *const *mat;    /* [n] material of each element */
+  const dtm_section *const *section; /* [n] section of each element (NULL where it has none: the
+                                        effect's own formulation), or NULL: no element has one */
 } dtm_batch;
 
 typedef struct dtm_effect_class {
@@ -147,8 +151,11 @@ typedef struct dtm_effect_class {
    * and the indicator's value res[n] (NaN where it does not apply). */
   int (*accuracy)(void *state, const dtm_batch *b, double *hmax, double *res);
   /* Optional, DTM_ROLE_LIMITS: the coefficients of the effect's problem for
-   * material m; kind DTM_OP_NONE when the effect is not spectral. */
-  int (*coefficients)(void *state, const dtm_material *m, dtm_operator_coeffs *c);
+   * material m in section sec (NULL: none; the elastic formulation follows
+   * the section's kind); kind DTM_OP_NONE when the effect is not spectral.
+   * Per unit measure: the core multiplies stiffness and mass by the
+   * section's thickness or area (dtm_section_factor). */
+  int (*coefficients)(void *state, const dtm_material *m, const dtm_section *sec, dtm_operator_coeffs *c);
   /* Optional, DTM_ROLE_MODIFIES_WAVES: equivalent Rayleigh coefficients of
    * material m's damping, C = alpha M + beta K, given the top frequency
    * omega_top (a constant xi becomes beta = 2 xi / omega_top). */

@@ -80,6 +80,26 @@ DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
  * handle are an error naming the element tag and type. */
 DTM_EXPORT int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m);
 
+/* The groups of an extraction: material and section of each group of
+ * m->groups (-1: none) and the defaults (-1: none). */
+typedef struct {
+  const int *group_mat; /* [ngroups] material index, or -1 */
+  int default_mat;      /* material of elements whose groups have none, or -1 */
+  const int *group_sec; /* [ngroups] section index, or -1; NULL: the scene has no section */
+  int default_sec;      /* section of elements of dimension dim in no sectioned group, or -1 */
+} dtm_group_map;
+/* dtm_gmsh_extract with sections: the elements of dimension dim get the
+ * section of their first sectioned group (else the default section), and
+ * the elements of lower dimension whose entity is in a group of m->groups
+ * with a section (curves and surfaces in or on the volumes: trusses,
+ * membranes) are extracted too, with that group, its material and section;
+ * their nodes are the ones they share with the rest of the mesh. */
+DTM_EXPORT int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm_scene *s, dtm_mesh *m);
+/* Append to *groups the physical groups of dimension below dim that one of
+ * the scene's sections names (by name, or by number when unnamed) and that
+ * no group of *groups already answers to. */
+DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group **groups, int *ngroups);
+
 /* Clear the current model's mesh and mesh it again (dimension dim, then
  * order) with the size scale * size[v] (m) at node v of m, the current mesh
  * (NaN: no value there), interpolated over its elements, as the only size

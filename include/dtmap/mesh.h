@@ -1,6 +1,7 @@
 /* The mesh as dtmap computes on it: nodes as a dense coordinate array and
- * the elements of the analysed dimension as one block per element type, a
- * structure of arrays. Filled from the current Gmsh model by dtm_gmsh_extract
+ * the elements of the analysed dimension (and those of lower dimension in a
+ * physical group the scene gives a section: trusses, membranes) as one block
+ * per element type, a structure of arrays. Filled from the current Gmsh model by dtm_gmsh_extract
  * (src/gmsh/extract.c); kernels and effects never see Gmsh itself. */
 #ifndef DTMAP_MESH_H
 #define DTMAP_MESH_H
@@ -12,7 +13,8 @@
 #define DTM_MAX_MASK_GROUPS 64 /* groups representable in dtm_block.gmask */
 
 typedef struct {
-  int dim;    /* dimension of the physical group */
+  int dim;    /* dimension of the physical group (below the mesh's only for
+                 groups a <section> names: curves and surfaces in or on it) */
   int tag;    /* Gmsh physical tag */
   char *name; /* its name, or "" when it has none (owned) */
 } dtm_group;
@@ -31,6 +33,8 @@ typedef struct {
                    (every physical group of its entity, g < 64); may be NULL */
   int *entity;               /* [n] tag of the model entity (of dimension dim) the
                                 element is classified on; may be NULL */
+  int *section;              /* [n] index into the scene's sections, -1 for none (the
+                                effects' own formulation); NULL when the scene has none */
 } dtm_block;
 
 /* An element dtmap analyses although its Jacobian is not safely positive at
@@ -53,7 +57,8 @@ typedef struct dtm_mesh {
   int nblocks;
   dtm_block *blocks; /* [nblocks], one per element type present */
   int ngroups;
-  dtm_group *groups;    /* [ngroups] physical groups of dimension dim */
+  dtm_group *groups;    /* [ngroups] physical groups of dimension dim, then
+                           the lower-dimensional groups sections name */
   size_t nflagged;      /* elements analysed although inverted at a node */
   dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
 } dtm_mesh;

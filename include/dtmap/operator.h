@@ -4,9 +4,12 @@
  * M^-1/2 K M^-1/2, Rayleigh damping C = alpha M + beta K element by element,
  * the Lanczos estimate of lambda_max(M^-1 K) with a residual bracket, and
  * the explicit time integration `dtmap verify` runs.
- * Unknowns: ncomp per node (elastic: the analysed dimension d, in the global
- * x, y, z components, so 2D meshes must lie in a plane z = const and 1D
- * meshes along x; diffusion: 1), numbered node-major: dof = node*ncomp + c. */
+ * Unknowns: ncomp per node (elastic: d, the dimension of the space the
+ * mesh spans: the analysed dimension for a 2D mesh in a plane z = const or
+ * a 1D mesh along x, else 3, in the global x, y, z components; diffusion:
+ * 1), numbered node-major: dof = node*ncomp + c. Elements of lower
+ * dimension than d (trusses and membranes in 3D, curved surfaces) act in
+ * their own tangent line or plane. */
 #ifndef DTMAP_OPERATOR_H
 #define DTMAP_OPERATOR_H
 
@@ -25,6 +28,14 @@ typedef struct dtm_operator dtm_operator;
  * operator copies what it needs; the mesh must outlive it. */
 DTM_EXPORT int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
                                    const double *beta, int nmat, dtm_operator **out);
+/* The same with sections: coef, alpha and beta have nmat (nsec + 1)
+ * entries, slot mat + nmat (section + 1) for an element of material mat
+ * and section index section (-1: none; dtm_block.section), each slot's
+ * coefficients per unit measure with section_factor set (the operator
+ * multiplies stiffness and mass by it). */
+DTM_EXPORT int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
+                                            const double *alpha, const double *beta, int nmat, int nsec,
+                                            dtm_operator **out);
 DTM_EXPORT void dtm_operator_destroy(dtm_operator **op);
 
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);

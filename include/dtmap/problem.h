@@ -19,6 +19,8 @@ typedef struct {
                              (thermal), storage (hydraulic) */
   double conductivity;    /* diffusion: k, or permeability/viscosity */
   dtm_elastic_moduli mod; /* elastic: moduli of the formulation */
+  double section_factor;  /* thickness (m) or area (m^2) of the elements' section that
+                             multiplies stiffness and mass; 0: none (1). The core sets it. */
   int dt_is_bound;        /* 1 when element_dt returns the element's own
                              eigenvalue bound, 2/sqrt(lambda_e) or 2/lambda_e
                              (undamped), so the nodal bound can reuse it */

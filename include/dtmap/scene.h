@@ -10,6 +10,7 @@
 #include "dtmap/export.h"
 
 #include "dtmap/material.h"
+#include "dtmap/section.h"
 
 typedef struct {
   dtm_material m; /* name, line, properties */
@@ -52,6 +53,9 @@ typedef struct dtm_scene {
   int meshing_line;     /* line of <meshing>, 0 when there is none */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
+  int nsections;
+  dtm_section *sections; /* [nsections] <section> elements in file order (none: every
+                            element of the analysed dimension, as the effects say) */
   int neffects;
   dtm_scene_effect *effects;      /* [neffects] in file order */
   int effects_line;               /* line of <effects> */

@@ -37,7 +37,8 @@ int dtm_diffusion_element_dt(void *state, const dtm_batch *b, double *dt, double
   return DTM_OK;
 }
 
-int dtm_diffusion_coefficients(void *state, const dtm_material *m, dtm_operator_coeffs *c) {
+int dtm_diffusion_coefficients(void *state, const dtm_material *m, const dtm_section *sec, dtm_operator_coeffs *c) {
+  (void)sec; /* scalar diffusion is the same in every kind of element */
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_DIFFUSION;
   c->dt_is_bound = 1;

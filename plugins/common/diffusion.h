@@ -24,7 +24,7 @@ int dtm_diffusion_create(const dtm_effect_args *a, const dtm_property *props, dt
  * sqrt(2 D dt), the element length for a 2-node bar (dt = h^2/(2 D)). */
 int dtm_diffusion_element_dt(void *state, const dtm_batch *b, double *dt, double *len);
 /* coefficients() of a diffusion effect. */
-int dtm_diffusion_coefficients(void *state, const dtm_material *m, dtm_operator_coeffs *c);
+int dtm_diffusion_coefficients(void *state, const dtm_material *m, const dtm_section *sec, dtm_operator_coeffs *c);
 
 /* The class of a diffusion effect sym named name, with its summary, its
  * three properties (a dtm_property array) and how they combine. */

@@ -6,7 +6,11 @@
  * With <time f-max=f>, waves up to f must be resolved by N elements per
  * wavelength (elements-per-wavelength, default 10): the shortest body wave,
  * the shear wave (speed sqrt(mu/rho); sqrt(E/rho) for a bar), gives the
- * accuracy bound h <= C_S/(N f) and the view "elements per wavelength". */
+ * accuracy bound h <= C_S/(N f) and the view "elements per wavelength".
+ * An element with a section takes its kind's formulation (truss: the bar;
+ * membrane: plane stress in the element's own plane; solid, plane-strain,
+ * plane-stress) instead of the effect's `formulation`; its thickness or
+ * area cancels from the element's own step. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,11 +59,24 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
   return DTM_OK;
 }
 
-static int moduli_of(const elastic_state *s, const dtm_material *m, dtm_elastic_moduli *mod) {
-  if (s->form != DTM_FORM_BAR) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
-  double nu = s->form == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu);
-  int r = dtm_elastic_moduli_init(s->form, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
+/* Moduli of material m in section sec (NULL: the effect's formulation). */
+static int moduli_of(const elastic_state *s, const dtm_material *m, const dtm_section *sec, dtm_elastic_moduli *mod) {
+  dtm_formulation f = sec ? dtm_section_formulation(sec->kind) : s->form;
+  if (f != DTM_FORM_BAR) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
+  double nu = f == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu);
+  int r = dtm_elastic_moduli_init(f, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
+  return DTM_OK;
+}
+
+/* The moduli of element e of b into *mod, recomputed only when its material
+ * or section differs from the last element's (*mat, *sec). */
+static int element_moduli(const elastic_state *s, const dtm_batch *b, size_t e, const dtm_material **mat,
+                          const dtm_section **sec, dtm_elastic_moduli *mod) {
+  const dtm_section *se = b->section ? b->section[e] : NULL;
+  if (b->mat[e] == *mat && se == *sec) return DTM_OK;
+  DTM_CHECK(moduli_of(s, b->mat[e], se, mod));
+  *mat = b->mat[e], *sec = se;
   return DTM_OK;
 }
 
@@ -82,24 +99,22 @@ static int one_element(const elastic_state *s, const dtm_batch *b, size_t e, con
 static int elastic_element_dt(void *state, const dtm_batch *b, double *dt, double *len) {
   const elastic_state *s = state;
   const dtm_material *last = NULL;
+  const dtm_section *sec = NULL;
   dtm_elastic_moduli mod;
   for (size_t e = 0; e < b->n; e++) {
-    if (b->mat[e] != last) {
-      DTM_CHECK(moduli_of(s, b->mat[e], &mod));
-      last = b->mat[e];
-    }
+    DTM_CHECK(element_moduli(s, b, e, &last, &sec, &mod));
     DTM_CHECK(one_element(s, b, e, &mod, &dt[e]));
     len[e] = mod.cd * dt[e];
   }
   return DTM_OK;
 }
 
-static int elastic_coefficients(void *state, const dtm_material *m, dtm_operator_coeffs *c) {
+static int elastic_coefficients(void *state, const dtm_material *m, const dtm_section *sec, dtm_operator_coeffs *c) {
   memset(c, 0, sizeof *c);
   c->kind = DTM_OP_ELASTIC;
   c->capacity = dtm_material_get(m, ((const elastic_state *)state)->irho);
   c->dt_is_bound = ((const elastic_state *)state)->kind == DTM_LEN_EIGEN;
-  return moduli_of(state, m, &c->mod);
+  return moduli_of(state, m, sec, &c->mod);
 }
 
 /* Speed of the shortest body wave: shear (bar: the bar wave). */
@@ -110,14 +125,12 @@ static double shear_speed(const dtm_elastic_moduli *m) {
 static int elastic_accuracy(void *state, const dtm_batch *b, double *hmax, double *res) {
   const elastic_state *s = state;
   const dtm_material *last = NULL;
+  const dtm_section *sec = NULL;
   dtm_elastic_moduli mod;
   for (size_t e = 0; e < b->n; e++) {
     hmax[e] = INFINITY, res[e] = NAN;
     if (!(s->fmax > 0)) continue;
-    if (b->mat[e] != last) {
-      DTM_CHECK(moduli_of(s, b->mat[e], &mod));
-      last = b->mat[e];
-    }
+    DTM_CHECK(element_moduli(s, b, e, &last, &sec, &mod));
     double wavelength = shear_speed(&mod) / s->fmax;
     hmax[e] = wavelength / s->per_wave;
     res[e] = wavelength / dtm_elem_mean_edge(b->type, b->x + 3 * (size_t)b->nn * e);

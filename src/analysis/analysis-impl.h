@@ -93,5 +93,20 @@ int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double
 /* 1 when effect k is integrated by central differences (a wave effect whose
  * step the damping modifiers scale). */
 int dtm_analysis_is_wave(const dtm_analysis *a, int k);
+/* Section of every group of m (gs[ngroups], -1: none; NULL when the scene
+ * has no section) and the default section; DTM_ERR_INPUT at the scene line
+ * for a group that does not exist or whose dimension the kind does not suit
+ * (src/analysis/sections.c). */
+int dtm_analysis_map_sections(const dtm_scene *s, const dtm_mesh *m, int **gs, int *def);
+/* After extraction: every sectioned group holds elements of its kind. */
+int dtm_analysis_check_sections(const dtm_scene *s, const dtm_mesh *m, const int *gs);
+/* Section of element e of block b, NULL when it has none. */
+const dtm_section *dtm_analysis_section(const dtm_analysis *a, const dtm_block *b, size_t e);
+/* Coefficient slots: one per material and section (none included),
+ * slot = mat + nmat (section + 1); dtm_analysis_nslots of them. */
+int dtm_analysis_nslots(const dtm_analysis *a);
+int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
+/* Effect k's coefficients for slot i, with the section's factor set. */
+int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operator_coeffs *c);
 
 #endif

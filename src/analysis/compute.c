@@ -121,6 +121,7 @@ static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, 
 typedef struct {
   double *x;                /* [CHUNK][nn][3] */
   const dtm_material **mat; /* [CHUNK] */
+  const dtm_section **sec;  /* [CHUNK] */
   double *lens;             /* [neffects][CHUNK] */
 } scratch;
 
@@ -151,6 +152,7 @@ static int name_failure(const dtm_analysis *a, const dtm_effect *ef, const dtm_b
     double dt, len;
     one.n = 1, one.x = bt->x + 3 * (size_t)bt->nn * e, one.tags = bt->tags + e, one.group = bt->group + e;
     one.gmask = bt->gmask ? bt->gmask + e : NULL, one.mat = bt->mat + e;
+    one.section = bt->section ? bt->section + e : NULL;
     dtm_error_clear();
     int r1 = ef->cls->element_dt(ef->state, &one, &dt, &len);
     if (!r1) continue;
@@ -171,9 +173,17 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   sub.conn = blk->conn + e0 * (size_t)blk->nn;
   dtm_mesh_gather(a->mesh, &sub, w->x);
   for (size_t e = 0; e < n; e++) w->mat[e] = &a->scene->materials[blk->mat[e0 + e]].m;
-  dtm_batch bt = {blk->type, blk->dim,       blk->nn,         n,
-                  w->x,      blk->tags + e0, blk->group + e0, blk->gmask ? blk->gmask + e0 : NULL,
-                  w->mat};
+  for (size_t e = 0; blk->section && e < n; e++) w->sec[e] = dtm_analysis_section(a, blk, e0 + e);
+  dtm_batch bt = {blk->type,
+                  blk->dim,
+                  blk->nn,
+                  n,
+                  w->x,
+                  blk->tags + e0,
+                  blk->group + e0,
+                  blk->gmask ? blk->gmask + e0 : NULL,
+                  w->mat,
+                  blk->section ? w->sec : NULL};
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;
@@ -195,8 +205,8 @@ static int compute_block(const dtm_analysis *a, int b) {
 #pragma omp parallel
   {
     scratch w = {malloc(CHUNK * (size_t)blk->nn * 3 * sizeof(double)), malloc(CHUNK * sizeof(dtm_material *)),
-                 malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double))};
-    int ok = w.x && w.mat && w.lens;
+                 malloc(CHUNK * sizeof(dtm_section *)), malloc(CHUNK * ((size_t)a->neffects + 1) * sizeof(double))};
+    int ok = w.x && w.mat && w.sec && w.lens;
     if (!ok) dtm_par_error_keep(&pe, DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
 #pragma omp for schedule(dynamic, 4)
     for (long c = 0; c < nchunks; c++) {
@@ -206,6 +216,7 @@ static int compute_block(const dtm_analysis *a, int b) {
     }
     free(w.x);
     free((void *)w.mat);
+    free((void *)w.sec);
     free(w.lens);
   }
   return dtm_par_error_raise(&pe);

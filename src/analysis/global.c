@@ -31,31 +31,37 @@ static int material_rayleigh(const dtm_analysis *a, int i, double omega, double 
 }
 
 typedef struct {
-  dtm_operator_coeffs *c; /* [nmat] */
-  double *al, *be;        /* [nmat] */
-  char *used;             /* [nmat] */
+  dtm_operator_coeffs *c; /* [nslots] per material and section (dtm_analysis_slot) */
+  double *al, *be;        /* [nslots] */
+  char *used;             /* [nslots] */
 } material_table;
 
+static void slots_used(const dtm_analysis *a, char *used) {
+  for (int b = 0; b < a->mesh->nblocks; b++)
+    for (size_t e = 0; e < a->mesh->blocks[b].n; e++) used[dtm_analysis_slot(a, &a->mesh->blocks[b], e)] = 1;
+}
+
 static int fill_table(const dtm_analysis *a, int k, double omega, material_table *t) {
-  const dtm_effect *ef = &a->effects[k];
-  dtm_mesh_materials_used(a->mesh, a->scene->nmaterials, t->used);
-  for (int i = 0; i < a->scene->nmaterials; i++) {
+  int nm = a->scene->nmaterials;
+  slots_used(a, t->used);
+  for (int i = 0; i < dtm_analysis_nslots(a); i++) {
     if (!t->used[i]) continue;
-    DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[i].m, &t->c[i]));
-    if (t->c[i].kind == DTM_OP_ELASTIC) DTM_CHECK(material_rayleigh(a, i, omega, &t->al[i], &t->be[i]));
+    DTM_CHECK(dtm_analysis_coefficients(a, k, i, &t->c[i]));
+    if (t->c[i].kind == DTM_OP_ELASTIC) DTM_CHECK(material_rayleigh(a, i % nm, omega, &t->al[i], &t->be[i]));
   }
   return DTM_OK;
 }
 
 int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, dtm_operator **op) {
-  size_t nm = (size_t)a->scene->nmaterials + 1;
+  size_t nm = (size_t)dtm_analysis_nslots(a) + 1;
   material_table t = {calloc(nm, sizeof *t.c), calloc(nm, sizeof(double)), calloc(nm, sizeof(double)), calloc(nm, 1)};
   int r =
       (t.c && t.al && t.be && t.used) ? fill_table(a, k, omega_top, &t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int kind = DTM_OP_NONE;
-  for (int i = 0; i < a->scene->nmaterials; i++)
+  for (int i = 0; i < dtm_analysis_nslots(a); i++)
     if (t.used[i]) kind = t.c[i].kind;
-  if (r == DTM_OK) r = dtm_operator_create(a->mesh, kind, t.c, t.al, t.be, a->scene->nmaterials, op);
+  if (r == DTM_OK)
+    r = dtm_operator_create_sections(a->mesh, kind, t.c, t.al, t.be, a->scene->nmaterials, a->scene->nsections, op);
   free(t.c), free(t.al), free(t.be), free(t.used);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

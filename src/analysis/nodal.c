@@ -18,13 +18,12 @@ typedef struct {
   char *ready;            /* [nmat] */
 } coeff_cache;
 
-static int coeffs_of(const dtm_analysis *a, int k, coeff_cache *cc, int mat, const dtm_operator_coeffs **out) {
-  if (!cc->ready[mat]) {
-    const dtm_effect *ef = &a->effects[k];
-    DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[mat].m, &cc->c[mat]));
-    cc->ready[mat] = 1;
+static int coeffs_of(const dtm_analysis *a, int k, coeff_cache *cc, int slot, const dtm_operator_coeffs **out) {
+  if (!cc->ready[slot]) {
+    DTM_CHECK(dtm_analysis_coefficients(a, k, slot, &cc->c[slot]));
+    cc->ready[slot] = 1;
   }
-  *out = &cc->c[mat];
+  *out = &cc->c[slot];
   return DTM_OK;
 }
 
@@ -57,10 +56,10 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
     dtm_block one = *blk;
     one.n = 1, one.conn = blk->conn + e * blk->nn;
     dtm_mesh_gather(a->mesh, &one, x);
-    const dtm_operator_coeffs *c = &cc->c[blk->mat[e]];
+    const dtm_operator_coeffs *c = &cc->c[dtm_analysis_slot(a, blk, e)];
     int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]);
     if (r) dtm_par_error_keep(&pe, r);
-    double m = c->capacity * dtm_elem_measure(blk->type, x);
+    double m = c->capacity * c->section_factor * dtm_elem_measure(blk->type, x);
     dtm_elem_lumped_weights(blk->type, x, w);
     for (int i = 0; i < blk->nn; i++) w[i] *= m;
   }
@@ -73,7 +72,7 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
 static int block_coeffs(const dtm_analysis *a, int k, coeff_cache *cc, const dtm_block *blk) {
   for (size_t e = 0; e < blk->n; e++) {
     const dtm_operator_coeffs *c;
-    DTM_CHECK(coeffs_of(a, k, cc, blk->mat[e], &c));
+    DTM_CHECK(coeffs_of(a, k, cc, dtm_analysis_slot(a, blk, e), &c));
   }
   return DTM_OK;
 }
@@ -152,7 +151,7 @@ static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, int r, do
 
 /* Whether every material's element step is the element eigenvalue bound. */
 static int all_bounds(const dtm_analysis *a, const coeff_cache *cc) {
-  for (int i = 0; i < a->scene->nmaterials; i++)
+  for (int i = 0; i < dtm_analysis_nslots(a); i++)
     if (cc->ready[i] && !cc->c[i].dt_is_bound) return 0;
   return 1;
 }
@@ -193,7 +192,7 @@ static int global_nodal(dtm_analysis *a) {
 }
 
 int dtm_nodal_bounds(dtm_analysis *a) {
-  size_t nn = a->mesh->nnodes, nm = (size_t)a->scene->nmaterials + 1;
+  size_t nn = a->mesh->nnodes, nm = (size_t)dtm_analysis_nslots(a) + 1;
   a->nodal_node = malloc((nn + 1) * sizeof *a->nodal_node);
   a->node_dt = calloc((size_t)a->neffects + 1, sizeof *a->node_dt);
   double *work = malloc((3 * nn + 1) * sizeof *work);

@@ -49,12 +49,16 @@ static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat,
 
 static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   double t0 = dtm_wtime();
-  int *gm = NULL, def = -1;
+  int *gm = NULL, *gs = NULL, def = -1, defsec = -1;
   m->dim = dim;
   DTM_CHECK(dtm_gmsh_groups(dim, &m->groups, &m->ngroups));
+  DTM_CHECK(dtm_gmsh_groups_sectioned(dim, s, &m->groups, &m->ngroups));
   DTM_CHECK(map_materials(s, m, &gm, &def));
-  int r = dtm_gmsh_extract(dim, gm, def, s, m);
-  free(gm);
+  int r = dtm_analysis_map_sections(s, m, &gs, &defsec);
+  dtm_group_map map = {gm, def, gs, defsec};
+  if (r == DTM_OK) r = dtm_gmsh_extract_map(dim, &map, s, m);
+  if (r == DTM_OK) r = dtm_analysis_check_sections(s, m, gs);
+  free(gm), free(gs);
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   if (r == DTM_OK) r = dtm_mesh_check(m, s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model");
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;

@@ -72,6 +72,51 @@ int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
   return DTM_OK;
 }
 
+/* Whether group g answers to the reference ref: its name, or its number
+ * when it has no name. */
+static int group_is(const dtm_group *g, const char *ref) {
+  char num[32];
+  snprintf(num, sizeof num, "%d", g->tag);
+  return g->name[0] ? !strcmp(g->name, ref) : !strcmp(num, ref);
+}
+
+static int named_by_section(const dtm_scene *s, const dtm_group *g, const dtm_group *have, int nhave) {
+  for (int i = 0; i < s->nsections; i++)
+    for (int k = 0; k < s->sections[i].ngroups; k++) {
+      const char *ref = s->sections[i].groups[k];
+      int taken = 0;
+      for (int j = 0; j < nhave; j++) taken |= group_is(&have[j], ref);
+      if (!taken && group_is(g, ref)) return 1;
+    }
+  return 0;
+}
+
+/* Append group g (taking its name) to *groups. */
+static int group_push(dtm_group **groups, int *ngroups, dtm_group *g) {
+  dtm_group *ng = realloc(*groups, ((size_t)*ngroups + 2) * sizeof *ng);
+  if (!ng) return free(g->name), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  ng[(*ngroups)++] = *g;
+  *groups = ng;
+  return DTM_OK;
+}
+
+int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group **groups, int *ngroups) {
+  int r = DTM_OK, nhave = *ngroups;
+  for (int d = dim - 1; d >= 1 && r == DTM_OK && s->nsections; d--) {
+    dtm_group *low = NULL;
+    int nlow = 0;
+    r = dtm_gmsh_groups(d, &low, &nlow);
+    for (int i = 0; i < nlow; i++) {
+      if (r == DTM_OK && named_by_section(s, &low[i], *groups, nhave))
+        r = group_push(groups, ngroups, &low[i]);
+      else
+        free(low[i].name);
+    }
+    free(low);
+  }
+  return r;
+}
+
 /* Node numbering: position in m->node_tags of a Gmsh node tag. The
  * identity when the tags are 1..N in order; dense (index[tag]) when they
  * are nearly so; a sorted list of tags searched by bisection when they are
@@ -139,18 +184,20 @@ static int read_nodes(dtm_mesh *m, node_index *ni) {
   return ni->identity ? DTM_OK : index_nodes(ni, tags);
 }
 
-/* Group of an entity: its first physical group that has a material, else its
- * first group, else -1; *mask gets every group it is in. */
-static int entity_group(const dtm_mesh *m, int dim, int tag, const int *group_mat, unsigned long long *mask) {
+/* Group of an entity of dimension dim: its first physical group that has a
+ * material, else its first group, else -1; *mask gets every group it is
+ * in. Below the mesh's dimension only groups with a section count. */
+static int entity_group(const dtm_mesh *m, int dim, int tag, const dtm_group_map *map, unsigned long long *mask) {
   int *phys = NULL, ierr = 0, best = -1, found = 0;
+  const int *group_mat = map->group_mat;
   size_t n = 0;
   *mask = 0;
   gmshModelGetPhysicalGroupsForEntity(dim, tag, &phys, &n, &ierr);
   for (size_t i = 0; i < n; i++) {
     int g = -1;
     for (int k = 0; k < m->ngroups; k++)
-      if (m->groups[k].tag == phys[i]) g = k;
-    if (g < 0) continue;
+      if (m->groups[k].tag == phys[i] && m->groups[k].dim == dim) g = k;
+    if (g < 0 || (dim < m->dim && (!map->group_sec || map->group_sec[g] < 0))) continue;
     if (g < DTM_MAX_MASK_GROUPS) *mask |= 1ull << g;
     if (best < 0) best = g;
     if (group_mat[g] >= 0 && !found) best = g, found = 1;
@@ -186,7 +233,10 @@ static int block_grow(dtm_block *b, size_t add) {
   if (gmask) b->gmask = gmask;
   int *entity = realloc(b->entity, n * sizeof *entity);
   if (entity) b->entity = entity;
-  if (!tags || !conn || !group || !mat || !gmask || !entity) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int *section = b->section ? realloc(b->section, n * sizeof *section) : NULL;
+  if (section) b->section = section;
+  if (!tags || !conn || !group || !mat || !gmask || !entity || (b->section && !section))
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
 
@@ -196,6 +246,7 @@ typedef struct {
   const int *group_mat;
   int default_mat;
   node_index ni;
+  const dtm_group_map *map; /* materials and sections of the groups */
 } extract_ctx;
 
 static const char *src_of(const extract_ctx *c) { return source_name(c->s); }
@@ -221,7 +272,8 @@ static const char *raw_place(const extract_ctx *c, const dtm_mesh *m, size_t tag
 static const char *group_phrase(const dtm_mesh *m, int g, char *buf, size_t len) {
   char lbl[64];
   if (g >= 0)
-    snprintf(buf, len, "in physical group '%s' (dimension %d)", dtm_mesh_group_label(m, g, lbl, sizeof lbl), m->dim);
+    snprintf(buf, len, "in physical group '%s' (dimension %d)", dtm_mesh_group_label(m, g, lbl, sizeof lbl),
+             m->groups[g].dim);
   else
     snprintf(buf, len, "in no physical group of dimension %d", m->dim);
   return buf;
@@ -293,12 +345,15 @@ static size_t tags_to_indices(const node_index *ni, size_t *nodes, size_t n) {
 /* Give b the n elements tags[n], conn[n][nn] (indices), adopting the two
  * arrays when b is empty (*owned is then set: the caller must not free
  * them), else appending a copy. */
-static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int *owned) {
+static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int sections, int *owned) {
   if (b->n == 0 && !b->tags) {
     b->tags = tags, b->conn = conn, *owned = 1;
     b->group = malloc((n + 1) * sizeof *b->group), b->mat = malloc((n + 1) * sizeof *b->mat);
     b->gmask = malloc((n + 1) * sizeof *b->gmask), b->entity = malloc((n + 1) * sizeof *b->entity);
-    return b->group && b->mat && b->gmask && b->entity ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    b->section = sections ? malloc((n + 1) * sizeof *b->section) : NULL;
+    return b->group && b->mat && b->gmask && b->entity && (!sections || b->section)
+               ? DTM_OK
+               : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
   DTM_CHECK(block_grow(b, n));
   memcpy(b->tags + b->n, tags, n * sizeof *tags);
@@ -306,10 +361,31 @@ static int take_elements(dtm_block *b, size_t *tags, size_t *conn, size_t n, int
   return DTM_OK;
 }
 
+/* Section of the elements of entity ent (group g, type type): the group's,
+ * else (at the mesh's dimension) the first section among all the entity's
+ * groups, else the default section; -1 when none. */
+static int section_of(const extract_ctx *c, const dtm_mesh *m, int ent, int g, int type) {
+  const dtm_group_map *map = c->map;
+  int d;
+  if (!map->group_sec) return -1;
+  if (g >= 0 && map->group_sec[g] >= 0) return map->group_sec[g];
+  dtm_elem_info(type, &d, NULL);
+  if (d < m->dim) return -1;
+  int *phys = NULL, ierr = 0, sec = -1;
+  size_t n = 0;
+  gmshModelGetPhysicalGroupsForEntity(d, ent, &phys, &n, &ierr);
+  for (size_t i = 0; i < n && sec < 0; i++)
+    for (int k = 0; k < m->ngroups && sec < 0; k++)
+      if (m->groups[k].tag == phys[i] && m->groups[k].dim == d) sec = map->group_sec[k];
+  gmshFree(phys);
+  return sec >= 0 ? sec : map->default_sec;
+}
+
 /* Append one entity's elements of one type; takes tags and nodes (Gmsh's
  * arrays) when *owned is set on return. */
 static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsigned long long mask, int type,
                        size_t *tags, size_t n, size_t *nodes, int *owned) {
+  int sec = section_of(c, m, ent, g, type);
   *owned = 0;
   DTM_CHECK(check_type(c, m, g, type, n, tags, nodes));
   int mat, nn;
@@ -321,8 +397,9 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsign
   size_t bad = tags_to_indices(&c->ni, nodes, n * (size_t)b->nn);
   if (bad != SIZE_MAX) return missing_node(c, m, g, type, tags[bad / b->nn], nodes[bad] + (c->ni.identity ? 1 : 0));
   size_t n0 = b->n;
-  DTM_CHECK(take_elements(b, tags, nodes, n, owned));
+  DTM_CHECK(take_elements(b, tags, nodes, n, c->map->group_sec != NULL, owned));
   for (size_t e = n0; e < n0 + n; e++) b->group[e] = g, b->gmask[e] = mask, b->mat[e] = mat, b->entity[e] = ent;
+  for (size_t e = n0; b->section && e < n0 + n; e++) b->section[e] = sec;
   b->n += n;
   return DTM_OK;
 }
@@ -341,13 +418,16 @@ static int extract_type(const extract_ctx *c, dtm_mesh *m, int tag, int g, unsig
   return r;
 }
 
-static int extract_entity(const extract_ctx *c, dtm_mesh *m, int tag) {
+/* The elements of entity (dim, tag); below the mesh's dimension only when
+ * the entity is in a group with a section. */
+static int extract_entity(const extract_ctx *c, dtm_mesh *m, int dim, int tag) {
   int *types = NULL, ierr = 0, r = DTM_OK;
   size_t nt = 0;
-  gmshModelMeshGetElementTypes(&types, &nt, m->dim, tag, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read element types");
   unsigned long long mask;
-  int g = entity_group(m, m->dim, tag, c->group_mat, &mask);
+  int g = entity_group(m, dim, tag, c->map, &mask);
+  if (dim < m->dim && g < 0) return DTM_OK;
+  gmshModelMeshGetElementTypes(&types, &nt, dim, tag, &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read element types");
   for (size_t i = 0; i < nt && r == DTM_OK; i++) r = extract_type(c, m, tag, g, mask, types[i]);
   gmshFree(types);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
@@ -361,20 +441,40 @@ static int check_element_tags(const extract_ctx *c, const dtm_mesh *m) {
   return dtm_gmsh_check_tags(src_of(c), "element", max, dtm_mesh_nelements(m));
 }
 
-int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
-  extract_ctx c = {s, group_mat, default_mat, {NULL, NULL, 0, 0, 0}};
+/* Whether a group of dimension d has a section. */
+static int has_sections(const dtm_mesh *m, const dtm_group_map *map, int d) {
+  for (int g = 0; map->group_sec && g < m->ngroups; g++)
+    if (m->groups[g].dim == d && map->group_sec[g] >= 0) return 1;
+  return 0;
+}
+
+/* The elements of every entity of dimension d. */
+static int extract_dim(const extract_ctx *c, dtm_mesh *m, int d) {
   int *ents = NULL, ierr = 0, r = DTM_OK;
   size_t ne = 0;
+  gmshModelGetEntities(&ents, &ne, d, &ierr);
+  for (size_t i = 0; i < ne / 2 && r == DTM_OK && !ierr; i++) r = extract_entity(c, m, d, ents[2 * i + 1]);
+  gmshFree(ents);
+  if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
+  return r;
+}
+
+int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_scene *s, dtm_mesh *m) {
+  dtm_group_map map = {group_mat, default_mat, NULL, -1};
+  return dtm_gmsh_extract_map(dim, &map, s, m);
+}
+
+int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm_scene *s, dtm_mesh *m) {
+  extract_ctx c = {s, map->group_mat, map->default_mat, {NULL, NULL, 0, 0, 0}, map};
+  int r = DTM_OK;
   m->dim = dim;
   DTM_CHECK(read_nodes(m, &c.ni));
   r = dtm_gmsh_check_tags(src_of(&c), "node", c.ni.max_tag, m->nnodes);
-  gmshModelGetEntities(&ents, &ne, dim, &ierr);
-  for (size_t i = 0; i < ne / 2 && r == DTM_OK && !ierr; i++) r = extract_entity(&c, m, ents[2 * i + 1]);
-  if (r == DTM_OK && !ierr) r = check_element_tags(&c, m);
-  gmshFree(ents);
+  for (int d = dim; d >= 1 && r == DTM_OK; d--)
+    if (d == dim || has_sections(m, map, d)) r = extract_dim(&c, m, d);
+  if (r == DTM_OK) r = check_element_tags(&c, m);
   free(c.ni.index);
   free(c.ni.sorted);
-  if (ierr) return dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot list entities");
   DTM_CHECK(r);
   if (dtm_mesh_nelements(m) == 0)
     return DTM_ERR(DTM_ERR_INPUT, "%s: %s no element of dimension %d", source_name(s),

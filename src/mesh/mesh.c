@@ -62,6 +62,7 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
     free(m->blocks[b].group);
     free(m->blocks[b].gmask);
     free(m->blocks[b].entity);
+    free(m->blocks[b].section);
     free(m->blocks[b].mat);
   }
   for (int g = 0; g < m->ngroups; g++) free(m->groups[g].name);

@@ -148,6 +148,7 @@ static void permute_block(dtm_block *b, const size_t *pos, uint32_t *scratch) {
   permute(b->mat, sizeof *b->mat, pos, b->n, scratch);
   permute(b->gmask, sizeof *b->gmask, pos, b->n, scratch);
   permute(b->entity, sizeof *b->entity, pos, b->n, scratch);
+  permute(b->section, sizeof *b->section, pos, b->n, scratch);
 }
 
 static int sort_blocks(dtm_mesh *m, const size_t *new_of) {

@@ -209,6 +209,7 @@ static element_reader reader_for(const xmlNode *n) {
                {"model", read_model},
                {"meshing", read_meshing},
                {"material", dtm_scene_read_material},
+               {"section", dtm_scene_read_section},
                {"effects", dtm_scene_read_effects},
                {"time", read_time},
                {"output", read_output}};
@@ -229,6 +230,9 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
   DTM_CHECK(dtm_scene_build_catalogue(s, root));
   s->materials = nmat ? calloc((size_t)nmat, sizeof *s->materials) : NULL;
   if (nmat && !s->materials) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int nsec = count_tag(root, "section");
+  s->sections = nsec ? calloc((size_t)nsec, sizeof *s->sections) : NULL;
+  if (nsec && !s->sections) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (const xmlNode *c = root->children; c; c = c->next) {
     if (c->type != XML_ELEMENT_NODE) continue;
     element_reader read = reader_for(c);
@@ -307,6 +311,8 @@ void dtm_scene_destroy(dtm_scene **s) {
     free(p->materials[i].m.prop);
     dtm_scene_free_strings(p->materials[i].ngroups, p->materials[i].groups);
   }
+  for (int i = 0; i < p->nsections; i++) dtm_scene_free_strings(p->sections[i].ngroups, p->sections[i].groups);
+  free(p->sections);
   for (int i = 0; i < p->neffects; i++) free_effect(&p->effects[i]);
   dtm_scene_free_strings(p->nprops, p->prop_names);
   free(p->materials);

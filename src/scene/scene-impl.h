@@ -56,6 +56,8 @@ int dtm_scene_build_catalogue(dtm_scene *s, const xmlNode *root);
 
 /* Read one <material> into s->materials[s->nmaterials++] (preallocated). */
 int dtm_scene_read_material(dtm_scene *s, const xmlNode *n);
+/* Read one <section> element into s->sections[s->nsections++]. */
+int dtm_scene_read_section(dtm_scene *s, const xmlNode *n);
 /* Read <effects> and its children into s->effects. */
 int dtm_scene_read_effects(dtm_scene *s, const xmlNode *n);
 

@@ -40,13 +40,20 @@ typedef struct {
   int p1;                              /* linear simplex (line2, tri3, tet4) with the reference
                                           gradients -1 (node 0) and e_j (node j + 1): the kernels
                                           then take differences instead of products */
-  double *geo;                         /* [n][nq][d*d + 1]: J^-1 row-major (d x d), then dv */
+  double *geo;                         /* [n][nq][st]: J^-1 row-major (d x d), then dv; for a
+                                          manifold block J^+ (k x d), the tangent projector (d x d), dv */
+  int k;                               /* the elements' own dimension */
+  int manifold;                        /* k < d: curves or surfaces in a higher-dimensional
+                                          space (trusses, membranes), with tangential gradients */
+  int st;                              /* doubles per stored point */
+  int nmat;                            /* materials of the mesh (slot = mat + nmat (section + 1)) */
+  const int *sec;                      /* [n] section of each element, or NULL (the mesh's) */
 } op_block;
 
 typedef struct {
-  double lam, mu;     /* elastic: sigma = lam tr(F) I + mu (F + F^T) */
-  double cond;        /* diffusion: conductivity */
-  double cap;         /* lumped capacity per volume */
+  double lam, mu;     /* elastic: sigma = lam tr(F) I + mu (F + F^T), times the section factor */
+  double cond;        /* diffusion: conductivity, times the section factor */
+  double cap;         /* lumped capacity per volume, times the section factor */
   double alpha, beta; /* Rayleigh */
 } op_mat;
 
@@ -59,7 +66,8 @@ typedef struct {
 } op_share;
 
 struct dtm_operator {
-  int kind, d, ncomp, nmat, nblocks;
+  int kind, d, ncomp, nmat, nblocks; /* d: the space of the unknowns; nmat: coefficient slots */
+  int nmat_base, nsec;               /* the mesh's materials and sections (slots: nmat_base (nsec + 1)) */
   size_t ndof;
   int nshares;     /* shares of the product, fixed at creation */
   op_share *share; /* [nshares] */
@@ -119,8 +127,11 @@ static int node_extent(const dtm_mesh *m, double ext[3]) {
   return 0;
 }
 
-/* 2D meshes must lie in a plane z = const, 1D meshes on a line along x. */
-static int check_plane(const dtm_mesh *m) {
+/* The space the unknowns live in, *d: the mesh's dimension when its
+ * nodes allow (a 2D mesh in a plane z = const, a 1D mesh along x), else the
+ * smallest that holds them (a 1D mesh in a plane z = const: 2; anything
+ * else: 3). Elements of lower dimension than *d are manifold elements. */
+static int ambient_dim(const dtm_mesh *m, int *d) {
   double ext[3], size;
   if (node_extent(m, ext))
     return DTM_ERR(DTM_ERR_INTERNAL,
@@ -129,16 +140,8 @@ static int check_plane(const dtm_mesh *m) {
                    m->nnodes);
   size = fmax(ext[0], fmax(ext[1], ext[2]));
   if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
-  if (m->dim == 2 && ext[2] > 1e-9 * size)
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "the global estimate needs a 2D mesh in a plane z = const "
-                   "(z varies by %g m over a mesh of size %g m)",
-                   ext[2], size);
-  if (m->dim == 1 && fmax(ext[1], ext[2]) > 1e-9 * size)
-    return DTM_ERR(DTM_ERR_INPUT,
-                   "the global estimate needs a 1D mesh along the x axis "
-                   "(y and z constant; they vary by %g m over %g m)",
-                   fmax(ext[1], ext[2]), size);
+  int flat_z = ext[2] <= 1e-9 * size, flat_y = ext[1] <= 1e-9 * size;
+  *d = m->dim == 3 || !flat_z ? 3 : m->dim == 2 || !flat_y ? 2 : 1;
   return DTM_OK;
 }
 
@@ -151,16 +154,34 @@ static int check_args(const dtm_mesh *m, int kind, const dtm_operator_coeffs *c,
     return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: kind %d is not spectral", kind);
   if (m->dim < 1 || m->dim > 3) return DTM_ERR(DTM_ERR_INPUT, "mesh dimension %d is not 1, 2 or 3", m->dim);
   if (dtm_mesh_nelements(m) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with elements");
-  return check_plane(m);
+  return DTM_OK;
 }
 
 static int ok_nonneg(double v) { return isfinite(v) && v >= 0; }
 
+/* Slot (coefficient index) of element e of b: its material, offset by the
+ * material count for each section index + 1. */
+static int slot_of(const op_block *b, size_t e) { return b->mat[e] + (b->sec ? b->nmat * (b->sec[e] + 1) : 0); }
+
+/* The formulation of slot i suits the elements that use it. */
+static int form_check(const dtm_operator *op, int i, int form) {
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    for (size_t e = 0; e < b->n; e++)
+      if (slot_of(b, e) == i) {
+        DTM_CHECK(dtm_form_check(b->type, b->k, form));
+        break;
+      }
+  }
+  return DTM_OK;
+}
+
 /* Check material i's coefficients and convert them into o. */
 static int material_setup(const dtm_operator *op, int i, const dtm_operator_coeffs *c, const double *alpha,
                           const double *beta, op_mat *o) {
+  double f = c->section_factor > 0 ? c->section_factor : 1.0;
   o->alpha = alpha ? alpha[i] : 0, o->beta = beta ? beta[i] : 0;
-  o->cap = c->capacity;
+  o->cap = c->capacity * f;
   if (c->kind != op->kind)
     return DTM_ERR(DTM_ERR_INTERNAL, "material %d: coefficients of kind %d, operator of kind %d", i, c->kind, op->kind);
   if (!(isfinite(c->capacity) && c->capacity > 0) || !ok_nonneg(o->alpha) || !ok_nonneg(o->beta))
@@ -169,14 +190,14 @@ static int material_setup(const dtm_operator *op, int i, const dtm_operator_coef
                    "need capacity > 0 and finite alpha, beta >= 0",
                    i, c->capacity, o->alpha, o->beta);
   if (op->kind == DTM_OP_DIFFUSION) {
-    o->cond = c->conductivity;
+    o->cond = c->conductivity * f;
     if (!ok_nonneg(o->cond))
       return DTM_ERR(DTM_ERR_INPUT, "material %d: conductivity %g is not finite and >= 0", i, o->cond);
     return DTM_OK;
   }
-  DTM_CHECK(dtm_form_check(op->blocks[0].type, op->d, c->mod.form));
+  DTM_CHECK(form_check(op, i, c->mod.form));
   int bar = c->mod.form == DTM_FORM_BAR;
-  o->lam = bar ? c->mod.modulus : c->mod.lam, o->mu = bar ? 0 : c->mod.mu;
+  o->lam = (bar ? c->mod.modulus : c->mod.lam) * f, o->mu = (bar ? 0 : c->mod.mu) * f;
   if (!isfinite(o->lam) || !ok_nonneg(o->mu) || !(o->lam + 2 * o->mu > 0))
     return DTM_ERR(DTM_ERR_INPUT, "material %d: elastic moduli lam %g, mu %g are not admissible", i, o->lam, o->mu);
   return DTM_OK;
@@ -188,7 +209,7 @@ static int mark_used(const dtm_operator *op, char *used) {
   for (int ib = 0; ib < op->nblocks; ib++) {
     const op_block *b = &op->blocks[ib];
     for (size_t e = 0; e < b->n; e++) {
-      int m = b->mat ? b->mat[e] : -1;
+      int m = b->mat && b->mat[e] >= 0 ? slot_of(b, e) : -1;
       if (m < 0 || m >= op->nmat)
         return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has no material (index %d of %d)", tag_text(b, e, t, sizeof t),
                        dtm_elem_name(b->type), m, op->nmat);
@@ -280,35 +301,88 @@ static int elem_geometry(const dtm_operator *op, const op_block *b, const double
   return 0;
 }
 
+/* One point of a manifold element (dimension k in d-space), J[d][k]: into
+ * g the pseudo-inverse J^+ = (J^T J)^-1 J^T (k x d, row-major), the
+ * tangent projector J J^+ (d x d) and dv = sqrt(det J^T J) w. Returns 0,
+ * or -1 when the element spans no line or plane there. */
+static int manifold_point(int d, int k, const double J[3][3], double w, double *g, double *meas) {
+  double G[3][3] = {{0}}, Gi[3][3], norms = 1;
+  for (int i = 0; i < k; i++) {
+    for (int j = 0; j < k; j++)
+      for (int r = 0; r < d; r++) G[i][j] += J[r][i] * J[r][j];
+    norms *= sqrt(G[i][i]);
+  }
+  double det = dtm_mat_det(k, (const double(*)[3])G);
+  *meas = sqrt(fmax(det, 0));
+  if (!(*meas > 32 * DBL_EPSILON * norms) || !isfinite(det)) return -1;
+  dtm_mat_inverse(k, (const double(*)[3])G, det, Gi);
+  for (int i = 0; i < k; i++)
+    for (int m = 0; m < d; m++) {
+      g[i * d + m] = 0;
+      for (int j = 0; j < k; j++) g[i * d + m] += Gi[i][j] * J[m][j];
+    }
+  for (int r = 0; r < d; r++)
+    for (int m = 0; m < d; m++) {
+      double v = 0;
+      for (int i = 0; i < k; i++) v += J[r][i] * g[i * d + m];
+      g[k * d + r * d + m] = v;
+    }
+  g[k * d + d * d] = *meas * w;
+  return 0;
+}
+
+/* The same for an element of a manifold block. */
+static int manifold_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
+                             double *dj_bad) {
+  int d = op->d;
+  const size_t *c = b->conn + e * (size_t)b->nn;
+  for (int q = 0; q < b->nq; q++) {
+    double J[3][3] = {{0}}, *g = b->geo + (e * (size_t)b->nq + (size_t)q) * (size_t)b->st;
+    for (int a = 0; a < b->nn; a++)
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < b->k; j++) J[i][j] += xyz[3 * c[a] + i] * b->dn[q][a][j];
+    if (manifold_point(d, b->k, (const double(*)[3])J, wq[q], g, dj_bad)) return -1;
+  }
+  return 0;
+}
+
+static int any_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
+                        double *dj_bad) {
+  return b->manifold ? manifold_geometry(op, b, xyz, e, wq, dj_bad) : elem_geometry(op, b, xyz, e, wq, dj_bad);
+}
+
 static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb, op_block *b) {
   int dim, nn;
   DTM_CHECK(dtm_elem_info(mb->type, &dim, &nn));
-  if (dim != m->dim || nn != mb->nn || nn > DTM_K_NODES)
+  if (dim > op->d || nn != mb->nn || nn > DTM_K_NODES)
     return DTM_ERR(DTM_ERR_INPUT,
                    "block of %s elements (dimension %d, %d nodes) in a "
                    "mesh of dimension %d",
                    dtm_elem_name(mb->type), dim, mb->nn, m->dim);
   double wq[DTM_K_QP];
-  b->type = mb->type, b->nn = nn, b->n = mb->n;
+  b->type = mb->type, b->nn = nn, b->n = mb->n, b->k = dim, b->manifold = dim < op->d;
+  b->st = b->manifold ? dim * op->d + op->d * op->d + 1 : op->d * op->d + 1;
   b->conn = mb->conn, b->tags = mb->tags, b->mat = mb->mat;
+  b->nmat = op->nmat_base, b->sec = op->nsec ? mb->section : NULL;
   if (m->nnodes <= dtm_operator_narrow_max) { /* 32-bit connectivity: half the index traffic of the product */
     b->c32 = malloc((b->n * (size_t)nn + 1) * sizeof *b->c32);
     if (!b->c32) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
     for (size_t k = 0; k < b->n * (size_t)nn; k++) b->c32[k] = (uint32_t)b->conn[k];
   }
   block_rule(b, wq);
-  b->geo = malloc(b->n * (size_t)b->nq * (size_t)(op->d * op->d + 1) * sizeof *b->geo);
+  if (b->manifold) b->p1 = 0;
+  b->geo = malloc(b->n * (size_t)b->nq * (size_t)b->st * sizeof *b->geo);
   if (!b->geo && b->n) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   size_t bad = b->n;
   double dj = 0;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = 0; e < b->n; e++) {
     double djt;
-    if (elem_geometry(op, b, m->xyz, e, wq, &djt) && e < bad) bad = e;
+    if (any_geometry(op, b, m->xyz, e, wq, &djt) && e < bad) bad = e;
   }
   if (bad == b->n) return DTM_OK;
   char place[256];
-  elem_geometry(op, b, m->xyz, bad, wq, &dj);
+  any_geometry(op, b, m->xyz, bad, wq, &dj);
   if (mb->tags)
     dtm_mesh_element_place(m, (int)(mb - m->blocks), bad, place, sizeof place);
   else
@@ -324,10 +398,10 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
 /* Lumped node masses of element e per unit capacity, into w[nn]: the
  * kernel's weights times the measure, which is the sum of the stored dv
  * (the same rule as dtm_elem_measure, without integrating a second time). */
-static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double x[DTM_K_NODES * 3], meas = 0;
   const size_t *c = b->conn + e * (size_t)b->nn;
-  size_t st = (size_t)(op->d * op->d + 1);
+  size_t st = (size_t)b->st;
   const double *g = b->geo + e * (size_t)b->nq * st;
   for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
   for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
@@ -344,12 +418,11 @@ static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block
 
 /* Lumped masses w[e - e0][nn] of elements [e0, e1) of b, in parallel;
  * returns the first element with a bad one, or e1. */
-static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
-                           double *w) {
+static size_t chunk_lumped(const dtm_mesh *m, const op_block *b, size_t e0, size_t e1, double *w) {
   size_t bad = e1;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = e0; e < e1; e++)
-    if (elem_lumped(op, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
+    if (elem_lumped(m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
   return bad;
 }
 
@@ -357,7 +430,7 @@ static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_b
 static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *w) {
   size_t nc = (size_t)op->ncomp, nn = (size_t)b->nn;
   for (size_t e = e0; e < e1; e++) {
-    const op_mat *mt = &op->mats[b->mat[e]];
+    const op_mat *mt = &op->mats[slot_of(b, e)];
     for (size_t a = 0; a < nn; a++)
       for (size_t i = 0; i < nc; i++) {
         size_t k = b->conn[e * nn + a] * nc + i;
@@ -371,7 +444,7 @@ static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1,
 static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, double *w) {
   for (size_t e0 = 0; e0 < b->n; e0 += MASS_CHUNK) {
     size_t e1 = b->n - e0 < MASS_CHUNK ? b->n : e0 + MASS_CHUNK;
-    size_t bad = chunk_lumped(op, m, b, e0, e1, w);
+    size_t bad = chunk_lumped(m, b, e0, e1, w);
     char t[32];
     if (bad < e1)
       return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass", tag_text(b, bad, t, sizeof t),
@@ -417,11 +490,18 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
 
 int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
                         const double *beta, int nmat, dtm_operator **out) {
+  return dtm_operator_create_sections(mesh, kind, coef, alpha, beta, nmat, 0, out);
+}
+
+int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                                 const double *beta, int nmat, int nsec, dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
+  int d;
+  DTM_CHECK(ambient_dim(mesh, &d));
   dtm_operator *op = calloc(1, sizeof *op);
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  op->kind = kind, op->d = mesh->dim, op->nmat = nmat;
-  op->ncomp = kind == DTM_OP_ELASTIC ? mesh->dim : 1;
+  op->kind = kind, op->d = d, op->nmat_base = nmat, op->nsec = nsec, op->nmat = nmat * (nsec + 1);
+  op->ncomp = kind == DTM_OP_ELASTIC ? d : 1;
   int r = create(op, mesh, coef, alpha, beta);
   if (r) {
     dtm_operator_destroy(&op);
@@ -576,6 +656,86 @@ static inline ALWAYS_INLINE void diffusion_elem(const int d, const int nn, const
   }
 }
 
+/* Elastic forces of a manifold element (dimension k in d-space): the
+ * tangential gradient F = Fr J^+, the strain eps = P sym(F) P in the
+ * tangent space (P the projector), sigma = lam tr(eps) P + 2 mu eps (a
+ * truss: lam = E, mu = 0, so sigma = E (t.F t) t t^T; a membrane: the
+ * plane-stress moduli), f_a += dv sigma grad N_a. */
+static void manifold_elastic(const int d, const op_block *b, const double *geo, const double *ue, double *fe,
+                             double lam, double mu) {
+  const int k = b->k, nn = b->nn;
+  for (int q = 0; q < b->nq; q++, geo += b->st) {
+    const double(*dn)[3] = b->dn[q], *jp = geo, *P = geo + k * d, dv = geo[k * d + d * d];
+    double fr[3][3] = {{0}}, F[3][3] = {{0}}, S[3][3], PS[3][3] = {{0}}, eps[3][3] = {{0}}, tr = 0;
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < k; j++) fr[i][j] += ue[a * d + i] * dn[a][j];
+    for (int i = 0; i < d; i++)
+      for (int m = 0; m < d; m++)
+        for (int j = 0; j < k; j++) F[i][m] += fr[i][j] * jp[j * d + m];
+    for (int i = 0; i < d; i++)
+      for (int m = 0; m < d; m++) S[i][m] = 0.5 * (F[i][m] + F[m][i]);
+    for (int i = 0; i < d; i++)
+      for (int m = 0; m < d; m++)
+        for (int r = 0; r < d; r++) PS[i][m] += P[i * d + r] * S[r][m];
+    for (int i = 0; i < d; i++)
+      for (int m = 0; m < d; m++)
+        for (int r = 0; r < d; r++) eps[i][m] += PS[i][r] * P[r * d + m];
+    for (int i = 0; i < d; i++) tr += eps[i][i];
+    for (int i = 0; i < d; i++)
+      for (int j = 0; j < k; j++) {
+        double p = 0;
+        for (int m = 0; m < d; m++) p += (lam * tr * P[i * d + m] + 2 * mu * eps[i][m]) * jp[j * d + m];
+        for (int a = 0; a < nn; a++) fe[a * d + i] += dv * p * dn[a][j];
+      }
+  }
+}
+
+/* Diffusion fluxes of a manifold element: the tangential gradient
+ * g = gr J^+, q = dv k g, f_a += grad N_a . q. */
+static void manifold_diffusion(const int d, const op_block *b, const double *geo, const double *ue, double *fe,
+                               double cond) {
+  const int k = b->k;
+  for (int q = 0; q < b->nq; q++, geo += b->st) {
+    const double(*dn)[3] = b->dn[q], *jp = geo, dv = geo[k * d + d * d];
+    double gr[3] = {0}, g[3] = {0};
+    for (int a = 0; a < b->nn; a++)
+      for (int j = 0; j < k; j++) gr[j] += ue[a] * dn[a][j];
+    for (int m = 0; m < d; m++)
+      for (int j = 0; j < k; j++) g[m] += gr[j] * jp[j * d + m];
+    for (int j = 0; j < k; j++) {
+      double p = 0;
+      for (int m = 0; m < d; m++) p += jp[j * d + m] * g[m];
+      for (int a = 0; a < b->nn; a++) fe[a] += dn[a][j] * p * cond * dv;
+    }
+  }
+}
+
+/* K_e D u of the manifold elements [e0, e1) of b into y (as block_range). */
+static void manifold_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
+                           const double *in, double *y, int which) {
+  const int d = op->d, nc = op->ncomp, nn = b->nn, el = op->kind == DTM_OP_ELASTIC;
+  double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
+  for (size_t e = e0; e < e1; e++) {
+    const op_mat *mt = &op->mats[slot_of(b, e)];
+    double s = which == APPLY_BETA ? mt->beta : 1;
+    const size_t *c = b->conn + e * (size_t)nn;
+    if (s == 0) continue;
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < nc; i++) {
+        size_t kk = c[a] * (size_t)nc + (size_t)i;
+        ue[a * nc + i] = in ? u[kk] * in[kk] : u[kk], fe[a * nc + i] = 0;
+      }
+    const double *geo = b->geo + e * (size_t)b->nq * (size_t)b->st;
+    if (el)
+      manifold_elastic(d, b, geo, ue, fe, s * mt->lam, s * mt->mu);
+    else
+      manifold_diffusion(d, b, geo, ue, fe, s * mt->cond);
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < nc; i++) y[c[a] * nc + i] += fe[a * nc + i];
+  }
+}
+
 /* Add K_e D u (scaled by beta_e for APPLY_BETA; D = diag(in), or I when in
  * is NULL) of elements [e0, e1) of b into y: elastic (el = 1, d unknowns
  * per node) or diffusion (el = 0, one unknown); nnc is the node count when
@@ -586,7 +746,7 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
   const int nc = el ? d : 1, nn = nnc ? nnc : b->nn, st = d * d + 1;
   double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
   for (size_t e = e0; e < e1; e++) {
-    const op_mat *mt = &op->mats[b->mat[e]];
+    const op_mat *mt = &op->mats[slot_of(b, e)];
     double s = which == APPLY_BETA ? mt->beta : 1;
     size_t c[DTM_K_NODES];
     if (s == 0) continue;
@@ -668,7 +828,9 @@ static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0
 
 static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
                         const double *in, double *y, int which) {
-  if (op->kind == DTM_OP_ELASTIC)
+  if (b->manifold)
+    manifold_range(op, b, e0, e1, u, in, y, which);
+  else if (op->kind == DTM_OP_ELASTIC)
     elastic_block(op, b, e0, e1, u, in, y, which);
   else
     diffusion_block(op, b, e0, e1, u, in, y, which);

@@ -79,7 +79,7 @@ dtm_batch tu_batch1(int type, const double *x, const dtm_material **m) {
   static const int group = 0;
   int dim = 0, nn = 0;
   dtm_elem_info(type, &dim, &nn);
-  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m};
+  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m, NULL};
 }
 
 dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat) {
@@ -100,6 +100,7 @@ dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat
                    malloc(2 * ne * sizeof(size_t)),
                    malloc(ne * sizeof(int)),
                    malloc(ne * sizeof(int)),
+                   NULL,
                    NULL,
                    NULL};
   for (size_t e = 0; e < ne; e++) {
