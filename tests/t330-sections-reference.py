@@ -107,6 +107,15 @@ class ReinforcedBlock(unittest.TestCase):
             want = length / c
             self.assertLessEqual(abs(self.dt[tag] - want), 1e-12 * want, "rebar element %d" % tag)
 
+    def test_report_sections(self):
+        by_kind = {s["kind"]: s for s in self.rep["sections"]}
+        self.assertEqual(by_kind["truss"]["elements"], self.ref["nelements"]["truss"])
+        self.assertEqual(by_kind["membrane"]["elements"], self.ref["nelements"]["membrane"])
+        truss = by_kind["truss"]
+        self.assertLessEqual(abs(truss["anchor"]["dt_min"] - truss["dt_min"]), 1e-12 * truss["dt_min"])
+        want = self.ref["min_element_dt"]["membrane"]
+        self.assertLessEqual(abs(by_kind["membrane"]["dt_min"] - want), 1e-10 * want)
+
     def test_element_map(self):
         worst = 0.0
         for tag, want in self.ref["element_dt"].items():

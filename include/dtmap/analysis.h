@@ -241,6 +241,21 @@ DTM_EXPORT void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out);
  * whether its numbering is reproducible (all zero with reproducible = 1
  * for a hand-built mesh given to dtm_analysis_compute). */
 DTM_EXPORT const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a);
+
+/* What the elements of one scene section come to (dtm_analysis_sections). */
+typedef struct {
+  size_t elements;    /* elements with the section */
+  double dt_min;      /* smallest element step among them (the dt map), s; NaN when none */
+  size_t element;     /* Gmsh tag of that element */
+  double anchor_min;  /* smallest step by the rule explicit codes use for the kind (truss:
+                         L/sqrt(E/rho); membrane: LS-DYNA's shell step L_s/c_p, L_s = 2A/longest
+                         side on triangles, A/max(sides, diagonals) on quadrangles,
+                         c_p = sqrt(E/(rho(1 - nu^2)))), s; NaN for the other kinds or
+                         without E, nu, rho */
+  const char *anchor; /* that rule, in words ("" when none) */
+} dtm_section_stats;
+/* Stats of every scene section, out[nsections] (caller-owned). */
+DTM_EXPORT void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out);
 /* Wall time of stage t (DTM_T_*), s, and the OpenMP threads of the element
  * loop. */
 DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);

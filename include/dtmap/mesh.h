@@ -93,6 +93,14 @@ DTM_EXPORT const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e
  * in all. Elements valid at every integration point but not at a node are
  * recorded in m->flagged (replacing an earlier list). */
 DTM_EXPORT int dtm_mesh_check(dtm_mesh *m, const char *src);
+/* The dimension of the space the elements' nodes span, *d: the mesh's
+ * dimension for a 2D mesh in a plane z = const or a 1D mesh along x (within
+ * 1e-9 of the mesh's size), else the smallest that holds them (a 1D mesh in
+ * a plane z = const: 2; anything else: 3). Elements of lower dimension than
+ * *d (trusses, membranes, curved surfaces) act in their tangent line or
+ * plane. DTM_ERR_INPUT for non-finite coordinates, DTM_ERR_INTERNAL for a
+ * node index beyond the mesh. */
+DTM_EXPORT int dtm_mesh_space_dim(const dtm_mesh *m, int *d);
 DTM_EXPORT void dtm_mesh_destroy(dtm_mesh **m);
 
 #endif

@@ -106,6 +106,9 @@ const dtm_section *dtm_analysis_section(const dtm_analysis *a, const dtm_block *
  * slot = mat + nmat (section + 1); dtm_analysis_nslots of them. */
 int dtm_analysis_nslots(const dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
+/* A 2D model treated as a plane elastic problem is plane
+ * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */
+int dtm_analysis_check_planar(const dtm_analysis *a);
 /* Effect k's coefficients for slot i, with the section's factor set. */
 int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operator_coeffs *c);
 

@@ -302,6 +302,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   a->mesher = (dtm_mesher_info){0, 0, 1};
   a->x = x;
   int r = setup(a);
+  if (r == DTM_OK) r = dtm_analysis_check_planar(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
   r = dtm_x_agree(a, r);

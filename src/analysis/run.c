@@ -9,19 +9,43 @@
 #include "analysis-impl.h"
 #include "dtmap/gmsh.h"
 
+/* The dimension below m->dim of a physical group named ref, 0 if none. */
+static int lower_dim_of(const dtm_mesh *m, const char *ref) {
+  for (int d = m->dim - 1; d >= 1; d--) {
+    dtm_mesh low = {.dim = d};
+    int found = 0;
+    if (dtm_gmsh_groups(d, &low.groups, &low.ngroups)) return dtm_error_clear(), 0;
+    found = dtm_mesh_group_find(&low, ref) >= 0;
+    for (int j = 0; j < low.ngroups; j++) free(low.groups[j].name);
+    free(low.groups);
+    if (found) return d;
+  }
+  return 0;
+}
+
+static int missing_group(const dtm_scene *s, const dtm_mesh *m, const dtm_scene_material *sm, const char *ref) {
+  char list[2048] = "", lbl[64];
+  for (int j = 0; j < m->ngroups; j++)
+    if (m->groups[j].dim == m->dim) dtm_strlist_add(list, sizeof list, dtm_mesh_group_label(m, j, lbl, sizeof lbl), 1);
+  int low = lower_dim_of(m, ref);
+  if (low)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s:%d: material '%s': physical group '%s' holds %s (dimension %d), which a %dD model analyses "
+                   "only with a section: add <section groups=\"%s\" kind=\"%s\" %s=\"...\"/>",
+                   s->path, sm->m.line, sm->m.name, ref, low == 1 ? "curves" : "surfaces", low, m->dim, ref,
+                   low == 1 ? "truss" : "membrane", low == 1 ? "area" : "thickness");
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s:%d: material '%s': physical group '%s' does not exist in dimension %d; "
+                 "groups of that dimension: %s",
+                 s->path, sm->m.line, sm->m.name, ref, m->dim, list[0] ? list : "(none)");
+}
+
 /* Material of every group the scene names, and the default material. */
 static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *group_mat) {
   const dtm_scene_material *sm = &s->materials[i];
   for (int k = 0; k < sm->ngroups; k++) {
     int g = dtm_mesh_group_find(m, sm->groups[k]);
-    char list[2048] = "", lbl[64];
-    for (int j = 0; j < m->ngroups && g < 0; j++)
-      dtm_strlist_add(list, sizeof list, dtm_mesh_group_label(m, j, lbl, sizeof lbl), 1);
-    if (g < 0)
-      return DTM_ERR(DTM_ERR_INPUT,
-                     "%s:%d: material '%s': physical group '%s' does not exist in dimension %d; "
-                     "groups of that dimension: %s",
-                     s->path, sm->m.line, sm->m.name, sm->groups[k], m->dim, m->ngroups ? list : "(none)");
+    if (g < 0) return missing_group(s, m, sm, sm->groups[k]);
     if (group_mat[g] >= 0 && group_mat[g] != i)
       return DTM_ERR(DTM_ERR_INPUT, "%s:%d: material '%s': physical group '%s' already has material '%s'", s->path,
                      sm->m.line, sm->m.name, sm->groups[k], s->materials[group_mat[g]].m.name);

@@ -4,6 +4,7 @@
  * and plane-stress: the surfaces of a 2D model; membrane: surfaces, in 2D
  * or 3D; truss: curves); after extraction each sectioned group holds
  * elements. Every error names the scene file and line of the section. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -25,18 +26,19 @@ static int suits(int k, int gd, int dim) {
   return !(k == DTM_SECTION_PLANE_STRAIN || k == DTM_SECTION_PLANE_STRESS) || dim == 2;
 }
 
+/* ref NULL: the default section, which applies to the model's elements. */
 static int wrong_dim(const dtm_scene *s, const dtm_section *sec, const char *ref, int gd, int dim) {
   const char *kind = dtm_section_kind_name(sec->kind);
+  char where[128];
+  snprintf(where, sizeof where, ref ? "on group '%s'" : "(the default)", ref);
   if (gd == 2 && dtm_section_dim(sec->kind) == 2)
     return DTM_ERR(DTM_ERR_INPUT,
-                   "%s:%d: section (%s) on group '%s': a %s section is for a 2D model; the model is analysed in "
+                   "%s:%d: section (%s) %s: a %s section is for a 2D model; the model is analysed in "
                    "%dD, where surfaces are membranes (kind=\"membrane\" thickness=\"...\")",
-                   s->path, sec->line, kind, ref, kind, dim);
-  return DTM_ERR(DTM_ERR_INPUT,
-                 "%s:%d: section (%s) on group '%s': the group holds %s (dimension %d), a %s section needs %s "
-                 "(dimension %d)",
-                 s->path, sec->line, kind, ref, dim_noun(gd), gd, kind, dim_noun(dtm_section_dim(sec->kind)),
-                 dtm_section_dim(sec->kind));
+                   s->path, sec->line, kind, where, kind, dim);
+  return DTM_ERR(DTM_ERR_INPUT, "%s:%d: section (%s) %s: %s %s (dimension %d), a %s section needs %s (dimension %d)",
+                 s->path, sec->line, kind, where, ref ? "the group holds" : "the model is analysed on its",
+                 dim_noun(gd), gd, kind, dim_noun(dtm_section_dim(sec->kind)), dtm_section_dim(sec->kind));
 }
 
 static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *gs, int *def) {
@@ -106,4 +108,56 @@ int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operat
   DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[slot % nm].m, s, c));
   c->section_factor = dtm_section_factor(s);
   return DTM_OK;
+}
+
+/* Largest distance between two of the first nc nodes of x (sides and,
+ * on quadrangles, diagonals). */
+static double longest_chord(const double *x, int nc) {
+  double mx = 0;
+  for (int i = 0; i < nc; i++)
+    for (int j = i + 1; j < nc; j++) {
+      double d2 = 0;
+      for (int k = 0; k < 3; k++) d2 += (x[3 * i + k] - x[3 * j + k]) * (x[3 * i + k] - x[3 * j + k]);
+      mx = fmax(mx, sqrt(d2));
+    }
+  return mx;
+}
+
+/* The anchor rule's step of element e of block b (material m), NaN when
+ * the kind has none. */
+static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, const dtm_section *sec) {
+  const dtm_material *m = &a->scene->materials[b->mat[e]].m;
+  double E = dtm_material_value(m, "E"), nu = dtm_material_value(m, "nu"), rho = dtm_material_value(m, "rho");
+  double x[3 * DTM_MAX_NODES];
+  dtm_block one = *b;
+  one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
+  dtm_mesh_gather(a->mesh, &one, x);
+  if (sec->kind == DTM_SECTION_TRUSS) return longest_chord(x, 2) / sqrt(E / rho);
+  if (sec->kind != DTM_SECTION_MEMBRANE) return NAN;
+  int tri = b->type == DTM_TRI3 || b->type == DTM_TRI6, nc = tri ? 3 : 4;
+  double area = fabs(dtm_elem_measure(b->type, x));
+  return (tri ? 2 : 1) * area / longest_chord(x, nc) / sqrt(E / (rho * (1 - nu * nu)));
+}
+
+void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
+  const double *dt = dtm_analysis_dt(a);
+  for (int i = 0; i < a->scene->nsections; i++) {
+    int k = a->scene->sections[i].kind;
+    out[i] = (dtm_section_stats){0, NAN, 0, NAN,
+                                 k == DTM_SECTION_TRUSS      ? "L/c, c = sqrt(E/rho)"
+                                 : k == DTM_SECTION_MEMBRANE ? "LS-DYNA shell step L_s/c_p"
+                                                             : ""};
+  }
+  size_t g = 0;
+  for (int b = 0; b < a->mesh->nblocks; b++)
+    for (size_t e = 0; e < a->mesh->blocks[b].n; e++, g++) {
+      const dtm_block *blk = &a->mesh->blocks[b];
+      const dtm_section *sec = dtm_analysis_section(a, blk, e);
+      if (!sec) continue;
+      dtm_section_stats *st = &out[sec - a->scene->sections];
+      st->elements++;
+      if (!(dt[g] >= st->dt_min)) st->dt_min = dt[g], st->element = blk->tags[e];
+      double an = anchor_step(a, blk, e, sec);
+      if (isfinite(an) && !(an >= st->anchor_min)) st->anchor_min = an;
+    }
 }

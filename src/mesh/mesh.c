@@ -1,9 +1,11 @@
 /* dtm_mesh helpers that do not need Gmsh: counts, group look-up, gathering
  * element coordinates, destruction. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/error.h"
 #include "dtmap/mesh.h"
 
 size_t dtm_mesh_nelements(const dtm_mesh *m) {
@@ -73,4 +75,40 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
   free(m->xyz);
   free(m);
   *pm = NULL;
+}
+
+/* Extent of the nodes the elements use, per component, into ext[3];
+ * -1 for a node index out of range. */
+static int node_extent(const dtm_mesh *m, double ext[3]) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int ib = 0; ib < m->nblocks; ib++) {
+    const dtm_block *b = &m->blocks[ib];
+    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) {
+      if (b->conn[k] >= m->nnodes) return -1;
+      for (int i = 0; i < 3; i++) {
+        double x = m->xyz[3 * b->conn[k] + i];
+        lo[i] = fmin(lo[i], x), hi[i] = fmax(hi[i], x);
+      }
+    }
+  }
+  for (int i = 0; i < 3; i++) ext[i] = hi[i] >= lo[i] ? hi[i] - lo[i] : 0;
+  return 0;
+}
+
+/* The space the unknowns live in, *d: the mesh's dimension when its
+ * nodes allow (a 2D mesh in a plane z = const, a 1D mesh along x), else the
+ * smallest that holds them (a 1D mesh in a plane z = const: 2; anything
+ * else: 3). Elements of lower dimension than *d are manifold elements. */
+int dtm_mesh_space_dim(const dtm_mesh *m, int *d) {
+  double ext[3], size;
+  if (node_extent(m, ext))
+    return DTM_ERR(DTM_ERR_INTERNAL,
+                   "element connectivity refers to a node beyond the "
+                   "mesh's %zu nodes",
+                   m->nnodes);
+  size = fmax(ext[0], fmax(ext[1], ext[2]));
+  if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
+  int flat_z = ext[2] <= 1e-9 * size, flat_y = ext[1] <= 1e-9 * size;
+  *d = m->dim == 3 || !flat_z ? 3 : m->dim == 2 || !flat_y ? 2 : 1;
+  return DTM_OK;
 }

@@ -371,7 +371,10 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON *mesh = cJSON_CreateObject();
   cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
   cJSON_AddNumberToObject(mesh, "nodes", (double)dtm_analysis_mesh(a)->nnodes);
+  int space = dtm_analysis_mesh(a)->dim;
+  if (dtm_mesh_space_dim(dtm_analysis_mesh(a), &space)) dtm_error_clear();
   cJSON_AddNumberToObject(mesh, "dim", dtm_analysis_mesh(a)->dim);
+  cJSON_AddNumberToObject(mesh, "space_dim", space);
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(mi->algorithm));
   cJSON_AddNumberToObject(mesh, "threads", mi->threads);
@@ -404,6 +407,36 @@ static cJSON *invalid_json(const dtm_analysis *a) {
   return o;
 }
 
+/* Per scene section: kind, groups, thickness or area, and what its
+ * elements come to (dtm_analysis_sections). */
+static cJSON *sections_json(const dtm_analysis *a) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  dtm_section_stats *st = calloc((size_t)s->nsections + 1, sizeof *st);
+  cJSON *arr = cJSON_CreateArray();
+  if (!st) return arr;
+  dtm_analysis_sections(a, st);
+  for (int i = 0; i < s->nsections; i++) {
+    const dtm_section *sec = &s->sections[i];
+    cJSON *o = cJSON_CreateObject(), *groups = cJSON_AddArrayToObject(o, "groups");
+    cJSON_AddStringToObject(o, "kind", dtm_section_kind_name(sec->kind));
+    for (int g = 0; g < sec->ngroups; g++) cJSON_AddItemToArray(groups, cJSON_CreateString(sec->groups[g]));
+    cJSON_AddBoolToObject(o, "default", sec->is_default);
+    if (sec->thickness > 0) cJSON_AddNumberToObject(o, "thickness", sec->thickness);
+    if (sec->area > 0) cJSON_AddNumberToObject(o, "area", sec->area);
+    cJSON_AddNumberToObject(o, "elements", (double)st[i].elements);
+    if (isfinite(st[i].dt_min)) cJSON_AddNumberToObject(o, "dt_min", st[i].dt_min);
+    if (isfinite(st[i].dt_min)) cJSON_AddNumberToObject(o, "element", (double)st[i].element);
+    if (isfinite(st[i].anchor_min)) {
+      cJSON *an = cJSON_AddObjectToObject(o, "anchor");
+      cJSON_AddStringToObject(an, "rule", st[i].anchor);
+      cJSON_AddNumberToObject(an, "dt_min", st[i].anchor_min);
+    }
+    cJSON_AddItemToArray(arr, o);
+  }
+  free(st);
+  return arr;
+}
+
 static cJSON *report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
@@ -416,6 +449,7 @@ static cJSON *report_json(const dtm_results *r) {
   cJSON_AddItemToObject(root, "dt", dt_json(a));
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   cJSON_AddItemToObject(root, "invalid_elements", invalid_json(a));
+  if (dtm_analysis_scene(a)->nsections) cJSON_AddItemToObject(root, "sections", sections_json(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));

@@ -24,12 +24,41 @@ static const char *group_name(const dtm_analysis *a, size_t i, char *lbl, size_t
   return dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, i), lbl, len);
 }
 
+/* One line per scene section: its groups and kind, element count, the
+ * smallest element step and the anchor rule's smallest step. */
+static void print_sections(const dtm_analysis *a, FILE *f) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  dtm_section_stats *st = calloc((size_t)s->nsections + 1, sizeof *st);
+  if (!st) return;
+  dtm_analysis_sections(a, st);
+  for (int i = 0; i < s->nsections; i++) {
+    const dtm_section *sec = &s->sections[i];
+    fprintf(f, "%s", i ? "             " : "sections     ");
+    for (int g = 0; g < sec->ngroups; g++) fprintf(f, "%s%s", g ? " " : "", sec->groups[g]);
+    fprintf(f, "%s%s: %s", sec->ngroups ? "" : "(default)", sec->is_default && sec->ngroups ? " (default)" : "",
+            dtm_section_kind_name(sec->kind));
+    if (sec->area > 0) fprintf(f, ", A %.4g m^2", sec->area);
+    if (sec->thickness > 0 && sec->kind != DTM_SECTION_SOLID) fprintf(f, ", t %.4g m", sec->thickness);
+    fprintf(f, ", %zu elements", st[i].elements);
+    if (isfinite(st[i].dt_min)) fprintf(f, ", element bound %.4e s", st[i].dt_min);
+    if (isfinite(st[i].anchor_min)) fprintf(f, " (%s: %.4e s)", st[i].anchor, st[i].anchor_min);
+    fprintf(f, "\n");
+  }
+  free(st);
+}
+
 static void print_counts(const dtm_analysis *a, FILE *f) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   fprintf(f, "mesh         %zu elements (", dtm_analysis_nelements(a));
   for (int b = 0; b < m->nblocks; b++)
     fprintf(f, "%s%s %zu", b ? ", " : "", dtm_elem_name(m->blocks[b].type), m->blocks[b].n);
-  fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
+  int space = m->dim;
+  if (dtm_mesh_space_dim(m, &space)) dtm_error_clear();
+  if (space > m->dim)
+    fprintf(f, "), %zu nodes, analysed in %dD (elements of dimension %d and below)\n", m->nnodes, space, m->dim);
+  else
+    fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
+  print_sections(a, f);
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   if (!mi->reproducible)
     fprintf(f, "mesher       %s on %d thread%s: another run may number (and count) the elements differently\n",

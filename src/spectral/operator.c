@@ -109,42 +109,6 @@ static const char *tag_text(const op_block *b, size_t e, char *buf, size_t n) {
   return buf;
 }
 
-/* Extent of the nodes the elements use, per component, into ext[3];
- * -1 for a node index out of range. */
-static int node_extent(const dtm_mesh *m, double ext[3]) {
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int ib = 0; ib < m->nblocks; ib++) {
-    const dtm_block *b = &m->blocks[ib];
-    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) {
-      if (b->conn[k] >= m->nnodes) return -1;
-      for (int i = 0; i < 3; i++) {
-        double x = m->xyz[3 * b->conn[k] + i];
-        lo[i] = fmin(lo[i], x), hi[i] = fmax(hi[i], x);
-      }
-    }
-  }
-  for (int i = 0; i < 3; i++) ext[i] = hi[i] >= lo[i] ? hi[i] - lo[i] : 0;
-  return 0;
-}
-
-/* The space the unknowns live in, *d: the mesh's dimension when its
- * nodes allow (a 2D mesh in a plane z = const, a 1D mesh along x), else the
- * smallest that holds them (a 1D mesh in a plane z = const: 2; anything
- * else: 3). Elements of lower dimension than *d are manifold elements. */
-static int ambient_dim(const dtm_mesh *m, int *d) {
-  double ext[3], size;
-  if (node_extent(m, ext))
-    return DTM_ERR(DTM_ERR_INTERNAL,
-                   "element connectivity refers to a node beyond the "
-                   "mesh's %zu nodes",
-                   m->nnodes);
-  size = fmax(ext[0], fmax(ext[1], ext[2]));
-  if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
-  int flat_z = ext[2] <= 1e-9 * size, flat_y = ext[1] <= 1e-9 * size;
-  *d = m->dim == 3 || !flat_z ? 3 : m->dim == 2 || !flat_y ? 2 : 1;
-  return DTM_OK;
-}
-
 static int check_args(const dtm_mesh *m, int kind, const dtm_operator_coeffs *c, int nmat, dtm_operator **out) {
   if (!out) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_operator_create: no output");
   *out = NULL;
@@ -497,7 +461,7 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
                                  const double *beta, int nmat, int nsec, dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   int d;
-  DTM_CHECK(ambient_dim(mesh, &d));
+  DTM_CHECK(dtm_mesh_space_dim(mesh, &d));
   dtm_operator *op = calloc(1, sizeof *op);
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->kind = kind, op->d = d, op->nmat_base = nmat, op->nsec = nsec, op->nmat = nmat * (nsec + 1);
