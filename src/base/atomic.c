@@ -12,7 +12,15 @@
  * whose PID no longer runs (both, so a temporary that is being created is
  * never taken for stale). Temporaries in use are also listed here, so a
  * SIGINT/SIGTERM/SIGHUP handler can remove them (dtm_atomic_cleanup_signal,
- * async-signal-safe). */
+ * async-signal-safe).
+ *
+ * A write that fails names the target (not only its temporary) and the
+ * reason. stdio's errno of the first failed write may be overwritten by the
+ * time the error is noticed, so the reason is what the system says when the
+ * stream is flushed, or written to, again (the temporary is given up
+ * anyway). A file a library wrote by name (Gmsh, PLplot: they do not check
+ * their writes) counts as failed when the evidence says so: it reached the
+ * process's file size limit, or its file system has no space left. */
 #define _DEFAULT_SOURCE /* flock() */
 #include <dirent.h>
 #include <errno.h>
@@ -22,12 +30,18 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include "dtmap/error.h"
 #include "dtmap/util.h"
 
 #define ACTIVE_MAX 8 /* temporaries of this process a signal can remove */
+#include "base.h"
+
+#define CAUSE_UNKNOWN DTM_WRITE_CAUSE_UNKNOWN /* a write failed, but writing again succeeds */
 
 static char active[ACTIVE_MAX][DTM_PATH_MAX + 64]; /* "" when free */
 
@@ -93,7 +107,7 @@ static void remove_stale(const char *path) {
 }
 
 static int open_fail(dtm_atomic *w, const char *path, int e) {
-  if (w->fd >= 0) close(w->fd), unlink(w->tmp);
+  if (w->fd >= 0) close(w->fd), unlink(w->tmp), untrack(w->tmp);
   w->fd = -1;
   w->tmp[0] = '\0';
   return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(e));
@@ -115,17 +129,61 @@ int dtm_atomic_open(dtm_atomic *w, const char *path, const char *suffix, int str
   return DTM_OK;
 }
 
+/* The errno of writing to f again, whose writes failed: flushing what it
+ * still holds, else writing more; CAUSE_UNKNOWN when both succeed now. */
+int dtm_write_errno(FILE *f) {
+  static const char pad[1 << 16]; /* more than a block: needs a new one */
+  clearerr(f);
+  errno = 0;
+  if (!fflush(f) && fwrite(pad, 1, sizeof pad, f) == sizeof pad && !fflush(f)) return CAUSE_UNKNOWN;
+  return errno ? errno : CAUSE_UNKNOWN;
+}
+
+/* Whether a library's writes to the file open at fd failed, from what they
+ * left: the file reached this process's size limit (EFBIG), or its file
+ * system has no space left for this user (ENOSPC); else 0. */
+static int evidence_errno(int fd) {
+  struct stat st;
+  struct rlimit rl;
+  struct statvfs fs;
+  if (!fstat(fd, &st) && !getrlimit(RLIMIT_FSIZE, &rl) && rl.rlim_cur != RLIM_INFINITY &&
+      (unsigned long long)st.st_size >= (unsigned long long)rl.rlim_cur)
+    return EFBIG;
+  if (!fstatvfs(fd, &fs) && fs.f_blocks > 0 && (geteuid() ? fs.f_bavail : fs.f_bfree) == 0) return ENOSPC;
+  return 0;
+}
+
+/* The reason for the message: strerror(e), with the limit behind EFBIG. */
+const char *dtm_write_reason(int e, char *buf, size_t len) {
+  struct rlimit rl;
+  if (e == CAUSE_UNKNOWN)
+    snprintf(buf, len, "a write failed, and writing again succeeds: the system gives no reason");
+  else if (e == EFBIG && !getrlimit(RLIMIT_FSIZE, &rl) && rl.rlim_cur != RLIM_INFINITY)
+    snprintf(buf, len, "%s (this process may write files of at most %llu bytes: ulimit -f)", strerror(e),
+             (unsigned long long)rl.rlim_cur);
+  else
+    snprintf(buf, len, "%s", strerror(e));
+  return buf;
+}
+
+/* 0 when every write to w's temporary succeeded, else why not; closes w->f. */
+static int write_status(dtm_atomic *w) {
+  if (!w->f) return w->fd >= 0 ? evidence_errno(w->fd) : 0;
+  int e = ferror(w->f) ? dtm_write_errno(w->f) : 0;
+  errno = 0;
+  if (fclose(w->f) && !e) e = errno ? errno : CAUSE_UNKNOWN;
+  w->f = NULL;
+  return e;
+}
+
 int dtm_atomic_commit(dtm_atomic *w) {
-  int e = 0;
-  if (w->f) {
-    if (ferror(w->f)) e = errno ? errno : EIO;
-    if (fclose(w->f) != 0 && !e) e = errno ? errno : EIO;
-    w->f = NULL;
-  }
+  char why[256];
+  int e = write_status(w);
   if (!e && rename(w->tmp, w->path)) e = errno;
   if (e) {
+    dtm_write_reason(e, why, sizeof why);
     dtm_atomic_abort(w);
-    return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", w->path, strerror(e));
+    return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", w->path, why);
   }
   untrack(w->tmp);
   if (w->fd >= 0) close(w->fd);

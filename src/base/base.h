@@ -1,6 +1,6 @@
 /* The base layer's interface to the rest of libdtmap (internal, hidden):
  * the seeded random generator, carrying the first error out of an OpenMP
- * region, building "'a', 'b', 'c'" lists for messages, and the memory limit of
+ * region, building "'a', 'b', 'c'" lists for messages, why a write failed, and the memory limit of
  * the kill switches. The public part
  * of the base layer is include/dtmap/error.h and include/dtmap/util.h. */
 #ifndef DTMAP_BASE_H
@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "dtmap/error.h"
 #include "dtmap/util.h"
@@ -38,6 +39,15 @@ int dtm_par_error_raise(const dtm_par_error *pe);
 /* Append item to the list in buf, quoted as 'item' when quote is set, after
  * ", " when buf is not empty; truncates silently at len. */
 void dtm_strlist_add(char *buf, size_t len, const char *item, int quote);
+
+/* Why writes to f failed (f's error flag is set): the errno of flushing it
+ * again, else of writing 64 KiB more; DTM_WRITE_CAUSE_UNKNOWN when both
+ * succeed now (src/base/atomic.c). */
+#define DTM_WRITE_CAUSE_UNKNOWN (-1)
+int dtm_write_errno(FILE *f);
+/* The reason for a message, into buf: strerror(e), with the size limit
+ * behind EFBIG (ulimit -f); returns buf. */
+const char *dtm_write_reason(int e, char *buf, size_t len);
 
 /* Bytes this process may use at most: the smallest of the machine's
  * physical memory, the cgroup limit and the rlimits (memory.c). */

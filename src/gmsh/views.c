@@ -5,7 +5,13 @@
  * for a views-only file, just the format header and the views, which Gmsh
  * merges on top of the mesh it already has open. No Gmsh view is created
  * for a file. Or added to the open session of a script, where they stay as
- * Gmsh views, with their display options. */
+ * Gmsh views, with their display options.
+ *
+ * A failed write names the file and the system's reason. Gmsh's writer
+ * does not check its writes, so a mesh it could not finish is recognised by
+ * its end (every .msh section ends with a "$End..." line); the reason, for
+ * Gmsh's writes as for dtmap's own stream, is what the system says when the
+ * file is written to again (the caller gives the file up anyway). */
 #include <errno.h>
 #include <gmshc.h>
 #include <math.h>
@@ -15,8 +21,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "dtmap/gmsh.h"
+#include "base.h"
 #include "gmsh-impl.h"
 
 /* The options dtm_gmsh_write_mesh sets, given back their values after. */
@@ -31,6 +39,44 @@ static void swap_options(const double *set, double *old) {
   }
 }
 
+/* ---- write failures ---------------------------------------------------- */
+
+/* Raise "<path>: cannot write <what>: <reason>" for f, whose writes failed,
+ * in place of the error its writer raised (which names neither). */
+static int stream_fail(FILE *f, const char *path, const char *what) {
+  char why[256];
+  dtm_write_reason(dtm_write_errno(f), why, sizeof why);
+  dtm_error_clear();
+  return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write %s: %s", path, what, why);
+}
+
+/* Whether the file at path ends as a .msh does: its last line starts with
+ * "$End". */
+static int msh_complete(const char *path) {
+  char tail[64];
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  int whole = fseek(f, -(long)sizeof tail, SEEK_END) != 0;
+  if (whole) fseek(f, 0, SEEK_SET);
+  size_t n = fread(tail, 1, sizeof tail, f), i = n > 0 ? n - 1 : 0;
+  fclose(f);
+  if (n < 5 || tail[n - 1] != '\n') return 0;
+  while (i > 0 && tail[i - 1] != '\n') i--;
+  return (i > 0 || whole) && n - i > 4 && !strncmp(tail + i, "$End", 4);
+}
+
+/* Gmsh's mesh at path is whole, else the error with the reason. */
+static int check_mesh_written(const char *path) {
+  if (msh_complete(path)) return DTM_OK;
+  FILE *f = fopen(path, "ab");
+  if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write the mesh: %s", path, strerror(errno));
+  int r = stream_fail(f, path, "the mesh");
+  fclose(f);
+  return r;
+}
+
+/* ---- the .msh --------------------------------------------------------- */
+
 int dtm_gmsh_write_mesh(const char *path, int binary) {
   int ierr = 0;
   const double set[NWRITE_OPTIONS] = {1, binary ? 1 : 0, 4.1};
@@ -39,7 +85,7 @@ int dtm_gmsh_write_mesh(const char *path, int binary) {
   gmshWrite(path, &ierr);
   swap_options(old, NULL);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
-  return DTM_OK;
+  return check_mesh_written(path);
 }
 
 void dtm_gmsh_release(void) {
@@ -57,12 +103,30 @@ int dtm_gmsh_write(const char *path, const dtm_view *views, int nviews, const dt
   return dtm_gmsh_write_views(path, views, nviews, fmt);
 }
 
+/* Write the views to f (after the header of a views-only file). */
+static int put_views(FILE *f, const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
+  if (fmt->views_only && dtm_msh_header(f, fmt->binary)) return stream_fail(f, path, "the format header");
+  for (int i = 0; i < nviews; i++) {
+    int r = dtm_msh_write_view(f, &views[i], fmt->binary, fmt->partition);
+    if (r && !ferror(f)) return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+    if (r) {
+      char what[160];
+      snprintf(what, sizeof what, "view '%s'", views[i].name);
+      return stream_fail(f, path, what);
+    }
+  }
+  return DTM_OK;
+}
+
 int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt) {
   FILE *f = fopen(path, fmt->views_only ? "wb" : "ab");
   if (!f) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
-  int r = fmt->views_only && dtm_msh_header(f, fmt->binary) ? DTM_ERR(DTM_ERR_INPUT, "%s: cannot write", path) : DTM_OK;
-  for (int i = 0; i < nviews && r == DTM_OK; i++) r = dtm_msh_write_view(f, &views[i], fmt->binary, fmt->partition);
-  if (fclose(f) && r == DTM_OK) r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+  char why[256];
+  int r = put_views(f, path, views, nviews, fmt);
+  errno = 0;
+  if (fclose(f) && r == DTM_OK)
+    r = DTM_ERR(DTM_ERR_INPUT, "%s: cannot write the views: %s", path,
+                dtm_write_reason(errno ? errno : EIO, why, sizeof why));
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 

@@ -7,7 +7,11 @@
  * caller's choice, else the scene's <output format>, else binary above
  * DTM_BINARY_ABOVE elements and ASCII below (small files stay readable).
  * The scene's input mesh is never overwritten. The same views, styled the
- * same way, can instead be added to the open Gmsh session of a script. */
+ * same way, can instead be added to the open Gmsh session of a script.
+ *
+ * A write that fails says so about the target the user named, not about
+ * its temporary, and leaves both older files (.msh and .opt) as they were:
+ * the .opt is written before the .msh is renamed into place. */
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -20,6 +24,34 @@
 #include "dtmap/util.h"
 
 static int check_target(const dtm_scene *s, const char *path) { return dtm_output_path_check(s, path, ".msh", NULL); }
+
+/* Raise code with text, keeping the traceback of the pending error (lines
+ * "file:line in func"). */
+static int reraise(int code, const char *text) {
+  char trace[4096], file[512], func[128];
+  int line, raised = 0;
+  snprintf(trace, sizeof trace, "%s", dtm_error_traceback());
+  dtm_error_clear();
+  char *save = NULL;
+  for (char *l = strtok_r(trace, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+    if (sscanf(l, "%511[^:]:%d in %127s", file, &line, func) != 3) continue;
+    if (raised++)
+      dtm_error_trace(code, file, line, func);
+    else
+      dtm_error_raise(code, file, line, func, "%s", text);
+  }
+  return raised ? code : DTM_ERR(code, "%s", text);
+}
+
+/* The pending error r of a write to w's temporary, naming w's target
+ * instead: the user's path, which keeps its older file. */
+static int name_target(int r, const dtm_atomic *w) {
+  const char *msg = dtm_error_message(), *at = r ? strstr(msg, w->tmp) : NULL;
+  if (!at) return r;
+  char text[8192];
+  snprintf(text, sizeof text, "%.*s%s%s", (int)(at - msg), msg, w->path, at + strlen(w->tmp));
+  return reraise(r, text);
+}
 
 /* Node data over the nodes that carry a finite value. */
 static size_t node_view(const dtm_mesh *m, const double *src, size_t *tags, double *vals) {
@@ -323,18 +355,19 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, const 
  * many were loaded before: scalar views unlit, steps on a log scale (viridis:
  * dark is small), colour bars in s or m, dt visible (faint in 3D, where the
  * below-target view shows the worst elements inside), the others hidden
- * until ticked, the mesh wireframe off; then a text view with the figures. */
+ * until ticked, the mesh wireframe off; then a text view with the figures.
+ * Written to the temporary w, opened here and flushed; the caller commits it
+ * once X.msh is in place (a failure here removes it and leaves both). */
 static int write_opt(const char *path, const dtm_results *r, const dtm_output_part *part, const view_set *vs,
-                     int nviews) {
+                     int nviews, dtm_atomic *w) {
   char opt[DTM_PATH_MAX + 8];
-  dtm_atomic w;
   int dim = dtm_analysis_mesh(r->analysis)->dim;
   size_t nbelow = 0;
   for (int i = 0; i < nviews; i++)
     if (is_below(vs->views[i].name)) nbelow = vs->views[i].n;
   snprintf(opt, sizeof opt, "%s.opt", path);
-  DTM_CHECK(dtm_atomic_open(&w, opt, "", 1));
-  FILE *f = w.f;
+  DTM_CHECK(dtm_atomic_open(w, opt, "", 1));
+  FILE *f = w->f;
   const char *base = strrchr(path, '/');
   fprintf(f, "// Written by dtmap: styles the %d views of %s, counted back from the last view loaded.\n", nviews,
           base ? base + 1 : path);
@@ -347,7 +380,8 @@ static int write_opt(const char *path, const dtm_results *r, const dtm_output_pa
   annotated_of(r->analysis, part, nbelow, &n);
   annotation(f, r, vs, &n);
   fprintf(f, "View[PostProcessing.NbViews - 1].Visible = 1;\n");
-  return dtm_atomic_commit(&w);
+  if (fflush(f) || ferror(f)) return dtm_atomic_commit(w); /* fails: removes it, names it and the reason */
+  return DTM_OK;
 }
 
 /* The encoding of the output: the caller's, else the scene's, else by size. */
@@ -385,7 +419,7 @@ int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts
   int r = dtm_atomic_open(&f->w, path, ".msh", 0);
   if (r == DTM_OK && !f->fmt.views_only) {
     dtm_progress_begin("writing the mesh");
-    r = dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary);
+    r = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w);
     dtm_progress_end();
     if (r) dtm_atomic_abort(&f->w);
   }
@@ -404,14 +438,16 @@ void dtm_output_abort(dtm_output_file **pf) {
 int dtm_output_finish(dtm_output_file **pf, const dtm_results *res) {
   dtm_output_file *f = *pf;
   view_set vs = {0};
-  int nviews = 0, r = build_views(res, f->part, &vs, &nviews);
+  dtm_atomic opt = {.fd = -1};
+  int nviews = 0, r = build_views(res, f->part, &vs, &nviews), with_opt = !f->part || f->part->part == 1;
   if (r == DTM_OK) {
     dtm_progress_begin("writing the views");
-    r = dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt);
+    r = name_target(dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt), &f->w);
     dtm_progress_end();
   }
+  if (r == DTM_OK && with_opt) r = write_opt(f->w.path, res, f->part, &vs, nviews, &opt);
   r = r ? (dtm_atomic_abort(&f->w), r) : dtm_atomic_commit(&f->w);
-  if (r == DTM_OK && (!f->part || f->part->part == 1)) r = write_opt(f->w.path, res, f->part, &vs, nviews);
+  if (with_opt) r = r ? (dtm_atomic_abort(&opt), r) : dtm_atomic_commit(&opt);
   free_views(&vs);
   free(f);
   *pf = NULL;
