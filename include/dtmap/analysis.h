@@ -100,6 +100,24 @@ typedef struct {
                      angle into well-shaped elements meeting the target, m */
 } dtm_shape_limited;
 
+/* Elements limited by the thickness of the part they are in (shape-limited
+ * with the thin feature: two boundaries closer than the size the target
+ * needs), gathered per physical group: no mesh of that layer reaches the
+ * target there (src/analysis/layers.c). */
+typedef struct {
+  int group;         /* mesh group index (-1: in no group) */
+  size_t elements;   /* its thickness-limited elements */
+  double thickness;  /* the smallest local thickness among them (the gap between the two
+                        boundaries at their corners), m */
+  double reach;      /* the best own safe step any mesh of the layer reaches there: the
+                        smallest reach of its elements (safety included), s */
+  size_t worst;      /* global index of its element with the smallest step */
+  double size;       /* mean size of those elements (mean edge), m */
+  double shell_step; /* LS-DYNA's shell (or, in 2D, beam) rule at that size, size / c_p
+                        with c_p = sqrt(E/(rho(1 - nu^2))) of the group's material, s;
+                        NaN without E, nu, rho */
+} dtm_layer;
+
 /* Stages the analysis times, s. */
 enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_COUNT };
 
@@ -231,6 +249,9 @@ DTM_EXPORT const dtm_geo *dtm_analysis_geo(const dtm_analysis *a);
  * in 2D; 1 in 1D). */
 DTM_EXPORT double dtm_analysis_mesh_spread(int dim);
 DTM_EXPORT const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n);
+/* The groups with thickness-limited elements, *n of them (none without a
+ * target). */
+DTM_EXPORT const dtm_layer *dtm_analysis_layers(const dtm_analysis *a, size_t *n);
 /* The minima of effect k. */
 DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, int k);
 /* The global estimate of effect k, or NULL when it was not computed. */

@@ -82,6 +82,8 @@ typedef struct dtm_cost {
   dtm_mass_scaling *mass;         /* to reach the scene's target from the basis, or NULL */
   dtm_mass_scaling *shape_mass;   /* the mass the shape-limited elements' nodes need
                                      to reach the target, or NULL when none */
+  dtm_mass_scaling *layer_mass;   /* the same for the thickness-limited ones only (per
+                                     group: group_added), or NULL when none */
 } dtm_cost;
 
 /* The cost of analysis a: subcycling levels always; mass scaling when the

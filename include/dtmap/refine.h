@@ -35,8 +35,11 @@ enum {
   DTM_REFINE_COST_ROSE = 2,  /* a round cost more than the input without meeting it */
   DTM_REFINE_ONLY_SHAPE = 3, /* only shape-limited elements remain below it */
   DTM_REFINE_BUDGET = 4,     /* the round budget is spent */
-  DTM_REFINE_SHAPE_CAP = 5   /* shape-limited elements cap the step, and a round
+  DTM_REFINE_SHAPE_CAP = 5,  /* shape-limited elements cap the step, and a round
                                 around them did not beat the kept mesh */
+  DTM_REFINE_THICKNESS = 6   /* elements the thickness of their layer caps are below the
+                                target: no mesh of that layer reaches it (checked before
+                                any remesh) */
 };
 
 typedef struct dtm_refine_result {

@@ -55,6 +55,8 @@ struct dtm_analysis {
   size_t below;               /* elements whose safety x local step < target */
   dtm_shape_limited *shape;   /* [nshape] the shape-limited ones among them */
   size_t nshape;
+  dtm_layer *layers;          /* [nlayers] the groups with thickness-limited elements */
+  size_t nlayers;
   const char *basis;           /* what recommended rests on: "element bound",
                                   "nodal bound" or "global estimate" */
   dtm_global_info *global;     /* [neffects], filled by dtm_analysis_estimate_global */
@@ -87,6 +89,8 @@ int dtm_local_steps(dtm_analysis *a);
 /* Elements below the target: how many, and which are shape-limited
  * (shape.c); needs a->local, and a->geo for the features. */
 int dtm_shape_classify(dtm_analysis *a);
+/* The thickness-limited elements per group, from a->shape (layers.c). */
+int dtm_layers_gather(dtm_analysis *a);
 /* The step of element i's limiting effects (damping applied, before
  * safety) if its nodes were at x instead, s (shape.c). */
 int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double *x, double *dt);

@@ -335,6 +335,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->local);
   free(a->forced);
   free(a->shape);
+  free(a->layers);
   dtm_gmsh_geo_destroy(&a->geo);
   for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
   free(a->dt_bare);

@@ -317,6 +317,83 @@ static void remedy(const dtm_analysis *a, size_t i, const feature *f, double qr,
   if (split <= f->size) s->remedy = DTM_REMEDY_SPLIT, s->split = split;
 }
 
+#define PATCH_MAX 256 /* boundary nodes of the patch around an element considered */
+
+/* The boundary nodes (on a model entity below the mesh's dimension) of
+ * the patch around element i: the corners of every element of its group
+ * that shares a node with it (a layer is a group: the neighbours across an
+ * interface are not in it); into v[PATCH_MAX], returns how many. */
+static int patch_boundary(const dtm_analysis *a, const judge_ctx *jc, size_t i, size_t *v) {
+  corners c;
+  int n = 0, g = dtm_analysis_group(a, i);
+  get_corners(a, i, &c);
+  for (int k = 0; k < c.nc; k++)
+    for (size_t p = jc->inc.start[c.v[k]]; p < jc->inc.start[c.v[k] + 1]; p++) {
+      corners d;
+      if (dtm_analysis_group(a, jc->inc.list[p]) != g) continue;
+      get_corners(a, jc->inc.list[p], &d);
+      for (int j = 0; j < d.nc && n < PATCH_MAX; j++) {
+        int seen = a->geo->node_dim[d.v[j]] >= a->mesh->dim;
+        for (int q = 0; q < n && !seen; q++) seen = v[q] == d.v[j];
+        if (!seen) v[n++] = d.v[j];
+      }
+    }
+  return n;
+}
+
+/* How thin the part is at element i: the smallest distance between two
+ * nodes of its patch on boundaries that do not touch (a layer one or two
+ * elements across shows both of its faces there), +inf when none; *dim,
+ * *tag get one of the two boundaries. */
+static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *dim, int *tag) {
+  const dtm_geo *g = a->geo;
+  size_t v[PATCH_MAX];
+  int n = patch_boundary(a, jc, i, v);
+  double best = INFINITY;
+  for (int j = 0; j < n; j++)
+    for (int k = j + 1; k < n; k++) {
+      if (dtm_geo_touch(g, v[j], v[k])) continue;
+      const double *x = a->mesh->xyz + 3 * v[j], *y = a->mesh->xyz + 3 * v[k];
+      double t = sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
+      if (t < best) best = t, *dim = g->node_dim[v[j]], *tag = g->node_tag[v[j]];
+    }
+  return best;
+}
+
+/* The own safe step (safety included) a fresh mesh reaches across a layer
+ * t thick at element i: the well-shaped element of i's type whose smallest
+ * width is t, at the mesh's typical quality, times the spread of a fresh
+ * mesh (its worst elements are that much below its nominal size). */
+static int layer_reach(const dtm_analysis *a, const judge_ctx *jc, size_t i, double t, double *reach) {
+  int b;
+  size_t l;
+  double x[DTM_MAX_NODES * 3], well;
+  dtm_analysis_locate(a, i, &b, &l);
+  int type = a->mesh->blocks[b].type;
+  DTM_CHECK(dtm_elem_regular(type, 1.0, x));
+  double width = dtm_kernel_length(type, DTM_LEN_MIN_ALTITUDE, x); /* of the unit element */
+  DTM_CHECK(dtm_elem_regular(type, t / width, x));
+  DTM_CHECK(dtm_analysis_step_at(a, i, type, x, &well));
+  *reach = a->scene->safety * well * jc->q_typ * pow_p(jc->spread, exponent_of(a, i));
+  return DTM_OK;
+}
+
+/* Element i spans a thin layer across which no fresh mesh reaches target:
+ * *f gets the thin feature (its size the thickness) and *reach the best
+ * step there. */
+static int layer_limited(const dtm_analysis *a, const judge_ctx *jc, size_t i, double target, feature *f, double *reach,
+                         int *limited) {
+  int dim = -1, tag = -1;
+  *limited = 0;
+  double t = across(a, jc, i, &dim, &tag);
+  if (!isfinite(t)) return DTM_OK;
+  DTM_CHECK(layer_reach(a, jc, i, t, reach));
+  if (!(*reach < target)) return DTM_OK;
+  *f = (feature){DTM_FEATURE_THIN, NAN, NAN, dim, tag, t};
+  *limited = 1;
+  return DTM_OK;
+}
+
 /* The feature element i sits on, if any; need_own and need_typ are the
  * sizes it needs with its own shape and with the typical one. */
 static void find_feature(const dtm_analysis *a, const judge_ctx *jc, size_t i, double qr, double need_own,
@@ -328,11 +405,19 @@ static void find_feature(const dtm_analysis *a, const judge_ctx *jc, size_t i, d
   if (!f->kind) thin_parts(a, &c, need_typ, f);
 }
 
-/* Decide element i (below the target by the factor F). */
+/* Decide element i (below the target by the factor F). A layer's
+ * thickness is judged first, by the best element that fits across it;
+ * then the features of the element's own shape and size. */
 static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F, int *limited, dtm_shape_limited *s) {
   feature f = {0, NAN, NAN, -1, -1, INFINITY};
-  double q = 1.0, rq = 1.0, p = exponent_of(a, i);
+  double q = 1.0, rq = 1.0, p = exponent_of(a, i), reach = NAN;
   DTM_CHECK(quality(a, i, &q, &rq));
+  DTM_CHECK(layer_limited(a, jc, i, F * a->scene->safety * a->local[i], &f, &reach, limited));
+  if (*limited) {
+    *s = (dtm_shape_limited){i, f.kind, NAN, f.dim, f.tag, f.size, q, reach, 0, NAN};
+    remedy(a, i, &f, rq / jc->q_typ, F, s);
+    return DTM_OK;
+  }
   double qr = rq / jc->q_typ, need = a->h[i] * pow(F * qr, 1.0 / p);
   find_feature(a, jc, i, qr, a->h[i] * pow(F, 1.0 / p), need, &f);
   *limited = 0;
@@ -367,11 +452,11 @@ static int classify_all(dtm_analysis *a, double target) {
 
 int dtm_shape_classify(dtm_analysis *a) {
   double target = a->scene->target;
-  free(a->shape);
-  a->shape = NULL, a->nshape = a->below = 0;
+  free(a->shape), free(a->layers);
+  a->shape = NULL, a->layers = NULL, a->nshape = a->nlayers = a->below = 0;
   if (!(target > 0)) return DTM_OK;
   for (size_t i = 0; i < a->nel; i++) a->below += a->scene->safety * a->local[i] < target;
   if (!a->below || !a->geo) return DTM_OK;
   DTM_CHECK(classify_all(a, target));
-  return DTM_OK;
+  return dtm_layers_gather(a);
 }

@@ -32,6 +32,9 @@ static void print_rounds(const dtm_refine_result *rr) {
            "element-steps at the kept step)\n",
            rr->forced_by, rr->forced,
            rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
+  if (rr->stop == DTM_REFINE_THICKNESS)
+    printf("no round was run: elements below the target are limited by the thickness of their layer, which no\n"
+           "size suggestion changes; the layers and their remedies follow\n");
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");

@@ -26,6 +26,8 @@ void dtm_cost_destroy(dtm_cost **pc) {
   if (c->shape_mass) dtm_mass_scaling_free(c->shape_mass);
   free(c->mass);
   free(c->shape_mass);
+  if (c->layer_mass) dtm_mass_scaling_free(c->layer_mass);
+  free(c->layer_mass);
   free(c);
   *pc = NULL;
 }
@@ -42,17 +44,20 @@ static int target_mass(const dtm_analysis *a, dtm_cost *c) {
   return dtm_mass_scaling_nodal(a, s->target / s->safety, NULL, c->mass);
 }
 
-/* The mass the shape-limited elements' nodes need, when there are any. */
-static int shape_mass(const dtm_analysis *a, dtm_cost *c) {
+/* The mass the nodes of the shape-limited elements (thin: only those of
+ * the thin feature, the thickness-limited ones) need, into *out; NULL when
+ * there are none. */
+static int shape_mass(const dtm_analysis *a, int thin, dtm_mass_scaling **out) {
   const dtm_scene *s = dtm_analysis_scene(a);
-  size_t n;
+  size_t n, k = 0;
   const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
-  if (!n) return DTM_OK;
+  for (size_t j = 0; j < n; j++) k += !thin || sl[j].feature == DTM_FEATURE_THIN;
+  if (!k) return DTM_OK;
   unsigned char *only = calloc(dtm_analysis_nelements(a) + 1, 1);
-  c->shape_mass = calloc(1, sizeof *c->shape_mass);
-  if (!only || !c->shape_mass) return free(only), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (size_t j = 0; j < n; j++) only[sl[j].element] = 1;
-  int r = dtm_mass_scaling_nodal(a, s->target / s->safety, only, c->shape_mass);
+  *out = calloc(1, sizeof **out);
+  if (!only || !*out) return free(only), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; j < n; j++) only[sl[j].element] |= !thin || sl[j].feature == DTM_FEATURE_THIN;
+  int r = dtm_mass_scaling_nodal(a, s->target / s->safety, only, *out);
   free(only);
   return r;
 }
@@ -68,7 +73,8 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   c->element_steps = dtm_cost_element_steps(a);
   c->element_steps_subcycled = r ? NAN : dtm_cost_element_steps_subcycled(a, &c->subcycling);
   if (r == DTM_OK && s->target > 0) r = target_mass(a, c);
-  if (r == DTM_OK && s->target > 0) r = shape_mass(a, c);
+  if (r == DTM_OK && s->target > 0) r = shape_mass(a, 0, &c->shape_mass);
+  if (r == DTM_OK && s->target > 0) r = shape_mass(a, 1, &c->layer_mass);
   if (r) {
     dtm_cost_destroy(&c);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);

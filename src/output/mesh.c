@@ -84,6 +84,8 @@ typedef struct {
   dtm_view *views;       /* [10 + 2 neffects] */
   size_t *stags;         /* tags of the shape-limited elements */
   double *svals;         /* their feature (dtm_feature_kind) */
+  size_t *ttags;         /* tags of the thickness-limited elements */
+  double *tvals;         /* the local thickness there, m */
   size_t *itags;         /* tags of the flagged elements [nflagged] */
   double *ivals;         /* their smallest scaled Jacobians [nflagged] */
 } view_set;
@@ -93,6 +95,8 @@ static void free_views(view_set *vs) {
   free(vs->bvals);
   free(vs->stags);
   free(vs->svals);
+  free(vs->ttags);
+  free(vs->tvals);
   free(vs->dtags);
   free(vs->dvals);
   free(vs->etags);
@@ -114,7 +118,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 10, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 12, sizeof *vs->views);
   if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
       !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -243,10 +247,28 @@ static int shape_view(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
+/* "thickness limited": the local thickness (m) on the elements that the
+ * thickness of their layer caps (the thin feature). */
+static int thickness_view(const dtm_analysis *a, view_set *vs, int *k) {
+  size_t n, m = 0;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
+  for (size_t j = 0; j < n; j++) m += sl[j].feature == DTM_FEATURE_THIN;
+  if (!m) return DTM_OK;
+  vs->ttags = malloc(m * sizeof *vs->ttags), vs->tvals = malloc(m * sizeof *vs->tvals);
+  if (!vs->ttags || !vs->tvals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  m = 0;
+  for (size_t j = 0; j < n; j++)
+    if (sl[j].feature == DTM_FEATURE_THIN)
+      vs->ttags[m] = dtm_analysis_tag(a, sl[j].element), vs->tvals[m++] = sl[j].size;
+  vs->views[(*k)++] = (dtm_view){"thickness limited", 0, vs->ttags, vs->tvals, m, NULL, 0};
+  return DTM_OK;
+}
+
 static int build_views(const dtm_results *r, const dtm_output_part *part, view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
   DTM_CHECK(shape_view(r->analysis, vs, nviews));
+  DTM_CHECK(thickness_view(r->analysis, vs, nviews));
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
   below_view(r->analysis, part, vs, nviews);
   DTM_CHECK(invalid_view(dtm_analysis_mesh(r->analysis), vs, nviews));

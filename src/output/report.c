@@ -248,12 +248,48 @@ static cJSON *shape_json(const dtm_results *r) {
   return arr;
 }
 
+/* The remedies of layer l (mass from the cost's layer_mass, per group). */
+static cJSON *layer_remedies(const dtm_results *r, const dtm_layer *l) {
+  cJSON *o = cJSON_CreateObject();
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  int slot = l->group >= 0 ? l->group : (ms ? ms->ngroups - 1 : 0);
+  if (ms && ms->group_mass[slot] > 0) {
+    cJSON_AddNumberToObject(o, "mass_added", ms->group_added[slot]);
+    cJSON_AddNumberToObject(o, "mass_percent", 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
+  }
+  if (r->cost) cJSON_AddNumberToObject(o, "subcycling_speedup", r->cost->subcycling.speedup);
+  if (isfinite(l->shell_step)) cJSON_AddNumberToObject(o, "shell_rule_step", l->shell_step);
+  return o;
+}
+
+/* The groups whose layer's thickness caps elements below the target. */
+static cJSON *layers_json(const dtm_results *r) {
+  size_t n;
+  const dtm_layer *ly = dtm_analysis_layers(r->analysis, &n);
+  cJSON *arr = cJSON_CreateArray();
+  for (size_t k = 0; k < n; k++) {
+    char lbl[64];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "group",
+                            dtm_mesh_group_label(dtm_analysis_mesh(r->analysis), ly[k].group, lbl, sizeof lbl));
+    cJSON_AddNumberToObject(o, "elements", (double)ly[k].elements);
+    cJSON_AddNumberToObject(o, "thickness", ly[k].thickness);
+    cJSON_AddNumberToObject(o, "reach", ly[k].reach);
+    cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(r->analysis, ly[k].worst));
+    cJSON_AddNumberToObject(o, "size", ly[k].size);
+    cJSON_AddItemToObject(o, "remedies", layer_remedies(r, &ly[k]));
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
 static cJSON *advice_json(const dtm_results *r, cJSON *root) {
   size_t n;
   dtm_analysis_shape_limited(r->analysis, &n);
   cJSON_AddItemToObject(root, "shape_limited", shape_json(r));
   cJSON_AddNumberToObject(root, "shape_limited_count", (double)n);
   cJSON_AddNumberToObject(root, "below_target", (double)dtm_analysis_below_target(r->analysis));
+  cJSON_AddItemToObject(root, "thickness_limited", layers_json(r));
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (ms) {
     cJSON *o = cJSON_AddObjectToObject(root, "shape_limited_mass");

@@ -200,6 +200,38 @@ static void print_shape(const dtm_results *r, FILE *f) {
             100.0 * ms->total_added / ms->total_mass);
 }
 
+/* Per group whose layer's thickness caps elements below the target: the
+ * thickness, how many, the best step any mesh of it reaches, and the
+ * remedies with their costs. */
+static void print_layers(const dtm_results *r, FILE *f) {
+  const dtm_analysis *a = r->analysis;
+  size_t n;
+  const dtm_layer *ly = dtm_analysis_layers(a, &n);
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  int dim = dtm_analysis_mesh(a)->dim;
+  for (size_t k = 0; k < n; k++) {
+    char lbl[64];
+    int g = ly[k].group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
+    fprintf(f,
+            "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g m (view 'thickness limited'): "
+            "no mesh of it reaches the target; the best step there is %.4e s\n",
+            dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness,
+            ly[k].reach);
+    if (ms && ms->group_mass[slot] > 0)
+      fprintf(f, "             remedy: mass scaling at their nodes, +%.4g kg (+%.3g%% of the group's mass)\n",
+              ms->group_added[slot], 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
+    if (r->cost && r->cost->subcycling.speedup > 1)
+      fprintf(f, "             remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
+              r->cost->subcycling.speedup);
+    if (isfinite(ly[k].shell_step))
+      fprintf(f,
+              "             remedy: model the layer as its mid-%s with a %s section: about %.4e s by LS-DYNA's rule at "
+              "its present size %.3g m (dtmap has no %s sections yet)\n",
+              dim == 3 ? "surface" : "line", dim == 3 ? "shell" : "beam", ly[k].shell_step, ly[k].size,
+              dim == 3 ? "shell" : "beam");
+  }
+}
+
 static void print_damping(const dtm_analysis *a, FILE *f) {
   dtm_damping_row *rows = NULL;
   int n = 0;
@@ -260,6 +292,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   print_accuracy(r->analysis, f);
   if (r->cost) print_cost(r->analysis, r->cost, f);
   print_shape(r, f);
+  print_layers(r, f);
   print_smallest(r, f);
   print_histogram(r->analysis, f);
   print_warnings(r, f);

@@ -154,6 +154,7 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
   cJSON_AddItemToObject(root, "shape_limited", cJSON_CreateArray()); /* needs the model: not classified */
   cJSON_AddNumberToObject(root, "shape_limited_count", 0);
   cJSON_AddNumberToObject(root, "below_target", f->below);
+  cJSON_AddItemToObject(root, "thickness_limited", cJSON_CreateArray()); /* the same */
   cJSON_AddItemToObject(root, "worst", cJSON_Duplicate(f->worst, 1));
   cJSON_AddItemToObject(root, "warnings", dtm_par_warnings(p, f));
   cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));

@@ -157,7 +157,9 @@ static size_t shape_count(const dtm_analysis *a) {
  * shape-limited elements keep it or the last mesh below it, or the budget
  * is spent. */
 static int should_stop(dtm_refine_result *rr, const loop_state *st, int max_rounds) {
+  size_t nl;
   if (met(rr, rr->best)) return rr->stop = DTM_REFINE_MET;
+  if (dtm_analysis_layers(st->cur, &nl) && nl) return rr->stop = DTM_REFINE_THICKNESS;
   if (only_shape(rr->analysis) || only_shape(st->cur)) return rr->stop = DTM_REFINE_ONLY_SHAPE;
   if (rr->nrounds - 1 >= max_rounds) return rr->stop = DTM_REFINE_BUDGET;
   return 0;
@@ -256,6 +258,8 @@ const char *dtm_refine_stop_text(int stop) {
   case DTM_REFINE_BUDGET: return "the round budget is spent";
   case DTM_REFINE_SHAPE_CAP:
     return "shape-limited elements cap the step: a round around them did not improve on the kept mesh";
+  case DTM_REFINE_THICKNESS:
+    return "elements that the thickness of their layer caps are below the target: no mesh of that layer reaches it";
   default: return "not run";
   }
 }

@@ -1,0 +1,62 @@
+/* Thin layers: the shape-limited elements whose feature is a thin part (two
+ * boundaries that do not touch, closer than the size the target needs; see
+ * shape.c), gathered per physical group. A lining, a coating or a thin
+ * wall caps every element across it near its thickness: no size
+ * suggestion lifts them, so the advice names the group, its local
+ * thickness, how many elements, the best step any mesh of the layer can
+ * reach there, and the step LS-DYNA's shell rule (L_s / c_p; in 2D the
+ * same for a beam along the layer) would give the layer at its present
+ * in-plane size if it were modelled as its mid-surface. The mass and the
+ * subcycling remedies are the cost module's. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "analysis-impl.h"
+
+static dtm_layer *layer_of(dtm_analysis *a, int g) {
+  for (size_t k = 0; k < a->nlayers; k++)
+    if (a->layers[k].group == g) return &a->layers[k];
+  dtm_layer *l = &a->layers[a->nlayers++];
+  *l = (dtm_layer){g, 0, INFINITY, INFINITY, 0, 0, NAN};
+  return l;
+}
+
+static void add_element(dtm_analysis *a, dtm_layer *l, const dtm_shape_limited *s) {
+  size_t i = s->element;
+  if (!l->elements || a->local[i] < a->local[l->worst]) l->worst = i;
+  l->elements++;
+  l->thickness = fmin(l->thickness, s->size);
+  l->reach = fmin(l->reach, s->reach);
+  l->size += a->h[i];
+}
+
+/* LS-DYNA's rule for a shell (or beam) of the layer's material at the mean
+ * size of its elements. */
+static void shell_rule(dtm_analysis *a, dtm_layer *l) {
+  int b;
+  size_t e;
+  dtm_analysis_locate(a, l->worst, &b, &e);
+  const dtm_material *m = &a->scene->materials[a->mesh->blocks[b].mat[e]].m;
+  double E = dtm_material_value(m, "E"), nu = dtm_material_value(m, "nu"), rho = dtm_material_value(m, "rho");
+  l->size /= (double)l->elements;
+  l->shell_step = l->size / sqrt(E / (rho * (1 - nu * nu)));
+}
+
+int dtm_layers_gather(dtm_analysis *a) {
+  free(a->layers);
+  a->layers = NULL, a->nlayers = 0;
+  if (!a->nshape) return DTM_OK;
+  a->layers = malloc((a->nshape + 1) * sizeof *a->layers);
+  if (!a->layers) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; j < a->nshape; j++) {
+    const dtm_shape_limited *s = &a->shape[j];
+    if (s->feature == DTM_FEATURE_THIN) add_element(a, layer_of(a, dtm_analysis_group(a, s->element)), s);
+  }
+  for (size_t k = 0; k < a->nlayers; k++) shell_rule(a, &a->layers[k]);
+  return DTM_OK;
+}
+
+const dtm_layer *dtm_analysis_layers(const dtm_analysis *a, size_t *n) {
+  *n = a->nlayers;
+  return a->layers;
+}

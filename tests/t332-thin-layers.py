@@ -1,0 +1,105 @@
+"""Thin layers: the bundled tunnel (geometries/tunnel_lining.xml, a 0.3 m
+concrete lining in rock, 2D plane strain, real Gmsh meshing) with a target
+1.3 times its recommended step.
+
+- `dtmap run` names the lining as thickness-limited: its thickness (0.3 m:
+  the nodes of the two faces are radially aligned at r = 3 and 3.3, so the
+  smallest gap is 0.3 to rounding; 1e-9 relative), every element below the
+  target is among them and lies in the lining, the view 'thickness
+  limited' holds exactly those elements with their local thickness, the
+  best step a fresh mesh of the layer reaches is below the target, and the
+  remedies carry their costs: mass at their nodes (+% of the group's
+  mass), the subcycling speed-up, and LS-DYNA's rule for the layer as a
+  beam, size / sqrt(E/(rho(1 - nu^2))) with the concrete's moduli (1e-12:
+  a few roundings).
+- `dtmap refine` stops before any remesh (one round: the input), exit 1,
+  saying why, and writes the kept mesh.
+- With a target 1.05 times the step, which a fresh mesh of the lining can
+  reach, nothing is called thickness-limited.
+"""
+
+import math
+import os
+import shutil
+import unittest
+
+import gmsh
+
+import testutil as tu
+
+E, NU, RHO = 30e9, 0.2, 2400.0
+
+
+def view(path, name):
+    """{tag: value} of the element view called name in path."""
+    gmsh.initialize(["t332", "-v", "0"])
+    try:
+        gmsh.open(path)
+        for tag in gmsh.view.getTags():
+            if gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(tag)) == name:
+                _, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
+                return {int(t): float(d[0]) for t, d in zip(tags, data)}
+        return {}
+    finally:
+        gmsh.finalize()
+
+
+class TunnelLining(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        for ext in ("geo", "xml"):
+            shutil.copy(os.path.join(tu.SRC, "geometries", "tunnel_lining." + ext), tu.tmpdir())
+        code, cls.out = tu.run("run", "tunnel_lining.xml", "-o", "t.msh", "--report", "t.json")
+        if code:
+            raise AssertionError(cls.out)
+        cls.rep = tu.report("t.json")
+
+    def test_lining_named(self):
+        layers = self.rep["thickness_limited"]
+        self.assertEqual([l["group"] for l in layers], ["lining"])
+        l = layers[0]
+        self.assertLessEqual(abs(l["thickness"] - 0.3), 0.3e-9)
+        self.assertEqual(l["elements"], self.rep["below_target"])
+        self.assertLess(l["reach"], 5.2e-5)
+        self.assertIn("'lining'", self.out)
+        self.assertIn("thickness limited", self.out)
+
+    def test_view(self):
+        v = view(tu.path("t.msh"), "thickness limited")
+        self.assertEqual(len(v), self.rep["thickness_limited"][0]["elements"])
+        for t in v.values():
+            self.assertTrue(0.3 * (1 - 1e-9) <= t < 0.35, t)
+        groups = {s["element"]: s for s in self.rep["shape_limited"]}
+        for tag in v:
+            self.assertEqual(groups[tag]["group"], "lining")
+
+    def test_remedies(self):
+        l = self.rep["thickness_limited"][0]
+        r = l["remedies"]
+        self.assertGreater(r["mass_percent"], 0)
+        self.assertGreaterEqual(r["subcycling_speedup"], 1)
+        want = l["size"] / math.sqrt(E / (RHO * (1 - NU * NU)))
+        self.assertLessEqual(abs(r["shell_rule_step"] - want), 1e-12 * want)
+
+    def test_refine_stops_at_once(self):
+        code, out = tu.run("refine", "tunnel_lining.xml", "-o", "r.msh", "--report", "r.json")
+        self.assertEqual(code, 1, out)
+        rep = tu.report("r.json")
+        self.assertEqual(len(rep["refine"]["rounds"]), 1)
+        self.assertIn("thickness of their layer", rep["refine"]["stopped"])
+        self.assertTrue(os.path.exists(tu.path("r.msh")))
+
+    def test_reachable_target_is_not_thickness_limited(self):
+        code, out = tu.run("run", "tunnel_lining.xml", "-o", "u.msh", "--report", "u.json", "-q")
+        self.assertEqual(code, 0, out)
+        rec = tu.report("u.json")["dt"]["recommended"]
+        with open(tu.path("tunnel_lining.xml")) as f:
+            text = f.read().replace('target="5.2e-5"', 'target="%.6e"' % (1.05 * rec))
+        tu.write("near.xml", text)
+        code, out = tu.run("run", "near.xml", "-o", "n.msh", "--report", "n.json", "-q")
+        self.assertEqual(code, 0, out)
+        self.assertEqual(tu.report("n.json")["thickness_limited"], [])
+
+
+if __name__ == "__main__":
+    tu.main()
