@@ -3,7 +3,8 @@
  * own wave step dt_e (the smallest over the wave-type effects, exponent 1,
  * damping already applied) is below the target dt_t gets
  * m_e ((dt_t/dt_e)^2 - 1) of added mass, m_e = rho_e V_e with V_e the
- * element's measure (per unit thickness in 2D, per unit cross-section in
+ * element's measure (times its section's thickness or area when it has one;
+ * else per unit thickness in 2D, per unit cross-section in
  * 1D). At the nodes: node a of lumped mass m_a = sum_e m_e w_ea (w the
  * element's lumped weights) whose nodal-bound step dt_a (the smallest over
  * the spectral wave effects) is below dt_t needs m_a (dt_t/dt_a)^2 in all;
@@ -39,8 +40,9 @@ static double wave_dt_of(const dtm_analysis *a, size_t i, int spectral_too) {
 
 static double wave_dt(const dtm_analysis *a, size_t i) { return wave_dt_of(a, i, 1); }
 
-/* rho V of element e of block blk, kg (0 without a density), and its lumped
- * weights w[nn] when w is not NULL. */
+/* rho V of element e of block blk, kg (0 without a density), times its
+ * section's thickness or area (a truss: rho A L), and its lumped weights
+ * w[nn] when w is not NULL. */
 static double element_mass_w(const dtm_analysis *a, const dtm_block *blk, size_t e, int irho, double *w) {
   int mi = blk->mat[e];
   if (mi < 0) return 0.0;
@@ -53,7 +55,10 @@ static double element_mass_w(const dtm_analysis *a, const dtm_block *blk, size_t
   dtm_mesh_gather(dtm_analysis_mesh(a), &one, x);
   double v = fabs(dtm_elem_measure(blk->type, x));
   if (w) dtm_elem_lumped_weights(blk->type, x, w);
-  return isfinite(v) ? dtm_material_get(m, irho) * v : 0.0;
+  double f = blk->section && blk->section[e] >= 0
+                 ? dtm_section_factor(&dtm_analysis_scene(a)->sections[blk->section[e]])
+                 : 1.0;
+  return isfinite(v) ? dtm_material_get(m, irho) * v * f : 0.0;
 }
 
 /* Index of the density among the scene's properties. */
