@@ -128,10 +128,11 @@ class ReinforcedBlock(unittest.TestCase):
             self.assertEqual(code, want, "verify at %g x the exact step: %s" % (factor, out))
 
     def test_refine_keeps_sections(self):
-        """refine to 1.3 x the recommended step remeshes the block with its
+        """refine to 1.3 x the recommended step of `run` (the nodal bound's:
+        refine does not use the global estimate) remeshes the block with its
         embedded rebars and plate and meets the target; the kept mesh still
         holds trusses and membrane elements, each truss at its exact L/c."""
-        target = 1.3 * self.rep["dt"]["recommended"]
+        target = 1.3 * self.rep["dt"]["safety"] * self.rep["dt"]["nodal"]
         code, out = tu.run("refine", "reinforced_block.xml", "--target", "%.6e" % target, "-o", "rr.msh",
                            "--report", "rr.json", "-q")
         self.assertEqual(code, 0, out)
