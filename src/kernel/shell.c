@@ -1,0 +1,352 @@
+/* Flat facet Reissner-Mindlin shell on tri3 and quad4 (structural.h): the
+ * element frame (Newell normal of the corners, first axis along the
+ * projected edge 0-1, as dtm_elem_local), the local stiffness as membrane
+ * (plane stress) + bending + transverse shear on the unknowns (u, v, w,
+ * theta_x, theta_y, theta_z) of each node in that frame, the lumped masses,
+ * and the eigenvalue bounds of both rotary-inertia conventions. Also the
+ * helpers the beam shares (dense blocks, the rotary scale, the rotation to
+ * global axes).
+ *
+ * Mindlin kinematics in the frame: the fibre rotations beta_x = theta_y,
+ * beta_y = -theta_x (right-hand rotations about the local axes),
+ * curvatures k = (beta_x,x, beta_y,y, beta_x,y + beta_y,x), shear strains
+ * gamma = (w,x + beta_x, w,y + beta_y). quad4: membrane and bending 2x2
+ * Gauss, shear at the centre. tri3: membrane and bending constant; shear
+ * MITC3: gamma_h = sum over edges e = (i, j) of c_e phi_e, with
+ * c_e = w_j - w_i + d . (beta_i + beta_j)/2 (d = x_j - x_i) the integral
+ * of the tangential shear strain along the edge and
+ * phi_e = N_i grad N_j - N_j grad N_i its Whitney (Nedelec) basis field,
+ * integrated with the 3-point degree-2 rule (exact). */
+#include <math.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "kernel-impl.h"
+#include "structural.h"
+
+#define ND 6 /* unknowns per node */
+
+typedef struct {
+  int type, nn;
+  double axes[3][3]; /* rows e1, e2, normal */
+  double xl[4][3];   /* nodes in the frame, node 0 at the origin, z = 0 */
+  dtm_qrule q;       /* full rule: tri3 3-point, quad4 2x2 */
+  double E, nu, rho, t, k;
+} shell_elem;
+
+/* ---- dense helpers shared with beam.c ---- */
+
+double dtm_struct_lumped_max(int n, const double *K, const double *m) {
+  double a[DTM_STRUCT_DOF * DTM_STRUCT_DOF], r[DTM_STRUCT_DOF];
+  for (int i = 0; i < n; i++) r[i] = 1 / sqrt(m[i]);
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) a[i * n + j] = K[i * n + j] * r[i] * r[j];
+  return n <= 12 ? dtm_eig_sym_max(n, a) : dtm_eig_sym_max_tridiag(n, a);
+}
+
+/* In-place Cholesky of the SPD a[n][n] (lower triangle); -1 if not SPD. */
+static int cholesky(int n, double *a) {
+  for (int j = 0; j < n; j++) {
+    double d = a[j * n + j];
+    for (int k = 0; k < j; k++) d -= a[j * n + k] * a[j * n + k];
+    if (!(d > 0) || !isfinite(d)) return -1;
+    a[j * n + j] = sqrt(d);
+    for (int i = j + 1; i < n; i++) {
+      double s = a[i * n + j];
+      for (int k = 0; k < j; k++) s -= a[i * n + k] * a[j * n + k];
+      a[i * n + j] = s / a[j * n + j];
+    }
+  }
+  return 0;
+}
+
+/* Solve L L^T x = b in place (b[n], L from cholesky). */
+static void chol_solve(int n, const double *L, double *b) {
+  for (int i = 0; i < n; i++) {
+    for (int k = 0; k < i; k++) b[i] -= L[i * n + k] * b[k];
+    b[i] /= L[i * n + i];
+  }
+  for (int i = n - 1; i >= 0; i--) {
+    for (int k = i + 1; k < n; k++) b[i] -= L[k * n + i] * b[k];
+    b[i] /= L[i * n + i];
+  }
+}
+
+/* S[nr][nr] = K_rr + K_rt A^-1 K_tr over the index lists it[nt], ir[nr],
+ * with L the Cholesky factor of A[nt][nt]. */
+static void schur(int n, const double *K, int nt, const int *it, int nr, const int *ir, const double *L, double *S) {
+  double X[DTM_STRUCT_DOF][DTM_STRUCT_DOF]; /* [nr][nt]: A^-1 K_tr, column by column */
+  for (int c = 0; c < nr; c++) {
+    for (int i = 0; i < nt; i++) X[c][i] = K[it[i] * n + ir[c]];
+    chol_solve(nt, L, X[c]);
+  }
+  for (int r = 0; r < nr; r++)
+    for (int c = 0; c < nr; c++) {
+      double s = K[ir[r] * n + ir[c]];
+      for (int i = 0; i < nt; i++) s += 0.5 * (K[it[i] * n + ir[r]] * X[c][i] + K[it[i] * n + ir[c]] * X[r][i]);
+      S[r * nr + c] = s;
+    }
+}
+
+double dtm_struct_rotary_scale(int n, const double *K, const double *m, const int *rot, double target) {
+  int it[DTM_STRUCT_DOF], ir[DTM_STRUCT_DOF], nt = 0, nr = 0;
+  double A[DTM_STRUCT_DOF * DTM_STRUCT_DOF], S[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mr[DTM_STRUCT_DOF];
+  for (int i = 0; i < n; i++) {
+    if (rot[i])
+      mr[nr] = m[i], ir[nr++] = i;
+    else
+      it[nt++] = i;
+  }
+  for (int i = 0; i < nt; i++)
+    for (int j = 0; j < nt; j++) A[i * nt + j] = (i == j ? target * m[it[i]] : 0) - K[it[i] * n + it[j]];
+  if (cholesky(nt, A)) return INFINITY;
+  if (nr == 0) return 1;
+  schur(n, K, nt, it, nr, ir, A, S);
+  return fmax(1, dtm_struct_lumped_max(nr, S, mr) / target);
+}
+
+/* Ks[ns][ns] = K[idx][idx] of the n x n K. */
+static void extract(int n, const double *K, int ns, const int *idx, double *Ks) {
+  for (int i = 0; i < ns; i++)
+    for (int j = 0; j < ns; j++) Ks[i * ns + j] = K[idx[i] * n + idx[j]];
+}
+
+void dtm_struct_to_global(int nn, const double axes[3][3], const double *Kl, double *Kg) {
+  int n = ND * nn;
+  for (int A = 0; A < 2 * nn; A++)
+    for (int B = 0; B < 2 * nn; B++)
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+          double s = 0; /* (R^T Kl_AB R)_ij, R = axes */
+          for (int p = 0; p < 3; p++)
+            for (int q = 0; q < 3; q++) s += axes[p][i] * Kl[(3 * A + p) * n + 3 * B + q] * axes[q][j];
+          Kg[(3 * A + i) * n + 3 * B + j] = s;
+        }
+}
+
+/* Largest eigenvalue of the block of per-node components comp[nc] (with
+ * masses m, rotational ones times s) of the n = ND nn local problem;
+ * idx/rot receive the block's unknowns. */
+static double block_max(int nn, const double *K, const double *m, int nc, const int *comp, double s) {
+  int idx[DTM_STRUCT_DOF] = {0}, nb = nn * nc;
+  double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mb[DTM_STRUCT_DOF];
+  for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc];
+  extract(ND * nn, K, nb, idx, Kb);
+  for (int i = 0; i < nb; i++) mb[i] = m[idx[i]] * (idx[i] % ND >= 3 ? s : 1);
+  return dtm_struct_lumped_max(nb, Kb, mb);
+}
+
+/* The scale s of the transverse block comp[nc] (rotations: comp >= 3). */
+static double block_scale(int nn, const double *K, const double *m, int nc, const int *comp, double target) {
+  int idx[DTM_STRUCT_DOF] = {0}, rot[DTM_STRUCT_DOF] = {0}, nb = nn * nc;
+  double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mb[DTM_STRUCT_DOF];
+  for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc], rot[i] = comp[i % nc] >= 3;
+  extract(ND * nn, K, nb, idx, Kb);
+  for (int i = 0; i < nb; i++) mb[i] = m[idx[i]];
+  return dtm_struct_rotary_scale(nb, Kb, mb, rot, target);
+}
+
+/* The three bounds and s from the local K and m of an element whose
+ * reference block comp_ref (membrane, axial) does not couple with the
+ * transverse block comp_tr. */
+void dtm_struct_bounds(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                       const int *comp_tr, double out[4]) {
+  double lref = block_max(nn, K, m, nref, comp_ref, 1);
+  double s = block_scale(nn, K, m, ntr, comp_tr, lref);
+  int ntt = 0;
+  while (ntt < ntr && comp_tr[ntt] < 3) ntt++; /* translational components come first */
+  out[0] = lref;
+  out[1] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1));
+  out[2] = fmax(lref, isfinite(s) ? block_max(nn, K, m, ntr, comp_tr, s) : block_max(nn, K, m, ntt, comp_tr, 1));
+  out[3] = s;
+}
+
+/* ---- the shell ---- */
+
+static int check_section(const dtm_shell_section *s) {
+  if (!(s->E > 0) || !isfinite(s->E) || !(s->rho > 0) || !isfinite(s->rho))
+    return DTM_ERR(DTM_ERR_INPUT, "shell: E and rho must be finite and > 0 (got %g Pa, %g kg/m^3)", s->E, s->rho);
+  if (!(s->nu > -1 && s->nu < 0.5))
+    return DTM_ERR(DTM_ERR_INPUT, "shell: Poisson's ratio must lie in (-1, 0.5) (got %g)", s->nu);
+  if (!(s->thickness > 0) || !isfinite(s->thickness))
+    return DTM_ERR(DTM_ERR_INPUT, "shell: thickness must be finite and > 0 (got %g m)", s->thickness);
+  if (!(s->k_shear >= 0) || !isfinite(s->k_shear))
+    return DTM_ERR(DTM_ERR_INPUT, "shell: shear correction must be finite and >= 0 (got %g)", s->k_shear);
+  return DTM_OK;
+}
+
+static int unit(double *a) {
+  double n = sqrt(dtm_v3_dot(a, a));
+  if (!(n > 0) || !isfinite(n)) return -1;
+  for (int i = 0; i < 3; i++) a[i] /= n;
+  return 0;
+}
+
+/* Frame and local coordinates of the nn corners x[nn][3]. */
+static int shell_frame(int nn, const double *x, shell_elem *e) {
+  double *n = e->axes[2], *e1 = e->axes[0], r[3], s[3], c[3];
+  memset(e->axes, 0, sizeof e->axes);
+  for (int a = 1; a + 1 < nn; a++) {
+    dtm_v3_sub(x + 3 * a, x, r);
+    dtm_v3_sub(x + 3 * (a + 1), x, s);
+    dtm_v3_cross(r, s, c);
+    for (int i = 0; i < 3; i++) n[i] += c[i];
+  }
+  if (unit(n)) return -1;
+  dtm_v3_sub(x + 3, x, e1);
+  double h = dtm_v3_dot(e1, n);
+  for (int i = 0; i < 3; i++) e1[i] -= h * n[i];
+  if (unit(e1)) return -1;
+  dtm_v3_cross(n, e1, e->axes[1]);
+  for (int a = 0; a < nn; a++) {
+    dtm_v3_sub(x + 3 * a, x, r);
+    e->xl[a][0] = dtm_v3_dot(r, e1), e->xl[a][1] = dtm_v3_dot(r, e->axes[1]), e->xl[a][2] = 0;
+  }
+  return 0;
+}
+
+static int shell_setup(int type, const dtm_shell_section *sec, const double *x, shell_elem *e) {
+  if (type != DTM_TRI3 && type != DTM_QUAD4)
+    return DTM_ERR(DTM_ERR_INPUT, "shell: element type %d is not tri3 (2) or quad4 (3)", type);
+  DTM_CHECK(check_section(sec));
+  e->type = type, e->nn = type == DTM_TRI3 ? 3 : 4;
+  e->E = sec->E, e->nu = sec->nu, e->rho = sec->rho, e->t = sec->thickness;
+  e->k = sec->k_shear > 0 ? sec->k_shear : 5.0 / 6.0;
+  if (shell_frame(e->nn, x, e)) return DTM_ERR(DTM_ERR_INPUT, "shell: degenerate element (no plane)");
+  dtm_ref_rule(type, &e->q);
+  double dj;
+  int k = dtm_map_first_bad(type, 2, e->nn, (const double(*)[3])e->xl, &e->q, &dj);
+  if (k >= 0) return DTM_ERR(DTM_ERR_INPUT, "shell: degenerate or inverted element (det J = %g at point %d)", dj, k);
+  return DTM_OK;
+}
+
+/* K[n][n] += w B^T D B for B[nr][n] and D[nr][nr]. */
+static void add_btdb(int n, int nr, const double *B, const double *D, double w, double *K) {
+  double DB[3 * DTM_STRUCT_DOF]; /* [nr][n] */
+  for (int r = 0; r < nr; r++)
+    for (int j = 0; j < n; j++) {
+      DB[r * n + j] = 0;
+      for (int c = 0; c < nr; c++) DB[r * n + j] += D[r * nr + c] * B[c * n + j];
+    }
+  for (int i = 0; i < n; i++)
+    for (int r = 0; r < nr; r++)
+      if (B[r * n + i] != 0)
+        for (int j = 0; j < n; j++) K[i * n + j] += w * B[r * n + i] * DB[r * n + j];
+}
+
+/* Plane-stress matrix times f: f E/(1-nu^2) [1 nu 0; nu 1 0; 0 0 (1-nu)/2]. */
+static void plane_stress(double E, double nu, double f, double D[9]) {
+  double c = f * E / (1 - nu * nu);
+  double v[9] = {c, c * nu, 0, c * nu, c, 0, 0, 0, c * (1 - nu) / 2};
+  memcpy(D, v, sizeof v);
+}
+
+/* Membrane and bending at every point of the full rule. */
+static void add_membrane_bending(const shell_elem *e, double *K) {
+  int n = ND * e->nn;
+  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, Dm[9], Db[9];
+  plane_stress(e->E, e->nu, e->t, Dm);
+  plane_stress(e->E, e->nu, e->t * e->t * e->t / 12, Db);
+  for (int k = 0; k < e->q.n; k++) {
+    double Bm[3 * DTM_STRUCT_DOF] = {0}, Bb[3 * DTM_STRUCT_DOF] = {0}; /* [3][n] */
+    dtm_map_eval(e->type, 2, e->nn, (const double(*)[3])e->xl, e->q.p[k], e->q.w[k], N, g, &dv);
+    for (int a = 0; a < e->nn; a++) {
+      int u = ND * a, v = u + 1, tx = u + 3, ty = u + 4;
+      Bm[u] = g[a][0], Bm[n + v] = g[a][1], Bm[2 * n + u] = g[a][1], Bm[2 * n + v] = g[a][0];
+      Bb[ty] = g[a][0], Bb[n + tx] = -g[a][1], Bb[2 * n + ty] = g[a][1], Bb[2 * n + tx] = -g[a][0];
+    }
+    add_btdb(n, 3, Bm, Dm, dv, K);
+    add_btdb(n, 3, Bb, Db, dv, K);
+  }
+}
+
+/* quad4 shear at the centre (weight 4). */
+static void add_shear_quad(const shell_elem *e, double *K) {
+  int n = ND * e->nn;
+  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, p[3] = {0, 0, 0}, Bs[2 * DTM_STRUCT_DOF] = {0}; /* Bs[2][n] */
+  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, Ds[4] = {kgt, 0, 0, kgt};
+  dtm_map_eval(e->type, 2, e->nn, (const double(*)[3])e->xl, p, 4, N, g, &dv);
+  for (int a = 0; a < e->nn; a++) {
+    int w = ND * a + 2, tx = w + 1, ty = w + 2;
+    Bs[w] = g[a][0], Bs[ty] = N[a], Bs[n + w] = g[a][1], Bs[n + tx] = -N[a];
+  }
+  add_btdb(n, 2, Bs, Ds, dv, K);
+}
+
+/* tri3 MITC3 shear: Bs[2][n] at a point with N[3] and gradients g[3][3]. */
+static void mitc3_b(const shell_elem *e, const double *N, const double (*g)[3], double *Bs) {
+  int n = ND * 3;
+  for (int ed = 0; ed < 3; ed++) {
+    int i = ed, j = (ed + 1) % 3;
+    double dx = e->xl[j][0] - e->xl[i][0], dy = e->xl[j][1] - e->xl[i][1];
+    for (int r = 0; r < 2; r++) {
+      double phi = N[i] * g[j][r] - N[j] * g[i][r], *b = Bs + r * n;
+      b[ND * j + 2] += phi, b[ND * i + 2] -= phi;
+      b[ND * i + 4] += phi * dx / 2, b[ND * j + 4] += phi * dx / 2;
+      b[ND * i + 3] -= phi * dy / 2, b[ND * j + 3] -= phi * dy / 2;
+    }
+  }
+}
+
+static void add_shear_tri(const shell_elem *e, double *K) {
+  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv;
+  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, Ds[4] = {kgt, 0, 0, kgt};
+  for (int k = 0; k < e->q.n; k++) {
+    double Bs[2 * DTM_STRUCT_DOF] = {0};
+    dtm_map_eval(e->type, 2, 3, (const double(*)[3])e->xl, e->q.p[k], e->q.w[k], N, g, &dv);
+    mitc3_b(e, N, (const double(*)[3])g, Bs);
+    add_btdb(ND * 3, 2, Bs, Ds, dv, K);
+  }
+}
+
+/* Local diagonal masses m[ND nn]: rho t integral N_a, J_a = t^2/12 m_a. */
+static void shell_mass(const shell_elem *e, double *m) {
+  double ma[4], t2 = e->t * e->t / 12;
+  dtm_lumped_mass(e->type, 2, e->nn, (const double(*)[3])e->xl, &e->q, ma);
+  for (int a = 0; a < e->nn; a++)
+    for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * ma[a] * (i < 3 ? 1 : t2);
+}
+
+/* Local K[ND nn][ND nn] and m[ND nn]. */
+static int shell_local(int type, const dtm_shell_section *sec, const double *x, shell_elem *e, double *K, double *m) {
+  DTM_CHECK(shell_setup(type, sec, x, e));
+  memset(K, 0, sizeof(double) * ND * e->nn * ND * e->nn);
+  add_membrane_bending(e, K);
+  if (type == DTM_QUAD4)
+    add_shear_quad(e, K);
+  else
+    add_shear_tri(e, K);
+  shell_mass(e, m);
+  return DTM_OK;
+}
+
+static const int membrane_comp[2] = {0, 1}, transverse_comp[3] = {2, 3, 4}; /* w first: see dtm_struct_bounds */
+
+int dtm_kernel_shell_lambda(int type, const dtm_shell_section *sec, const double *x, dtm_shell_lambda *out) {
+  shell_elem e;
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF], m[DTM_STRUCT_DOF], b[4];
+  DTM_CHECK(shell_local(type, sec, x, &e, K, m));
+  dtm_struct_bounds(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, b);
+  out->lambda_membrane = b[0], out->lambda_physical = b[1], out->lambda_scaled = b[2], out->scale = b[3];
+  return DTM_OK;
+}
+
+int dtm_kernel_shell_matrices(int type, const dtm_shell_section *sec, const double *x, dtm_rotary_convention conv,
+                              dtm_struct_matrices *out) {
+  shell_elem e;
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF], b[4];
+  DTM_CHECK(shell_local(type, sec, x, &e, K, out->m));
+  int n = ND * e.nn;
+  if (conv == DTM_ROTARY_SCALED) {
+    dtm_struct_bounds(e.nn, K, out->m, 2, membrane_comp, 3, transverse_comp, b);
+    if (!isfinite(b[3]))
+      return DTM_ERR(DTM_ERR_INPUT, "shell: no finite rotary inertia scale reaches the target (k G too large)");
+    for (int i = 0; i < n; i++) out->m[i] *= i % ND >= 3 ? b[3] : 1;
+  }
+  out->nn = e.nn;
+  memcpy(out->axes, e.axes, sizeof e.axes);
+  dtm_struct_to_global(e.nn, (const double(*)[3])e.axes, K, out->K);
+  memset(out->M, 0, sizeof(double) * n * n);
+  for (int i = 0; i < n; i++) out->M[i * n + i] = out->m[i];
+  return DTM_OK;
+}
