@@ -39,22 +39,6 @@ REF = os.path.join(tu.SRC, "tests", "reference", "sections_ref.py")
 STEEL_E, STEEL_RHO = 200e9, 7850.0
 
 
-def view_values(path, name):
-    """{element tag: value} of the ElementData view called name in path."""
-    gmsh.initialize(["t330", "-v", "0"])
-    try:
-        gmsh.open(path)
-        for tag in gmsh.view.getTags():
-            idx = gmsh.view.getIndex(tag)
-            if gmsh.option.getString("View[%d].Name" % idx) != name:
-                continue
-            kind, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
-            return {int(t): float(d[0]) for t, d in zip(tags, data)}
-        raise AssertionError("no view '%s' in %s" % (name, path))
-    finally:
-        gmsh.finalize()
-
-
 def rebar_lengths(path):
     """{tag: length} of the line elements of physical group 'rebar'."""
     gmsh.initialize(["t330", "-v", "0"])
@@ -89,7 +73,7 @@ class ReinforcedBlock(unittest.TestCase):
         with open(tu.path("ref.out")) as f:  # not *.json: only dtmap's reports are checked against the schema
             cls.ref = json.load(f)
         cls.rep = tu.report("rb.json")
-        cls.dt = view_values(tu.path("rb.msh"), "dt")
+        cls.dt = tu.view_values(tu.path("rb.msh"), "dt")
 
     def test_reference_self_test(self):
         p = subprocess.run([sys.executable, REF, "--self-test"], env=tu.plain_env(), stdout=subprocess.PIPE,

@@ -23,25 +23,10 @@ import os
 import shutil
 import unittest
 
-import gmsh
 
 import testutil as tu
 
 E, NU, RHO = 30e9, 0.2, 2400.0
-
-
-def view(path, name):
-    """{tag: value} of the element view called name in path."""
-    gmsh.initialize(["t332", "-v", "0"])
-    try:
-        gmsh.open(path)
-        for tag in gmsh.view.getTags():
-            if gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(tag)) == name:
-                _, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
-                return {int(t): float(d[0]) for t, d in zip(tags, data)}
-        return {}
-    finally:
-        gmsh.finalize()
 
 
 class TunnelLining(unittest.TestCase):
@@ -65,7 +50,7 @@ class TunnelLining(unittest.TestCase):
         self.assertIn("thickness limited", self.out)
 
     def test_view(self):
-        v = view(tu.path("t.msh"), "thickness limited")
+        v = tu.view_values(tu.path("t.msh"), "thickness limited")
         self.assertEqual(len(v), self.rep["thickness_limited"][0]["elements"])
         for t in v.values():
             self.assertTrue(0.3 * (1 - 1e-9) <= t < 0.35, t)

@@ -32,8 +32,9 @@ static int frame1(const double *x, double (*xl)[3]) {
   return xl[1][0] > 0 && isfinite(xl[1][0]) ? 0 : -1;
 }
 
-static int frame2(int nc, int nn, const double *x, double (*xl)[3]) {
-  double n[3] = {0, 0, 0}, e1[3], e2[3], r[3], s[3], c[3];
+int dtm_elem_plane_axes(int nc, const double *x, double axes[3][3]) {
+  double *n = axes[2], *e1 = axes[0], r[3], s[3], c[3];
+  n[0] = n[1] = n[2] = 0;
   for (int a = 1; a + 1 < nc; a++) {
     dtm_v3_sub(x + 3 * a, x, r);
     dtm_v3_sub(x + 3 * (a + 1), x, s);
@@ -45,10 +46,16 @@ static int frame2(int nc, int nn, const double *x, double (*xl)[3]) {
   double h = dtm_v3_dot(e1, n);
   for (int i = 0; i < 3; i++) e1[i] -= h * n[i];
   if (unit(e1)) return -1;
-  dtm_v3_cross(n, e1, e2);
+  dtm_v3_cross(n, e1, axes[1]);
+  return 0;
+}
+
+static int frame2(int nc, int nn, const double *x, double (*xl)[3]) {
+  double ax[3][3], r[3];
+  if (dtm_elem_plane_axes(nc, x, ax)) return -1;
   for (int a = 0; a < nn; a++) {
     dtm_v3_sub(x + 3 * a, x, r);
-    xl[a][0] = dtm_v3_dot(r, e1), xl[a][1] = dtm_v3_dot(r, e2), xl[a][2] = 0;
+    xl[a][0] = dtm_v3_dot(r, ax[0]), xl[a][1] = dtm_v3_dot(r, ax[1]), xl[a][2] = 0;
   }
   return 0;
 }

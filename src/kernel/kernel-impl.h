@@ -48,6 +48,11 @@ const double (*dtm_ref_nodes(int type))[3];
 void dtm_ref_eval_quadratic(int type, const double p[3], double *N, double (*dN)[3]);
 void dtm_ref_eval_pyramid2(int type, const double p[3], double *N, double (*dN)[3]);
 
+/* The frame of a plane element from its first nc corners x[nc][3]: axes[2]
+ * the unit (Newell) normal, axes[0] the edge 0-1 projected on the plane,
+ * axes[1] = axes[2] x axes[0]. Returns 0, or -1 when the corners span no
+ * plane. */
+int dtm_elem_plane_axes(int nc, const double *x, double axes[3][3]);
 /* Coordinates xl[nn][3] of the nodes in the element's own frame: 3D
  * elements are copied, 2D elements are projected onto the mean plane of
  * their corner nodes (Newell normal), 1D elements onto their line; unused

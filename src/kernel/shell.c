@@ -175,32 +175,13 @@ static int check_section(const dtm_shell_section *s) {
   return DTM_OK;
 }
 
-static int unit(double *a) {
-  double n = sqrt(dtm_v3_dot(a, a));
-  if (!(n > 0) || !isfinite(n)) return -1;
-  for (int i = 0; i < 3; i++) a[i] /= n;
-  return 0;
-}
-
 /* Frame and local coordinates of the nn corners x[nn][3]. */
 static int shell_frame(int nn, const double *x, shell_elem *e) {
-  double *n = e->axes[2], *e1 = e->axes[0], r[3], s[3], c[3];
-  memset(e->axes, 0, sizeof e->axes);
-  for (int a = 1; a + 1 < nn; a++) {
-    dtm_v3_sub(x + 3 * a, x, r);
-    dtm_v3_sub(x + 3 * (a + 1), x, s);
-    dtm_v3_cross(r, s, c);
-    for (int i = 0; i < 3; i++) n[i] += c[i];
-  }
-  if (unit(n)) return -1;
-  dtm_v3_sub(x + 3, x, e1);
-  double h = dtm_v3_dot(e1, n);
-  for (int i = 0; i < 3; i++) e1[i] -= h * n[i];
-  if (unit(e1)) return -1;
-  dtm_v3_cross(n, e1, e->axes[1]);
+  double r[3];
+  if (dtm_elem_plane_axes(nn, x, e->axes)) return -1;
   for (int a = 0; a < nn; a++) {
     dtm_v3_sub(x + 3 * a, x, r);
-    e->xl[a][0] = dtm_v3_dot(r, e1), e->xl[a][1] = dtm_v3_dot(r, e->axes[1]), e->xl[a][2] = 0;
+    e->xl[a][0] = dtm_v3_dot(r, e->axes[0]), e->xl[a][1] = dtm_v3_dot(r, e->axes[1]), e->xl[a][2] = 0;
   }
   return 0;
 }
