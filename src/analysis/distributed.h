@@ -47,8 +47,9 @@ int dtm_analysis_is_distributed(const dtm_analysis *a);
 int dtm_analysis_combine_nodes(const dtm_analysis *a, int status, double *v, dtm_x_op op);
 
 /* Extract the current Gmsh model's elements of dimension dim into *out,
- * groups mapped to the scene's materials (as dtm_analysis_current does);
- * *seconds receives the time. */
+ * groups mapped to the scene's materials and sections (as
+ * dtm_analysis_current does, except that a sectioned group may hold no
+ * element: the model is one part); *seconds receives the time. */
 int dtm_analysis_extract(const dtm_scene *s, int dim, dtm_mesh **out, double *seconds);
 /* dtm_analysis_compute on one part, with x reaching the others (x must
  * outlive the analysis; NULL: a whole mesh). Collective. */

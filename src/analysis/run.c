@@ -71,7 +71,9 @@ static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat,
   return DTM_OK;
 }
 
-static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
+/* whole: m is the whole mesh (not one part of a distributed run, where a
+ * sectioned group may well have no element in this part). */
+static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, double *t) {
   double t0 = dtm_wtime();
   int *gm = NULL, *gs = NULL, def = -1, defsec = -1;
   m->dim = dim;
@@ -81,7 +83,7 @@ static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
   int r = dtm_analysis_map_sections(s, m, &gs, &defsec);
   dtm_group_map map = {gm, def, gs, defsec};
   if (r == DTM_OK) r = dtm_gmsh_extract_map(dim, &map, s, m);
-  if (r == DTM_OK) r = dtm_analysis_check_sections(s, m, gs);
+  if (r == DTM_OK && whole) r = dtm_analysis_check_sections(s, m, gs);
   free(gm), free(gs);
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   if (r == DTM_OK) r = dtm_mesh_check(m, s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model");
@@ -92,7 +94,7 @@ static int extract_mesh(const dtm_scene *s, int dim, dtm_mesh *m, double *t) {
 int dtm_analysis_extract(const dtm_scene *s, int dim, dtm_mesh **out, double *seconds) {
   double t[DTM_T_COUNT] = {0};
   dtm_mesh *m = calloc(1, sizeof *m);
-  int r = m ? extract_mesh(s, dim, m, t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = m ? extract_mesh(s, dim, 0, m, t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r) {
     dtm_mesh_destroy(&m);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -123,7 +125,7 @@ int dtm_analysis_current(const dtm_scene *s, int dim, dtm_analysis **out) { retu
  * create the scene's effects. */
 static int prepare(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_mesh *m, dtm_geo **geo,
                    dtm_effect **e, int *ne, double *t) {
-  int r = extract_mesh(s, dim, m, t);
+  int r = extract_mesh(s, dim, 1, m, t);
   double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_gmsh_geo(m, geo);
   t[DTM_T_EXTRACT] += dtm_wtime() - t0;
