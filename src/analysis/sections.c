@@ -43,7 +43,7 @@ static int wrong_dim(const dtm_scene *s, const dtm_section *sec, const char *ref
 
 static int map_one(const dtm_scene *s, const dtm_mesh *m, int i, int *gs, int *def) {
   const dtm_section *sec = &s->sections[i];
-  if (sec->is_default && !suits(sec->kind, m->dim, m->dim)) return wrong_dim(s, sec, "(default)", m->dim, m->dim);
+  if (sec->is_default && !suits(sec->kind, m->dim, m->dim)) return wrong_dim(s, sec, NULL, m->dim, m->dim);
   if (sec->is_default) *def = i;
   for (int k = 0; k < sec->ngroups; k++) {
     int g = dtm_mesh_group_find(m, sec->groups[k]);
