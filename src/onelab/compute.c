@@ -4,7 +4,11 @@
  * NAME/9Results and its summary sent to Gmsh's console, and the result is
  * handed to Gmsh to merge: the whole .msh (a new model beside the one the
  * user opened), or, when Gmsh already holds the very mesh analysed, only the
- * views, so that they land on it. */
+ * views, so that they land on it. An error at a line of the panel's scene
+ * (a section's area <= 0, a material without a property an effect needs)
+ * is the scene reader's or the analysis' own, as for a scene file; that
+ * line of the scene, which the user does not see, goes to Gmsh's console
+ * first, so that the group and the value it is about can be read. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -167,6 +171,22 @@ static int save_scene(ol_conn *c, const ol_panel *pn, const char *xml) {
   return dtm_ol_send_text(c, OL_INFO, line);
 }
 
+/* The line of the panel's scene xml (read as name) that the pending error
+ * names ("name:LINE: ..."), sent to Gmsh's console; nothing when it names
+ * none. */
+static void quote_line(ol_conn *c, const char *name, const char *xml) {
+  const char *msg = dtm_error_message();
+  size_t n = strlen(name);
+  int line = strncmp(msg, name, n) || msg[n] != ':' ? 0 : atoi(msg + n + 1);
+  const char *at = line > 0 ? xml : NULL;
+  for (int i = 1; at && i < line; i++) at = strchr(at, '\n'), at = at ? at + 1 : NULL;
+  while (at && (*at == ' ' || *at == '\t')) at++;
+  if (!at || !*at) return;
+  char text[1200];
+  snprintf(text, sizeof text, "line %d of the panel's scene: %.*s", line, (int)strcspn(at, "\n"), at);
+  (void)dtm_ol_send_text(c, OL_INFO, text); /* a lost connection is what the report then says */
+}
+
 int dtm_ol_compute(ol_conn *c, const ol_model *m, const ol_panel *pn, int posterior) {
   char *xml = NULL, name[4200];
   dtm_scene *s = NULL;
@@ -186,6 +206,7 @@ int dtm_ol_compute(ol_conn *c, const ol_model *m, const ol_panel *pn, int poster
     r = write_and_send(c, m, &res);
   }
   if (r == DTM_OK && !stop) r = save_scene(c, pn, xml);
+  if (r && xml) quote_line(c, name, xml);
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_scene_destroy(&s);

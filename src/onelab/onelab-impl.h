@@ -124,9 +124,15 @@ int dtm_ol_material_count(void);
 #define OL_NEFFECTS 5
 extern const char *const dtm_ol_effect_names[OL_NEFFECTS];
 
-/* The material choice of one physical group. */
+/* The material choice of one physical group, and the section of a group
+ * below the analysed dimension (a curve or surface in or on the model). */
 typedef struct {
   char ref[128];          /* the group as a scene names it (name, or number) */
+  int dim;                /* the group's dimension (the analysed one, or below for a section) */
+  int kind;               /* below the analysed dimension: DTM_SECTION_TRUSS (curves) or
+                             DTM_SECTION_MEMBRANE (surfaces) when chosen, -1: none (not analysed);
+                             -1 at the analysed dimension (the effects' formulation) */
+  double measure;         /* the section's area (m^2, truss) or thickness (m, membrane) */
   int choice;             /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
   char scene_name[128];   /* the scene's material for this group, or "" */
   double prop[OL_NPROPS]; /* the values in force (NaN: not given) */
@@ -144,9 +150,14 @@ typedef struct {
   double mesh_size;           /* m; 0: the geometry's own sizes */
   int save_scene;             /* write the panel as a scene after the run */
   char scene_out[4096];       /* where */
-  int ngroups;                /* groups of the analysed dimension (+1 for "no group") */
+  int ngroups;                /* groups of the analysed dimension (+1 for "no group"), then those below */
+  int nanalysed;              /* the first nanalysed groups are of the analysed dimension */
   ol_group *groups;           /* [ngroups] */
 } ol_panel;
+
+/* Whether group i of the panel goes into the scene: a group of the analysed
+ * dimension, or one below it with a section. */
+int dtm_ol_group_in_scene(const ol_panel *panel, int i);
 
 /* Everything the client knows about the model it works on. */
 typedef struct {
@@ -158,6 +169,9 @@ typedef struct {
   int dim;            /* dimension analysed */
   int ngroups;        /* physical groups of that dimension */
   dtm_group *groups;  /* [ngroups] (owned) */
+  int nlower;         /* physical groups below it that a section can take: surfaces, then curves
+                         (none whose name or number an analysed group already answers to) */
+  dtm_group *lower;   /* [nlower] (owned) */
 } ol_model;
 
 /* Declare the panel under "NAME/" from the model and its base scene, read
@@ -168,10 +182,13 @@ void dtm_ol_panel_free(ol_panel *panel);
 /* The scene the panel describes, as XML text (malloc'd, NUL-terminated). */
 int dtm_ol_scene_text(const ol_model *m, const ol_panel *panel, char **xml);
 /* Find the model open in Gmsh, its scene (scene_arg, or MODEL.xml beside
- * it) and, opened in dtmap's Gmsh (started by the caller), its dimension
- * and physical groups. Free with dtm_ol_model_free. */
+ * it) and, opened in dtmap's Gmsh (started by the caller), its dimension,
+ * its physical groups of that dimension and those below it. Free with
+ * dtm_ol_model_free. */
 int dtm_ol_model_load(ol_conn *c, const char *scene_arg, ol_model *m);
 void dtm_ol_model_free(ol_model *m);
+/* Group g as a scene names it: its name, or its number when unnamed. */
+void dtm_ol_group_ref(const dtm_group *g, char *ref, size_t n);
 /* Analyse the panel's scene, write the result, publish its figures under
  * NAME/9Results and hand it to Gmsh to merge; posterior forces the global
  * estimate. */

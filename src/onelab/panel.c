@@ -3,9 +3,13 @@
  * (safety, target, duration, the global estimate), the mesh size of a
  * geometry, and for every physical group of the analysed dimension its
  * material: a named material of the library (its SI values shown read-only),
- * the scene's own, or custom values. Defaults come from the scene beside the
- * model; a value the user changed in the panel stays in force (the server
- * keeps it) until the panel is reset. */
+ * the scene's own, or custom values. Every group of curves or surfaces below
+ * that dimension gets a section menu: none (the default: not analysed), or
+ * truss for curves and membrane for surfaces, with the cross-section area or
+ * the thickness; with a section it gets a material menu too. (The plane
+ * kinds of a 2D model's surfaces are the elastic formulation's choices.)
+ * Defaults come from the scene beside the model; a value the user changed in
+ * the panel stays in force (the server keeps it) until the panel is reset. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -143,13 +147,6 @@ static const dtm_scene_material *scene_material(const dtm_scene *s, const char *
   return def;
 }
 
-static void group_ref(const dtm_group *g, char *ref, size_t n) {
-  if (g->name && g->name[0])
-    snprintf(ref, n, "%s", g->name);
-  else
-    snprintf(ref, n, "%d", g->tag);
-}
-
 static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib) {
   for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = NAN;
   if (g->choice >= 1 && g->choice <= nlib)
@@ -158,13 +155,60 @@ static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib) {
     for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_material_value(&sm->m, dtm_ol_prop_names[p]);
 }
 
+/* The scene's section naming group reference ref, or NULL. */
+static const dtm_section *scene_section(const dtm_scene *s, const char *ref) {
+  for (int i = 0; s && i < s->nsections; i++)
+    for (int g = 0; g < s->sections[i].ngroups; g++)
+      if (!strcmp(s->sections[i].groups[g], ref)) return &s->sections[i];
+  return NULL;
+}
+
+/* The one section kind the panel offers a group of dimension dim below the
+ * analysed one: trusses for curves, membranes for surfaces. */
+static int lower_kind(int dim) { return dim == 1 ? DTM_SECTION_TRUSS : DTM_SECTION_MEMBRANE; }
+
+/* The area (truss) or thickness (membrane) of a chosen section, shown only
+ * then; *value holds the default in and the value in force out. */
+static int measure(ol_conn *c, const char *dir, int kind, int shown, double *value) {
+  int truss = kind == DTM_SECTION_TRUSS;
+  char name[512];
+  ol_param p;
+  snprintf(name, sizeof name, "%s/01%s", dir, truss ? "area" : "thickness");
+  dtm_ol_number(&p, name, *value, truss ? "cross-section area" : "thickness");
+  dtm_ol_attr(&p, "Units", truss ? "m^2" : "m");
+  p.visible = shown;
+  DTM_CHECK(dtm_ol_define(c, &p));
+  *value = p.value;
+  return DTM_OK;
+}
+
+/* The section menu of a group below the analysed dimension: none (not
+ * analysed) or its dimension's kind, default the scene's; g->kind and
+ * g->measure receive the values in force. */
+static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, ol_group *g) {
+  int kind = lower_kind(g->dim);
+  const dtm_section *sec = scene_section(base, g->ref);
+  int given = sec && sec->kind == kind;
+  char name[512];
+  ol_param p;
+  snprintf(name, sizeof name, "%s/00section", dir);
+  dtm_ol_number(&p, name, given, "section");
+  dtm_ol_choice(&p, 0, "none (not analysed)");
+  dtm_ol_choice(&p, 1, dtm_section_kind_name(kind));
+  DTM_CHECK(dtm_ol_define(c, &p));
+  g->kind = p.value == 1 ? kind : -1;
+  g->measure = given ? dtm_section_factor(sec) : 0;
+  return measure(c, dir, kind, g->kind >= 0, &g->measure);
+}
+
 /* The material menu of one group; g->choice receives the choice in force. */
-static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *sm, ol_group *g) {
+static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *sm, int shown, ol_group *g) {
   int nlib = dtm_ol_material_count();
   char name[512], label[64];
   ol_param p;
   snprintf(name, sizeof name, "%s/0material", dir);
   dtm_ol_number(&p, name, sm ? nlib + 1 : 1, "material");
+  p.visible = shown;
   dtm_ol_choice(&p, 0, "custom");
   for (int i = 0; i < nlib; i++) dtm_ol_choice(&p, i + 1, dtm_ol_materials[i].name);
   if (sm) snprintf(label, sizeof label, "%s (scene)", sm->m.name), dtm_ol_choice(&p, nlib + 1, label);
@@ -177,12 +221,13 @@ static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *
 
 /* One property field: read-only with the material's value, or editable for
  * a custom material (then the user's value stays in force). */
-static int property(ol_conn *c, const char *dir, int p, ol_group *g) {
+static int property(ol_conn *c, const char *dir, int p, int shown, ol_group *g) {
   char name[512];
   ol_param q;
   snprintf(name, sizeof name, "%s/%d%s", dir, p + 1, dtm_ol_prop_names[p]);
   dtm_ol_number(&q, name, isfinite(g->prop[p]) ? g->prop[p] : 0, dtm_ol_prop_names[p]);
   if (dtm_ol_prop_units[p][0]) dtm_ol_attr(&q, "Units", dtm_ol_prop_units[p]);
+  q.visible = shown;
   if (g->choice != 0) {
     if (!isfinite(g->prop[p])) return DTM_OK; /* the run names what is missing */
     q.read_only = 1;
@@ -199,19 +244,37 @@ static int group_panel(ol_conn *c, const ol_model *m, unsigned needs, ol_group *
   for (char *s = clean; *s; s++)
     if (*s == '/') *s = '_';
   snprintf(dir, sizeof dir, "%s/4Materials/%s", c->name, clean);
+  if (g->dim < m->dim) DTM_CHECK(section_menu(c, dir, m->base, g));
+  int shown = g->dim == m->dim || g->kind >= 0; /* a group below it needs a material only with a section */
   const dtm_scene_material *sm = scene_material(m->base, g->ref);
-  DTM_CHECK(material_menu(c, dir, sm, g));
+  DTM_CHECK(material_menu(c, dir, sm, shown, g));
   fill_values(g, sm, dtm_ol_material_count());
   for (int p = 0; p < OL_NPROPS; p++)
-    if (needs & (1u << p)) DTM_CHECK(property(c, dir, p, g));
+    if (needs & (1u << p)) DTM_CHECK(property(c, dir, p, shown, g));
+  return DTM_OK;
+}
+
+int dtm_ol_group_in_scene(const ol_panel *pn, int i) { return i < pn->nanalysed || pn->groups[i].kind >= 0; }
+
+/* The panel's groups: those of the analysed dimension (or one for the
+ * elements in no group), then those below it. */
+static int list_groups(const ol_model *m, ol_panel *pn) {
+  pn->nanalysed = m->ngroups ? m->ngroups : 1;
+  pn->ngroups = pn->nanalysed + m->nlower;
+  pn->groups = calloc((size_t)pn->ngroups, sizeof *pn->groups);
+  if (!pn->groups) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < pn->ngroups; i++) {
+    ol_group *g = &pn->groups[i];
+    const dtm_group *from = i < m->ngroups ? &m->groups[i] : i >= pn->nanalysed ? &m->lower[i - pn->nanalysed] : NULL;
+    if (from) dtm_ol_group_ref(from, g->ref, sizeof g->ref);
+    g->dim = from ? from->dim : m->dim;
+    g->kind = -1;
+  }
   return DTM_OK;
 }
 
 static int materials(ol_conn *c, const ol_model *m, ol_panel *pn) {
-  pn->ngroups = m->ngroups ? m->ngroups : 1;
-  pn->groups = calloc((size_t)pn->ngroups, sizeof *pn->groups);
-  if (!pn->groups) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (int i = 0; i < m->ngroups; i++) group_ref(&m->groups[i], pn->groups[i].ref, sizeof pn->groups[i].ref);
+  DTM_CHECK(list_groups(m, pn));
   unsigned needs = needed(pn);
   for (int i = 0; i < pn->ngroups; i++) DTM_CHECK(group_panel(c, m, needs, &pn->groups[i]));
   return DTM_OK;
@@ -239,5 +302,5 @@ int dtm_ol_panel_declare(ol_conn *c, const ol_model *m, ol_panel *pn) {
 void dtm_ol_panel_free(ol_panel *pn) {
   free(pn->groups);
   pn->groups = NULL;
-  pn->ngroups = 0;
+  pn->ngroups = pn->nanalysed = 0;
 }

@@ -1,8 +1,11 @@
 /* The scene the panel describes, written as scene XML: the source (the
  * model, or the base scene's), its meshing options with the panel's size,
- * one <material> per distinct material chosen for the groups, the effects in
- * the base scene's order (with the panel's switches, formulation and damping
- * ratio) followed by the switched-on effects it lacks, and the time options.
+ * one <material> per distinct material chosen for the groups it analyses,
+ * one <section> per curve or surface group given a truss or membrane section
+ * in the panel (and the base scene's sections of the other groups, as they
+ * are), the effects in the base scene's order (with the panel's switches,
+ * formulation and damping ratio) followed by the switched-on effects it
+ * lacks, and the time options.
  * dtmap reads it back with dtm_scene_load_memory, so the panel and a scene
  * file go through the same checks; "save as scene" writes the same text. */
 #include <math.h>
@@ -56,28 +59,81 @@ static void material_name(const ol_group *g, int nlib, char *out, size_t n) {
     snprintf(out, n, "%s", g->scene_name);
 }
 
+/* Whether group j of the scene has the material called name. */
+static int has_material(const ol_panel *pn, int j, int nlib, const char *name) {
+  char other[160];
+  if (!dtm_ol_group_in_scene(pn, j)) return 0;
+  material_name(&pn->groups[j], nlib, other, sizeof other);
+  return !strcmp(name, other);
+}
+
 static void material(FILE *f, const ol_panel *pn, int i, int nlib) {
-  char name[160], other[160];
+  char name[160];
+  if (!dtm_ol_group_in_scene(pn, i)) return;
   material_name(&pn->groups[i], nlib, name, sizeof name);
-  for (int j = 0; j < i; j++) {
-    material_name(&pn->groups[j], nlib, other, sizeof other);
-    if (!strcmp(name, other)) return; /* written with the first group that has it */
-  }
+  for (int j = 0; j < i; j++)
+    if (has_material(pn, j, nlib, name)) return; /* written with the first group that has it */
+  int named = 0;
+  for (int j = i; j < pn->ngroups; j++) named |= has_material(pn, j, nlib, name) && pn->groups[j].ref[0];
   fprintf(f, "  <material");
   attr(f, "name", name);
   if (!pn->groups[i].ref[0]) fprintf(f, " default=\"true\"");
-  if (pn->groups[i].ref[0]) {
+  if (named) {
     fprintf(f, " groups=\"");
-    for (int j = i, first = 1; j < pn->ngroups; j++) {
-      material_name(&pn->groups[j], nlib, other, sizeof other);
-      if (!strcmp(name, other) && pn->groups[j].ref[0])
+    for (int j = i, first = 1; j < pn->ngroups; j++)
+      if (has_material(pn, j, nlib, name) && pn->groups[j].ref[0])
         fprintf(f, "%s", first ? "" : " "), esc(f, pn->groups[j].ref), first = 0;
-    }
     fputc('"', f);
   }
   for (int p = 0; p < OL_NPROPS; p++)
     if (isfinite(pn->groups[i].prop[p])) attr_num(f, dtm_ol_prop_names[p], pn->groups[i].prop[p]);
   fprintf(f, "/>\n");
+}
+
+/* The rest of a <section> after its groups: the default flag, kind k, and
+ * the area of a truss, the thickness of a membrane (from the panel: what
+ * was entered, the reader says what is wrong with it) or of a plane kind. */
+static void section_rest(FILE *f, int k, int is_default, double thickness, double area) {
+  if (is_default) fprintf(f, " default=\"true\"");
+  attr(f, "kind", dtm_section_kind_name(k));
+  if (k == DTM_SECTION_TRUSS)
+    attr_num(f, "area", area);
+  else if (k == DTM_SECTION_MEMBRANE || thickness > 0)
+    attr_num(f, "thickness", thickness);
+  fprintf(f, "/>\n");
+}
+
+/* Whether ref is a group the panel gives (or denies) a section. */
+static int panel_sections(const ol_panel *pn, const char *ref) {
+  for (int i = pn->nanalysed; i < pn->ngroups; i++)
+    if (!strcmp(pn->groups[i].ref, ref)) return 1;
+  return 0;
+}
+
+/* A base scene's section, for its groups the panel does not list. */
+static void base_section(FILE *f, const ol_panel *pn, const dtm_section *s) {
+  int n = 0;
+  for (int g = 0; g < s->ngroups; g++) n += !panel_sections(pn, s->groups[g]);
+  if (!n && !s->is_default) return;
+  fprintf(f, "  <section");
+  if (n) {
+    fprintf(f, " groups=\"");
+    for (int g = 0, first = 1; g < s->ngroups; g++)
+      if (!panel_sections(pn, s->groups[g])) fputs(first ? "" : " ", f), esc(f, s->groups[g]), first = 0;
+    fputc('"', f);
+  }
+  section_rest(f, s->kind, s->is_default, s->thickness, s->area);
+}
+
+static void sections(FILE *f, const ol_model *m, const ol_panel *pn) {
+  for (int i = pn->nanalysed; i < pn->ngroups; i++) {
+    const ol_group *g = &pn->groups[i];
+    if (g->kind < 0) continue;
+    fprintf(f, "  <section");
+    attr(f, "groups", g->ref);
+    section_rest(f, g->kind, 0, g->measure, g->measure);
+  }
+  for (int i = 0; m->base && i < m->base->nsections; i++) base_section(f, pn, &m->base->sections[i]);
 }
 
 static int builtin_index(const char *name) {
@@ -99,7 +155,7 @@ static void builtin(FILE *f, const ol_model *m, const ol_panel *pn, int k, const
   if (k == 1 && !rayleigh) attr_num(f, "xi", pn->xi);
   if (k == 4 && !e) {
     fprintf(f, " groups=\"");
-    for (int i = 0; i < pn->ngroups; i++) esc(f, pn->groups[i].ref), fputs(i + 1 < pn->ngroups ? " " : "", f);
+    for (int i = 0; i < pn->nanalysed; i++) esc(f, pn->groups[i].ref), fputs(i + 1 < pn->nanalysed ? " " : "", f);
     fputc('"', f);
   }
   fprintf(f, "/>\n");
@@ -147,6 +203,7 @@ int dtm_ol_scene_text(const ol_model *m, const ol_panel *pn, char **xml) {
   fprintf(f, "<!-- Written by dtmap from Gmsh's ONELAB panel. -->\n<dtmap-scene version=\"1\">\n");
   source(f, m, pn);
   for (int i = 0; i < pn->ngroups; i++) material(f, pn, i, nlib);
+  sections(f, m, pn);
   effects(f, m, pn);
   times(f, m, pn);
   fprintf(f, "</dtmap-scene>\n");

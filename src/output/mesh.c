@@ -291,19 +291,29 @@ typedef struct {
   dtm_view_option o; /* View[i].<name> = value */
   const char *why;   /* comment in the .opt, or NULL */
 } styled;
-#define MAX_STYLE 12
+#define MAX_STYLE 16
 
 static void add_style(styled *s, int *k, const char *name, double number, const char *text, const char *why) {
   s[(*k)++] = (styled){{name, number, text}, why};
 }
 
-/* The options of the view called name in a mesh of dimension dim: unlit;
- * steps on a log scale, viridis (dark is small); colour bars in s or m; dt
- * visible (a faint skin in 3D), the below-target view too in 3D, the
- * others hidden until ticked. Returns the count written to s[MAX_STYLE]. */
-static int view_style(const char *name, int dim, styled *s) {
+/* Bit d set when mesh m has elements of dimension d below its own: the
+ * trusses (bit 1) and membranes (bit 2) of sections. */
+static unsigned lower_dims(const dtm_mesh *m) {
+  unsigned bits = 0;
+  for (int b = 0; b < m->nblocks; b++)
+    if (m->blocks[b].dim < m->dim && m->blocks[b].n) bits |= 1u << m->blocks[b].dim;
+  return bits;
+}
+
+/* The options of the view called name over mesh m: unlit; steps on a log
+ * scale, viridis (dark is small); colour bars in s or m; dt visible (a faint
+ * skin in 3D), the below-target view too in 3D, the others hidden until
+ * ticked; where the mesh has line elements (trusses) below its dimension,
+ * lines drawn as thick tubes. Returns the count written to s[MAX_STYLE]. */
+static int view_style(const char *name, const dtm_mesh *m, styled *s) {
   const char *u = unit_of(name);
-  int primary = !strcmp(name, "dt"), below = is_below(name), k = 0;
+  int primary = !strcmp(name, "dt"), below = is_below(name), k = 0, dim = m->dim;
   add_style(s, &k, "Light", 0, NULL, name);
   if (u[0] == 's') add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
   if (u[0] == 's') add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
@@ -315,12 +325,31 @@ static int view_style(const char *name, int dim, styled *s) {
     add_style(s, &k, "DrawSkinOnly", 1, NULL, NULL);
     add_style(s, &k, "ShowScale", 0, NULL, NULL);
   }
+  if (lower_dims(m) & 2u) {
+    add_style(s, &k, "LineType", 1, NULL, "trusses as tubes, seen inside the solid");
+    add_style(s, &k, "LineWidth", 4, NULL, NULL);
+  }
   return k;
 }
 
-static void style_view(FILE *f, int i, const char *name, int dim) {
+/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
+ * in their order, and a translucent face hides what is drawn after it. So
+ * an alias of dt (the same data and options), last in the list, keeps the
+ * faint skin of the solid elements, and dt itself draws the sections alone,
+ * opaque, with the colour bar, before it: they show inside the solid. */
+static void sections_on_top(FILE *f, int i) {
+  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
+  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
+  fprintf(f, "AliasWithOptions View[dtmap_v0 + %d]; // the faint skin of dt's solid elements, drawn last\n", i);
+  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
+  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
+  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
+  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
+}
+
+static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
   styled s[MAX_STYLE];
-  int n = view_style(name, dim, s);
+  int n = view_style(name, m, s);
   for (int k = 0; k < n; k++) {
     fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
     if (s[k].o.text)
@@ -332,6 +361,7 @@ static void style_view(FILE *f, int i, const char *name, int dim) {
     else
       fputc('\n', f);
   }
+  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i);
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
@@ -383,7 +413,7 @@ static void annotation(FILE *f, const dtm_results *r, const view_set *vs, const 
 static int write_opt(const char *path, const dtm_results *r, const dtm_output_part *part, const view_set *vs,
                      int nviews, dtm_atomic *w) {
   char opt[DTM_PATH_MAX + 8];
-  int dim = dtm_analysis_mesh(r->analysis)->dim;
+  const dtm_mesh *mesh = dtm_analysis_mesh(r->analysis);
   size_t nbelow = 0;
   for (int i = 0; i < nviews; i++)
     if (is_below(vs->views[i].name)) nbelow = vs->views[i].n;
@@ -397,7 +427,7 @@ static int write_opt(const char *path, const dtm_results *r, const dtm_output_pa
       f,
       "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n",
       nviews);
-  for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, dim);
+  for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, mesh);
   annotated n;
   annotated_of(r->analysis, part, nbelow, &n);
   annotation(f, r, vs, &n);
@@ -488,10 +518,10 @@ int dtm_output_write_ex(const dtm_results *res, const char *path, const dtm_outp
 /* The views in the session, styled as the .opt styles them (the .opt's
  * global options and its text view stay out of a script's session). */
 static int show_views(const dtm_results *r, const view_set *vs, const int *tags, int nviews) {
-  int dim = dtm_analysis_mesh(r->analysis)->dim;
+  const dtm_mesh *mesh = dtm_analysis_mesh(r->analysis);
   for (int i = 0; i < nviews; i++) {
     styled s[MAX_STYLE];
-    int n = view_style(vs->views[i].name, dim, s);
+    int n = view_style(vs->views[i].name, mesh, s);
     for (int k = 0; k < n; k++) DTM_CHECK(dtm_gmsh_view_option(tags[i], &s[k].o));
   }
   return DTM_OK;
