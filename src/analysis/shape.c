@@ -223,6 +223,7 @@ static double model_angle(const dtm_analysis *a, const incidence *inc, size_t i,
     corners c;
     if (a->geo->elem_entity[o] != a->geo->elem_entity[i]) continue;
     get_corners(a, o, &c);
+    if (c.nc < 3) continue; /* a truss on the entity's edge (entity tags of other dimensions may coincide) */
     int p = corner_of(&c, v), q = w == NO_NODE ? -1 : corner_of(&c, w);
     if (p >= 0 && w == NO_NODE) sum += corner_angle(&c, p);
     if (p >= 0 && q >= 0 && c.nc == 4) sum += dihedral(&c, p, q);
@@ -411,6 +412,11 @@ static void find_feature(const dtm_analysis *a, const judge_ctx *jc, size_t i, d
 static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F, int *limited, dtm_shape_limited *s) {
   feature f = {0, NAN, NAN, -1, -1, INFINITY};
   double q = 1.0, rq = 1.0, p = exponent_of(a, i), reach = NAN;
+  int b;
+  size_t l;
+  dtm_analysis_locate(a, i, &b, &l);
+  *limited = 0;
+  if (a->mesh->blocks[b].dim < a->mesh->dim) return DTM_OK; /* a truss or membrane: its own length or size sets it */
   DTM_CHECK(quality(a, i, &q, &rq));
   DTM_CHECK(layer_limited(a, jc, i, F * a->scene->safety * a->local[i], &f, &reach, limited));
   if (*limited) {
