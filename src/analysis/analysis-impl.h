@@ -55,7 +55,7 @@ struct dtm_analysis {
   size_t below;               /* elements whose safety x local step < target */
   dtm_shape_limited *shape;   /* [nshape] the shape-limited ones among them */
   size_t nshape;
-  dtm_layer *layers;          /* [nlayers] the groups with thickness-limited elements */
+  dtm_layer *layers; /* [nlayers] the groups with thickness-limited elements */
   size_t nlayers;
   const char *basis;           /* what recommended rests on: "element bound",
                                   "nodal bound" or "global estimate" */
