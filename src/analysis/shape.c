@@ -318,45 +318,113 @@ static void remedy(const dtm_analysis *a, size_t i, const feature *f, double qr,
   if (split <= f->size) s->remedy = DTM_REMEDY_SPLIT, s->split = split;
 }
 
-#define PATCH_MAX 256 /* boundary nodes of the patch around an element considered */
+#define PATCH_MAX 256   /* boundary nodes of the patch around an element considered */
+#define PATCH_ELEMS 128 /* elements of the patch kept for the inside test */
 
-/* The boundary nodes (on a model entity below the mesh's dimension) of
- * the patch around element i: the corners of every element of its group
- * that shares a node with it (a layer is a group: the neighbours across an
- * interface are not in it); into v[PATCH_MAX], returns how many. */
-static int patch_boundary(const dtm_analysis *a, const judge_ctx *jc, size_t i, size_t *v) {
+/* The patch around element i: the elements of its group that share a node
+ * with it (a layer is a group: the neighbours across an interface are not
+ * in it), into p->el, and their corners on a model entity below the mesh's
+ * dimension (boundary nodes), into p->v. */
+typedef struct {
+  size_t v[PATCH_MAX], el[PATCH_ELEMS];
+  int nv, nel;
+} patch;
+
+static void add_corners(const dtm_analysis *a, size_t o, patch *p) {
+  corners d;
+  get_corners(a, o, &d);
+  if (p->nel < PATCH_ELEMS) p->el[p->nel++] = o;
+  for (int j = 0; j < d.nc && p->nv < PATCH_MAX; j++) {
+    int seen = a->geo->node_dim[d.v[j]] >= a->mesh->dim;
+    for (int q = 0; q < p->nv && !seen; q++) seen = p->v[q] == d.v[j];
+    if (!seen) p->v[p->nv++] = d.v[j];
+  }
+}
+
+static void patch_of(const dtm_analysis *a, const judge_ctx *jc, size_t i, patch *p) {
   corners c;
-  int n = 0, g = dtm_analysis_group(a, i);
+  int g = dtm_analysis_group(a, i);
+  p->nv = p->nel = 0;
   get_corners(a, i, &c);
   for (int k = 0; k < c.nc; k++)
-    for (size_t p = jc->inc.start[c.v[k]]; p < jc->inc.start[c.v[k] + 1]; p++) {
-      corners d;
-      if (dtm_analysis_group(a, jc->inc.list[p]) != g) continue;
-      get_corners(a, jc->inc.list[p], &d);
-      for (int j = 0; j < d.nc && n < PATCH_MAX; j++) {
-        int seen = a->geo->node_dim[d.v[j]] >= a->mesh->dim;
-        for (int q = 0; q < n && !seen; q++) seen = v[q] == d.v[j];
-        if (!seen) v[n++] = d.v[j];
-      }
+    for (size_t q = jc->inc.start[c.v[k]]; q < jc->inc.start[c.v[k] + 1]; q++) {
+      size_t o = jc->inc.list[q];
+      int dup = 0;
+      for (int j = 0; j < p->nel && !dup; j++) dup = p->el[j] == o;
+      if (!dup && dtm_analysis_group(a, o) == g) add_corners(a, o, p);
     }
-  return n;
+}
+
+static void sub3(const double *a, const double *b, double *c) {
+  for (int d = 0; d < 3; d++) c[d] = a[d] - b[d];
+}
+static void cross3(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double triple3(const double *a, const double *b, const double *c) {
+  double t[3];
+  cross3(b, c, t);
+  return dot3(a, t);
+}
+
+/* Whether point x lies in the element with corners c (1e-9 of slack):
+ * barycentric on triangles and tetrahedra, the corners' box otherwise. */
+static int holds(const corners *c, const double x[3]) {
+  double e[3][3], r[3], tol = 1e-9;
+  for (int k = 0; k < 3 && k + 1 < c->nc; k++) sub3(c->x[k + 1], c->x[0], e[k]);
+  sub3(x, c->x[0], r);
+  if (c->nc == 3) { /* in the triangle's plane: the two sub-areas against the whole */
+    double n[3], s[3], t[3], nn;
+    cross3(e[0], e[1], n), nn = dot3(n, n);
+    cross3(r, e[1], s), cross3(e[0], r, t);
+    double u = dot3(s, n) / nn, v = dot3(t, n) / nn;
+    return u >= -tol && v >= -tol && u + v <= 1 + tol;
+  }
+  if (c->nc == 4 && c->type != DTM_QUAD4 && c->type != DTM_QUAD8 && c->type != DTM_QUAD9) {
+    double det = triple3(e[0], e[1], e[2]), u = triple3(r, e[1], e[2]) / det;
+    double v = triple3(e[0], r, e[2]) / det, w = triple3(e[0], e[1], r) / det;
+    return u >= -tol && v >= -tol && w >= -tol && u + v + w <= 1 + tol;
+  }
+  for (int d = 0; d < 3; d++) {
+    double lo = INFINITY, hi = -INFINITY, span;
+    for (int k = 0; k < c->nc; k++) lo = fmin(lo, c->x[k][d]), hi = fmax(hi, c->x[k][d]);
+    span = tol * (hi - lo + 1e-300);
+    if (x[d] < lo - span || x[d] > hi + span) return 0;
+  }
+  return 1;
+}
+
+/* Whether the segment between nodes v and w runs through the material of
+ * the patch there (its midpoint lies in one of its elements): across a
+ * layer, not across a gap between two faces (a notch, a slot). */
+static int through_material(const dtm_analysis *a, const patch *p, size_t v, size_t w) {
+  double m[3];
+  for (int d = 0; d < 3; d++) m[d] = 0.5 * (a->mesh->xyz[3 * v + d] + a->mesh->xyz[3 * w + d]);
+  for (int j = 0; j < p->nel; j++) {
+    corners c;
+    get_corners(a, p->el[j], &c);
+    if (holds(&c, m)) return 1;
+  }
+  return 0;
 }
 
 /* How thin the part is at element i: the smallest distance between two
- * nodes of its patch on boundaries that do not touch (a layer one or two
- * elements across shows both of its faces there), +inf when none; *dim,
- * *tag get one of the two boundaries. */
+ * boundary nodes of its patch on boundaries that do not touch, through its
+ * material (a layer one or two elements across shows both of its faces
+ * there), +inf when none; *dim, *tag get one of the two boundaries. */
 static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *dim, int *tag) {
   const dtm_geo *g = a->geo;
-  size_t v[PATCH_MAX];
-  int n = patch_boundary(a, jc, i, v);
+  patch p;
+  patch_of(a, jc, i, &p);
   double best = INFINITY;
-  for (int j = 0; j < n; j++)
-    for (int k = j + 1; k < n; k++) {
-      if (dtm_geo_touch(g, v[j], v[k])) continue;
-      const double *x = a->mesh->xyz + 3 * v[j], *y = a->mesh->xyz + 3 * v[k];
+  for (int j = 0; j < p.nv; j++)
+    for (int k = j + 1; k < p.nv; k++) {
+      if (dtm_geo_touch(g, p.v[j], p.v[k])) continue;
+      const double *x = a->mesh->xyz + 3 * p.v[j], *y = a->mesh->xyz + 3 * p.v[k];
       double t = sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
-      if (t < best) best = t, *dim = g->node_dim[v[j]], *tag = g->node_tag[v[j]];
+      if (t < best && through_material(a, &p, p.v[j], p.v[k]))
+        best = t, *dim = g->node_dim[p.v[j]], *tag = g->node_tag[p.v[j]];
     }
   return best;
 }
