@@ -16,6 +16,9 @@ concrete lining in rock, 2D plane strain, real Gmsh meshing) with a target
   saying why, and writes the kept mesh.
 - With a target 1.05 times the step, which a fresh mesh of the lining can
   reach, nothing is called thickness-limited.
+- Without a target, the smallest steps are said to lie across the lining
+  (at_minimum, thickness 0.3 m to 1e-9, no remedies), and the bundled box,
+  whose smallest steps lie in no thin part, has no such entry.
 """
 
 import math
@@ -84,6 +87,25 @@ class TunnelLining(unittest.TestCase):
         code, out = tu.run("run", "near.xml", "-o", "n.msh", "--report", "n.json", "-q")
         self.assertEqual(code, 0, out)
         self.assertEqual(tu.report("n.json")["thickness_limited"], [])
+
+    def test_without_target_at_minimum(self):
+        with open(tu.path("tunnel_lining.xml")) as f:
+            tu.write("free.xml", f.read().replace(' target="5.2e-5"', ""))
+        code, out = tu.run("run", "free.xml", "-o", "f.msh", "--report", "f.json")
+        self.assertEqual(code, 0, out)
+        layers = tu.report("f.json")["thickness_limited"]
+        self.assertEqual([(l["group"], l["at_minimum"]) for l in layers], [("lining", True)])
+        self.assertLessEqual(abs(layers[0]["thickness"] - 0.3), 0.3e-9)
+        self.assertEqual(layers[0]["remedies"], {})
+        self.assertIn("smallest steps lie where 'lining' is 0.3 m thin", out)
+
+    def test_box_has_no_thin_part(self):
+        shutil.copy(os.path.join(tu.SRC, "geometries", "box.geo"), tu.tmpdir())
+        with open(os.path.join(tu.SRC, "geometries", "box.xml")) as f:
+            tu.write("box_free.xml", f.read().replace(' target="4e-7"', ""))
+        code, out = tu.run("run", "box_free.xml", "-o", "box_out.msh", "--report", "box_out.json", "-q")
+        self.assertEqual(code, 0, out)
+        self.assertEqual(tu.report("box_out.json")["thickness_limited"], [])
 
 
 if __name__ == "__main__":

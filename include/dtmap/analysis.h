@@ -116,6 +116,9 @@ typedef struct {
   double shell_step; /* LS-DYNA's shell (or, in 2D, beam) rule at that size, size / c_p
                         with c_p = sqrt(E/(rho(1 - nu^2))) of the group's material, s;
                         NaN without E, nu, rho */
+  int at_minimum;    /* 1: the scene has no target, and these are elements whose own step
+                        is within 10 % of the smallest (at most 64 examined): the layer
+                        caps the smallest steps; reach may lie above them */
 } dtm_layer;
 
 /* Stages the analysis times, s. */
@@ -249,8 +252,8 @@ DTM_EXPORT const dtm_geo *dtm_analysis_geo(const dtm_analysis *a);
  * in 2D; 1 in 1D). */
 DTM_EXPORT double dtm_analysis_mesh_spread(int dim);
 DTM_EXPORT const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n);
-/* The groups with thickness-limited elements, *n of them (none without a
- * target). */
+/* The groups with thickness-limited elements, *n of them (without a
+ * target: the layers the smallest steps lie across, at_minimum). */
 DTM_EXPORT const dtm_layer *dtm_analysis_layers(const dtm_analysis *a, size_t *n);
 /* The minima of effect k. */
 DTM_EXPORT const dtm_effect_min *dtm_analysis_effect_min(const dtm_analysis *a, int k);

@@ -100,13 +100,15 @@ typedef struct {
 } incidence;
 
 /* Pass 0 counts the elements of each node into start[v + 2]; pass 1,
- * after the prefix sums, files them (start[v + 1] runs over v's range). */
-static void scatter(const dtm_analysis *a, incidence *inc, int fill) {
+ * after the prefix sums, files them (start[v + 1] runs over v's range).
+ * Only the nodes marked in only (NULL: all) get their elements. */
+static void scatter(const dtm_analysis *a, incidence *inc, int fill, const unsigned char *only) {
   const dtm_mesh *m = a->mesh;
   for (int b = 0; b < m->nblocks; b++)
     for (size_t e = 0; e < m->blocks[b].n; e++)
       for (int c = 0; c < m->blocks[b].nn; c++) {
         size_t v = m->blocks[b].conn[e * m->blocks[b].nn + c];
+        if (only && !only[v]) continue;
         if (fill)
           inc->list[inc->start[v + 1]++] = a->offset[b] + e;
         else
@@ -114,18 +116,19 @@ static void scatter(const dtm_analysis *a, incidence *inc, int fill) {
       }
 }
 
-static int build_incidence(const dtm_analysis *a, incidence *inc) {
+static int build_incidence_of(const dtm_analysis *a, incidence *inc, const unsigned char *only) {
   const dtm_mesh *m = a->mesh;
-  size_t total = 0;
-  for (int b = 0; b < m->nblocks; b++) total += m->blocks[b].n * (size_t)m->blocks[b].nn;
   inc->start = calloc(m->nnodes + 2, sizeof *inc->start);
-  inc->list = malloc((total + 1) * sizeof *inc->list);
-  if (!inc->start || !inc->list) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  scatter(a, inc, 0);
+  if (!inc->start) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  scatter(a, inc, 0, only);
   for (size_t v = 0; v < m->nnodes; v++) inc->start[v + 2] += inc->start[v + 1];
-  scatter(a, inc, 1);
+  inc->list = malloc((inc->start[m->nnodes + 1] + 1) * sizeof *inc->list);
+  if (!inc->list) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  scatter(a, inc, 1, only);
   return DTM_OK;
 }
+
+static int build_incidence(const dtm_analysis *a, incidence *inc) { return build_incidence_of(a, inc, NULL); }
 
 /* The corners of element i: type of the linear parent's count, node
  * indices and coordinates. */
@@ -524,11 +527,65 @@ static int classify_all(dtm_analysis *a, double target) {
   return r;
 }
 
+#define AT_MIN_FACTOR 1.1 /* elements within this factor of the smallest own step */
+#define AT_MIN_MAX 64     /* of which at most this many (the smallest) are examined */
+
+/* The elements of the mesh's dimension whose own step is within
+ * AT_MIN_FACTOR of the smallest, at most AT_MIN_MAX, smallest first; into
+ * c, returns how many. */
+static int near_minimum(const dtm_analysis *a, size_t *c) {
+  double lo = INFINITY;
+  int n = 0;
+  for (size_t i = 0; i < a->nel; i++) lo = fmin(lo, a->local[i]);
+  for (size_t i = 0; i < a->nel && isfinite(lo); i++) {
+    int j;
+    if (!(a->local[i] <= AT_MIN_FACTOR * lo)) continue;
+    if (n < AT_MIN_MAX)
+      j = n++;
+    else if (a->local[i] < a->local[c[AT_MIN_MAX - 1]])
+      j = AT_MIN_MAX - 1; /* the largest kept drops out */
+    else
+      continue;
+    while (j > 0 && a->local[c[j - 1]] > a->local[i]) c[j] = c[j - 1], j--;
+    c[j] = i;
+  }
+  return n;
+}
+
+/* Without a target: whether the smallest steps lie across a thin layer,
+ * and what a fresh mesh of it reaches there (the layers, at_minimum). */
+static int classify_minimum(dtm_analysis *a) {
+  size_t c[AT_MIN_MAX];
+  int n = near_minimum(a, c), k = 0;
+  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim)};
+  unsigned char *only = calloc(a->mesh->nnodes + 1, 1);
+  dtm_shape_limited found[AT_MIN_MAX];
+  int r = only ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int j = 0; j < n && r == DTM_OK; j++) {
+    corners cc;
+    get_corners(a, c[j], &cc);
+    for (int q = 0; q < cc.nc; q++) only[cc.v[q]] = 1;
+  }
+  if (r == DTM_OK && n) r = build_incidence_of(a, &jc.inc, only);
+  if (r == DTM_OK && n) r = typical_quality(a, &jc.q_typ);
+  for (int j = 0; j < n && r == DTM_OK; j++) {
+    int dim = -1, tag = -1, b;
+    size_t l;
+    dtm_analysis_locate(a, c[j], &b, &l);
+    double t = a->mesh->blocks[b].dim < a->mesh->dim ? INFINITY : across(a, &jc, c[j], &dim, &tag), reach = NAN;
+    if (isfinite(t)) r = layer_reach(a, &jc, c[j], t, &reach);
+    if (isfinite(t) && r == DTM_OK)
+      found[k++] = (dtm_shape_limited){c[j], DTM_FEATURE_THIN, NAN, dim, tag, t, NAN, reach, 0, NAN};
+  }
+  free(only), free(jc.inc.start), free(jc.inc.list);
+  return r == DTM_OK ? dtm_layers_gather_from(a, found, (size_t)k, 1) : r;
+}
+
 int dtm_shape_classify(dtm_analysis *a) {
   double target = a->scene->target;
   free(a->shape), free(a->layers);
   a->shape = NULL, a->layers = NULL, a->nshape = a->nlayers = a->below = 0;
-  if (!(target > 0)) return DTM_OK;
+  if (!(target > 0)) return a->geo ? classify_minimum(a) : DTM_OK;
   for (size_t i = 0; i < a->nel; i++) a->below += a->scene->safety * a->local[i] < target;
   if (!a->below || !a->geo) return DTM_OK;
   DTM_CHECK(classify_all(a, target));

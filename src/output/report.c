@@ -277,7 +277,8 @@ static cJSON *layers_json(const dtm_results *r) {
     cJSON_AddNumberToObject(o, "reach", ly[k].reach);
     cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(r->analysis, ly[k].worst));
     cJSON_AddNumberToObject(o, "size", ly[k].size);
-    cJSON_AddItemToObject(o, "remedies", layer_remedies(r, &ly[k]));
+    cJSON_AddBoolToObject(o, "at_minimum", ly[k].at_minimum);
+    cJSON_AddItemToObject(o, "remedies", ly[k].at_minimum ? cJSON_CreateObject() : layer_remedies(r, &ly[k]));
     cJSON_AddItemToArray(arr, o);
   }
   return arr;

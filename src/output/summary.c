@@ -212,11 +212,20 @@ static void print_layers(const dtm_results *r, FILE *f) {
   for (size_t k = 0; k < n; k++) {
     char lbl[64];
     int g = ly[k].group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
-    fprintf(f,
-            "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g m (view 'thickness limited'): "
-            "no mesh of it reaches the target; the best step there is %.4e s\n",
-            dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness,
-            ly[k].reach);
+    if (ly[k].at_minimum)
+      fprintf(f,
+              "thickness    the smallest steps lie where '%s' is %.4g m thin, between two boundaries that do not touch "
+              "(%zu of the elements within 10%% of the smallest step): a fresh mesh reaches about %.4e s there at "
+              "most\n",
+              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].thickness, ly[k].elements,
+              ly[k].reach);
+    else
+      fprintf(f,
+              "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g m (view 'thickness limited'): "
+              "no mesh of it reaches the target; the best step there is %.4e s\n",
+              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness,
+              ly[k].reach);
+    if (ly[k].at_minimum) continue; /* no target: nothing to remedy */
     if (ms && ms->group_mass[slot] > 0)
       fprintf(f, "             remedy: mass scaling at their nodes, +%.4g kg (+%.3g%% of the group's mass)\n",
               ms->group_added[slot], 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
