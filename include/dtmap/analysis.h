@@ -284,6 +284,8 @@ DTM_EXPORT void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *
  * loop. */
 DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);
 DTM_EXPORT int dtm_analysis_threads(const dtm_analysis *a);
+/* The dimension of the space the mesh's nodes span (dtm_mesh_space_dim). */
+DTM_EXPORT int dtm_analysis_space_dim(const dtm_analysis *a);
 
 /* The operator of spectral effect k (with the scene's damping as Rayleigh
  * coefficients at omega_top, 0 for none). Caller destroys. */

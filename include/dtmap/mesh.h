@@ -61,6 +61,8 @@ typedef struct dtm_mesh {
                            the lower-dimensional groups sections name */
   size_t nflagged;      /* elements analysed although inverted at a node */
   dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
+  int space_dim;        /* the dimension of the space the nodes span, once known (a
+                           distributed run agrees on it over the parts); 0: not yet */
 } dtm_mesh;
 
 /* Total number of elements over all blocks. */
@@ -93,7 +95,8 @@ DTM_EXPORT const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e
  * in all. Elements valid at every integration point but not at a node are
  * recorded in m->flagged (replacing an earlier list). */
 DTM_EXPORT int dtm_mesh_check(dtm_mesh *m, const char *src);
-/* The dimension of the space the elements' nodes span, *d: the mesh's
+/* The dimension of the space the elements' nodes span, *d: m->space_dim
+ * when set; else the mesh's
  * dimension for a 2D mesh in a plane z = const or a 1D mesh along x (within
  * 1e-9 of the mesh's size), else the smallest that holds them (a 1D mesh in
  * a plane z = const: 2; anything else: 3). Elements of lower dimension than

@@ -287,6 +287,17 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
   return dtm_analysis_compute_shared(s, mesh, effects, neffects, NULL, out);
 }
 
+/* The space the nodes span, agreed over the parts of a distributed run (a
+ * part of a curved surface may be flat), and kept in the mesh for the
+ * operator; status is the caller's, agreed with the other parts. */
+static int space_dim(dtm_analysis *a, int status) {
+  int r = status == DTM_OK ? dtm_mesh_space_dim(a->mesh, &a->space_dim) : status;
+  double d = a->space_dim;
+  r = dtm_x_reduce(a, r, &d, 1, DTM_X_MAX); /* every part takes part, whatever its status */
+  a->space_dim = a->mesh->space_dim = (int)d;
+  return r;
+}
+
 int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects,
                                 const dtm_exchange *x, dtm_analysis **out) {
   dtm_analysis *a = calloc(1, sizeof *a);
@@ -302,6 +313,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   a->mesher = (dtm_mesher_info){0, 0, 1};
   a->x = x;
   int r = setup(a);
+  r = space_dim(a, r);
   if (r == DTM_OK) r = dtm_analysis_check_planar(a);
   double t0 = dtm_wtime();
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);

@@ -72,21 +72,14 @@ int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups) {
   return DTM_OK;
 }
 
-/* Whether group g answers to the reference ref: its name, or its number
- * when it has no name. */
-static int group_is(const dtm_group *g, const char *ref) {
-  char num[32];
-  snprintf(num, sizeof num, "%d", g->tag);
-  return g->name[0] ? !strcmp(g->name, ref) : !strcmp(num, ref);
-}
-
-static int named_by_section(const dtm_scene *s, const dtm_group *g, const dtm_group *have, int nhave) {
+/* Whether a section of s names group g (as dtm_mesh_group_find matches a
+ * reference: by name, else by number) and none of the groups have does. */
+static int named_by_section(const dtm_scene *s, dtm_group *g, dtm_group *have, int nhave) {
+  dtm_mesh one = {.ngroups = 1, .groups = g}, old = {.ngroups = nhave, .groups = have};
   for (int i = 0; i < s->nsections; i++)
     for (int k = 0; k < s->sections[i].ngroups; k++) {
       const char *ref = s->sections[i].groups[k];
-      int taken = 0;
-      for (int j = 0; j < nhave; j++) taken |= group_is(&have[j], ref);
-      if (!taken && group_is(g, ref)) return 1;
+      if (dtm_mesh_group_find(&one, ref) >= 0 && dtm_mesh_group_find(&old, ref) < 0) return 1;
     }
   return 0;
 }

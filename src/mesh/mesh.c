@@ -101,6 +101,7 @@ static int node_extent(const dtm_mesh *m, double ext[3]) {
  * else: 3). Elements of lower dimension than *d are manifold elements. */
 int dtm_mesh_space_dim(const dtm_mesh *m, int *d) {
   double ext[3], size;
+  if (m->space_dim > 0) return *d = m->space_dim, DTM_OK;
   if (node_extent(m, ext))
     return DTM_ERR(DTM_ERR_INTERNAL,
                    "element connectivity refers to a node beyond the "

@@ -408,10 +408,8 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON *mesh = cJSON_CreateObject();
   cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
   cJSON_AddNumberToObject(mesh, "nodes", (double)dtm_analysis_mesh(a)->nnodes);
-  int space = dtm_analysis_mesh(a)->dim;
-  if (dtm_mesh_space_dim(dtm_analysis_mesh(a), &space)) dtm_error_clear();
   cJSON_AddNumberToObject(mesh, "dim", dtm_analysis_mesh(a)->dim);
-  cJSON_AddNumberToObject(mesh, "space_dim", space);
+  cJSON_AddNumberToObject(mesh, "space_dim", dtm_analysis_space_dim(a));
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(mi->algorithm));
   cJSON_AddNumberToObject(mesh, "threads", mi->threads);

@@ -52,8 +52,7 @@ static void print_counts(const dtm_analysis *a, FILE *f) {
   fprintf(f, "mesh         %zu elements (", dtm_analysis_nelements(a));
   for (int b = 0; b < m->nblocks; b++)
     fprintf(f, "%s%s %zu", b ? ", " : "", dtm_elem_name(m->blocks[b].type), m->blocks[b].n);
-  int space = m->dim;
-  if (dtm_mesh_space_dim(m, &space)) dtm_error_clear();
+  int space = dtm_analysis_space_dim(a);
   if (space > m->dim)
     fprintf(f, "), %zu nodes, analysed in %dD (elements of dimension %d and below)\n", m->nnodes, space, m->dim);
   else
