@@ -49,19 +49,6 @@ static void write_scene(const char *name, const char *source, const char *effect
   tu_write(path, text);
 }
 
-static int run_pair(const char *scene_serial, const char *scene_parts, const char *tag) {
-  char *out = NULL;
-  int rc = tu_run(&out, "cd %s && %s run %s -o %s_ser.msh --report %s_ser.json --posterior --tol 1e-10 -q", dir,
-                  tu_cli(), scene_serial, tag, tag);
-  if (rc) fprintf(stderr, "%s", out);
-  free(out);
-  rc |= tu_mpirun(&out, NP, "sh -c 'cd %s && %s run %s -o %s_par.msh --report %s_par.json --posterior --tol 1e-9 -q'",
-                  dir, tu_cli(), scene_parts, tag, tag);
-  if (rc) fprintf(stderr, "%s", out);
-  free(out);
-  return rc;
-}
-
 static int setup(void **state) {
   (void)state;
   snprintf(dir, sizeof dir, "%s", tu_tmpdir());
@@ -70,7 +57,8 @@ static int setup(void **state) {
   write_scene("waves.xml", "<mesh file=\"disc.msh\"/>", waves);
   write_scene("diff.xml", "<mesh file=\"disc.msh\"/>", diffusion);
   write_scene("diff_parts.xml", "<mesh file=\"disc_parts.msh\" partitions=\"4\"/>", diffusion);
-  return run_pair("waves.xml", "waves.xml", "waves") | run_pair("diff.xml", "diff_parts.xml", "diff");
+  return tu_run_pair(dir, NP, "waves.xml", "waves.xml", "waves") |
+         tu_run_pair(dir, NP, "diff.xml", "diff_parts.xml", "diff");
 }
 
 static int teardown(void **state) {

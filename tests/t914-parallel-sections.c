@@ -44,19 +44,11 @@ static const char folded[] = "<?xml version=\"1.0\"?>\n<dtmap-scene version=\"1\
 /* Scene name.xml (text), run serially into NAME_ser.* and under mpirun into
  * NAME_par.*. */
 static int run_pair(const char *name, const char *text) {
-  char path[1024], *out = NULL;
+  char path[1024];
   snprintf(path, sizeof path, "%s/%s.xml", dir, name);
   tu_write(path, text);
-  int rc = tu_run(&out, "cd %s && %s run %s.xml -o %s_ser.msh --report %s_ser.json --posterior --tol 1e-10 -q", dir,
-                  tu_cli(), name, name, name);
-  if (rc) fprintf(stderr, "%s", out);
-  free(out);
-  rc |=
-      tu_mpirun(&out, NP, "sh -c 'cd %s && %s run %s.xml -o %s_par.msh --report %s_par.json --posterior --tol 1e-9 -q'",
-                dir, tu_cli(), name, name, name);
-  if (rc) fprintf(stderr, "%s", out);
-  free(out);
-  return rc;
+  snprintf(path, sizeof path, "%s.xml", name);
+  return tu_run_pair(dir, NP, path, path, name);
 }
 
 static int setup(void **state) {

@@ -22,6 +22,19 @@ int tu_mpirun(char **out, int np, const char *fmt, ...) {
   return tu_run(out, "%s -n %d %s", DTM_TEST_MPIRUN, np, cmd);
 }
 
+int tu_run_pair(const char *dir, int np, const char *scene_serial, const char *scene_parts, const char *tag) {
+  char *out = NULL;
+  int rc = tu_run(&out, "cd %s && %s run %s -o %s_ser.msh --report %s_ser.json --posterior --tol 1e-10 -q", dir,
+                  tu_cli(), scene_serial, tag, tag);
+  if (rc) fprintf(stderr, "%s", out);
+  free(out);
+  rc |= tu_mpirun(&out, np, "sh -c 'cd %s && %s run %s -o %s_par.msh --report %s_par.json --posterior --tol 1e-9 -q'",
+                  dir, tu_cli(), scene_parts, tag, tag);
+  if (rc) fprintf(stderr, "%s", out);
+  free(out);
+  return rc;
+}
+
 void tu_mesh_and_split(const char *geo, int dim, double h, const char *dir, const char *name, int nparts) {
   char path[4096];
   int ierr = 0;

@@ -14,6 +14,13 @@
  * oversubscription) comes from the test's ctest properties. */
 int tu_mpirun(char **out, int np, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
+/* In dir: `dtmap run scene_serial --posterior --tol 1e-10` into
+ * tag_ser.msh and tag_ser.json, then under mpirun -n np `dtmap run
+ * scene_parts --posterior --tol 1e-9` into tag_par.msh (one file per part)
+ * and tag_par.json; prints the output of a run that fails. Returns 0 when
+ * both succeed. */
+int tu_run_pair(const char *dir, int np, const char *scene_serial, const char *scene_parts, const char *tag);
+
 /* Mesh geometries/<geo> (dimension dim, Mesh.MeshSizeMax h) with Gmsh in
  * this process, write it to dir/<name>.msh and its split into nparts
  * (METIS) to dir/<name>_parts_1.msh ... (Gmsh's own naming). */
