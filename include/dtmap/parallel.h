@@ -45,10 +45,16 @@ DTM_EXPORT int dtm_parallel_wanted(const dtm_scene *s);
 DTM_EXPORT int dtm_parallel_launched(void);
 /* Run scene s distributed, collectively over every rank the launcher
  * started, and write the parts, the report and (rank 0, verbosity > 0) the
- * summary. Initialises and finalises MPI, PETSc and SLEPc: once per
- * process. Every rank returns the same code (0, or the error code of the
- * first rank that failed); the rank where an error arose prints it to
- * stderr, and nothing is written when any rank fails. */
+ * summary. Initialises MPI, PETSc and SLEPc (once per process; they stay up
+ * until dtm_parallel_finish). Every rank returns the same code (0, or the
+ * error code of the first rank that failed); the error stays pending on
+ * the rank where it arose, for the caller to print, and is cleared on the
+ * others; nothing is written when any rank fails. */
 DTM_EXPORT int dtm_parallel_run(const dtm_scene *s, const dtm_parallel_opts *o);
+/* After dtm_parallel_run and after printing its error: wait until every
+ * rank has got here, then finalise SLEPc, PETSc and MPI. A rank that exits
+ * first would make the launcher kill the others, perhaps before the one
+ * with the error has printed it. Does nothing when MPI is not running. */
+DTM_EXPORT void dtm_parallel_finish(void);
 
 #endif

@@ -166,7 +166,9 @@ static int run_scene(const cli_opts *o, int verify) {
   if (r == DTM_OK && o->png && !dtm_parallel_wanted(s))
     r = dtm_cli_pictures(out.mesh, o->png, o->width, o->height, o->verbosity);
   dtm_scene_destroy(&s);
-  return r && dtm_error_code() ? dtm_cli_fail(r, o->verbosity) : r;
+  r = r && dtm_error_code() ? dtm_cli_fail(r, o->verbosity) : r;
+  dtm_parallel_finish(); /* after the error is printed: no rank leaves before */
+  return r;
 }
 
 int dtm_cli_run(const cli_opts *o) {

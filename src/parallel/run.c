@@ -12,6 +12,8 @@
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include <mpi.h>
+
 #include "parallel-impl.h"
 
 static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
@@ -66,6 +68,13 @@ int dtm_parallel_run(const dtm_scene *s, const dtm_parallel_opts *o) {
     dtm_mesh_destroy(&p.mesh);
   dtm_par_layout_destroy(&p);
   if (r && p.quiet) dtm_error_clear(); /* another rank prints it */
-  dtm_par_finalize();
   return r;
+}
+
+void dtm_parallel_finish(void) {
+  int up = 0, done = 0;
+  MPI_Initialized(&up);
+  MPI_Finalized(&done);
+  if (up && !done) MPI_Barrier(MPI_COMM_WORLD);
+  dtm_par_finalize();
 }
