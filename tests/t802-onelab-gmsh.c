@@ -76,27 +76,6 @@ static double view_number(int index, const char *what) {
   return v;
 }
 
-/* The last view called name (the latest result's), read like tu_view_read. */
-static int last_view(const char *name, tu_view *v) {
-  int *tags = NULL, ierr = 0, tag = -1, nc = 0;
-  size_t n = 0, nd = 0;
-  gmshViewGetTags(&tags, &n, &ierr);
-  for (size_t i = 0; i < n; i++) {
-    char *s = view_name(gmshViewGetIndex(tags[i], &ierr));
-    if (s && !strcmp(s, name)) tag = tags[i];
-    gmshFree(s);
-  }
-  gmshFree(tags);
-  memset(v, 0, sizeof *v);
-  if (tag < 0) return -1;
-  char *type = NULL;
-  double time = 0;
-  gmshViewGetHomogeneousModelData(tag, 0, &type, &v->tags, &v->n, &v->values, &nd, &time, &nc, &ierr);
-  if (type) snprintf(v->type, sizeof v->type, "%s", type);
-  gmshFree(type);
-  return ierr || nd != v->n ? -1 : 0;
-}
-
 /* The contract views of the plain run, read in a session of their own. */
 static const char *const contract[] = {"dt", "characteristic length", "limiting effect", "size suggestion"};
 
@@ -105,7 +84,7 @@ static void read_plain(tu_view out[4]) {
   tu_gmsh_begin();
   gmshOpen(plain, &ierr);
   assert_int_equal(ierr, 0);
-  for (int i = 0; i < 4; i++) assert_int_equal(last_view(contract[i], &out[i]), 0);
+  for (int i = 0; i < 4; i++) assert_int_equal(tu_view_read_last(contract[i], &out[i]), 0);
   tu_gmsh_end();
 }
 
@@ -141,7 +120,7 @@ static void test_views_arrive(void **state) {
   run_dtmap();
   int ierr = 0;
   for (int i = 0; i < 4; i++) {
-    assert_int_equal(last_view(contract[i], &got), 0);
+    assert_int_equal(tu_view_read_last(contract[i], &got), 0);
     assert_int_equal(got.n, (size_t)tu_json_number(rep, i == 3 ? "mesh.nodes" : "mesh.elements"));
     assert_same_view(&got, &ref[i]);
     tu_view_free(&got), tu_view_free(&ref[i]);
@@ -188,7 +167,7 @@ static void test_safety_parameter(void **state) {
   double expect = tu_json_number(rep, "dt.recommended") * 0.5 / 0.9;
   assert_true(fabs(recommended() - expect) <= 1e-12 * expect);
   tu_view v;
-  assert_int_equal(last_view("dt", &v), 0);
+  assert_int_equal(tu_view_read_last("dt", &v), 0);
   double dmin = INFINITY;
   for (size_t k = 0; k < v.n; k++) dmin = fmin(dmin, v.values[k]);
   assert_true(fabs(dmin - tu_json_number(rep, "dt.min")) <= 1e-12 * dmin);
@@ -253,7 +232,7 @@ static void test_views_only_on_open_mesh(void **state) {
   run_dtmap();
   assert_int_equal(dtm_gmsh_model_count(), models);
   assert_true(tu_view_count() > before);
-  assert_int_equal(last_view("dt", &got), 0);
+  assert_int_equal(tu_view_read_last("dt", &got), 0);
   assert_same_view(&got, &ref[0]);
   tu_view_free(&got);
   for (int i = 0; i < 4; i++) tu_view_free(&ref[i]);

@@ -283,28 +283,6 @@ static size_t covered(const tu_view *v, const size_t *tags, size_t n) {
   return k;
 }
 
-/* The last view called name in this session (the latest result's). */
-static int last_view(const char *name, tu_view *v) {
-  int *tags = NULL, ierr = 0, tag = -1, nc = 0;
-  size_t n = 0, nd = 0;
-  gmshViewGetTags(&tags, &n, &ierr);
-  for (size_t i = 0; i < n; i++) {
-    char opt_name[64], *s = NULL;
-    snprintf(opt_name, sizeof opt_name, "View[%d].Name", gmshViewGetIndex(tags[i], &ierr));
-    gmshOptionGetString(opt_name, &s, &ierr);
-    if (s && !strcmp(s, name)) tag = tags[i];
-    gmshFree(s);
-  }
-  gmshFree(tags);
-  memset(v, 0, sizeof *v);
-  if (tag < 0) return -1;
-  char *type = NULL;
-  double time = 0;
-  gmshViewGetHomogeneousModelData(tag, 0, &type, &v->tags, &v->n, &v->values, &nd, &time, &nc, &ierr);
-  gmshFree(type);
-  return ierr || nd != v->n ? -1 : 0;
-}
-
 static char *read_text(const char *path) {
   FILE *f = fopen(path, "r");
   assert_non_null(f);
@@ -328,7 +306,7 @@ static void run_sections(int membrane, groups *g) {
   if (membrane) set_number("dtmap/4Materials/sheet/01thickness", 0.002);
   run_dtmap("compute");
   tu_view dt;
-  assert_int_equal(last_view("dt", &dt), 0);
+  assert_int_equal(tu_view_read_last("dt", &dt), 0);
   double published = get_number("dtmap/9Results/6elements");
   tu_gmsh_end();
   read_groups(g);
@@ -414,7 +392,7 @@ static void test_truss_and_membrane(void **state) {
   set_number("dtmap/4Materials/sheet/01thickness", 0.002);
   run_dtmap("compute");
   tu_view dt;
-  assert_int_equal(last_view("dt", &dt), 0);
+  assert_int_equal(tu_view_read_last("dt", &dt), 0);
   tu_gmsh_end();
   groups g;
   read_groups(&g);
@@ -443,7 +421,7 @@ static void test_no_section(void **state) {
   session(geo);
   run_dtmap("compute");
   tu_view dt;
-  assert_int_equal(last_view("dt", &dt), 0);
+  assert_int_equal(tu_view_read_last("dt", &dt), 0);
   tu_gmsh_end();
   groups g;
   read_groups(&g);

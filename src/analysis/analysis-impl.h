@@ -62,7 +62,6 @@ struct dtm_analysis {
   dtm_global_info *global;     /* [neffects], filled by dtm_analysis_estimate_global */
   double timings[DTM_T_COUNT]; /* s */
   int threads;                 /* OpenMP threads used for the element loop */
-  int space_dim;               /* dimension of the space the nodes span (dtm_mesh_space_dim) */
   dtm_mesher_info mesher;      /* how the mesh was made (dtm_analysis_run and _current) */
   const dtm_exchange *x;       /* the other parts of a distributed run (not owned), or NULL */
 };

@@ -291,10 +291,10 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
  * part of a curved surface may be flat), and kept in the mesh for the
  * operator; status is the caller's, agreed with the other parts. */
 static int space_dim(dtm_analysis *a, int status) {
-  int r = status == DTM_OK ? dtm_mesh_space_dim(a->mesh, &a->space_dim) : status;
-  double d = a->space_dim;
+  int mine = 0, r = status == DTM_OK ? dtm_mesh_space_dim(a->mesh, &mine) : status;
+  double d = mine;
   r = dtm_x_reduce(a, r, &d, 1, DTM_X_MAX); /* every part takes part, whatever its status */
-  a->space_dim = a->mesh->space_dim = (int)d;
+  a->mesh->space_dim = (int)d;
   return r;
 }
 

@@ -145,11 +145,12 @@ int tu_view_count(void) {
   return (int)n;
 }
 
-static int view_tag_named(const char *name) {
+/* Tag of the first (last: the latest) view called name, -1 when none. */
+static int view_tag_named(const char *name, int last) {
   int *tags = NULL, ierr = 0, found = -1;
   size_t n = 0;
   gmshViewGetTags(&tags, &n, &ierr);
-  for (size_t i = 0; i < n && found < 0; i++) {
+  for (size_t i = 0; i < n && (found < 0 || last); i++) {
     char opt[64], *val = NULL;
     snprintf(opt, sizeof opt, "View[%d].Name", gmshViewGetIndex(tags[i], &ierr));
     gmshOptionGetString(opt, &val, &ierr);
@@ -160,8 +161,8 @@ static int view_tag_named(const char *name) {
   return found;
 }
 
-int tu_view_read(const char *name, tu_view *v) {
-  int tag = view_tag_named(name), ierr = 0, nc = 0;
+static int view_read(const char *name, int last, tu_view *v) {
+  int tag = view_tag_named(name, last), ierr = 0, nc = 0;
   char *type = NULL;
   double time = 0;
   memset(v, 0, sizeof *v);
@@ -172,6 +173,9 @@ int tu_view_read(const char *name, tu_view *v) {
   gmshFree(type);
   return ierr || nd != v->n ? -1 : 0;
 }
+
+int tu_view_read(const char *name, tu_view *v) { return view_read(name, 0, v); }
+int tu_view_read_last(const char *name, tu_view *v) { return view_read(name, 1, v); }
 
 void tu_view_free(tu_view *v) {
   gmshFree(v->tags);

@@ -59,6 +59,8 @@ typedef struct {
 } tu_view;
 /* Find the view with that exact name; returns 0 on success. */
 int tu_view_read(const char *name, tu_view *v);
+/* The same for the last view with that name (the latest result's). */
+int tu_view_read_last(const char *name, tu_view *v);
 void tu_view_free(tu_view *v);
 /* Number of views loaded. */
 int tu_view_count(void);
