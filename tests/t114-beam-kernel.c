@@ -48,7 +48,7 @@ static void near(double got, double want, double rel, const char *what) {
 
 /* A 20 x 30 mm rectangle (b along e2, h along e3). */
 static dtm_beam_section section(void) {
-  dtm_beam_section s = {E, NU, RHO, 0, 0, 0, 0, 0, {0, 0, 0}};
+  dtm_beam_section s = {E, NU, RHO, 0, 0, 0, 0, 0, {0, 0, 0}, 0};
   assert_int_equal(dtm_beam_section_rect(0.02, 0.03, &s), DTM_OK);
   return s;
 }

@@ -277,6 +277,10 @@ typedef struct {
                          c_p = sqrt(E/(rho(1 - nu^2)))), s; NaN for the other kinds or
                          without E, nu, rho */
   const char *anchor; /* that rule, in words ("" when none) */
+  /* Shells and beams (NaN for the other kinds): */
+  double dt_physical_min;  /* smallest element step with physical rotary inertia, s */
+  size_t physical_element; /* Gmsh tag of that element */
+  double scale_max;        /* largest rotary-inertia scale of the scaled convention (1: physical) */
 } dtm_section_stats;
 /* Stats of every scene section, out[nsections] (caller-owned). */
 DTM_EXPORT void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out);

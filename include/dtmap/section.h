@@ -22,23 +22,38 @@ typedef enum {
   DTM_SECTION_PLANE_STRESS = 2, /* plane stress: plane surface elements (thickness, default 1 m) */
   DTM_SECTION_MEMBRANE = 3,     /* plane stress in each element's own tangent plane: surface
                                    elements anywhere in 3D (thickness required) */
-  DTM_SECTION_TRUSS = 4         /* axial force only: line elements anywhere (area required) */
+  DTM_SECTION_TRUSS = 4,        /* axial force only: line elements anywhere (area required) */
+  DTM_SECTION_SHELL = 5,        /* Reissner-Mindlin shell: tri3/quad4 surface elements anywhere in 3D
+                                   (thickness required); 3 rotations per node */
+  DTM_SECTION_BEAM = 6          /* Timoshenko beam: line2 elements anywhere in 3D (area and second
+                                   moments, or a circular or rectangular profile); 3 rotations per node */
 } dtm_section_kind;
 
 /* Scene names of the kinds, in dtm_section_kind order (initialiser). */
 #define DTM_SECTION_NAMES                                                                                              \
-  { "solid", "plane-strain", "plane-stress", "membrane", "truss", NULL }
+  { "solid", "plane-strain", "plane-stress", "membrane", "truss", "shell", "beam", NULL }
 
 typedef struct dtm_section {
   int kind;         /* dtm_section_kind */
   double thickness; /* m: plane kinds and membrane (1 when a plane kind gives none); 0 otherwise */
-  double area;      /* m^2: truss; 0 otherwise */
+  double area;      /* m^2: truss and beam; 0 otherwise */
+  double iy, iz;    /* beam: second moments of area about the section's y and z axes, m^4 */
+  double jt;        /* beam: torsion constant, m^4 */
+  double orient[3]; /* beam: a vector in the section's local x-y plane (y: its part normal to the
+                       axis); all zero: global z, or global y for a beam within ~8 degrees of z */
+  double shear;     /* shell and beam: transverse shear correction k (0: 5/6) */
+  int rotary;       /* shell and beam: DTM_ROTARY_SCALED_INERTIA (the default) or
+                       DTM_ROTARY_PHYSICAL_INERTIA, see dtm_section_bounds */
   int is_default;   /* default="true": for elements of the analysed dimension in no sectioned group */
   int ngroups;      /* number of group references */
   char **groups;    /* [ngroups] physical group names or numbers, as written (owned by the scene) */
   const char *file; /* scene file (not owned) */
   int line;         /* line of its <section> element */
 } dtm_section;
+
+/* Rotary inertia conventions of shell and beam sections (the scene's
+ * rotary="scaled" | "physical"). */
+enum { DTM_ROTARY_SCALED_INERTIA = 0, DTM_ROTARY_PHYSICAL_INERTIA = 1 };
 
 /* Scene name of kind k ("unknown" for none). */
 DTM_EXPORT const char *dtm_section_kind_name(int k);
@@ -51,5 +66,39 @@ DTM_EXPORT dtm_formulation dtm_section_formulation(int k);
  * surface kinds, the area (m^2) of trusses, 1 for solids. An element's
  * stiffness and lumped mass are its per-measure values times this factor. */
 DTM_EXPORT double dtm_section_factor(const dtm_section *s);
+
+/* 1 for the kinds whose nodes carry rotations (shell, beam). */
+DTM_EXPORT int dtm_section_has_rotations(int k);
+
+/* One shell or beam element's eigenvalue bounds (1/s^2) and lumped masses.
+ * The critical step is 2/sqrt(lambda). With physical rotary inertia a
+ * shell's thickness-shear mode (12 k G/(rho t^2)) or a beam's shear-rotation
+ * mode (k G A/(rho I)) governs whatever the element size; explicit codes
+ * therefore scale the rotary inertia so that the membrane (shell) or axial
+ * (beam) mode governs. rotary = DTM_ROTARY_SCALED_INERTIA multiplies every
+ * rotary inertia of the element by the smallest scale s >= 1 that brings
+ * lambda down to lambda_reference (exact, not bisected); physical keeps
+ * s = 1. Rotary inertia is the same about every axis of a node, so the
+ * lumped mass is diagonal in any frame: a shell's J_a = t^2/12 m_a (m_a its
+ * translational mass), a beam's rho L/2 min(I_y, I_z) (the smaller
+ * principal inertia: the conservative isotropic choice; the torsional
+ * inertia rho L/2 (I_y + I_z) is larger). */
+typedef struct {
+  double lambda;           /* under the section's convention: what the element's step uses */
+  double lambda_physical;  /* physical rotary inertia (s = 1) */
+  double lambda_reference; /* membrane alone (shell) or axial alone, 4 E/(rho L^2) (beam) */
+  double scale;            /* s of the convention (1: physical) */
+  int nn;                  /* nodes */
+  double mt[4];            /* translational lumped mass of each node, kg (the same on x, y, z) */
+  double mr[4];            /* rotary inertia of each node about every axis, kg m^2, under the convention */
+} dtm_section_bounds;
+
+/* Bounds of the element of type (DTM_TRI3 or DTM_QUAD4 for a shell, DTM_LINE2
+ * for a beam) with nodes x[nn][3] (m), material E (Pa), nu, rho (kg/m^3),
+ * section s (its thickness or area included in the masses). DTM_ERR_INPUT
+ * (with a message) for another kind or type, bad values, a degenerate
+ * element, or a scaled convention that no finite scale satisfies. */
+DTM_EXPORT int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                                   dtm_section_bounds *out);
 
 #endif

@@ -10,7 +10,9 @@
  * An element with a section takes its kind's formulation (truss: the bar;
  * membrane: plane stress in the element's own plane; solid, plane-strain,
  * plane-stress) instead of the effect's `formulation`; its thickness or
- * area cancels from the element's own step. */
+ * area cancels from the element's own step. Shell and beam sections take
+ * their structural kernels' bound (dtm_section_element: membrane, bending
+ * and transverse shear, with the section's rotary-inertia convention). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,8 +64,12 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
 /* Moduli of material m in section sec (NULL: the effect's formulation). */
 static int moduli_of(const elastic_state *s, const dtm_material *m, const dtm_section *sec, dtm_elastic_moduli *mod) {
   dtm_formulation f = sec ? dtm_section_formulation(sec->kind) : s->form;
-  if (f != DTM_FORM_BAR) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
+  int rot = sec && dtm_section_has_rotations(sec->kind);
+  if (f != DTM_FORM_BAR || rot) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
   double nu = f == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu);
+  if (rot && dtm_elastic_moduli_init(DTM_FORM_3D, dtm_material_get(m, s->iE), dtm_material_get(m, s->inu), 1.0, mod))
+    return DTM_ERR(DTM_ERR_INPUT, "material '%s': invalid elastic properties for a %s section", m->name,
+                   dtm_section_kind_name(sec->kind));
   int r = dtm_elastic_moduli_init(f, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
   return DTM_OK;
@@ -80,9 +86,23 @@ static int element_moduli(const elastic_state *s, const dtm_batch *b, size_t e, 
   return DTM_OK;
 }
 
+/* The bound of a shell or beam element: its structural kernel's, under its
+ * section's rotary-inertia convention. */
+static int structural_element(const elastic_state *s, const dtm_batch *b, size_t e, double *dt) {
+  const dtm_material *m = b->mat[e];
+  dtm_section_bounds sb;
+  if (dtm_section_element(b->section[e], b->type, dtm_material_get(m, s->iE), dtm_material_get(m, s->inu),
+                          dtm_material_get(m, s->irho), b->x + 3 * (size_t)b->nn * e, &sb))
+    return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type), dtm_error_message());
+  *dt = 2.0 / sqrt(sb.lambda);
+  return DTM_OK;
+}
+
 static int one_element(const elastic_state *s, const dtm_batch *b, size_t e, const dtm_elastic_moduli *mod,
                        double *dt) {
   const double *x = b->x + 3 * (size_t)b->nn * e;
+  if (s->kind == DTM_LEN_EIGEN && b->section && b->section[e] && dtm_section_has_rotations(b->section[e]->kind))
+    return structural_element(s, b, e, dt);
   if (s->kind != DTM_LEN_EIGEN) {
     double L = dtm_kernel_length(b->type, s->kind, x);
     if (!(L > 0)) return DTM_ERR(DTM_ERR_INPUT, "element %zu: degenerate element (length %g)", b->tags[e], L);
@@ -114,7 +134,12 @@ static int elastic_coefficients(void *state, const dtm_material *m, const dtm_se
   c->kind = DTM_OP_ELASTIC;
   c->capacity = dtm_material_get(m, ((const elastic_state *)state)->irho);
   c->dt_is_bound = ((const elastic_state *)state)->kind == DTM_LEN_EIGEN;
-  return moduli_of(state, m, sec, &c->mod);
+  DTM_CHECK(moduli_of(state, m, sec, &c->mod));
+  c->E = dtm_material_get(m, ((const elastic_state *)state)->iE);
+  c->nu = c->mod.form == DTM_FORM_BAR && !(sec && dtm_section_has_rotations(sec->kind))
+              ? 0.0
+              : dtm_material_get(m, ((const elastic_state *)state)->inu);
+  return DTM_OK;
 }
 
 /* Speed of the shortest body wave: shear (bar: the bar wave). */

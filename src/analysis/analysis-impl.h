@@ -111,6 +111,9 @@ const dtm_section *dtm_analysis_section(const dtm_analysis *a, const dtm_block *
 /* Coefficient slots: one per material and section (none included),
  * slot = mat + nmat (section + 1); dtm_analysis_nslots of them. */
 int dtm_analysis_nslots(const dtm_analysis *a);
+/* 1 when a scene section is a shell or a beam (nodes with rotations): the
+ * same on every part of a distributed run. */
+int dtm_analysis_has_rotations(const dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
 /* A 2D model treated as a plane elastic problem is plane
  * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */

@@ -289,10 +289,11 @@ int dtm_analysis_compute(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects
 
 /* The space the nodes span, agreed over the parts of a distributed run (a
  * part of a curved surface may be flat), and kept in the mesh for the
- * operator; status is the caller's, agreed with the other parts. */
+ * operator; shells and beams bend out of any plane, so with them it is 3.
+ * status is the caller's, agreed with the other parts. */
 static int space_dim(dtm_analysis *a, int status) {
   int mine = 0, r = status == DTM_OK ? dtm_mesh_space_dim(a->mesh, &mine) : status;
-  double d = mine;
+  double d = r == DTM_OK && dtm_analysis_has_rotations(a) ? 3 : mine;
   r = dtm_x_reduce(a, r, &d, 1, DTM_X_MAX); /* every part takes part, whatever its status */
   a->mesh->space_dim = (int)d;
   return r;

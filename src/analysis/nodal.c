@@ -5,7 +5,11 @@
  * tiny mass is shared with their neighbours. Waves: dt_a = 2/sqrt(lambda_a),
  * times the smallest damping factor of the node's materials at
  * omega_a = sqrt(lambda_a); diffusion: dt_a = 2/lambda_a. One pass over the
- * elements (eigenvalues in parallel, the scatter serial). */
+ * elements (eigenvalues in parallel, the scatter serial). Shell and beam
+ * elements also carry rotations, whose lumped rotary inertia is the same
+ * about every axis: K_e <= lambda_e M_e over all their unknowns gives the
+ * same weighted mean over the rotary inertias J_{e,a}, and a node's bound
+ * is the larger of its translational and rotational means. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,10 +48,24 @@ static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_
 
 #define NODAL_CHUNK 65536 /* elements whose lambda_e and masses are held at once */
 
+/* The translational and rotary masses of a shell or beam element from its
+ * kernel, into w[nn] and mr[nn]; 0 when element e has no rotations. */
+static int structural_masses(const dtm_operator_coeffs *c, const dtm_block *blk, const double *x, double *w, double *mr,
+                             int *done) {
+  *done = 0;
+  if (!mr || c->kind != DTM_OP_ELASTIC || !c->section || !dtm_section_has_rotations(c->section->kind)) return DTM_OK;
+  dtm_section_bounds sb;
+  DTM_CHECK(dtm_section_element(c->section, blk->type, c->E, c->nu, c->capacity, x, &sb));
+  for (int i = 0; i < blk->nn; i++) w[i] = sb.mt[i], mr[i] = sb.mr[i];
+  *done = 1;
+  return DTM_OK;
+}
+
 /* lambda_e and the lumped contributions mw[e - e0][i] = capacity V w_i of
- * elements [e0, e1) of block b. */
+ * elements [e0, e1) of block b (and, when mrw is not NULL, the rotary
+ * inertias mrw[e - e0][i] of shells and beams, 0 for the others). */
 static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t e1, const coeff_cache *cc, double *lam,
-                         double *mw) {
+                         double *mw, double *mrw) {
   const dtm_block *blk = &a->mesh->blocks[b];
   dtm_par_error pe = {0, ""};
 #pragma omp parallel for schedule(static)
@@ -57,8 +75,12 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
     one.n = 1, one.conn = blk->conn + e * blk->nn;
     dtm_mesh_gather(a->mesh, &one, x);
     const dtm_operator_coeffs *c = &cc->c[dtm_analysis_slot(a, blk, e)];
-    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]);
+    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]), done;
+    double *mr = mrw ? mrw + (e - e0) * blk->nn : NULL;
+    if (mr) memset(mr, 0, (size_t)blk->nn * sizeof *mr);
+    if (r == DTM_OK) r = structural_masses(c, blk, x, w, mr, &done);
     if (r) dtm_par_error_keep(&pe, r);
+    if (r || done) continue;
     double m = c->capacity * c->section_factor * dtm_elem_measure(blk->type, x);
     dtm_elem_lumped_weights(blk->type, x, w);
     for (int i = 0; i < blk->nn; i++) w[i] *= m;
@@ -77,34 +99,40 @@ static int block_coeffs(const dtm_analysis *a, int k, coeff_cache *cc, const dtm
   return DTM_OK;
 }
 
-/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over elements [e0, e1). */
-static void scatter_chunk(const dtm_block *blk, size_t e0, size_t e1, const double *lam, const double *mw, double *num,
-                          double *den) {
+/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over elements [e0, e1);
+ * with rotations (mrw not NULL), num[nn + a] and den[nn + a] the same over
+ * the rotary inertias. */
+static void scatter_chunk(const dtm_block *blk, size_t nnodes, size_t e0, size_t e1, const double *lam,
+                          const double *mw, const double *mrw, double *num, double *den) {
   size_t nn = (size_t)blk->nn;
   for (size_t e = e0; e < e1; e++)
     for (size_t i = 0; i < nn; i++) {
-      size_t v = blk->conn[e * nn + i];
-      num[v] += lam[e - e0] * mw[(e - e0) * nn + i];
-      den[v] += mw[(e - e0) * nn + i];
+      size_t v = blk->conn[e * nn + i], j = (e - e0) * nn + i;
+      num[v] += lam[e - e0] * mw[j];
+      den[v] += mw[j];
+      if (!mrw || !(mrw[j] > 0)) continue;
+      num[nnodes + v] += lam[e - e0] * mrw[j];
+      den[nnodes + v] += mrw[j];
     }
 }
 
 /* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements, a chunk
  * at a time (the scatter is serial, in element order: with the mesh in
  * locality order it walks the node arrays nearly in sequence). */
-static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, double *num, double *den) {
+static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, int rot, double *num, double *den) {
   double *lam = malloc(NODAL_CHUNK * sizeof *lam), *mw = malloc(NODAL_CHUNK * DTM_MAX_NODES * sizeof *mw);
-  int r = lam && mw ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double *mrw = rot ? malloc(NODAL_CHUNK * DTM_MAX_NODES * sizeof *mrw) : NULL;
+  int r = lam && mw && (mrw || !rot) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < a->mesh->nblocks && r == DTM_OK; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
     r = block_coeffs(a, k, cc, blk);
     for (size_t e0 = 0; e0 < blk->n && r == DTM_OK; e0 += NODAL_CHUNK) {
       size_t e1 = blk->n - e0 < NODAL_CHUNK ? blk->n : e0 + NODAL_CHUNK;
-      r = block_lambdas(a, k, b, e0, e1, cc, lam, mw);
-      if (r == DTM_OK) scatter_chunk(blk, e0, e1, lam, mw, num, den);
+      r = block_lambdas(a, k, b, e0, e1, cc, lam, mw, mrw);
+      if (r == DTM_OK) scatter_chunk(blk, a->mesh->nnodes, e0, e1, lam, mw, mrw, num, den);
     }
   }
-  free(lam), free(mw);
+  free(lam), free(mw), free(mrw);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
@@ -134,13 +162,18 @@ static int node_factors(const dtm_analysis *a, const double *omega, double *fac)
  * over the parts (r: the caller's status, agreed with them). */
 static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, int r, double *dt, double *work) {
   size_t nn = a->mesh->nnodes;
-  double *num = work, *den = work + nn, *fac = work + 2 * nn;
-  if (r == DTM_OK) memset(work, 0, 3 * nn * sizeof *work), r = scatter(a, k, cc, num, den);
-  r = dtm_x_nodes(a, r, num, DTM_X_SUM);
-  DTM_CHECK(dtm_x_nodes(a, r, den, DTM_X_SUM));
+  int rot = dtm_analysis_has_rotations(a);
+  double *num = work, *den = work + 2 * nn, *fac = work + 4 * nn; /* num, den: [2 nn] with rotations */
+  if (r == DTM_OK) memset(work, 0, 5 * nn * sizeof *work), r = scatter(a, k, cc, rot, num, den);
+  for (int part = 0; part <= rot; part++) {
+    r = dtm_x_nodes(a, r, num + part * nn, DTM_X_SUM);
+    r = dtm_x_nodes(a, r, den + part * nn, DTM_X_SUM);
+  }
+  DTM_CHECK(r);
   int wave = dtm_analysis_is_wave(a, k);
   for (size_t v = 0; v < nn; v++) {
     double lam = den[v] > 0 ? num[v] / den[v] : 0;
+    if (rot && den[nn + v] > 0) lam = fmax(lam, num[nn + v] / den[nn + v]);
     num[v] = wave ? sqrt(lam) : lam; /* omega (waves) or lambda (diffusion) */
     fac[v] = 1.0;
   }
@@ -195,7 +228,7 @@ int dtm_nodal_bounds(dtm_analysis *a) {
   size_t nn = a->mesh->nnodes, nm = (size_t)dtm_analysis_nslots(a) + 1;
   a->nodal_node = malloc((nn + 1) * sizeof *a->nodal_node);
   a->node_dt = calloc((size_t)a->neffects + 1, sizeof *a->node_dt);
-  double *work = malloc((3 * nn + 1) * sizeof *work);
+  double *work = malloc((5 * nn + 1) * sizeof *work);
   coeff_cache cc = {calloc(nm, sizeof *cc.c), calloc(nm, 1)};
   int r =
       (a->nodal_node && a->node_dt && work && cc.c && cc.ready) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");

@@ -14,11 +14,11 @@
 #include "analysis-impl.h"
 
 /* Whether element e of b is a plane-problem element: a surface of a 2D
- * model without a membrane section. */
+ * model without a membrane or shell section. */
 static int plane_element(const dtm_analysis *a, const dtm_block *b, size_t e) {
   if (b->dim != 2 || a->mesh->dim != 2) return 0;
   const dtm_section *s = dtm_analysis_section(a, b, e);
-  return !s || s->kind != DTM_SECTION_MEMBRANE;
+  return !s || (s->kind != DTM_SECTION_MEMBRANE && s->kind != DTM_SECTION_SHELL);
 }
 
 static int has_elastic(const dtm_analysis *a) {
@@ -90,7 +90,7 @@ int dtm_analysis_check_planar(const dtm_analysis *a) {
   return DTM_ERR(DTM_ERR_INPUT,
                  "%s: the surfaces are not plane: nodes lie up to %.4g m out of one plane (over a model of %.4g m; "
                  "largest at %s), so this is no plane-strain or plane-stress problem. Analyse the surfaces as "
-                 "membranes in 3D with <section groups=\"...\" kind=\"membrane\" thickness=\"...\"/> (plane stress "
-                 "in each element's own plane; shell sections, with bending, are not available yet)",
+                 "shells or membranes in 3D with <section groups=\"...\" kind=\"shell\" thickness=\"...\"/> (membrane, "
+                 "bending and transverse shear) or kind=\"membrane\" (plane stress in each element's own plane)",
                  a->scene->path, f.off, size, place);
 }

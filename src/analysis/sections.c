@@ -101,12 +101,19 @@ int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e) {
   return b->mat[e] + (b->section ? a->scene->nmaterials * (b->section[e] + 1) : 0);
 }
 
+int dtm_analysis_has_rotations(const dtm_analysis *a) {
+  for (int i = 0; i < a->scene->nsections; i++)
+    if (dtm_section_has_rotations(a->scene->sections[i].kind)) return 1;
+  return 0;
+}
+
 int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operator_coeffs *c) {
   const dtm_effect *ef = &a->effects[k];
   int nm = a->scene->nmaterials, sec = slot / nm - 1;
   const dtm_section *s = sec >= 0 ? &a->scene->sections[sec] : NULL;
   DTM_CHECK(ef->cls->coefficients(ef->state, &a->scene->materials[slot % nm].m, s, c));
   c->section_factor = dtm_section_factor(s);
+  c->section = s;
   return DTM_OK;
 }
 
@@ -132,22 +139,40 @@ static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, c
   dtm_block one = *b;
   one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
   dtm_mesh_gather(a->mesh, &one, x);
-  if (sec->kind == DTM_SECTION_TRUSS) return longest_chord(x, 2) / sqrt(E / rho);
-  if (sec->kind != DTM_SECTION_MEMBRANE) return NAN;
+  if (sec->kind == DTM_SECTION_TRUSS || sec->kind == DTM_SECTION_BEAM) return longest_chord(x, 2) / sqrt(E / rho);
+  if (sec->kind != DTM_SECTION_MEMBRANE && sec->kind != DTM_SECTION_SHELL) return NAN;
   int tri = b->type == DTM_TRI3 || b->type == DTM_TRI6, nc = tri ? 3 : 4;
   double area = fabs(dtm_elem_measure(b->type, x));
   return (tri ? 2 : 1) * area / longest_chord(x, nc) / sqrt(E / (rho * (1 - nu * nu)));
 }
 
+/* A shell or beam element's step with physical rotary inertia and the
+ * scale of the scaled convention, into st. */
+static void rotary_stats(const dtm_analysis *a, const dtm_block *b, size_t e, const dtm_section *sec,
+                         dtm_section_stats *st) {
+  const dtm_material *m = &a->scene->materials[b->mat[e]].m;
+  double x[3 * DTM_MAX_NODES];
+  dtm_block one = *b;
+  one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
+  dtm_mesh_gather(a->mesh, &one, x);
+  dtm_section_bounds sb;
+  if (dtm_section_element(sec, b->type, dtm_material_value(m, "E"), dtm_material_value(m, "nu"),
+                          dtm_material_value(m, "rho"), x, &sb))
+    return;
+  double dt = 2.0 / sqrt(sb.lambda_physical);
+  if (!(dt >= st->dt_physical_min)) st->dt_physical_min = dt, st->physical_element = b->tags ? b->tags[e] : e;
+  if (!(sb.scale <= st->scale_max)) st->scale_max = sb.scale;
+}
+
+static const char *anchor_rule(int k) {
+  if (k == DTM_SECTION_TRUSS || k == DTM_SECTION_BEAM) return "L/c, c = sqrt(E/rho)";
+  return k == DTM_SECTION_MEMBRANE || k == DTM_SECTION_SHELL ? "LS-DYNA shell step L_s/c_p" : "";
+}
+
 void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
   const double *dt = dtm_analysis_dt(a);
-  for (int i = 0; i < a->scene->nsections; i++) {
-    int k = a->scene->sections[i].kind;
-    out[i] = (dtm_section_stats){0, NAN, 0, NAN,
-                                 k == DTM_SECTION_TRUSS      ? "L/c, c = sqrt(E/rho)"
-                                 : k == DTM_SECTION_MEMBRANE ? "LS-DYNA shell step L_s/c_p"
-                                                             : ""};
-  }
+  for (int i = 0; i < a->scene->nsections; i++)
+    out[i] = (dtm_section_stats){0, NAN, 0, NAN, anchor_rule(a->scene->sections[i].kind), NAN, 0, NAN};
   size_t g = 0;
   for (int b = 0; b < a->mesh->nblocks; b++)
     for (size_t e = 0; e < a->mesh->blocks[b].n; e++, g++) {
@@ -159,5 +184,6 @@ void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
       if (!(dt[g] >= st->dt_min)) st->dt_min = dt[g], st->element = blk->tags[e];
       double an = anchor_step(a, blk, e, sec);
       if (isfinite(an) && !(an >= st->anchor_min)) st->anchor_min = an;
+      if (dtm_section_has_rotations(sec->kind)) rotary_stats(a, blk, e, sec, st);
     }
 }

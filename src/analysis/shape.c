@@ -59,6 +59,18 @@ int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double
   return DTM_OK;
 }
 
+/* A line element's well-shaped version of length h: its own direction
+ * (a beam's bending axes hang on it), from its first node. */
+static void own_segment(const dtm_analysis *a, const dtm_block *blk, size_t l, double h, double *x) {
+  dtm_block one = *blk;
+  one.n = 1, one.conn = blk->conn + l * (size_t)blk->nn;
+  dtm_mesh_gather(a->mesh, &one, x);
+  double d[3], n = 0;
+  for (int k = 0; k < 3; k++) d[k] = x[3 + k] - x[k], n += d[k] * d[k];
+  n = sqrt(n);
+  for (int k = 0; k < 3; k++) x[3 + k] = x[k] + (n > 0 ? h * d[k] / n : (k == 0) * h);
+}
+
 /* Element i's steps over that of the well-shaped element of its size: its
  * element step (*q) and its own safe step (*r, the ratio decisions use). */
 static int quality(const dtm_analysis *a, size_t i, double *q, double *r) {
@@ -66,7 +78,10 @@ static int quality(const dtm_analysis *a, size_t i, double *q, double *r) {
   size_t l;
   double x[DTM_MAX_NODES * 3], well;
   dtm_analysis_locate(a, i, &b, &l);
-  DTM_CHECK(dtm_elem_regular(a->mesh->blocks[b].type, a->h[i], x));
+  if (a->mesh->blocks[b].type == DTM_LINE2)
+    own_segment(a, &a->mesh->blocks[b], l, a->h[i], x);
+  else
+    DTM_CHECK(dtm_elem_regular(a->mesh->blocks[b].type, a->h[i], x));
   DTM_CHECK(dtm_analysis_step_at(a, i, a->mesh->blocks[b].type, x, &well));
   int ok = well > 0 && isfinite(well);
   *q = ok ? a->dt[i] / well : 1.0;

@@ -113,7 +113,13 @@ static void beam_stiffness(const dtm_beam_section *s, double L, double *K) {
 /* Local diagonal masses m[NB]. */
 static void beam_mass(const dtm_beam_section *s, double L, double *m) {
   double h = s->rho * L / 2;
-  const double per[ND] = {s->area, s->area, s->area, s->iy + s->iz, s->iy, s->iz};
+  double imin = fmin(s->iy, s->iz);
+  const double per[ND] = {s->area,
+                          s->area,
+                          s->area,
+                          s->isotropic ? imin : s->iy + s->iz,
+                          s->isotropic ? imin : s->iy,
+                          s->isotropic ? imin : s->iz};
   for (int i = 0; i < NB; i++) m[i] = h * per[i % ND];
 }
 

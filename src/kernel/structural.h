@@ -117,6 +117,8 @@ typedef struct {
   double k_shear;    /* shear correction k on both axes (0 means 5/6) */
   double ref[3];     /* orientation vector; all zero: global z, or global y when the beam is within
                         about 8 degrees of z (|e1 . z| > 0.99). Refused when within 1e-6 rad of e1. */
+  int isotropic;     /* 1: every rotary inertia rho L/2 min(I_y, I_z) (diagonal in any frame, the
+                        conservative choice for a global diagonal mass); 0: as below */
 } dtm_beam_section;
 
 /* Eigenvalue bounds of one beam element (1/s^2). */
@@ -149,6 +151,14 @@ int dtm_kernel_beam_lambda(const dtm_beam_section *sec, const double *x, dtm_bea
 /* The element's matrices in global axes for convention conv. */
 int dtm_kernel_beam_matrices(const dtm_beam_section *sec, const double *x, dtm_rotary_convention conv,
                              dtm_struct_matrices *out);
+
+/* The global matrices of one element of a shell or beam section s
+ * (dtmap/section.h) under the section's rotary convention, with its
+ * thickness or area; the beam's rotary inertia isotropic (min(I_y, I_z)),
+ * so M is diagonal. Errors as dtm_section_element. */
+struct dtm_section;
+int dtm_section_matrices(const struct dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                         dtm_struct_matrices *out);
 
 /* Helpers shared by the shell and the beam, on dense row-major blocks of
  * n <= DTM_STRUCT_DOF unknowns with diagonal masses m[n] > 0. */

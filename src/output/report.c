@@ -442,6 +442,23 @@ static cJSON *invalid_json(const dtm_analysis *a) {
   return o;
 }
 
+/* A shell's or beam's rotary-inertia convention, the one the step uses,
+ * and the other's figures. */
+static void rotary_json(cJSON *o, const dtm_section *sec, const dtm_section_stats *st) {
+  cJSON *r = cJSON_AddObjectToObject(o, "rotary_inertia");
+  int scaled = sec->rotary == DTM_ROTARY_SCALED_INERTIA;
+  cJSON_AddStringToObject(r, "convention", scaled ? "scaled" : "physical");
+  cJSON_AddStringToObject(r, "step_uses", scaled ? "scaled" : "physical");
+  cJSON_AddNumberToObject(r, "scale_max", st->scale_max);
+  cJSON_AddNumberToObject(r, "dt_physical_min", st->dt_physical_min);
+  cJSON_AddNumberToObject(r, "physical_element", (double)st->physical_element);
+  if (sec->kind == DTM_SECTION_BEAM) {
+    cJSON_AddNumberToObject(o, "iy", sec->iy);
+    cJSON_AddNumberToObject(o, "iz", sec->iz);
+    cJSON_AddNumberToObject(o, "j", sec->jt);
+  }
+}
+
 /* Per scene section: kind, groups, thickness or area, and what its
  * elements come to (dtm_analysis_sections). */
 static cJSON *sections_json(const dtm_analysis *a) {
@@ -466,6 +483,7 @@ static cJSON *sections_json(const dtm_analysis *a) {
       cJSON_AddStringToObject(an, "rule", st[i].anchor);
       cJSON_AddNumberToObject(an, "dt_min", st[i].anchor_min);
     }
+    if (isfinite(st[i].dt_physical_min)) rotary_json(o, sec, &st[i]);
     cJSON_AddItemToArray(arr, o);
   }
   free(st);

@@ -43,6 +43,15 @@ static void print_sections(const dtm_analysis *a, FILE *f) {
     if (isfinite(st[i].dt_min)) fprintf(f, ", element bound %.4e s", st[i].dt_min);
     if (isfinite(st[i].anchor_min)) fprintf(f, " (%s: %.4e s)", st[i].anchor, st[i].anchor_min);
     fprintf(f, "\n");
+    if (!isfinite(st[i].dt_physical_min)) continue;
+    if (sec->rotary == DTM_ROTARY_SCALED_INERTIA)
+      fprintf(f,
+              "             rotary inertia scaled (by up to %.4g) so that %s modes govern: the bound above and the "
+              "step use it; with physical rotary inertia %.4e s (element %zu)\n",
+              st[i].scale_max, sec->kind == DTM_SECTION_SHELL ? "membrane" : "axial", st[i].dt_physical_min,
+              st[i].physical_element);
+    else
+      fprintf(f, "             physical rotary inertia (rotary=\"physical\"): the bound above and the step use it\n");
   }
   free(st);
 }

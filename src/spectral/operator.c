@@ -28,6 +28,7 @@
 #include "dtmap/error.h"
 #include "dtmap/operator.h"
 #include "reference.h"
+#include "structural-impl.h"
 
 typedef struct {
   int type, nn;
@@ -80,6 +81,9 @@ struct dtm_operator {
   double *dsq;             /* [ndof] M^-1/2, 0 where the mass is 0 */
   const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
+  dtm_op_struct st;   /* shells and beams (structural.c): st.n = 0 when none */
+  double *slot_alpha; /* [nmat] Rayleigh alpha of each slot, for them */
+  double *slot_beta;  /* [nmat] Rayleigh beta of each slot */
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
@@ -146,6 +150,7 @@ static int material_setup(const dtm_operator *op, int i, const dtm_operator_coef
   double f = c->section_factor > 0 ? c->section_factor : 1.0;
   o->alpha = alpha ? alpha[i] : 0, o->beta = beta ? beta[i] : 0;
   o->cap = c->capacity * f;
+  op->slot_alpha[i] = o->alpha, op->slot_beta[i] = o->beta;
   if (c->kind != op->kind)
     return DTM_ERR(DTM_ERR_INTERNAL, "material %d: coefficients of kind %d, operator of kind %d", i, c->kind, op->kind);
   if (!(isfinite(c->capacity) && c->capacity > 0) || !ok_nonneg(o->alpha) || !ok_nonneg(o->beta))
@@ -153,6 +158,10 @@ static int material_setup(const dtm_operator *op, int i, const dtm_operator_coef
                    "material %d: capacity %g, Rayleigh alpha %g, beta %g: "
                    "need capacity > 0 and finite alpha, beta >= 0",
                    i, c->capacity, o->alpha, o->beta);
+  if (dtm_op_struct_is(c)) { /* shells and beams: their stored matrices alone (structural.c) */
+    o->cap = 0;
+    return DTM_OK;
+  }
   if (op->kind == DTM_OP_DIFFUSION) {
     o->cond = c->conductivity * f;
     if (!ok_nonneg(o->cond))
@@ -186,7 +195,9 @@ static int mark_used(const dtm_operator *op, char *used) {
 static int materials_setup(dtm_operator *op, const dtm_operator_coeffs *c, const double *alpha, const double *beta) {
   char *used = calloc((size_t)op->nmat, 1);
   op->mats = calloc((size_t)op->nmat, sizeof *op->mats);
-  if (!used || !op->mats) {
+  op->slot_alpha = calloc((size_t)op->nmat, sizeof *op->slot_alpha);
+  op->slot_beta = calloc((size_t)op->nmat, sizeof *op->slot_beta);
+  if (!used || !op->mats || !op->slot_alpha || !op->slot_beta) {
     free(used);
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
@@ -424,6 +435,7 @@ static int mass_setup(dtm_operator *op, const dtm_mesh *m) {
   int r = DTM_OK;
   for (int ib = 0; ib < op->nblocks && !r; ib++) r = block_mass(op, m, &op->blocks[ib], w);
   free(w);
+  if (r == DTM_OK) dtm_op_struct_masses(&op->st, op->slot_alpha, op->mass, op->mass_alpha);
   for (size_t k = 0; k < op->ndof; k++) op->dsq[k] = op->mass[k] > 0 ? 1 / sqrt(op->mass[k]) : 0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
@@ -436,7 +448,8 @@ static int any_alpha(const dtm_operator *op, const double *alpha) {
 
 static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
                   const double *beta) {
-  op->ndof = m->nnodes * (size_t)op->ncomp;
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base));
+  op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->node_tags = m->node_tags;
   op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -462,6 +475,8 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   int d;
   DTM_CHECK(dtm_mesh_space_dim(mesh, &d));
+  for (int i = 0; i < nmat * (nsec + 1); i++)
+    if (dtm_op_struct_is(&coef[i])) d = 3; /* shells and beams bend out of any plane */
   dtm_operator *op = calloc(1, sizeof *op);
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->kind = kind, op->d = d, op->nmat_base = nmat, op->nsec = nsec, op->nmat = nmat * (nsec + 1);
@@ -485,6 +500,9 @@ void dtm_operator_destroy(dtm_operator **op) {
   free((*op)->mass);
   free((*op)->mass_alpha);
   free((*op)->dsq);
+  free((*op)->slot_alpha);
+  free((*op)->slot_beta);
+  dtm_op_struct_free(&(*op)->st);
   free(*op);
   *op = NULL;
 }
@@ -495,10 +513,13 @@ int dtm_operator_kind(const dtm_operator *op) { return op->kind; }
 const double *dtm_operator_mass(const dtm_operator *op) { return op->mass; }
 
 void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double lo, double hi, double *x) {
-  size_t nc = (size_t)op->ncomp;
+  size_t nc = (size_t)op->ncomp, nt = op->ndof - 3 * op->st.nrot;
   for (size_t k = 0; k < op->ndof; k++) {
-    uint64_t tag = op->node_tags ? op->node_tags[k / nc] : k / nc + 1;
-    x[k] = dtm_rng_uniform_at(seed, tag * nc + k % nc, lo, hi);
+    size_t node = k < nt ? k / nc : op->st.rot_node[(k - nt) / 3];
+    uint64_t tag = op->node_tags ? op->node_tags[node] : node + 1;
+    /* rotations: the components after the translations' (3, 4, 5) */
+    x[k] = k < nt ? dtm_rng_uniform_at(seed, tag * nc + k % nc, lo, hi)
+                  : dtm_rng_uniform_at(seed ^ 0x9e3779b97f4a7c15ULL, tag * 3 + (k - nt) % 3, lo, hi);
   }
 }
 
@@ -902,6 +923,7 @@ static void apply_k(const dtm_operator *op, const double *u, double *y, int whic
       for (size_t k = k0 > sh->lo ? k0 : sh->lo; k < k1 && k < sh->hi; k++) y[k] += bs[k];
     }
   }
+  if (op->st.n) dtm_op_struct_apply(&op->st, u, in, which == APPLY_BETA ? op->slot_beta : NULL, y);
 }
 
 void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }

@@ -1,0 +1,148 @@
+/* The shells and beams of the global operator: elements whose nodes carry
+ * three rotations besides the three translations. Their element matrices
+ * (stiffness and lumped mass in global axes, under their section's rotary
+ * convention: src/kernel/structural.h) are computed once and stored, and
+ * the product applies them element by element after the continuum blocks.
+ * Rotation unknowns are appended after the translations: the triple of
+ * node v's rotations starts at nnodes * 3 + 3 r, r its rank among the
+ * nodes with rotations (in node order). The continuum path of the operator
+ * sees these elements with zero coefficients. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/error.h"
+#include "dtmap/section.h"
+#include "structural-impl.h"
+#include "structural.h"
+
+int dtm_op_struct_is(const dtm_operator_coeffs *c) {
+  return c->kind == DTM_OP_ELASTIC && c->section && dtm_section_has_rotations(c->section->kind);
+}
+
+/* Count the structural elements and mark the nodes with rotations. */
+static size_t count(const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat, char *mark) {
+  size_t n = 0;
+  for (int ib = 0; ib < m->nblocks; ib++) {
+    const dtm_block *b = &m->blocks[ib];
+    for (size_t e = 0; e < b->n; e++) {
+      int slot = b->mat[e] + (b->section ? nmat * (b->section[e] + 1) : 0);
+      if (!dtm_op_struct_is(&c[slot])) continue;
+      n++;
+      for (int a = 0; a < b->nn; a++) mark[b->conn[e * (size_t)b->nn + a]] = 1;
+    }
+  }
+  return n;
+}
+
+static int alloc_all(dtm_op_struct *s, size_t nnodes) {
+  s->ndof = calloc(s->n + 1, sizeof *s->ndof);
+  s->idx = malloc((s->n * DTM_STRUCT_DOF + 1) * sizeof *s->idx);
+  s->K = malloc((s->n * DTM_STRUCT_DOF * DTM_STRUCT_DOF + 1) * sizeof *s->K);
+  s->m = malloc((s->n * DTM_STRUCT_DOF + 1) * sizeof *s->m);
+  s->slot = malloc((s->n + 1) * sizeof *s->slot);
+  s->rot_of = malloc((nnodes + 1) * sizeof *s->rot_of);
+  if (!s->ndof || !s->idx || !s->K || !s->m || !s->slot || !s->rot_of)
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  return DTM_OK;
+}
+
+/* Rotation ranks of the marked nodes, and the node of each rank. */
+static int number_rotations(dtm_op_struct *s, const char *mark, size_t nnodes) {
+  s->nrot = 0;
+  for (size_t v = 0; v < nnodes; v++) s->rot_of[v] = mark[v] ? s->nrot++ : SIZE_MAX;
+  s->rot_node = malloc((s->nrot + 1) * sizeof *s->rot_node);
+  if (!s->rot_node) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < nnodes; v++)
+    if (mark[v]) s->rot_node[s->rot_of[v]] = v;
+  return DTM_OK;
+}
+
+/* Element i: block b's element e, matrices and dof indices. */
+static int one(dtm_op_struct *s, size_t i, const dtm_mesh *m, const dtm_block *b, size_t e,
+               const dtm_operator_coeffs *c) {
+  double x[3 * 4];
+  dtm_struct_matrices mat;
+  const size_t *conn = b->conn + e * (size_t)b->nn;
+  if (b->nn > 4)
+    return DTM_ERR(DTM_ERR_INPUT, "a %s section takes no %s elements", dtm_section_kind_name(c->section->kind),
+                   dtm_elem_name(b->type));
+  for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * conn[a], 3 * sizeof *x);
+  if (dtm_section_matrices(c->section, b->type, c->E, c->nu, c->capacity, x, &mat)) {
+    char place[256];
+    dtm_mesh_element_place(m, (int)(b - m->blocks), e, place, sizeof place);
+    return DTM_ERR(DTM_ERR_INPUT, "%s: %s", place, dtm_error_message());
+  }
+  int n = 6 * b->nn;
+  s->ndof[i] = n;
+  for (int a = 0; a < b->nn; a++)
+    for (int k = 0; k < 3; k++) {
+      s->idx[i * DTM_STRUCT_DOF + 6 * a + k] = conn[a] * 3 + (size_t)k;
+      s->idx[i * DTM_STRUCT_DOF + 6 * a + 3 + k] = s->base + 3 * s->rot_of[conn[a]] + (size_t)k;
+    }
+  for (int r = 0; r < n; r++) {
+    memcpy(s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF + (size_t)r * n, mat.K + (size_t)r * n, n * sizeof *s->K);
+    s->m[i * DTM_STRUCT_DOF + r] = mat.M[(size_t)r * n + r];
+  }
+  return DTM_OK;
+}
+
+static int fill(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
+  size_t i = 0;
+  for (int ib = 0; ib < m->nblocks; ib++) {
+    const dtm_block *b = &m->blocks[ib];
+    for (size_t e = 0; e < b->n; e++) {
+      int slot = b->mat[e] + (b->section ? nmat * (b->section[e] + 1) : 0);
+      if (!dtm_op_struct_is(&c[slot])) continue;
+      s->slot[i] = slot;
+      DTM_CHECK(one(s, i++, m, b, e, &c[slot]));
+    }
+  }
+  return DTM_OK;
+}
+
+int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
+  memset(s, 0, sizeof *s);
+  char *mark = calloc(m->nnodes + 1, 1);
+  if (!mark) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  s->n = count(m, c, nmat, mark);
+  s->base = m->nnodes * 3;
+  int r = s->n ? alloc_all(s, m->nnodes) : DTM_OK;
+  if (s->n && r == DTM_OK) r = number_rotations(s, mark, m->nnodes);
+  free(mark);
+  if (s->n && r == DTM_OK) r = fill(s, m, c, nmat);
+  return r;
+}
+
+void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, double *mass, double *mass_alpha) {
+  for (size_t i = 0; i < s->n; i++)
+    for (int r = 0; r < s->ndof[i]; r++) {
+      size_t k = s->idx[i * DTM_STRUCT_DOF + r];
+      double mk = s->m[i * DTM_STRUCT_DOF + r];
+      mass[k] += mk;
+      if (mass_alpha) mass_alpha[k] += alpha_of_slot[s->slot[i]] * mk;
+    }
+}
+
+void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
+                         double *y) {
+  for (size_t i = 0; i < s->n; i++) {
+    int n = s->ndof[i];
+    const size_t *idx = s->idx + i * DTM_STRUCT_DOF;
+    const double *K = s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF;
+    double ue[DTM_STRUCT_DOF], f = beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0;
+    if (f == 0) continue;
+    for (int r = 0; r < n; r++) ue[r] = u[idx[r]] * (in ? in[idx[r]] : 1.0);
+    for (int r = 0; r < n; r++) {
+      double acc = 0;
+      for (int q = 0; q < n; q++) acc += K[(size_t)r * n + q] * ue[q];
+      y[idx[r]] += f * acc;
+    }
+  }
+}
+
+void dtm_op_struct_free(dtm_op_struct *s) {
+  free(s->ndof), free(s->idx), free(s->K), free(s->m), free(s->slot), free(s->rot_of), free(s->rot_node);
+  memset(s, 0, sizeof *s);
+}
