@@ -180,6 +180,46 @@ class BadSections(unittest.TestCase):
             self.refused('  <material %s default="true"/>\n  <section default="true" kind="membrane" thickness="%s"/>'
                          % (STEEL, value), "thickness", line_needle="<section")
 
+    def test_runs_with_beam(self):
+        """a beam in a block: the element, nodal and global steps in order."""
+        scene("bm.xml", "bar.msh", '  <material %s groups="block bar"/>\n'
+              '  <section groups="bar" kind="beam" radius="0.01"/>' % STEEL)
+        code, out = tu.run("run", "bm.xml", "--posterior", "-o", "bm.msh", "--report", "bm.json")
+        self.assertEqual(code, 0, out)
+        dt = tu.report("bm.json")["dt"]
+        self.assertLessEqual(dt["min"], dt["nodal"])
+        self.assertLessEqual(dt["nodal"], dt["global"] * (1 + 1e-12))
+
+    def test_bad_beam_profiles(self):
+        beam = '  <material %s groups="block bar"/>\n  <section groups="bar" kind="beam" %s/>'
+        for attrs, needle in (("", "needs one profile"), ('area="1e-4"', "go together"),
+                              ('radius="0.01" width="0.01" height="0.02"', "needs one profile"),
+                              ('width="0.01"', "width and height go together"),
+                              ('radius="0.01" orientation="1 0"', "orientation"),
+                              ('radius="0.01" orientation="0 0 0"', "orientation"),
+                              ('radius="0.01" orientation="1 0 nan"', "orientation"),
+                              ('radius="0.01" rotary="lumped"', "rotary"),
+                              ('radius="0.01" thickness="0.1"', "takes no thickness"),
+                              ('radius="-1"', "radius")):
+            with self.subTest(attrs=attrs):
+                self.refused(beam % (STEEL, attrs), needle, line_needle="<section")
+
+    def test_beam_orientation_along_its_axis(self):
+        """the bar runs along z: an orientation along z leaves no section plane;
+        the error names the element."""
+        self.refused('  <material %s groups="block bar"/>\n  <section groups="bar" kind="beam" radius="0.01" '
+                     'orientation="0 0 2"/>' % STEEL, "parallel to the beam", "(line2)")
+
+    def test_bad_shells(self):
+        for body, needle in (('<section groups="bar" kind="shell" thickness="0.01"/>', "needs surfaces"),
+                             ('<section groups="bar" kind="shell"/>', "needs thickness"),
+                             ('<section groups="bar" kind="truss" area="1e-4" rotary="scaled"/>', "takes no rotary"),
+                             ('<section groups="bar" kind="truss" area="1e-4" iy="1e-8"/>', "takes no iy"),
+                             ('<section groups="bar" kind="beam" radius="0.01" shear-factor="0"/>', "shear-factor")):
+            with self.subTest(body=body):
+                self.refused('  <material %s groups="block bar"/>\n  %s' % (STEEL, body), needle,
+                             line_needle="<section")
+
     def test_plane_section_in_3d(self):
         self.refused('  <material %s default="true"/>\n  <section default="true" kind="plane-stress"/>' % STEEL,
                      "a plane-stress section needs surfaces", line_needle="<section")

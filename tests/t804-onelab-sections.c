@@ -14,7 +14,12 @@
  * sections opaque inside the faint skin, while an output without them is
  * styled as before; an area <= 0 is refused with the scene reader's own
  * message, as for a scene file, and the line of the panel's scene it is
- * about goes to Gmsh's console. */
+ * about goes to Gmsh's console. The menus also offer a beam (with the
+ * radius of a circular profile) for curves and a shell (thickness) for
+ * surfaces: chosen, their elements come back in the views and the saved
+ * scene holds the circle's A and I exactly; a beam the scene beside the
+ * model gives (the bundled stiffened panel) keeps its rectangular profile
+ * and orientation (no radius field), and its shell the skin's thickness. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -65,9 +70,10 @@ static int setup(void **state) {
   snprintf(out, sizeof out, "%s/rebar_box_dt.msh", dir);
   snprintf(opt, sizeof opt, "%s.opt", out);
   int r = tu_run(NULL,
-                 "mkdir -p %s/wall %s/block && cp %s/geometries/reinforced_block.geo "
-                 "%s/geometries/reinforced_block.xml %s/block/",
-                 dir, dir, tu_src(), tu_src(), dir);
+                 "mkdir -p %s/wall %s/block %s/panel && cp %s/geometries/reinforced_block.geo "
+                 "%s/geometries/reinforced_block.xml %s/block/ && cp %s/geometries/stiffened_panel.geo "
+                 "%s/geometries/stiffened_panel.xml %s/panel/",
+                 dir, dir, dir, tu_src(), tu_src(), dir, tu_src(), tu_src(), dir);
   tu_write(geo, box_geo);
   snprintf(path, sizeof path, "%s/wall/wall.geo", dir);
   tu_write(path, wall_geo);
@@ -413,6 +419,100 @@ static void test_truss_and_membrane(void **state) {
   dtm_scene_destroy(&s);
 }
 
+/* The section of group name in scene s (NULL when none). */
+static const dtm_section *section_of(const dtm_scene *s, const char *name) {
+  for (int i = 0; i < s->nsections; i++)
+    if (s->sections[i].ngroups == 1 && !strcmp(s->sections[i].groups[0], name)) return &s->sections[i];
+  return NULL;
+}
+
+/* A beam of radius 0.01 m on the bar and a 2 mm shell on the sheet, chosen
+ * in the panel (choice 2 of each menu): all elements come back in the dt
+ * view; the saved scene holds a beam of A = pi r^2, I_y = I_z = pi r^4/4
+ * (1e-15 relative: the panel writes the radius, the reader computes them)
+ * and the shell's thickness. */
+static void test_shell_and_beam(void **state) {
+  (void)state;
+  char saved[700], *file[] = {saved};
+  int ierr = 0;
+  snprintf(saved, sizeof saved, "%s/saved_sb.xml", dir);
+  unlink(saved);
+  unlink(out);
+  session(geo);
+  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
+  set_number("dtmap/5Scene/0save", 1);
+  run_dtmap("check");
+  cJSON *p = parameter("dtmap/4Materials/bar/00section");
+  assert_true(choice_value(p, "beam") == 2);
+  cJSON_Delete(p);
+  p = parameter("dtmap/4Materials/sheet/00section");
+  assert_true(choice_value(p, "shell") == 2);
+  cJSON_Delete(p);
+  set_number("dtmap/4Materials/bar/00section", 2);
+  set_number("dtmap/4Materials/bar/01radius", 0.01);
+  set_number("dtmap/4Materials/sheet/00section", 2);
+  set_number("dtmap/4Materials/sheet/01thickness", 0.002);
+  run_dtmap("check");
+  assert_parameter("dtmap/4Materials/bar/01radius", 1, "m");
+  assert_parameter("dtmap/4Materials/bar/01area", 0, "m^2");
+  run_dtmap("compute");
+  tu_view dt;
+  assert_int_equal(tu_view_read_last("dt", &dt), 0);
+  tu_gmsh_end();
+  groups g;
+  read_groups(&g);
+  for (int k = 0; k < 3; k++) assert_int_equal(covered(&dt, g.tags[k], g.n[k]), g.n[k]);
+  tu_view_free(&dt);
+  free_groups(&g);
+  dtm_scene *s = NULL;
+  assert_int_equal(dtm_scene_load(saved, &s), 0);
+  const dtm_section *beam = section_of(s, "bar"), *shell = section_of(s, "sheet");
+  assert_non_null(beam);
+  assert_non_null(shell);
+  assert_int_equal(beam->kind, DTM_SECTION_BEAM);
+  assert_int_equal(shell->kind, DTM_SECTION_SHELL);
+  double pi = 3.14159265358979323846, a = pi * 1e-4, i = pi * 1e-8 / 4;
+  assert_true(fabs(beam->area - a) <= 1e-15 * a && fabs(beam->iy - i) <= 1e-15 * i && beam->iz == beam->iy);
+  assert_true(shell->thickness == 0.002);
+  dtm_scene_destroy(&s);
+}
+
+/* The stiffened panel with its scene beside it: the stiffener's menu
+ * defaults to its beam (no radius field: the scene's 10 x 40 mm profile is
+ * kept); the skin is of the analysed dimension (no section menu) and keeps
+ * the scene's shell; the saved scene has the same profile, orientation and
+ * shell. */
+static void test_scene_beam_kept(void **state) {
+  (void)state;
+  char model[700], saved[700], *file[] = {saved}, orig[700];
+  int ierr = 0;
+  snprintf(model, sizeof model, "%s/panel/stiffened_panel.geo", dir);
+  snprintf(saved, sizeof saved, "%s/panel/saved.xml", dir);
+  snprintf(orig, sizeof orig, "%s/panel/stiffened_panel.xml", dir);
+  unlink(saved);
+  session(model);
+  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
+  set_number("dtmap/5Scene/0save", 1);
+  run_dtmap("check");
+  assert_true(get_number("dtmap/4Materials/stiffener/00section") == 2);
+  assert_null(parameter("dtmap/4Materials/skin/00section"));
+  assert_null(parameter("dtmap/4Materials/stiffener/01radius"));
+  run_dtmap("compute");
+  tu_gmsh_end();
+  dtm_scene *s = NULL, *o = NULL;
+  assert_int_equal(dtm_scene_load(saved, &s), 0);
+  assert_int_equal(dtm_scene_load(orig, &o), 0);
+  const dtm_section *got = section_of(s, "stiffener"), *want = section_of(o, "stiffener");
+  assert_non_null(got);
+  assert_int_equal(got->kind, DTM_SECTION_BEAM);
+  assert_true(got->area == want->area && got->iy == want->iy && got->iz == want->iz && got->jt == want->jt);
+  for (int k = 0; k < 3; k++) assert_true(got->orient[k] == want->orient[k]);
+  assert_int_equal(section_of(s, "skin")->kind, DTM_SECTION_SHELL);
+  assert_true(section_of(s, "skin")->thickness == 0.005);
+  dtm_scene_destroy(&s);
+  dtm_scene_destroy(&o);
+}
+
 /* No section chosen: only the tets are analysed, and the .opt is the one a
  * solid output always had (no line, alias or element-type option). */
 static void test_no_section(void **state) {
@@ -497,7 +597,8 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_panel_names),        cmocka_unit_test(test_panel_2d),
       cmocka_unit_test(test_scene_defaults),     cmocka_unit_test(test_truss),
       cmocka_unit_test(test_truss_and_membrane), cmocka_unit_test(test_no_section),
-      cmocka_unit_test(test_bad_area),
+      cmocka_unit_test(test_bad_area),           cmocka_unit_test(test_shell_and_beam),
+      cmocka_unit_test(test_scene_beam_kept),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }

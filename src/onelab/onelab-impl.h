@@ -127,15 +127,20 @@ extern const char *const dtm_ol_effect_names[OL_NEFFECTS];
 /* The material choice of one physical group, and the section of a group
  * below the analysed dimension (a curve or surface in or on the model). */
 typedef struct {
-  char ref[128];          /* the group as a scene names it (name, or number) */
-  int dim;                /* the group's dimension (the analysed one, or below for a section) */
-  int kind;               /* below the analysed dimension: DTM_SECTION_TRUSS (curves) or
-                             DTM_SECTION_MEMBRANE (surfaces) when chosen, -1: none (not analysed);
-                             -1 at the analysed dimension (the effects' formulation) */
-  double measure;         /* the section's area (m^2, truss) or thickness (m, membrane) */
-  int choice;             /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
-  char scene_name[128];   /* the scene's material for this group, or "" */
-  double prop[OL_NPROPS]; /* the values in force (NaN: not given) */
+  char ref[128];                /* the group as a scene names it (name, or number) */
+  int dim;                      /* the group's dimension (the analysed one, or below for a section) */
+  int kind;                     /* below the analysed dimension: DTM_SECTION_TRUSS or DTM_SECTION_BEAM
+                                   (curves), DTM_SECTION_MEMBRANE or DTM_SECTION_SHELL (surfaces) when
+                                   chosen, -1: none (not analysed); -1 at the analysed dimension (the
+                                   effects' formulation) */
+  double measure;               /* the section's area (m^2, truss), thickness (m, membrane, shell) or
+                                   radius (m, a beam of circular profile) */
+  const dtm_section *scene_sec; /* the base scene's section of the group, or NULL: a shell or beam
+                                   chosen in the panel keeps its convention, shear factor and (beam)
+                                   profile and orientation */
+  int choice;                   /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
+  char scene_name[128];         /* the scene's material for this group, or "" */
+  double prop[OL_NPROPS];       /* the values in force (NaN: not given) */
 } ol_group;
 
 /* What the panel holds, read back from the server. */

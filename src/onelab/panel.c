@@ -4,9 +4,11 @@
  * geometry, and for every physical group of the analysed dimension its
  * material: a named material of the library (its SI values shown read-only),
  * the scene's own, or custom values. Every group of curves or surfaces below
- * that dimension gets a section menu: none (the default: not analysed), or
- * truss for curves and membrane for surfaces, with the cross-section area or
- * the thickness; with a section it gets a material menu too. (The plane
+ * that dimension gets a section menu: none (the default: not analysed),
+ * truss or beam for curves, membrane or shell for surfaces, with the
+ * cross-section area, the radius of a beam's circular profile (a beam the
+ * scene gives keeps the scene's profile) or the thickness; with a section
+ * it gets a material menu too. (The plane
  * kinds of a 2D model's surfaces are the elastic formulation's choices.)
  * Defaults come from the scene beside the model; a value the user changed in
  * the panel stays in force (the server keeps it) until the panel is reset. */
@@ -163,42 +165,64 @@ static const dtm_section *scene_section(const dtm_scene *s, const char *ref) {
   return NULL;
 }
 
-/* The one section kind the panel offers a group of dimension dim below the
- * analysed one: trusses for curves, membranes for surfaces. */
-static int lower_kind(int dim) { return dim == 1 ? DTM_SECTION_TRUSS : DTM_SECTION_MEMBRANE; }
+/* The section kinds the panel offers a group of dimension dim below the
+ * analysed one (choices 1 and 2; 0 is none): trusses and beams for
+ * curves, membranes and shells for surfaces. */
+static int lower_kind(int dim, int choice) {
+  if (dim == 1) return choice == 2 ? DTM_SECTION_BEAM : DTM_SECTION_TRUSS;
+  return choice == 2 ? DTM_SECTION_SHELL : DTM_SECTION_MEMBRANE;
+}
 
-/* The area (truss) or thickness (membrane) of a chosen section, shown only
- * then; *value holds the default in and the value in force out. */
-static int measure(ol_conn *c, const char *dir, int kind, int shown, double *value) {
-  int truss = kind == DTM_SECTION_TRUSS;
+/* One measure field of a section menu, visible when shown; *value holds
+ * the default in and the value in force out. */
+static int measure_field(ol_conn *c, const char *dir, const char *key, const char *label, const char *units, int shown,
+                         double *value) {
   char name[512];
   ol_param p;
-  snprintf(name, sizeof name, "%s/01%s", dir, truss ? "area" : "thickness");
-  dtm_ol_number(&p, name, *value, truss ? "cross-section area" : "thickness");
-  dtm_ol_attr(&p, "Units", truss ? "m^2" : "m");
+  snprintf(name, sizeof name, "%s/01%s", dir, key);
+  dtm_ol_number(&p, name, *value, label);
+  dtm_ol_attr(&p, "Units", units);
   p.visible = shown;
   DTM_CHECK(dtm_ol_define(c, &p));
   *value = p.value;
   return DTM_OK;
 }
 
+/* The measures of a curve's (area; radius) or a surface's (thickness)
+ * sections; the one of the chosen kind goes to g->measure. A beam the base
+ * scene gives keeps the scene's profile: no radius field. */
+static int measures(ol_conn *c, const char *dir, const dtm_section *sec, ol_group *g) {
+  if (g->dim == 2) {
+    double t = sec && sec->thickness > 0 ? sec->thickness : 0;
+    DTM_CHECK(measure_field(c, dir, "thickness", "thickness", "m", g->kind >= 0, &t));
+    g->measure = t;
+    return DTM_OK;
+  }
+  double area = sec && sec->kind == DTM_SECTION_TRUSS ? sec->area : 0, radius = 0;
+  DTM_CHECK(measure_field(c, dir, "area", "cross-section area", "m^2", g->kind == DTM_SECTION_TRUSS, &area));
+  if (!(g->scene_sec && g->scene_sec->kind == DTM_SECTION_BEAM))
+    DTM_CHECK(measure_field(c, dir, "radius", "radius (circular profile)", "m", g->kind == DTM_SECTION_BEAM, &radius));
+  g->measure = g->kind == DTM_SECTION_BEAM ? radius : area;
+  return DTM_OK;
+}
+
 /* The section menu of a group below the analysed dimension: none (not
- * analysed) or its dimension's kind, default the scene's; g->kind and
- * g->measure receive the values in force. */
+ * analysed) or one of its dimension's kinds, default the scene's; g->kind
+ * and g->measure receive the values in force. */
 static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, ol_group *g) {
-  int kind = lower_kind(g->dim);
   const dtm_section *sec = scene_section(base, g->ref);
-  int given = sec && sec->kind == kind;
+  int given = sec && (sec->kind == lower_kind(g->dim, 1) || sec->kind == lower_kind(g->dim, 2));
   char name[512];
   ol_param p;
   snprintf(name, sizeof name, "%s/00section", dir);
-  dtm_ol_number(&p, name, given, "section");
+  dtm_ol_number(&p, name, given ? (sec->kind == lower_kind(g->dim, 2) ? 2 : 1) : 0, "section");
   dtm_ol_choice(&p, 0, "none (not analysed)");
-  dtm_ol_choice(&p, 1, dtm_section_kind_name(kind));
+  dtm_ol_choice(&p, 1, dtm_section_kind_name(lower_kind(g->dim, 1)));
+  dtm_ol_choice(&p, 2, dtm_section_kind_name(lower_kind(g->dim, 2)));
   DTM_CHECK(dtm_ol_define(c, &p));
-  g->kind = p.value == 1 ? kind : -1;
-  g->measure = given ? dtm_section_factor(sec) : 0;
-  return measure(c, dir, kind, g->kind >= 0, &g->measure);
+  g->kind = p.value == 1 || p.value == 2 ? lower_kind(g->dim, (int)p.value) : -1;
+  g->scene_sec = sec;
+  return measures(c, dir, given ? sec : NULL, g);
 }
 
 /* The material menu of one group; g->choice receives the choice in force. */

@@ -90,16 +90,33 @@ static void material(FILE *f, const ol_panel *pn, int i, int nlib) {
   fprintf(f, "/>\n");
 }
 
+/* A scene's beam profile and orientation, and a shell's or beam's rotary
+ * convention and shear factor, as the scene gave them. */
+static void structural_rest(FILE *f, const dtm_section *s) {
+  if (s->kind == DTM_SECTION_BEAM) {
+    attr_num(f, "area", s->area), attr_num(f, "iy", s->iy), attr_num(f, "iz", s->iz), attr_num(f, "j", s->jt);
+    if (s->orient[0] != 0 || s->orient[1] != 0 || s->orient[2] != 0)
+      fprintf(f, " orientation=\"%.17g %.17g %.17g\"", s->orient[0], s->orient[1], s->orient[2]);
+  }
+  if (s->rotary == DTM_ROTARY_PHYSICAL_INERTIA) attr(f, "rotary", "physical");
+  if (s->shear > 0) attr_num(f, "shear-factor", s->shear);
+}
+
 /* The rest of a <section> after its groups: the default flag, kind k, and
- * the area of a truss, the thickness of a membrane (from the panel: what
- * was entered, the reader says what is wrong with it) or of a plane kind. */
-static void section_rest(FILE *f, int k, int is_default, double thickness, double area) {
+ * the area of a truss, the thickness of a membrane or shell (from the
+ * panel: what was entered, the reader says what is wrong with it) or of a
+ * plane kind; a beam's profile: the scene's (base, not NULL) or a circle of
+ * radius `radius`. */
+static void section_rest(FILE *f, int k, int is_default, double thickness, double area, const dtm_section *base) {
   if (is_default) fprintf(f, " default=\"true\"");
   attr(f, "kind", dtm_section_kind_name(k));
   if (k == DTM_SECTION_TRUSS)
     attr_num(f, "area", area);
-  else if (k == DTM_SECTION_MEMBRANE || thickness > 0)
+  else if (k == DTM_SECTION_BEAM && !(base && base->kind == DTM_SECTION_BEAM))
+    attr_num(f, "radius", area);
+  else if (k == DTM_SECTION_MEMBRANE || k == DTM_SECTION_SHELL || thickness > 0)
     attr_num(f, "thickness", thickness);
+  if (base && dtm_section_has_rotations(k)) structural_rest(f, base);
   fprintf(f, "/>\n");
 }
 
@@ -122,7 +139,7 @@ static void base_section(FILE *f, const ol_panel *pn, const dtm_section *s) {
       if (!panel_sections(pn, s->groups[g])) fputs(first ? "" : " ", f), esc(f, s->groups[g]), first = 0;
     fputc('"', f);
   }
-  section_rest(f, s->kind, s->is_default, s->thickness, s->area);
+  section_rest(f, s->kind, s->is_default, s->thickness, s->area, s);
 }
 
 static void sections(FILE *f, const ol_model *m, const ol_panel *pn) {
@@ -131,7 +148,8 @@ static void sections(FILE *f, const ol_model *m, const ol_panel *pn) {
     if (g->kind < 0) continue;
     fprintf(f, "  <section");
     attr(f, "groups", g->ref);
-    section_rest(f, g->kind, 0, g->measure, g->measure);
+    const dtm_section *keep = g->scene_sec && g->scene_sec->kind == g->kind ? g->scene_sec : NULL;
+    section_rest(f, g->kind, 0, g->measure, g->measure, keep);
   }
   for (int i = 0; m->base && i < m->base->nsections; i++) base_section(f, pn, &m->base->sections[i]);
 }
