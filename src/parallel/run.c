@@ -18,9 +18,10 @@
 
 /* The distributed global estimate holds three unknowns per node: shells
  * and beams (three more, rotations) are not in it yet. A scene-level
- * check, so every rank refuses alike. */
+ * check: rank 0 raises it (the agreement stops the others) and prints it
+ * once. */
 static int posterior_supported(const dtm_par *p, const dtm_parallel_opts *o) {
-  for (int i = 0; o->posterior && i < p->scene->nsections; i++)
+  for (int i = 0; o->posterior && p->rank == 0 && i < p->scene->nsections; i++)
     if (dtm_section_has_rotations(p->scene->sections[i].kind))
       return DTM_ERR(DTM_ERR_INPUT,
                      "%s:%d: --posterior in a distributed run does not take %s sections yet (their nodes carry "
