@@ -100,5 +100,19 @@ typedef struct {
  * element, or a scaled convention that no finite scale satisfies. */
 DTM_EXPORT int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
                                    dtm_section_bounds *out);
+/* The same without lambda_physical (NaN) under the scaled convention: the
+ * step, the scale and the masses from two small eigenproblems (the
+ * reference block and the rotary scale's Schur complement) instead of four,
+ * since lambda = lambda_reference whenever the scale is finite. What the
+ * element map, the nodal bound and the operator use; with the physical
+ * convention it is dtm_section_element. */
+DTM_EXPORT int dtm_section_element_step(const dtm_section *s, int type, double E, double nu, double rho,
+                                        const double *x, dtm_section_bounds *out);
+/* The element's lambda under its section's convention, alone: for a shell
+ * under the scaled convention with a shear factor <= 1 (its scale is then
+ * finite) the membrane eigenvalue of the element, from the plane-stress
+ * kernel directly; else as dtm_section_element_step. */
+DTM_EXPORT int dtm_section_element_lambda(const dtm_section *s, int type, double E, double nu, double rho,
+                                          const double *x, double *lambda);
 
 #endif

@@ -90,11 +90,11 @@ static int element_moduli(const elastic_state *s, const dtm_batch *b, size_t e, 
  * section's rotary-inertia convention. */
 static int structural_element(const elastic_state *s, const dtm_batch *b, size_t e, double *dt) {
   const dtm_material *m = b->mat[e];
-  dtm_section_bounds sb;
-  if (dtm_section_element(b->section[e], b->type, dtm_material_get(m, s->iE), dtm_material_get(m, s->inu),
-                          dtm_material_get(m, s->irho), b->x + 3 * (size_t)b->nn * e, &sb))
+  double lambda;
+  if (dtm_section_element_lambda(b->section[e], b->type, dtm_material_get(m, s->iE), dtm_material_get(m, s->inu),
+                                 dtm_material_get(m, s->irho), b->x + 3 * (size_t)b->nn * e, &lambda))
     return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type), dtm_error_message());
-  *dt = 2.0 / sqrt(sb.lambda);
+  *dt = 2.0 / sqrt(lambda);
   return DTM_OK;
 }
 

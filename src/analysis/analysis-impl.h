@@ -11,8 +11,9 @@
 #include "dtmap/gmsh.h"
 
 struct dtm_analysis {
-  const dtm_scene *scene; /* not owned */
-  dtm_mesh *mesh;         /* owned */
+  const dtm_scene *scene;       /* not owned */
+  dtm_section_stats *sec_stats; /* [nsections] what dtm_analysis_sections returns, computed once */
+  dtm_mesh *mesh;               /* owned */
   int neffects;
   dtm_effect *effects;        /* [neffects] owned, scene order */
   size_t nel;                 /* elements analysed */
@@ -114,6 +115,8 @@ int dtm_analysis_nslots(const dtm_analysis *a);
 /* 1 when a scene section is a shell or a beam (nodes with rotations): the
  * same on every part of a distributed run. */
 int dtm_analysis_has_rotations(const dtm_analysis *a);
+/* Compute a->sec_stats (once, after the nodal bound). */
+int dtm_analysis_section_stats(dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
 /* A 2D model treated as a plane elastic problem is plane
  * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */

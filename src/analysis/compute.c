@@ -329,6 +329,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   if (r == DTM_OK) r = dtm_x_agree(a, dtm_local_steps(a));
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
   if (r == DTM_OK) r = dtm_size_suggest(a);
+  if (r == DTM_OK) r = dtm_x_agree(a, dtm_analysis_section_stats(a));
   if (r == DTM_OK) r = dtm_shape_classify(a);
   if (r) {
     dtm_analysis_destroy(&a);
@@ -349,6 +350,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->forced);
   free(a->shape);
   free(a->layers);
+  free(a->sec_stats);
   dtm_gmsh_geo_destroy(&a->geo);
   for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
   free(a->dt_bare);

@@ -55,7 +55,7 @@ static int structural_masses(const dtm_operator_coeffs *c, const dtm_block *blk,
   *done = 0;
   if (!mr || c->kind != DTM_OP_ELASTIC || !c->section || !dtm_section_has_rotations(c->section->kind)) return DTM_OK;
   dtm_section_bounds sb;
-  DTM_CHECK(dtm_section_element(c->section, blk->type, c->E, c->nu, c->capacity, x, &sb));
+  DTM_CHECK(dtm_section_element_step(c->section, blk->type, c->E, c->nu, c->capacity, x, &sb));
   for (int i = 0; i < blk->nn; i++) w[i] = sb.mt[i], mr[i] = sb.mr[i];
   *done = 1;
   return DTM_OK;

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "analysis-impl.h"
 
@@ -169,7 +170,7 @@ static const char *anchor_rule(int k) {
   return k == DTM_SECTION_MEMBRANE || k == DTM_SECTION_SHELL ? "LS-DYNA shell step L_s/c_p" : "";
 }
 
-void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
+static void section_stats(const dtm_analysis *a, dtm_section_stats *out) {
   const double *dt = dtm_analysis_dt(a);
   for (int i = 0; i < a->scene->nsections; i++)
     out[i] = (dtm_section_stats){0, NAN, 0, NAN, anchor_rule(a->scene->sections[i].kind), NAN, 0, NAN};
@@ -186,4 +187,19 @@ void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
       if (isfinite(an) && !(an >= st->anchor_min)) st->anchor_min = an;
       if (dtm_section_has_rotations(sec->kind)) rotary_stats(a, blk, e, sec, st);
     }
+}
+
+int dtm_analysis_section_stats(dtm_analysis *a) {
+  if (!a->scene->nsections) return DTM_OK;
+  a->sec_stats = malloc((size_t)a->scene->nsections * sizeof *a->sec_stats);
+  if (!a->sec_stats) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  section_stats(a, a->sec_stats);
+  return DTM_OK;
+}
+
+void dtm_analysis_sections(const dtm_analysis *a, dtm_section_stats *out) {
+  if (a->sec_stats)
+    memcpy(out, a->sec_stats, (size_t)a->scene->nsections * sizeof *out);
+  else
+    section_stats(a, out);
 }

@@ -142,15 +142,22 @@ int dtm_kernel_beam_lambda(const dtm_beam_section *sec, const double *x, dtm_bea
   return DTM_OK;
 }
 
+int dtm_kernel_beam_scale(const dtm_beam_section *sec, const double *x, double out[2], double *m) {
+  double axes[3][3], K[NB * NB];
+  DTM_CHECK(beam_local(sec, x, axes, K, m));
+  dtm_struct_ref_scale(2, K, m, 1, axial_comp, 5, transverse_comp, out);
+  return DTM_OK;
+}
+
 int dtm_kernel_beam_matrices(const dtm_beam_section *sec, const double *x, dtm_rotary_convention conv,
                              dtm_struct_matrices *out) {
-  double K[NB * NB], M[NB * NB] = {0}, b[4];
+  double K[NB * NB], M[NB * NB] = {0}, b[2];
   DTM_CHECK(beam_local(sec, x, out->axes, K, out->m));
   if (conv == DTM_ROTARY_SCALED) {
-    dtm_struct_bounds(2, K, out->m, 1, axial_comp, 5, transverse_comp, b);
-    if (!isfinite(b[3]))
+    dtm_struct_ref_scale(2, K, out->m, 1, axial_comp, 5, transverse_comp, b);
+    if (!isfinite(b[1]))
       return DTM_ERR(DTM_ERR_INPUT, "beam: no finite rotary inertia scale reaches the target (k G >= E)");
-    for (int i = 0; i < NB; i++) out->m[i] *= i % ND >= 3 ? b[3] : 1;
+    for (int i = 0; i < NB; i++) out->m[i] *= i % ND >= 3 ? b[1] : 1;
   }
   out->nn = 2;
   for (int i = 0; i < NB; i++) M[i * NB + i] = out->m[i];

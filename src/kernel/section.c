@@ -47,17 +47,16 @@ static void node_masses(int nn, const double *m, double scale, dtm_section_bound
 static int shell_bounds(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
                         dtm_section_bounds *out) {
   dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
-  dtm_shell_lambda l;
-  dtm_struct_matrices mat;
-  DTM_CHECK(dtm_kernel_shell_lambda(type, &sh, x, &l));
-  DTM_CHECK(dtm_kernel_shell_matrices(type, &sh, x, DTM_ROTARY_PHYSICAL, &mat));
+  double l[3], m[DTM_STRUCT_DOF];
+  int nn;
+  DTM_CHECK(dtm_kernel_shell_physical(type, &sh, x, l, m, &nn));
   int scaled = s->rotary == DTM_ROTARY_SCALED_INERTIA;
-  if (scaled && !isfinite(l.scale))
+  if (scaled && !isfinite(l[1]))
     return DTM_ERR(DTM_ERR_INPUT, "shell: no finite rotary inertia scale brings the element to its membrane step");
-  out->lambda = scaled ? l.lambda_scaled : l.lambda_physical;
-  out->lambda_physical = l.lambda_physical, out->lambda_reference = l.lambda_membrane;
-  out->scale = scaled ? l.scale : 1.0;
-  node_masses(mat.nn, mat.m, out->scale, out);
+  out->lambda = scaled ? l[0] : l[2]; /* scaled: the membrane eigenvalue (structural.h) */
+  out->lambda_physical = l[2], out->lambda_reference = l[0];
+  out->scale = scaled ? l[1] : 1.0;
+  node_masses(nn, m, out->scale, out);
   return DTM_OK;
 }
 
@@ -86,14 +85,69 @@ static int beam_bounds(const dtm_section *s, double E, double nu, double rho, co
   return DTM_OK;
 }
 
+static int refuse(const dtm_section *s, int type) {
+  return DTM_ERR(DTM_ERR_INPUT, "a %s section does not take %s elements (shells: tri3, quad4; beams: line2)",
+                 s ? dtm_section_kind_name(s->kind) : "missing", dtm_elem_name(type));
+}
+
+static int takes(const dtm_section *s, int type) {
+  return s && ((s->kind == DTM_SECTION_SHELL && (type == DTM_TRI3 || type == DTM_QUAD4)) ||
+               (s->kind == DTM_SECTION_BEAM && type == DTM_LINE2));
+}
+
 int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
                         dtm_section_bounds *out) {
   memset(out, 0, sizeof *out);
-  if (s && s->kind == DTM_SECTION_SHELL && (type == DTM_TRI3 || type == DTM_QUAD4))
-    return shell_bounds(s, type, E, nu, rho, x, out);
-  if (s && s->kind == DTM_SECTION_BEAM && type == DTM_LINE2) return beam_bounds(s, E, nu, rho, x, out);
-  return DTM_ERR(DTM_ERR_INPUT, "a %s section does not take %s elements (shells: tri3, quad4; beams: line2)",
-                 s ? dtm_section_kind_name(s->kind) : "missing", dtm_elem_name(type));
+  if (!takes(s, type)) return refuse(s, type);
+  return s->kind == DTM_SECTION_SHELL ? shell_bounds(s, type, E, nu, rho, x, out) : beam_bounds(s, E, nu, rho, x, out);
+}
+
+/* The scaled convention from the reference eigenvalue and the scale
+ * alone: lambda_scaled = lambda_reference whenever the scale is finite. */
+static int scaled_step(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                       dtm_section_bounds *out) {
+  double b[2], m[DTM_STRUCT_DOF];
+  int nn = 2;
+  if (s->kind == DTM_SECTION_SHELL) {
+    dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
+    DTM_CHECK(dtm_kernel_shell_scale(type, &sh, x, b, m, &nn));
+  } else {
+    dtm_beam_section bm = beam_of(s, E, nu, rho);
+    DTM_CHECK(dtm_kernel_beam_scale(&bm, x, b, m));
+  }
+  if (!isfinite(b[1]))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: no finite rotary inertia scale brings the element to its %s step",
+                   dtm_section_kind_name(s->kind), s->kind == DTM_SECTION_SHELL ? "membrane" : "axial");
+  out->lambda = out->lambda_reference = b[0];
+  out->lambda_physical = NAN;
+  out->scale = b[1];
+  node_masses(nn, m, b[1], out);
+  return DTM_OK;
+}
+
+int dtm_section_element_lambda(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                               double *lambda) {
+  dtm_section_bounds b;
+  if (!takes(s, type)) return refuse(s, type);
+  double k = s->shear > 0 ? s->shear : 5.0 / 6.0;
+  /* shells with k <= 1: the scale is finite (structural.h); beams go the
+   * whole way, which also checks their orientation */
+  if (s->kind != DTM_SECTION_SHELL || s->rotary != DTM_ROTARY_SCALED_INERTIA || !(k <= 1)) {
+    DTM_CHECK(dtm_section_element_step(s, type, E, nu, rho, x, &b));
+    *lambda = b.lambda;
+    return DTM_OK;
+  }
+  dtm_elastic_moduli mod;
+  DTM_CHECK(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRESS, E, nu, rho, &mod));
+  return dtm_kernel_elastic_lambda(type, &mod, x, lambda);
+}
+
+int dtm_section_element_step(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                             dtm_section_bounds *out) {
+  if (!takes(s, type)) return memset(out, 0, sizeof *out), refuse(s, type);
+  if (s->rotary != DTM_ROTARY_SCALED_INERTIA) return dtm_section_element(s, type, E, nu, rho, x, out);
+  memset(out, 0, sizeof *out);
+  return scaled_step(s, type, E, nu, rho, x, out);
 }
 
 int dtm_section_matrices(const dtm_section *s, int type, double E, double nu, double rho, const double *x,

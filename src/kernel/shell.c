@@ -41,7 +41,10 @@ double dtm_struct_lumped_max(int n, const double *K, const double *m) {
   for (int i = 0; i < n; i++) r[i] = 1 / sqrt(m[i]);
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) a[i * n + j] = K[i * n + j] * r[i] * r[j];
-  return n <= 12 ? dtm_eig_sym_max(n, a) : dtm_eig_sym_max_tridiag(n, a);
+  /* Householder + bisection: 2 to 9 times faster than cyclic Jacobi from
+   * 6 unknowns up (bench: 3.4 against 6.7 us at 6, 5.4 against 27 us at 9),
+   * to the same digits */
+  return n < 6 ? dtm_eig_sym_max(n, a) : dtm_eig_sym_max_tridiag(n, a);
 }
 
 /* In-place Cholesky of the SPD a[n][n] (lower triangle); -1 if not SPD. */
@@ -159,6 +162,18 @@ void dtm_struct_bounds(int nn, const double *K, const double *m, int nref, const
   out[1] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1));
   out[2] = fmax(lref, isfinite(s) ? block_max(nn, K, m, ntr, comp_tr, s) : block_max(nn, K, m, ntt, comp_tr, 1));
   out[3] = s;
+}
+
+void dtm_struct_physical(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                         const int *comp_tr, double out[3]) {
+  dtm_struct_ref_scale(nn, K, m, nref, comp_ref, ntr, comp_tr, out);
+  out[2] = fmax(out[0], block_max(nn, K, m, ntr, comp_tr, 1));
+}
+
+void dtm_struct_ref_scale(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                          const int *comp_tr, double out[2]) {
+  out[0] = block_max(nn, K, m, nref, comp_ref, 1);
+  out[1] = block_scale(nn, K, m, ntr, comp_tr, out[0]);
 }
 
 /* ---- the shell ---- */
@@ -312,17 +327,36 @@ int dtm_kernel_shell_lambda(int type, const dtm_shell_section *sec, const double
   return DTM_OK;
 }
 
+int dtm_kernel_shell_physical(int type, const dtm_shell_section *sec, const double *x, double out[3], double *m,
+                              int *nn) {
+  shell_elem e;
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  DTM_CHECK(shell_local(type, sec, x, &e, K, m));
+  dtm_struct_physical(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, out);
+  *nn = e.nn;
+  return DTM_OK;
+}
+
+int dtm_kernel_shell_scale(int type, const dtm_shell_section *sec, const double *x, double out[2], double *m, int *nn) {
+  shell_elem e;
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  DTM_CHECK(shell_local(type, sec, x, &e, K, m));
+  dtm_struct_ref_scale(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, out);
+  *nn = e.nn;
+  return DTM_OK;
+}
+
 int dtm_kernel_shell_matrices(int type, const dtm_shell_section *sec, const double *x, dtm_rotary_convention conv,
                               dtm_struct_matrices *out) {
   shell_elem e;
-  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF], b[4];
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF], b[2];
   DTM_CHECK(shell_local(type, sec, x, &e, K, out->m));
   int n = ND * e.nn;
   if (conv == DTM_ROTARY_SCALED) {
-    dtm_struct_bounds(e.nn, K, out->m, 2, membrane_comp, 3, transverse_comp, b);
-    if (!isfinite(b[3]))
+    dtm_struct_ref_scale(e.nn, K, out->m, 2, membrane_comp, 3, transverse_comp, b);
+    if (!isfinite(b[1]))
       return DTM_ERR(DTM_ERR_INPUT, "shell: no finite rotary inertia scale reaches the target (k G too large)");
-    for (int i = 0; i < n; i++) out->m[i] *= i % ND >= 3 ? b[3] : 1;
+    for (int i = 0; i < n; i++) out->m[i] *= i % ND >= 3 ? b[1] : 1;
   }
   out->nn = e.nn;
   memcpy(out->axes, e.axes, sizeof e.axes);

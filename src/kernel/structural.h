@@ -140,6 +140,15 @@ typedef struct {
 int dtm_beam_section_circle(double r, dtm_beam_section *s);
 int dtm_beam_section_rect(double b, double h, dtm_beam_section *s);
 
+/* What the scaled convention needs without the transverse eigenvalues:
+ * out = {lambda_membrane, s} (lambda_scaled = lambda_membrane whenever s is
+ * finite, see above) and the physical lumped mass's frame diagonal m[6 nn],
+ * *nn the node count. Same errors as dtm_kernel_shell_lambda. */
+int dtm_kernel_shell_scale(int type, const dtm_shell_section *sec, const double *x, double out[2], double *m, int *nn);
+/* out = {lambda_membrane, s, lambda_physical} and m, *nn as above. */
+int dtm_kernel_shell_physical(int type, const dtm_shell_section *sec, const double *x, double out[3], double *m,
+                              int *nn);
+
 /* Bounds of a two-node Timoshenko beam with nodes x[2][3] (m): axial E A,
  * torsion G J_t, bending E I_y, E I_z, shear k G A; linear interpolation of
  * displacements and rotations, shear at the midpoint (reduced
@@ -148,6 +157,9 @@ int dtm_beam_section_rect(double b, double h, dtm_beam_section *s);
  * rotary inertia per the convention. DTM_ERR_INPUT for bad values, a
  * zero-length element or a ref parallel to it. */
 int dtm_kernel_beam_lambda(const dtm_beam_section *sec, const double *x, dtm_beam_lambda *out);
+/* out = {lambda_axial, s} and the physical mass's frame diagonal m[12], as
+ * dtm_kernel_shell_scale. */
+int dtm_kernel_beam_scale(const dtm_beam_section *sec, const double *x, double out[2], double *m);
 /* The element's matrices in global axes for convention conv. */
 int dtm_kernel_beam_matrices(const dtm_beam_section *sec, const double *x, dtm_rotary_convention conv,
                              dtm_struct_matrices *out);
@@ -180,5 +192,13 @@ void dtm_struct_to_global(int nn, const double axes[3][3], const double *Kl, dou
  * block (the target T), lambda physical, lambda scaled, s}. */
 void dtm_struct_bounds(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
                        const int *comp_tr, double out[4]);
+/* out = {lambda of the reference block, s, lambda physical} of
+ * dtm_struct_bounds, without the scaled eigenvalue (equal to the first
+ * whenever s is finite). */
+void dtm_struct_physical(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                         const int *comp_tr, double out[3]);
+/* Only out = {lambda of the reference block, s} of dtm_struct_bounds. */
+void dtm_struct_ref_scale(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                          const int *comp_tr, double out[2]);
 
 #endif

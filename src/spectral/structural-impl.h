@@ -20,6 +20,7 @@ typedef struct {
   size_t nrot;      /* nodes with rotations */
   size_t *rot_of;   /* [nnodes] rank of each node's rotations, SIZE_MAX for none */
   size_t *rot_node; /* [nrot] node of each rank */
+  double *fe;       /* [n][DTM_STRUCT_DOF] element forces of a product (work, owned) */
 } dtm_op_struct;
 
 /* Whether slot coefficients c are a shell or beam section's (elastic). */
@@ -31,7 +32,8 @@ int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_
 /* mass[k] += the elements' lumped masses; mass_alpha (or NULL) += alpha times them. */
 void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, double *mass, double *mass_alpha);
 /* y += sum_e f_e K_e (D u) over the elements, D = diag(in) or I, f_e =
- * beta_of_slot[slot] (NULL: 1). Serial. */
+ * beta_of_slot[slot] (NULL: 1): the element products in parallel, the
+ * scatter serial, in element order (the same sum whatever the threads). */
 void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
                          double *y);
 void dtm_op_struct_free(dtm_op_struct *s);

@@ -43,7 +43,8 @@ static int alloc_all(dtm_op_struct *s, size_t nnodes) {
   s->m = malloc((s->n * DTM_STRUCT_DOF + 1) * sizeof *s->m);
   s->slot = malloc((s->n + 1) * sizeof *s->slot);
   s->rot_of = malloc((nnodes + 1) * sizeof *s->rot_of);
-  if (!s->ndof || !s->idx || !s->K || !s->m || !s->slot || !s->rot_of)
+  s->fe = malloc((s->n * DTM_STRUCT_DOF + 1) * sizeof *s->fe);
+  if (!s->ndof || !s->idx || !s->K || !s->m || !s->slot || !s->rot_of || !s->fe)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   return DTM_OK;
 }
@@ -88,18 +89,32 @@ static int one(dtm_op_struct *s, size_t i, const dtm_mesh *m, const dtm_block *b
   return DTM_OK;
 }
 
-static int fill(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
+/* The blocks and element indices of the structural elements, in order. */
+static void locate(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat, int *blk, size_t *el) {
   size_t i = 0;
   for (int ib = 0; ib < m->nblocks; ib++) {
     const dtm_block *b = &m->blocks[ib];
     for (size_t e = 0; e < b->n; e++) {
       int slot = b->mat[e] + (b->section ? nmat * (b->section[e] + 1) : 0);
       if (!dtm_op_struct_is(&c[slot])) continue;
-      s->slot[i] = slot;
-      DTM_CHECK(one(s, i++, m, b, e, &c[slot]));
+      s->slot[i] = slot, blk[i] = ib, el[i++] = e;
     }
   }
-  return DTM_OK;
+}
+
+/* Every element's matrices, in parallel (the error records are
+ * thread-local); the first element that fails is redone to report it. */
+static int fill(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
+  int *blk = malloc((s->n + 1) * sizeof *blk);
+  size_t *el = malloc((s->n + 1) * sizeof *el), bad = s->n;
+  if (!blk || !el) return free(blk), free(el), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  locate(s, m, c, nmat, blk, el);
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (size_t i = 0; i < s->n; i++)
+    if (one(s, i, m, &m->blocks[blk[i]], el[i], &c[s->slot[i]]) && i < bad) bad = i;
+  int r = bad < s->n ? one(s, bad, m, &m->blocks[blk[bad]], el[bad], &c[s->slot[bad]]) : DTM_OK;
+  free(blk), free(el);
+  return r;
 }
 
 int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
@@ -125,24 +140,31 @@ void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, d
     }
 }
 
+/* fe = f K_e (D u) of element i. */
+static void element_product(const dtm_op_struct *s, size_t i, const double *u, const double *in, double f, double *fe) {
+  int n = s->ndof[i];
+  const size_t *idx = s->idx + i * DTM_STRUCT_DOF;
+  const double *K = s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF;
+  double ue[DTM_STRUCT_DOF];
+  for (int r = 0; r < n; r++) ue[r] = u[idx[r]] * (in ? in[idx[r]] : 1.0);
+  for (int r = 0; r < n; r++) {
+    double acc = 0;
+    for (int q = 0; q < n; q++) acc += K[(size_t)r * n + q] * ue[q];
+    fe[r] = f * acc;
+  }
+}
+
 void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
                          double *y) {
-  for (size_t i = 0; i < s->n; i++) {
-    int n = s->ndof[i];
-    const size_t *idx = s->idx + i * DTM_STRUCT_DOF;
-    const double *K = s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF;
-    double ue[DTM_STRUCT_DOF], f = beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0;
-    if (f == 0) continue;
-    for (int r = 0; r < n; r++) ue[r] = u[idx[r]] * (in ? in[idx[r]] : 1.0);
-    for (int r = 0; r < n; r++) {
-      double acc = 0;
-      for (int q = 0; q < n; q++) acc += K[(size_t)r * n + q] * ue[q];
-      y[idx[r]] += f * acc;
-    }
-  }
+#pragma omp parallel for schedule(static) if (s->n > 2000)
+  for (size_t i = 0; i < s->n; i++)
+    element_product(s, i, u, in, beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0, s->fe + i * DTM_STRUCT_DOF);
+  for (size_t i = 0; i < s->n; i++)
+    for (int r = 0; r < s->ndof[i]; r++) y[s->idx[i * DTM_STRUCT_DOF + r]] += s->fe[i * DTM_STRUCT_DOF + r];
 }
 
 void dtm_op_struct_free(dtm_op_struct *s) {
   free(s->ndof), free(s->idx), free(s->K), free(s->m), free(s->slot), free(s->rot_of), free(s->rot_node);
+  free(s->fe);
   memset(s, 0, sizeof *s);
 }
