@@ -240,12 +240,17 @@ static void print_layers(const dtm_results *r, FILE *f) {
     if (r->cost && r->cost->subcycling.speedup > 1)
       fprintf(f, "             remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
               r->cost->subcycling.speedup);
-    if (isfinite(ly[k].shell_step))
+    if (isfinite(ly[k].shell_step) && dim == 3)
       fprintf(f,
-              "             remedy: model the layer as its mid-%s with a %s section: about %.4e s by LS-DYNA's rule at "
-              "its present size %.3g m (dtmap has no %s sections yet)\n",
-              dim == 3 ? "surface" : "line", dim == 3 ? "shell" : "beam", ly[k].shell_step, ly[k].size,
-              dim == 3 ? "shell" : "beam");
+              "             remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
+              "about %.4e s by LS-DYNA's rule at its present size %.3g m\n",
+              ly[k].thickness, ly[k].shell_step, ly[k].size);
+    else if (isfinite(ly[k].shell_step))
+      fprintf(f,
+              "             remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
+              "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
+              "present size %.3g m\n",
+              ly[k].thickness, ly[k].shell_step, ly[k].size);
   }
 }
 
