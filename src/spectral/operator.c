@@ -448,14 +448,14 @@ static int any_alpha(const dtm_operator *op, const double *alpha) {
 
 static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
                   const double *beta) {
-  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base));
-  op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->node_tags = m->node_tags;
   op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->nblocks = m->nblocks; /* zeroed: destroy frees what was set up */
   for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_setup(op, m, &m->blocks[ib], &op->blocks[ib]));
-  DTM_CHECK(materials_setup(op, c, alpha, beta));
+  DTM_CHECK(materials_setup(op, c, alpha, beta)); /* checks every element's slot first */
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base));
+  op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
   if (any_alpha(op, alpha)) op->mass_alpha = calloc(op->ndof, sizeof *op->mass_alpha);
