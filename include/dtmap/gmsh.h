@@ -168,10 +168,12 @@ typedef struct {
  * found by meshing the curves at two sizes in a child process; fix: the
  * counts size[] implies, as "Transfinite Curve{t} = n;" lines), recombined
  * surfaces and structured volumes, periodic and embedded entities.
- * m, g: a mesh of the model and its classification; size[m->nnodes]: the
- * suggested size at its nodes (m). Appends to out[*n] up to max causes. */
-DTM_EXPORT int dtm_gmsh_size_causes(const dtm_mesh *m, const dtm_geo *g, const double *size, dtm_cause *out, int max,
-                                    int *n);
+ * s: the scene (size options that are its own <meshing size min-size> are
+ * not named; may be NULL); m, g: a mesh of the model and its
+ * classification; size[m->nnodes]: the suggested size at its nodes (m).
+ * Appends to out[*n] up to max causes. */
+DTM_EXPORT int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size,
+                                    dtm_cause *out, int max, int *n);
 
 /* Save the current model's mesh (every element) to path, and replace the
  * current model by the mesh read back from path: the refine loop keeps its

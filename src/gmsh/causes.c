@@ -56,11 +56,14 @@ static void finite_range(const double *size, size_t n, double *lo, double *hi) {
     if (isfinite(size[v]) && size[v] > 0) *lo = fmin(*lo, size[v]), *hi = fmax(*hi, size[v]);
 }
 
-/* Mesh.MeshSizeMin/Max/Factor that would clamp a size field. */
-static void size_options(const dtm_mesh *m, const double *size, dtm_cause *c, int *found) {
+/* Mesh.MeshSizeMin/Max/Factor that would clamp a size field, unless they
+ * are just the scene's own <meshing size min-size> (the user set those). */
+static void size_options(const dtm_scene *s, const dtm_mesh *m, const double *size, dtm_cause *c, int *found) {
   double mn = option("Mesh.MeshSizeMin", 0), mx = option("Mesh.MeshSizeMax", 1e22),
          f = option("Mesh.MeshSizeFactor", 1), lo, hi;
-  *found = mn > 0 || mx < 1e22 || f != 1;
+  int scene_min = s && s->mesh_min_size > 0 && mn == s->mesh_min_size,
+      scene_max = s && s->mesh_size > 0 && mx == s->mesh_size;
+  *found = (mn > 0 && !scene_min) || (mx < 1e22 && !scene_max) || f != 1;
   if (!*found) return;
   finite_range(size, m->nnodes, &lo, &hi);
   snprintf(c->kind, sizeof c->kind, "size-options");
@@ -261,11 +264,12 @@ static void embedded(dtm_cause *c, int *found) {
            "embedded entities keep their nodes in every mesh and small elements around them: %s", list);
 }
 
-int dtm_gmsh_size_causes(const dtm_mesh *m, const dtm_geo *g, const double *size, dtm_cause *out, int max, int *n) {
+int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size, dtm_cause *out,
+                         int max, int *n) {
   int found = 0;
   if (*n >= max) return DTM_OK;
   memset(&out[*n], 0, sizeof out[*n]);
-  size_options(m, size, &out[*n], &found);
+  size_options(s, m, size, &out[*n], &found);
   if (found && ++*n >= max) return DTM_OK;
   if (g) {
     memset(&out[*n], 0, sizeof out[*n]);

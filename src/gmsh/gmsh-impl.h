@@ -80,8 +80,9 @@ typedef int (*dtm_gmsh_job)(void *arg);
  * mesh it made. stage names it in messages ("meshing", "remeshing round
  * 2"). A crash of the child is DTM_ERR_INTERNAL "<stage>: Gmsh crashed
  * (signal N, name); its last messages: ..."; an error the job raised comes
- * back with its message, DTM_ERR_INPUT or DTM_ERR_INTERNAL. */
-int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg);
+ * back with its message, DTM_ERR_INPUT or DTM_ERR_INTERNAL. remesh: the
+ * model had a mesh before (its periodic node pairs are not handed back). */
+int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg, int remesh);
 /* A probe of the current model run in a child: it fills out[nout], which
  * comes back to the caller; the caller's model is left as it was. */
 typedef int (*dtm_gmsh_probe_job)(void *arg, double *out, size_t nout);

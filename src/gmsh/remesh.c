@@ -118,7 +118,7 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   size_options(old);
   dtm_gmsh_mesher_apply(NULL); /* the algorithm and threads of the scene's load */
   dtm_progress_begin("meshing");
-  int r = dtm_gmsh_contained(stage, generate, &job); /* a crash in Gmsh ends the round, not dtmap */
+  int r = dtm_gmsh_contained(stage, generate, &job, 1); /* a crash in Gmsh ends the round, not dtmap */
   dtm_progress_end();
   restore_options(old);
   dtm_gmsh_restore_threads();

@@ -152,7 +152,7 @@ static int mesh_geometry(const dtm_scene *s, int dim) {
   if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
   dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
   dtm_progress_begin("meshing");
-  int r = dtm_gmsh_contained("meshing", mesh_job, &j);
+  int r = dtm_gmsh_contained("meshing", mesh_job, &j, 0);
   dtm_progress_end();
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

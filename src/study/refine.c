@@ -238,13 +238,14 @@ static void input_accuracy(dtm_refine_result *rr, const dtm_analysis *a) {
 
 /* What the model holds that decides sizes (src/gmsh/causes.c), found on
  * the input mesh with the nominal size suggestion (calibration 1). */
-static int model_causes(loop_state *st) {
+static int model_causes(const dtm_refine_result *rr, loop_state *st) {
   const dtm_mesh *m = dtm_analysis_mesh(st->input);
   double *size = malloc((m->nnodes + 1) * sizeof *size);
   if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = dtm_analysis_size_field(st->input, 1.0, size);
   if (r == DTM_OK)
-    r = dtm_gmsh_size_causes(m, dtm_analysis_geo(st->input), size, st->model, DTM_REFINE_MAX_CAUSES, &st->nmodel);
+    r = dtm_gmsh_size_causes(&rr->scene, m, dtm_analysis_geo(st->input), size, st->model, DTM_REFINE_MAX_CAUSES,
+                             &st->nmodel);
   free(size);
   DTM_CHECK(r);
   return DTM_OK;
@@ -285,20 +286,21 @@ static void budget_cause(dtm_refine_result *rr) {
   int n = rr->nrounds;
   dtm_cause *c = new_cause(rr, rr->stop == DTM_REFINE_BUDGET ? "budget" : "cost-rose");
   if (!c) return;
-  double last = rr->rounds[n - 1].recommended, prev = n > 1 ? rr->rounds[n - 2].recommended : last, rise = last / prev;
+  double last = rr->rounds[n - 1].recommended, prev = n > 1 ? rr->rounds[n - 2].recommended : last, rise = last / prev,
+         kept = rr->rounds[rr->best].recommended;
+  int more = rise > 1.001 && last < rr->target ? (int)ceil(log(rr->target / last) / log(rise)) : 0;
   if (rr->stop != DTM_REFINE_BUDGET)
     snprintf(c->text, sizeof c->text, "%s", dtm_refine_stop_text(rr->stop));
-  else if (rise > 1.001 && last < rr->target)
+  else if (more)
     snprintf(c->text, sizeof c->text,
-             "the round budget (%d remesh(es)) is spent at %.4g s of the %.4g s target; the last rounds raised the "
-             "step x%.3f per round, which predicts %d more round(s) (--max-iter %d)",
-             n - 1, last, rr->target, rise, (int)ceil(log(rr->target / last) / log(rise)),
-             n - 1 + (int)ceil(log(rr->target / last) / log(rise)));
+             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target; the last rounds raised "
+             "the step x%.3f per round, which predicts %d more round(s) (--max-iter %d)",
+             n - 1, kept, rr->target, rise, more, n - 1 + more);
   else
     snprintf(c->text, sizeof c->text,
-             "the round budget (%d remesh(es)) is spent at %.4g s of the %.4g s target; the last rounds did not raise "
-             "the step (x%.3f), so more rounds would not help",
-             n - 1, last, rr->target, rise);
+             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target; the last rounds did not "
+             "raise the step (x%.3f), so more rounds would not help",
+             n - 1, kept, rr->target, rise);
 }
 
 /* The causes, most specific first: Gmsh's failure (already there), what
@@ -324,7 +326,7 @@ static int refine_loop(dtm_refine_result *rr, int max_rounds) {
   st.input = st.cur = rr->analysis;
   record(rr->analysis, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
   input_accuracy(rr, rr->analysis);
-  int r = model_causes(&st);
+  int r = model_causes(rr, &st);
   if (r == DTM_OK) r = rounds(rr, &st, dim, max_rounds);
   if (r == DTM_OK) collect_causes(rr, &st);
   release(&st.cur, st.input, rr->analysis);
