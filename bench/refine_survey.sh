@@ -36,12 +36,12 @@ gmsh.open('$(basename "$m")'); print(gmsh.model.getDimension())" 2>/dev/null | t
   <time safety="0.9" duration="1e-3"/>
 </dtmap-scene>
 XML
-  (cd "$WORK" && timeout 300 "$DTMAP" run "$name.xml" -q --report "$name.run.json" -o "$name.run.msh" >/dev/null 2>"$name.run.err")
+  (cd "$WORK" && timeout 120 "$DTMAP" run "$name.xml" -q --report "$name.run.json" -o "$name.run.msh" >/dev/null 2>"$name.run.err")
   rc=$?
   if [ $rc -ne 0 ]; then echo "| $m | run exit $rc: $(head -c 150 "$WORK/$name.run.err" | tr '\n|' ' /') | | | |"; continue; fi
   rec=$($PY -c "import json;print(json.load(open('$WORK/$name.run.json'))['dt']['recommended'])")
   target=$($PY -c "print('%.6e' % (1.3*$rec))")
-  (cd "$WORK" && timeout 900 "$DTMAP" refine "$name.xml" -q --target "$target" --max-iter 3 --report "$name.json" -o "$name.msh" >/dev/null 2>"$name.err")
+  (cd "$WORK" && timeout 300 "$DTMAP" refine "$name.xml" -q --target "$target" --max-iter 3 --report "$name.json" -o "$name.msh" >/dev/null 2>"$name.err")
   rc=$?
   if [ $rc -gt 128 ]; then out="signal $((rc - 128))"; elif [ $rc -eq 0 ]; then out="met"; else out="exit $rc"; fi
   row=$($PY - "$WORK/$name.json" <<'PYEOF'

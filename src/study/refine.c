@@ -303,13 +303,17 @@ static void budget_cause(dtm_refine_result *rr) {
              n - 1, kept, rr->target, rise);
 }
 
-/* The causes, most specific first: Gmsh's failure (already there), what
- * the model holds, the elements no size lifts, what ended the loop, and
- * the size options refine lifted (named even when the target is met). */
+/* The causes, most specific first: Gmsh's failure (already there), the
+ * elements no size lifts when they ended the loop, what the model holds,
+ * those elements otherwise, a spent budget or a dearer round, and the size
+ * options refine lifted (named even when the target is met). */
 static void collect_causes(dtm_refine_result *rr, const loop_state *st) {
+  int by_elements = rr->stop == DTM_REFINE_THICKNESS || rr->stop == DTM_REFINE_ONLY_SHAPE ||
+                    rr->stop == DTM_REFINE_SHAPE_CAP; /* the elements ended the loop: they come first */
   if (!met(rr, rr->best)) {
+    if (by_elements) analysis_causes(rr);
     add_causes(rr, st->model, st->nmodel, 0);
-    analysis_causes(rr);
+    if (!by_elements) analysis_causes(rr);
     if (rr->stop == DTM_REFINE_BUDGET || rr->stop == DTM_REFINE_COST_ROSE) budget_cause(rr);
   }
   add_causes(rr, st->model, st->nmodel, 1);
