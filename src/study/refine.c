@@ -298,9 +298,10 @@ static void budget_cause(dtm_refine_result *rr) {
              n - 1, kept, rr->target, rise, more, n - 1 + more);
   else
     snprintf(c->text, sizeof c->text,
-             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target; the last rounds did not "
-             "raise the step (x%.3f), so more rounds would not help",
-             n - 1, kept, rr->target, rise);
+             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target (%.1f %% short); the "
+             "last round did not raise the step (x%.3f): the worst element of a fresh mesh scatters from one remesh "
+             "to the next, so the trend predicts nothing and another round may or may not meet it",
+             n - 1, kept, rr->target, 100.0 * (1.0 - kept / rr->target), rise);
 }
 
 /* The causes, most specific first: Gmsh's failure (already there), the
