@@ -1,7 +1,7 @@
 #!/bin/bash
 # Refine on Gmsh's own tutorials and demos (Debian's gmsh-doc examples), as a
 # new user would: each .geo gets a scene (steel, elastic, default material,
-# the model's own dimension), `dtmap run` gives its recommended step, and
+# the model's own dimension, 3 when Gmsh's Python module cannot tell), `dtmap run` gives its recommended step, and
 # `dtmap refine --target 1.3 x rec. --max-iter 3` runs on it. Prints one
 # markdown row per model: outcome (exit code or signal), the first cause the
 # report names, and the kept mesh's cost over the input's.
@@ -13,6 +13,11 @@ shift 2 2>/dev/null || shift $#
 PY=/usr/bin/python3
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
+# Debian compresses some of the examples (t1.geo.gz, t13_data.stl.gz, ...):
+# work on an uncompressed copy.
+cp -r "$EX" "$WORK/examples"
+find "$WORK/examples" -name '*.gz' -exec gunzip -f {} +
+EX="$WORK/examples"
 models=("$@")
 if [ ${#models[@]} -eq 0 ]; then
   mapfile -t models < <(cd "$EX" && ls tutorial/*.geo demos/*/*.geo 2>/dev/null)
@@ -21,11 +26,11 @@ echo "| model | outcome | cause | cost ratio | rounds |"
 echo "|---|---|---|---|---|"
 for m in "${models[@]}"; do
   name=$(echo "$m" | tr '/' '_' | sed 's/\.geo$//')
-  dim=$(cd "$(dirname "$EX/$m")" && timeout 60 $PY -c "
+  dim=$(cd "$(dirname "$EX/$m")" && timeout 120 $PY -c "
 import gmsh,sys
 gmsh.initialize(); gmsh.option.setNumber('General.Terminal',0)
 gmsh.open('$(basename "$m")'); print(gmsh.model.getDimension())" 2>/dev/null | tail -1)
-  case "$dim" in 2) form='formulation="plane-stress" ';; 3) form='formulation="3d" ';; *) echo "| $m | skipped: dimension '$dim' | | | |"; continue;; esac
+  case "$dim" in 2) form='formulation="plane-stress" ';; *) dim=3; form='formulation="3d" ';; esac
   cat > "$WORK/$name.xml" <<XML
 <?xml version="1.0" encoding="UTF-8"?>
 <dtmap-scene version="1">

@@ -158,7 +158,8 @@ static int fixed_curves(const dtm_geo *g, const double *size, dtm_cause *c, int 
   int r = curves_make(g, &cs);
   double *fixed = r ? NULL : calloc(cs.n + 1, sizeof *fixed);
   if (!r && !fixed) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (!r && cs.n) r = dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, &cs, fixed, cs.n);
+  if (!r && cs.n && dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, &cs, fixed, cs.n))
+    dtm_error_clear(), memset(fixed, 0, (cs.n + 1) * sizeof *fixed); /* no probe, no fixed curve named */
   for (int i = 0; !r && i < cs.n; i++)
     if (fixed[i]) name_entity(c, 1, cs.tag[i]), fixed_fix(g, size, &cs, i, c), (*found)++;
   if (*found) {

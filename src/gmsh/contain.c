@@ -8,7 +8,9 @@
  * geometry. The child's terminal output (Gmsh's messages at info level) goes
  * to a log file, whose last lines the parent quotes when the child dies by a
  * signal; an error the child raises (Gmsh refused the model) comes back with
- * its code and message. A probe (what the model does to sizes, causes.c)
+ * its code and message. When the child cannot hand its mesh back (the
+ * temporary file cannot be written whole: a full disk, a file size limit),
+ * the job runs again in this process, uncontained. A probe (what the model does to sizes, causes.c)
  * runs the same way and hands numbers back instead of a mesh, leaving the
  * parent's model as it was. The environment variable DTMAP_TEST_GMSH_CRASH,
  * read only in the child, makes it raise SIGSEGV after meshing when it
@@ -29,6 +31,7 @@
 #include "gmsh-impl.h"
 
 #define TAIL_LINES 4 /* of Gmsh's log quoted after a crash */
+#define HANDBACK 4   /* the child's exit code when it meshed but could not hand the result back */
 
 /* The temporary files of one contained job. */
 typedef struct {
@@ -176,6 +179,31 @@ static int run_job(const job_spec *j) {
   return DTM_OK;
 }
 
+/* Whether the .msh at path ends with a section's end line: Gmsh's writer
+ * does not check its writes, so a file cut by a full disk or a file size
+ * limit is found here. */
+static int complete(const char *path) {
+  char buf[65];
+  FILE *in = fopen(path, "rb");
+  long size = in && !fseek(in, 0, SEEK_END) ? ftell(in) : -1;
+  size_t n = size > 0 && !fseek(in, size > 64 ? size - 64 : 0, SEEK_SET) ? fread(buf, 1, 64, in) : 0;
+  if (in) fclose(in);
+  buf[n] = '\0';
+  if (!n || buf[n - 1] != '\n') return 0;
+  buf[n - 1] = '\0';
+  const char *last = strrchr(buf, '\n');
+  return !strncmp(last ? last + 1 : buf, "$End", 4);
+}
+
+/* Hand the job's result back: the mesh (complete, without the stale
+ * periodic pairs of a remesh) or the probe's numbers. */
+static int hand_back(const job_spec *j, const job_files *f) {
+  if (!j->job) return write_data(f->data, j->out, j->nout);
+  DTM_CHECK(dtm_gmsh_save_mesh(f->mesh));
+  if (!complete(f->mesh)) return DTM_ERR(DTM_ERR_INTERNAL, "%s was cut short", f->mesh);
+  return j->no_periodic ? strip_periodic(f->mesh) : DTM_OK;
+}
+
 /* The child: Gmsh's terminal to the log, the job, its mesh or numbers to a
  * file. */
 static void child(const char *stage, const job_spec *j, const job_files *f) {
@@ -188,8 +216,7 @@ static void child(const char *stage, const job_spec *j, const job_files *f) {
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
-  if (r == DTM_OK) r = j->job ? dtm_gmsh_save_mesh(f->mesh) : write_data(f->data, j->out, j->nout);
-  if (r == DTM_OK && j->job && j->no_periodic) r = strip_periodic(f->mesh);
+  if (r == DTM_OK && hand_back(j, f)) r = HANDBACK;
   if (r) write_text(f->error, dtm_error_message());
   fflush(NULL);
   _exit(r >= 0 && r < 126 ? r : DTM_ERR_INTERNAL); /* no atexit handler: the parent owns the session */
@@ -232,7 +259,7 @@ static int judge(const char *stage, int status, const job_files *f) {
                    strsignal(sig), text[0] ? text : "(none)");
   }
   int code = WIFEXITED(status) ? WEXITSTATUS(status) : DTM_ERR_INTERNAL;
-  if (code == DTM_OK) return DTM_OK;
+  if (code == DTM_OK || code == HANDBACK) return code;
   if (!read_text(f->error, text, sizeof text)) tail(f->log, TAIL_LINES, text, sizeof text);
   return DTM_ERR(code == DTM_ERR_INPUT ? DTM_ERR_INPUT : DTM_ERR_INTERNAL, "%s", text[0] ? text : "Gmsh failed");
 }
@@ -256,7 +283,9 @@ static int run_child(const char *stage, const job_spec *j, const job_files *f) {
   if (pid == 0) child(stage, j, f);
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return DTM_ERR(DTM_ERR_INTERNAL, "%s: lost the meshing process: %s", stage, strerror(errno));
-  DTM_CHECK(judge(stage, status, f));
+  int r = judge(stage, status, f);
+  if (r == HANDBACK) return r;
+  DTM_CHECK(r);
   return j->job ? merge_back(f) : read_data(f->data, j->out, j->nout);
 }
 
@@ -265,6 +294,11 @@ static int contained(const char *stage, const job_spec *j) {
   DTM_CHECK(files_make(&f));
   int r = run_child(stage, j, &f);
   files_remove(&f);
+  if (r == HANDBACK && j->job)
+    r = j->job(j->arg); /* the temporary file cannot be written (a full disk, a file
+                           size limit): mesh in this process, uncontained */
+  else if (r == HANDBACK)
+    r = DTM_ERR(DTM_ERR_INTERNAL, "%s: the probe could not hand its results back", stage);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
