@@ -10,8 +10,8 @@ its recommended step with at most 3 rounds:
   "Transfinite Curve{t} = n;" line each, n below 21 (the suggestion is
   coarser); the terminal prints the lines.
 - extruded.geo (a slab extruded in 4 layers): "fixed-node-count" names the
-  four curves along the extrusion, with a Layers{} count, and the structured
-  volume is named as recombined.
+  four curves along the extrusion, with a Layers{} count; without Recombine
+  the layers are tetrahedra, so nothing is named as recombined.
 - periodic.geo (a square whose right side copies its left): with a target out
   of reach in one round, the causes name curve 2 as periodic.
 - discrete.geo (a volume bounded by an STL surface): Gmsh refuses the first
