@@ -104,9 +104,12 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
  * order) with the size scale * size[v] (m) at node v of m, the current mesh
  * (NaN: no value there), interpolated over its elements, as the only size
  * source; in 3D the default and Netgen optimisers run after. Meshes with
- * the mesher of the scene's load (dtm_gmsh_mesher_apply). DTM_ERR_INPUT
- * when Gmsh fails. */
-DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order);
+ * the mesher of the scene's load (dtm_gmsh_mesher_apply), in a child
+ * process (round names it in messages: "remeshing round <round>").
+ * DTM_ERR_INPUT with Gmsh's reason when Gmsh refuses the remesh,
+ * DTM_ERR_INTERNAL with the signal and Gmsh's last messages when it
+ * crashes; the model's mesh is then cleared. */
+DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round);
 
 /* Where the mesh sits on the model, for the advice on shape-limited
  * elements. Filled from the current Gmsh model after dtm_gmsh_extract. */
@@ -144,6 +147,33 @@ DTM_EXPORT int dtm_geo_node_on(const dtm_geo *g, size_t v, const dtm_geo_entity 
 /* 1 when the entities of nodes v and w touch: the same entity, one in the
  * other's closure, or a model point in common. */
 DTM_EXPORT int dtm_geo_touch(const dtm_geo *g, size_t v, size_t w);
+
+/* One reason a size field cannot set the sizes (or why refine stopped),
+ * with the model entities it concerns and what to change. */
+#define DTM_CAUSE_ENTITIES 64
+typedef struct {
+  char kind[32];               /* "size-options", "fixed-node-count", "recombined", "periodic",
+                                  "embedded", "gmsh-refused", "gmsh-crash", "shape-limited",
+                                  "thickness", "accuracy", "budget", "cost-rose" */
+  char text[640];              /* what holds the sizes, in a sentence or two */
+  char fix[2048];              /* lines to paste into the .geo, "" when none */
+  int nent;                    /* entities named (the first DTM_CAUSE_ENTITIES) */
+  int dim[DTM_CAUSE_ENTITIES]; /* their dimensions */
+  int tag[DTM_CAUSE_ENTITIES]; /* their Gmsh tags */
+} dtm_cause;
+
+/* What the current model holds that decides sizes a size field cannot:
+ * Gmsh's size options (Mesh.MeshSizeMin/Max/Factor, which the remesh lifts),
+ * curves whose node count the model fixes (transfinite or extruded layers,
+ * found by meshing the curves at two sizes in a child process; fix: the
+ * counts size[] implies, as "Transfinite Curve{t} = n;" lines), recombined
+ * surfaces and structured volumes, periodic and embedded entities.
+ * s: the scene (size options that are its own <meshing size min-size> are
+ * not named; may be NULL); m, g: a mesh of the model and its
+ * classification; size[m->nnodes]: the suggested size at its nodes (m).
+ * Appends to out[*n] up to max causes. */
+DTM_EXPORT int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size,
+                                    dtm_cause *out, int max, int *n);
 
 /* Save the current model's mesh (every element) to path, and replace the
  * current model by the mesh read back from path: the refine loop keeps its

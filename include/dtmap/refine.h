@@ -15,6 +15,7 @@
 
 #include "dtmap/analysis.h"
 #include "dtmap/export.h"
+#include "dtmap/gmsh.h"
 
 typedef struct dtm_refine_round_s {
   size_t elements;      /* analysed elements after the round */
@@ -31,16 +32,21 @@ typedef struct dtm_refine_round_s {
 
 /* Why the loop stopped. */
 enum {
-  DTM_REFINE_MET = 1,        /* the target is met */
-  DTM_REFINE_COST_ROSE = 2,  /* a round cost more than the input without meeting it */
-  DTM_REFINE_ONLY_SHAPE = 3, /* only shape-limited elements remain below it */
-  DTM_REFINE_BUDGET = 4,     /* the round budget is spent */
-  DTM_REFINE_SHAPE_CAP = 5,  /* shape-limited elements cap the step, and a round
-                                around them did not beat the kept mesh */
-  DTM_REFINE_THICKNESS = 6   /* elements the thickness of their layer caps are below the
-                                target: no mesh of that layer reaches it (checked before
-                                any remesh) */
+  DTM_REFINE_MET = 1,          /* the target is met */
+  DTM_REFINE_COST_ROSE = 2,    /* a round cost more than the input without meeting it */
+  DTM_REFINE_ONLY_SHAPE = 3,   /* only shape-limited elements remain below it */
+  DTM_REFINE_BUDGET = 4,       /* the round budget is spent */
+  DTM_REFINE_SHAPE_CAP = 5,    /* shape-limited elements cap the step, and a round
+                                  around them did not beat the kept mesh */
+  DTM_REFINE_THICKNESS = 6,    /* elements the thickness of their layer caps are below the
+                                  target: no mesh of that layer reaches it (checked before
+                                  any remesh) */
+  DTM_REFINE_GMSH_REFUSED = 7, /* Gmsh refused a remesh (its reason is the first cause) */
+  DTM_REFINE_GMSH_CRASH = 8    /* Gmsh crashed in a remesh (signal and last messages in
+                                  the first cause) */
 };
+
+#define DTM_REFINE_MAX_CAUSES 12
 
 typedef struct dtm_refine_result {
   double target;                                  /* the target step, s */
@@ -55,6 +61,10 @@ typedef struct dtm_refine_result {
   const char *forced_by;                          /* that bound's view name, or NULL */
   dtm_analysis *analysis;                         /* the kept mesh's analysis (owned); the current
                                                      Gmsh model holds that mesh */
+  int ncauses;                                    /* causes named */
+  dtm_cause causes[DTM_REFINE_MAX_CAUSES];        /* why the target was not met (what ended the
+                                                     loop first, then what the model holds), and the
+                                                     size options refine lifted, even when met */
 } dtm_refine_result;
 
 /* Round 0 is the scene's own mesh; then at most max_rounds remeshes.

@@ -2,11 +2,14 @@
  * reaches DT (default: the scene's <time target>) without raising the
  * cost, printing each round (elements, recommended step, element-steps and
  * their change), then write the kept mesh with all its views and the
- * report (by default SCENE_refined.msh, never run's SCENE_dt.msh). Exit 1
- * when the target is not met. */
+ * report (by default SCENE_refined.msh, never run's SCENE_dt.msh), with the
+ * causes when the target is not met (each with the lines to paste into the
+ * .geo where there are any). Exit 1 when the target is not met, also when
+ * Gmsh refused or crashed in a remesh (the kept mesh is written). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "cli-impl.h"
 #include "dtmap/gmsh.h"
@@ -19,6 +22,22 @@ static void print_round(const dtm_refine_result *rr, int i) {
   printf("%5d %10zu %12.4e %12.4e %12.4e %+9.1f%% %9zu %9zu %9.2f%s%s\n", i, r->elements, r->dt_min, r->recommended, c,
          100.0 * (c / c0 - 1.0), r->below, r->shape_limited, r->seconds,
          r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
+}
+
+/* The causes, each with its fix indented (lines to paste into the .geo). */
+static void print_causes(const dtm_refine_result *rr) {
+  if (rr->ncauses) printf("causes:\n");
+  for (int i = 0; i < rr->ncauses; i++) {
+    const dtm_cause *c = &rr->causes[i];
+    printf("  [%s] %s\n", c->kind, c->text);
+    if (!c->fix[0]) continue;
+    printf("    paste into the .geo:\n");
+    for (const char *p = c->fix; *p;) {
+      size_t len = strcspn(p, "\n");
+      printf("      %.*s\n", (int)len, p);
+      p += len + (p[len] == '\n');
+    }
+  }
 }
 
 static void print_rounds(const dtm_refine_result *rr) {
@@ -38,6 +57,7 @@ static void print_rounds(const dtm_refine_result *rr) {
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");
+  print_causes(rr);
 }
 
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
@@ -59,8 +79,9 @@ static int refine_scene(const dtm_scene *s, double target, const cli_opts *o) {
   double best = rr ? dtm_analysis_recommended(rr->analysis) : 0;
   if (r == DTM_OK && best < target)
     r = DTM_ERR(DTM_ERR_TARGET,
-                "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s", target,
-                rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best);
+                "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s%s%s",
+                target, rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best, rr->ncauses ? "; cause: " : "",
+                rr->ncauses ? rr->causes[0].text : "");
   dtm_refine_destroy(&rr);
   dtm_gmsh_stop();
   return r;

@@ -73,4 +73,19 @@ int dtm_gmsh_check_log(int ierr, int code, const char *file, int line, const cha
     if (dtm_glog_) return dtm_glog_;                                                                                   \
   } while (0)
 
+/* A meshing job on the current model, run in the child process of
+ * dtm_gmsh_contained: a dtmap code (its error message is carried back). */
+typedef int (*dtm_gmsh_job)(void *arg);
+/* Run job in a forked child (contain.c) and give the current model the
+ * mesh it made. stage names it in messages ("meshing", "remeshing round
+ * 2"). A crash of the child is DTM_ERR_INTERNAL "<stage>: Gmsh crashed
+ * (signal N, name); its last messages: ..."; an error the job raised comes
+ * back with its message, DTM_ERR_INPUT or DTM_ERR_INTERNAL. remesh: the
+ * model had a mesh before (its periodic node pairs are not handed back). */
+int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg, int remesh);
+/* A probe of the current model run in a child: it fills out[nout], which
+ * comes back to the caller; the caller's model is left as it was. */
+typedef int (*dtm_gmsh_probe_job)(void *arg, double *out, size_t nout);
+int dtm_gmsh_contained_probe(const char *stage, dtm_gmsh_probe_job probe, void *arg, double *out, size_t nout);
+
 #endif

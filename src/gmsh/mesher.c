@@ -28,6 +28,7 @@ void dtm_gmsh_mesher_apply(const dtm_scene *s) {
   int ierr = 0;
   if (s && s->mesh_algorithm > 0) gmshOptionSetNumber("Mesh.Algorithm3D", s->mesh_algorithm, &ierr);
   if (s && s->mesh_threads > 0) gmshOptionSetNumber("General.NumThreads", s->mesh_threads, &ierr);
+  if (!s && last.threads > 0) gmshOptionSetNumber("General.NumThreads", last.threads, &ierr); /* the load's */
   double alg = 1;
   gmshOptionGetNumber("Mesh.Algorithm3D", &alg, &ierr);
   last = (dtm_mesher_info){(int)alg, effective_threads(), effective_threads() == 1 && (int)alg != HXT};

@@ -5,6 +5,7 @@
  * geometry: sizes from points, curvature and the boundary are switched off.
  * In 3D Gmsh's default and Netgen optimisers then remove slivers. */
 #include <gmshc.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "dtmap/gmsh.h"
@@ -55,13 +56,17 @@ static int size_view(const dtm_mesh *m, const double *size, double scale, int *v
 }
 
 /* The options a remesh changes: only the background field sets sizes. */
-static const char *const size_keys[] = {"Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
-                                        "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin", "Mesh.MeshSizeMax"};
-#define NKEYS 5
+static const char *const size_keys[] = {"Mesh.MeshSizeExtendFromBoundary",
+                                        "Mesh.MeshSizeFromPoints",
+                                        "Mesh.MeshSizeFromCurvature",
+                                        "Mesh.MeshSizeMin",
+                                        "Mesh.MeshSizeMax",
+                                        "Mesh.MeshSizeFactor"};
+#define NKEYS 6
 
 /* Set them for the remesh, keeping the old values in old[NKEYS]. */
 static void size_options(double *old) {
-  static const double set[NKEYS] = {0, 0, 0, 0, 1e22};
+  static const double set[NKEYS] = {0, 0, 0, 0, 1e22, 1};
   int ierr = 0;
   for (int i = 0; i < NKEYS; i++) {
     gmshOptionGetNumber(size_keys[i], &old[i], &ierr);
@@ -80,8 +85,13 @@ static void restore_options(const double *old) {
  * Debian's build) and leave the mesh as it was: their messages are not the
  * input's fault, so the log is checked after meshing and after the order
  * change only. */
-static int generate(int dim, int order) {
-  int ierr = 0;
+typedef struct {
+  int dim, order; /* dimension to mesh, element order */
+} remesh_job;
+
+static int generate(void *arg) {
+  const remesh_job *j = arg;
+  int dim = j->dim, order = j->order, ierr = 0;
   dtm_gmsh_log_reset();
   gmshModelMeshGenerate(dim, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, "remeshing with the size suggestion failed");
@@ -94,8 +104,11 @@ static int generate(int dim, int order) {
   return DTM_OK;
 }
 
-int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order) {
+int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round) {
   int view, ierr = 0;
+  remesh_job job = {dim, order};
+  char stage[64];
+  snprintf(stage, sizeof stage, "remeshing round %d", round);
   DTM_CHECK(size_view(m, size, scale, &view));
   gmshModelMeshClear(NULL, 0, &ierr);
   int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
@@ -105,7 +118,7 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   size_options(old);
   dtm_gmsh_mesher_apply(NULL); /* the algorithm and threads of the scene's load */
   dtm_progress_begin("meshing");
-  int r = generate(dim, order);
+  int r = dtm_gmsh_contained(stage, generate, &job, 1); /* a crash in Gmsh ends the round, not dtmap */
   dtm_progress_end();
   restore_options(old);
   dtm_gmsh_restore_threads();

@@ -122,23 +122,39 @@ int dtm_gmsh_version(char *buf, size_t len, const char **api) {
   return DTM_OK;
 }
 
-static int mesh_geometry(const dtm_scene *s, int dim) {
+/* What the meshing process does (contain.c): mesh, then raise the order. */
+typedef struct {
+  const dtm_scene *s; /* the scene */
+  int dim;            /* dimension to mesh */
+} geometry_job;
+
+static int mesh_job(void *arg) {
+  const geometry_job *j = arg;
   int ierr = 0;
   char what[4200];
-  if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
-  if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
-  dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  snprintf(what, sizeof what, "%s: Gmsh cannot mesh it", j->s->geometry);
   dtm_gmsh_log_reset();
-  dtm_progress_begin("meshing");
-  gmshModelMeshGenerate(dim, &ierr);
-  dtm_progress_end();
-  snprintf(what, sizeof what, "%s: Gmsh cannot mesh it", s->geometry);
+  gmshModelMeshGenerate(j->dim, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
-  if (s->mesh_order > 1) {
-    gmshModelMeshSetOrder(s->mesh_order, &ierr);
+  if (j->s->mesh_order > 1) {
+    gmshModelMeshSetOrder(j->s->mesh_order, &ierr);
     DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   }
   return DTM_OK;
+}
+
+/* Mesh the geometry in a child process, so that a crash inside Gmsh is an
+ * error with its signal and Gmsh's last messages, not dtmap's end. */
+static int mesh_geometry(const dtm_scene *s, int dim) {
+  int ierr = 0;
+  geometry_job j = {s, dim};
+  if (s->mesh_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMax", s->mesh_size, &ierr);
+  if (s->mesh_min_size > 0) gmshOptionSetNumber("Mesh.MeshSizeMin", s->mesh_min_size, &ierr);
+  dtm_gmsh_mesher_apply(s); /* the scene's algorithm and threads, else the geometry file's */
+  dtm_progress_begin("meshing");
+  int r = dtm_gmsh_contained("meshing", mesh_job, &j, 0);
+  dtm_progress_end();
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
 int dtm_gmsh_load(const dtm_scene *s, int *dim) {

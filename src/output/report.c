@@ -358,6 +358,22 @@ static cJSON *round_json(const dtm_refine_result *rr, int i) {
   return o;
 }
 
+static cJSON *cause_json(const dtm_cause *c) {
+  cJSON *o = cJSON_CreateObject(), *ents;
+  cJSON_AddStringToObject(o, "kind", c->kind);
+  cJSON_AddStringToObject(o, "message", c->text);
+  ents = cJSON_AddArrayToObject(o, "entities");
+  for (int i = 0; i < c->nent && i < DTM_CAUSE_ENTITIES; i++) {
+    cJSON *e = cJSON_CreateObject();
+    cJSON_AddNumberToObject(e, "dim", c->dim[i]);
+    cJSON_AddNumberToObject(e, "tag", c->tag[i]);
+    cJSON_AddItemToArray(ents, e);
+  }
+  if (c->nent > DTM_CAUSE_ENTITIES) cJSON_AddNumberToObject(o, "entities_total", c->nent);
+  if (c->fix[0]) cJSON_AddStringToObject(o, "fix", c->fix);
+  return o;
+}
+
 static cJSON *refine_json(const dtm_refine_result *rr) {
   cJSON *o = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(o, "rounds");
   for (int i = 0; i < rr->nrounds; i++) cJSON_AddItemToArray(arr, round_json(rr, i));
@@ -369,6 +385,8 @@ static cJSON *refine_json(const dtm_refine_result *rr) {
   cJSON_AddNumberToObject(o, "cost_change", c1 / c0 - 1.0);
   if (rr->forced_by) cJSON_AddStringToObject(o, "accuracy_bound", rr->forced_by);
   if (rr->forced_by) cJSON_AddNumberToObject(o, "accuracy_elements", rr->forced);
+  cJSON *causes = cJSON_AddArrayToObject(o, "causes");
+  for (int i = 0; i < rr->ncauses; i++) cJSON_AddItemToArray(causes, cause_json(&rr->causes[i]));
   return o;
 }
 

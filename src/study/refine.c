@@ -26,7 +26,13 @@
  * at the end) and stops as soon as the target is met, a round makes the run
  * more expensive than the input mesh without meeting the target, or only
  * shape-limited elements remain below the target (or cap it, and a round
- * around them did not beat the kept mesh). */
+ * around them did not beat the kept mesh). A remesh that Gmsh refuses or
+ * crashes in (it runs in a child process, src/gmsh/contain.c) ends the loop
+ * too, and the kept mesh is read back. When the target is not met, the
+ * result names the causes: Gmsh's failure, what the model holds that decides
+ * sizes (found on the input mesh, src/gmsh/causes.c), the elements no size
+ * lifts, an accuracy bound, and a spent budget with the rounds its trend
+ * predicts. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,14 +99,16 @@ static int round_field(const dtm_analysis *a, double c, double *size, double *fl
 
 /* One remesh of the current model from analysis a with calibration c, and
  * its analysis (a progress stage "refine round N"). */
-static int remesh(const dtm_refine_result *rr, const dtm_analysis *a, int dim, double c, dtm_analysis **next) {
+static int remesh(const dtm_refine_result *rr, const dtm_analysis *a, int dim, double c, dtm_analysis **next,
+                  int *gmsh_failed) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   double *size = malloc((m->nnodes + 1) * sizeof *size), *floor = malloc((m->nnodes + 1) * sizeof *floor);
   char stage[64];
   snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
   dtm_progress_begin(stage);
   int r = size && floor ? round_field(a, c, size, floor) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order);
+  if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds);
+  *gmsh_failed = r != DTM_OK && size && floor;
   if (r == DTM_OK) r = dtm_analysis_current(&rr->scene, dim, next);
   dtm_progress_end();
   free(size), free(floor);
@@ -112,12 +120,14 @@ static int remesh(const dtm_refine_result *rr, const dtm_analysis *a, int dim, d
  * or three of them may be the same), the Gmsh model's round, and where the
  * kept mesh is saved. */
 typedef struct {
-  dtm_analysis *input; /* round 0: every round's size field comes from it */
-  dtm_analysis *cur;   /* the last round's analysis */
-  int model_round;     /* the round the Gmsh model holds */
-  char dir[256];       /* temporary directory of the saved mesh ("" until made) */
-  char path[300];      /* dir/best.msh */
-  int saved;           /* round saved in path, -1: none */
+  dtm_analysis *input;                    /* round 0: every round's size field comes from it */
+  dtm_analysis *cur;                      /* the last round's analysis */
+  int model_round;                        /* the round the Gmsh model holds */
+  char dir[256];                          /* temporary directory of the saved mesh ("" until made) */
+  char path[300];                         /* dir/best.msh */
+  int saved;                              /* round saved in path, -1: none */
+  int nmodel;                             /* causes the model holds (found on round 0's mesh) */
+  dtm_cause model[DTM_REFINE_MAX_CAUSES]; /* [nmodel] those causes */
 } loop_state;
 
 /* Destroy *a unless another role still holds it. */
@@ -183,6 +193,22 @@ static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next
   return 0;
 }
 
+/* A remesh Gmsh refused or crashed in ends the loop, not the run: its
+ * message becomes the first cause, and the kept mesh is read back. */
+static void gmsh_failed(dtm_refine_result *rr, loop_state *st) {
+  int crash = dtm_error_code() == DTM_ERR_INTERNAL;
+  dtm_cause *c = &rr->causes[rr->ncauses++];
+  memset(c, 0, sizeof *c);
+  snprintf(c->kind, sizeof c->kind, crash ? "gmsh-crash" : "gmsh-refused");
+  if (crash)
+    snprintf(c->text, sizeof c->text, "%s", dtm_error_message());
+  else
+    snprintf(c->text, sizeof c->text, "remeshing round %d: %s", rr->nrounds, dtm_error_message());
+  dtm_error_clear();
+  rr->stop = crash ? DTM_REFINE_GMSH_CRASH : DTM_REFINE_GMSH_REFUSED;
+  st->model_round = -1; /* the model holds no round's mesh */
+}
+
 /* Each round remeshes from the input mesh's size field; the calibration
  * grows by the shortfall of the last round, a one-dimensional search. */
 static int rounds(dtm_refine_result *rr, loop_state *st, int dim, int max_rounds) {
@@ -192,8 +218,11 @@ static int rounds(dtm_refine_result *rr, loop_state *st, int dim, int max_rounds
     dtm_analysis *next = NULL;
     if (rr->nrounds > 1)
       c *= fmin(MAX_GROWTH, fmax(MIN_GROWTH, 1.02 * pow(rr->target / last, 1.0 / basis_exponent(st->cur))));
+    int failed = 0;
     DTM_CHECK(save_best(rr, st));
-    DTM_CHECK(remesh(rr, st->input, dim, c, &next));
+    int r = remesh(rr, st->input, dim, c, &next, &failed);
+    if (r && failed) return gmsh_failed(rr, st), DTM_OK;
+    DTM_CHECK(r);
     record(next, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
     if (judge_round(rr, st, next)) break;
   }
@@ -207,16 +236,104 @@ static void input_accuracy(dtm_refine_result *rr, const dtm_analysis *a) {
   rr->forced_by = ac.forced_by >= 0 ? dtm_analysis_effect(a, ac.forced_by)->indicator.view : NULL;
 }
 
+/* What the model holds that decides sizes (src/gmsh/causes.c), found on
+ * the input mesh with the nominal size suggestion (calibration 1). */
+static int model_causes(const dtm_refine_result *rr, loop_state *st) {
+  const dtm_mesh *m = dtm_analysis_mesh(st->input);
+  double *size = malloc((m->nnodes + 1) * sizeof *size);
+  if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = dtm_analysis_size_field(st->input, 1.0, size);
+  if (r == DTM_OK)
+    r = dtm_gmsh_size_causes(&rr->scene, m, dtm_analysis_geo(st->input), size, st->model, DTM_REFINE_MAX_CAUSES,
+                             &st->nmodel);
+  free(size);
+  DTM_CHECK(r);
+  return DTM_OK;
+}
+
+static void add_causes(dtm_refine_result *rr, const dtm_cause *c, int n, int size_options) {
+  for (int i = 0; i < n && rr->ncauses < DTM_REFINE_MAX_CAUSES; i++)
+    if ((strcmp(c[i].kind, "size-options") == 0) == size_options) rr->causes[rr->ncauses++] = c[i];
+}
+
+static dtm_cause *new_cause(dtm_refine_result *rr, const char *kind) {
+  if (rr->ncauses >= DTM_REFINE_MAX_CAUSES) return NULL;
+  dtm_cause *c = &rr->causes[rr->ncauses++];
+  memset(c, 0, sizeof *c);
+  snprintf(c->kind, sizeof c->kind, "%s", kind);
+  return c;
+}
+
+/* The elements no size suggestion lifts, and an accuracy bound. */
+static void analysis_causes(dtm_refine_result *rr) {
+  size_t nl = 0, ns = shape_count(rr->analysis);
+  dtm_cause *c;
+  if (dtm_analysis_layers(rr->analysis, &nl) && nl && (c = new_cause(rr, "thickness")))
+    snprintf(c->text, sizeof c->text,
+             "%zu layer(s) are too thin for the target: the thickness caps their elements' step whatever the size", nl);
+  if (ns && (c = new_cause(rr, "shape-limited")))
+    snprintf(c->text, sizeof c->text,
+             "%zu element(s) below the target are limited by their shape (a small angle or thin feature of the "
+             "model), not by their size: a larger size does not lift them",
+             ns);
+  if (rr->forced_by && rr->forced >= 0.5 && (c = new_cause(rr, "accuracy")))
+    snprintf(c->text, sizeof c->text, "the accuracy bound '%s' forbids the coarser size (about %.0f more elements)",
+             rr->forced_by, rr->forced);
+}
+
+/* How many more rounds the last two predict at their rate of rise. */
+static void budget_cause(dtm_refine_result *rr) {
+  int n = rr->nrounds;
+  dtm_cause *c = new_cause(rr, rr->stop == DTM_REFINE_BUDGET ? "budget" : "cost-rose");
+  if (!c) return;
+  double last = rr->rounds[n - 1].recommended, prev = n > 1 ? rr->rounds[n - 2].recommended : last, rise = last / prev,
+         kept = rr->rounds[rr->best].recommended;
+  int more = rise > 1.001 && last < rr->target ? (int)ceil(log(rr->target / last) / log(rise)) : 0;
+  if (rr->stop != DTM_REFINE_BUDGET)
+    snprintf(c->text, sizeof c->text, "%s", dtm_refine_stop_text(rr->stop));
+  else if (more)
+    snprintf(c->text, sizeof c->text,
+             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target; the last rounds raised "
+             "the step x%.3f per round, which predicts %d more round(s) (--max-iter %d)",
+             n - 1, kept, rr->target, rise, more, n - 1 + more);
+  else
+    snprintf(c->text, sizeof c->text,
+             "the round budget (%d remesh(es)) is spent with %.4g s kept of the %.4g s target (%.1f %% short); the "
+             "last round did not raise the step (x%.3f): the worst element of a fresh mesh scatters from one remesh "
+             "to the next, so the trend predicts nothing and another round may or may not meet it",
+             n - 1, kept, rr->target, 100.0 * (1.0 - kept / rr->target), rise);
+}
+
+/* The causes, most specific first: Gmsh's failure (already there), the
+ * elements no size lifts when they ended the loop, what the model holds,
+ * those elements otherwise, a spent budget or a dearer round, and the size
+ * options refine lifted (named even when the target is met). */
+static void collect_causes(dtm_refine_result *rr, const loop_state *st) {
+  int by_elements = rr->stop == DTM_REFINE_THICKNESS || rr->stop == DTM_REFINE_ONLY_SHAPE ||
+                    rr->stop == DTM_REFINE_SHAPE_CAP; /* the elements ended the loop: they come first */
+  if (!met(rr, rr->best)) {
+    if (by_elements) analysis_causes(rr);
+    add_causes(rr, st->model, st->nmodel, 0);
+    if (!by_elements) analysis_causes(rr);
+    if (rr->stop == DTM_REFINE_BUDGET || rr->stop == DTM_REFINE_COST_ROSE) budget_cause(rr);
+  }
+  add_causes(rr, st->model, st->nmodel, 1);
+}
+
 static int refine_loop(dtm_refine_result *rr, int max_rounds) {
   double t0 = dtm_wtime();
-  loop_state st = {NULL, NULL, 0, "", "", -1};
+  static loop_state st0; /* zero: no cause yet */
+  loop_state st = st0;
+  st.saved = -1;
   int dim;
   DTM_CHECK(dtm_gmsh_load(&rr->scene, &dim));
   DTM_CHECK(dtm_analysis_current(&rr->scene, dim, &rr->analysis));
   st.input = st.cur = rr->analysis;
   record(rr->analysis, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
   input_accuracy(rr, rr->analysis);
-  int r = rounds(rr, &st, dim, max_rounds);
+  int r = model_causes(rr, &st);
+  if (r == DTM_OK) r = rounds(rr, &st, dim, max_rounds);
+  if (r == DTM_OK) collect_causes(rr, &st);
   release(&st.cur, st.input, rr->analysis);
   release(&st.input, rr->analysis, NULL);
   if (r == DTM_OK && rr->best != st.model_round) r = dtm_gmsh_restore_mesh(st.path);
@@ -260,6 +377,8 @@ const char *dtm_refine_stop_text(int stop) {
     return "shape-limited elements cap the step: a round around them did not improve on the kept mesh";
   case DTM_REFINE_THICKNESS:
     return "elements that the thickness of their layer caps are below the target: no mesh of that layer reaches it";
+  case DTM_REFINE_GMSH_REFUSED: return "Gmsh refused a remesh";
+  case DTM_REFINE_GMSH_CRASH: return "Gmsh crashed in a remesh";
   default: return "not run";
   }
 }

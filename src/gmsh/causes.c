@@ -1,0 +1,287 @@
+/* What a model holds that decides its sizes where a size field cannot, for
+ * the causes refine names when it stops short of its target: Gmsh's size
+ * options (which clamp every field; the remesh lifts them), curves whose node
+ * count the model fixes (Transfinite Curve, or the Layers of an Extrude: Gmsh
+ * 4.8's API cannot list either, so the curves are meshed in a child process
+ * at two uniform sizes, and a curve whose node count does not follow is
+ * fixed), recombined surfaces and structured volumes (their element types),
+ * periodic entities (which copy their master's mesh) and embedded entities.
+ * For fixed curves the fix is the node count the size suggestion implies
+ * along the curve, as a line a user can paste into the .geo. */
+#include <gmshc.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/gmsh.h"
+#include "gmsh-impl.h"
+
+#define PROBE_NODES 2e5 /* at most this many nodes on the curves at the probe's finer size */
+#define MIN_JUDGED 3.0  /* a curve is judged when the finer size puts at least this many segments on it */
+
+static const char *const dim_name[] = {"Point", "Curve", "Surface", "Volume"};
+
+static void name_entity(dtm_cause *c, int dim, int tag) {
+  if (c->nent < DTM_CAUSE_ENTITIES) c->dim[c->nent] = dim, c->tag[c->nent] = tag;
+  c->nent++;
+}
+
+/* "Curve 3, Curve 7, ..." of c's entities into buf. */
+static void entity_list(const dtm_cause *c, char *buf, size_t len) {
+  buf[0] = '\0';
+  int n = c->nent < DTM_CAUSE_ENTITIES ? c->nent : DTM_CAUSE_ENTITIES;
+  for (int i = 0; i < n && strlen(buf) + 40 < len; i++) {
+    size_t used = strlen(buf);
+    snprintf(buf + used, len - used, "%s%s %d", i ? ", " : "", dim_name[c->dim[i]], c->tag[i]);
+  }
+  if (c->nent > n || (n && strlen(buf) + 40 >= len)) strncat(buf, ", ...", len - strlen(buf) - 1);
+}
+
+static void append(char *buf, size_t len, const char *line) {
+  size_t used = strlen(buf);
+  if (used + strlen(line) + 2 < len) snprintf(buf + used, len - used, "%s%s", used ? "\n" : "", line);
+}
+
+static double option(const char *name, double fallback) {
+  double v = fallback;
+  int ierr = 0;
+  gmshOptionGetNumber(name, &v, &ierr);
+  return ierr ? fallback : v;
+}
+
+static void finite_range(const double *size, size_t n, double *lo, double *hi) {
+  *lo = INFINITY, *hi = 0;
+  for (size_t v = 0; v < n; v++)
+    if (isfinite(size[v]) && size[v] > 0) *lo = fmin(*lo, size[v]), *hi = fmax(*hi, size[v]);
+}
+
+/* Mesh.MeshSizeMin/Max/Factor that would clamp a size field, unless they
+ * are just the scene's own <meshing size min-size> (the user set those). */
+static void size_options(const dtm_scene *s, const dtm_mesh *m, const double *size, dtm_cause *c, int *found) {
+  double mn = option("Mesh.MeshSizeMin", 0), mx = option("Mesh.MeshSizeMax", 1e22),
+         f = option("Mesh.MeshSizeFactor", 1), lo, hi;
+  int scene_min = s && s->mesh_min_size > 0 && mn == s->mesh_min_size,
+      scene_max = s && s->mesh_size > 0 && mx == s->mesh_size;
+  *found = (mn > 0 && !scene_min) || (mx < 1e22 && !scene_max) || f != 1;
+  if (!*found) return;
+  finite_range(size, m->nnodes, &lo, &hi);
+  snprintf(c->kind, sizeof c->kind, "size-options");
+  snprintf(c->text, sizeof c->text,
+           "Gmsh's size options Mesh.MeshSizeMin = %g, Mesh.MeshSizeMax = %g, Mesh.MeshSizeFactor = %g (from the "
+           "geometry file or the scene's <meshing>) clamp every size field; refine lifted them for its remeshes "
+           "(0, 1e22 and 1); the size suggestion spans %.4g to %.4g m",
+           mn, mx, f, lo, hi);
+  if (lo < mn * f || hi > mx * f)
+    snprintf(c->fix, sizeof c->fix, "Mesh.MeshSizeMin = %.4g;\nMesh.MeshSizeMax = %.4g;\nMesh.MeshSizeFactor = 1;",
+             fmin(mn, lo), fmax(mx, hi));
+}
+
+/* The model's curves and their lengths (from the mesh's classification). */
+typedef struct {
+  int n;          /* curves */
+  int *tag;       /* [n] their tags */
+  double *length; /* [n] their mesh lengths, m */
+  double h[2];    /* the probe's two uniform sizes, m */
+} curve_set;
+
+static int curves_make(const dtm_geo *g, curve_set *cs) {
+  double lmin = INFINITY, total = 0;
+  cs->n = 0;
+  cs->tag = malloc((g->nent + 1) * sizeof *cs->tag);
+  cs->length = malloc((g->nent + 1) * sizeof *cs->length);
+  if (!cs->tag || !cs->length) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < g->nent; i++)
+    if (g->ent[i].dim == 1 && g->ent[i].size > 0) {
+      cs->tag[cs->n] = g->ent[i].tag, cs->length[cs->n++] = g->ent[i].size;
+      lmin = fmin(lmin, g->ent[i].size), total += g->ent[i].size;
+    }
+  cs->h[1] = fmax(lmin / (2 * MIN_JUDGED), total / PROBE_NODES);
+  cs->h[0] = 2.2 * cs->h[1];
+  return DTM_OK;
+}
+
+static void curves_free(curve_set *cs) { free(cs->tag), free(cs->length); }
+
+static size_t curve_nodes(int tag) {
+  size_t *tags = NULL, n = 0, nc = 0, np = 0;
+  double *xyz = NULL, *par = NULL;
+  int ierr = 0;
+  gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, 1, tag, 1, 0, &ierr);
+  gmshFree(tags), gmshFree(xyz), gmshFree(par);
+  return ierr ? 0 : n;
+}
+
+/* In the child: the curves' node counts at the two sizes; out[i] = 1 when
+ * curve i kept its count. */
+static int probe_curves(void *arg, double *out, size_t nout) {
+  const curve_set *cs = arg;
+  static const char *const off[] = {"Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin"};
+  int ierr = 0;
+  for (int k = 0; k < 3; k++) gmshOptionSetNumber(off[k], 0, &ierr);
+  gmshOptionSetNumber("Mesh.MeshSizeFactor", 1, &ierr);
+  for (int pass = 0; pass < 2; pass++) {
+    gmshModelMeshClear(NULL, 0, &ierr);
+    gmshOptionSetNumber("Mesh.MeshSizeMax", cs->h[pass], &ierr);
+    gmshModelMeshGenerate(1, &ierr);
+    DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "meshing the curves for the probe");
+    for (size_t i = 0; i < nout; i++) {
+      double count = (double)curve_nodes(cs->tag[i]);
+      out[i] = pass ? (out[i] == count && cs->length[i] / cs->h[1] >= MIN_JUDGED) : count;
+    }
+  }
+  return DTM_OK;
+}
+
+/* The mean suggested size on the nodes inside curve tag (NaN: none). */
+static double curve_size(const dtm_geo *g, const double *size, int tag) {
+  double sum = 0;
+  size_t n = 0;
+  for (size_t v = 0; v < g->nnodes; v++)
+    if (g->node_dim[v] == 1 && g->node_tag[v] == tag && isfinite(size[v])) sum += size[v], n++;
+  return n ? sum / n : NAN;
+}
+
+static void fixed_fix(const dtm_geo *g, const double *size, const curve_set *cs, int i, dtm_cause *c) {
+  double h = curve_size(g, size, cs->tag[i]);
+  if (!isfinite(h) || !(h > 0)) return;
+  long nodes = lround(cs->length[i] / h) + 1;
+  char line[160];
+  snprintf(line, sizeof line, "Transfinite Curve{%d} = %ld; // or Layers{%ld} in the Extrude that makes it", cs->tag[i],
+           nodes < 2 ? 2 : nodes, nodes < 2 ? 1 : nodes - 1);
+  append(c->fix, sizeof c->fix, line);
+}
+
+static int fixed_curves(const dtm_geo *g, const double *size, dtm_cause *c, int *found) {
+  curve_set cs;
+  *found = 0;
+  int r = curves_make(g, &cs);
+  double *fixed = r ? NULL : calloc(cs.n + 1, sizeof *fixed);
+  if (!r && !fixed) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!r && cs.n && dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, &cs, fixed, cs.n))
+    dtm_error_clear(), memset(fixed, 0, (cs.n + 1) * sizeof *fixed); /* no probe, no fixed curve named */
+  for (int i = 0; !r && i < cs.n; i++)
+    if (fixed[i]) name_entity(c, 1, cs.tag[i]), fixed_fix(g, size, &cs, i, c), (*found)++;
+  if (*found) {
+    char list[400];
+    snprintf(c->kind, sizeof c->kind, "fixed-node-count");
+    entity_list(c, list, sizeof list);
+    snprintf(c->text, sizeof c->text,
+             "%d curve(s) have a node count the model fixes (Transfinite Curve, or the Layers of an Extrude), which no "
+             "size field changes: %s; the counts the size suggestion implies follow",
+             *found, list);
+  }
+  free(fixed), curves_free(&cs);
+  return r;
+}
+
+static int has_type(int dim, int tag, const int *types, int ntypes) {
+  int *t = NULL, ierr = 0, hit = 0;
+  size_t n = 0;
+  gmshModelMeshGetElementTypes(&t, &n, dim, tag, &ierr);
+  for (size_t i = 0; i < n; i++)
+    for (int k = 0; k < ntypes; k++) hit |= t[i] == types[k];
+  gmshFree(t);
+  return hit;
+}
+
+static void model_entities(int dim, int **dt, size_t *n) {
+  int ierr = 0;
+  *dt = NULL, *n = 0;
+  gmshModelGetEntities(dt, n, dim, &ierr);
+}
+
+/* Surfaces of quadrangles and volumes of hexahedra, prisms or pyramids. */
+static void recombined(dtm_cause *c, int *found) {
+  static const int quad[] = {3, 10, 16}, solid[] = {5, 6, 7, 12, 13, 14, 17, 18, 19};
+  for (int dim = 2; dim <= 3; dim++) {
+    int *dt;
+    size_t n;
+    model_entities(dim, &dt, &n);
+    for (size_t i = 0; i < n; i += 2)
+      if (dim == 2 ? has_type(2, dt[i + 1], quad, 3) : has_type(3, dt[i + 1], solid, 9)) name_entity(c, dim, dt[i + 1]);
+    gmshFree(dt);
+  }
+  *found = c->nent;
+  if (!*found) return;
+  char list[400];
+  entity_list(c, list, sizeof list);
+  snprintf(c->kind, sizeof c->kind, "recombined");
+  snprintf(c->text, sizeof c->text,
+           "recombined or structured entities (quadrangles, hexahedra, prisms: Recombine, Transfinite or a "
+           "recombined Extrude) follow their curves' node counts: %s",
+           list);
+}
+
+/* Entities whose mesh copies another's (Periodic). */
+static void periodic(dtm_cause *c, int *found) {
+  char masters[400] = "";
+  for (int dim = 1; dim <= 2; dim++) {
+    int *dt, ierr = 0, master = 0;
+    size_t n;
+    model_entities(dim, &dt, &n);
+    for (size_t i = 0; i < n; i += 2) {
+      size_t *a = NULL, *b = NULL, na, nb, nt;
+      double *t = NULL;
+      gmshModelMeshGetPeriodicNodes(dim, dt[i + 1], &master, &a, &na, &b, &nb, &t, &nt, 0, &ierr);
+      gmshFree(a), gmshFree(b), gmshFree(t);
+      if (ierr || master <= 0 || master == dt[i + 1]) continue;
+      name_entity(c, dim, dt[i + 1]);
+      size_t used = strlen(masters);
+      if (used + 60 < sizeof masters)
+        snprintf(masters + used, sizeof masters - used, "%s%s %d copies %s %d", used ? ", " : "", dim_name[dim],
+                 dt[i + 1], dim_name[dim], master);
+    }
+    gmshFree(dt);
+  }
+  *found = c->nent;
+  if (!*found) return;
+  snprintf(c->kind, sizeof c->kind, "periodic");
+  snprintf(c->text, sizeof c->text,
+           "periodic entities take their master's mesh, so the size field on them is not theirs: %s", masters);
+}
+
+/* Entities embedded in surfaces or volumes (their nodes stay in every mesh). */
+static void embedded(dtm_cause *c, int *found) {
+  for (int dim = 2; dim <= 3; dim++) {
+    int *dt;
+    size_t n;
+    model_entities(dim, &dt, &n);
+    for (size_t i = 0; i < n; i += 2) {
+      int *e = NULL, ierr = 0;
+      size_t ne = 0;
+      gmshModelMeshGetEmbedded(dim, dt[i + 1], &e, &ne, &ierr);
+      for (size_t k = 0; !ierr && k < ne; k += 2) name_entity(c, e[k], e[k + 1]);
+      gmshFree(e);
+    }
+    gmshFree(dt);
+  }
+  *found = c->nent;
+  if (!*found) return;
+  char list[400];
+  entity_list(c, list, sizeof list);
+  snprintf(c->kind, sizeof c->kind, "embedded");
+  snprintf(c->text, sizeof c->text,
+           "embedded entities keep their nodes in every mesh and small elements around them: %s", list);
+}
+
+int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size, dtm_cause *out,
+                         int max, int *n) {
+  int found = 0;
+  if (*n >= max) return DTM_OK;
+  memset(&out[*n], 0, sizeof out[*n]);
+  size_options(s, m, size, &out[*n], &found);
+  if (found && ++*n >= max) return DTM_OK;
+  if (g) {
+    memset(&out[*n], 0, sizeof out[*n]);
+    DTM_CHECK(fixed_curves(g, size, &out[*n], &found));
+    if (found && ++*n >= max) return DTM_OK;
+  }
+  void (*const probes[])(dtm_cause *, int *) = {recombined, periodic, embedded};
+  for (int k = 0; k < 3 && *n < max; k++) {
+    memset(&out[*n], 0, sizeof out[*n]);
+    probes[k](&out[*n], &found);
+    if (found) ++*n;
+  }
+  return DTM_OK;
+}
