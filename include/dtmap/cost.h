@@ -100,4 +100,37 @@ DTM_EXPORT void dtm_cost_destroy(dtm_cost **c);
 DTM_EXPORT double dtm_cost_element_steps(const dtm_analysis *a);
 DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const dtm_subcycling *sc);
 
+/* The discrete dispersion of central differences with lumped mass on the
+ * regular lattice of an element type (src/cost/dispersion.c: Bloch
+ * analysis of the periodic patch; bar, tri3, tri6, quad4, tet4, tet10,
+ * hex8). r = mu / (lam + 2 mu) of the formulation (0 for the bar); kh the
+ * wavenumber times the lattice spacing h (the cell edge); n[3] a unit
+ * direction. */
+/* The semi-discrete relative phase-speed errors omega_h / (c k) - 1 of the
+ * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
+ * 0 for the bar) at the wave vector kh n. */
+DTM_EXPORT int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]);
+/* Central differences on top: a semi-discrete error `space` and
+ * x = omega_h dt / 2 give the relative phase-speed error of the fully
+ * discrete scheme, (1 + space) asin(x) / x - 1 (NaN when x > 1: unstable). */
+DTM_EXPORT double dtm_dispersion_time(double space, double x);
+
+#define DTM_DISP_DIRS 48 /* directions of a table (3D; 2D: 24, 1D: 1) */
+#define DTM_DISP_KH 16   /* points in k h over (0, pi] */
+/* The semi-discrete errors of one element type and r over directions and
+ * k h, stored as err / (k h)^2 (smooth in k h), once per type and material. */
+typedef struct {
+  int type;                                /* element type */
+  double r;                                /* mu / (lam + 2 mu) */
+  int ndir;                                /* directions used */
+  double dir[DTM_DISP_DIRS][3];            /* unit directions */
+  double g[2][DTM_DISP_DIRS][DTM_DISP_KH]; /* [P, S][dir][k h = pi (j + 1) / DTM_DISP_KH] */
+} dtm_dispersion;
+DTM_EXPORT int dtm_dispersion_table(int type, double r, dtm_dispersion *t);
+/* The fully discrete error of branch mode (0 P, 1 S) of largest magnitude
+ * over the table's directions at k h = kh, with x = c k dt / 2 (c that
+ * branch's exact speed); NaN when kh > pi (fewer than 2 cells per
+ * wavelength: unresolved) or unstable. */
+DTM_EXPORT double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x);
+
 #endif
