@@ -1,0 +1,342 @@
+/* What a mesh and its recommended step buy: one accuracy measure per
+ * effect the scene names, computed for every element of the real mesh.
+ * - elastic waves: the phase-speed error at the frequency of interest
+ *   (<time f-max>, else a default from the mesh, said so in the note) of
+ *   the element type's lattice (dtm_dispersion_table, once per element type
+ *   and material), lumped mass, central differences at the recommended
+ *   step (or at the element's subcycling level's step, or at the target
+ *   step with the element's mass scaling). Each element is taken as a cell
+ *   of its type's regular lattice of the same volume; the error is the
+ *   worse of P and S over the lattice directions; fewer than 2 cells per
+ *   wavelength (or a step above the element's own safe step: unstable) is
+ *   "unresolved", counted, never a small number;
+ * - cohesive zones: elements per process zone (the effect's own view),
+ *   per group, against the 5-10 band;
+ * - diffusion (thermal, hydraulic): elements across sqrt(D t) at the
+ *   scene's duration, at least DTM_BAND_DIFFUSION.
+ * Each measure keeps the worst and the median over its elements. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/cost.h"
+#include "dtmap/kernel.h"
+#include "dtmap/topology.h"
+
+#define PI 3.14159265358979323846
+#define MAX_TABLES 16 /* element type x material pairs kept at once */
+
+/* The lattice tables met so far. */
+typedef struct {
+  int n;                         /* tables in use */
+  dtm_dispersion *t[MAX_TABLES]; /* owned */
+} table_cache;
+
+static void cache_free(table_cache *c) {
+  for (int i = 0; i < c->n; i++) free(c->t[i]);
+}
+
+static int cache_get(table_cache *c, int type, double r, const dtm_dispersion **out) {
+  for (int i = 0; i < c->n; i++)
+    if (c->t[i]->type == type && c->t[i]->r == r) return *out = c->t[i], DTM_OK;
+  if (c->n == MAX_TABLES) return DTM_ERR(DTM_ERR_INPUT, "more than %d element type and material pairs", MAX_TABLES);
+  dtm_dispersion *t = malloc(sizeof *t);
+  if (!t) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = dtm_dispersion_table(type, r, t);
+  if (rc) return free(t), rc;
+  *out = c->t[c->n++] = t;
+  return DTM_OK;
+}
+
+/* The lattice spacing of element x of type: the cell edge of the regular
+ * lattice of its type whose elements have its measure (tri: two per square,
+ * tet: six per cube). */
+static double lattice_h(int type, int d, const double *x) {
+  double per = dtm_elem_is_simplex(type) ? (d == 2 ? 2 : d == 3 ? 6 : 1) : 1;
+  return pow(per * fabs(dtm_elem_measure(type, x)), 1.0 / d);
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* Median of v[n] (reordered), NaN when n = 0. */
+static double median(double *v, size_t n) {
+  if (!n) return NAN;
+  qsort(v, n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int push(dtm_measures *ms, const dtm_measure *m) {
+  dtm_measure *p = realloc(ms->m, (size_t)(ms->n + 1) * sizeof *p);
+  if (!p) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  ms->m = p;
+  ms->m[ms->n++] = *m;
+  return DTM_OK;
+}
+
+/* The elastic formulation effect k uses (its attribute, else the default). */
+static dtm_formulation formulation_of(const dtm_analysis *a, int k) {
+  const char *names[] = DTM_FORMULATION_NAMES;
+  const char *f = dtm_scene_effect_attr(&dtm_analysis_scene(a)->effects[k], "formulation");
+  for (int i = 0; f && names[i]; i++)
+    if (!strcmp(f, names[i])) return (dtm_formulation)i;
+  return dtm_formulation_default(dtm_analysis_mesh(a)->dim);
+}
+
+/* Moduli of material index mat for formulation f; -1 when it lacks E, nu or rho. */
+static int moduli(const dtm_analysis *a, int mat, dtm_formulation f, dtm_elastic_moduli *m) {
+  const dtm_material *mt = &dtm_analysis_scene(a)->materials[mat].m;
+  double nu = f == DTM_FORM_BAR ? 0 : dtm_material_value(mt, "nu");
+  return dtm_elastic_moduli_init(f, dtm_material_value(mt, "E"), nu, dtm_material_value(mt, "rho"), m) ? -1 : 0;
+}
+
+/* The steps the elements take (dtm_measure_step) and the recommended one. */
+typedef struct {
+  const dtm_measure_step *st; /* the steps (NULL: the recommended step everywhere) */
+  double dt;                  /* the recommended step, s */
+  const double *own;          /* [nel] each element's own safe step (dtm_analysis_local_step) */
+} step_rule;
+
+static void element_step(const step_rule *sr, size_t i, double mass, double *dt, double *speed) {
+  *dt = sr->dt, *speed = 1;
+  if (!sr->st) return;
+  if (sr->st->level) *dt = sr->dt * ldexp(1.0, sr->st->level[i]);
+  if (sr->st->level && sr->own && *dt > sr->own[i] * (1 + 1e-12)) *dt = NAN; /* unstable */
+  if (sr->st->target > 0) *dt = sr->st->target;
+  if (sr->st->added && mass > 0) *speed = 1 / sqrt(1 + sr->st->added[i] / mass);
+}
+
+/* The phase error of one element at frequency f: the worse of P and S. */
+static double element_phase(const dtm_dispersion *t, const dtm_elastic_moduli *m, double h, double f, double dt,
+                            double speed) {
+  double cp = m->cd * speed, cs = sqrt(m->mu / m->rho) * speed, x = PI * f * dt;
+  /* the lattice's own error at the scaled speed, then the speed's own factor */
+  double ep = dtm_dispersion_worst(t, 0, 2 * PI * f * h / cp, x);
+  double es = m->form == DTM_FORM_BAR ? 0 : dtm_dispersion_worst(t, 1, 2 * PI * f * h / cs, x);
+  if (isnan(ep) || isnan(es)) return NAN;
+  double e = fabs(es) > fabs(ep) ? es : ep;
+  return (1 + e) * speed - 1;
+}
+
+/* The default frequency of a mesh: the median over its elements of
+ * c_S / (N h), N the scene's elements per wavelength: the frequency at
+ * which the median element has N cells per shear wavelength. */
+static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *fd) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  size_t n = dtm_analysis_nelements(a), k = 0, i = 0;
+  double *v = malloc((n + 1) * sizeof *v), N = dtm_analysis_scene(a)->elements_per_wavelength;
+  if (!(N > 0)) N = DTM_SCENE_PER_WAVELENGTH;
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double x[3 * DTM_MAX_NODES];
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0; e < mesh->blocks[b].n; e++, i++) {
+      const dtm_block *bl = &mesh->blocks[b];
+      dtm_elastic_moduli m;
+      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0) || moduli(a, bl->mat[e], f, &m)) continue;
+      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+      double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
+      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, x));
+    }
+  *fd = median(v, k);
+  free(v);
+  return DTM_OK;
+}
+
+/* Per element phase errors into err[nel] (NaN: unresolved; the elements
+ * it does not apply to are skipped and counted in *skipped). */
+static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, double *err,
+                        size_t *skipped) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  table_cache cache = {0};
+  double x[3 * DTM_MAX_NODES];
+  size_t i = 0;
+  int rc = DTM_OK;
+  *skipped = 0;
+  for (int b = 0; b < mesh->nblocks && !rc; b++) {
+    const dtm_block *bl = &mesh->blocks[b];
+    int last = -2;
+    dtm_elastic_moduli m;
+    const dtm_dispersion *t = NULL;
+    for (size_t e = 0; e < bl->n && !rc; e++, i++) {
+      err[i] = INFINITY; /* not applicable */
+      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0)) {
+        ++*skipped;
+        continue;
+      }
+      if (bl->mat[e] != last) {
+        last = bl->mat[e];
+        if (moduli(a, last, f, &m)) continue;
+        rc = cache_get(&cache, bl->type, f == DTM_FORM_BAR ? 0 : m.mu / m.modulus, &t);
+      }
+      if (rc) break;
+      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+      double dt, speed, mass = m.rho * fabs(dtm_elem_measure(bl->type, x));
+      element_step(sr, i, mass, &dt, &speed);
+      err[i] = isnan(dt) ? NAN : element_phase(t, &m, lattice_h(bl->type, bl->dim, x), freq, dt, speed);
+    }
+  }
+  cache_free(&cache);
+  return rc;
+}
+
+/* Worst (largest magnitude, signed), median of |err| and counts. */
+static void phase_summary(const double *err, size_t n, double *scratch, dtm_measure *m) {
+  size_t k = 0;
+  m->worst = 0;
+  for (size_t i = 0; i < n; i++) {
+    if (isinf(err[i])) continue;
+    m->elements++;
+    if (isnan(err[i])) {
+      m->unresolved++;
+      continue;
+    }
+    scratch[k++] = fabs(err[i]);
+    if (fabs(err[i]) >= fabs(m->worst)) m->worst = err[i], m->worst_element = i;
+  }
+  m->median = median(scratch, k);
+  if (m->unresolved) m->worst = NAN;
+  if (!k && !m->unresolved) m->worst = NAN;
+  m->in_band = m->elements > 0 && !m->unresolved && fabs(m->worst) <= m->band_hi;
+}
+
+static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_measure_step *st, dtm_measures *ms) {
+  dtm_formulation f = formulation_of(a, k);
+  dtm_measure m = {.kind = DTM_MEASURE_PHASE,
+                   .effect = k,
+                   .group = -1,
+                   .band_lo = -DTM_BAND_PHASE,
+                   .band_hi = DTM_BAND_PHASE,
+                   .f = freq};
+  if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
+  if (!(m.f > 0)) {
+    DTM_CHECK(default_frequency(a, f, &m.f));
+    m.f_default = 1;
+  }
+  size_t n = dtm_analysis_nelements(a), skipped;
+  double *err = malloc((2 * n + 1) * sizeof *err);
+  if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
+  int rc = phase_errors(a, f, m.f, &sr, err, &skipped);
+  if (!rc) phase_summary(err, n, err + n, &m);
+  free(err);
+  if (rc) return rc;
+  if (m.f_default)
+    snprintf(m.note, sizeof m.note,
+             "no <time f-max>: at the mesh's default %.4g Hz (%g elements per shear wavelength at "
+             "the median element)",
+             m.f, dtm_analysis_scene(a)->elements_per_wavelength);
+  else if (skipped)
+    snprintf(m.note, sizeof m.note, "%zu elements with a section or no material are not measured", skipped);
+  return push(ms, &m);
+}
+
+/* Cohesive: elements per zone from the effect's own view, one measure per
+ * group that has any (the group of the element; -1 for none). */
+static int zone_measures(const dtm_analysis *a, int k, dtm_measures *ms) {
+  const double *res = dtm_analysis_resolution(a, k);
+  size_t n = dtm_analysis_nelements(a);
+  if (!res) return DTM_OK;
+  int ng = dtm_analysis_mesh(a)->ngroups;
+  double *v = malloc((n + 1) * sizeof *v);
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK;
+  for (int g = -1; g < ng && !rc; g++) {
+    dtm_measure m = {.kind = DTM_MEASURE_ZONE, .effect = k, .group = g, .worst = INFINITY, .band_lo = 5, .band_hi = 10};
+    for (size_t i = 0; i < n; i++) {
+      if (!isfinite(res[i]) || dtm_analysis_group(a, i) != g) continue;
+      if (res[i] < m.worst) m.worst = res[i], m.worst_element = i;
+      v[m.elements++] = res[i];
+    }
+    if (!m.elements) continue;
+    m.median = median(v, m.elements);
+    m.in_band = m.worst >= m.band_lo;
+    rc = push(ms, &m);
+  }
+  free(v);
+  return rc;
+}
+
+/* Diffusivity of material mat for the built-in diffusion effect name, NaN
+ * when unknown. */
+static double diffusivity(const dtm_material *m, const char *effect) {
+  if (!strcmp(effect, "thermal"))
+    return dtm_material_value(m, "conductivity") /
+           (dtm_material_value(m, "rho") * dtm_material_value(m, "heat-capacity"));
+  if (!strcmp(effect, "hydraulic"))
+    return dtm_material_value(m, "permeability") /
+           (dtm_material_value(m, "viscosity") * dtm_material_value(m, "storage"));
+  return NAN;
+}
+
+static int diffusion_measure(const dtm_analysis *a, int k, dtm_measures *ms) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  dtm_measure m = {.kind = DTM_MEASURE_DIFFUSION,
+                   .effect = k,
+                   .group = -1,
+                   .worst = NAN,
+                   .median = NAN,
+                   .band_lo = DTM_BAND_DIFFUSION,
+                   .band_hi = INFINITY};
+  const char *name = dtm_analysis_effect(a, k)->name;
+  if (!(s->duration > 0)) {
+    snprintf(m.note, sizeof m.note, "no <time duration>: the diffusion length sqrt(D t) needs one");
+    return push(ms, &m);
+  }
+  size_t n = dtm_analysis_nelements(a), i = 0;
+  double *v = malloc((n + 1) * sizeof *v), x[3 * DTM_MAX_NODES];
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  m.worst = INFINITY;
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0; e < mesh->blocks[b].n; e++, i++) {
+      const dtm_block *bl = &mesh->blocks[b];
+      double D = bl->mat[e] < 0 ? NAN : diffusivity(&s->materials[bl->mat[e]].m, name);
+      if (!(D > 0)) continue;
+      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+      double across = sqrt(D * s->duration) / dtm_elem_mean_edge(bl->type, x);
+      if (across < m.worst) m.worst = across, m.worst_element = i;
+      v[m.elements++] = across;
+    }
+  m.median = median(v, m.elements);
+  free(v);
+  if (!m.elements) m.worst = NAN;
+  m.in_band = m.worst >= m.band_lo;
+  return push(ms, &m);
+}
+
+int dtm_measures_compute(const dtm_analysis *a, double f, const dtm_measure_step *st, dtm_measures **out) {
+  dtm_measures *ms = calloc(1, sizeof *ms);
+  if (!ms) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK;
+  for (int k = 0; k < dtm_analysis_neffects(a) && !rc; k++) {
+    const dtm_effect_class *c = dtm_analysis_effect(a, k);
+    if (!strcmp(c->name, "elastic"))
+      rc = wave_measure(a, k, f, st, ms);
+    else if (!strcmp(c->name, "cohesive"))
+      rc = zone_measures(a, k, ms);
+    else if (c->scheme == DTM_SCHEME_FORWARD_EULER)
+      rc = diffusion_measure(a, k, ms);
+  }
+  if (rc) {
+    dtm_measures_destroy(&ms);
+    return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
+  }
+  *out = ms;
+  return DTM_OK;
+}
+
+void dtm_measures_destroy(dtm_measures **p) {
+  if (!*p) return;
+  free((*p)->m);
+  free(*p);
+  *p = NULL;
+}
+
+const char *dtm_measure_name(int kind) {
+  return kind == DTM_MEASURE_PHASE  ? "phase-speed error"
+         : kind == DTM_MEASURE_ZONE ? "elements per cohesive zone"
+                                    : "elements across sqrt(D t)";
+}
