@@ -15,6 +15,7 @@
  * - diffusion (thermal, hydraulic): elements across sqrt(D t) at the
  *   scene's duration, at least DTM_BAND_DIFFUSION.
  * Each measure keeps the worst and the median over its elements. */
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,14 +28,55 @@
 #define PI 3.14159265358979323846
 #define MAX_TABLES 16 /* element type x material pairs kept at once */
 
-/* The lattice tables met so far. */
+#define CURVE_N 512   /* points of a curve over k h in [0, pi] */
+#define MAX_CURVES 64 /* curves kept (table x subcycling level) */
+
+/* The worst error of one table at one x = pi f dt against k h, both
+ * branches, sampled once so that an element costs an interpolation instead
+ * of a sweep over the table's directions (the measure would otherwise cost
+ * as much as the analysis). */
+typedef struct {
+  const dtm_dispersion *t;  /* the table */
+  double x;                 /* pi f dt */
+  double w[2][CURVE_N + 1]; /* [P, S][k h = pi j / CURVE_N] (NaN: unresolved or unstable) */
+} curve;
+
+/* The lattice tables and curves met so far. */
 typedef struct {
   int n;                         /* tables in use */
   dtm_dispersion *t[MAX_TABLES]; /* owned */
+  int nc;                        /* curves in use */
+  curve *c[MAX_CURVES];          /* owned */
 } table_cache;
 
 static void cache_free(table_cache *c) {
   for (int i = 0; i < c->n; i++) free(c->t[i]);
+  for (int i = 0; i < c->nc; i++) free(c->c[i]);
+}
+
+/* The curve of table t at x, built on first use; NULL when the cache is
+ * full or out of memory (then the caller evaluates directly). */
+static const curve *curve_get(table_cache *c, const dtm_dispersion *t, double x) {
+  for (int i = 0; i < c->nc; i++)
+    if (c->c[i]->t == t && c->c[i]->x == x) return c->c[i];
+  curve *k = c->nc < MAX_CURVES ? malloc(sizeof *k) : NULL;
+  if (!k) return NULL;
+  k->t = t, k->x = x;
+  for (int m = 0; m < 2; m++) {
+    k->w[m][0] = dtm_dispersion_time(0, x) > -1 ? dtm_dispersion_time(0, x) : NAN;
+    for (int j = 1; j <= CURVE_N; j++) k->w[m][j] = dtm_dispersion_worst(t, m, PI * j / CURVE_N, x);
+  }
+  return c->c[c->nc++] = k;
+}
+
+/* Linear in k h between the curve's points; NaN beyond pi. */
+static double curve_at(const curve *k, int mode, double kh) {
+  double u = kh / PI * CURVE_N;
+  if (!(u <= CURVE_N)) return NAN;
+  int j = (int)u;
+  if (j == CURVE_N) return k->w[mode][j];
+  double f = u - j;
+  return f == 0 ? k->w[mode][j] : (1 - f) * k->w[mode][j] + f * k->w[mode][j + 1];
 }
 
 static int cache_get(table_cache *c, int type, double r, const dtm_dispersion **out) {
@@ -49,24 +91,55 @@ static int cache_get(table_cache *c, int type, double r, const dtm_dispersion **
   return DTM_OK;
 }
 
-/* The lattice spacing of element x of type: the cell edge of the regular
- * lattice of its type whose elements have its measure (tri: two per square,
- * tet: six per cube). */
-static double lattice_h(int type, int d, const double *x) {
+/* The lattice spacing of an element of type and measure meas: the cell
+ * edge of the regular lattice of its type whose elements have its measure
+ * (tri: two per square, tet: six per cube). */
+static double lattice_h(int type, int d, double meas) {
   double per = dtm_elem_is_simplex(type) ? (d == 2 ? 2 : d == 3 ? 6 : 1) : 1;
-  return pow(per * fabs(dtm_elem_measure(type, x)), 1.0 / d);
+  return d == 1 ? meas : d == 2 ? sqrt(per * meas) : cbrt(per * meas);
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
+/* The measure of element e of block bl (m^d). */
+static double element_measure(const dtm_mesh *mesh, const dtm_block *bl, size_t e) {
+  double x[3 * DTM_MAX_NODES];
+  for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+  return fabs(dtm_elem_measure(bl->type, x));
+}
+
+/* The k-th smallest of v[n] (reordered), by Hoare's selection: O(n). */
+static double select_kth(double *v, size_t n, size_t k) {
+  size_t lo = 0, hi = n - 1;
+  while (lo < hi) {
+    double p = v[lo + (hi - lo) / 2];
+    size_t i = lo, j = hi;
+    while (i <= j) {
+      while (v[i] < p) i++;
+      while (v[j] > p) j--;
+      if (i <= j) {
+        double t = v[i];
+        v[i] = v[j], v[j] = t, i++;
+        if (j == 0) break;
+        j--;
+      }
+    }
+    if (k <= j)
+      hi = j;
+    else if (k >= i)
+      lo = i;
+    else
+      return v[k];
+  }
+  return v[k];
 }
 
 /* Median of v[n] (reordered), NaN when n = 0. */
 static double median(double *v, size_t n) {
   if (!n) return NAN;
-  qsort(v, n, sizeof *v, cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  double hi = select_kth(v, n, n / 2);
+  if (n % 2) return hi;
+  double lo = v[0];
+  for (size_t i = 1; i < n / 2; i++) lo = fmax(lo, v[i]);
+  return 0.5 * (lo + hi);
 }
 
 static int push(dtm_measures *ms, const dtm_measure *m) {
@@ -109,13 +182,20 @@ static void element_step(const step_rule *sr, size_t i, double mass, double *dt,
   if (sr->st->added && mass > 0) *speed = 1 / sqrt(1 + sr->st->added[i] / mass);
 }
 
+/* The worst error of branch mode at kh: from the curve when there is one
+ * (unscaled elements), else over the table's directions. */
+static double worst(const dtm_dispersion *t, const curve *k, int mode, double kh, double x) {
+  return k ? curve_at(k, mode, kh) : dtm_dispersion_worst(t, mode, kh, x);
+}
+
 /* The phase error of one element at frequency f: the worse of P and S. */
-static double element_phase(const dtm_dispersion *t, const dtm_elastic_moduli *m, double h, double f, double dt,
-                            double speed) {
+static double element_phase(table_cache *c, const dtm_dispersion *t, const dtm_elastic_moduli *m, double h, double f,
+                            double dt, double speed) {
   double cp = m->cd * speed, cs = sqrt(m->mu / m->rho) * speed, x = PI * f * dt;
+  const curve *k = speed == 1 ? curve_get(c, t, x) : NULL;
   /* the lattice's own error at the scaled speed, then the speed's own factor */
-  double ep = dtm_dispersion_worst(t, 0, 2 * PI * f * h / cp, x);
-  double es = m->form == DTM_FORM_BAR ? 0 : dtm_dispersion_worst(t, 1, 2 * PI * f * h / cs, x);
+  double ep = worst(t, k, 0, 2 * PI * f * h / cp, x);
+  double es = m->form == DTM_FORM_BAR ? 0 : worst(t, k, 1, 2 * PI * f * h / cs, x);
   if (isnan(ep) || isnan(es)) return NAN;
   double e = fabs(es) > fabs(ep) ? es : ep;
   return (1 + e) * speed - 1;
@@ -130,15 +210,16 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *f
   double *v = malloc((n + 1) * sizeof *v), N = dtm_analysis_scene(a)->elements_per_wavelength;
   if (!(N > 0)) N = DTM_SCENE_PER_WAVELENGTH;
   if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  double x[3 * DTM_MAX_NODES];
+  dtm_elastic_moduli m;
   for (int b = 0; b < mesh->nblocks; b++)
-    for (size_t e = 0; e < mesh->blocks[b].n; e++, i++) {
+    for (size_t e = 0, last = (size_t)-1, bad = 0; e < mesh->blocks[b].n; e++, i++) {
       const dtm_block *bl = &mesh->blocks[b];
-      dtm_elastic_moduli m;
-      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0) || moduli(a, bl->mat[e], f, &m)) continue;
-      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+      static_assert(sizeof(size_t) >= sizeof(int), "material index");
+      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0)) continue;
+      if ((size_t)bl->mat[e] != last) last = (size_t)bl->mat[e], bad = moduli(a, bl->mat[e], f, &m) != 0;
+      if (bad) continue;
       double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
-      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, x));
+      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e)));
     }
   *fd = median(v, k);
   free(v);
@@ -151,7 +232,6 @@ static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, c
                         size_t *skipped) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   table_cache cache = {0};
-  double x[3 * DTM_MAX_NODES];
   size_t i = 0;
   int rc = DTM_OK;
   *skipped = 0;
@@ -172,10 +252,9 @@ static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, c
         rc = cache_get(&cache, bl->type, f == DTM_FORM_BAR ? 0 : m.mu / m.modulus, &t);
       }
       if (rc) break;
-      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
-      double dt, speed, mass = m.rho * fabs(dtm_elem_measure(bl->type, x));
-      element_step(sr, i, mass, &dt, &speed);
-      err[i] = isnan(dt) ? NAN : element_phase(t, &m, lattice_h(bl->type, bl->dim, x), freq, dt, speed);
+      double dt, speed, meas = element_measure(mesh, bl, e);
+      element_step(sr, i, m.rho * meas, &dt, &speed);
+      err[i] = isnan(dt) ? NAN : element_phase(&cache, t, &m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
     }
   }
   cache_free(&cache);
