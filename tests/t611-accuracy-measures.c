@@ -4,7 +4,8 @@
  *   chain), so the phase error at f-max is the 1D closed form
  *   2 asin(r sin(kh/2)) / (r kh) - 1 with r = 0.9. f = c/(8 L) puts kh on
  *   a node of the table (pi/4), so it agrees to round-off (1e-9).
- * - Without f-max: the mesh's default c/(10 L) = 5000 Hz, said in the note.
+ * - Without f-max: the mesh's default c/(10 L) = 5000 Hz, said in the note,
+ *   and 10 elements per wavelength at it.
  * - f-max above what the mesh carries (1.5 cells per wavelength): every
  *   element unresolved, the worst NaN, outside the band.
  * - Hours: element-steps x the scene's cost-per-element-step / 3600, to
@@ -14,6 +15,8 @@
  *   Courant number is 1.8 > 1, unstable: NaN, never a number.
  * - Diffusion (thermal, bar chain): elements across sqrt(alpha t) =
  *   sqrt(alpha t) / L exactly; without a duration a note and NaN.
+ * - Cohesive: one measure per group with cohesive elements, smallest and
+ *   median R/h over that group only.
  * - Bad input: f-max and cost-per-element-step zero, negative or not
  *   finite fail with DTM_ERR_INPUT naming the scene file and the line. */
 #include <setjmp.h>
@@ -85,6 +88,7 @@ static void default_and_unresolved(void **state) {
   const dtm_measure *p = phase_of(m);
   assert_true(p->f_default && fabs(p->f - C / (10 * L)) < 1e-9 * p->f);
   assert_non_null(strstr(p->note, "no <time f-max>"));
+  assert_true(fabs(p->per_wavelength - 10) < 1e-9); /* c / (f L) at the default */
   assert_true(isfinite(p->worst));
   dtm_measures_destroy(&m);
   assert_int_equal(dtm_measures_compute(a, C / (1.5 * L), NULL, &m), DTM_OK);
@@ -147,6 +151,38 @@ static void diffusion(void **state) {
   dtm_analysis_destroy(&a);
 }
 
+/* Cohesive on group "a" of a chain whose first four bars are in "a"
+ * (lengths L, L, 2L, 2L) and the rest in "b": one measure, for "a", over
+ * its four elements; the smallest is R/(2L) and the median the mean of R/L
+ * and R/(2L), R read back from the first element's R/L. */
+static void zones(void **state) {
+  (void)state;
+  static char *ek[] = {"formulation"}, *ev[] = {"bar"}, *ck[] = {"groups"}, *cv[] = {"a"};
+  dtm_scene_effect se[2] = {{"elastic", NULL, 5, 1, ek, ev}, {"cohesive", NULL, 6, 1, ck, cv}};
+  dtm_scene_material sm = {0};
+  tu_material(&sm.m, "steel", "E", 200e9, "nu", 0.3, "rho", 8000.0, "fracture-energy", 100.0, "strength", 3e6, NULL);
+  sm.is_default = 1;
+  dtm_scene s = {0};
+  tu_scene_catalogue(&s);
+  s.path = "mem.xml", s.nmaterials = 1, s.materials = &sm, s.neffects = 2, s.effects = se, s.safety = 0.9;
+  const double lens[N] = {L, L, 2 * L, 2 * L, L, L, L, L};
+  const int group[N] = {0, 0, 0, 0, 1, 1, 1, 1};
+  dtm_analysis *a = tu_bar_analysis(&s, N, lens, group, 2);
+  dtm_measures *m = NULL;
+  assert_int_equal(dtm_measures_compute(a, 0, NULL, &m), DTM_OK);
+  const dtm_measure *z = NULL;
+  for (int k = 0; k < m->n; k++)
+    if (m->m[k].kind == DTM_MEASURE_ZONE) assert_null(z), z = &m->m[k];
+  assert_non_null(z);
+  double R = dtm_analysis_resolution(a, 1)[0] * L;
+  assert_true(z->group == 0 && z->elements == 4 && z->band_lo == 5 && z->band_hi == 10);
+  assert_true(fabs(z->worst - R / (2 * L)) < 1e-12 * z->worst);
+  assert_true(fabs(z->median - 0.5 * (R / L + R / (2 * L))) < 1e-12 * z->median);
+  assert_int_equal(z->in_band, z->worst >= 5);
+  dtm_measures_destroy(&m);
+  dtm_analysis_destroy(&a);
+}
+
 static void bad_input(void **state) {
   (void)state;
   static const char *attrs[] = {"f-max=\"0\"",
@@ -179,6 +215,7 @@ static void bad_input(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {cmocka_unit_test(bar_closed_form), cmocka_unit_test(default_and_unresolved),
-                                     cmocka_unit_test(hours), cmocka_unit_test(diffusion), cmocka_unit_test(bad_input)};
+                                     cmocka_unit_test(hours),           cmocka_unit_test(diffusion),
+                                     cmocka_unit_test(zones),           cmocka_unit_test(bad_input)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

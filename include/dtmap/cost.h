@@ -159,21 +159,23 @@ typedef enum {
 #define DTM_BAND_DIFFUSION 5.0 /* elements across the diffusion length accepted (dtmap's choice) */
 
 typedef struct {
-  int kind;             /* dtm_measure_kind */
-  int effect;           /* scene index of the effect */
-  int group;            /* cohesive: mesh group index (-1: elements in no group); else -1 */
-  double worst;         /* phase: the signed error of largest magnitude (NaN when any element is
-                           unresolved or none applies); counts: the smallest */
-  double median;        /* phase: median |error|; counts: median count (NaN: none) */
-  size_t worst_element; /* global element index of the worst */
-  size_t elements;      /* elements measured */
-  size_t unresolved;    /* phase: elements with fewer than 2 lattice cells per wavelength */
-  double band_lo;       /* the accepted band: phase [-band_hi, band_hi]; zone [5, 10]; */
-  double band_hi;       /* diffusion [DTM_BAND_DIFFUSION, inf) */
-  int in_band;          /* 1: worst inside (zone, diffusion: at or above band_lo) */
-  double f;             /* phase: the frequency, Hz */
-  int f_default;        /* phase: 1 when the scene names no f-max and f is the mesh's default */
-  char note[192];       /* one line when something is missing or assumed ("" when not) */
+  int kind;              /* dtm_measure_kind */
+  int effect;            /* scene index of the effect */
+  int group;             /* cohesive: mesh group index (-1: elements in no group); else -1 */
+  double worst;          /* phase: the signed error of largest magnitude (NaN when any element is
+                            unresolved or none applies); counts: the smallest */
+  double median;         /* phase: median |error|; counts: median count (NaN: none) */
+  size_t worst_element;  /* global element index of the worst */
+  size_t elements;       /* elements measured */
+  size_t unresolved;     /* phase: elements with fewer than 2 lattice cells per wavelength */
+  double band_lo;        /* the accepted band: phase [-band_hi, band_hi]; zone [5, 10]; */
+  double band_hi;        /* diffusion [DTM_BAND_DIFFUSION, inf) */
+  int in_band;           /* 1: worst inside (zone, diffusion: at or above band_lo) */
+  double f;              /* phase: the frequency, Hz */
+  int f_default;         /* phase: 1 when the scene names no f-max and f is the mesh's default */
+  double per_wavelength; /* phase: the smallest shear wavelength at f over the element's mean edge
+                            (the elastic effect's "elements per wavelength", also without f-max) */
+  char note[192];        /* one line when something is missing or assumed ("" when not) */
 } dtm_measure;
 
 typedef struct dtm_measures {

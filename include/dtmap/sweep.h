@@ -47,6 +47,7 @@ typedef struct {
   double phase_mass;       /* worst at the target step with the mass that reaches it (NaN
                               without a target) */
   double per_diffusion;    /* smallest elements across sqrt(D duration) (NaN: no diffusion) */
+  double per_wave_default; /* smallest shear wavelength / mean edge at the frequency used */
   int in_band;             /* 1: every measure inside its band (phase |error| <= 1 %, zone
                               >= 5, diffusion >= DTM_BAND_DIFFUSION) */
 } dtm_sweep_row;

@@ -99,10 +99,11 @@ static double lattice_h(int type, int d, double meas) {
   return d == 1 ? meas : d == 2 ? sqrt(per * meas) : cbrt(per * meas);
 }
 
-/* The measure of element e of block bl (m^d). */
-static double element_measure(const dtm_mesh *mesh, const dtm_block *bl, size_t e) {
+/* The measure of element e of block bl (m^d) and its mean edge (m). */
+static double element_measure(const dtm_mesh *mesh, const dtm_block *bl, size_t e, double *edge) {
   double x[3 * DTM_MAX_NODES];
   for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+  if (edge) *edge = dtm_elem_mean_edge(bl->type, x);
   return fabs(dtm_elem_measure(bl->type, x));
 }
 
@@ -219,7 +220,7 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *f
       if ((size_t)bl->mat[e] != last) last = (size_t)bl->mat[e], bad = moduli(a, bl->mat[e], f, &m) != 0;
       if (bad) continue;
       double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
-      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e)));
+      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e, NULL)));
     }
   *fd = median(v, k);
   free(v);
@@ -227,9 +228,10 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *f
 }
 
 /* Per element phase errors into err[nel] (NaN: unresolved; the elements
- * it does not apply to are skipped and counted in *skipped). */
+ * it does not apply to are skipped and counted in *skipped); the smallest
+ * shear wavelength over mean edge into *per_wave. */
 static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, double *err,
-                        size_t *skipped) {
+                        size_t *skipped, double *per_wave) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   table_cache cache = {0};
   size_t i = 0;
@@ -252,7 +254,9 @@ static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, c
         rc = cache_get(&cache, bl->type, f == DTM_FORM_BAR ? 0 : m.mu / m.modulus, &t);
       }
       if (rc) break;
-      double dt, speed, meas = element_measure(mesh, bl, e);
+      double dt, speed, edge, meas = element_measure(mesh, bl, e, &edge);
+      double pw = (f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho)) / (freq * edge);
+      if (!(pw >= *per_wave)) *per_wave = pw;
       element_step(sr, i, m.rho * meas, &dt, &speed);
       err[i] = isnan(dt) ? NAN : element_phase(&cache, t, &m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
     }
@@ -298,7 +302,8 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   double *err = malloc((2 * n + 1) * sizeof *err);
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
-  int rc = phase_errors(a, f, m.f, &sr, err, &skipped);
+  m.per_wavelength = NAN;
+  int rc = phase_errors(a, f, m.f, &sr, err, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err + n, &m);
   free(err);
   if (rc) return rc;
