@@ -192,8 +192,9 @@ typedef struct {
 } dtm_measure_step;
 
 /* The measures of analysis a. f > 0: the frequency of the phase error, Hz
- * (else the scene's f-max, else the mesh's default: the median over the
- * elements of c_S / (N h), N = elements-per-wavelength). *out is owned by
+ * (else the scene's f-max, else the mesh's default: the smallest over the
+ * elements of c_S / (N h), N = elements-per-wavelength, h the lattice
+ * spacing: every element has at least N cells per shear wavelength). *out is owned by
  * the caller (dtm_measures_destroy). */
 DTM_EXPORT int dtm_measures_compute(const dtm_analysis *a, double f, const dtm_measure_step *st, dtm_measures **out);
 DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);

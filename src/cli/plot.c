@@ -190,7 +190,8 @@ static double row_value(const dtm_sweep_row *r, int p, int way) {
 static void fill_curve(const dtm_sweep_row *rows, int n, int p, int way, curve *c) {
   static const char *labels[3] = {"one global step", "ideal subcycling", "mass scaling to the target"};
   static const char *symbols[3] = {"#(840)", "#(841)", "#(842)"};
-  c->n = 0, c->label = labels[way], c->color = 2 + way, c->symbol = symbols[way];
+  static const int colors[3] = {2, 3, 7};
+  c->n = 0, c->label = labels[way], c->color = colors[way], c->symbol = symbols[way];
   for (int i = 0; i < n && c->n < 64; i++) {
     double x = row_time(&rows[i], way), y = row_value(&rows[i], p, p == 1 ? 0 : way);
     if (!(x > 0 && y > 0) || !isfinite(x) || !isfinite(y)) continue;
@@ -199,8 +200,8 @@ static void fill_curve(const dtm_sweep_row *rows, int n, int p, int way, curve *
 }
 
 /* One panel's axes: ranges over its curves and the band. */
-static void panel_axes(const curve *c, int nc, double band_lo, double band_hi, const char *xl, const char *yl,
-                       const char *title) {
+static double panel_axes(const curve *c, int nc, double band_lo, double band_hi, const char *xl, const char *yl,
+                         const char *title) {
   double x0 = INFINITY, x1 = -INFINITY, y0 = log10(band_lo), y1 = log10(band_hi);
   for (int k = 0; k < nc; k++)
     for (int i = 0; i < c[k].n; i++)
@@ -215,8 +216,11 @@ static void panel_axes(const curve *c, int nc, double band_lo, double band_hi, c
   plcol0(1);
   plbox("bclnst", 0, 0, "bclnstv", 0, 0);
   plmtex("b", 3.2, 0.5, 0.5, xl);
-  plmtex("l", 5.0, 0.5, 0.5, yl);
+  plmtex("l", 4.2, 0.5, 0.5, yl);
+  plschr(0, 0.85);
   plmtex("t", 1.0, 0.5, 0.5, title);
+  plschr(0, 1.0);
+  plwind(x0, x1, y0, y1); /* keep the world window for the labels */
   plcol0(5);
   pllsty(2);
   for (int k = 0; k < 2; k++) {
@@ -224,9 +228,12 @@ static void panel_axes(const curve *c, int nc, double band_lo, double band_hi, c
     if (isfinite(v) && (k == 0 || band_hi != band_lo)) plline(2, xs, ys);
   }
   pllsty(1);
+  return 0.5 * (x0 + x1);
 }
 
-static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int best) {
+/* The curves, each point of the first named by its size (right of the
+ * point in the left half of the box, left of it in the right half). */
+static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int best, double xmid) {
   for (int k = 0; k < nc; k++) {
     if (!c[k].n) continue;
     plcol0(c[k].color);
@@ -240,7 +247,8 @@ static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int 
       plcol0(c[k].row[i] == best ? 6 : 1);
       if (c[k].row[i] == best) plstring(1, &c[k].x[i], &c[k].y[i], "#(850)");
       plschr(0, c[k].row[i] == best ? 0.8 : 0.65);
-      plptex(c[k].x[i], c[k].y[i], 1, 0, -0.08, t);
+      int left = c[k].x[i] > xmid;
+      plptex(c[k].x[i], c[k].y[i], 1, 0, left ? 1.08 : -0.08, t);
       plschr(0, 1.0);
     }
   }
@@ -257,7 +265,7 @@ static void panel_legend(const curve *c, int nc) {
     snum[m] = 1, lwid[m] = 2.0, sscale[m] = 1.0, text[m] = c[k].label, sym[m] = c[k].symbol, m++;
   }
   if (m)
-    pllegend(&w, &h, 0, PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.01, 0.01, 0.05, 0, 0, 1, 0, 0, m,
+    pllegend(&w, &h, 0, PL_POSITION_BOTTOM | PL_POSITION_LEFT | PL_POSITION_INSIDE, 0.01, 0.01, 0.05, 0, 0, 1, 0, 0, m,
              opt, 0.8, 0.7, 1.5, 0.0, tcol, text, NULL, NULL, NULL, NULL, lcol, lsty, lwid, scol, sscale, snum, sym);
 }
 
@@ -282,25 +290,28 @@ static void draw_measures(const char *file, const char *title, const dtm_sweep_r
   plsfnam(file);
   plspage(0, 0, 1000, np > 1 ? 1100 : 700, 0, 0);
   set_colors();
-  plscol0(5, 44, 160, 44); /* band */
-  plscol0(6, 148, 0, 211); /* cheapest in band */
+  plscol0(5, 44, 160, 44);  /* band */
+  plscol0(6, 148, 0, 211);  /* cheapest in band */
+  plscol0(7, 255, 127, 14); /* mass scaling */
   plinit();
   pladv(0);
   snprintf(t, sizeof t, "dtmap sweep: %s", title ? title : "what accuracy costs");
   for (int p = 0; p < 2; p++) {
     if (!have[p]) continue;
     double top = 0.90 - j * (0.86 / np), bottom = top - 0.86 / np + 0.11;
-    plvpor(0.11, 0.95, bottom, top);
+    plvpor(0.13, 0.95, bottom, top);
+    if (j == 0) plmtex("t", 2.6, 0.5, 0.5, t);
     if (p == 0)
-      snprintf(pt, sizeof pt, "%s; worst phase-speed error at %.4g Hz%s, band %g %%", t, rows[0].frequency,
-               rows[0].frequency_default ? " (mesh default: no f-max)" : "", 100 * DTM_BAND_PHASE);
+      snprintf(pt, sizeof pt, "worst phase-speed error at %.4g Hz%s; band %g %%", rows[0].frequency,
+               rows[0].frequency_default ? " (no f-max: a mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
     else
-      snprintf(pt, sizeof pt, "%s; smallest elements per %s, band >= 5", j ? "" : t,
-               isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length");
-    panel_axes(c[p], p ? 1 : 3, p ? 5 : 100 * DTM_BAND_PHASE,
-               p ? (isfinite(rows[0].per_zone) ? 10 : 5) : 100 * DTM_BAND_PHASE, xl,
-               p ? "elements" : "|phase-speed error| (%)", pt);
-    panel_curves(c[p], p ? 1 : 3, rows, best);
+      snprintf(pt, sizeof pt, "smallest elements per %s; band %s",
+               isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length",
+               isfinite(rows[0].per_zone) ? "5-10" : ">= 5");
+    double xmid = panel_axes(c[p], p ? 1 : 3, p ? 5 : 100 * DTM_BAND_PHASE,
+                             p ? (isfinite(rows[0].per_zone) ? 10 : 5) : 100 * DTM_BAND_PHASE, xl,
+                             p ? "elements" : "|phase-speed error| (%)", pt);
+    panel_curves(c[p], p ? 1 : 3, rows, best, xmid);
     panel_legend(c[p], p ? 1 : 3);
     j++;
   }

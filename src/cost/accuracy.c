@@ -202,9 +202,10 @@ static double element_phase(table_cache *c, const dtm_dispersion *t, const dtm_e
   return (1 + e) * speed - 1;
 }
 
-/* The default frequency of a mesh: the median over its elements of
- * c_S / (N h), N the scene's elements per wavelength: the frequency at
- * which the median element has N cells per shear wavelength. */
+/* The default frequency of a mesh: the smallest over its elements of
+ * c_S / (N h), N the scene's elements per wavelength: the highest
+ * frequency at which every element has at least N cells per shear
+ * wavelength (on a graded mesh the coarse part sets it). */
 static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *fd) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   size_t n = dtm_analysis_nelements(a), k = 0, i = 0;
@@ -222,7 +223,9 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *f
       double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
       v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e, NULL)));
     }
-  *fd = median(v, k);
+  double lo = INFINITY;
+  for (size_t j = 0; j < k; j++) lo = fmin(lo, v[j]);
+  *fd = k ? lo : NAN;
   free(v);
   return DTM_OK;
 }
@@ -309,8 +312,8 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   if (rc) return rc;
   if (m.f_default)
     snprintf(m.note, sizeof m.note,
-             "no <time f-max>: at the mesh's default %.4g Hz (%g elements per shear wavelength at "
-             "the median element)",
+             "no <time f-max>: at the mesh's default %.4g Hz (at least %g cells per shear wavelength in "
+             "every element)",
              m.f, dtm_analysis_scene(a)->elements_per_wavelength);
   else if (skipped)
     snprintf(m.note, sizeof m.note, "%zu elements with a section or no material are not measured", skipped);

@@ -98,7 +98,7 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   dtm_cost_destroy(&c);
   row->per_zone = smallest_indicator(a, "elements_per_zone");
   row->per_wavelength = smallest_indicator(a, "elements_per_wavelength");
-  if (isnan(row->per_wavelength) && row->frequency_default) row->per_wavelength = row->per_wave_default;
+  if (isnan(row->per_wavelength)) row->per_wavelength = row->per_wave_default; /* no f-max: at the default */
   return r;
 }
 
@@ -192,7 +192,7 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
     fprintf(f, "\nphase-speed error at %.4g Hz%s, worst over the mesh, lumped mass, central differences\n",
             rows[0].frequency,
             rows[0].frequency_default ? " (no <time f-max>: the default of the first size's mesh, "
-                                        "10 cells per shear wavelength at its median element; 'per wave' is "
+                                        "at least 10 cells per shear wavelength in every element; 'per wave' is "
                                         "at that frequency)"
                                       : " (<time f-max>)");
   if (n) fprintf(f, "run time at %.3g ns per element-step\n", 1e9 * rows[0].per_element_step);
