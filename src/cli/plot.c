@@ -303,7 +303,7 @@ static void draw_measures(const char *file, const char *title, const dtm_sweep_r
     if (j == 0) plmtex("t", 2.6, 0.5, 0.5, t);
     if (p == 0)
       snprintf(pt, sizeof pt, "worst phase-speed error at %.4g Hz%s; band %g %%", rows[0].frequency,
-               rows[0].frequency_default ? " (no f-max: a mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
+               rows[0].frequency_default ? " (mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
     else
       snprintf(pt, sizeof pt, "smallest elements per %s; band %s",
                isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length",
