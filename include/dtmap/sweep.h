@@ -35,7 +35,7 @@ typedef struct {
   double hours_subcycled;  /* cost_subcycled x per_element_step / 3600, h */
   double hours_mass;       /* with mass scaling to the scene's target instead: elements x
                               ceil(duration / target) x per_element_step / 3600, h (NaN without
-                              a target or a duration) */
+                              a duration, or a target above the recommended step to lift it to) */
   double frequency;        /* frequency of the phase error, Hz (NaN: no elastic effect) */
   int frequency_default;   /* 1: the scene names no f-max; the first size's mesh default is
                               used at every size */
@@ -45,7 +45,7 @@ typedef struct {
   size_t unresolved;       /* elements with fewer than 2 lattice cells per wavelength */
   double phase_subcycled;  /* worst with every element at its subcycling level's step */
   double phase_mass;       /* worst at the target step with the mass that reaches it (NaN
-                              without a target) */
+                              without a target above the recommended step) */
   double per_diffusion;    /* smallest elements across sqrt(D duration) (NaN: no diffusion) */
   double per_wave_default; /* smallest shear wavelength / mean edge at the frequency used */
   int in_band;             /* 1: every measure inside its band (phase |error| <= 1 %, zone

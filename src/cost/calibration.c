@@ -16,7 +16,7 @@
 static const struct {
   int type;  /* element type */
   double ns; /* ns per element-step */
-} calibrated[] = {{DTM_TET4, 1181}, {DTM_TET10, 3674}, {DTM_HEX8, 5577}};
+} calibrated[] = {{DTM_TET4, 1181}, {DTM_TET10, 3674}, {DTM_HEX8, 5577}, {DTM_TRI3, 3125}};
 #define NCAL (sizeof calibrated / sizeof calibrated[0])
 
 /* The calibrated figure for type (ns), and whether it is the type's own. */

@@ -40,7 +40,7 @@ static int phase_variants(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_ro
   for (int k = 0; k < m->n; k++)
     if (m->m[k].kind == DTM_MEASURE_PHASE) row->phase_subcycled = m->m[k].worst;
   dtm_measures_destroy(&m);
-  if (!c->mass) return DTM_OK;
+  if (!c->mass || !(dtm_analysis_scene(a)->target > row->recommended)) return DTM_OK; /* nothing to lift */
   mass.target = dtm_analysis_scene(a)->target, mass.added = c->mass->added;
   DTM_CHECK(dtm_measures_compute(a, row->frequency, &mass, &m));
   for (int k = 0; k < m->n; k++)
@@ -74,7 +74,7 @@ static void fill_hours(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row *
   const dtm_scene *s = dtm_analysis_scene(a);
   row->per_element_step = c->per_element_step;
   row->hours = c->hours, row->hours_subcycled = c->hours_subcycled;
-  row->hours_mass = s->target > 0 && s->duration > 0
+  row->hours_mass = s->target > row->recommended && s->duration > 0
                         ? (double)row->elements * ceil(s->duration / s->target) * c->per_element_step / 3600
                         : NAN;
 }
