@@ -169,12 +169,15 @@ static const char *phase_cell(char *buf, size_t len, double v, size_t unresolved
 }
 
 static void print_row(FILE *f, const dtm_sweep_row *r) {
-  char c[12][32];
-  fprintf(f, "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %9s %9s %9s %9s %9s %9s %8s %4s %8.3f\n",
+  char c[14][32];
+  fprintf(f,
+          "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %9s %8s %7zu %9s %9s %9s %9s %9s %8s %4s "
+          "%8.3f\n",
           r->h, r->elements, r->nodes, r->dt_min, r->recommended, cell(c[0], 32, "%.0f", r->steps),
           cell(c[1], 32, "%.4e", r->cost), cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup,
           cell(c[3], 32, "%.3g", r->per_zone), cell(c[4], 32, "%.3g", r->per_wavelength),
-          phase_cell(c[5], 32, r->phase_error, r->unresolved), phase_cell(c[6], 32, r->phase_subcycled, r->unresolved),
+          phase_cell(c[5], 32, r->phase_error, r->unresolved), cell(c[12], 32, "%.3g", 100 * r->phase_median),
+          r->unresolved, phase_cell(c[6], 32, r->phase_subcycled, r->unresolved),
           cell(c[7], 32, "%+.3g", 100 * r->phase_mass), cell(c[8], 32, "%.4g", r->hours),
           cell(c[9], 32, "%.4g", r->hours_subcycled), cell(c[10], 32, "%.4g", r->hours_mass),
           cell(c[11], 32, "%.3g", r->per_diffusion), r->in_band ? "yes" : "no", r->seconds);
@@ -182,11 +185,13 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
 
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   FILE *f = stream;
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %9s %9s %9s %9s %9s %9s %8s %4s %8s\n", "h", "elements",
-          "nodes", "elem.bound", "dt rec.", "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave",
-          "phase", "ph.subc.", "ph.mass", "run", "run subc.", "run mass", "per diff", "band", "time");
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %9s %9s %9s %9s %9s %9s %8s %4s %8s\n", "(m)", "", "",
-          "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "(%)", "(h)", "(h)", "(h)", "(min)", "", "(s)");
+  static const char fmt[] = "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %9s %8s %7s %9s %9s %9s %9s %9s %8s %4s "
+                            "%8s\n";
+  fprintf(f, fmt, "h", "elements", "nodes", "elem.bound", "dt rec.", "steps", "elem-steps", "subcycled", "speed-up",
+          "per zone", "per wave", "phase", "ph.med.", "unres.", "ph.subc.", "ph.mass", "run", "run subc.", "run mass",
+          "per diff", "band", "time");
+  fprintf(f, fmt, "(m)", "", "", "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "", "(%)", "(%)", "(h)",
+          "(h)", "(h)", "(min)", "", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
   if (n && isfinite(rows[0].frequency))
     fprintf(f, "\nphase-speed error at %.4g Hz%s, worst over the mesh, lumped mass, central differences\n",
