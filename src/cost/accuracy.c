@@ -69,6 +69,14 @@ static const curve *curve_get(table_cache *c, const dtm_dispersion *t, double x)
   return c->c[c->nc++] = k;
 }
 
+/* The curve of table t at x if built, else NULL (read only: safe in the
+ * element loop's threads). */
+static const curve *curve_find(const table_cache *c, const dtm_dispersion *t, double x) {
+  for (int i = 0; i < c->nc; i++)
+    if (c->c[i]->t == t && c->c[i]->x == x) return c->c[i];
+  return NULL;
+}
+
 /* Linear in k h between the curve's points; NaN beyond pi. */
 static double curve_at(const curve *k, int mode, double kh) {
   double u = kh / PI * CURVE_N;
@@ -190,10 +198,10 @@ static double worst(const dtm_dispersion *t, const curve *k, int mode, double kh
 }
 
 /* The phase error of one element at frequency f: the worse of P and S. */
-static double element_phase(table_cache *c, const dtm_dispersion *t, const dtm_elastic_moduli *m, double h, double f,
-                            double dt, double speed) {
+static double element_phase(const table_cache *c, const dtm_dispersion *t, const dtm_elastic_moduli *m, double h,
+                            double f, double dt, double speed) {
   double cp = m->cd * speed, cs = sqrt(m->mu / m->rho) * speed, x = PI * f * dt;
-  const curve *k = speed == 1 ? curve_get(c, t, x) : NULL;
+  const curve *k = speed == 1 ? curve_find(c, t, x) : NULL;
   /* the lattice's own error at the scaled speed, then the speed's own factor */
   double ep = worst(t, k, 0, 2 * PI * f * h / cp, x);
   double es = m->form == DTM_FORM_BAR ? 0 : worst(t, k, 1, 2 * PI * f * h / cs, x);
@@ -230,41 +238,78 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *f
   return DTM_OK;
 }
 
+/* One block's material slots: the moduli and table of each material the
+ * block uses (NULL table: the material lacks E, nu or rho). */
+typedef struct {
+  dtm_elastic_moduli m;    /* moduli in the formulation */
+  const dtm_dispersion *t; /* its lattice table, or NULL */
+} slot;
+
+/* The tables of every material of block bl into s[nmat], and the curves
+ * of every step its elements take (levels) when no mass is added, so that
+ * the element loop only reads the cache. */
+static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr,
+                         const dtm_block *bl, size_t i0, table_cache *cache, slot *s) {
+  int nmat = dtm_analysis_scene(a)->nmaterials;
+  for (int k = 0; k < nmat; k++) s[k].t = NULL;
+  char *seen = calloc((size_t)nmat + 1, 1);
+  if (!seen) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK, levels = 1;
+  for (size_t e = 0; e < bl->n && !rc; e++) {
+    int mt = bl->mat[e];
+    if (sr->st && sr->st->level && sr->st->level[i0 + e] + 1 > levels) levels = sr->st->level[i0 + e] + 1;
+    if (mt < 0 || seen[mt]) continue;
+    seen[mt] = 1;
+    if (!moduli(a, mt, f, &s[mt].m))
+      rc = cache_get(cache, bl->type, f == DTM_FORM_BAR ? 0 : s[mt].m.mu / s[mt].m.modulus, &s[mt].t);
+  }
+  for (int k = 0; k < nmat && !rc; k++)
+    for (int l = 0; s[k].t && l < levels && !(sr->st && sr->st->added); l++) {
+      double dt = sr->st && sr->st->target > 0 ? sr->st->target : sr->dt * ldexp(1.0, sr->st && sr->st->level ? l : 0);
+      curve_get(cache, s[k].t, PI * freq * dt);
+    }
+  free(seen);
+  return rc;
+}
+
 /* Per element phase errors into err[nel] (NaN: unresolved; the elements
  * it does not apply to are skipped and counted in *skipped); the smallest
- * shear wavelength over mean edge into *per_wave. */
+ * shear wavelength over mean edge into *per_wave. The element loop runs
+ * on the OpenMP threads, reading the tables and curves prepared for it. */
 static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, double *err,
                         size_t *skipped, double *per_wave) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   table_cache cache = {0};
-  size_t i = 0;
+  slot *s = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *s);
+  if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t i0 = 0, skip = 0;
+  double pwmin = INFINITY;
   int rc = DTM_OK;
-  *skipped = 0;
-  for (int b = 0; b < mesh->nblocks && !rc; b++) {
+  for (int b = 0; b < mesh->nblocks && !rc; i0 += mesh->blocks[b++].n) {
     const dtm_block *bl = &mesh->blocks[b];
-    int last = -2;
-    dtm_elastic_moduli m;
-    const dtm_dispersion *t = NULL;
-    for (size_t e = 0; e < bl->n && !rc; e++, i++) {
+    rc = prepare_block(a, f, freq, sr, bl, i0, &cache, s);
+    if (rc) break;
+    const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static) reduction(+ : skip) reduction(min : pwmin)
+    for (long long e = 0; e < n; e++) {
+      size_t i = i0 + (size_t)e;
+      int mt = bl->mat[e];
       err[i] = INFINITY; /* not applicable */
-      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0)) {
-        ++*skipped;
+      if (mt < 0 || (bl->section && bl->section[e] >= 0) || !s[mt].t) {
+        skip++;
         continue;
       }
-      if (bl->mat[e] != last) {
-        last = bl->mat[e];
-        if (moduli(a, last, f, &m)) continue;
-        rc = cache_get(&cache, bl->type, f == DTM_FORM_BAR ? 0 : m.mu / m.modulus, &t);
-      }
-      if (rc) break;
-      double dt, speed, edge, meas = element_measure(mesh, bl, e, &edge);
-      double pw = (f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho)) / (freq * edge);
-      if (!(pw >= *per_wave)) *per_wave = pw;
-      element_step(sr, i, m.rho * meas, &dt, &speed);
-      err[i] = isnan(dt) ? NAN : element_phase(&cache, t, &m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
+      const dtm_elastic_moduli *m = &s[mt].m;
+      double dt, speed, edge, meas = element_measure(mesh, bl, (size_t)e, &edge);
+      pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge));
+      element_step(sr, i, m->rho * meas, &dt, &speed);
+      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
     }
   }
+  *skipped = skip;
+  *per_wave = isfinite(pwmin) ? pwmin : NAN;
   cache_free(&cache);
+  free(s);
   return rc;
 }
 
