@@ -125,6 +125,8 @@ DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const 
  * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
  * 0 for the bar) at the wave vector kh n. */
 DTM_EXPORT int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]);
+/* 1 when type has a lattice model (bar, tri3, tri6, quad4, tet4, tet10, hex8). */
+DTM_EXPORT int dtm_dispersion_has_model(int type);
 /* Central differences on top: a semi-discrete error `space` and
  * x = omega_h dt / 2 give the relative phase-speed error of the fully
  * discrete scheme, (1 + space) asin(x) / x - 1 (NaN when x > 1: unstable). */
@@ -175,7 +177,7 @@ typedef struct {
   int f_default;         /* phase: 1 when the scene names no f-max and f is the mesh's default */
   double per_wavelength; /* phase: the smallest shear wavelength at f over the element's mean edge
                             (the elastic effect's "elements per wavelength", also without f-max) */
-  char note[192];        /* one line when something is missing or assumed ("" when not) */
+  char note[320];        /* one line when something is missing or assumed ("" when not) */
 } dtm_measure;
 
 typedef struct dtm_measures {

@@ -252,6 +252,7 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
                          const dtm_block *bl, size_t i0, table_cache *cache, slot *s) {
   int nmat = dtm_analysis_scene(a)->nmaterials;
   for (int k = 0; k < nmat; k++) s[k].t = NULL;
+  if (!dtm_dispersion_has_model(bl->type)) return DTM_OK; /* its elements are counted as not measured */
   char *seen = calloc((size_t)nmat + 1, 1);
   if (!seen) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int rc = DTM_OK, levels = 1;
@@ -360,8 +361,10 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
              "no <time f-max>: at the mesh's default %.4g Hz (at least %g cells per shear wavelength in "
              "every element)",
              m.f, dtm_analysis_scene(a)->elements_per_wavelength);
-  else if (skipped)
-    snprintf(m.note, sizeof m.note, "%zu elements with a section or no material are not measured", skipped);
+  if (skipped)
+    snprintf(m.note + strlen(m.note), sizeof m.note - strlen(m.note),
+             "%s%zu elements not measured (a section, no E/nu/rho, or a type without a dispersion model)",
+             m.note[0] ? "; " : "", skipped);
   return push(ms, &m);
 }
 

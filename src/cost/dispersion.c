@@ -295,6 +295,11 @@ static int space_errors(const lattice *L, double r, double kh, const double *n, 
   return DTM_OK;
 }
 
+int dtm_dispersion_has_model(int type) {
+  return type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TRI6 || type == DTM_QUAD4 || type == DTM_TET4 ||
+         type == DTM_TET10 || type == DTM_HEX8;
+}
+
 int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]) {
   lattice L;
   if (!(r >= 0 && r < 0.75) || !(kh > 0)) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g", r, kh);

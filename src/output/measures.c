@@ -37,7 +37,7 @@ static cJSON *measure_json(const dtm_analysis *a, const dtm_measure *m) {
   cJSON_AddItemToArray(band, cJSON_CreateNumber(m->band_lo));
   cJSON_AddItemToArray(band, isfinite(m->band_hi) ? cJSON_CreateNumber(m->band_hi) : cJSON_CreateNull());
   cJSON_AddBoolToObject(o, "in_band", m->in_band);
-  if (m->kind == DTM_MEASURE_PHASE) {
+  if (m->kind == DTM_MEASURE_PHASE && isfinite(m->f)) {
     cJSON_AddNumberToObject(o, "frequency", m->f);
     cJSON_AddStringToObject(o, "frequency_from", m->f_default ? "mesh default" : "scene f-max");
   }
