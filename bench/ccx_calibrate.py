@@ -12,7 +12,8 @@ step time is (N + 1/2) of them, so ccx takes N + 1 increments. A non-uniform ini
 strained. Prints a Markdown table and writes it as CSV (argv[1], default
 ccx_calibration.csv). Needs ccx (bench/setup.sh) and Debian's python3-gmsh.
 
-Usage: /usr/bin/python3 bench/ccx_calibrate.py [out.csv] [--quick]
+Usage: /usr/bin/python3 bench/ccx_calibrate.py [out.csv] [--quick] [--only=tet4,quad4,...]
+Rows are appended to the CSV as each case finishes.
 """
 import os
 import resource
@@ -108,7 +109,12 @@ def main():
     rows = []
     work = tempfile.mkdtemp(prefix="dtmap-ccx-")
     n1, n2 = (20, 120) if quick else (50, 450)
+    only = [a.split("=", 1)[1].split(",") for a in sys.argv[1:] if a.startswith("--only=")]
+    with open(out, "w") as f:
+        f.write("type,ccx_type,elements,nodes,cpu_%d_steps_s,cpu_%d_steps_s,ns_per_element_step\n" % (n1, n2))
     for case in CASES:
+        if only and case[0] not in only[0]:
+            continue
         tags, xyz, etags, conn = mesh(case)
         write_inp(os.path.join(work, "c.inp"), case, tags, xyz, etags, conn, 1e-12, 1e-12)
         dt = stable_increment(run(work, "c")[1])
@@ -119,12 +125,10 @@ def main():
         ns = (times[1] - times[0]) / (len(etags) * (n2 - n1)) * 1e9
         rows.append((case[0], case[2], len(etags), len(tags), times[0], times[1], ns))
         print("%-6s %-6s %8d elements %8d nodes  %6.2f s / %6.2f s CPU  %8.1f ns per element-step" % rows[-1], flush=True)
+        with open(out, "a") as f:
+            f.write("%s,%s,%d,%d,%.4f,%.4f,%.2f\n" % rows[-1])
     gmsh.finalize()
     shutil.rmtree(work)
-    with open(out, "w") as f:
-        f.write("type,ccx_type,elements,nodes,cpu_%d_steps_s,cpu_%d_steps_s,ns_per_element_step\n" % (n1, n2))
-        for r in rows:
-            f.write("%s,%s,%d,%d,%.4f,%.4f,%.2f\n" % r)
     print("\n| type | CalculiX | elements | ns per element-step |\n|---|---|---|---|")
     for r in rows:
         print("| %s | %s | %d | %.0f |" % (r[0], r[1], r[2], r[6]))
