@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # What the benchmarks need beyond scripts/setup.sh (not the tests): scipy
-# for the eigsh comparison, Gmsh's Python API for reading meshes there.
+# for the eigsh comparison, Gmsh's Python API for reading meshes there,
+# CalculiX (ccx) for the cost calibration (bench/ccx_calibrate.py).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/scripts/setup.sh"
 missing=()
-for p in python3-scipy python3-gmsh; do
+for p in python3-scipy python3-gmsh calculix-ccx; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0

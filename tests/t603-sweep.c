@@ -1,7 +1,10 @@
 /* The sweep on a real Gmsh geometry written by the test (a 1 m square,
  * OpenCASCADE, one physical surface, elastic plane strain with f-max): at
  * sizes 0.2, 0.1, 0.05 m a smaller size gives more elements and smaller
- * steps; the row's derived columns follow from its own fields; the CSV
+ * steps; the row's derived columns follow from its own fields (hours are
+ * element-steps x the cost of one element-step; the phase error is at the
+ * scene's f-max, NaN only where unresolved, and smaller on a finer mesh;
+ * in_band agrees with the 1 % band); the CSV
  * reads back with its header and one row per size; the PNG is a real PNG
  * with a non-zero size in its IHDR chunk. Also the error paths: a <mesh>
  * scene, bad sizes, unwritable outputs, and the plot of rows without a
@@ -21,6 +24,7 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/scene.h"
 #include "cli-impl.h"
+#include "dtmap/cost.h"
 #include "dtmap/sweep.h"
 #include "testutil.h"
 
@@ -28,8 +32,11 @@
 static const double sizes[NS] = {0.2, 0.1, 0.05};
 static const char header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
                              "element_steps_subcycled,subcycling_speedup,elements_per_zone,"
-                             "elements_per_wavelength,time_s";
-#define NCOL 12
+                             "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
+                             "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
+                             "elements_per_diffusion_length,cost_per_element_step_s,run_h,run_subcycled_h,"
+                             "run_mass_scaled_h,in_band";
+#define NCOL 24
 
 static char path_buf[4][512];
 static const char *in_tmp(int slot, const char *name) {
@@ -71,6 +78,14 @@ static void check_row(const dtm_sweep_row *r, double h) {
   assert_true(isnan(r->per_zone));
   assert_true(r->per_wavelength > 0 && isfinite(r->per_wavelength));
   assert_true(r->seconds > 0);
+  /* hours: element-steps x the cost of one; the phase error at the scene's f-max */
+  assert_true(r->per_element_step > 0);
+  assert_true(fabs(r->hours - r->cost * r->per_element_step / 3600) <= 1e-15 * r->hours);
+  assert_true(fabs(r->hours_subcycled - r->cost_subcycled * r->per_element_step / 3600) <= 1e-15 * r->hours);
+  assert_true(isnan(r->hours_mass) && isnan(r->phase_mass)); /* no target */
+  assert_true(r->frequency == 2e4 && !r->frequency_default && isnan(r->per_diffusion));
+  assert_true(r->unresolved ? isnan(r->phase_error) : isfinite(r->phase_error));
+  assert_int_equal(r->in_band, !r->unresolved && fabs(r->phase_error) <= DTM_BAND_PHASE);
 }
 
 /* A count's cell: digits only (a whole number, no exponent). */
@@ -82,7 +97,7 @@ static int whole_cell(const char *p) {
 /* Parse one CSV line into v[NCOL] (NaN for empty cells); counts (elements,
  * nodes, steps, element-steps) must be written as whole numbers. */
 static int parse_line(char *line, double *v) {
-  static const int whole[NCOL] = {0, 1, 1, 0, 0, 1, 1, 1, 0, 0, 0, 0};
+  static const int whole[NCOL] = {0, 1, 1, 0, 0, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 1};
   int k = 0;
   for (char *p = line, *end; k < NCOL; p = end + 1) {
     if (whole[k] && *p != ',' && !whole_cell(p)) return -1;
@@ -93,7 +108,7 @@ static int parse_line(char *line, double *v) {
   return k;
 }
 
-/* Parse the CSV back: the exact header and one row of 12 fields per size;
+/* Parse the CSV back: the exact header and one row of 24 fields per size;
  * h, elements, dt_min and the speed-up agree with the rows to %.9g (5e-9
  * relative), the counts exactly (whole numbers; the subcycled element-steps
  * rounded up). */
@@ -116,6 +131,9 @@ static void check_csv(const char *path, const dtm_sweep_row *rows) {
     assert_true(v[5] == r->steps && v[6] == r->cost && v[7] == ceil(r->cost_subcycled));
     assert_true(fabs(v[8] - r->speedup) <= 5e-9 * r->speedup);
     assert_true(isnan(v[9]) && v[10] > 0);
+    assert_true(v[12] == 2e4 && v[15] == (double)r->unresolved && v[23] == r->in_band);
+    assert_true(r->unresolved ? isnan(v[13]) : fabs(v[13] - r->phase_error) <= 5e-9 * fabs(r->phase_error));
+    assert_true(fabs(v[20] - r->hours) <= 5e-9 * r->hours && isnan(v[22]) && isnan(v[17]));
     n++;
   }
   fclose(f);
@@ -150,7 +168,10 @@ static void sweep_square(void **unused) {
     assert_true(rows[i].dt_min < rows[i - 1].dt_min);
     assert_true(rows[i].recommended < rows[i - 1].recommended);
     assert_true(rows[i].per_wavelength > rows[i - 1].per_wavelength);
+    /* a finer mesh at the same frequency: a smaller error, or resolved at last */
+    if (!rows[i - 1].unresolved) assert_true(fabs(rows[i].phase_error) < fabs(rows[i - 1].phase_error));
   }
+  assert_int_equal(rows[NS - 1].unresolved, 0);
   dtm_sweep_print(rows, NS, stdout);
   assert_int_equal(dtm_sweep_write_csv(in_tmp(2, "square_sweep.csv"), rows, NS), 0);
   check_csv(path_buf[2], rows);

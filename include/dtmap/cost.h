@@ -72,18 +72,24 @@ DTM_EXPORT void dtm_subcycling_free(dtm_subcycling *sc);
 
 /* What a run of the scene's duration costs on an analysed mesh, all from
  * one step: dt.recommended. */
+struct dtm_measures;
 typedef struct dtm_cost {
-  double duration;                /* the scene's <time duration>, s (0: none) */
-  double basis;                   /* the step used: dt.recommended, s */
-  double steps;                   /* ceil(duration / basis) (NaN: no duration) */
-  double element_steps;           /* elements x steps (NaN: no duration) */
-  double element_steps_subcycled; /* element_steps / speedup: never above it */
-  dtm_subcycling subcycling;      /* levels from the basis */
-  dtm_mass_scaling *mass;         /* to reach the scene's target from the basis, or NULL */
-  dtm_mass_scaling *shape_mass;   /* the mass the shape-limited elements' nodes need
-                                     to reach the target, or NULL when none */
-  dtm_mass_scaling *layer_mass;   /* the same for the thickness-limited ones only (per
-                                     group: group_added), or NULL when none */
+  double duration;                   /* the scene's <time duration>, s (0: none) */
+  double basis;                      /* the step used: dt.recommended, s */
+  double steps;                      /* ceil(duration / basis) (NaN: no duration) */
+  double element_steps;              /* elements x steps (NaN: no duration) */
+  double element_steps_subcycled;    /* element_steps / speedup: never above it */
+  dtm_subcycling subcycling;         /* levels from the basis */
+  dtm_mass_scaling *mass;            /* to reach the scene's target from the basis, or NULL */
+  dtm_mass_scaling *shape_mass;      /* the mass the shape-limited elements' nodes need
+                                        to reach the target, or NULL when none */
+  dtm_mass_scaling *layer_mass;      /* the same for the thickness-limited ones only (per
+                                        group: group_added), or NULL when none */
+  double per_element_step;           /* run time of one element-step, s (dtm_cost_per_element_step) */
+  char per_element_step_source[320]; /* where that figure came from */
+  double hours;                      /* element_steps x per_element_step / 3600 (NaN: no duration) */
+  double hours_subcycled;            /* the same with ideal subcycling */
+  struct dtm_measures *measures;     /* accuracy at the recommended step (dtm_measures_compute) */
 } dtm_cost;
 
 /* The cost of analysis a: subcycling levels always; mass scaling when the
@@ -93,11 +99,108 @@ typedef struct dtm_cost {
 DTM_EXPORT int dtm_cost_create(const dtm_analysis *a, dtm_cost **out);
 DTM_EXPORT void dtm_cost_destroy(dtm_cost **c);
 
+/* The run time of one element-step, s, into *seconds and where it comes
+ * from into source[len]: the scene's <time cost-per-element-step>, else
+ * dtmap's calibration (dtm_cost_calibrated_ns) weighted by the mesh's
+ * element types. */
+DTM_EXPORT int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *source, size_t len);
+/* dtmap's calibration for one element type, ns per element-step (CalculiX
+ * 2.20 explicit, one thread; a type not calibrated takes the nearest). */
+DTM_EXPORT double dtm_cost_calibrated_ns(int type);
+
 /* Element-steps to cover the scene's duration (NaN without one): every
  * element takes ceil(duration / recommended) steps. Subcycled: the same
  * divided by the ideal speed-up, (N ceil(duration / recommended)) /
  * speedup, so never above the plain cost. */
 DTM_EXPORT double dtm_cost_element_steps(const dtm_analysis *a);
 DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const dtm_subcycling *sc);
+
+/* The discrete dispersion of central differences with lumped mass on the
+ * regular lattice of an element type (src/cost/dispersion.c: Bloch
+ * analysis of the periodic patch; bar, tri3, tri6, quad4, tet4, tet10,
+ * hex8). r = mu / (lam + 2 mu) of the formulation (0 for the bar); kh the
+ * wavenumber times the lattice spacing h (the cell edge); n[3] a unit
+ * direction. */
+/* The semi-discrete relative phase-speed errors omega_h / (c k) - 1 of the
+ * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
+ * 0 for the bar) at the wave vector kh n. */
+DTM_EXPORT int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]);
+/* 1 when type has a lattice model (bar, tri3, tri6, quad4, tet4, tet10, hex8). */
+DTM_EXPORT int dtm_dispersion_has_model(int type);
+/* Central differences on top: a semi-discrete error `space` and
+ * x = omega_h dt / 2 give the relative phase-speed error of the fully
+ * discrete scheme, (1 + space) asin(x) / x - 1 (NaN when x > 1: unstable). */
+DTM_EXPORT double dtm_dispersion_time(double space, double x);
+
+#define DTM_DISP_DIRS 48 /* directions of a table (3D; 2D: 24, 1D: 1) */
+#define DTM_DISP_KH 16   /* points in k h over (0, pi] */
+/* The semi-discrete errors of one element type and r over directions and
+ * k h, stored as err / (k h)^2 (smooth in k h), once per type and material. */
+typedef struct {
+  int type;                                /* element type */
+  double r;                                /* mu / (lam + 2 mu) */
+  int ndir;                                /* directions used */
+  double dir[DTM_DISP_DIRS][3];            /* unit directions */
+  double g[2][DTM_DISP_DIRS][DTM_DISP_KH]; /* [P, S][dir][k h = pi (j + 1) / DTM_DISP_KH] */
+} dtm_dispersion;
+DTM_EXPORT int dtm_dispersion_table(int type, double r, dtm_dispersion *t);
+/* The fully discrete error of branch mode (0 P, 1 S) of largest magnitude
+ * over the table's directions at k h = kh, with x = c k dt / 2 (c that
+ * branch's exact speed); NaN when kh > pi (fewer than 2 cells per
+ * wavelength: unresolved) or unstable. */
+DTM_EXPORT double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x);
+
+/* Accuracy measures of an analysed mesh at its step (src/cost/accuracy.c):
+ * one per effect the scene names (cohesive: one per group). */
+typedef enum {
+  DTM_MEASURE_PHASE = 1,    /* elastic: phase-speed error at the frequency of interest (fraction) */
+  DTM_MEASURE_ZONE = 2,     /* cohesive: elements per process zone */
+  DTM_MEASURE_DIFFUSION = 3 /* thermal, hydraulic: elements across sqrt(D duration) */
+} dtm_measure_kind;
+#define DTM_BAND_PHASE 0.01    /* phase-speed error accepted: 1 % */
+#define DTM_BAND_DIFFUSION 5.0 /* elements across the diffusion length accepted (dtmap's choice) */
+
+typedef struct {
+  int kind;              /* dtm_measure_kind */
+  int effect;            /* scene index of the effect */
+  int group;             /* cohesive: mesh group index (-1: elements in no group); else -1 */
+  double worst;          /* phase: the signed error of largest magnitude (NaN when any element is
+                            unresolved or none applies); counts: the smallest */
+  double median;         /* phase: median |error|; counts: median count (NaN: none) */
+  size_t worst_element;  /* global element index of the worst */
+  size_t elements;       /* elements measured */
+  size_t unresolved;     /* phase: elements with fewer than 2 lattice cells per wavelength */
+  double band_lo;        /* the accepted band: phase [-band_hi, band_hi]; zone [5, 10]; */
+  double band_hi;        /* diffusion [DTM_BAND_DIFFUSION, inf) */
+  int in_band;           /* 1: worst inside (zone, diffusion: at or above band_lo) */
+  double f;              /* phase: the frequency, Hz */
+  int f_default;         /* phase: 1 when the scene names no f-max and f is the mesh's default */
+  double per_wavelength; /* phase: the smallest shear wavelength at f over the element's mean edge
+                            (the elastic effect's "elements per wavelength", also without f-max) */
+  char note[320];        /* one line when something is missing or assumed ("" when not) */
+} dtm_measure;
+
+typedef struct dtm_measures {
+  int n;          /* measures */
+  dtm_measure *m; /* [n] in scene effect order (owned) */
+} dtm_measures;
+
+/* The step each element takes, for dtm_measures_compute (NULL: the
+ * recommended step everywhere). */
+typedef struct {
+  const int *level;    /* [nel] subcycling levels: recommended x 2^level (NULL: none) */
+  double target;       /* > 0: every element steps at it (mass scaling) */
+  const double *added; /* [nel] mass added to reach it (dtm_mass_scaling.added) or NULL */
+} dtm_measure_step;
+
+/* The measures of analysis a. f > 0: the frequency of the phase error, Hz
+ * (else the scene's f-max, else the mesh's default: the smallest over the
+ * elements of c_S / (N h), N = elements-per-wavelength, h the lattice
+ * spacing: every element has at least N cells per shear wavelength). *out is owned by
+ * the caller (dtm_measures_destroy). */
+DTM_EXPORT int dtm_measures_compute(const dtm_analysis *a, double f, const dtm_measure_step *st, dtm_measures **out);
+DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);
+/* Name of a dtm_measure_kind, for tables. */
+DTM_EXPORT const char *dtm_measure_name(int kind);
 
 #endif

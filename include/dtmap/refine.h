@@ -26,6 +26,10 @@ typedef struct dtm_refine_round_s {
   size_t below;         /* elements below the target */
   size_t shape_limited; /* the shape-limited ones among them */
   double seconds;       /* wall time of the round (mesh + analysis) */
+  double phase_error;   /* worst phase-speed error at the recommended step and the frequency
+                           of round 0 (dtm_measures; NaN: unresolved or no elastic effect) */
+  size_t unresolved;    /* elements with fewer than 2 lattice cells per wavelength */
+  int in_band;          /* 1: every accuracy measure inside its band */
 } dtm_refine_round;
 
 #define DTM_REFINE_MAX_ROUNDS 32
@@ -59,6 +63,8 @@ typedef struct dtm_refine_result {
   double forced;                                  /* elements the input's accuracy bounds add at its
                                                      size suggestion (dtm_accuracy.forced) */
   const char *forced_by;                          /* that bound's view name, or NULL */
+  double frequency;                               /* the phase errors' frequency, Hz: the scene's
+                                                     f-max, else round 0's mesh default (0: none) */
   dtm_analysis *analysis;                         /* the kept mesh's analysis (owned); the current
                                                      Gmsh model holds that mesh */
   int ncauses;                                    /* causes named */

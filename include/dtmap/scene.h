@@ -64,6 +64,8 @@ typedef struct dtm_scene {
   double duration;                /* <time duration>, s; 0 when unset */
   double f_max;                   /* <time f-max>, Hz; 0 when unset */
   double elements_per_wavelength; /* <time elements-per-wavelength>; 10 when unset */
+  double cost_per_element_step;   /* <time cost-per-element-step>, s; 0 when unset (dtmap's calibration) */
+  int time_line;                  /* line of <time>, 0 when there is none */
   int nprops;                     /* entries in the property catalogue */
   char **prop_names;              /* [nprops] property names: the built-in effects' first, then
                                      the others the materials give (materials' prop is indexed so) */

@@ -131,8 +131,13 @@ const cli_command dtm_cli_commands[] = {
      "step), the recommended step, the whole steps the scene's <time duration> takes at\n"
      "it, its cost in element-steps with that one step and with ideal subcycling (levels\n"
      "of the recommended step x 2^k) and that speed-up, the smallest elements per\n"
-     "cohesive zone and per wavelength, and dtmap's own time; then the table as CSV\n"
-     "(units in the header) and the plot as PNG.",
+     "cohesive zone and per wavelength, and dtmap's own time; then what each size buys\n"
+     "and costs in hours: the worst phase-speed error at one frequency (<time f-max>,\n"
+     "else the first mesh's default) with one step, with subcycling and with mass\n"
+     "scaling to the target, elements across the diffusion length, the run time of each\n"
+     "(<time cost-per-element-step>, else dtmap's CalculiX calibration) and whether every\n"
+     "measure is in its band; then the table as CSV (units in the header) and the plot\n"
+     "as PNG: error against hours, the band and the cheapest size inside it marked.",
      sweep_options, dtm_cli_sweep},
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"

@@ -1,11 +1,15 @@
-/* The sweep's picture: cost against accuracy on log-log axes, drawn with
- * PLplot's pngcairo device into a PNG written atomically (a temporary name
- * ending in .png, renamed into place once PLplot has closed it). x is the
- * accuracy indicator (smallest elements per wavelength, else per process
- * zone, else 1/h), y the element-steps of the scene's duration with one
- * global step and with ideal subcycling. PLplot exits the process on a
- * fatal error, so every condition it would die on (no pngcairo device, an
- * unwritable file) is checked before it is called. */
+/* The sweep's picture, drawn with PLplot's pngcairo device into a PNG
+ * written atomically (a temporary name ending in .png, renamed into place
+ * once PLplot has closed it). When the sweep has accuracy measures: error
+ * against run time in hours on log-log axes, one panel per kind of measure
+ * (the worst phase-speed error in %; the smallest elements per cohesive
+ * zone or across the diffusion length), one curve per way of running (one
+ * global step, ideal subcycling, mass scaling to the target), the band as
+ * dashed lines and the cheapest size inside every band ringed and named.
+ * Without measures: element-steps against 1/h as before. Without a
+ * duration the time axis is hours per simulated second. PLplot exits the
+ * process on a fatal error, so every condition it would die on (no
+ * pngcairo device, an unwritable file) is checked before it is called. */
 #include <errno.h>
 #include <math.h>
 #include <plplot.h>
@@ -157,6 +161,163 @@ static void draw(const char *file, const char *title, const plot_data *d) {
   plend();
 }
 
+/* One curve of the error plot: log10 run time against log10 measure. */
+typedef struct {
+  int n;               /* points kept */
+  double x[64], y[64]; /* log10 hours (or hours per simulated second), log10 value */
+  int row[64];         /* the row of each point */
+  const char *label;   /* legend */
+  int color;           /* cmap0 index */
+  const char *symbol;  /* PLplot symbol */
+} curve;
+
+/* The time of a row for one way of running: hours, or hours per simulated
+ * second without a duration (way: 0 global, 1 subcycled, 2 mass scaled). */
+static double row_time(const dtm_sweep_row *r, int way) {
+  double h = way == 0 ? r->hours : way == 1 ? r->hours_subcycled : r->hours_mass;
+  if (isfinite(h) || way == 2) return h;
+  double per_s = (double)r->elements / r->recommended * r->per_element_step / 3600;
+  return way == 0 ? per_s : per_s / r->speedup;
+}
+
+/* The measure of a row for panel p (0 phase error in %, 1 smallest count). */
+static double row_value(const dtm_sweep_row *r, int p, int way) {
+  if (p == 1) return isfinite(r->per_zone) ? r->per_zone : r->per_diffusion;
+  double e = way == 0 ? r->phase_error : way == 1 ? r->phase_subcycled : r->phase_mass;
+  return r->unresolved ? NAN : 100 * fabs(e);
+}
+
+static void fill_curve(const dtm_sweep_row *rows, int n, int p, int way, curve *c) {
+  static const char *labels[3] = {"one global step", "ideal subcycling", "mass scaling to the target"};
+  static const char *symbols[3] = {"#(840)", "#(841)", "#(842)"};
+  static const int colors[3] = {2, 3, 7};
+  c->n = 0, c->label = labels[way], c->color = colors[way], c->symbol = symbols[way];
+  for (int i = 0; i < n && c->n < 64; i++) {
+    double x = row_time(&rows[i], way), y = row_value(&rows[i], p, p == 1 ? 0 : way);
+    if (!(x > 0 && y > 0) || !isfinite(x) || !isfinite(y)) continue;
+    c->x[c->n] = log10(x), c->y[c->n] = log10(y), c->row[c->n++] = i;
+  }
+}
+
+/* One panel's axes: ranges over its curves and the band. */
+static double panel_axes(const curve *c, int nc, double band_lo, double band_hi, const char *xl, const char *yl,
+                         const char *title) {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = log10(band_lo), y1 = log10(band_hi);
+  for (int k = 0; k < nc; k++)
+    for (int i = 0; i < c[k].n; i++)
+      x0 = fmin(x0, c[k].x[i]), x1 = fmax(x1, c[k].x[i]), y0 = fmin(y0, c[k].y[i]), y1 = fmax(y1, c[k].y[i]);
+  double px = x1 - x0 > 0.1 ? 0.08 * (x1 - x0) : 0.25, py = y1 - y0 > 0.1 ? 0.08 * (y1 - y0) : 0.25;
+  x0 -= px, x1 += px, y0 -= py, y1 += py;
+  if (floor(x1) - ceil(x0) < 1) x0 = floor(x0), x1 = ceil(x1);
+  if (floor(y1) - ceil(y0) < 1) y0 = floor(y0), y1 = ceil(y1);
+  plwind(x0, x1, y0, y1);
+  plcol0(4);
+  plbox("ghl", 0, 0, "ghl", 0, 0);
+  plcol0(1);
+  plbox("bclnst", 0, 0, "bclnstv", 0, 0);
+  plmtex("b", 3.2, 0.5, 0.5, xl);
+  plmtex("l", 4.2, 0.5, 0.5, yl);
+  plschr(0, 0.85);
+  plmtex("t", 1.0, 0.5, 0.5, title);
+  plschr(0, 1.0);
+  plwind(x0, x1, y0, y1); /* keep the world window for the labels */
+  plcol0(5);
+  pllsty(2);
+  for (int k = 0; k < 2; k++) {
+    double v = log10(k ? band_hi : band_lo), xs[2] = {x0, x1}, ys[2] = {v, v};
+    if (isfinite(v) && (k == 0 || band_hi != band_lo)) plline(2, xs, ys);
+  }
+  pllsty(1);
+  return 0.5 * (x0 + x1);
+}
+
+/* The curves, each point of the first named by its size (right of the
+ * point in the left half of the box, left of it in the right half). */
+static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int best, double xmid) {
+  for (int k = 0; k < nc; k++) {
+    if (!c[k].n) continue;
+    plcol0(c[k].color);
+    plwidth(2.0);
+    if (c[k].n > 1) plline(c[k].n, c[k].x, c[k].y);
+    plstring(c[k].n, c[k].x, c[k].y, c[k].symbol);
+    plwidth(1.0);
+    for (int i = 0; i < c[k].n && k == 0; i++) {
+      char t[64];
+      snprintf(t, sizeof t, "%s%g m", c[k].row[i] == best ? "cheapest in band: h = " : "h = ", rows[c[k].row[i]].h);
+      plcol0(c[k].row[i] == best ? 6 : 1);
+      if (c[k].row[i] == best) plstring(1, &c[k].x[i], &c[k].y[i], "#(850)");
+      plschr(0, c[k].row[i] == best ? 0.8 : 0.65);
+      int left = c[k].x[i] > xmid;
+      plptex(c[k].x[i], c[k].y[i], 1, 0, left ? 1.08 : -0.08, t);
+      plschr(0, 1.0);
+    }
+  }
+}
+
+static void panel_legend(const curve *c, int nc) {
+  PLINT opt[3], tcol[3], lcol[3], lsty[3], scol[3], snum[3];
+  PLFLT lwid[3], sscale[3], w, h;
+  const char *text[3], *sym[3];
+  int m = 0;
+  for (int k = 0; k < nc; k++) {
+    if (!c[k].n) continue;
+    opt[m] = PL_LEGEND_LINE | PL_LEGEND_SYMBOL, tcol[m] = 1, lcol[m] = scol[m] = c[k].color, lsty[m] = 1;
+    snum[m] = 1, lwid[m] = 2.0, sscale[m] = 1.0, text[m] = c[k].label, sym[m] = c[k].symbol, m++;
+  }
+  if (m)
+    pllegend(&w, &h, 0, PL_POSITION_BOTTOM | PL_POSITION_LEFT | PL_POSITION_INSIDE, 0.01, 0.01, 0.05, 0, 0, 1, 0, 0, m,
+             opt, 0.8, 0.7, 1.5, 0.0, tcol, text, NULL, NULL, NULL, NULL, lcol, lsty, lwid, scol, sscale, snum, sym);
+}
+
+/* The error panels that have points: 0 phase error, 1 counts. */
+static int measure_panels(const dtm_sweep_row *rows, int n, curve c[2][3], int have[2]) {
+  int np = 0;
+  for (int p = 0; p < 2; p++) {
+    have[p] = 0;
+    for (int w = 0; w < 3; w++) fill_curve(rows, n, p, w, &c[p][w]), have[p] |= c[p][w].n > 0;
+    np += have[p];
+  }
+  return np;
+}
+
+static void draw_measures(const char *file, const char *title, const dtm_sweep_row *rows, int n, curve c[2][3],
+                          const int have[2]) {
+  int best = dtm_sweep_cheapest(rows, n), np = have[0] + have[1], j = 0;
+  int per_s = !isfinite(rows[0].hours);
+  const char *xl = per_s ? "run time per simulated second (h/s)" : "run time (h)";
+  char t[512], pt[1024];
+  plsdev("pngcairo");
+  plsfnam(file);
+  plspage(0, 0, 1000, np > 1 ? 1100 : 700, 0, 0);
+  set_colors();
+  plscol0(5, 44, 160, 44);  /* band */
+  plscol0(6, 148, 0, 211);  /* cheapest in band */
+  plscol0(7, 255, 127, 14); /* mass scaling */
+  plinit();
+  pladv(0);
+  snprintf(t, sizeof t, "dtmap sweep: %s", title ? title : "what accuracy costs");
+  for (int p = 0; p < 2; p++) {
+    if (!have[p]) continue;
+    double top = 0.90 - j * (0.86 / np), bottom = top - 0.86 / np + 0.11;
+    plvpor(0.13, 0.95, bottom, top);
+    if (j == 0) plmtex("t", 2.6, 0.5, 0.5, t);
+    if (p == 0)
+      snprintf(pt, sizeof pt, "worst phase-speed error at %.4g Hz%s; band %g %%", rows[0].frequency,
+               rows[0].frequency_default ? " (mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
+    else
+      snprintf(pt, sizeof pt, "smallest elements per %s; band %s",
+               isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length",
+               isfinite(rows[0].per_zone) ? "5-10" : ">= 5");
+    double xmid = panel_axes(c[p], p ? 1 : 3, p ? 5 : 100 * DTM_BAND_PHASE,
+                             p ? (isfinite(rows[0].per_zone) ? 10 : 5) : 100 * DTM_BAND_PHASE, xl,
+                             p ? "elements" : "|phase-speed error| (%)", pt);
+    panel_curves(c[p], p ? 1 : 3, rows, best, xmid);
+    panel_legend(c[p], p ? 1 : 3);
+    j++;
+  }
+  plend();
+}
+
 /* The file PLplot wrote starts with the PNG signature. */
 static int png_ok(const char *file) {
   static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -170,12 +331,17 @@ static int png_ok(const char *file) {
 
 /* PLplot exits the process when it cannot open its output, so the
  * temporary is created (and its directory proven writable) first. */
-static int plot_file(const char *path, const char *title, const plot_data *d) {
+static int plot_file(const char *path, const char *title, const plot_data *d, const dtm_sweep_row *rows, int n) {
   dtm_atomic w;
+  curve c[2][3];
+  int have[2];
   DTM_CHECK(dtm_atomic_open(&w, path, ".png", 1));
   if (fclose(w.f)) return w.f = NULL, dtm_atomic_abort(&w), DTM_ERR(DTM_ERR_INPUT, "%s: cannot write", path);
   w.f = NULL;
-  draw(w.tmp, title, d);
+  if (measure_panels(rows, n, c, have))
+    draw_measures(w.tmp, title, rows, n, c, have);
+  else
+    draw(w.tmp, title, d);
   if (!png_ok(w.tmp)) return dtm_atomic_abort(&w), DTM_ERR(DTM_ERR_INTERNAL, "%s: PLplot did not write a PNG", path);
   return dtm_atomic_commit(&w);
 }
@@ -185,7 +351,7 @@ int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_swe
   if (!have_pngcairo()) return DTM_ERR(DTM_ERR_INTERNAL, "PLplot has no pngcairo device: install plplot-driver-cairo");
   plot_data d;
   DTM_CHECK(collect(rows, n, &d));
-  int r = plot_file(path, title, &d);
+  int r = plot_file(path, title, &d, rows, n);
   free(d.x);
   return r;
 }

@@ -16,12 +16,41 @@
 #include "dtmap/refine.h"
 #include "dtmap/scene.h"
 
+/* The worst phase error of a round in percent, or why there is none. */
+static const char *phase_text(const dtm_refine_round *r, char *buf, size_t len) {
+  if (r->unresolved)
+    snprintf(buf, len, "unres.");
+  else if (isnan(r->phase_error))
+    snprintf(buf, len, "-");
+  else
+    snprintf(buf, len, "%+.3g%%", 100 * r->phase_error);
+  return buf;
+}
+
 static void print_round(const dtm_refine_result *rr, int i) {
   const dtm_refine_round *r = &rr->rounds[i];
   double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
-  printf("%5d %10zu %12.4e %12.4e %12.4e %+9.1f%% %9zu %9zu %9.2f%s%s\n", i, r->elements, r->dt_min, r->recommended, c,
-         100.0 * (c / c0 - 1.0), r->below, r->shape_limited, r->seconds,
-         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
+  char ph[32];
+  printf("%5d %10zu %12.4e %12.4e %12.4e %+9.1f%% %9zu %9zu %9s %5s %9.2f%s%s\n", i, r->elements, r->dt_min,
+         r->recommended, c, 100.0 * (c / c0 - 1.0), r->below, r->shape_limited, phase_text(r, ph, sizeof ph),
+         r->in_band ? "yes" : "no", r->seconds, r->recommended >= rr->target ? "  target met" : "",
+         i == rr->best ? "  (kept)" : "");
+}
+
+/* What the kept mesh and its step do to the accuracy of the input: on
+ * stdout the phase error before and after, on stderr (even with -q) a
+ * warning when the kept mesh leaves a band the input was inside. */
+static void print_accuracy_change(const dtm_refine_result *rr, int verbose) {
+  const dtm_refine_round *r0 = &rr->rounds[0], *rb = &rr->rounds[rr->best];
+  char a[32], b[32];
+  if (verbose && rr->frequency > 0)
+    printf("accuracy: worst phase-speed error at %.4g Hz %s on the input, %s on the kept mesh at its step\n",
+           rr->frequency, phase_text(r0, a, sizeof a), phase_text(rb, b, sizeof b));
+  if (r0->in_band && !rb->in_band)
+    fprintf(stderr,
+            "dtmap: warning: the kept mesh at its larger step leaves the accuracy band the input was inside "
+            "(worst phase-speed error %s -> %s; see 'accuracy at the recommended step' in the summary)\n",
+            phase_text(r0, a, sizeof a), phase_text(rb, b, sizeof b));
 }
 
 /* The causes, each with its fix indented (lines to paste into the .geo). */
@@ -42,8 +71,8 @@ static void print_causes(const dtm_refine_result *rr) {
 
 static void print_rounds(const dtm_refine_result *rr) {
   int rate = isnan(rr->rounds[0].element_steps);
-  printf("\n%5s %10s %12s %12s %12s %10s %9s %9s %9s\n", "round", "elements", "elem. bound", "recommended",
-         rate ? "elem-steps/s" : "element-steps", "change", "below", "shape-lim", "time (s)");
+  printf("\n%5s %10s %12s %12s %12s %10s %9s %9s %9s %5s %9s\n", "round", "elements", "elem. bound", "recommended",
+         rate ? "elem-steps/s" : "element-steps", "change", "below", "shape-lim", "phase", "band", "time (s)");
   for (int i = 0; i < rr->nrounds; i++) print_round(rr, i);
   printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
   if (rr->forced_by && rr->forced >= 0.5)
@@ -65,7 +94,9 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
   dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
   dtm_cli_warn_flagged(rr->analysis);
-  if (o->verbosity) print_rounds(rr), printf("\n"), dtm_summary_print(&res, stdout);
+  if (o->verbosity) print_rounds(rr);
+  print_accuracy_change(rr, o->verbosity);
+  if (o->verbosity) printf("\n"), dtm_summary_print(&res, stdout);
   int r = dtm_cli_write_outputs(&res, o, "_refined", NULL);
   dtm_cost_destroy(&cost);
   return r;

@@ -2,8 +2,8 @@
  * analysed mesh in element-steps, with one global step (the recommended
  * step) and with ideal subcycling, plus the subcycling levels and, when the
  * scene has a target, the mass scaling that would reach it and the mass
- * the shape-limited elements need. Everything rests on one step,
- * dt.recommended, and its basis. */
+ * the shape-limited elements need, the run time in hours and the accuracy
+ * measures. Everything rests on one step, dt.recommended, and its basis. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -28,6 +28,7 @@ void dtm_cost_destroy(dtm_cost **pc) {
   free(c->shape_mass);
   if (c->layer_mass) dtm_mass_scaling_free(c->layer_mass);
   free(c->layer_mass);
+  dtm_measures_destroy(&c->measures);
   free(c);
   *pc = NULL;
 }
@@ -62,6 +63,15 @@ static int shape_mass(const dtm_analysis *a, int thin, dtm_mass_scaling **out) {
   return r;
 }
 
+/* Hours from element-steps and the cost of one. */
+static int time_cost(const dtm_analysis *a, dtm_cost *c) {
+  DTM_CHECK(dtm_cost_per_element_step(a, &c->per_element_step, c->per_element_step_source,
+                                      sizeof c->per_element_step_source));
+  c->hours = c->element_steps * c->per_element_step / 3600;
+  c->hours_subcycled = c->element_steps_subcycled * c->per_element_step / 3600;
+  return DTM_OK;
+}
+
 int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   const dtm_scene *s = dtm_analysis_scene(a);
   dtm_cost *c = calloc(1, sizeof *c);
@@ -75,6 +85,8 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   if (r == DTM_OK && s->target > 0) r = target_mass(a, c);
   if (r == DTM_OK && s->target > 0) r = shape_mass(a, 0, &c->shape_mass);
   if (r == DTM_OK && s->target > 0) r = shape_mass(a, 1, &c->layer_mass);
+  if (r == DTM_OK) r = time_cost(a, c);
+  if (r == DTM_OK) r = dtm_measures_compute(a, 0, NULL, &c->measures);
   if (r) {
     dtm_cost_destroy(&c);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);

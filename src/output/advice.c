@@ -66,6 +66,19 @@ static void conflict_warning(const dtm_analysis *a, dtm_warnings *w) {
                               dtm_analysis_hmax(a)[i], ac.dt_cap, ac.conflicts);
 }
 
+/* A phase-speed error some element cannot carry: fewer than 2 cells per
+ * wavelength at the frequency, so the error is unresolved, not small. */
+static void unresolved_warning(const dtm_cost *c, dtm_warnings *w) {
+  for (int k = 0; c->measures && k < c->measures->n; k++) {
+    const dtm_measure *m = &c->measures->m[k];
+    if (m->kind == DTM_MEASURE_PHASE && m->unresolved)
+      warn(w,
+           "%zu of %zu elements have fewer than 2 cells per wavelength at %.4g Hz%s: the phase-speed error is "
+           "unresolved there (the mesh cannot carry that frequency; refine it or lower <time f-max>)",
+           m->unresolved, m->elements, m->f, m->f_default ? " (the mesh's default frequency)" : "");
+  }
+}
+
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   w->n = 0;
   if (r->cost && r->cost->mass) dtm_output_mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
@@ -73,6 +86,7 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
     dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
+  if (r->cost) unresolved_warning(r->cost, w);
 }
 
 const char *dtm_feature_name(int kind) {

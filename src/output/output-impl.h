@@ -21,6 +21,9 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+/* The run time in hours and the accuracy measures of c, for the summary
+ * (stream is a FILE *; src/output/measures.c). */
+void dtm_summary_measures(const dtm_analysis *a, const dtm_cost *c, void *stream);
 /* Its parts: the added mass of ms (what: which mass scaling) above
  * DTM_MASS_WARN of the model or a group; a target the accuracy bound
  * forbids at n elements (the bound's view, its size, the step it allows). */

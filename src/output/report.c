@@ -155,6 +155,10 @@ cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c) {
   add_number(o, "element_steps_subcycled", c->element_steps_subcycled);
   cJSON_AddNumberToObject(o, "basis", c->basis);
   cJSON_AddStringToObject(o, "basis_estimate", dtm_analysis_basis(a));
+  cJSON_AddNumberToObject(o, "per_element_step", c->per_element_step);
+  cJSON_AddStringToObject(o, "per_element_step_source", c->per_element_step_source);
+  add_number(o, "hours", c->element_steps * c->per_element_step / 3600);
+  add_number(o, "hours_subcycled", c->element_steps_subcycled * c->per_element_step / 3600);
   return o;
 }
 
@@ -524,6 +528,7 @@ static cJSON *report_json(const dtm_results *r) {
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));
+  if (r->cost) cJSON_AddItemToObject(root, "accuracy_measures", dtm_report_measures(a, r->cost->measures));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));
   cJSON_AddItemToObject(root, "cohesive", dtm_report_zones(a));

@@ -39,6 +39,8 @@ cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON 
  * top, ascending), as the report writes them. */
 cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c);
 cJSON *dtm_report_zones(const dtm_analysis *a);
+/* The accuracy measures ms of a (src/output/measures.c), one object each. */
+cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
 /* The elements r lists as the smallest steps: r->top, or the default. */

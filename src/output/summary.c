@@ -313,6 +313,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   print_zones(r->analysis, f);
   print_accuracy(r->analysis, f);
   if (r->cost) print_cost(r->analysis, r->cost, f);
+  if (r->cost) dtm_summary_measures(r->analysis, r->cost, f);
   print_shape(r, f);
   print_layers(r, f);
   print_smallest(r, f);

@@ -156,6 +156,8 @@ static int read_meshing(dtm_scene *s, const xmlNode *n) {
 }
 
 static int read_time(dtm_scene *s, const xmlNode *n) {
+  s->time_line = dtm_scene_line(n);
+  DTM_CHECK(dtm_scene_attr_positive(s, n, "cost-per-element-step", 0, &s->cost_per_element_step));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "safety", 0.9, &s->safety));
   if (s->safety > 1) return DTM_SCENE_ERR(s, n, "<time> safety=%g is not admissible (need 0 < safety <= 1)", s->safety);
   DTM_CHECK(dtm_scene_attr_positive(s, n, "target", 0, &s->target));

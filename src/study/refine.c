@@ -41,6 +41,7 @@
 
 #include "dtmap/gmsh.h"
 #include "dtmap/progress.h"
+#include "dtmap/cost.h"
 #include "dtmap/refine.h"
 #include "dtmap/util.h"
 #include "study-impl.h"
@@ -69,13 +70,35 @@ static double first_calibration(const dtm_analysis *a) {
 
 double dtm_refine_cost(const dtm_refine_round *r) { return isnan(r->element_steps) ? r->rate : r->element_steps; }
 
-static void record(const dtm_analysis *a, double seconds, dtm_refine_round *r) {
+/* The round's accuracy: the worst phase-speed error at the frequency of
+ * round 0 (rr->frequency, 0 before it is known) and whether every measure
+ * is inside its band. */
+static int record_accuracy(const dtm_analysis *a, dtm_refine_result *rr, dtm_refine_round *r) {
+  dtm_measures *m = NULL;
+  DTM_CHECK(dtm_measures_compute(a, rr->frequency, NULL, &m));
+  r->phase_error = NAN, r->in_band = 1, r->unresolved = 0;
+  for (int k = 0; k < m->n; k++) {
+    r->in_band &= m->m[k].in_band;
+    if (m->m[k].kind != DTM_MEASURE_PHASE) continue;
+    r->phase_error = m->m[k].worst, r->unresolved = m->m[k].unresolved;
+    if (!(rr->frequency > 0)) rr->frequency = m->m[k].f;
+  }
+  dtm_measures_destroy(&m);
+  return DTM_OK;
+}
+
+static int record(const dtm_analysis *a, double seconds, dtm_refine_result *rr, dtm_refine_round *r) {
   size_t ns;
   double rec = dtm_analysis_recommended(a), d = dtm_analysis_scene(a)->duration;
   size_t n = dtm_analysis_nelements(a);
   dtm_analysis_shape_limited(a, &ns);
-  *r = (dtm_refine_round){n,       dtm_analysis_dt_min(a, NULL), rec, d > 0 ? (double)n * ceil(d / rec) : NAN,
-                          n / rec, dtm_analysis_below_target(a), ns,  seconds};
+  *r = (dtm_refine_round){n,       dtm_analysis_dt_min(a, NULL),
+                          rec,     d > 0 ? (double)n * ceil(d / rec) : NAN,
+                          n / rec, dtm_analysis_below_target(a),
+                          ns,      seconds,
+                          NAN,     0,
+                          0};
+  return record_accuracy(a, rr, r);
 }
 
 static int met(const dtm_refine_result *rr, int i) { return rr->rounds[i].recommended >= rr->target; }
@@ -223,7 +246,8 @@ static int rounds(dtm_refine_result *rr, loop_state *st, int dim, int max_rounds
     int r = remesh(rr, st->input, dim, c, &next, &failed);
     if (r && failed) return gmsh_failed(rr, st), DTM_OK;
     DTM_CHECK(r);
-    record(next, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
+    int rc = record(next, dtm_wtime() - t0, rr, &rr->rounds[rr->nrounds++]);
+    if (rc) return dtm_analysis_destroy(&next), rc;
     if (judge_round(rr, st, next)) break;
   }
   return DTM_OK;
@@ -329,7 +353,7 @@ static int refine_loop(dtm_refine_result *rr, int max_rounds) {
   DTM_CHECK(dtm_gmsh_load(&rr->scene, &dim));
   DTM_CHECK(dtm_analysis_current(&rr->scene, dim, &rr->analysis));
   st.input = st.cur = rr->analysis;
-  record(rr->analysis, dtm_wtime() - t0, &rr->rounds[rr->nrounds++]);
+  DTM_CHECK(record(rr->analysis, dtm_wtime() - t0, rr, &rr->rounds[rr->nrounds++]));
   input_accuracy(rr, rr->analysis);
   int r = model_causes(rr, &st);
   if (r == DTM_OK) r = rounds(rr, &st, dim, max_rounds);

@@ -1,9 +1,12 @@
 /* `dtmap sweep`: the scene meshed and analysed at each requested size, one
  * row per size with the mesh, the steps, the run's cost in element-steps
- * with and without ideal subcycling and that speed-up, the smallest
- * accuracy indicators (elements per process zone, per wavelength) and
- * dtmap's own time; the table for the terminal and the CSV file (units in
- * its header, counts as whole numbers). The plot is in src/cli/plot.c. */
+ * and in hours with one global step, with ideal subcycling and with mass
+ * scaling to the scene's target, the accuracy each buys (the phase-speed
+ * error at one frequency for all sizes, the smallest elements per process
+ * zone, per wavelength and across the diffusion length) and dtmap's own
+ * time; the cheapest size inside every band; the table for the terminal
+ * and the CSV file (units in its header, counts as whole numbers). The plot
+ * is in src/cli/plot.c. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -28,6 +31,54 @@ static double smallest_indicator(const dtm_analysis *a, const char *indicator) {
   return best;
 }
 
+/* The phase errors with subcycling and with mass scaling to the target. */
+static int phase_variants(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row *row) {
+  dtm_measure_step sub = {c->subcycling.level, 0, NULL}, mass = {NULL, 0, NULL};
+  dtm_measures *m = NULL;
+  row->phase_subcycled = row->phase_mass = NAN;
+  DTM_CHECK(dtm_measures_compute(a, row->frequency, &sub, &m));
+  for (int k = 0; k < m->n; k++)
+    if (m->m[k].kind == DTM_MEASURE_PHASE) row->phase_subcycled = m->m[k].worst;
+  dtm_measures_destroy(&m);
+  if (!c->mass || !(dtm_analysis_scene(a)->target > row->recommended)) return DTM_OK; /* nothing to lift */
+  mass.target = dtm_analysis_scene(a)->target, mass.added = c->mass->added;
+  DTM_CHECK(dtm_measures_compute(a, row->frequency, &mass, &m));
+  for (int k = 0; k < m->n; k++)
+    if (m->m[k].kind == DTM_MEASURE_PHASE) row->phase_mass = m->m[k].worst;
+  dtm_measures_destroy(&m);
+  return DTM_OK;
+}
+
+/* The measures of the recommended step into the row; in_band when every
+ * one is inside its band. */
+static int fill_measures(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row *row) {
+  dtm_measures *m = NULL;
+  row->phase_error = row->phase_median = row->per_diffusion = NAN;
+  row->in_band = 1;
+  DTM_CHECK(dtm_measures_compute(a, row->frequency, NULL, &m));
+  int phase = 0;
+  for (int k = 0; k < m->n; k++) {
+    const dtm_measure *x = &m->m[k];
+    row->in_band &= x->in_band;
+    if (x->kind == DTM_MEASURE_PHASE)
+      phase = 1, row->phase_error = x->worst, row->phase_median = x->median, row->unresolved = x->unresolved,
+      row->frequency = x->f, row->frequency_default = x->f_default, row->per_wave_default = x->per_wavelength;
+    if (x->kind == DTM_MEASURE_DIFFUSION && !(x->worst >= row->per_diffusion)) row->per_diffusion = x->worst;
+  }
+  dtm_measures_destroy(&m);
+  if (!phase) row->frequency = NAN;
+  return phase ? phase_variants(a, c, row) : DTM_OK;
+}
+
+static void fill_hours(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row *row) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  row->per_element_step = c->per_element_step;
+  row->hours = c->hours, row->hours_subcycled = c->hours_subcycled;
+  row->hours_mass = s->target > row->recommended && s->duration > 0
+                        ? (double)row->elements * ceil(s->duration / s->target) * c->per_element_step / 3600
+                        : NAN;
+}
+
 static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   double duration = dtm_analysis_scene(a)->duration;
   dtm_cost *c = NULL;
@@ -42,10 +93,13 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   row->cost = c->element_steps;
   row->speedup = c->subcycling.speedup;
   row->cost_subcycled = c->element_steps_subcycled;
+  fill_hours(a, c, row);
+  int r = fill_measures(a, c, row);
   dtm_cost_destroy(&c);
   row->per_zone = smallest_indicator(a, "elements_per_zone");
   row->per_wavelength = smallest_indicator(a, "elements_per_wavelength");
-  return DTM_OK;
+  if (isnan(row->per_wavelength)) row->per_wavelength = row->per_wave_default; /* no f-max: at the default */
+  return r;
 }
 
 /* Re-raise the pending error with the size it happened at. */
@@ -56,6 +110,8 @@ static int at_size(int r, double h) {
   return DTM_ERR(r, "sweep at size %g m: %s", h, msg);
 }
 
+/* row->frequency on entry: the phase error's frequency (0: the scene's
+ * f-max, else this mesh's default). */
 static int sweep_one(const dtm_scene *s, double h, dtm_sweep_row *row) {
   dtm_scene sc = *s; /* shallow: the members stay owned by s */
   sc.mesh_size = h;
@@ -75,8 +131,26 @@ int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row 
   for (int i = 0; i < n; i++)
     if (!(sizes[i] > 0) || !isfinite(sizes[i]))
       return DTM_ERR(DTM_ERR_INPUT, "sweep: size %d is %g; sizes must be positive and finite (m)", i + 1, sizes[i]);
-  for (int i = 0; i < n; i++) DTM_CHECK(sweep_one(s, sizes[i], &rows[i]));
+  /* one frequency for every size: the scene's, else the first mesh's default */
+  for (int i = 0; i < n; i++) {
+    rows[i].frequency = i && rows[0].frequency_default ? rows[0].frequency : 0;
+    DTM_CHECK(sweep_one(s, sizes[i], &rows[i]));
+    if (i && rows[0].frequency_default) rows[i].frequency_default = 1;
+  }
   return DTM_OK;
+}
+
+int dtm_sweep_cheapest(const dtm_sweep_row *rows, int n) {
+  int best = -1;
+  for (int i = 0; i < n; i++) {
+    if (!rows[i].in_band) continue;
+    double c = isfinite(rows[i].hours) ? rows[i].hours : (double)rows[i].elements / rows[i].recommended;
+    double b = best < 0                     ? INFINITY
+               : isfinite(rows[best].hours) ? rows[best].hours
+                                            : (double)rows[best].elements / rows[best].recommended;
+    if (c < b) best = i;
+  }
+  return best;
 }
 
 /* v with printf format f into buf, or "-" when v is NaN. */
@@ -88,28 +162,65 @@ static const char *cell(char *buf, size_t len, const char *f, double v) {
   return buf;
 }
 
+/* A phase error in percent, "unres." when some element is unresolved. */
+static const char *phase_cell(char *buf, size_t len, double v, size_t unresolved) {
+  if (unresolved) return snprintf(buf, len, "unres."), buf;
+  return cell(buf, len, "%+.3g", 100 * v);
+}
+
 static void print_row(FILE *f, const dtm_sweep_row *r) {
-  char c[8][32];
-  fprintf(f, "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %8.3f\n", r->h, r->elements, r->nodes,
-          r->dt_min, r->recommended, cell(c[0], 32, "%.0f", r->steps), cell(c[1], 32, "%.4e", r->cost),
-          cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup, cell(c[3], 32, "%.3g", r->per_zone),
-          cell(c[4], 32, "%.3g", r->per_wavelength), r->seconds);
+  char c[14][32];
+  fprintf(f,
+          "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %9s %8s %7zu %9s %9s %9s %9s %9s %8s %4s "
+          "%8.3f\n",
+          r->h, r->elements, r->nodes, r->dt_min, r->recommended, cell(c[0], 32, "%.0f", r->steps),
+          cell(c[1], 32, "%.4e", r->cost), cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup,
+          cell(c[3], 32, "%.3g", r->per_zone), cell(c[4], 32, "%.3g", r->per_wavelength),
+          phase_cell(c[5], 32, r->phase_error, r->unresolved), cell(c[12], 32, "%.3g", 100 * r->phase_median),
+          r->unresolved, phase_cell(c[6], 32, r->phase_subcycled, r->unresolved),
+          cell(c[7], 32, "%+.3g", 100 * r->phase_mass), cell(c[8], 32, "%.4g", r->hours),
+          cell(c[9], 32, "%.4g", r->hours_subcycled), cell(c[10], 32, "%.4g", r->hours_mass),
+          cell(c[11], 32, "%.3g", r->per_diffusion), r->in_band ? "yes" : "no", r->seconds);
 }
 
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   FILE *f = stream;
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "h", "elements", "nodes", "elem.bound",
-          "dt rec.", "steps", "elem-steps", "subcycled", "speed-up", "per zone", "per wave", "time");
-  fprintf(f, "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %8s\n", "(m)", "", "", "(s)", "(s)", "", "", "", "",
-          "(min)", "(min)", "(s)");
+  static const char fmt[] = "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %9s %8s %7s %9s %9s %9s %9s %9s %8s %4s "
+                            "%8s\n";
+  fprintf(f, fmt, "h", "elements", "nodes", "elem.bound", "dt rec.", "steps", "elem-steps", "subcycled", "speed-up",
+          "per zone", "per wave", "phase", "ph.med.", "unres.", "ph.subc.", "ph.mass", "run", "run subc.", "run mass",
+          "per diff", "band", "time");
+  fprintf(f, fmt, "(m)", "", "", "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "", "(%)", "(%)", "(h)",
+          "(h)", "(h)", "(min)", "", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
+  if (n && isfinite(rows[0].frequency))
+    fprintf(f, "\nphase-speed error at %.4g Hz%s, worst over the mesh, lumped mass, central differences\n",
+            rows[0].frequency,
+            rows[0].frequency_default ? " (no <time f-max>: the default of the first size's mesh, "
+                                        "at least 10 cells per shear wavelength in every element; 'per wave' is "
+                                        "at that frequency)"
+                                      : " (<time f-max>)");
+  if (n) fprintf(f, "run time at %.3g ns per element-step\n", 1e9 * rows[0].per_element_step);
+  int b = dtm_sweep_cheapest(rows, n);
+  char hb[32];
+  if (b >= 0)
+    fprintf(f, "cheapest size inside every band: h = %g m, %s h with one global step\n", rows[b].h,
+            cell(hb, sizeof hb, "%.4g", rows[b].hours));
+  else if (n)
+    fprintf(f,
+            "no size is inside every band (phase |error| <= %g %%, >= 5 elements per zone, >= %g across "
+            "the diffusion length)\n",
+            100 * DTM_BAND_PHASE, DTM_BAND_DIFFUSION);
 }
 
 /* The CSV header: units after the last underscore (_m metres, _s
  * seconds); the other columns are counts or ratios. */
 static const char csv_header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
                                  "element_steps_subcycled,subcycling_speedup,elements_per_zone,"
-                                 "elements_per_wavelength,time_s\n";
+                                 "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
+                                 "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
+                                 "elements_per_diffusion_length,cost_per_element_step_s,run_h,run_subcycled_h,"
+                                 "run_mass_scaled_h,in_band\n";
 
 /* One CSV row in the header's order: %.9g, counts as whole numbers
  * (rounded up), empty for NaN. */
@@ -117,10 +228,30 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
   const struct {
     double v;  /* the value */
     int whole; /* a count */
-  } c[] = {{r->h, 0},        {(double)r->elements, 1}, {(double)r->nodes, 1},
-           {r->dt_min, 0},   {r->recommended, 0},      {r->steps, 1},
-           {r->cost, 1},     {r->cost_subcycled, 1},   {r->speedup, 0},
-           {r->per_zone, 0}, {r->per_wavelength, 0},   {r->seconds, 0}};
+  } c[] = {{r->h, 0},
+           {(double)r->elements, 1},
+           {(double)r->nodes, 1},
+           {r->dt_min, 0},
+           {r->recommended, 0},
+           {r->steps, 1},
+           {r->cost, 1},
+           {r->cost_subcycled, 1},
+           {r->speedup, 0},
+           {r->per_zone, 0},
+           {r->per_wavelength, 0},
+           {r->seconds, 0},
+           {r->frequency, 0},
+           {r->unresolved ? NAN : r->phase_error, 0},
+           {r->phase_median, 0},
+           {(double)r->unresolved, 1},
+           {r->unresolved ? NAN : r->phase_subcycled, 0},
+           {r->phase_mass, 0},
+           {r->per_diffusion, 0},
+           {r->per_element_step, 0},
+           {r->hours, 0},
+           {r->hours_subcycled, 0},
+           {r->hours_mass, 0},
+           {(double)r->in_band, 1}};
   const size_t nc = sizeof c / sizeof c[0];
   for (size_t k = 0; k < nc; k++) {
     if (isnan(c[k].v))

@@ -1,0 +1,477 @@
+/* What a mesh and its recommended step buy: one accuracy measure per
+ * effect the scene names, computed for every element of the real mesh.
+ * - elastic waves: the phase-speed error at the frequency of interest
+ *   (<time f-max>, else a default from the mesh, said so in the note) of
+ *   the element type's lattice (dtm_dispersion_table, once per element type
+ *   and material), lumped mass, central differences at the recommended
+ *   step (or at the element's subcycling level's step, or at the target
+ *   step with the element's mass scaling). Each element is taken as a cell
+ *   of its type's regular lattice of the same volume; the error is the
+ *   worse of P and S over the lattice directions; fewer than 2 cells per
+ *   wavelength (or a step above the element's own safe step: unstable) is
+ *   "unresolved", counted, never a small number;
+ * - cohesive zones: elements per process zone (the effect's own view),
+ *   per group, against the 5-10 band;
+ * - diffusion (thermal, hydraulic): elements across sqrt(D t) at the
+ *   scene's duration, at least DTM_BAND_DIFFUSION.
+ * Each measure keeps the worst and the median over its elements. */
+#include <assert.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dtmap/cost.h"
+#include "dtmap/kernel.h"
+#include "dtmap/topology.h"
+
+#define PI 3.14159265358979323846
+#define MAX_TABLES 16 /* element type x material pairs kept at once */
+
+#define CURVE_N 512   /* points of a curve over k h in [0, pi] */
+#define MAX_CURVES 64 /* curves kept (table x subcycling level) */
+
+/* The worst error of one table at one x = pi f dt against k h, both
+ * branches, sampled once so that an element costs an interpolation instead
+ * of a sweep over the table's directions (the measure would otherwise cost
+ * as much as the analysis). */
+typedef struct {
+  const dtm_dispersion *t;  /* the table */
+  double x;                 /* pi f dt */
+  double w[2][CURVE_N + 1]; /* [P, S][k h = pi j / CURVE_N] (NaN: unresolved or unstable) */
+} curve;
+
+/* The lattice tables and curves met so far. */
+typedef struct {
+  int n;                         /* tables in use */
+  dtm_dispersion *t[MAX_TABLES]; /* owned */
+  int nc;                        /* curves in use */
+  curve *c[MAX_CURVES];          /* owned */
+} table_cache;
+
+static void cache_free(table_cache *c) {
+  for (int i = 0; i < c->n; i++) free(c->t[i]);
+  for (int i = 0; i < c->nc; i++) free(c->c[i]);
+}
+
+/* The curve of table t at x, built on first use; NULL when the cache is
+ * full or out of memory (then the caller evaluates directly). */
+static const curve *curve_get(table_cache *c, const dtm_dispersion *t, double x) {
+  for (int i = 0; i < c->nc; i++)
+    if (c->c[i]->t == t && c->c[i]->x == x) return c->c[i];
+  curve *k = c->nc < MAX_CURVES ? malloc(sizeof *k) : NULL;
+  if (!k) return NULL;
+  k->t = t, k->x = x;
+  for (int m = 0; m < 2; m++) {
+    k->w[m][0] = dtm_dispersion_time(0, x) > -1 ? dtm_dispersion_time(0, x) : NAN;
+    for (int j = 1; j <= CURVE_N; j++) k->w[m][j] = dtm_dispersion_worst(t, m, PI * j / CURVE_N, x);
+  }
+  return c->c[c->nc++] = k;
+}
+
+/* The curve of table t at x if built, else NULL (read only: safe in the
+ * element loop's threads). */
+static const curve *curve_find(const table_cache *c, const dtm_dispersion *t, double x) {
+  for (int i = 0; i < c->nc; i++)
+    if (c->c[i]->t == t && c->c[i]->x == x) return c->c[i];
+  return NULL;
+}
+
+/* Linear in k h between the curve's points; NaN beyond pi. */
+static double curve_at(const curve *k, int mode, double kh) {
+  double u = kh / PI * CURVE_N;
+  if (!(u <= CURVE_N)) return NAN;
+  int j = (int)u;
+  if (j == CURVE_N) return k->w[mode][j];
+  double f = u - j;
+  return f == 0 ? k->w[mode][j] : (1 - f) * k->w[mode][j] + f * k->w[mode][j + 1];
+}
+
+static int cache_get(table_cache *c, int type, double r, const dtm_dispersion **out) {
+  for (int i = 0; i < c->n; i++)
+    if (c->t[i]->type == type && c->t[i]->r == r) return *out = c->t[i], DTM_OK;
+  if (c->n == MAX_TABLES) return DTM_ERR(DTM_ERR_INPUT, "more than %d element type and material pairs", MAX_TABLES);
+  dtm_dispersion *t = malloc(sizeof *t);
+  if (!t) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = dtm_dispersion_table(type, r, t);
+  if (rc) return free(t), rc;
+  *out = c->t[c->n++] = t;
+  return DTM_OK;
+}
+
+/* The lattice spacing of an element of type and measure meas: the cell
+ * edge of the regular lattice of its type whose elements have its measure
+ * (tri: two per square, tet: six per cube). */
+static double lattice_h(int type, int d, double meas) {
+  double per = dtm_elem_is_simplex(type) ? (d == 2 ? 2 : d == 3 ? 6 : 1) : 1;
+  return d == 1 ? meas : d == 2 ? sqrt(per * meas) : cbrt(per * meas);
+}
+
+/* The measure of element e of block bl (m^d) and its mean edge (m). */
+static double element_measure(const dtm_mesh *mesh, const dtm_block *bl, size_t e, double *edge) {
+  double x[3 * DTM_MAX_NODES];
+  for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+  if (edge) *edge = dtm_elem_mean_edge(bl->type, x);
+  return fabs(dtm_elem_measure(bl->type, x));
+}
+
+/* The k-th smallest of v[n] (reordered), by Hoare's selection: O(n). */
+static double select_kth(double *v, size_t n, size_t k) {
+  size_t lo = 0, hi = n - 1;
+  while (lo < hi) {
+    double p = v[lo + (hi - lo) / 2];
+    size_t i = lo, j = hi;
+    while (i <= j) {
+      while (v[i] < p) i++;
+      while (v[j] > p) j--;
+      if (i <= j) {
+        double t = v[i];
+        v[i] = v[j], v[j] = t, i++;
+        if (j == 0) break;
+        j--;
+      }
+    }
+    if (k <= j)
+      hi = j;
+    else if (k >= i)
+      lo = i;
+    else
+      return v[k];
+  }
+  return v[k];
+}
+
+/* Median of v[n] (reordered), NaN when n = 0. */
+static double median(double *v, size_t n) {
+  if (!n) return NAN;
+  double hi = select_kth(v, n, n / 2);
+  if (n % 2) return hi;
+  double lo = v[0];
+  for (size_t i = 1; i < n / 2; i++) lo = fmax(lo, v[i]);
+  return 0.5 * (lo + hi);
+}
+
+static int push(dtm_measures *ms, const dtm_measure *m) {
+  dtm_measure *p = realloc(ms->m, (size_t)(ms->n + 1) * sizeof *p);
+  if (!p) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  ms->m = p;
+  ms->m[ms->n++] = *m;
+  return DTM_OK;
+}
+
+/* The elastic formulation effect k uses (its attribute, else the default). */
+static dtm_formulation formulation_of(const dtm_analysis *a, int k) {
+  const char *names[] = DTM_FORMULATION_NAMES;
+  const char *f = dtm_scene_effect_attr(&dtm_analysis_scene(a)->effects[k], "formulation");
+  for (int i = 0; f && names[i]; i++)
+    if (!strcmp(f, names[i])) return (dtm_formulation)i;
+  return dtm_formulation_default(dtm_analysis_mesh(a)->dim);
+}
+
+/* Moduli of material index mat for formulation f; -1 when it lacks E, nu or rho. */
+static int moduli(const dtm_analysis *a, int mat, dtm_formulation f, dtm_elastic_moduli *m) {
+  const dtm_material *mt = &dtm_analysis_scene(a)->materials[mat].m;
+  double nu = f == DTM_FORM_BAR ? 0 : dtm_material_value(mt, "nu");
+  return dtm_elastic_moduli_init(f, dtm_material_value(mt, "E"), nu, dtm_material_value(mt, "rho"), m) ? -1 : 0;
+}
+
+/* The steps the elements take (dtm_measure_step) and the recommended one. */
+typedef struct {
+  const dtm_measure_step *st; /* the steps (NULL: the recommended step everywhere) */
+  double dt;                  /* the recommended step, s */
+  const double *own;          /* [nel] each element's own safe step (dtm_analysis_local_step) */
+} step_rule;
+
+static void element_step(const step_rule *sr, size_t i, double mass, double *dt, double *speed) {
+  *dt = sr->dt, *speed = 1;
+  if (!sr->st) return;
+  if (sr->st->level) *dt = sr->dt * ldexp(1.0, sr->st->level[i]);
+  if (sr->st->level && sr->own && *dt > sr->own[i] * (1 + 1e-12)) *dt = NAN; /* unstable */
+  if (sr->st->target > 0) *dt = sr->st->target;
+  if (sr->st->added && mass > 0) *speed = 1 / sqrt(1 + sr->st->added[i] / mass);
+}
+
+/* The worst error of branch mode at kh: from the curve when there is one
+ * (unscaled elements), else over the table's directions. */
+static double worst(const dtm_dispersion *t, const curve *k, int mode, double kh, double x) {
+  return k ? curve_at(k, mode, kh) : dtm_dispersion_worst(t, mode, kh, x);
+}
+
+/* The phase error of one element at frequency f: the worse of P and S. */
+static double element_phase(const table_cache *c, const dtm_dispersion *t, const dtm_elastic_moduli *m, double h,
+                            double f, double dt, double speed) {
+  double cp = m->cd * speed, cs = sqrt(m->mu / m->rho) * speed, x = PI * f * dt;
+  const curve *k = speed == 1 ? curve_find(c, t, x) : NULL;
+  /* the lattice's own error at the scaled speed, then the speed's own factor */
+  double ep = worst(t, k, 0, 2 * PI * f * h / cp, x);
+  double es = m->form == DTM_FORM_BAR ? 0 : worst(t, k, 1, 2 * PI * f * h / cs, x);
+  if (isnan(ep) || isnan(es)) return NAN;
+  double e = fabs(es) > fabs(ep) ? es : ep;
+  return (1 + e) * speed - 1;
+}
+
+/* The default frequency of a mesh: the smallest over its elements of
+ * c_S / (N h), N the scene's elements per wavelength: the highest
+ * frequency at which every element has at least N cells per shear
+ * wavelength (on a graded mesh the coarse part sets it). */
+static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *fd) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  size_t n = dtm_analysis_nelements(a), k = 0, i = 0;
+  double *v = malloc((n + 1) * sizeof *v), N = dtm_analysis_scene(a)->elements_per_wavelength;
+  if (!(N > 0)) N = DTM_SCENE_PER_WAVELENGTH;
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_elastic_moduli m;
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0, last = (size_t)-1, bad = 0; e < mesh->blocks[b].n; e++, i++) {
+      const dtm_block *bl = &mesh->blocks[b];
+      static_assert(sizeof(size_t) >= sizeof(int), "material index");
+      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0)) continue;
+      if ((size_t)bl->mat[e] != last) last = (size_t)bl->mat[e], bad = moduli(a, bl->mat[e], f, &m) != 0;
+      if (bad) continue;
+      double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
+      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e, NULL)));
+    }
+  double lo = INFINITY;
+  for (size_t j = 0; j < k; j++) lo = fmin(lo, v[j]);
+  *fd = k ? lo : NAN;
+  free(v);
+  return DTM_OK;
+}
+
+/* One block's material slots: the moduli and table of each material the
+ * block uses (NULL table: the material lacks E, nu or rho). */
+typedef struct {
+  dtm_elastic_moduli m;    /* moduli in the formulation */
+  const dtm_dispersion *t; /* its lattice table, or NULL */
+} slot;
+
+/* The tables of every material of block bl into s[nmat], and the curves
+ * of every step its elements take (levels) when no mass is added, so that
+ * the element loop only reads the cache. */
+static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr,
+                         const dtm_block *bl, size_t i0, table_cache *cache, slot *s) {
+  int nmat = dtm_analysis_scene(a)->nmaterials;
+  for (int k = 0; k < nmat; k++) s[k].t = NULL;
+  if (!dtm_dispersion_has_model(bl->type)) return DTM_OK; /* its elements are counted as not measured */
+  char *seen = calloc((size_t)nmat + 1, 1);
+  if (!seen) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK, levels = 1;
+  for (size_t e = 0; e < bl->n && !rc; e++) {
+    int mt = bl->mat[e];
+    if (sr->st && sr->st->level && sr->st->level[i0 + e] + 1 > levels) levels = sr->st->level[i0 + e] + 1;
+    if (mt < 0 || seen[mt]) continue;
+    seen[mt] = 1;
+    if (!moduli(a, mt, f, &s[mt].m))
+      rc = cache_get(cache, bl->type, f == DTM_FORM_BAR ? 0 : s[mt].m.mu / s[mt].m.modulus, &s[mt].t);
+  }
+  for (int k = 0; k < nmat && !rc; k++)
+    for (int l = 0; s[k].t && l < levels && !(sr->st && sr->st->added); l++) {
+      double dt = sr->st && sr->st->target > 0 ? sr->st->target : sr->dt * ldexp(1.0, sr->st && sr->st->level ? l : 0);
+      curve_get(cache, s[k].t, PI * freq * dt);
+    }
+  free(seen);
+  return rc;
+}
+
+/* Per element phase errors into err[nel] (NaN: unresolved; the elements
+ * it does not apply to are skipped and counted in *skipped); the smallest
+ * shear wavelength over mean edge into *per_wave. The element loop runs
+ * on the OpenMP threads, reading the tables and curves prepared for it. */
+static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, double *err,
+                        size_t *skipped, double *per_wave) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  table_cache cache = {0};
+  slot *s = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *s);
+  if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t i0 = 0, skip = 0;
+  double pwmin = INFINITY;
+  int rc = DTM_OK;
+  for (int b = 0; b < mesh->nblocks && !rc; i0 += mesh->blocks[b++].n) {
+    const dtm_block *bl = &mesh->blocks[b];
+    rc = prepare_block(a, f, freq, sr, bl, i0, &cache, s);
+    if (rc) break;
+    const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static) reduction(+ : skip) reduction(min : pwmin)
+    for (long long e = 0; e < n; e++) {
+      size_t i = i0 + (size_t)e;
+      int mt = bl->mat[e];
+      err[i] = INFINITY; /* not applicable */
+      if (mt < 0 || (bl->section && bl->section[e] >= 0) || !s[mt].t) {
+        skip++;
+        continue;
+      }
+      const dtm_elastic_moduli *m = &s[mt].m;
+      double dt, speed, edge, meas = element_measure(mesh, bl, (size_t)e, &edge);
+      pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge));
+      element_step(sr, i, m->rho * meas, &dt, &speed);
+      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
+    }
+  }
+  *skipped = skip;
+  *per_wave = isfinite(pwmin) ? pwmin : NAN;
+  cache_free(&cache);
+  free(s);
+  return rc;
+}
+
+/* Worst (largest magnitude, signed), median of |err| and counts. */
+static void phase_summary(const double *err, size_t n, double *scratch, dtm_measure *m) {
+  size_t k = 0;
+  m->worst = 0;
+  for (size_t i = 0; i < n; i++) {
+    if (isinf(err[i])) continue;
+    m->elements++;
+    if (isnan(err[i])) {
+      m->unresolved++;
+      continue;
+    }
+    scratch[k++] = fabs(err[i]);
+    if (fabs(err[i]) >= fabs(m->worst)) m->worst = err[i], m->worst_element = i;
+  }
+  m->median = median(scratch, k);
+  if (m->unresolved) m->worst = NAN;
+  if (!k && !m->unresolved) m->worst = NAN;
+  m->in_band = m->elements > 0 && !m->unresolved && fabs(m->worst) <= m->band_hi;
+}
+
+static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_measure_step *st, dtm_measures *ms) {
+  dtm_formulation f = formulation_of(a, k);
+  dtm_measure m = {.kind = DTM_MEASURE_PHASE,
+                   .effect = k,
+                   .group = -1,
+                   .band_lo = -DTM_BAND_PHASE,
+                   .band_hi = DTM_BAND_PHASE,
+                   .f = freq};
+  if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
+  if (!(m.f > 0)) {
+    DTM_CHECK(default_frequency(a, f, &m.f));
+    m.f_default = 1;
+  }
+  size_t n = dtm_analysis_nelements(a), skipped;
+  double *err = malloc((2 * n + 1) * sizeof *err);
+  if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
+  m.per_wavelength = NAN;
+  int rc = phase_errors(a, f, m.f, &sr, err, &skipped, &m.per_wavelength);
+  if (!rc) phase_summary(err, n, err + n, &m);
+  free(err);
+  if (rc) return rc;
+  if (m.f_default)
+    snprintf(m.note, sizeof m.note,
+             "no <time f-max>: at the mesh's default %.4g Hz (at least %g cells per shear wavelength in "
+             "every element)",
+             m.f, dtm_analysis_scene(a)->elements_per_wavelength);
+  if (skipped)
+    snprintf(m.note + strlen(m.note), sizeof m.note - strlen(m.note),
+             "%s%zu elements not measured (a section, no E/nu/rho, or a type without a dispersion model)",
+             m.note[0] ? "; " : "", skipped);
+  return push(ms, &m);
+}
+
+/* Cohesive: elements per zone from the effect's own view, one measure per
+ * group that has any (the group of the element; -1 for none). */
+static int zone_measures(const dtm_analysis *a, int k, dtm_measures *ms) {
+  const double *res = dtm_analysis_resolution(a, k);
+  size_t n = dtm_analysis_nelements(a);
+  if (!res) return DTM_OK;
+  int ng = dtm_analysis_mesh(a)->ngroups;
+  double *v = malloc((n + 1) * sizeof *v);
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK;
+  for (int g = -1; g < ng && !rc; g++) {
+    dtm_measure m = {.kind = DTM_MEASURE_ZONE, .effect = k, .group = g, .worst = INFINITY, .band_lo = 5, .band_hi = 10};
+    for (size_t i = 0; i < n; i++) {
+      if (!isfinite(res[i]) || dtm_analysis_group(a, i) != g) continue;
+      if (res[i] < m.worst) m.worst = res[i], m.worst_element = i;
+      v[m.elements++] = res[i];
+    }
+    if (!m.elements) continue;
+    m.median = median(v, m.elements);
+    m.in_band = m.worst >= m.band_lo;
+    rc = push(ms, &m);
+  }
+  free(v);
+  return rc;
+}
+
+/* Diffusivity of material mat for the built-in diffusion effect name, NaN
+ * when unknown. */
+static double diffusivity(const dtm_material *m, const char *effect) {
+  if (!strcmp(effect, "thermal"))
+    return dtm_material_value(m, "conductivity") /
+           (dtm_material_value(m, "rho") * dtm_material_value(m, "heat-capacity"));
+  if (!strcmp(effect, "hydraulic"))
+    return dtm_material_value(m, "permeability") /
+           (dtm_material_value(m, "viscosity") * dtm_material_value(m, "storage"));
+  return NAN;
+}
+
+static int diffusion_measure(const dtm_analysis *a, int k, dtm_measures *ms) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  dtm_measure m = {.kind = DTM_MEASURE_DIFFUSION,
+                   .effect = k,
+                   .group = -1,
+                   .worst = NAN,
+                   .median = NAN,
+                   .band_lo = DTM_BAND_DIFFUSION,
+                   .band_hi = INFINITY};
+  const char *name = dtm_analysis_effect(a, k)->name;
+  if (!(s->duration > 0)) {
+    snprintf(m.note, sizeof m.note, "no <time duration>: the diffusion length sqrt(D t) needs one");
+    return push(ms, &m);
+  }
+  size_t n = dtm_analysis_nelements(a), i = 0;
+  double *v = malloc((n + 1) * sizeof *v), x[3 * DTM_MAX_NODES];
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  m.worst = INFINITY;
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0; e < mesh->blocks[b].n; e++, i++) {
+      const dtm_block *bl = &mesh->blocks[b];
+      double D = bl->mat[e] < 0 ? NAN : diffusivity(&s->materials[bl->mat[e]].m, name);
+      if (!(D > 0)) continue;
+      for (int j = 0; j < bl->nn; j++) memcpy(x + 3 * j, mesh->xyz + 3 * bl->conn[e * bl->nn + j], 3 * sizeof *x);
+      double across = sqrt(D * s->duration) / dtm_elem_mean_edge(bl->type, x);
+      if (across < m.worst) m.worst = across, m.worst_element = i;
+      v[m.elements++] = across;
+    }
+  m.median = median(v, m.elements);
+  free(v);
+  if (!m.elements) m.worst = NAN;
+  m.in_band = m.worst >= m.band_lo;
+  return push(ms, &m);
+}
+
+int dtm_measures_compute(const dtm_analysis *a, double f, const dtm_measure_step *st, dtm_measures **out) {
+  dtm_measures *ms = calloc(1, sizeof *ms);
+  if (!ms) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = DTM_OK;
+  for (int k = 0; k < dtm_analysis_neffects(a) && !rc; k++) {
+    const dtm_effect_class *c = dtm_analysis_effect(a, k);
+    if (!strcmp(c->name, "elastic"))
+      rc = wave_measure(a, k, f, st, ms);
+    else if (!strcmp(c->name, "cohesive"))
+      rc = zone_measures(a, k, ms);
+    else if (c->scheme == DTM_SCHEME_FORWARD_EULER)
+      rc = diffusion_measure(a, k, ms);
+  }
+  if (rc) {
+    dtm_measures_destroy(&ms);
+    return dtm_error_trace(rc, __FILE__, __LINE__, __func__);
+  }
+  *out = ms;
+  return DTM_OK;
+}
+
+void dtm_measures_destroy(dtm_measures **p) {
+  if (!*p) return;
+  free((*p)->m);
+  free(*p);
+  *p = NULL;
+}
+
+const char *dtm_measure_name(int kind) {
+  return kind == DTM_MEASURE_PHASE  ? "phase-speed error"
+         : kind == DTM_MEASURE_ZONE ? "elements per cohesive zone"
+                                    : "elements across sqrt(D t)";
+}

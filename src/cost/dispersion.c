@@ -1,0 +1,379 @@
+/* The discrete dispersion of an element type: Bloch analysis of the
+ * periodic patch that tiles space with it (bar: one segment per cell;
+ * quad4, hex8: one square or cube; tri3/tri6: a square cut along a
+ * diagonal; tet4/tet10: the cube cut into six tetrahedra around its main
+ * diagonal), with the element stiffness of isotropic elasticity at full
+ * integration and dtmap's lumped mass (dtm_elem_lumped_weights). For a
+ * wave vector k the Hermitian matrix M^-1/2 K(k) M^-1/2 is formed over the
+ * node classes of one cell and its eigenpairs found by cyclic Jacobi; the
+ * P and S branches are the eigenvectors that overlap most with a plane
+ * wave polarised along k and across it. Everything is nondimensional: cell
+ * size 1, P-wave modulus 1, density 1, so the semi-discrete phase speed
+ * over the exact one depends only on the element type, mu / (lam + 2 mu),
+ * k h and the direction. Central differences then act mode by mode:
+ * sin(omega dt / 2) = omega_h dt / 2 (dtm_dispersion_time). */
+#include <complex.h>
+#include <math.h>
+#include <string.h>
+
+#include "dtmap/cost.h"
+#include "dtmap/topology.h"
+#include "reference.h"
+
+#define PI 3.14159265358979323846
+
+#define MAX_EL 6  /* elements per cell (tet: six) */
+#define MAX_CLS 8 /* node classes per cell (tet10: a vertex and seven edges) */
+#define MAX_N 24  /* unknowns per cell: MAX_CLS x 3 */
+#define MAX_R 48  /* the real symmetric form: twice that */
+#define ELDOF 30  /* unknowns of one element (tet10) */
+
+typedef struct {
+  int type, d, nel, nn, ncls;         /* element type, dimension, elements, nodes each, classes */
+  double x[MAX_EL][ELDOF];            /* node coordinates [nel][nn][3] in cell units */
+  int cls[MAX_EL][10];                /* node class of each element node */
+  int shift[MAX_EL][10][3];           /* the cell each node lies in */
+  double pos[MAX_CLS][3];             /* class position in the cell */
+  double mass[MAX_CLS];               /* lumped mass per class (density 1) */
+  double klam[MAX_EL][ELDOF * ELDOF]; /* element stiffness from lam = 1, mu = 0 */
+  double kmu[MAX_EL][ELDOF * ELDOF];  /* from lam = 0, mu = 1 */
+} lattice;
+
+/* Vertices of the patch elements, in cell units (Gmsh node order). */
+static int patch_vertices(int type, double v[MAX_EL][4][3]) {
+  static const int perm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  memset(v, 0, sizeof(double) * MAX_EL * 12);
+  switch (type) {
+  case DTM_LINE2: v[0][1][0] = 1; return 1;
+  case DTM_QUAD4: v[0][1][0] = v[0][2][0] = v[0][2][1] = v[0][3][1] = 1; return 1;
+  case DTM_TRI3:
+  case DTM_TRI6:
+    v[0][1][0] = v[0][2][0] = v[0][2][1] = 1;
+    v[1][1][0] = v[1][1][1] = v[1][2][1] = 1;
+    return 2;
+  case DTM_TET4:
+  case DTM_TET10:
+    for (int t = 0; t < 6; t++)
+      for (int s = 1; s < 4; s++) {
+        for (int c = 0; c < 3; c++) v[t][s][c] = v[t][s - 1][c];
+        v[t][s][perm[t][s - 1]] = 1;
+      }
+    return 6;
+  default: return 0;
+  }
+}
+
+/* Hexahedron: eight corners of the unit cube in Gmsh order. */
+static void hex_cell(double *x) {
+  static const double c[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                 {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  memcpy(x, c, sizeof c);
+}
+
+/* Which two vertices each second-order node of type sits between, from
+ * the type's regular element (mid-edge nodes only; -1 when not found). */
+static int midside_pairs(int type, int nv, int nn, int pair[10][2]) {
+  double r[DTM_K_NODES * 3];
+  if (dtm_elem_regular(type, 1.0, r)) return -1;
+  for (int m = nv; m < nn; m++) {
+    pair[m][0] = -1;
+    for (int a = 0; a < nv; a++)
+      for (int b = a + 1; b < nv; b++) {
+        double e = 0;
+        for (int c = 0; c < 3; c++) e += fabs(0.5 * (r[3 * a + c] + r[3 * b + c]) - r[3 * m + c]);
+        if (e < 1e-12) pair[m][0] = a, pair[m][1] = b;
+      }
+    if (pair[m][0] < 0) return -1;
+  }
+  return 0;
+}
+
+/* Coordinates of element e of the patch into L->x[e]. */
+static int element_nodes(lattice *L, double v[MAX_EL][4][3], int e) {
+  double *x = L->x[e];
+  if (L->type == DTM_HEX8) return hex_cell(x), 0;
+  int nv = L->d + 1 + (L->type == DTM_QUAD4);
+  for (int a = 0; a < nv; a++)
+    for (int c = 0; c < 3; c++) x[3 * a + c] = v[e][a][c];
+  if (L->nn == nv) return 0;
+  int pair[10][2];
+  if (midside_pairs(L->type, nv, L->nn, pair)) return -1;
+  for (int m = nv; m < L->nn; m++)
+    for (int c = 0; c < 3; c++) x[3 * m + c] = 0.5 * (x[3 * pair[m][0] + c] + x[3 * pair[m][1] + c]);
+  return 0;
+}
+
+/* Class of the node at p (cell units): its position reduced into the cell. */
+static int node_class(lattice *L, const double *p, int shift[3]) {
+  double q[3];
+  for (int c = 0; c < 3; c++) shift[c] = (int)floor(p[c] + 1e-9), q[c] = p[c] - shift[c];
+  for (int k = 0; k < L->ncls; k++)
+    if (fabs(q[0] - L->pos[k][0]) + fabs(q[1] - L->pos[k][1]) + fabs(q[2] - L->pos[k][2]) < 1e-9) return k;
+  if (L->ncls == MAX_CLS) return -1;
+  memcpy(L->pos[L->ncls], q, sizeof q);
+  L->mass[L->ncls] = 0;
+  return L->ncls++;
+}
+
+/* Element stiffness of one element at full integration for (lam, mu):
+ * K[a i][b j] = int lam dNa_i dNb_j + mu (dNa_k dNb_k delta_ij + dNa_j dNb_i). */
+static void stiffness(int type, int d, int nn, const double *x, double lam, double mu, double *K) {
+  dtm_qrule q;
+  dtm_ref_rule(type, &q);
+  int n = nn * d;
+  memset(K, 0, sizeof(double) * (size_t)n * (size_t)n);
+  for (int g = 0; g < q.n; g++) {
+    double N[DTM_K_NODES], dN[DTM_K_NODES][3], J[3][3] = {{0}}, Ji[3][3], G[DTM_K_NODES][3] = {{0}};
+    dtm_ref_eval(type, q.p[g], N, dN);
+    for (int i = 0; i < d; i++)
+      for (int j = 0; j < d; j++)
+        for (int a = 0; a < nn; a++) J[i][j] += x[3 * a + i] * dN[a][j];
+    double dj = dtm_mat_det(d, J);
+    dtm_mat_inverse(d, J, dj, Ji);
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < d; j++) G[a][i] += dN[a][j] * Ji[j][i];
+    double w = q.w[g] * fabs(dj);
+    for (int a = 0; a < nn; a++)
+      for (int b = 0; b < nn; b++) {
+        double gg = 0;
+        for (int k = 0; k < d; k++) gg += G[a][k] * G[b][k];
+        for (int i = 0; i < d; i++)
+          for (int j = 0; j < d; j++)
+            K[(a * d + i) * n + b * d + j] +=
+                w * (lam * G[a][i] * G[b][j] + mu * G[a][j] * G[b][i] + (i == j) * mu * gg);
+      }
+  }
+}
+
+/* The patch of type: elements, node classes, masses, stiffness parts. */
+static int lattice_build(int type, lattice *L) {
+  double v[MAX_EL][4][3];
+  memset(L, 0, sizeof *L);
+  L->type = type;
+  L->nel = type == DTM_HEX8 ? 1 : patch_vertices(type, v);
+  if (!L->nel || dtm_elem_info(type, &L->d, &L->nn) || L->nn > 10)
+    return DTM_ERR(DTM_ERR_INPUT, "no dispersion model for %s elements (bar, tri3, tri6, quad4, tet4, tet10, hex8)",
+                   dtm_elem_name(type));
+  for (int e = 0; e < L->nel; e++) {
+    if (element_nodes(L, v, e)) return DTM_ERR(DTM_ERR_INTERNAL, "%s: no mid-edge layout", dtm_elem_name(type));
+    double w[DTM_K_NODES], meas = fabs(dtm_elem_measure(type, L->x[e]));
+    dtm_elem_lumped_weights(type, L->x[e], w);
+    for (int a = 0; a < L->nn; a++) {
+      int c = L->cls[e][a] = node_class(L, L->x[e] + 3 * a, L->shift[e][a]);
+      if (c < 0) return DTM_ERR(DTM_ERR_INTERNAL, "%s: too many node classes", dtm_elem_name(type));
+      L->mass[c] += w[a] * meas;
+    }
+    stiffness(type, L->d, L->nn, L->x[e], 1, 0, L->klam[e]);
+    stiffness(type, L->d, L->nn, L->x[e], 0, 1, L->kmu[e]);
+  }
+  return DTM_OK;
+}
+
+/* H = M^-1/2 K(k) M^-1/2 over the classes' unknowns, k = kh n (cell units). */
+static void bloch_matrix(const lattice *L, double lam, double mu, double kh, const double *n, double complex *H) {
+  int d = L->d, N = L->ncls * d, ne = L->nn * d;
+  memset(H, 0, sizeof(double complex) * (size_t)N * (size_t)N);
+  for (int e = 0; e < L->nel; e++)
+    for (int a = 0; a < L->nn; a++)
+      for (int b = 0; b < L->nn; b++) {
+        double ph = 0;
+        for (int c = 0; c < d; c++) ph += kh * n[c] * (L->shift[e][b][c] - L->shift[e][a][c]);
+        double complex z = cexp(I * ph);
+        int ca = L->cls[e][a], cb = L->cls[e][b];
+        for (int i = 0; i < d; i++)
+          for (int j = 0; j < d; j++) {
+            int r = (a * d + i) * ne + b * d + j;
+            H[(ca * d + i) * N + cb * d + j] += (lam * L->klam[e][r] + mu * L->kmu[e][r]) * z;
+          }
+      }
+  for (int r = 0; r < N; r++)
+    for (int c = 0; c < N; c++) H[r * N + c] /= sqrt(L->mass[r / d] * L->mass[c / d]);
+}
+
+/* One Jacobi rotation zeroing A[p][q] of the symmetric A[n][n]; V collects them. */
+static void rotate(int n, double *A, double *V, int p, int q) {
+  double t, th = (A[q * n + q] - A[p * n + p]) / (2 * A[p * n + q]);
+  t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
+  double c = 1 / sqrt(t * t + 1), s = t * c;
+  for (int k = 0; k < n; k++) {
+    double akp = A[k * n + p], akq = A[k * n + q];
+    A[k * n + p] = c * akp - s * akq, A[k * n + q] = s * akp + c * akq;
+  }
+  for (int k = 0; k < n; k++) {
+    double apk = A[p * n + k], aqk = A[q * n + k];
+    A[p * n + k] = c * apk - s * aqk, A[q * n + k] = s * apk + c * aqk;
+  }
+  for (int k = 0; k < n; k++) {
+    double vkp = V[k * n + p], vkq = V[k * n + q];
+    V[k * n + p] = c * vkp - s * vkq, V[k * n + q] = s * vkp + c * vkq;
+  }
+}
+
+/* Eigenvalues (diagonal of A) and eigenvectors (columns of V) of the
+ * symmetric A[n][n], by cyclic Jacobi to round-off. */
+static void jacobi(int n, double *A, double *V) {
+  for (int i = 0; i < n * n; i++) V[i] = (i / n == i % n);
+  for (int sweep = 0; sweep < 60; sweep++) {
+    double off = 0, diag = 0;
+    for (int i = 0; i < n; i++)
+      for (int j = 0; j < n; j++) *(i == j ? &diag : &off) += A[i * n + j] * A[i * n + j];
+    if (off <= 1e-30 * diag) return;
+    for (int p = 0; p < n; p++)
+      for (int q = p + 1; q < n; q++)
+        if (A[p * n + q] != 0) rotate(n, A, V, p, q);
+  }
+}
+
+/* Overlap of real eigenvector column m of V (the Hermitian vector
+ * x + i y stacked [x; y]) with the plane wave polarised along pol:
+ * |<e, v>|^2 / (|e|^2 |v|^2), e_c = sqrt(m_c) pol exp(i k . pos_c). */
+static double overlap(const lattice *L, const double *V, int R, int m, double kh, const double *n, const double *pol) {
+  int d = L->d, N = R / 2;
+  double complex dot = 0;
+  double ee = 0, vv = 0;
+  for (int c = 0; c < L->ncls; c++) {
+    double ph = 0;
+    for (int i = 0; i < d; i++) ph += kh * n[i] * L->pos[c][i];
+    double complex ph_c = cexp(I * ph) * sqrt(L->mass[c]);
+    for (int i = 0; i < d; i++) {
+      double complex v = V[(c * d + i) * R + m] + I * V[(N + c * d + i) * R + m];
+      dot += conj(ph_c * pol[i]) * v;
+      ee += L->mass[c] * pol[i] * pol[i], vv += creal(v * conj(v));
+    }
+  }
+  return creal(dot * conj(dot)) / (ee * vv);
+}
+
+/* sqrt of the eigenvalue whose vector overlaps most with polarisation pol. */
+static double branch(const lattice *L, const double *A, const double *V, int R, double kh, const double *n,
+                     const double *pol) {
+  double best = -1, lam = NAN;
+  for (int m = 0; m < R; m++) {
+    double o = overlap(L, V, R, m, kh, n, pol);
+    if (o > best) best = o, lam = A[m * R + m];
+  }
+  return sqrt(fmax(lam, 0));
+}
+
+/* Unit vectors across n: one in 2D, two in 3D (*np of them). */
+static void transverse(int d, const double *n, double t[2][3], int *np) {
+  memset(t, 0, sizeof(double) * 6);
+  *np = d - 1;
+  if (d == 2) {
+    t[0][0] = -n[1], t[0][1] = n[0];
+    return;
+  }
+  double a[3] = {fabs(n[0]) < 0.9 ? 1 : 0, fabs(n[0]) < 0.9 ? 0 : 1, 0};
+  double dot = a[0] * n[0] + a[1] * n[1] + a[2] * n[2], len = 0;
+  for (int c = 0; c < 3; c++) t[0][c] = a[c] - dot * n[c], len += t[0][c] * t[0][c];
+  for (int c = 0; c < 3; c++) t[0][c] /= sqrt(len);
+  t[1][0] = n[1] * t[0][2] - n[2] * t[0][1];
+  t[1][1] = n[2] * t[0][0] - n[0] * t[0][2];
+  t[1][2] = n[0] * t[0][1] - n[1] * t[0][0];
+}
+
+static int space_errors(const lattice *L, double r, double kh, const double *n, double err[2]) {
+  int N = L->ncls * L->d, R = 2 * N, np;
+  double complex H[MAX_N * MAX_N];
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R], t[2][3];
+  bloch_matrix(L, 1 - 2 * r, r, kh, n, H);
+  for (int i = 0; i < N; i++)
+    for (int j = 0; j < N; j++) {
+      double re = creal(H[i * N + j]), im = cimag(H[i * N + j]);
+      A[i * R + j] = A[(N + i) * R + N + j] = re;
+      A[(N + i) * R + j] = im, A[i * R + N + j] = -im;
+    }
+  jacobi(R, A, V);
+  err[0] = branch(L, A, V, R, kh, n, n) / kh - 1;
+  err[1] = 0;
+  transverse(L->d, n, t, &np);
+  for (int p = 0; p < np && r > 0; p++) {
+    double e = branch(L, A, V, R, kh, n, t[p]) / (sqrt(r) * kh) - 1;
+    if (p == 0 || fabs(e) > fabs(err[1])) err[1] = e;
+  }
+  return DTM_OK;
+}
+
+int dtm_dispersion_has_model(int type) {
+  return type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TRI6 || type == DTM_QUAD4 || type == DTM_TET4 ||
+         type == DTM_TET10 || type == DTM_HEX8;
+}
+
+int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]) {
+  lattice L;
+  if (!(r >= 0 && r < 0.75) || !(kh > 0)) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g", r, kh);
+  DTM_CHECK(lattice_build(type, &L));
+  return space_errors(&L, r, kh, n, err);
+}
+
+double dtm_dispersion_time(double space, double x) {
+  if (!(x <= 1)) return NAN;
+  if (x < 1e-8) return space;
+  return (1 + space) * asin(x) / x - 1;
+}
+
+/* The directions of a table: 2D 24 angles over half a turn (the axes and
+ * diagonals among them), 3D the axes, the face and body diagonals and 35
+ * more spread over the half sphere (k and -k disperse alike). */
+static int directions(int d, double n[DTM_DISP_DIRS][3]) {
+  memset(n, 0, sizeof(double) * 3 * DTM_DISP_DIRS);
+  if (d == 1) {
+    n[0][0] = 1;
+    return 1;
+  }
+  if (d == 2) {
+    for (int i = 0; i < 24; i++) n[i][0] = cos(PI * i / 24), n[i][1] = sin(PI * i / 24);
+    return 24;
+  }
+  static const double fixed[13][3] = {{1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
+                                      {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  int m = 0;
+  for (; m < 13; m++) {
+    double l = sqrt(fixed[m][0] * fixed[m][0] + fixed[m][1] * fixed[m][1] + fixed[m][2] * fixed[m][2]);
+    for (int c = 0; c < 3; c++) n[m][c] = fixed[m][c] / l;
+  }
+  for (int i = 0; i < DTM_DISP_DIRS - 13; i++, m++) {
+    double z = (i + 0.5) / (DTM_DISP_DIRS - 13), s = sqrt(1 - z * z), phi = i * PI * (3 - sqrt(5.0));
+    n[m][0] = s * cos(phi), n[m][1] = s * sin(phi), n[m][2] = z;
+  }
+  return m;
+}
+
+int dtm_dispersion_table(int type, double r, dtm_dispersion *t) {
+  lattice L;
+  DTM_CHECK(lattice_build(type, &L));
+  t->type = type, t->r = r;
+  t->ndir = directions(L.d, t->dir);
+  for (int j = 0; j < DTM_DISP_KH; j++) {
+    double kh = PI * (j + 1) / DTM_DISP_KH, err[2];
+    for (int i = 0; i < t->ndir; i++) {
+      DTM_CHECK(space_errors(&L, r, kh, t->dir[i], err));
+      t->g[0][i][j] = err[0] / (kh * kh), t->g[1][i][j] = err[1] / (kh * kh);
+    }
+  }
+  return DTM_OK;
+}
+
+/* err / (k h)^2 of branch mode in direction i at kh, linear between the
+ * table's points (constant below the first). */
+static double g_at(const dtm_dispersion *t, int mode, int i, double kh) {
+  double u = kh / PI * DTM_DISP_KH - 1;
+  if (u <= 0) return t->g[mode][i][0];
+  int j = (int)u;
+  if (j >= DTM_DISP_KH - 1) return t->g[mode][i][DTM_DISP_KH - 1];
+  double f = u - j;
+  return (1 - f) * t->g[mode][i][j] + f * t->g[mode][i][j + 1];
+}
+
+double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x) {
+  if (!(kh <= PI)) return NAN;
+  double worst = 0;
+  for (int i = 0; i < t->ndir; i++) {
+    double s = g_at(t, mode, i, kh) * kh * kh;
+    double e = dtm_dispersion_time(s, x * (1 + s));
+    if (isnan(e)) return NAN;
+    if (fabs(e) > fabs(worst)) worst = e;
+  }
+  return worst;
+}

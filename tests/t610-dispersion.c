@@ -1,0 +1,115 @@
+/* The Bloch analysis of src/cost/dispersion.c against closed forms.
+ * - Bar (linear, lumped): omega_h h / c = 2 sin(k h / 2), so the
+ *   semi-discrete error is sin(kh/2)/(kh/2) - 1, and with central
+ *   differences sin(omega dt/2) = (c dt/h) sin(kh/2): at Courant number 1
+ *   the two cancel exactly. Round-off only: 1e-12.
+ * - Along a lattice axis every linear element type (quad4, hex8, tri3 cut
+ *   along a diagonal, tet4 cut around the body diagonal) has the bar's
+ *   relation for both branches: P with c_P, S with c_S (the stiffness of a
+ *   wave uniform across the axis reduces to the 1D three-point stencil, and
+ *   the lumped mass per node is the cell's). Jacobi round-off: 1e-10.
+ * - Every type converges to the exact speed: |err(kh/2)| < |err(kh)| / 3
+ *   for kh = 0.4 (second order or better; tri6 S: 3.48), and the error at 10 cells per
+ *   wavelength is below 5 % (lumped mass lags; tri3 is stiff in shear and
+ *   leads by 4 % off the axes).
+ * - The table interpolates err/(kh)^2, so at a point between its nodes it
+ *   agrees with a direct evaluation to 2 % of the error.
+ * - Bad arguments and unsupported types fail with DTM_ERR_INPUT (the
+ *   measures skip such elements: t705 runs prisms and pyramids). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <math.h>
+
+#include "dtmap/cost.h"
+#include "dtmap/error.h"
+#include "dtmap/kernel.h"
+
+static const double ex[3] = {1, 0, 0};
+
+static void bar_closed_form(void **state) {
+  (void)state;
+  for (double kh = 0.1; kh < 3.1; kh += 0.3) {
+    double err[2];
+    assert_int_equal(dtm_dispersion_space(DTM_LINE2, 0, kh, ex, err), DTM_OK);
+    double exact = sin(kh / 2) / (kh / 2) - 1;
+    assert_true(fabs(err[0] - exact) < 1e-12);
+    for (double cr = 0.2; cr <= 1.0; cr += 0.2) {
+      /* x = omega_h dt / 2 = cr sin(kh/2); the closed form omega = (2/dt) asin(x) */
+      double x = cr * sin(kh / 2), ref = 2 * asin(x) / (cr * kh) - 1;
+      assert_true(fabs(dtm_dispersion_time(err[0], x) - ref) < 1e-12);
+    }
+    assert_true(fabs(dtm_dispersion_time(err[0], sin(kh / 2))) < 1e-12); /* Courant 1: exact */
+  }
+  assert_true(isnan(dtm_dispersion_time(0, 1.01)));
+}
+
+static void axis_is_bar(void **state) {
+  (void)state;
+  const int types[] = {DTM_QUAD4, DTM_HEX8, DTM_TRI3, DTM_TET4};
+  const double r = 0.25 * 0.5 / 0.75; /* nu = 0.25 in 3D: mu / (lam + 2 mu) = 1/3 */
+  for (int t = 0; t < 4; t++)
+    for (double kh = 0.2; kh < 3.0; kh += 0.7) {
+      double err[2], bar = sin(kh / 2) / (kh / 2) - 1;
+      assert_int_equal(dtm_dispersion_space(types[t], r, kh, ex, err), DTM_OK);
+      if (fabs(err[0] - bar) > 1e-10 || fabs(err[1] - bar) > 1e-10)
+        fail_msg("%s kh %g: P %.12g S %.12g bar %.12g", dtm_elem_name(types[t]), kh, err[0], err[1], bar);
+    }
+}
+
+static void converges(void **state) {
+  (void)state;
+  const int types[] = {DTM_LINE2, DTM_TRI3, DTM_TRI6, DTM_QUAD4, DTM_TET4, DTM_TET10, DTM_HEX8};
+  const double n3[3] = {0.6, 0.48, 0.64}, n2[3] = {0.6, 0.8, 0}; /* unit, off the symmetry planes */
+  for (int t = 0; t < 7; t++) {
+    double e1[2], e2[2], e3[2], r = types[t] == DTM_LINE2 ? 0 : 0.3;
+    int d, nn;
+    dtm_elem_info(types[t], &d, &nn);
+    const double *dir = d == 1 ? ex : d == 2 ? n2 : n3;
+    assert_int_equal(dtm_dispersion_space(types[t], r, 0.4, dir, e1), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(types[t], r, 0.2, dir, e2), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(types[t], r, 2 * 3.14159265358979323846 / 10, dir, e3), DTM_OK);
+    for (int m = 0; m < (r > 0 ? 2 : 1); m++) {
+      if (!(fabs(e2[m]) < fabs(e1[m]) / 3))
+        fail_msg("%s branch %d: err %g at kh 0.4, %g at 0.2", dtm_elem_name(types[t]), m, e1[m], e2[m]);
+      if (!(fabs(e3[m]) < 0.05))
+        fail_msg("%s branch %d: err %g at 10 per wavelength", dtm_elem_name(types[t]), m, e3[m]);
+    }
+  }
+}
+
+static void table_interpolates(void **state) {
+  (void)state;
+  dtm_dispersion t;
+  assert_int_equal(dtm_dispersion_table(DTM_TRI3, 0.3, &t), DTM_OK);
+  assert_int_equal(t.ndir, 24);
+  double kh = 0.83, worst = 0;
+  for (int i = 0; i < t.ndir; i++) {
+    double err[2];
+    assert_int_equal(dtm_dispersion_space(DTM_TRI3, 0.3, kh, t.dir[i], err), DTM_OK);
+    if (fabs(err[1]) > fabs(worst)) worst = err[1];
+  }
+  double got = dtm_dispersion_worst(&t, 1, kh, 0);
+  assert_true(fabs(got - worst) < 0.02 * fabs(worst));
+  assert_true(isnan(dtm_dispersion_worst(&t, 1, 3.2, 0))); /* under 2 cells per wavelength */
+}
+
+static void bad_input(void **state) {
+  (void)state;
+  double err[2];
+  assert_int_equal(dtm_dispersion_space(DTM_TRI3, 0.3, 0, ex, err), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_space(DTM_TRI3, -1, 1, ex, err), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_space(DTM_PRISM6, 0.3, 1, ex, err), DTM_ERR_INPUT);
+  assert_true(!dtm_dispersion_has_model(DTM_PRISM6) && dtm_dispersion_has_model(DTM_TET10));
+  dtm_error_clear();
+}
+
+int main(int argc, char **argv) {
+  (void)argc, (void)argv;
+  const struct CMUnitTest tests[] = {cmocka_unit_test(bar_closed_form), cmocka_unit_test(axis_is_bar),
+                                     cmocka_unit_test(converges), cmocka_unit_test(table_interpolates),
+                                     cmocka_unit_test(bad_input)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
