@@ -77,14 +77,25 @@ typedef enum {
 
 /* Material moduli prepared once per material for a formulation. */
 typedef struct {
-  int form;       /* dtm_formulation */
-  double lam;     /* first Lame parameter seen by the formulation, Pa
-                     (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
-  double mu;      /* shear modulus, Pa (bar: 0) */
-  double modulus; /* P-wave modulus lam + 2 mu, Pa (bar: E) */
-  double rho;     /* density, kg/m^3 */
-  double cd;      /* dilatational wave speed sqrt(modulus/rho), m/s */
+  int form;        /* dtm_formulation */
+  double lam;      /* first Lame parameter seen by the formulation, Pa
+                      (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
+  double mu;       /* shear modulus, Pa (bar: 0) */
+  double modulus;  /* P-wave modulus lam + 2 mu, Pa (bar: E) */
+  double rho;      /* density, kg/m^3 */
+  double cd;       /* dilatational wave speed sqrt(modulus/rho), m/s */
+  int integration; /* DTM_INTEGRATION_*: the discrete model of second-order
+                      elements (dtm_elastic_moduli_init: converged) */
 } dtm_elastic_moduli;
+
+/* How second-order elements are integrated, i.e. which discrete model the
+ * element bound and the global estimate are for (src/kernel/curved.c). */
+enum {
+  DTM_INTEGRATION_CONVERGED = 0, /* curved elements: rules raised until the
+                                    element matrices settle; straight-sided
+                                    ones: the full rules (the default) */
+  DTM_INTEGRATION_FULL = 1       /* the full rules on every element */
+};
 
 /* Fill m from E (Pa), nu, rho (kg/m^3). Returns DTM_ERR_INPUT (with a
  * message) when E <= 0, rho <= 0, nu outside (-1, 0.5), or any is not finite. */
