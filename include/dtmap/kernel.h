@@ -143,9 +143,13 @@ enum {
                            defined; dtmap analyses and flags it */
   DTM_SHAPE_FOLDED = 2, /* negative at some integration point: inverted or
                            folded, refused */
-  DTM_SHAPE_FLAT = 3    /* no safely positive integration point, none
+  DTM_SHAPE_FLAT = 3,   /* no safely positive integration point, none
                            negative (or the nodes span no line, plane or
                            volume): zero measure, refused */
+  DTM_SHAPE_INSIDE = 4  /* tri6, tet10: safely positive at every node and
+                           integration point, but not everywhere inside by
+                           a Bernstein bound (src/kernel/bezier.c):
+                           inverted between the sampling points, refused */
 };
 typedef struct {
   int status;          /* DTM_SHAPE_* */

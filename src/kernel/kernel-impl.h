@@ -87,6 +87,14 @@ double dtm_elem_node_offset(int type, const double (*x)[3]);
  * DTM_K_LEVEL_MAX before the element settled. */
 int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int model, dtm_qrule *q, int *settled);
 
+/* Bernstein bound of det J over a tri6 or tet10 in its frame (bezier.c):
+ * 1 when det J is proved positive everywhere, -1 when some point has det J
+ * not safely positive (its scaled Jacobian into *scaled, may be NULL), 0
+ * when neither is proved at the depth allowed, -2 for another type.
+ * *ratio: a lower bound of min det J / max det J over the element (the
+ * scaled Jacobian found when -1). */
+int dtm_elem_jacobian_bound(int type, int d, int nn, const double (*xl)[3], double *ratio, double *scaled);
+
 /* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)
  * as scale * s, with s packed as s[0]=S11 s[1]=S22 s[2]=S33 s[3]=S12
  * s[4]=S13 s[5]=S23 (unused entries 0; scale > 0, 1/m^2), and the measure.
