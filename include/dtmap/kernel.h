@@ -167,6 +167,26 @@ DTM_EXPORT int dtm_kernel_shape(int type, const double *x, dtm_shape *s);
 /* One phrase for a DTM_SHAPE_* status, for messages. */
 DTM_EXPORT const char *dtm_shape_describe(int status);
 
+/* How curved a second-order element is (src/kernel/curved.c, bezier.c). */
+typedef struct {
+  double offset;    /* largest distance of a second-order node from where the
+                       linear parent puts it, over its edge length (0:
+                       straight-sided, and for linear types) */
+  double jac_ratio; /* min det J / max det J over the element: on tri6 and
+                       tet10 a lower bound from Bernstein coefficients
+                       (bounded = 1), on the other types over the nodes and
+                       the full rule's points; 1 when det J is constant */
+  int bounded;      /* 1 when jac_ratio is a bound over the whole element */
+  int level;        /* rule level the converged model integrates it with
+                       (0: the full rule, for straight-sided elements) */
+  int settled;      /* 0 when the levels stopped before the element settled */
+} dtm_curvature;
+/* Fill *c for the element of type with coordinates x[nn][3] (m). Linear
+ * types get offset 0 and ratio 1. DTM_ERR_INPUT only for an unsupported
+ * type. A straight-sided element costs a few node evaluations, a curved
+ * one the converged rule's search (tens of microseconds on tet10). */
+DTM_EXPORT int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c);
+
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
  * with lumped mass (see dtm_elem_lumped_weights: row sums for linear
  * types, HRZ for second-order ones): closed form on linear simplices

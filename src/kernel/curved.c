@@ -30,6 +30,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "dtmap/error.h"
 #include "kernel-impl.h"
 
 #define STRAIGHT_TOL 1e-9 /* relative node offset below which an element is straight-sided */
@@ -150,4 +151,34 @@ int dtm_ref_rule_elem(int type, const double *x, int model, dtm_qrule *q) {
     return 0;
   }
   return dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, q, NULL);
+}
+
+/* min det J / max det J over the nodes and the full rule's points. */
+static double sampled_ratio(int type, int d, int nn, const double (*xl)[3]) {
+  double lo = INFINITY, hi = -INFINITY, had, p[3];
+  dtm_qrule q;
+  dtm_ref_rule(type, &q);
+  for (int k = 0; k < q.n + nn; k++) {
+    if (k >= q.n) dtm_ref_node(type, k - q.n, p);
+    double v = dtm_map_det(type, d, nn, xl, k < q.n ? q.p[k] : p, &had);
+    lo = fmin(lo, v), hi = fmax(hi, v);
+  }
+  return hi > 0 ? lo / hi : 0;
+}
+
+int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c) {
+  int d, nn;
+  double xl[DTM_K_NODES][3], r;
+  dtm_qrule q;
+  DTM_CHECK(dtm_elem_info(type, &d, &nn));
+  *c = (dtm_curvature){0, 1, 1, 0, 1};
+  if (dtm_elem_parent(type) == type) return DTM_OK;
+  c->offset = dtm_elem_node_offset(type, (const double(*)[3])x);
+  if (dtm_elem_local(type, x, xl)) return c->jac_ratio = 0, c->bounded = 0, DTM_OK;
+  if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
+    c->jac_ratio = fmin(r, 1);
+  else
+    c->jac_ratio = sampled_ratio(type, d, nn, (const double(*)[3])xl), c->bounded = 0;
+  c->level = dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, DTM_INTEGRATION_CONVERGED, &q, &c->settled);
+  return DTM_OK;
 }

@@ -66,6 +66,17 @@ static void conflict_warning(const dtm_analysis *a, dtm_warnings *w) {
                               dtm_analysis_hmax(a)[i], ac.dt_cap, ac.conflicts);
 }
 
+/* Curved elements whose step depends on the integration rule. */
+static void curvature_warning(const dtm_analysis *a, dtm_warnings *w) {
+  const dtm_curvature_summary *s = dtm_analysis_curvature(a);
+  if (!s->sensitive || w->n >= DTM_WARN_MAX) return;
+  snprintf(w->text[w->n++], sizeof w->text[0],
+           "%zu curved element%s a step that changes by more than 1e-3 with the integration rule (up to %.2g): "
+           "the steps are for the %s integration; a solver integrating them otherwise has another stable step",
+           s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
+           s->model == DTM_INTEGRATION_FULL ? "full-rule" : "converged");
+}
+
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   w->n = 0;
   if (r->cost && r->cost->mass) dtm_output_mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
@@ -73,6 +84,7 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
     dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
+  curvature_warning(r->analysis, w);
 }
 
 const char *dtm_feature_name(int kind) {

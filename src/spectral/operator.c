@@ -448,8 +448,10 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
                   const double *beta) {
   op->ndof = m->nnodes * (size_t)op->ncomp;
   op->node_tags = m->node_tags;
-  int np = 0;
-  int r = dtm_rule_parts(m, DTM_INTEGRATION_CONVERGED, &op->parts, &np);
+  int np = 0, model = DTM_INTEGRATION_CONVERGED;
+  for (int i = 0; i < op->nmat; i++) /* the elastic effect's model (one per effect) */
+    if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration == DTM_INTEGRATION_FULL) model = DTM_INTEGRATION_FULL;
+  int r = dtm_rule_parts(m, model, &op->parts, &np);
   op->nblocks = np; /* the parts, freed by destroy */
   DTM_CHECK(r);
   op->blocks = calloc((size_t)np + 1, sizeof *op->blocks);
