@@ -52,19 +52,19 @@ static int elastic_effect(const dtm_analysis *a) {
   return -1;
 }
 
-/* |dt_full / dt_converged - 1| of an element, NaN when not computable. */
-static double dependence(const dtm_operator_coeffs *c, int type, const double *x) {
+/* |dt_other / dt - 1| of an element whose undamped element step in the
+ * effect's model is dt, dt_other in the other model; NaN when not
+ * computable. */
+static double dependence(const dtm_operator_coeffs *c, int type, const double *x, double dt) {
   dtm_elastic_moduli m = c->mod;
-  double lc, lf;
-  m.integration = DTM_INTEGRATION_CONVERGED;
-  if (dtm_kernel_elastic_lambda(type, &m, x, &lc)) return dtm_error_clear(), NAN;
-  m.integration = DTM_INTEGRATION_FULL;
-  if (dtm_kernel_elastic_lambda(type, &m, x, &lf)) return dtm_error_clear(), NAN;
-  return fabs(sqrt(lc / lf) - 1);
+  double l;
+  m.integration = m.integration == DTM_INTEGRATION_FULL ? DTM_INTEGRATION_CONVERGED : DTM_INTEGRATION_FULL;
+  if (dtm_kernel_elastic_lambda(type, &m, x, &l)) return dtm_error_clear(), NAN;
+  return fabs(2 / sqrt(l) / dt - 1);
 }
 
 /* Per element of block b (global indices from g0): ratio and dependence. */
-static void block_pass(const dtm_analysis *a, int b, const dtm_operator_coeffs *coef, double *dep) {
+static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, double *dep) {
   const dtm_block *blk = &a->mesh->blocks[b];
   size_t g0 = a->offset[b];
   long n = (long)blk->n;
@@ -81,8 +81,9 @@ static void block_pass(const dtm_analysis *a, int b, const dtm_operator_coeffs *
       continue;
     }
     a->curv_ratio[g0 + (size_t)e] = c.jac_ratio, a->curv_offset[g0 + (size_t)e] = c.offset;
-    if (c.offset > OFFSET_CURVED && coef)
-      dep[g0 + (size_t)e] = dependence(&coef[dtm_analysis_slot(a, blk, (size_t)e)], blk->type, x);
+    if (!(c.offset > OFFSET_CURVED) || !coef) continue;
+    const double *dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+    dep[g0 + (size_t)e] = dependence(&coef[dtm_analysis_slot(a, blk, (size_t)e)], blk->type, x, dt[g0 + (size_t)e]);
   }
 }
 
@@ -129,7 +130,7 @@ int dtm_analysis_curvature_pass(dtm_analysis *a) {
   if (k >= 0) a->curv.model = coef[0].mod.integration;
   for (int b = 0; b < a->mesh->nblocks && any && r == DTM_OK; b++)
     if (second_order(a->mesh->blocks[b].type))
-      block_pass(a, b, coef, dep);
+      block_pass(a, b, k, coef, dep);
     else
       for (size_t g = a->offset[b]; g < a->offset[b + 1]; g++) a->curv_ratio[g] = a->curv_offset[g] = NAN;
   if (r == DTM_OK && any) summarize_part(a, dep);
