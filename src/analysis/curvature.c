@@ -41,13 +41,16 @@ static int second_order(int type) {
 /* The first elastic effect whose element step is the bound, or -1. */
 static int elastic_effect(const dtm_analysis *a) {
   for (int k = 0; k < a->neffects; k++) {
-    dtm_operator_coeffs c;
-    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients || !a->mesh->nblocks) continue;
-    if (dtm_analysis_coefficients(a, k, dtm_analysis_slot(a, &a->mesh->blocks[0], 0), &c)) {
-      dtm_error_clear();
-      continue;
+    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue;
+    for (int i = 0; i < dtm_analysis_nslots(a); i++) {
+      dtm_operator_coeffs c;
+      if (dtm_analysis_coefficients(a, k, i, &c)) { /* a slot no element uses may lack properties */
+        dtm_error_clear();
+        continue;
+      }
+      if (c.kind == DTM_OP_ELASTIC && c.dt_is_bound) return k;
+      break;
     }
-    if (c.kind == DTM_OP_ELASTIC && c.dt_is_bound) return k;
   }
   return -1;
 }
