@@ -20,6 +20,7 @@ scipy.linalg.eigh; the assembled M^-1/2 K M^-1/2 by scipy.sparse.linalg.eigsh
 and its global estimate (report dt.global, on the safe side) are compared.
 
 Usage: curved_ref.py DTMAP [--optimised] [--size-2d H] [--size-3d H]
+       curved_ref.py DTMAP --msh A.msh [B.msh ...]   (existing order-2 meshes)
 Prints one line per mesh: elements, curved count, max relative element
 step difference, and dtmap's global estimate over the reference's exact
 step. Exits 1 when an element differs by more than 1e-6 or the global
@@ -199,15 +200,23 @@ def assembled(elems, d):
     return 2 / np.sqrt(top), steps
 
 
-def run_case(dtmap, name, size, optimised, tmp):
+def run_case(dtmap, name, size, optimised, tmp, given=None):
     tag = name + ("-opt" if optimised else "")
     msh = os.path.join(tmp, tag + ".msh")
-    d = make_mesh(name, msh, size, optimised)
+    if given:  # an existing order-2 mesh (tet10, or tri6 in z = 0), every element analysed
+        import shutil
+        shutil.copy(given, msh)
+        gmsh.open(msh)
+        d = gmsh.model.getDimension()
+        gmsh.clear()
+    else:
+        d = make_mesh(name, msh, size, optimised)
     form = "" if d == 3 else ' formulation="plane-strain"'
     scene = os.path.join(tmp, tag + ".xml")
+    groups = ' default="true"' if given else ' groups="solid"'
     with open(scene, "w") as f:
         f.write(f'<dtmap-scene version="1">\n  <mesh file="{tag}.msh"/>\n'
-                f'  <material name="steel" groups="solid" E="{E}" nu="{NU}" rho="{RHO}"/>\n'
+                f'  <material name="steel"{groups} E="{E}" nu="{NU}" rho="{RHO}"/>\n'
                 f"  <effects><elastic{form}/></effects>\n</dtmap-scene>\n")
     out, rep = os.path.join(tmp, tag + "-out.msh"), os.path.join(tmp, tag + ".json")
     subprocess.run([dtmap, "run", scene, "-q", "--posterior", "-o", out, "--report", rep], check=True)
@@ -236,6 +245,11 @@ def main():
     gmsh.option.setNumber("General.Terminal", 0)
     ok = True
     with tempfile.TemporaryDirectory() as tmp:
+        if "--msh" in args:  # curved_ref.py DTMAP --msh A.msh [B.msh ...]
+            for m in args[args.index("--msh") + 1:]:
+                ok &= run_case(dtmap, os.path.splitext(os.path.basename(m))[0], 0, False, tmp, m)
+            gmsh.finalize()
+            return 0 if ok else 1
         for opt in ([False, True] if optimised else [False]):
             for name, size in (("disc", s2), ("holed", s2 / 2), ("sphere", s3), ("cylinder", s3 / 1.5)):
                 ok &= run_case(dtmap, name, size, opt, tmp)
