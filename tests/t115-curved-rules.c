@@ -211,12 +211,33 @@ static void test_offset(void **state) {
   assert_true(dtm_elem_node_offset(DTM_TET4, (const double(*)[3])x) == 0);
 }
 
+/* A tet10 whose edge 0-1 folds back at node 0 (its middle node at 0.22
+ * of the edge: dx/dt = -0.12 there) is inverted at that node but positive
+ * at the 14 points of the full rule (dtmap analyses and flags it); the
+ * levelled rules reach the inverted region, so the converged model keeps
+ * the full rule for it: the same bound, and not settled. */
+static void test_corner_keeps_full(void **state) {
+  (void)state;
+  double x[30];
+  const double(*r)[3] = dtm_ref_nodes(DTM_TET10);
+  memcpy(x, r, sizeof x);
+  x[3 * 4] = 0.22;
+  dtm_shape s;
+  assert_int_equal(dtm_kernel_shape(DTM_TET10, x, &s), DTM_OK);
+  if (s.status != DTM_SHAPE_CORNER) fail_msg("status %d", s.status);
+  assert_true(lambda(DTM_TET10, x, 0.3, DTM_INTEGRATION_CONVERGED) == lambda(DTM_TET10, x, 0.3, DTM_INTEGRATION_FULL));
+  dtm_curvature c;
+  assert_int_equal(dtm_kernel_curvature(DTM_TET10, x, &c), DTM_OK);
+  assert_int_equal(c.level, 0);
+  assert_int_equal(c.settled, 0);
+}
+
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_monomials),    cmocka_unit_test(test_straight_unchanged),
       cmocka_unit_test(test_exact_masses), cmocka_unit_test(test_converged_bound),
-      cmocka_unit_test(test_offset),
+      cmocka_unit_test(test_offset),       cmocka_unit_test(test_corner_keeps_full),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

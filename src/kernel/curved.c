@@ -26,7 +26,11 @@
  * level for the same element without knowing its material. The HRZ masses
  * at these levels are exact. Levels stop at DTM_K_LEVEL_MAX; an element
  * not settled there keeps the last level and is reported as such.
- * Pyramids have no levelled rule and keep the full rule. */
+ * Pyramids have no levelled rule and keep the full rule. An element
+ * inverted near a node (analysed and flagged by dtmap's policy: positive
+ * at every point of the full rule, not at some node) has det J negative in
+ * a region the levelled rules reach: it keeps the full rule, as before,
+ * and is reported as not settled. */
 #include <math.h>
 #include <string.h>
 
@@ -137,6 +141,12 @@ int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int mod
     return 0;
   }
   int n = converge(type, d, nn, xl, q, &s);
+  double dj;
+  if (dtm_map_first_bad(type, d, nn, xl, q, &dj) >= 0) { /* inverted near a node: no converged model */
+    dtm_ref_rule(type, q);
+    if (settled) *settled = 0;
+    return 0;
+  }
   if (settled) *settled = s;
   return n;
 }
