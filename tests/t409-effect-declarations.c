@@ -105,7 +105,7 @@ static void attributes(void **unused) {
   assert_int_equal(load("", "<effect name=\"elastic\" length=\"min-edge\"/><damping xi=\"0.1\"/>", &s), DTM_OK);
   dtm_scene_destroy(&s);
   expect_scene_error("", "<effect name=\"elastic\" lenght=\"min-edge\"/>", 5,
-                     "effect 'elastic': unknown attribute 'lenght' (elastic takes: formulation, length)");
+                     "effect 'elastic': unknown attribute 'lenght' (elastic takes: formulation, length, integration)");
   expect_scene_error("", "<effect name=\"elastic\" length=\"edge\"/>", 5,
                      "length=\"edge\" is not one of: eigen, safe, min-edge, min-altitude, inradius, volume-area");
   expect_scene_error("", "<effect name=\"damping\" xi=\"-1\"/>", 5, "xi = -1 is not admissible (need xi >= 0)");

@@ -162,6 +162,26 @@ DTM_EXPORT int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int max
 DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
 DTM_EXPORT const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a);
 DTM_EXPORT size_t dtm_analysis_nelements(const dtm_analysis *a);
+
+/* Curvature of the second-order elements (src/analysis/curvature.c). */
+#define DTM_CURVED_STRONG 0.5 /* min det J / max det J below which an element is strongly curved */
+typedef struct {
+  size_t second_order;       /* second-order elements */
+  size_t curved;             /* of which curved: a node off its straight place by more than 1e-9 of the edge */
+  size_t strong;             /* of which strongly curved (jacobian ratio below DTM_CURVED_STRONG) */
+  size_t sensitive;          /* of which rule sensitive: the elastic element step differs by more than 1e-3
+                                between the full rules and the converged integration */
+  double worst_ratio;        /* smallest min det J / max det J over the curved elements (1: none) */
+  size_t worst_element;      /* its global element index ((size_t)-1: none, or in another part) */
+  double max_offset;         /* largest node offset over the edge */
+  double max_dependence;     /* largest relative step change between the two models */
+  size_t dependence_element; /* its global element index ((size_t)-1: none) */
+  int model;                 /* DTM_INTEGRATION_* the element steps are for */
+} dtm_curvature_summary;
+DTM_EXPORT const dtm_curvature_summary *dtm_analysis_curvature(const dtm_analysis *a);
+/* [nel] min det J / max det J of each element (NaN for linear ones), or
+ * NULL when the mesh has no second-order element. */
+DTM_EXPORT const double *dtm_analysis_curvature_ratio(const dtm_analysis *a);
 DTM_EXPORT int dtm_analysis_neffects(const dtm_analysis *a);
 /* Nodes of the analysed mesh, and their Gmsh tags [nnodes] (the order of
  * the per-node arrays). */

@@ -77,14 +77,25 @@ typedef enum {
 
 /* Material moduli prepared once per material for a formulation. */
 typedef struct {
-  int form;       /* dtm_formulation */
-  double lam;     /* first Lame parameter seen by the formulation, Pa
-                     (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
-  double mu;      /* shear modulus, Pa (bar: 0) */
-  double modulus; /* P-wave modulus lam + 2 mu, Pa (bar: E) */
-  double rho;     /* density, kg/m^3 */
-  double cd;      /* dilatational wave speed sqrt(modulus/rho), m/s */
+  int form;        /* dtm_formulation */
+  double lam;      /* first Lame parameter seen by the formulation, Pa
+                      (plane stress: 2 lam mu/(lam + 2 mu); bar: 0) */
+  double mu;       /* shear modulus, Pa (bar: 0) */
+  double modulus;  /* P-wave modulus lam + 2 mu, Pa (bar: E) */
+  double rho;      /* density, kg/m^3 */
+  double cd;       /* dilatational wave speed sqrt(modulus/rho), m/s */
+  int integration; /* DTM_INTEGRATION_*: the discrete model of second-order
+                      elements (dtm_elastic_moduli_init: converged) */
 } dtm_elastic_moduli;
+
+/* How second-order elements are integrated, i.e. which discrete model the
+ * element bound and the global estimate are for (src/kernel/curved.c). */
+enum {
+  DTM_INTEGRATION_CONVERGED = 0, /* curved elements: rules raised until the
+                                    element matrices settle; straight-sided
+                                    ones: the full rules (the default) */
+  DTM_INTEGRATION_FULL = 1       /* the full rules on every element */
+};
 
 /* Fill m from E (Pa), nu, rho (kg/m^3). Returns DTM_ERR_INPUT (with a
  * message) when E <= 0, rho <= 0, nu outside (-1, 0.5), or any is not finite. */
@@ -132,9 +143,13 @@ enum {
                            defined; dtmap analyses and flags it */
   DTM_SHAPE_FOLDED = 2, /* negative at some integration point: inverted or
                            folded, refused */
-  DTM_SHAPE_FLAT = 3    /* no safely positive integration point, none
+  DTM_SHAPE_FLAT = 3,   /* no safely positive integration point, none
                            negative (or the nodes span no line, plane or
                            volume): zero measure, refused */
+  DTM_SHAPE_INSIDE = 4  /* tri6, tet10: safely positive at every node and
+                           integration point, but not everywhere inside by
+                           a Bernstein bound (src/kernel/bezier.c):
+                           inverted between the sampling points, refused */
 };
 typedef struct {
   int status;          /* DTM_SHAPE_* */
@@ -151,6 +166,26 @@ typedef struct {
 DTM_EXPORT int dtm_kernel_shape(int type, const double *x, dtm_shape *s);
 /* One phrase for a DTM_SHAPE_* status, for messages. */
 DTM_EXPORT const char *dtm_shape_describe(int status);
+
+/* How curved a second-order element is (src/kernel/curved.c, bezier.c). */
+typedef struct {
+  double offset;    /* largest distance of a second-order node from where the
+                       linear parent puts it, over its edge length (0:
+                       straight-sided, and for linear types) */
+  double jac_ratio; /* min det J / max det J over the element: on tri6 and
+                       tet10 a lower bound from Bernstein coefficients
+                       (bounded = 1), on the other types over the nodes and
+                       the full rule's points; 1 when det J is constant */
+  int bounded;      /* 1 when jac_ratio is a bound over the whole element */
+  int level;        /* rule level the converged model integrates it with
+                       (0: the full rule, for straight-sided elements) */
+  int settled;      /* 0 when the levels stopped before the element settled */
+} dtm_curvature;
+/* Fill *c for the element of type with coordinates x[nn][3] (m). Linear
+ * types get offset 0 and ratio 1. DTM_ERR_INPUT only for an unsupported
+ * type. A straight-sided element costs a few node evaluations, a curved
+ * one the converged rule's search (tens of microseconds on tet10). */
+DTM_EXPORT int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c);
 
 /* Largest eigenvalue of Me^-1 Ke (1/s^2) for isotropic linear elasticity
  * with lumped mass (see dtm_elem_lumped_weights: row sums for linear

@@ -26,10 +26,13 @@ typedef struct {
   double fmax;          /* highest frequency of interest, Hz (0: none) */
   double per_wave;      /* elements per wavelength required */
   int iE, inu, irho;    /* catalogue indices of E, nu and rho */
+  int integration;      /* DTM_INTEGRATION_*: the discrete model of second-order elements */
 } elastic_state;
 
 static const char *const form_names[] = DTM_FORMULATION_NAMES;
 static const char *const length_names[] = DTM_LENGTH_NAMES;
+/* In DTM_INTEGRATION_* order (src/kernel/curved.c). */
+static const char *const integration_names[] = {"converged", "full", NULL};
 static const int form_dims[] = {3, 2, 2, 1}; /* element dimension of each formulation */
 
 static int lookup(const char *v, const char *const *names) {
@@ -40,9 +43,10 @@ static int lookup(const char *v, const char *const *names) {
 
 static int elastic_create(const dtm_effect_args *a, void **state) {
   const char *f;
-  int dim = dtm_effect_args_dim(a), li;
+  int dim = dtm_effect_args_dim(a), li, ii;
   DTM_CHECK(dtm_effect_args_text(a, "formulation", &f));
   DTM_CHECK(dtm_effect_args_choice(a, "length", &li));
+  DTM_CHECK(dtm_effect_args_choice(a, "integration", &ii));
   int fi = f ? lookup(f, form_names) : (int)dtm_formulation_default(dim);
   if (fi < 0) return dtm_effect_args_error(a, "unknown formulation '%s'", f);
   if (form_dims[fi] != dim)
@@ -56,7 +60,8 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
                        dtm_effect_args_per_wavelength(a),
                        dtm_effect_args_property(a, "E"),
                        dtm_effect_args_property(a, "nu"),
-                       dtm_effect_args_property(a, "rho")};
+                       dtm_effect_args_property(a, "rho"),
+                       ii};
   *state = s;
   return DTM_OK;
 }
@@ -72,6 +77,7 @@ static int moduli_of(const elastic_state *s, const dtm_material *m, const dtm_se
                    dtm_section_kind_name(sec->kind));
   int r = dtm_elastic_moduli_init(f, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
+  mod->integration = s->integration;
   return DTM_OK;
 }
 
@@ -168,6 +174,9 @@ static const dtm_param params[] = {
      "default by the mesh's dimension: 3d, plane-strain, bar"},
     {"length", DTM_PARAM_CHOICE, "eigen", 0, 0, 0, length_names, 0, "",
      "element step: the element eigenvalue bound (eigen, safe) or a length rule / C_D (see dtmap --help)"},
+    {"integration", DTM_PARAM_CHOICE, "converged", 0, 0, 0, integration_names, 0, "",
+     "discrete model of second-order elements the steps are for: converged (curved elements integrated until "
+     "their matrices settle) or full (the full rules, exact only on straight-sided elements)"},
     {NULL, 0, NULL, 0, 0, 0, NULL, 0, NULL, NULL}};
 
 static const dtm_property properties[] = {

@@ -65,6 +65,10 @@ struct dtm_analysis {
   int threads;                 /* OpenMP threads used for the element loop */
   dtm_mesher_info mesher;      /* how the mesh was made (dtm_analysis_run and _current) */
   const dtm_exchange *x;       /* the other parts of a distributed run (not owned), or NULL */
+  double *curv_ratio;          /* [nel] min det J / max det J of second-order elements,
+                                  NaN for the others; NULL without any (curvature.c) */
+  double *curv_offset;         /* [nel] their node offset over the edge, NaN for the others */
+  dtm_curvature_summary curv;  /* the counts and extremes of curvature.c */
 };
 
 /* The exchange's operations (distributed.h), or, without one, the status
@@ -121,6 +125,9 @@ int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
 /* A 2D model treated as a plane elastic problem is plane
  * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */
 int dtm_analysis_check_planar(const dtm_analysis *a);
+/* The curvature of the second-order elements and the rule dependence of
+ * their steps (curvature.c), after the element steps. */
+int dtm_analysis_curvature_pass(dtm_analysis *a);
 /* Effect k's coefficients for slot i, with the section's factor set. */
 int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operator_coeffs *c);
 

@@ -320,6 +320,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
   r = dtm_x_agree(a, r);
   if (r == DTM_OK) r = summarize(a);
+  if (r == DTM_OK) r = dtm_analysis_curvature_pass(a);
   if (r == DTM_OK && !isfinite(a->dt_min))
     r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
@@ -346,6 +347,8 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   for (int k = 0; a->resolution && k < a->neffects; k++) free(a->resolution[k]);
   for (int k = 0; a->hmax_effect && k < a->neffects; k++) free(a->hmax_effect[k]);
   free(a->hmax_effect);
+  free(a->curv_ratio);
+  free(a->curv_offset);
   free(a->local);
   free(a->forced);
   free(a->shape);

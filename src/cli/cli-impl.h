@@ -130,6 +130,8 @@ void dtm_cli_progress_start(int verbosity);
 void dtm_cli_progress_stop(void);
 /* Warn on stderr about the elements analysed although inverted at a node. */
 void dtm_cli_warn_flagged(const dtm_analysis *a);
+/* The same for curved elements whose step depends on the rule (warn.c). */
+void dtm_cli_warn_curved(const dtm_analysis *a);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);

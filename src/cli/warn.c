@@ -1,7 +1,8 @@
 /* Warnings the CLI prints on stderr after an analysis (even with -q): the
  * elements dtmap analysed although they are inverted at a node (valid at
  * every integration point; see dtm_mesh_check), the first 20 by tag, group,
- * centroid and smallest scaled Jacobian, and how many in all. */
+ * centroid and smallest scaled Jacobian, and how many in all; the curved
+ * second-order elements whose step depends on the integration rule. */
 #include <stdio.h>
 
 #include "cli-impl.h"
@@ -23,4 +24,14 @@ void dtm_cli_warn_flagged(const dtm_analysis *a) {
     fprintf(stderr, "  %s: smallest scaled Jacobian %.3g\n", place, f->min_jacobian);
   }
   if (m->nflagged > WARN_LISTED) fprintf(stderr, "  ... and %zu more\n", m->nflagged - WARN_LISTED);
+}
+
+void dtm_cli_warn_curved(const dtm_analysis *a) {
+  const dtm_curvature_summary *s = dtm_analysis_curvature(a);
+  if (!s->sensitive) return;
+  fprintf(stderr,
+          "dtmap: warning: %zu curved element%s a step that changes by more than 1e-3 with the integration rule "
+          "(up to %.2g); the steps are for the %s integration (view 'curvature', report's curvature)\n",
+          s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
+          s->model == DTM_INTEGRATION_FULL ? "full-rule" : "converged");
 }

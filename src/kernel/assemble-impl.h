@@ -11,19 +11,23 @@ typedef struct {
   int d;                     /* dimension of the element's own frame */
   int nn;                    /* node count */
   double xl[DTM_K_NODES][3]; /* nodes in the element frame, m */
-  dtm_qrule q;               /* full-integration rule */
+  dtm_qrule q;               /* the rule: full, or levelled for a curved
+                                element (curved.c) */
+  int level;                 /* 0 for the full rule, else the level of q */
+  int settled;               /* 0 when the levels stopped before settling */
   int bad;                   /* after a failed setup: first bad rule point
                                 (see dtm_map_first_bad), or -1 when the
                                 nodes span no frame */
   double bad_det;            /* det J at that point */
 } dtm_elem_geom;
 
-/* Fill eg for the element with coordinates x[nn][3]. Returns 0, or -1
+/* Fill eg for the element with coordinates x[nn][3], integrated as the
+ * model (DTM_INTEGRATION_*) says. Returns 0, or -1
  * (recording nothing) for an unsupported type or a degenerate or inverted
  * element; then eg->bad says where. */
-int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg);
+int dtm_elem_setup(int type, const double *x, int model, dtm_elem_geom *eg);
 /* dtm_elem_setup, raising DTM_ERR_INPUT with a message when it fails. */
-int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg);
+int dtm_elem_prepare(int type, const double *x, int model, dtm_elem_geom *eg);
 /* m[nn]: lumped mass per unit density (m^d): integral of N_a for linear
  * types, HRZ for second-order ones (dtm_lumped_mass). */
 void dtm_elem_mass(const dtm_elem_geom *eg, double *m);

@@ -12,21 +12,22 @@
 #include "kernel-impl.h"
 #include "assemble-impl.h"
 
-int dtm_elem_setup(int type, const double *x, dtm_elem_geom *eg) {
+int dtm_elem_setup(int type, const double *x, int model, dtm_elem_geom *eg) {
   if (!dtm_elem_topology(type)) return -1;
   dtm_elem_info(type, &eg->d, &eg->nn);
   eg->type = type;
   eg->bad = -1;
   eg->bad_det = 0;
+  eg->level = 0, eg->settled = 1;
   if (dtm_elem_local(type, x, eg->xl)) return -1;
-  dtm_ref_rule(type, &eg->q);
+  eg->level = dtm_elem_rule_choose(type, eg->d, eg->nn, (const double(*)[3])eg->xl, model, &eg->q, &eg->settled);
   eg->bad = dtm_map_first_bad(type, eg->d, eg->nn, (const double(*)[3])eg->xl, &eg->q, &eg->bad_det);
   return eg->bad < 0 ? 0 : -1;
 }
 
-int dtm_elem_prepare(int type, const double *x, dtm_elem_geom *eg) {
+int dtm_elem_prepare(int type, const double *x, int model, dtm_elem_geom *eg) {
   DTM_CHECK(dtm_elem_info(type, NULL, NULL));
-  if (!dtm_elem_setup(type, x, eg)) return DTM_OK;
+  if (!dtm_elem_setup(type, x, model, eg)) return DTM_OK;
   if (eg->bad < 0)
     return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: its nodes span no %s", dtm_elem_name(type),
                    eg->d == 1 ? "line" : "plane");

@@ -34,7 +34,7 @@ int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, dou
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_DOF * DTM_K_DOF], mass[DTM_K_NODES];
-  DTM_CHECK(dtm_elem_prepare(type, x, &eg));
+  DTM_CHECK(dtm_elem_prepare(type, x, m->integration, &eg));
   DTM_CHECK(dtm_form_check(type, eg.d, m->form));
   dtm_elem_stiffness(&eg, m, K);
   dtm_elem_mass(&eg, mass);
@@ -46,7 +46,7 @@ int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const doub
 int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_NODES * DTM_K_NODES], cap[DTM_K_NODES];
-  DTM_CHECK(dtm_elem_prepare(type, x, &eg));
+  DTM_CHECK(dtm_elem_prepare(type, x, DTM_INTEGRATION_CONVERGED, &eg));
   dtm_elem_laplace(&eg, K);
   dtm_elem_mass(&eg, cap);
   DTM_CHECK(dtm_lumped_eig_max(type, eg.nn, 1, K, cap, lambda));

@@ -74,6 +74,27 @@ double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double 
  * nothing. */
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj);
 
+/* n Gauss-Legendre points x[n] (ascending) and weights w[n] on [-1, 1]. */
+void dtm_gauss_legendre(int n, double *x, double *w);
+/* Largest offset of a second-order node of the element with coordinates
+ * x[nn][3] from where its linear parent's map puts it, relative to its
+ * edge (face and centre nodes: to the longest edge); 0 for linear types
+ * and pyramids. */
+double dtm_elem_node_offset(int type, const double (*x)[3]);
+/* The rule of the element in its frame (xl) for the model (see curved.c):
+ * returns 0 with the full rule, or the level of the levelled rule put in
+ * q; *settled (may be NULL) is 0 when the levels stopped at
+ * DTM_K_LEVEL_MAX before the element settled. */
+int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int model, dtm_qrule *q, int *settled);
+
+/* Bernstein bound of det J over a tri6 or tet10 in its frame (bezier.c):
+ * 1 when det J is proved positive everywhere, -1 when some point has det J
+ * not safely positive (its scaled Jacobian into *scaled, may be NULL), 0
+ * when neither is proved at the depth allowed, -2 for another type.
+ * *ratio: a lower bound of min det J / max det J over the element (the
+ * scaled Jacobian found when -1). */
+int dtm_elem_jacobian_bound(int type, int d, int nn, const double (*xl)[3], double *ratio, double *scaled);
+
 /* Barycentric metric of a simplex: S = sum_a g_a g_a^T (d x d, symmetric)
  * as scale * s, with s packed as s[0]=S11 s[1]=S22 s[2]=S33 s[3]=S12
  * s[4]=S13 s[5]=S23 (unused entries 0; scale > 0, 1/m^2), and the measure.

@@ -135,7 +135,7 @@ static double safe_length(int type, const double *x) {
   }
   dtm_elem_geom eg;
   double K[DTM_K_NODES * DTM_K_NODES], m[DTM_K_NODES], sum = 0;
-  if (dtm_elem_setup(type, x, &eg)) return NAN;
+  if (dtm_elem_setup(type, x, DTM_INTEGRATION_CONVERGED, &eg)) return NAN;
   dtm_elem_laplace(&eg, K);
   dtm_elem_mass(&eg, m);
   for (int a = 0; a < eg.nn; a++) sum += K[a * eg.nn + a] / m[a];

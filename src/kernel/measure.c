@@ -21,7 +21,7 @@ static double integrate(int type, const double *x, double *m) {
   dtm_elem_info(type, &d, &nn);
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
-  dtm_ref_rule(type, &q);
+  dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, DTM_INTEGRATION_CONVERGED, &q, NULL);
   return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
 }
 

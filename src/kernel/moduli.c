@@ -24,6 +24,7 @@ int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, 
   double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
   m->form = f;
   m->rho = rho;
+  m->integration = DTM_INTEGRATION_CONVERGED;
   if (f == DTM_FORM_BAR) {
     m->lam = m->mu = 0;
     m->modulus = E;

@@ -7,12 +7,11 @@
 
 #include "dtmap/kernel.h"
 
-#define DTM_K_NODES 27 /* most nodes among the types the kernels handle (hex27) */
-#define DTM_K_DOF 81   /* most displacement unknowns (hex27, 3 per node) */
-#define DTM_K_QP                                                                                                       \
-  27                   /* most quadrature points of a rule (3x3x3 Gauss on                                             \
-                          hexahedra and pyramids) */
-#define DTM_K_FACETS 6 /* of the linear parent: second-order types reuse it */
+#define DTM_K_NODES 27    /* most nodes among the types the kernels handle (hex27) */
+#define DTM_K_DOF 81      /* most displacement unknowns (hex27, 3 per node) */
+#define DTM_K_LEVEL_MAX 8 /* most Gauss points per direction of a levelled rule */
+#define DTM_K_QP 512      /* most quadrature points of a rule (a levelled rule at DTM_K_LEVEL_MAX in 3D) */
+#define DTM_K_FACETS 6    /* of the linear parent: second-order types reuse it */
 #define DTM_K_EDGES 12
 
 /* A quadrature rule in rule coordinates p. These are Gmsh's reference
@@ -28,6 +27,18 @@ typedef struct {
 /* Full-integration rule of a supported type (see quadrature.c): exact for
  * the stiffness and the consistent mass of straight-sided elements. */
 void dtm_ref_rule(int type, dtm_qrule *q);
+/* The levelled rule of type with n Gauss points per direction
+ * (quadrature_level.c); returns n, or 0 (q->n = 0) for a type without
+ * one (pyramids) or n outside [1, DTM_K_LEVEL_MAX]. */
+int dtm_ref_rule_level(int type, int n, dtm_qrule *q);
+/* The rule that integrates the element of type with coordinates x[nn][3]
+ * in the discrete model (DTM_INTEGRATION_*), as the element kernels do
+ * (curved.c): the full rule (returns 0) or a levelled rule (returns its
+ * level). */
+int dtm_ref_rule_elem(int type, const double *x, int model, dtm_qrule *q);
+/* 1 when curved elements of type get levelled rules (the second-order
+ * types but pyramids), else 0. */
+int dtm_ref_levelled(int type);
 /* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
  * written, unused ones zero) with respect to the reference coordinates
  * (u, v, w), at rule coordinates p. */

@@ -8,7 +8,10 @@
  * analysed even when a corner is inverted (DTM_SHAPE_CORNER); one that is
  * not safely positive at some integration point cannot (DTM_SHAPE_FOLDED,
  * or DTM_SHAPE_FLAT when it has no positive point: zero measure). Linear
- * simplices have one constant Jacobian, computed from their edges. */
+ * simplices have one constant Jacobian, computed from their edges. A tri6
+ * or tet10 valid at all those samples is also checked between them by a
+ * Bernstein bound of det J (bezier.c), and refused (DTM_SHAPE_INSIDE)
+ * when that bound does not prove it positive. */
 #include <float.h>
 #include <math.h>
 
@@ -66,6 +69,17 @@ static double min_at_nodes(int type, int d, int nn, const double (*xl)[3], int *
   return min;
 }
 
+/* A valid tri6 or tet10 must also be positive between its sampling
+ * points: the Bernstein bound decides (bezier.c). */
+static void inside(int type, int d, int nn, const double (*xl)[3], dtm_shape *s) {
+  double ratio, scaled;
+  int r = dtm_elem_jacobian_bound(type, d, nn, xl, &ratio, &scaled);
+  if (r != 0 && r != -1) return;
+  s->status = DTM_SHAPE_INSIDE;
+  s->min_jacobian = r < 0 ? scaled : fmin(ratio, 0);
+  s->node = -1;
+}
+
 static void shape_generic(int type, const double *x, dtm_shape *s) {
   double xl[DTM_K_NODES][3], min_point = INFINITY;
   int d, nn, all_flat = 1, node = -1;
@@ -85,6 +99,7 @@ static void shape_generic(int type, const double *x, dtm_shape *s) {
   s->min_jacobian = min_node < min_point ? min_node : min_point;
   s->node = min_node < min_point ? node : -1;
   s->status = status_of(s->point >= 0, all_flat, min_node);
+  if (s->status == DTM_SHAPE_VALID) inside(type, d, nn, (const double(*)[3])xl, s);
 }
 
 int dtm_kernel_shape(int type, const double *x, dtm_shape *s) {
@@ -101,6 +116,9 @@ const char *dtm_shape_describe(int status) {
   case DTM_SHAPE_VALID: return "valid";
   case DTM_SHAPE_CORNER: return "inverted at a node, valid at every integration point";
   case DTM_SHAPE_FOLDED: return "inverted or folded (Jacobian not positive at an integration point)";
+  case DTM_SHAPE_INSIDE:
+    return "inverted inside (Jacobian determinant not positive between its nodes and integration points, by a Bezier "
+           "bound)";
   default: return "flat (zero measure)";
   }
 }

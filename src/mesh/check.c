@@ -125,7 +125,7 @@ static int refuse(const char *src, const findings *f) {
   if (f->nbad > LIST_MAX) snprintf(more, sizeof more, "\n  ... and %zu more", f->nbad - LIST_MAX);
   return DTM_ERR(DTM_ERR_INPUT,
                  "%s: %zu element%s cannot be analysed: an element needs a positive Jacobian at every "
-                 "integration point%s%s",
+                 "integration point (second-order simplices: everywhere, by a Bezier bound)%s%s",
                  src, f->nbad, f->nbad == 1 ? "" : "s", f->list, more);
 }
 

@@ -79,6 +79,17 @@ static void unresolved_warning(const dtm_cost *c, dtm_warnings *w) {
   }
 }
 
+/* Curved elements whose step depends on the integration rule. */
+static void curvature_warning(const dtm_analysis *a, dtm_warnings *w) {
+  const dtm_curvature_summary *s = dtm_analysis_curvature(a);
+  if (!s->sensitive || w->n >= DTM_WARN_MAX) return;
+  snprintf(w->text[w->n++], sizeof w->text[0],
+           "%zu curved element%s a step that changes by more than 1e-3 with the integration rule (up to %.2g): "
+           "the steps are for the %s integration; a solver integrating them otherwise has another stable step",
+           s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
+           s->model == DTM_INTEGRATION_FULL ? "full-rule" : "converged");
+}
+
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   w->n = 0;
   if (r->cost && r->cost->mass) dtm_output_mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
@@ -87,6 +98,7 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
   if (r->cost) unresolved_warning(r->cost, w);
+  curvature_warning(r->analysis, w);
 }
 
 const char *dtm_feature_name(int kind) {

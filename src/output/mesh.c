@@ -118,7 +118,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 12, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 13, sizeof *vs->views);
   if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
       !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -272,6 +272,11 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, view_s
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
   below_view(r->analysis, part, vs, nviews);
   DTM_CHECK(invalid_view(dtm_analysis_mesh(r->analysis), vs, nviews));
+  const double *curv = dtm_analysis_curvature_ratio(r->analysis);
+  /* "curvature": min det J / max det J of each second-order element (1:
+   * straight-sided), only when the mesh has some (src/analysis/curvature.c) */
+  if (curv)
+    vs->views[(*nviews)++] = (dtm_view){"curvature", 0, vs->etags, curv, dtm_analysis_nelements(r->analysis), NULL, 1};
   return DTM_OK;
 }
 

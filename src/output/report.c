@@ -481,6 +481,25 @@ static void rotary_json(cJSON *o, const dtm_section *sec, const dtm_section_stat
   }
 }
 
+/* The curvature of the second-order elements (src/analysis/curvature.c);
+ * absent without any. */
+static cJSON *curvature_json(const dtm_analysis *a) {
+  const dtm_curvature_summary *s = dtm_analysis_curvature(a);
+  cJSON *o = cJSON_CreateObject();
+  static const char *const models[] = {"converged", "full"};
+  cJSON_AddStringToObject(o, "integration", models[s->model == DTM_INTEGRATION_FULL]);
+  cJSON_AddNumberToObject(o, "second_order", (double)s->second_order);
+  cJSON_AddNumberToObject(o, "curved", (double)s->curved);
+  cJSON_AddNumberToObject(o, "strongly_curved", (double)s->strong);
+  cJSON_AddNumberToObject(o, "strong_ratio", DTM_CURVED_STRONG);
+  cJSON_AddNumberToObject(o, "rule_sensitive", (double)s->sensitive);
+  cJSON_AddNumberToObject(o, "max_rule_dependence", s->max_dependence);
+  cJSON_AddNumberToObject(o, "max_node_offset", s->max_offset);
+  cJSON_AddNumberToObject(o, "worst_jacobian_ratio", s->worst_ratio);
+  if (s->worst_element != (size_t)-1) cJSON_AddItemToObject(o, "worst", where_json(a, s->worst_element));
+  return o;
+}
+
 /* Per scene section: kind, groups, thickness or area, and what its
  * elements come to (dtm_analysis_sections). */
 static cJSON *sections_json(const dtm_analysis *a) {
@@ -524,6 +543,7 @@ static cJSON *report_json(const dtm_results *r) {
   cJSON_AddItemToObject(root, "dt", dt_json(a));
   cJSON_AddItemToObject(root, "effect_minima", effects_detail(a));
   cJSON_AddItemToObject(root, "invalid_elements", invalid_json(a));
+  if (dtm_analysis_curvature(a)->second_order) cJSON_AddItemToObject(root, "curvature", curvature_json(a));
   if (dtm_analysis_scene(a)->nsections) cJSON_AddItemToObject(root, "sections", sections_json(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
   if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));

@@ -49,6 +49,10 @@ typedef struct {
   int st;                              /* doubles per stored point */
   int nmat;                            /* materials of the mesh (slot = mat + nmat (section + 1)) */
   const int *sec;                      /* [n] section of each element, or NULL (the mesh's) */
+  int level;                           /* 0: the type's full rule; else the levelled rule of
+                                          the curved elements of this part (parts.c) */
+  int mbi;                             /* index of the mesh block the elements come from */
+  const size_t *orig;                  /* [n] their index in that block, or NULL (the same) */
 } op_block;
 
 typedef struct {
@@ -81,9 +85,10 @@ struct dtm_operator {
   double *dsq;             /* [ndof] M^-1/2, 0 where the mass is 0 */
   const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
-  dtm_op_struct st;   /* shells and beams (structural.c): st.n = 0 when none */
-  double *slot_alpha; /* [nmat] Rayleigh alpha of each slot, for them */
-  double *slot_beta;  /* [nmat] Rayleigh beta of each slot */
+  dtm_op_struct st;     /* shells and beams (structural.c): st.n = 0 when none */
+  double *slot_alpha;   /* [nmat] Rayleigh alpha of each slot, for them */
+  double *slot_beta;    /* [nmat] Rayleigh beta of each slot */
+  dtm_rule_part *parts; /* [nblocks] the parts the blocks are built on (owned) */
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
@@ -230,7 +235,10 @@ static int p1_gradients(const op_block *b) {
 static void block_rule(op_block *b, double *wq) {
   dtm_qrule q;
   double N[DTM_K_NODES];
-  dtm_ref_rule(b->type, &q);
+  if (b->level)
+    dtm_ref_rule_level(b->type, b->level, &q);
+  else
+    dtm_ref_rule(b->type, &q);
   int same = 1;
   for (int k = 0; k < q.n; k++) {
     dtm_ref_eval(b->type, q.p[k], N, b->dn[k]);
@@ -326,7 +334,8 @@ static int any_geometry(const dtm_operator *op, const op_block *b, const double 
   return b->manifold ? manifold_geometry(op, b, xyz, e, wq, dj_bad) : elem_geometry(op, b, xyz, e, wq, dj_bad);
 }
 
-static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb, op_block *b) {
+static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part *part, op_block *b) {
+  const dtm_block *mb = &part->blk;
   int dim, nn;
   DTM_CHECK(dtm_elem_info(mb->type, &dim, &nn));
   if (dim > op->d || nn != mb->nn || nn > DTM_K_NODES)
@@ -339,6 +348,7 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
   b->st = b->manifold ? dim * op->d + op->d * op->d + 1 : op->d * op->d + 1;
   b->conn = mb->conn, b->tags = mb->tags, b->mat = mb->mat;
   b->nmat = op->nmat_base, b->sec = op->nsec ? mb->section : NULL;
+  b->level = part->level, b->mbi = part->block, b->orig = part->orig;
   if (m->nnodes <= dtm_operator_narrow_max) { /* 32-bit connectivity: half the index traffic of the product */
     b->c32 = malloc((b->n * (size_t)nn + 1) * sizeof *b->c32);
     if (!b->c32) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -359,7 +369,7 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_block *mb,
   char place[256];
   any_geometry(op, b, m->xyz, bad, wq, &dj);
   if (mb->tags)
-    dtm_mesh_element_place(m, (int)(mb - m->blocks), bad, place, sizeof place);
+    dtm_mesh_element_place(m, b->mbi, b->orig ? b->orig[bad] : bad, place, sizeof place);
   else
     snprintf(place, sizeof place, "element #%zu (%s)", bad, dtm_elem_name(b->type));
   return DTM_ERR(DTM_ERR_INPUT,
@@ -449,12 +459,17 @@ static int any_alpha(const dtm_operator *op, const double *alpha) {
 static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs *c, const double *alpha,
                   const double *beta) {
   op->node_tags = m->node_tags;
-  op->blocks = calloc((size_t)m->nblocks, sizeof *op->blocks);
+  int np = 0, model = DTM_INTEGRATION_CONVERGED;
+  for (int i = 0; i < op->nmat; i++) /* the elastic effect's model (one per effect) */
+    if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration == DTM_INTEGRATION_FULL) model = DTM_INTEGRATION_FULL;
+  int r = dtm_rule_parts(m, model, &op->parts, &np);
+  op->nblocks = np; /* the parts, freed by destroy */
+  DTM_CHECK(r);
+  op->blocks = calloc((size_t)np + 1, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  op->nblocks = m->nblocks; /* zeroed: destroy frees what was set up */
-  for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_setup(op, m, &m->blocks[ib], &op->blocks[ib]));
-  DTM_CHECK(materials_setup(op, c, alpha, beta)); /* checks every element's slot first */
-  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base));
+  for (int ib = 0; ib < np; ib++) DTM_CHECK(block_setup(op, m, &op->parts[ib], &op->blocks[ib]));
+  DTM_CHECK(materials_setup(op, c, alpha, beta));
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base)); /* after materials_setup: it checks every slot */
   op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
@@ -492,7 +507,8 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
 
 void dtm_operator_destroy(dtm_operator **op) {
   if (!op || !*op) return;
-  for (int ib = 0; ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo), free((*op)->blocks[ib].c32);
+  for (int ib = 0; (*op)->blocks && ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo), free((*op)->blocks[ib].c32);
+  dtm_rule_parts_free((*op)->parts, (*op)->nblocks);
   free((*op)->share);
   free((*op)->buf);
   free((*op)->blocks);

@@ -7,6 +7,25 @@
 
 #include <stddef.h>
 
+#include "dtmap/mesh.h"
+
 extern size_t dtm_operator_narrow_max;
+
+/* A part of a mesh block whose elements share one integration rule
+ * (parts.c). */
+typedef struct {
+  dtm_block blk; /* its elements: the mesh block itself when orig is NULL
+                    (arrays not owned), else owned copies of tags, conn,
+                    mat and section (group, gmask, entity NULL) */
+  int level;     /* 0: the full rule; else the levelled rule's level */
+  int block;     /* index of the mesh block */
+  size_t *orig;  /* [blk.n] element index in the mesh block (owned), or NULL */
+} dtm_rule_part;
+
+/* The parts of every block of m for the integration model
+ * (DTM_INTEGRATION_*) into *parts[*nparts] (owned: dtm_rule_parts_free,
+ * also after an error). */
+int dtm_rule_parts(const dtm_mesh *m, int model, dtm_rule_part **parts, int *nparts);
+void dtm_rule_parts_free(dtm_rule_part *parts, int n);
 
 #endif

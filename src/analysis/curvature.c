@@ -1,0 +1,156 @@
+/* How curved the second-order elements of the mesh are, and how much
+ * their steps depend on the integration rule (the view "curvature" and the
+ * report's curvature block). Per second-order element the kernel gives the
+ * node offset and the ratio min det J / max det J (a Bernstein bound on
+ * tri6 and tet10: dtm_kernel_curvature). For every curved element (node
+ * offset above 1e-9 of its edge, the kernel's own test) and the first
+ * elastic effect whose step is the element bound, the element step is
+ * computed for the two discrete models, the full rules and the converged
+ * integration: when they differ by more than 1e-3 the element is "rule
+ * sensitive", counted, and the report and the CLI warn, since a solver
+ * that integrates it with another rule has another stable step. An
+ * element whose ratio is below DTM_CURVED_STRONG is "strongly curved".
+ * Counts and extremes are reduced over the parts of a distributed run;
+ * the worst elements are named by the part that holds them. Meshes
+ * without second-order elements cost nothing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+
+#define OFFSET_CURVED 1e-9  /* node offset above which an element is curved (curved.c) */
+#define RULE_SENSITIVE 1e-3 /* relative step change that makes an element rule sensitive */
+
+static int second_order(int type) {
+  switch (type) {
+  case DTM_TRI6:
+  case DTM_TET10:
+  case DTM_QUAD8:
+  case DTM_QUAD9:
+  case DTM_HEX20:
+  case DTM_HEX27:
+  case DTM_PRISM15:
+  case DTM_PRISM18:
+  case DTM_PYR13:
+  case DTM_PYR14: return 1;
+  default: return 0;
+  }
+}
+
+/* The first elastic effect whose element step is the bound, or -1. */
+static int elastic_effect(const dtm_analysis *a) {
+  for (int k = 0; k < a->neffects; k++) {
+    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue;
+    for (int i = 0; i < dtm_analysis_nslots(a); i++) {
+      dtm_operator_coeffs c;
+      if (dtm_analysis_coefficients(a, k, i, &c)) { /* a slot no element uses may lack properties */
+        dtm_error_clear();
+        continue;
+      }
+      if (c.kind == DTM_OP_ELASTIC && c.dt_is_bound) return k;
+      break;
+    }
+  }
+  return -1;
+}
+
+/* |dt_other / dt - 1| of an element whose undamped element step in the
+ * effect's model is dt, dt_other in the other model; NaN when not
+ * computable. */
+static double dependence(const dtm_operator_coeffs *c, int type, const double *x, double dt) {
+  dtm_elastic_moduli m = c->mod;
+  double l;
+  m.integration = m.integration == DTM_INTEGRATION_FULL ? DTM_INTEGRATION_CONVERGED : DTM_INTEGRATION_FULL;
+  if (dtm_kernel_elastic_lambda(type, &m, x, &l)) return dtm_error_clear(), NAN;
+  return fabs(2 / sqrt(l) / dt - 1);
+}
+
+/* Per element of block b (global indices from g0): ratio and dependence. */
+static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, double *dep) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  size_t g0 = a->offset[b];
+  long n = (long)blk->n;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long e = 0; e < n; e++) {
+    double x[DTM_MAX_NODES * 3];
+    dtm_block one = *blk;
+    dtm_curvature c;
+    one.n = 1, one.conn = blk->conn + (size_t)e * (size_t)blk->nn;
+    dtm_mesh_gather(a->mesh, &one, x);
+    dep[g0 + (size_t)e] = NAN;
+    if (dtm_kernel_curvature(blk->type, x, &c)) {
+      a->curv_ratio[g0 + (size_t)e] = NAN, a->curv_offset[g0 + (size_t)e] = NAN;
+      continue;
+    }
+    a->curv_ratio[g0 + (size_t)e] = c.jac_ratio, a->curv_offset[g0 + (size_t)e] = c.offset;
+    if (!(c.offset > OFFSET_CURVED) || !coef) continue;
+    const double *dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+    dep[g0 + (size_t)e] = dependence(&coef[dtm_analysis_slot(a, blk, (size_t)e)], blk->type, x, dt[g0 + (size_t)e]);
+  }
+}
+
+/* The summary of the per-element values, over this part. */
+static void summarize_part(dtm_analysis *a, const double *dep) {
+  dtm_curvature_summary *s = &a->curv;
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    if (!second_order(a->mesh->blocks[b].type)) continue;
+    for (size_t g = a->offset[b]; g < a->offset[b + 1]; g++) {
+      s->second_order++;
+      if (!(a->curv_offset[g] > OFFSET_CURVED)) continue;
+      s->curved++;
+      s->strong += a->curv_ratio[g] < DTM_CURVED_STRONG;
+      s->sensitive += dep[g] > RULE_SENSITIVE;
+      if (a->curv_ratio[g] < s->worst_ratio) s->worst_ratio = a->curv_ratio[g], s->worst_element = g;
+      if (a->curv_offset[g] > s->max_offset) s->max_offset = a->curv_offset[g];
+      if (dep[g] > s->max_dependence) s->max_dependence = dep[g], s->dependence_element = g;
+    }
+  }
+}
+
+/* Coefficients of effect k for every slot (NULL when k < 0). */
+static dtm_operator_coeffs *slot_coeffs(const dtm_analysis *a, int k) {
+  int ns = dtm_analysis_nslots(a);
+  dtm_operator_coeffs *c = k >= 0 ? calloc((size_t)ns + 1, sizeof *c) : NULL;
+  for (int i = 0; c && i < ns; i++)
+    if (dtm_analysis_coefficients(a, k, i, &c[i])) dtm_error_clear();
+  return c;
+}
+
+int dtm_analysis_curvature_pass(dtm_analysis *a) {
+  int any = 0, r = DTM_OK;
+  a->curv = (dtm_curvature_summary){0, 0, 0, 0, 1, (size_t)-1, 0, 0, (size_t)-1, DTM_INTEGRATION_CONVERGED};
+  for (int b = 0; b < a->mesh->nblocks; b++) any |= second_order(a->mesh->blocks[b].type);
+  double *dep = NULL;
+  if (any) {
+    a->curv_ratio = malloc((a->nel + 1) * sizeof *a->curv_ratio);
+    a->curv_offset = malloc((a->nel + 1) * sizeof *a->curv_offset);
+    dep = malloc((a->nel + 1) * sizeof *dep);
+    r = a->curv_ratio && a->curv_offset && dep ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  int k = any && r == DTM_OK ? elastic_effect(a) : -1;
+  dtm_operator_coeffs *coef = slot_coeffs(a, k);
+  if (k >= 0) a->curv.model = coef[0].mod.integration;
+  for (int b = 0; b < a->mesh->nblocks && any && r == DTM_OK; b++)
+    if (second_order(a->mesh->blocks[b].type))
+      block_pass(a, b, k, coef, dep);
+    else
+      for (size_t g = a->offset[b]; g < a->offset[b + 1]; g++) a->curv_ratio[g] = a->curv_offset[g] = NAN;
+  if (r == DTM_OK && any) summarize_part(a, dep);
+  free(coef), free(dep);
+  double v[5] = {(double)a->curv.second_order, (double)a->curv.curved, (double)a->curv.strong,
+                 (double)a->curv.sensitive, 0};
+  r = dtm_x_reduce(a, r, v, 4, DTM_X_SUM);
+  a->curv.second_order = (size_t)v[0], a->curv.curved = (size_t)v[1], a->curv.strong = (size_t)v[2];
+  a->curv.sensitive = (size_t)v[3];
+  double hi[2] = {a->curv.max_offset, a->curv.max_dependence}, lo = a->curv.worst_ratio;
+  r = dtm_x_reduce(a, r, hi, 2, DTM_X_MAX);
+  r = dtm_x_reduce(a, r, &lo, 1, DTM_X_MIN);
+  if (lo < a->curv.worst_ratio) a->curv.worst_ratio = lo, a->curv.worst_element = (size_t)-1;
+  if (hi[1] > a->curv.max_dependence) a->curv.dependence_element = (size_t)-1;
+  a->curv.max_offset = hi[0], a->curv.max_dependence = hi[1];
+  return r;
+}
+
+const dtm_curvature_summary *dtm_analysis_curvature(const dtm_analysis *a) { return &a->curv; }
+const double *dtm_analysis_curvature_ratio(const dtm_analysis *a) { return a->curv_ratio; }
