@@ -16,6 +16,7 @@
 #include <stddef.h>
 
 #include "dtmap/analysis.h"
+#include "dtmap/gmsh.h"
 #include "dtmap/operator.h"
 
 typedef enum { DTM_X_SUM, DTM_X_MIN, DTM_X_MAX } dtm_x_op;
@@ -37,6 +38,10 @@ typedef struct dtm_exchange {
    * seconds; no mode. */
   int (*eigen)(void *ctx, int status, const dtm_operator *op, double tol, int maxit, unsigned seed,
                dtm_lanczos_result *r);
+  /* Agree on status; when DTM_OK, part 0 gets in *all (malloc'd, the
+   * caller frees; NULL elsewhere) every part's mine[n], in part order, and
+   * their total count in *nall. */
+  int (*gather)(void *ctx, int status, const double *mine, size_t n, double **all, size_t *nall);
 } dtm_exchange;
 
 /* For the modules above the analysis (the cost module's nodal mass
@@ -51,6 +56,21 @@ int dtm_analysis_combine_nodes(const dtm_analysis *a, int status, double *v, dtm
  * dtm_analysis_current does, except that a sectioned group may hold no
  * element: the model is one part); *seconds receives the time. */
 int dtm_analysis_extract(const dtm_scene *s, int dim, dtm_mesh **out, double *seconds);
+/* Part 0 of a distributed run, before the split: the whole mesh of the
+ * current Gmsh model of dimension dim, extracted as a serial run extracts
+ * it (same element order), and where it sits on the model, for
+ * dtm_analysis_classify_whole. */
+int dtm_analysis_extract_whole(const dtm_scene *s, int dim, dtm_mesh **mesh, dtm_geo **geo);
+/* Collective, after dtm_analysis_compute_shared: the advice on elements
+ * below the target (or at the smallest steps) of the whole mesh, as a
+ * serial run gives it, from every part's element steps and the whole mesh
+ * and model that part 0 holds (*whole, *geo: taken, set to NULL; NULL on
+ * the other parts, and on part 0 when it has no model: then *out stays
+ * NULL everywhere). On part 0, *out is an analysis of the whole mesh that
+ * holds the element steps, the shape-limited elements and the layers (read
+ * with dtm_analysis_shape_limited, dtm_analysis_layers,
+ * dtm_analysis_below_target and the tag, group and centroid accessors). */
+int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, dtm_analysis **out);
 /* dtm_analysis_compute on one part, with x reaching the others (x must
  * outlive the analysis; NULL: a whole mesh). Collective. */
 int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects,

@@ -104,6 +104,19 @@ int dtm_analysis_extract(const dtm_scene *s, int dim, dtm_mesh **out, double *se
   return DTM_OK;
 }
 
+int dtm_analysis_extract_whole(const dtm_scene *s, int dim, dtm_mesh **mesh, dtm_geo **geo) {
+  double t[DTM_T_COUNT] = {0};
+  dtm_mesh *m = calloc(1, sizeof *m);
+  int r = m ? extract_mesh(s, dim, 1, m, t) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = dtm_gmsh_geo(m, geo);
+  if (r) {
+    dtm_mesh_destroy(&m);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  *mesh = m;
+  return DTM_OK;
+}
+
 int dtm_analysis_run(const dtm_scene *s, dtm_analysis **out) { return dtm_analysis_run_ex(s, NULL, NULL, out); }
 
 static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *user, dtm_analysis **out);

@@ -244,7 +244,7 @@ static cJSON *shape_entry(const dtm_results *r, const dtm_shape_limited *s) {
   return o;
 }
 
-static cJSON *shape_json(const dtm_results *r) {
+cJSON *dtm_report_shape(const dtm_results *r) {
   size_t n;
   const dtm_shape_limited *sl = dtm_analysis_shape_limited(r->analysis, &n);
   cJSON *arr = cJSON_CreateArray();
@@ -267,7 +267,7 @@ static cJSON *layer_remedies(const dtm_results *r, const dtm_layer *l) {
 }
 
 /* The groups whose layer's thickness caps elements below the target. */
-static cJSON *layers_json(const dtm_results *r) {
+cJSON *dtm_report_layers(const dtm_results *r) {
   size_t n;
   const dtm_layer *ly = dtm_analysis_layers(r->analysis, &n);
   cJSON *arr = cJSON_CreateArray();
@@ -291,10 +291,10 @@ static cJSON *layers_json(const dtm_results *r) {
 static cJSON *advice_json(const dtm_results *r, cJSON *root) {
   size_t n;
   dtm_analysis_shape_limited(r->analysis, &n);
-  cJSON_AddItemToObject(root, "shape_limited", shape_json(r));
+  cJSON_AddItemToObject(root, "shape_limited", dtm_report_shape(r));
   cJSON_AddNumberToObject(root, "shape_limited_count", (double)n);
   cJSON_AddNumberToObject(root, "below_target", (double)dtm_analysis_below_target(r->analysis));
-  cJSON_AddItemToObject(root, "thickness_limited", layers_json(r));
+  cJSON_AddItemToObject(root, "thickness_limited", dtm_report_layers(r));
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (ms) {
     cJSON *o = cJSON_AddObjectToObject(root, "shape_limited_mass");

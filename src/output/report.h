@@ -6,6 +6,7 @@
 #define DTMAP_OUTPUT_REPORT_H
 
 #include <cJSON.h>
+#include <stdio.h>
 
 #include "dtmap/analysis.h"
 #include "dtmap/cost.h"
@@ -43,6 +44,12 @@ cJSON *dtm_report_zones(const dtm_analysis *a);
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
+/* The report's "shape_limited" (at most 100 of them) and
+ * "thickness_limited" arrays of r's analysis, and the summary's lines on
+ * them (summary.c), for the distributed run's advice. */
+cJSON *dtm_report_shape(const dtm_results *r);
+cJSON *dtm_report_layers(const dtm_results *r);
+void dtm_summary_advice(const dtm_results *r, FILE *f);
 /* The elements r lists as the smallest steps: r->top, or the default. */
 int dtm_results_top(const dtm_results *r);
 

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "output-impl.h"
+#include "report.h"
 
 static const char *effect_name(const dtm_analysis *a, int k) { return dtm_analysis_effect(a, k)->name; }
 
@@ -252,6 +253,11 @@ static void print_layers(const dtm_results *r, FILE *f) {
               "present size %.3g m\n",
               ly[k].thickness, ly[k].shell_step, ly[k].size);
   }
+}
+
+void dtm_summary_advice(const dtm_results *r, FILE *f) {
+  print_shape(r, f);
+  print_layers(r, f);
 }
 
 static void print_damping(const dtm_analysis *a, FILE *f) {

@@ -3,7 +3,9 @@
  * mesh or geometry is loaded (meshed) by rank 0 alone, partitioned by
  * Gmsh with METIS and written as binary part files into a temporary
  * directory beside the output (visible to every rank wherever the output
- * is), which is removed once the parts are read. A rank then opens only
+ * is), which is removed once the parts are read; rank 0 keeps the whole
+ * mesh and where it sits on the model, for the advice on the elements
+ * below the target (dtm_analysis_classify_whole). A rank then opens only
  * its part through Gmsh, checks that the file holds that partition of a
  * split into as many parts as there are ranks, and extracts it. */
 #include <stdio.h>
@@ -37,6 +39,7 @@ static int split_source(dtm_par *p, const char *out) {
   }
   DTM_CHECK(dtm_gmsh_load(p->scene, &dim));
   dtm_gmsh_mesher(&p->mesher); /* for the report: how rank 0 got the mesh */
+  DTM_CHECK(dtm_analysis_extract_whole(p->scene, dim, &p->whole, &p->whole_geo)); /* for the advice */
   snprintf(path, sizeof path, "%s/part.msh", p->tmpdir);
   return dtm_gmsh_partition_write(p->size, path);
 }

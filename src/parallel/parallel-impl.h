@@ -49,6 +49,9 @@ typedef struct {
   Vec node;                /* ghosted, one value per node of the part */
   dtm_exchange x;          /* the analysis's way to the other parts (ctx = this) */
   dtm_analysis *analysis;  /* this part's analysis */
+  dtm_mesh *whole;         /* rank 0 of a one-mesh scene: the whole mesh, until classified */
+  dtm_geo *whole_geo;      /* where it sits on the model, the same */
+  dtm_analysis *advice;    /* rank 0: the whole mesh's shape-limited elements and layers, or NULL */
   dtm_cost *cost;          /* its cost (subcycling, mass scaling) */
   double t[PAR_T_COUNT];   /* stage times, s */
   dtm_mesher_info mesher;  /* how rank 0 got the mesh (read, or meshed a geometry) */

@@ -74,10 +74,10 @@ cJSON *dtm_par_warnings(const dtm_par *p, const dtm_par_figures *f) {
   if (f->conflicts) c.bound = dtm_analysis_effect(a, f->cap_effect)->indicator.view;
   char note[256];
   snprintf(note, sizeof note,
-           "%.0f element(s) below the target: a distributed run does not tell which are shape-limited "
-           "(that needs the model); run the scene serially for that advice",
+           "%.0f element(s) below the target: the scene's part files hold no model, so a distributed run of them "
+           "does not tell which are shape-limited; run the scene of the one mesh for that advice",
            f->below);
-  return dtm_report_warnings_of(a, f->mass, &c, p->scene->target > 0 && f->below > 0 ? note : NULL);
+  return dtm_report_warnings_of(a, f->mass, &c, p->scene->target > 0 && f->below > 0 && !p->advice ? note : NULL);
 }
 
 /* Column c of the per-part rows. */
@@ -126,6 +126,20 @@ static cJSON *timings_json(const dtm_par *p, const dtm_parallel_opts *o, const d
   return t;
 }
 
+/* The shape-limited elements and the layers, from rank 0's whole mesh
+ * (none when the scene's part files hold no model). */
+static void advice_json(const dtm_par *p, const dtm_par_figures *f, cJSON *root) {
+  dtm_cost c = *p->cost;
+  c.subcycling = f->sub, c.shape_mass = c.layer_mass = NULL; /* the parts' masses are indexed by part */
+  dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0};
+  size_t n = 0;
+  if (p->advice) dtm_analysis_shape_limited(p->advice, &n);
+  cJSON_AddItemToObject(root, "shape_limited", p->advice ? dtm_report_shape(&res) : cJSON_CreateArray());
+  cJSON_AddNumberToObject(root, "shape_limited_count", (double)n);
+  cJSON_AddNumberToObject(root, "below_target", f->below);
+  cJSON_AddItemToObject(root, "thickness_limited", p->advice ? dtm_report_layers(&res) : cJSON_CreateArray());
+}
+
 static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f) {
   const dtm_analysis *a = p->analysis;
   cJSON *root = cJSON_CreateObject(), *mesh = cJSON_CreateObject(), *names;
@@ -151,10 +165,7 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
     cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, f->mass, cJSON_Duplicate(f->most_added, 1)));
   cJSON_AddItemToObject(root, "cohesive", cJSON_Duplicate(f->zones, 1));
   cJSON_AddItemToObject(root, "damping", cJSON_Duplicate(f->damping, 1));
-  cJSON_AddItemToObject(root, "shape_limited", cJSON_CreateArray()); /* needs the model: not classified */
-  cJSON_AddNumberToObject(root, "shape_limited_count", 0);
-  cJSON_AddNumberToObject(root, "below_target", f->below);
-  cJSON_AddItemToObject(root, "thickness_limited", cJSON_CreateArray()); /* the same */
+  advice_json(p, f, root);
   cJSON_AddItemToObject(root, "worst", cJSON_Duplicate(f->worst, 1));
   cJSON_AddItemToObject(root, "warnings", dtm_par_warnings(p, f));
   cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "parallel-impl.h"
+#include "report.h"
 
 static void print_parts(const dtm_par *p, const dtm_par_figures *f) {
   printf("mesh         %.0f elements, %.0f nodes, analysed in %dD, in %d parts (%s):", f->elements, f->nodes, p->dim,
@@ -48,7 +49,15 @@ static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
     printf("mass scaling to %.4e s at the %s: %.4g kg added to %zu element(s), %.3g%% of %.4g kg\n", f->mass->target,
            f->mass->nodal ? "nodes" : "elements", f->mass->total_added, f->mass->scaled,
            100.0 * f->mass->total_added / f->mass->total_mass, f->mass->total_mass);
-  if (s->target > 0) printf("below target %.0f element(s)\n", f->below);
+  if (s->target > 0 && !p->advice) printf("below target %.0f element(s)\n", f->below);
+}
+
+/* The shape-limited elements and the layers, as a serial run prints them. */
+static void print_advice(const dtm_par *p, const dtm_par_figures *f) {
+  dtm_cost c = *p->cost;
+  c.subcycling = f->sub, c.shape_mass = c.layer_mass = NULL; /* the parts' masses are indexed by part */
+  dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0};
+  if (p->advice) dtm_summary_advice(&res, stdout);
 }
 
 static void print_warnings(const dtm_par *p, const dtm_par_figures *f) {
@@ -75,6 +84,7 @@ void dtm_par_summary(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par
   print_parts(p, f);
   print_steps(p, f);
   print_cost(p, f);
+  print_advice(p, f);
   print_times(p, f);
   print_warnings(p, f);
   char out[4096];

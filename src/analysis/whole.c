@@ -1,0 +1,129 @@
+/* The advice on elements below the target (shape.c, layers.c) in a
+ * distributed run. It reads the model's features, which only part 0
+ * holds: the rank that meshed or read the scene's one mesh and split it
+ * extracts the whole mesh as a serial run does (same element order) and
+ * reads where it sits on the model, before the split. After the parts are
+ * analysed, every part sends its elements' figures by Gmsh tag (element
+ * step, own safe step, size, limiting effect, each limiting effect's
+ * step); part 0 sets them on the whole mesh and classifies exactly as a
+ * serial run does: the same elements, the same typical quality (the same
+ * sample), the same patches, across what were part boundaries. The own
+ * safe steps are already the whole mesh's (the nodal bound was combined
+ * over the parts), so the classification equals the serial run's. The
+ * below-target elements are few, but the figures of every element are
+ * sent: the typical quality samples the whole mesh and a patch may reach
+ * any part. Part 0 keeps the result as an analysis of the whole mesh that
+ * holds those figures and nothing else. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "analysis-impl.h"
+
+#define FIXED 5 /* per element: tag, dt, local, h, limiting; then one step per effect */
+
+static size_t width(const dtm_analysis *a) { return FIXED + (size_t)a->neffects; }
+
+/* This part's figures, width(a) per element, into *out (malloc'd). */
+static int pack(const dtm_analysis *a, double **out) {
+  size_t w = width(a);
+  double *v = malloc((a->nel * w + 1) * sizeof *v);
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < a->nel; i++) {
+    double *r = v + i * w;
+    r[0] = (double)dtm_analysis_tag(a, i), r[1] = a->dt[i], r[2] = a->local[i], r[3] = a->h[i];
+    r[4] = a->limiting[i];
+    for (int k = 0; k < a->neffects; k++) r[FIXED + k] = a->dt_effect[k] ? a->dt_effect[k][i] : NAN;
+  }
+  *out = v;
+  return DTM_OK;
+}
+
+/* The arrays of the whole mesh's analysis w the classification reads. */
+static int alloc_whole(const dtm_analysis *part, dtm_analysis *w) {
+  const dtm_mesh *m = w->mesh;
+  w->offset = malloc(((size_t)m->nblocks + 1) * sizeof *w->offset);
+  if (!w->offset) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  w->offset[0] = 0;
+  for (int b = 0; b < m->nblocks; b++) w->offset[b + 1] = w->offset[b] + m->blocks[b].n;
+  size_t n = w->nel = w->offset[m->nblocks];
+  w->dt = malloc((n + 1) * sizeof *w->dt), w->local = malloc((n + 1) * sizeof *w->local);
+  w->h = malloc((n + 1) * sizeof *w->h), w->limiting = malloc((n + 1) * sizeof *w->limiting);
+  w->dt_effect = calloc((size_t)w->neffects + 1, sizeof *w->dt_effect);
+  if (!w->dt || !w->local || !w->h || !w->limiting || !w->dt_effect) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int k = 0; k < w->neffects; k++)
+    if (part->dt_effect[k] && !(w->dt_effect[k] = malloc((n + 1) * sizeof **w->dt_effect)))
+      return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < n; i++) w->dt[i] = NAN; /* none received yet */
+  return DTM_OK;
+}
+
+/* Dense index of the whole mesh's elements by Gmsh tag ((size_t)-1: none). */
+static int tag_index(const dtm_analysis *w, size_t **idx, size_t *max) {
+  *max = 0;
+  for (size_t i = 0; i < w->nel; i++)
+    if (dtm_analysis_tag(w, i) > *max) *max = dtm_analysis_tag(w, i);
+  *idx = malloc((*max + 1) * sizeof **idx);
+  if (!*idx) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  memset(*idx, 0xff, (*max + 1) * sizeof **idx);
+  for (size_t i = 0; i < w->nel; i++) (*idx)[dtm_analysis_tag(w, i)] = i;
+  return DTM_OK;
+}
+
+/* Set the parts' figures (n rows) on w by tag; every element of the whole
+ * mesh must get exactly one row. */
+static int unpack(dtm_analysis *w, const double *all, size_t n) {
+  size_t *idx = NULL, max = 0, wd = width(w), got = 0;
+  DTM_CHECK(tag_index(w, &idx, &max));
+  for (size_t j = 0; j < n; j++) {
+    const double *r = all + j * wd;
+    size_t tag = (size_t)r[0], i = tag <= max ? idx[tag] : (size_t)-1;
+    if (i == (size_t)-1 || !isnan(w->dt[i])) continue; /* not in the whole mesh, or twice */
+    w->dt[i] = r[1], w->local[i] = r[2], w->h[i] = r[3], w->limiting[i] = (int)r[4], got++;
+    for (int k = 0; k < w->neffects; k++)
+      if (w->dt_effect[k]) w->dt_effect[k][i] = r[FIXED + k];
+  }
+  free(idx);
+  if (got != w->nel || n != w->nel)
+    return DTM_ERR(DTM_ERR_INTERNAL,
+                   "the parts hold %zu elements, %zu of the %zu of the whole mesh they were split from", n, got,
+                   w->nel);
+  return DTM_OK;
+}
+
+/* Part 0: the whole mesh's analysis from the parts' rows, classified. */
+static int classify(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, const double *all, size_t n,
+                    dtm_analysis **out) {
+  dtm_analysis *w = calloc(1, sizeof *w);
+  if (!w) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  w->scene = part->scene, w->mesh = *whole, w->geo = *geo, w->threads = part->threads, w->mesher = part->mesher;
+  *whole = NULL, *geo = NULL;
+  w->mesh->space_dim = part->mesh->space_dim; /* agreed over the parts */
+  w->dt_min = part->dt_min, w->recommended = part->recommended, w->best = part->best, w->basis = part->basis;
+  int r = dtm_effects_create(w->scene, w->mesh, &w->effects, &w->neffects);
+  if (r == DTM_OK && w->neffects != part->neffects) r = DTM_ERR(DTM_ERR_INTERNAL, "the effects differ from the part's");
+  if (r == DTM_OK) r = alloc_whole(part, w);
+  if (r == DTM_OK) r = unpack(w, all, n / width(w));
+  if (r == DTM_OK) r = dtm_shape_classify(w);
+  if (r) {
+    dtm_analysis_destroy(&w);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  *out = w;
+  return DTM_OK;
+}
+
+int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, dtm_analysis **out) {
+  *out = NULL;
+  if (!part->x) return DTM_OK;
+  double have = *whole && *geo ? 1.0 : 0.0, *mine = NULL, *all = NULL;
+  size_t nall = 0;
+  int r = part->x->reduce(part->x->ctx, DTM_OK, &have, 1, DTM_X_MAX); /* does part 0 hold the model? */
+  if (r || !have) return r;
+  r = pack(part, &mine);
+  r = part->x->gather(part->x->ctx, r, mine, mine ? part->nel * width(part) : 0, &all, &nall);
+  free(mine);
+  if (r == DTM_OK && all) r = classify(part, whole, geo, all, nall, out);
+  free(all);
+  return part->x->reduce(part->x->ctx, r, NULL, 0, DTM_X_MAX);
+}
