@@ -6,13 +6,16 @@
  *    lining elements, 0.300 m across; the distributed run names the same
  *    elements with the same feature, model entity, size, quality, reach and
  *    remedy, and the same layer (group, count, thickness, reach, worst
- *    element, mean size), with no warning that it cannot tell.
+ *    element, mean size), with no warning that it cannot tell; its parts'
+ *    views 'thickness limited' and 'shape limited', merged in Gmsh, are
+ *    the serial run's.
  *  - tunnel without a target: the layer the smallest steps lie across
  *    (at_minimum) is the same.
  *  - plate: tests/data/sharp_plate.geo (a notched block with a sliver
  *    surface along each short side) with a target 1.5e-6 s: 24 of 36
  *    elements below it shape-limited (short curves and small angles, no
- *    layer), the same in both runs; they lie in two of the parts.
+ *    layer), the same in both runs (and in the view 'shape limited'); they
+ *    lie in two of the parts.
  * Element tags, kinds, entities and counts compare exactly; the figures
  * within 1e-12 (the own steps rest on the nodal bound, whose node sums the
  * parts add in another order). */
@@ -139,6 +142,24 @@ static void no_note(const cJSON *p) {
   cJSON_ArrayForEach(w, cJSON_GetObjectItem(p, "warnings")) assert_null(strstr(w->valuestring, "does not tell"));
 }
 
+/* View name of the merged parts of NAME_par against the serial output's:
+ * the same elements, the same values. */
+static void same_view(const char *model, const char *name) {
+  char whole[1024], parts[1024];
+  tu_view a, b;
+  tu_view_diff d;
+  snprintf(whole, sizeof whole, "%s/%s_ser.msh", dir, model);
+  snprintf(parts, sizeof parts, "%s/%s_par.msh", dir, model);
+  tu_gmsh_begin();
+  assert_int_equal(tu_view_pair(whole, parts, NP, name, &a, &b), 0);
+  tu_view_compare(&a, &b, &d);
+  assert_true(a.n > 0);
+  assert_int_equal(d.missing, 0);
+  assert_true(d.worst <= 1e-12);
+  tu_view_free(&a), tu_view_free(&b);
+  tu_gmsh_end();
+}
+
 static void test_tunnel(void **state) {
   (void)state;
   cJSON *s = load("tl", "ser"), *p = load("tl", "par");
@@ -152,6 +173,8 @@ static void test_tunnel(void **state) {
   same_layers(s, p);
   no_note(p);
   assert_non_null(strstr(par_out[0], "'lining': 24 element(s) limited by the layer's thickness, 0.3 m"));
+  same_view("tl", "thickness limited");
+  same_view("tl", "shape limited");
   cJSON_Delete(s), cJSON_Delete(p);
 }
 
@@ -197,6 +220,7 @@ static void test_plate(void **state) {
   same_shape(s, p);
   same_layers(s, p);
   no_note(p);
+  same_view("pl", "shape limited");
   tu_gmsh_begin();
   assert_true(parts_holding("pl", cJSON_GetObjectItem(p, "shape_limited")) >= 2);
   tu_gmsh_end();

@@ -42,6 +42,10 @@ typedef struct dtm_exchange {
    * caller frees; NULL elsewhere) every part's mine[n], in part order, and
    * their total count in *nall. */
   int (*gather)(void *ctx, int status, const double *mine, size_t n, double **all, size_t *nall);
+  /* Agree on status; when DTM_OK, every part gets part 0's v[n]: part 0
+   * passes *v and *n, the others get a malloc'd copy in *v (the caller
+   * frees) and its count in *n. */
+  int (*bcast)(void *ctx, int status, double **v, size_t *n);
 } dtm_exchange;
 
 /* For the modules above the analysis (the cost module's nodal mass
@@ -71,6 +75,11 @@ int dtm_analysis_extract_whole(const dtm_scene *s, int dim, dtm_mesh **mesh, dtm
  * with dtm_analysis_shape_limited, dtm_analysis_layers,
  * dtm_analysis_below_target and the tag, group and centroid accessors). */
 int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, dtm_analysis **out);
+/* Collective: part 0's advice (from dtm_analysis_classify_whole, or NULL)
+ * shared with every part, each keeping the shape-limited elements it holds
+ * (so its views mark them). Call it after the cost, which then reads none
+ * on any part (its masses for them are per part, not the whole mesh's). */
+int dtm_analysis_share_advice(dtm_analysis *part, const dtm_analysis *advice);
 /* dtm_analysis_compute on one part, with x reaching the others (x must
  * outlive the analysis; NULL: a whole mesh). Collective. */
 int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *effects, int neffects,

@@ -13,7 +13,8 @@
  * below-target elements are few, but the figures of every element are
  * sent: the typical quality samples the whole mesh and a patch may reach
  * any part. Part 0 keeps the result as an analysis of the whole mesh that
- * holds those figures and nothing else. */
+ * holds those figures and nothing else, and shares the shape-limited
+ * elements with the parts, which mark those they hold in their views. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -125,5 +126,52 @@ int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_
   free(mine);
   if (r == DTM_OK && all) r = classify(part, whole, geo, all, nall, out);
   free(all);
+  return part->x->reduce(part->x->ctx, r, NULL, 0, DTM_X_MAX);
+}
+
+#define SHARED 10 /* per shape-limited element: tag, then its fields after the element */
+
+static void pack_one(const dtm_analysis *w, const dtm_shape_limited *e, double *r) {
+  r[0] = (double)dtm_analysis_tag(w, e->element), r[1] = e->feature, r[2] = e->angle, r[3] = e->entity_dim;
+  r[4] = e->entity_tag, r[5] = e->size, r[6] = e->quality, r[7] = e->reach, r[8] = e->remedy, r[9] = e->split;
+}
+
+static dtm_shape_limited unpack_one(size_t i, const double *r) {
+  return (dtm_shape_limited){i, (int)r[1], r[2], (int)r[3], (int)r[4], r[5], r[6], r[7], (int)r[8], r[9]};
+}
+
+/* Part 0: the whole mesh's shape-limited elements, SHARED values each. */
+static int pack_advice(const dtm_analysis *w, double **v, size_t *n) {
+  *n = w ? w->nshape * SHARED : 0;
+  *v = malloc((*n + 1) * sizeof **v);
+  if (!*v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; w && j < w->nshape; j++) pack_one(w, &w->shape[j], *v + j * SHARED);
+  return DTM_OK;
+}
+
+/* The entries of v[n] whose element this part holds, as its shape list. */
+static int keep_own(dtm_analysis *a, const double *v, size_t n) {
+  size_t *idx = NULL, max = 0;
+  free(a->shape), a->shape = NULL, a->nshape = 0;
+  if (!n) return DTM_OK;
+  DTM_CHECK(tag_index(a, &idx, &max));
+  a->shape = malloc((n / SHARED + 1) * sizeof *a->shape);
+  if (!a->shape) return free(idx), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t j = 0; j < n / SHARED; j++) {
+    size_t tag = (size_t)v[j * SHARED], i = tag <= max ? idx[tag] : (size_t)-1;
+    if (i != (size_t)-1) a->shape[a->nshape++] = unpack_one(i, v + j * SHARED);
+  }
+  free(idx);
+  return DTM_OK;
+}
+
+int dtm_analysis_share_advice(dtm_analysis *part, const dtm_analysis *advice) {
+  if (!part->x) return DTM_OK;
+  double *v = NULL;
+  size_t n = 0;
+  int r = advice ? pack_advice(advice, &v, &n) : DTM_OK;
+  r = part->x->bcast(part->x->ctx, r, &v, &n);
+  if (r == DTM_OK) r = keep_own(part, v, n);
+  free(v);
   return part->x->reduce(part->x->ctx, r, NULL, 0, DTM_X_MAX);
 }

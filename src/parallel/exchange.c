@@ -69,4 +69,18 @@ static int x_gather(void *ctx, int status, const double *mine, size_t n, double 
   return r;
 }
 
-void dtm_par_exchange_init(dtm_par *p) { p->x = (dtm_exchange){p, x_nodes, x_reduce, x_eigen, x_gather}; }
+static int x_bcast(void *ctx, int status, double **v, size_t *n) {
+  dtm_par *p = ctx;
+  unsigned long long count = *n;
+  int r = dtm_par_agree(p, status);
+  if (r) return r;
+  MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG_LONG, 0, p->comm);
+  if (count > (unsigned long long)INT_MAX) return DTM_ERR(DTM_ERR_INTERNAL, "more than %d values to share", INT_MAX);
+  if (p->rank > 0) *n = (size_t)count, *v = malloc((*n + 1) * sizeof **v);
+  if ((r = dtm_par_agree(p, *v || !count ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory")))) return r;
+  if (MPI_Bcast(*v, (int)count, MPI_DOUBLE, 0, p->comm) != MPI_SUCCESS)
+    return DTM_ERR(DTM_ERR_INTERNAL, "MPI_Bcast failed"); /* the caller's next agreement carries it */
+  return DTM_OK;
+}
+
+void dtm_par_exchange_init(dtm_par *p) { p->x = (dtm_exchange){p, x_nodes, x_reduce, x_eigen, x_gather, x_bcast}; }

@@ -161,7 +161,7 @@ void dtm_par_figures_free(dtm_par_figures *f);
 
 /* report.c: the JSON report text on rank 0 (free()); the serial run's
  * warnings from the whole mesh's figures, and a note when elements below
- * the target are not classified (that needs the whole model), as a JSON
+ * the target are not classified (a scene of part files holds no model), as a JSON
  * array of strings. */
 int dtm_par_report(const dtm_par *p, const dtm_parallel_opts *o, const dtm_par_figures *f, char **json);
 cJSON *dtm_par_warnings(const dtm_par *p, const dtm_par_figures *f);

@@ -45,6 +45,7 @@ static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
   if (r == DTM_OK && o->posterior)
     r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_par_agree(p, dtm_cost_create(p->analysis, &p->cost));
+  if (r == DTM_OK) r = dtm_analysis_share_advice(p->analysis, p->advice); /* the parts' views mark them */
   if (p->analysis) {
     p->t[PAR_T_EFFECTS] = dtm_analysis_timing(p->analysis, DTM_T_EFFECTS);
     p->t[PAR_T_NODAL] = dtm_analysis_timing(p->analysis, DTM_T_NODAL);
