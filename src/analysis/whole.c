@@ -59,32 +59,54 @@ static int alloc_whole(const dtm_analysis *part, dtm_analysis *w) {
   return DTM_OK;
 }
 
-/* Dense index of the whole mesh's elements by Gmsh tag ((size_t)-1: none). */
-static int tag_index(const dtm_analysis *w, size_t **idx, size_t *max) {
-  *max = 0;
-  for (size_t i = 0; i < w->nel; i++)
-    if (dtm_analysis_tag(w, i) > *max) *max = dtm_analysis_tag(w, i);
-  *idx = malloc((*max + 1) * sizeof **idx);
-  if (!*idx) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  memset(*idx, 0xff, (*max + 1) * sizeof **idx);
-  for (size_t i = 0; i < w->nel; i++) (*idx)[dtm_analysis_tag(w, i)] = i;
+/* The elements of an analysis by Gmsh tag (tags may be sparse): pairs
+ * sorted by tag, looked up by bisection. */
+typedef struct {
+  size_t tag, i; /* Gmsh element tag, index in the analysis */
+} tagged;
+
+typedef struct {
+  tagged *t; /* [n] by tag */
+  size_t n;
+} tag_index;
+
+static int cmp_tagged(const void *x, const void *y) {
+  size_t u = ((const tagged *)x)->tag, v = ((const tagged *)y)->tag;
+  return u < v ? -1 : u > v;
+}
+
+static int index_build(const dtm_analysis *a, tag_index *ti) {
+  ti->n = a->nel;
+  ti->t = malloc((ti->n + 1) * sizeof *ti->t);
+  if (!ti->t) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t k = 0;
+  for (int b = 0; b < a->mesh->nblocks; b++)
+    for (size_t e = 0; e < a->mesh->blocks[b].n; e++, k++) ti->t[k] = (tagged){a->mesh->blocks[b].tags[e], k};
+  qsort(ti->t, ti->n, sizeof *ti->t, cmp_tagged);
   return DTM_OK;
+}
+
+/* Index of the element with this tag, (size_t)-1 if none. */
+static size_t index_find(const tag_index *ti, double tag) {
+  tagged key = {(size_t)tag, 0}, *hit = bsearch(&key, ti->t, ti->n, sizeof key, cmp_tagged);
+  return hit ? hit->i : (size_t)-1;
 }
 
 /* Set the parts' figures (n rows) on w by tag; every element of the whole
  * mesh must get exactly one row. */
 static int unpack(dtm_analysis *w, const double *all, size_t n) {
-  size_t *idx = NULL, max = 0, wd = width(w), got = 0;
-  DTM_CHECK(tag_index(w, &idx, &max));
+  size_t wd = width(w), got = 0;
+  tag_index ti;
+  DTM_CHECK(index_build(w, &ti));
   for (size_t j = 0; j < n; j++) {
     const double *r = all + j * wd;
-    size_t tag = (size_t)r[0], i = tag <= max ? idx[tag] : (size_t)-1;
+    size_t i = index_find(&ti, r[0]);
     if (i == (size_t)-1 || !isnan(w->dt[i])) continue; /* not in the whole mesh, or twice */
     w->dt[i] = r[1], w->local[i] = r[2], w->h[i] = r[3], w->limiting[i] = (int)r[4], got++;
     for (int k = 0; k < w->neffects; k++)
       if (w->dt_effect[k]) w->dt_effect[k][i] = r[FIXED + k];
   }
-  free(idx);
+  free(ti.t);
   if (got != w->nel || n != w->nel)
     return DTM_ERR(DTM_ERR_INTERNAL,
                    "the parts hold %zu elements, %zu of the %zu of the whole mesh they were split from", n, got,
@@ -117,10 +139,12 @@ static int classify(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, c
 int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, dtm_analysis **out) {
   *out = NULL;
   if (!part->x) return DTM_OK;
-  double have = *whole && *geo ? 1.0 : 0.0, *mine = NULL, *all = NULL;
+  /* Does part 0 hold the model, and is anything to classify (with a
+   * target, elements below it; without, the smallest steps)? */
+  double v[2] = {*whole && *geo ? 1.0 : 0.0, (double)part->below}, *mine = NULL, *all = NULL;
   size_t nall = 0;
-  int r = part->x->reduce(part->x->ctx, DTM_OK, &have, 1, DTM_X_MAX); /* does part 0 hold the model? */
-  if (r || !have) return r;
+  int r = part->x->reduce(part->x->ctx, DTM_OK, v, 2, DTM_X_MAX);
+  if (r || !v[0] || (part->scene->target > 0 && !v[1])) return r;
   r = pack(part, &mine);
   r = part->x->gather(part->x->ctx, r, mine, mine ? part->nel * width(part) : 0, &all, &nall);
   free(mine);
@@ -151,17 +175,17 @@ static int pack_advice(const dtm_analysis *w, double **v, size_t *n) {
 
 /* The entries of v[n] whose element this part holds, as its shape list. */
 static int keep_own(dtm_analysis *a, const double *v, size_t n) {
-  size_t *idx = NULL, max = 0;
+  tag_index ti;
   free(a->shape), a->shape = NULL, a->nshape = 0;
   if (!n) return DTM_OK;
-  DTM_CHECK(tag_index(a, &idx, &max));
+  DTM_CHECK(index_build(a, &ti));
   a->shape = malloc((n / SHARED + 1) * sizeof *a->shape);
-  if (!a->shape) return free(idx), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!a->shape) return free(ti.t), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t j = 0; j < n / SHARED; j++) {
-    size_t tag = (size_t)v[j * SHARED], i = tag <= max ? idx[tag] : (size_t)-1;
+    size_t i = index_find(&ti, v[j * SHARED]);
     if (i != (size_t)-1) a->shape[a->nshape++] = unpack_one(i, v + j * SHARED);
   }
-  free(idx);
+  free(ti.t);
   return DTM_OK;
 }
 
