@@ -21,7 +21,8 @@
 
 #include "analysis-impl.h"
 
-#define FIXED 5 /* per element: tag, dt, local, h, limiting; then one step per effect */
+#define NOT_YET (-2) /* limiting effect of an element no part has sent yet (-1: none) */
+#define FIXED 5      /* per element: tag, dt, local, h, limiting; then one step per effect */
 
 static size_t width(const dtm_analysis *a) { return FIXED + (size_t)a->neffects; }
 
@@ -55,7 +56,7 @@ static int alloc_whole(const dtm_analysis *part, dtm_analysis *w) {
   for (int k = 0; k < w->neffects; k++)
     if (part->dt_effect[k] && !(w->dt_effect[k] = malloc((n + 1) * sizeof **w->dt_effect)))
       return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (size_t i = 0; i < n; i++) w->dt[i] = NAN; /* none received yet */
+  for (size_t i = 0; i < n; i++) w->limiting[i] = NOT_YET;
   return DTM_OK;
 }
 
@@ -101,7 +102,7 @@ static int unpack(dtm_analysis *w, const double *all, size_t n) {
   for (size_t j = 0; j < n; j++) {
     const double *r = all + j * wd;
     size_t i = index_find(&ti, r[0]);
-    if (i == (size_t)-1 || !isnan(w->dt[i])) continue; /* not in the whole mesh, or twice */
+    if (i == (size_t)-1 || w->limiting[i] != NOT_YET) continue; /* not in the whole mesh, or twice */
     w->dt[i] = r[1], w->local[i] = r[2], w->h[i] = r[3], w->limiting[i] = (int)r[4], got++;
     for (int k = 0; k < w->neffects; k++)
       if (w->dt_effect[k]) w->dt_effect[k][i] = r[FIXED + k];
