@@ -203,4 +203,22 @@ DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);
 /* Name of a dtm_measure_kind, for tables. */
 DTM_EXPORT const char *dtm_measure_name(int kind);
 
+/* The lattice prediction of one wave along one direction (for the
+ * simulation check, src/study/wave.c): each element's fully discrete error
+ * of branch mode (0 P, 1 S: the worse transverse branch in 3D) along the
+ * unit direction n at frequency f (Hz) and step dt (s), its lattice taken
+ * at the spacing of its volume; averaged with the element masses as
+ * weights (a plane wave's frequency shift is the energy-weighted mean of
+ * the local ones to first order). mat >= 0: only that material's
+ * elements (-1: all). */
+typedef struct {
+  double mean;       /* mass-weighted mean error (fraction; NaN when any element is unresolved) */
+  double worst;      /* the signed error of largest magnitude (fraction) */
+  size_t elements;   /* elements measured */
+  size_t unresolved; /* elements with k h > pi or unstable */
+  double speed;      /* the exact speed of the branch in the (last) material measured, m/s */
+} dtm_phase_along;
+DTM_EXPORT int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3], int mode,
+                                        int mat, dtm_phase_along *out);
+
 #endif
