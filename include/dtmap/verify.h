@@ -35,6 +35,8 @@ typedef struct {
 typedef struct {
   int material;              /* the host: the scene material of the largest volume */
   double speed;              /* its exact speed of the branch, m/s */
+  double pol[3];             /* the polarisation: dir (P); in 2D dir turned by 90 degrees, in 3D e_x x dir
+                                (e_y x dir when dir is near e_x) normalised (S) */
   double k;                  /* wave number 2 pi f / speed, 1/m */
   double omega;              /* measured discrete angular frequency, rad/s (NaN: too few crossings) */
   double measured;           /* measured phase-speed error omega / (speed k) - 1 (fraction) */

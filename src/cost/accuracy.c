@@ -479,15 +479,18 @@ const char *dtm_measure_name(int kind) {
 /* One element's fully discrete error of branch mode along n at frequency f
  * and step dt (its lattice at its own spacing); NaN when unresolved. */
 static double element_along(int type, const dtm_elastic_moduli *m, double h, double f, double dt, const double n[3],
-                            int mode) {
-  double c = mode ? sqrt(m->mu / m->rho) : m->cd, kh = 2 * PI * f * h / c, err[2];
-  if (!(kh <= PI) || dtm_dispersion_space(type, m->form == DTM_FORM_BAR ? 0 : m->mu / m->modulus, kh, n, err))
+                            const double *pol, int mode) {
+  double c = mode ? sqrt(m->mu / m->rho) : m->cd, kh = 2 * PI * f * h / c, err[2], r = m->mu / m->modulus;
+  if (m->form == DTM_FORM_BAR) r = 0;
+  if (!(kh <= PI)) return NAN;
+  if (pol && m->form != DTM_FORM_BAR ? dtm_dispersion_polarised(type, r, kh, n, pol, mode, &err[mode])
+                                     : dtm_dispersion_space(type, r, kh, n, err))
     return NAN;
   return dtm_dispersion_time(err[mode], (1 + err[mode]) * PI * f * dt);
 }
 
-int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3], int mode, int mat,
-                             dtm_phase_along *out) {
+int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3], const double pol[3],
+                             int mode, int mat, dtm_phase_along *out) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   int k = 0;
   while (k < dtm_analysis_neffects(a) && strcmp(dtm_analysis_effect(a, k)->name, "elastic")) k++;
@@ -507,7 +510,7 @@ int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const d
         continue;
       out->speed = mode ? sqrt(m.mu / m.rho) : m.cd;
       double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas;
-      double err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, mode);
+      double err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
       if (isnan(err)) out->unresolved++;
       if (isnan(err)) continue;
       wsum += w, sum += w * err, out->elements++;

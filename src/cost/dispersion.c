@@ -295,6 +295,28 @@ static int space_errors(const lattice *L, double r, double kh, const double *n, 
   return DTM_OK;
 }
 
+int dtm_dispersion_polarised(int type, double r, double kh, const double n[3], const double pol[3], int mode,
+                             double *err) {
+  lattice L;
+  int N, R;
+  if (!(r >= 0 && r < 0.75) || !(kh > 0) || (mode == 1 && !(r > 0)) || (mode != 0 && mode != 1))
+    return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g, branch %d", r, kh, mode);
+  DTM_CHECK(lattice_build(type, &L));
+  N = L.ncls * L.d, R = 2 * N;
+  double complex H[MAX_N * MAX_N];
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
+  bloch_matrix(&L, 1 - 2 * r, r, kh, n, H);
+  for (int i = 0; i < N; i++)
+    for (int j = 0; j < N; j++) {
+      double re = creal(H[i * N + j]), im = cimag(H[i * N + j]);
+      A[i * R + j] = A[(N + i) * R + N + j] = re;
+      A[(N + i) * R + j] = im, A[i * R + N + j] = -im;
+    }
+  jacobi(R, A, V);
+  *err = branch(&L, A, V, R, kh, n, pol) / ((mode ? sqrt(r) : 1) * kh) - 1;
+  return DTM_OK;
+}
+
 int dtm_dispersion_has_model(int type) {
   return type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TRI6 || type == DTM_QUAD4 || type == DTM_TET4 ||
          type == DTM_TET10 || type == DTM_HEX8;

@@ -235,7 +235,8 @@ int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dt
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   r->material = host_material(mesh, dtm_analysis_scene(a)->nmaterials);
   if (r->material < 0) return DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: no element has a material");
-  DTM_CHECK(dtm_measures_phase_along(a, w->f, dt, w->dir, w->mode, r->material, &r->predicted));
+  polarisation(w->mode, dtm_analysis_space_dim(a), w->dir, r->pol);
+  DTM_CHECK(dtm_measures_phase_along(a, w->f, dt, w->dir, r->pol, w->mode, r->material, &r->predicted));
   r->speed = r->predicted.speed, r->k = 2 * PI * w->f / r->speed;
   char *on = calloc(mesh->nnodes + 1, 1);
   dtm_operator *op = NULL;
