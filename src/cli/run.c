@@ -90,9 +90,10 @@ static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w)
 static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, const dtm_wave_result *r) {
   printf("\naccuracy     %s wave along (%.3g, %.3g, %.3g) at %.4g Hz, %d steps of %.4e s (%.3fx the recommended)\n",
          w->mode ? "S" : "P", w->dir[0], w->dir[1], w->dir[2], w->f, r->steps, dt, dt / dtm_analysis_recommended(a));
-  printf("  host material %s: c = %.1f m/s, wavelength %.4g m, window %.3g m, %d zero crossings, %.2f s\n",
+  printf("  host material %s: c = %.1f m/s, wavelength %.4g m, window %.3g m, %.2f periods, %d zero crossings, "
+         "%.2f s\n",
          dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, 2 * 3.14159265358979323846 / r->k, r->sigma,
-         r->crossings, r->seconds);
+         r->duration * r->speed * r->k / (2 * 3.14159265358979323846), r->crossings, r->seconds);
   printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (mean over %zu elements; worst %+.4f %%)\n",
          100 * r->measured, 100 * r->predicted.mean, r->predicted.elements, 100 * r->predicted.worst);
   printf("  from the zero crossings: %+.4f %%\n", 100 * (r->omega_crossings / (r->speed * r->k) - 1));
