@@ -12,7 +12,7 @@ plane-wave packet simulated on the mesh against the lattice prediction
   The S wave is not asserted: on unstructured meshes run for several periods
   it lags less than the lattice predicts (docs/accuracy.md).
 - Bad input exits 2 with a message: a branch other than P or S, a direction
-  out of the plane of a 2D mesh, --report with --accuracy.
+  out of the plane of a 2D mesh, --report with --accuracy, --wave without it.
 """
 
 import itertools
@@ -87,6 +87,9 @@ class Bundled(unittest.TestCase):
             code, _, _, out = accuracy(scene, *args)
             self.assertEqual(code, 2, out)
             self.assertIn(what, out)
+        code, out = tu.run("verify", scene, "--wave", "S")
+        self.assertEqual(code, 2, out)
+        self.assertIn("need --accuracy", out)
 
 
 if __name__ == "__main__":

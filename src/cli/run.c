@@ -104,8 +104,6 @@ static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w,
 static int accuracy_step(const dtm_analysis *a, const cli_opts *o, double dt) {
   dtm_wave_spec w;
   dtm_wave_result r;
-  if (o->report)
-    return DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: --report is not supported with it (the result is printed)");
   DTM_CHECK(wave_spec(a, o, &w));
   DTM_CHECK(dtm_verify_wave(a, dt, &w, &r));
   if (o->verbosity) print_wave(a, dt, &w, &r);
@@ -237,5 +235,10 @@ int dtm_cli_run(const cli_opts *o) {
 int dtm_cli_verify(const cli_opts *o) {
   if (o->factor > 0 && o->dt > 0)
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--factor and --dt both give the step; give one");
+  if (!o->accuracy && (o->wave || o->direction || o->freq > 0 || o->periods > 0))
+    return dtm_cli_usage_error(&dtm_cli_commands[1], "--wave, --direction, --freq and --periods need --accuracy");
+  if (o->accuracy && o->report)
+    return dtm_cli_usage_error(&dtm_cli_commands[1],
+                               "--report is not supported with --accuracy (the result is printed)");
   return run_scene(o, 1);
 }
