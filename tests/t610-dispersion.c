@@ -7,7 +7,8 @@
  *   along a diagonal, tet4 cut around the body diagonal) has the bar's
  *   relation for both branches: P with c_P, S with c_S (the stiffness of a
  *   wave uniform across the axis reduces to the 1D three-point stencil, and
- *   the lumped mass per node is the cell's). Jacobi round-off: 1e-10.
+ *   the lumped mass per node is the cell's). Jacobi round-off: 1e-10. The
+ *   same for one polarisation at a time (dtm_dispersion_polarised).
  * - Every type converges to the exact speed: |err(kh/2)| < |err(kh)| / 3
  *   for kh = 0.4 (second order or better; tri6 S: 3.48), and the error at 10 cells per
  *   wavelength is below 5 % (lumped mass lags; tri3 is stiff in shear and
@@ -56,7 +57,15 @@ static void axis_is_bar(void **state) {
       assert_int_equal(dtm_dispersion_space(types[t], r, kh, ex, err), DTM_OK);
       if (fabs(err[0] - bar) > 1e-10 || fabs(err[1] - bar) > 1e-10)
         fail_msg("%s kh %g: P %.12g S %.12g bar %.12g", dtm_elem_name(types[t]), kh, err[0], err[1], bar);
+      /* one polarisation at a time: P along x, S along y */
+      double ey[3] = {0, 1, 0}, p, s;
+      assert_int_equal(dtm_dispersion_polarised(types[t], r, kh, ex, ex, 0, &p), DTM_OK);
+      assert_int_equal(dtm_dispersion_polarised(types[t], r, kh, ex, ey, 1, &s), DTM_OK);
+      if (fabs(p - bar) > 1e-10 || fabs(s - bar) > 1e-10)
+        fail_msg("%s kh %g polarised: P %.12g S %.12g bar %.12g", dtm_elem_name(types[t]), kh, p, s, bar);
     }
+  double e;
+  assert_int_equal(dtm_dispersion_polarised(DTM_TRI3, 0, 1, ex, ex, 1, &e), DTM_ERR_INPUT); /* no S at r = 0 */
 }
 
 static void converges(void **state) {

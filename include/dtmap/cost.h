@@ -125,6 +125,11 @@ DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const 
  * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
  * 0 for the bar) at the wave vector kh n. */
 DTM_EXPORT int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]);
+/* The same for the one branch whose Bloch eigenvector overlaps most with
+ * the plane wave polarised along the unit vector pol (mode 0: normalised
+ * by the P speed, 1: by the S speed), into *err. */
+DTM_EXPORT int dtm_dispersion_polarised(int type, double r, double kh, const double n[3], const double pol[3], int mode,
+                                        double *err);
 /* 1 when type has a lattice model (bar, tri3, tri6, quad4, tet4, tet10, hex8). */
 DTM_EXPORT int dtm_dispersion_has_model(int type);
 /* Central differences on top: a semi-discrete error `space` and
@@ -202,5 +207,25 @@ DTM_EXPORT int dtm_measures_compute(const dtm_analysis *a, double f, const dtm_m
 DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);
 /* Name of a dtm_measure_kind, for tables. */
 DTM_EXPORT const char *dtm_measure_name(int kind);
+
+/* The lattice prediction of one wave along one direction (for the
+ * simulation check, src/study/wave.c): each element's fully discrete error
+ * of branch mode (0 P, 1 S: the worse transverse branch in 3D) along the
+ * unit direction n at frequency f (Hz) and step dt (s), its lattice taken
+ * at the spacing of its volume; averaged with the element masses as
+ * weights (a plane wave's frequency shift is the energy-weighted mean of
+ * the local ones to first order). pol: the polarisation (unit; the
+ * branch whose eigenvector overlaps most with it; NULL: n for P, the worse
+ * transverse branch for S). mat >= 0: only that material's
+ * elements (-1: all). */
+typedef struct {
+  double mean;       /* mass-weighted mean error (fraction; NaN when any element is unresolved) */
+  double worst;      /* the signed error of largest magnitude (fraction) */
+  size_t elements;   /* elements measured */
+  size_t unresolved; /* elements with k h > pi or unstable */
+  double speed;      /* the exact speed of the branch in the (last) material measured, m/s */
+} dtm_phase_along;
+DTM_EXPORT int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3],
+                                        const double pol[3], int mode, int mat, dtm_phase_along *out);
 
 #endif

@@ -21,4 +21,39 @@ typedef struct {
  * when the effect was not simulated). */
 DTM_EXPORT int dtm_verify(const dtm_analysis *a, double dt, int steps, dtm_verify_effect *out);
 
+#include "dtmap/cost.h"
+
+/* The plane wave of dtm_verify_wave (src/study/wave.c). */
+typedef struct {
+  double f;       /* frequency, Hz: k = 2 pi f / c of the branch in the host material */
+  double dir[3];  /* unit direction of k */
+  int mode;       /* 0 P (polarised along dir), 1 S (across it) */
+  double periods; /* 0: a packet under a Gaussian window, run until it meets the boundary;
+                     else the whole plane wave for this many periods of the exact wave (>= 2) */
+} dtm_wave_spec;
+
+typedef struct {
+  int material;              /* the host: the scene material of the largest volume */
+  double speed;              /* its exact speed of the branch, m/s */
+  double pol[3];             /* the polarisation: dir (P); in 2D dir turned by 90 degrees, in 3D e_x x dir
+                                (e_y x dir when dir is near e_x) normalised (S) */
+  double k;                  /* wave number 2 pi f / speed, 1/m */
+  double omega;              /* measured discrete angular frequency, rad/s (NaN: too few crossings) */
+  double measured;           /* measured phase-speed error omega / (speed k) - 1 (fraction) */
+  dtm_phase_along predicted; /* the lattice prediction over the host's elements */
+  double agreement;          /* (measured - predicted.mean) / |predicted.mean| (fraction) */
+  double omega_crossings;    /* the same from a line through the zero crossings (NaN: fewer than 4) */
+  int crossings;             /* zero crossings fitted */
+  double sigma;              /* the packet's window width, m (0: none) */
+  double duration;           /* time integrated, s */
+  int steps;                 /* time steps run */
+  double seconds;            /* wall time of the integration, s */
+} dtm_wave_result;
+
+/* Run the plane wave w at step dt (s) through the mesh of analysis a (its
+ * elastic effect, undamped) and compare the measured phase-speed error
+ * with the predicted one. DTM_ERR_INPUT without an elastic effect or with
+ * a bad spec. */
+DTM_EXPORT int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dtm_wave_result *r);
+
 #endif

@@ -2,6 +2,7 @@
  * global step, then write the mesh with its views and the report, or
  * simulate the scene's effects at a step and judge stability. Also the
  * output step `refine` shares. */
+#include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -62,7 +63,59 @@ static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_
   }
 }
 
+/* The spec of --accuracy: branch, direction (normalised), frequency. */
+static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w) {
+  *w = (dtm_wave_spec){o->freq, {1, 0, 0}, 0, o->periods};
+  if (o->wave && (strcmp(o->wave, "P") && strcmp(o->wave, "S")))
+    return DTM_ERR(DTM_ERR_INPUT, "verify --wave: expected P or S, got '%s'", o->wave);
+  w->mode = o->wave && !strcmp(o->wave, "S");
+  double *d = w->dir, len;
+  char end = 0;
+  if (o->direction && sscanf(o->direction, "%lf,%lf,%lf%c", d, d + 1, d + 2, &end) != 3)
+    return DTM_ERR(DTM_ERR_INPUT, "verify --direction: expected X,Y,Z, got '%s'", o->direction);
+  len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 0) || !isfinite(len) || (dtm_analysis_mesh(a)->dim < 3 && d[2] != 0))
+    return DTM_ERR(DTM_ERR_INPUT, "verify --direction: '%s' is not a direction (in the plane for a 2D mesh)",
+                   o->direction);
+  for (int c = 0; c < 3; c++) d[c] /= len;
+  if (w->f > 0) return DTM_OK;
+  dtm_measures *m = NULL;
+  DTM_CHECK(dtm_measures_compute(a, 0, NULL, &m));
+  for (int k = 0; k < m->n; k++)
+    if (m->m[k].kind == DTM_MEASURE_PHASE) w->f = m->m[k].f;
+  dtm_measures_destroy(&m);
+  return DTM_OK;
+}
+
+static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, const dtm_wave_result *r) {
+  printf("\naccuracy     %s wave along (%.3g, %.3g, %.3g) at %.4g Hz, %d steps of %.4e s (%.3fx the recommended)\n",
+         w->mode ? "S" : "P", w->dir[0], w->dir[1], w->dir[2], w->f, r->steps, dt, dt / dtm_analysis_recommended(a));
+  printf("  host material %s: c = %.1f m/s, wavelength %.4g m, window %.3g m, %.2f periods, %d zero crossings, "
+         "%.2f s\n",
+         dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, 2 * 3.14159265358979323846 / r->k, r->sigma,
+         r->duration * r->speed * r->k / (2 * 3.14159265358979323846), r->crossings, r->seconds);
+  printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (mean over %zu elements; worst %+.4f %%)\n",
+         100 * r->measured, 100 * r->predicted.mean, r->predicted.elements, 100 * r->predicted.worst);
+  printf("  from the zero crossings: %+.4f %%\n", 100 * (r->omega_crossings / (r->speed * r->k) - 1));
+  printf("  agreement: %+.1f %% of the prediction (band 20 %%): %s\n", 100 * r->agreement,
+         fabs(r->agreement) <= 0.2 ? "agrees" : "DISAGREES");
+}
+
+static int accuracy_step(const dtm_analysis *a, const cli_opts *o, double dt) {
+  dtm_wave_spec w;
+  dtm_wave_result r;
+  DTM_CHECK(wave_spec(a, o, &w));
+  DTM_CHECK(dtm_verify_wave(a, dt, &w, &r));
+  if (o->verbosity) print_wave(a, dt, &w, &r);
+  if (!(fabs(r.agreement) <= 0.2))
+    return DTM_ERR(DTM_ERR_TARGET, "verify --accuracy: measured %+.4f %% against predicted %+.4f %%", 100 * r.measured,
+                   100 * r.predicted.mean);
+  return DTM_OK;
+}
+
 static int verify_step(const dtm_analysis *a, const cli_opts *o) {
+  if (o->accuracy)
+    return accuracy_step(a, o, o->dt > 0 ? o->dt : (o->factor > 0 ? o->factor : 1.0) * dtm_analysis_recommended(a));
   double dt = o->dt > 0 ? o->dt : (o->factor > 0 ? o->factor : 1.0) * dtm_analysis_recommended(a);
   dtm_verify_effect *v = calloc((size_t)dtm_analysis_neffects(a) + 1, sizeof *v);
   if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -112,7 +165,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
   if (r == DTM_OK) dtm_cli_warn_curved(a);
-  if (r == DTM_OK && (o->posterior || verify))
+  if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
@@ -182,5 +235,10 @@ int dtm_cli_run(const cli_opts *o) {
 int dtm_cli_verify(const cli_opts *o) {
   if (o->factor > 0 && o->dt > 0)
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--factor and --dt both give the step; give one");
+  if (!o->accuracy && (o->wave || o->direction || o->freq > 0 || o->periods > 0))
+    return dtm_cli_usage_error(&dtm_cli_commands[1], "--wave, --direction, --freq and --periods need --accuracy");
+  if (o->accuracy && o->report)
+    return dtm_cli_usage_error(&dtm_cli_commands[1],
+                               "--report is not supported with --accuracy (the result is printed)");
   return run_scene(o, 1);
 }

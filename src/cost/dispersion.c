@@ -273,10 +273,11 @@ static void transverse(int d, const double *n, double t[2][3], int *np) {
   t[1][2] = n[0] * t[0][1] - n[1] * t[0][0];
 }
 
-static int space_errors(const lattice *L, double r, double kh, const double *n, double err[2]) {
-  int N = L->ncls * L->d, R = 2 * N, np;
+/* The eigenpairs of the Bloch matrix at kh n in its real symmetric form
+ * A[R x R] (diagonalised) and V; returns R. */
+static int bloch_eigen(const lattice *L, double r, double kh, const double *n, double *A, double *V) {
+  int N = L->ncls * L->d, R = 2 * N;
   double complex H[MAX_N * MAX_N];
-  double A[MAX_R * MAX_R], V[MAX_R * MAX_R], t[2][3];
   bloch_matrix(L, 1 - 2 * r, r, kh, n, H);
   for (int i = 0; i < N; i++)
     for (int j = 0; j < N; j++) {
@@ -285,6 +286,13 @@ static int space_errors(const lattice *L, double r, double kh, const double *n, 
       A[(N + i) * R + j] = im, A[i * R + N + j] = -im;
     }
   jacobi(R, A, V);
+  return R;
+}
+
+static int space_errors(const lattice *L, double r, double kh, const double *n, double err[2]) {
+  int np;
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R], t[2][3];
+  int R = bloch_eigen(L, r, kh, n, A, V);
   err[0] = branch(L, A, V, R, kh, n, n) / kh - 1;
   err[1] = 0;
   transverse(L->d, n, t, &np);
@@ -292,6 +300,18 @@ static int space_errors(const lattice *L, double r, double kh, const double *n, 
     double e = branch(L, A, V, R, kh, n, t[p]) / (sqrt(r) * kh) - 1;
     if (p == 0 || fabs(e) > fabs(err[1])) err[1] = e;
   }
+  return DTM_OK;
+}
+
+int dtm_dispersion_polarised(int type, double r, double kh, const double n[3], const double pol[3], int mode,
+                             double *err) {
+  lattice L;
+  if (!(r >= 0 && r < 0.75) || !(kh > 0) || (mode == 1 && !(r > 0)) || (mode != 0 && mode != 1))
+    return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g, branch %d", r, kh, mode);
+  DTM_CHECK(lattice_build(type, &L));
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
+  int R = bloch_eigen(&L, r, kh, n, A, V);
+  *err = branch(&L, A, V, R, kh, n, pol) / ((mode ? sqrt(r) : 1) * kh) - 1;
   return DTM_OK;
 }
 
