@@ -36,6 +36,17 @@ def rule():
 
 
 def element(x, E=70e9, nu=0.3, rho=2700, alp=0.1203):
+    """Lumped weights m / V, 4-point measure V and lambda_max of one tet10."""
+    K, m, vol = matrices(x, E, nu, alp)
+    M = np.repeat(rho * m, 3)
+    s = 1 / np.sqrt(M)
+    lmax = np.linalg.eigvalsh(s[:, None] * K * s[None, :]).max()
+    return m / vol, vol, lmax
+
+
+def matrices(x, E, nu, alp=0.1203):
+    """Stiffness K[30][30] (N/m), lumped masses per density m[10] (m^3) and
+    the 4-point measure of the tet10 with nodes x[10][3]."""
     lam = E * nu / ((1 + nu) * (1 - 2 * nu))
     mu = E / (2 * (1 + nu))
     K = np.zeros((30, 30))
@@ -56,10 +67,7 @@ def element(x, E=70e9, nu=0.3, rho=2700, alp=0.1203):
     m = d.copy()
     m[:4] *= vol * alp / (1 + alp) / d[:4].sum()
     m[4:] *= vol / (1 + alp) / d[4:].sum()
-    M = np.repeat(rho * m, 3)
-    s = 1 / np.sqrt(M)
-    lmax = np.linalg.eigvalsh(s[:, None] * K * s[None, :]).max()
-    return m / vol, vol, lmax
+    return K, m, vol
 
 
 def unit_tet10():
