@@ -3,7 +3,7 @@
 (issue 21, docs/curved.md). A ball of curved tet10 (Gmsh Python API, order
 2) is analysed by `dtmap run --posterior` with <elastic
 integration="calculix">; the same mesh, free, runs in CalculiX's explicit
-dynamics (*DYNAMIC, EXPLICIT, central differences) as C3D10 from a random
+dynamics (*DYNAMIC, EXPLICIT, ALPHA=0: central differences) as C3D10 from a random
 initial velocity (every mode excited, the top one included) at fixed
 increments of 0.999x and 1.001x dtmap's global step, then bisected for
 CalculiX's own stability limit. A run diverges when its largest final
