@@ -94,8 +94,16 @@ enum {
   DTM_INTEGRATION_CONVERGED = 0, /* curved elements: rules raised until the
                                     element matrices settle; straight-sided
                                     ones: the full rules (the default) */
-  DTM_INTEGRATION_FULL = 1       /* the full rules on every element */
+  DTM_INTEGRATION_FULL = 1,      /* the full rules on every element */
+  DTM_INTEGRATION_CALCULIX = 2   /* CalculiX's C3D10: tet10 with its 4-point
+                                    rule and CalculiX's own lumping
+                                    (docs/curved.md); other types as
+                                    converged */
 };
+
+/* The name of a DTM_INTEGRATION_* model as the scene and the report spell
+ * it ("converged", "full", "calculix"); "unknown" otherwise. Static. */
+DTM_EXPORT const char *dtm_integration_name(int model);
 
 /* Fill m from E (Pa), nu, rho (kg/m^3). Returns DTM_ERR_INPUT (with a
  * message) when E <= 0, rho <= 0, nu outside (-1, 0.5), or any is not finite. */
@@ -131,6 +139,11 @@ DTM_EXPORT double dtm_elem_measure(int type, const double *x);
  * parallelogram quad4 / parallelepiped hex8 the two coincide. NaN for a
  * zero-measure element. */
 DTM_EXPORT void dtm_elem_lumped_weights(int type, const double *x, double *w);
+/* The same weights into w[nn] for the discrete model (DTM_INTEGRATION_*),
+ * returning the element's measure integrated with that model's rule (m^d;
+ * NaN for an unknown type). Under DTM_INTEGRATION_CALCULIX a tet10 gets
+ * CalculiX's C3D10 lumping and its 4-point measure. */
+DTM_EXPORT double dtm_elem_lumped_model(int type, const double *x, int model, double *w);
 
 /* The shape of an element, for dtmap's invalid-element policy (see
  * src/kernel/shape.c): the scaled Jacobian det J / (product of the column

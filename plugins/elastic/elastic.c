@@ -32,7 +32,7 @@ typedef struct {
 static const char *const form_names[] = DTM_FORMULATION_NAMES;
 static const char *const length_names[] = DTM_LENGTH_NAMES;
 /* In DTM_INTEGRATION_* order (src/kernel/curved.c). */
-static const char *const integration_names[] = {"converged", "full", NULL};
+static const char *const integration_names[] = {"converged", "full", "calculix", NULL};
 static const int form_dims[] = {3, 2, 2, 1}; /* element dimension of each formulation */
 
 static int lookup(const char *v, const char *const *names) {
@@ -176,7 +176,8 @@ static const dtm_param params[] = {
      "element step: the element eigenvalue bound (eigen, safe) or a length rule / C_D (see dtmap --help)"},
     {"integration", DTM_PARAM_CHOICE, "converged", 0, 0, 0, integration_names, 0, "",
      "discrete model of second-order elements the steps are for: converged (curved elements integrated until "
-     "their matrices settle) or full (the full rules, exact only on straight-sided elements)"},
+     "their matrices settle), full (the full rules, exact only on straight-sided elements) or calculix (tet10 with "
+     "CalculiX's 4-point C3D10 rule and its own lumping, as its explicit dynamics; other types as converged)"},
     {NULL, 0, NULL, 0, 0, 0, NULL, 0, NULL, NULL}};
 
 static const dtm_property properties[] = {

@@ -5,8 +5,9 @@
  * tri6 and tet10: dtm_kernel_curvature). For every curved element (node
  * offset above 1e-9 of its edge, the kernel's own test) and the first
  * elastic effect whose step is the element bound, the element step is
- * computed for the two discrete models, the full rules and the converged
- * integration: when they differ by more than 1e-3 the element is "rule
+ * computed in the effect's model and in another (the full rules against
+ * the converged integration; the converged against the "full" and
+ * "calculix" models): when they differ by more than 1e-3 the element is "rule
  * sensitive", counted, and the report and the CLI warn, since a solver
  * that integrates it with another rule has another stable step. An
  * element whose ratio is below DTM_CURVED_STRONG is "strongly curved".
@@ -61,7 +62,7 @@ static int elastic_effect(const dtm_analysis *a) {
 static double dependence(const dtm_operator_coeffs *c, int type, const double *x, double dt) {
   dtm_elastic_moduli m = c->mod;
   double l;
-  m.integration = m.integration == DTM_INTEGRATION_FULL ? DTM_INTEGRATION_CONVERGED : DTM_INTEGRATION_FULL;
+  m.integration = m.integration == DTM_INTEGRATION_CONVERGED ? DTM_INTEGRATION_FULL : DTM_INTEGRATION_CONVERGED;
   if (dtm_kernel_elastic_lambda(type, &m, x, &l)) return dtm_error_clear(), NAN;
   return fabs(2 / sqrt(l) / dt - 1);
 }

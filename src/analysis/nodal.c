@@ -81,8 +81,8 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
     if (r == DTM_OK) r = structural_masses(c, blk, x, w, mr, &done);
     if (r) dtm_par_error_keep(&pe, r);
     if (r || done) continue;
-    double m = c->capacity * c->section_factor * dtm_elem_measure(blk->type, x);
-    dtm_elem_lumped_weights(blk->type, x, w);
+    int model = c->kind == DTM_OP_ELASTIC ? c->mod.integration : DTM_INTEGRATION_CONVERGED;
+    double m = c->capacity * c->section_factor * dtm_elem_lumped_model(blk->type, x, model, w);
     for (int i = 0; i < blk->nn; i++) w[i] *= m;
   }
   if (pe.code)

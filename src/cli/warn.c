@@ -33,5 +33,5 @@ void dtm_cli_warn_curved(const dtm_analysis *a) {
           "dtmap: warning: %zu curved element%s a step that changes by more than 1e-3 with the integration rule "
           "(up to %.2g); the steps are for the %s integration (view 'curvature', report's curvature)\n",
           s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
-          s->model == DTM_INTEGRATION_FULL ? "full-rule" : "converged");
+          s->model == DTM_INTEGRATION_FULL ? "full-rule" : dtm_integration_name(s->model));
 }

@@ -30,7 +30,12 @@
  * inverted near a node (analysed and flagged by dtmap's policy: positive
  * at every point of the full rule, not at some node) has det J negative in
  * a region the levelled rules reach: it keeps the full rule, as before,
- * and is reported as not settled. */
+ * and is reported as not settled.
+ * Under the "calculix" model every tet10, straight or curved, is
+ * integrated with CalculiX's 4-point C3D10 rule (returned as the level
+ * DTM_K_RULE_C3D10, so that the operator puts those elements in a part of
+ * their own) and lumped CalculiX's way (lump.c); the other types are
+ * integrated as under "converged". */
 #include <math.h>
 #include <string.h>
 
@@ -136,6 +141,10 @@ static int converge(int type, int d, int nn, const double (*xl)[3], dtm_qrule *q
 int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int model, dtm_qrule *q, int *settled) {
   if (settled) *settled = 1;
   int s = 1;
+  if (model == DTM_INTEGRATION_CALCULIX && type == DTM_TET10) { /* every C3D10, straight or curved */
+    dtm_ref_rule_c3d10(q);
+    return DTM_K_RULE_C3D10;
+  }
   if (model != DTM_INTEGRATION_CONVERGED || !mass_level(type) || dtm_elem_node_offset(type, xl) <= STRAIGHT_TOL) {
     dtm_ref_rule(type, q);
     return 0;

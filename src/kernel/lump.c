@@ -11,8 +11,30 @@
  * N_a^2 exactly on straight-sided elements (quadrature.c). Hand values on
  * straight-sided elements: tri6 corners 3/57, mid-edges 16/57 of V; tet10
  * corners 1/36, mid-edges 4/27; quad9 1/36, 1/9 and 4/9 (the tensor
- * product of the 1D Simpson weights 1/6, 2/3, 1/6). */
+ * product of the 1D Simpson weights 1/6, 2/3, 1/6).
+ *
+ * A tet10 integrated with CalculiX's 4-point C3D10 rule (the "calculix"
+ * model, curved.c; no other model gives a tet10 a 4-point rule) is lumped
+ * as CalculiX 2.20 lumps C3D10 for explicit dynamics (docs/curved.md): the
+ * diagonal d_a = sum_k N_a^2 dv_k of the consistent mass at the 4 points,
+ * scaled separately over the corners and over the mid-edge nodes so that
+ * the corners carry ALP/(1 + ALP) of the element's 4-point measure and
+ * the mid-edge nodes 1/(1 + ALP), with CalculiX's constant ALP = 0.1203.
+ * On a straight-sided tet10: corners ALP/(4 (1 + ALP)) = 0.026846 V,
+ * mid-edge nodes 1/(6 (1 + ALP)) = 0.148770 V (HRZ: 1/36 and 4/27). */
 #include "kernel-impl.h"
+
+#define C3D10_ALP 0.1203 /* corner / mid-edge mass ratio of CalculiX's C3D10 lumping */
+
+/* CalculiX's C3D10 lumping of the diagonal m[10] (d_a above) to vol. */
+static void lump_c3d10(double vol, double *m) {
+  double se = 0, sm = 0;
+  for (int a = 0; a < 4; a++) se += m[a];
+  for (int a = 4; a < 10; a++) sm += m[a];
+  double fe = se != 0 ? vol * C3D10_ALP / (1 + C3D10_ALP) / se : 0;
+  double fm = sm != 0 ? vol / (1 + C3D10_ALP) / sm : 0;
+  for (int a = 0; a < 10; a++) m[a] *= a < 4 ? fe : fm;
+}
 
 double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
@@ -24,6 +46,7 @@ double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm
     vol += dv;
   }
   if (!hrz) return vol;
+  if (type == DTM_TET10 && q->n == 4) return lump_c3d10(vol, m), vol;
   for (int a = 0; a < nn; a++) sum += m[a];
   for (int a = 0; a < nn; a++) m[a] = sum != 0 ? m[a] * (vol / sum) : 0;
   return vol;

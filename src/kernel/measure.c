@@ -13,7 +13,7 @@
 #include "kernel-impl.h"
 
 /* Lumped masses per unit density into m[nn] and the measure, or NaN. */
-static double integrate(int type, const double *x, double *m) {
+static double integrate(int type, const double *x, int model, double *m) {
   int d, nn;
   double xl[DTM_K_NODES][3];
   dtm_qrule q;
@@ -21,7 +21,7 @@ static double integrate(int type, const double *x, double *m) {
   dtm_elem_info(type, &d, &nn);
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
-  dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, DTM_INTEGRATION_CONVERGED, &q, NULL);
+  dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, &q, NULL);
   return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
 }
 
@@ -43,18 +43,23 @@ static int simplex_measure(int type, const double *x, double *v) {
 double dtm_elem_measure(int type, const double *x) {
   double m[DTM_K_NODES], v;
   if (simplex_measure(type, x, &v)) return v;
-  return integrate(type, x, m);
+  return integrate(type, x, DTM_INTEGRATION_CONVERGED, m);
 }
 
-void dtm_elem_lumped_weights(int type, const double *x, double *w) {
+double dtm_elem_lumped_model(int type, const double *x, int model, double *w) {
   if (type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TET4) {
     int nn = type == DTM_LINE2 ? 2 : type == DTM_TRI3 ? 3 : 4;
     for (int a = 0; a < nn; a++) w[a] = 1.0 / nn; /* row sums of a linear simplex */
-    return;
+    return dtm_elem_measure(type, x);
   }
   double m[DTM_K_NODES];
-  double vol = integrate(type, x, m);
+  double vol = integrate(type, x, model, m);
   int nn = 0;
   if (dtm_elem_topology(type)) dtm_elem_info(type, NULL, &nn);
   for (int a = 0; a < nn; a++) w[a] = m[a] / vol;
+  return vol;
+}
+
+void dtm_elem_lumped_weights(int type, const double *x, double *w) {
+  dtm_elem_lumped_model(type, x, DTM_INTEGRATION_CONVERGED, w);
 }

@@ -19,6 +19,11 @@ static int check(dtm_formulation f, double E, double nu, double rho) {
   return DTM_OK;
 }
 
+const char *dtm_integration_name(int model) {
+  static const char *const names[] = {"converged", "full", "calculix"};
+  return model >= 0 && model <= DTM_INTEGRATION_CALCULIX ? names[model] : "unknown";
+}
+
 int dtm_elastic_moduli_init(dtm_formulation f, double E, double nu, double rho, dtm_elastic_moduli *m) {
   DTM_CHECK(check(f, E, nu, rho));
   double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));

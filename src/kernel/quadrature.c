@@ -82,6 +82,11 @@ static void tet4pt(dtm_qrule *q) {
   add(q, a, a, b, 1.0 / 24);
 }
 
+void dtm_ref_rule_c3d10(dtm_qrule *q) {
+  q->n = 0;
+  tet4pt(q);
+}
+
 /* Degree-4 rule on the unit triangle, 6 points in two orbits
  * (a, a, 1 - 2a), times a factor along w as tri3pt. */
 static void tri6pt(dtm_qrule *q, double w, double wt) {

@@ -97,6 +97,7 @@ static void prism(dtm_qrule *q, int n) {
 
 int dtm_ref_rule_level(int type, int n, dtm_qrule *q) {
   q->n = 0;
+  if (type == DTM_TET10 && n == DTM_K_RULE_C3D10) return dtm_ref_rule_c3d10(q), n;
   if (n < 1 || n > DTM_K_LEVEL_MAX) return 0;
   switch (type) {
   case DTM_TRI3:

@@ -11,7 +11,8 @@
 #define DTM_K_DOF 81      /* most displacement unknowns (hex27, 3 per node) */
 #define DTM_K_LEVEL_MAX 8 /* most Gauss points per direction of a levelled rule */
 #define DTM_K_QP 512      /* most quadrature points of a rule (a levelled rule at DTM_K_LEVEL_MAX in 3D) */
-#define DTM_K_FACETS 6    /* of the linear parent: second-order types reuse it */
+#define DTM_K_RULE_C3D10 (DTM_K_LEVEL_MAX + 1) /* the "level" of CalculiX's C3D10 rule on tet10 (curved.c) */
+#define DTM_K_FACETS 6                         /* of the linear parent: second-order types reuse it */
 #define DTM_K_EDGES 12
 
 /* A quadrature rule in rule coordinates p. These are Gmsh's reference
@@ -29,12 +30,18 @@ typedef struct {
 void dtm_ref_rule(int type, dtm_qrule *q);
 /* The levelled rule of type with n Gauss points per direction
  * (quadrature_level.c); returns n, or 0 (q->n = 0) for a type without
- * one (pyramids) or n outside [1, DTM_K_LEVEL_MAX]. */
+ * one (pyramids) or n outside [1, DTM_K_LEVEL_MAX]. For tet10, n =
+ * DTM_K_RULE_C3D10 gives CalculiX's C3D10 rule (dtm_ref_rule_c3d10). */
 int dtm_ref_rule_level(int type, int n, dtm_qrule *q);
+/* The 4-point degree-2 rule on the unit tetrahedron (barycentric orbit
+ * (a, a, a, 1 - 3a), a = (5 - sqrt 5)/20, weights 1/24) with which
+ * CalculiX and Abaqus integrate C3D10 (quadrature.c). */
+void dtm_ref_rule_c3d10(dtm_qrule *q);
 /* The rule that integrates the element of type with coordinates x[nn][3]
  * in the discrete model (DTM_INTEGRATION_*), as the element kernels do
- * (curved.c): the full rule (returns 0) or a levelled rule (returns its
- * level). */
+ * (curved.c): the full rule (returns 0), a levelled rule (returns its
+ * level) or, under DTM_INTEGRATION_CALCULIX on tet10, CalculiX's rule
+ * (returns DTM_K_RULE_C3D10). */
 int dtm_ref_rule_elem(int type, const double *x, int model, dtm_qrule *q);
 /* 1 when curved elements of type get levelled rules (the second-order
  * types but pyramids), else 0. */

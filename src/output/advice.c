@@ -87,7 +87,7 @@ static void curvature_warning(const dtm_analysis *a, dtm_warnings *w) {
            "%zu curved element%s a step that changes by more than 1e-3 with the integration rule (up to %.2g): "
            "the steps are for the %s integration; a solver integrating them otherwise has another stable step",
            s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
-           s->model == DTM_INTEGRATION_FULL ? "full-rule" : "converged");
+           s->model == DTM_INTEGRATION_FULL ? "full-rule" : dtm_integration_name(s->model));
 }
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {

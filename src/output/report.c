@@ -486,8 +486,7 @@ static void rotary_json(cJSON *o, const dtm_section *sec, const dtm_section_stat
 static cJSON *curvature_json(const dtm_analysis *a) {
   const dtm_curvature_summary *s = dtm_analysis_curvature(a);
   cJSON *o = cJSON_CreateObject();
-  static const char *const models[] = {"converged", "full"};
-  cJSON_AddStringToObject(o, "integration", models[s->model == DTM_INTEGRATION_FULL]);
+  cJSON_AddStringToObject(o, "integration", dtm_integration_name(s->model));
   cJSON_AddNumberToObject(o, "second_order", (double)s->second_order);
   cJSON_AddNumberToObject(o, "curved", (double)s->curved);
   cJSON_AddNumberToObject(o, "strongly_curved", (double)s->strong);

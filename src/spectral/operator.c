@@ -390,7 +390,10 @@ static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w
   const double *g = b->geo + e * (size_t)b->nq * st;
   for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
   for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
-  dtm_elem_lumped_weights(b->type, x, w);
+  if (b->level == DTM_K_RULE_C3D10) /* CalculiX's lumping goes with its rule (src/kernel/lump.c) */
+    dtm_elem_lumped_model(b->type, x, DTM_INTEGRATION_CALCULIX, w);
+  else
+    dtm_elem_lumped_weights(b->type, x, w);
   int ok = 1;
   for (int a = 0; a < b->nn; a++) {
     w[a] *= meas;
@@ -461,7 +464,7 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   op->node_tags = m->node_tags;
   int np = 0, model = DTM_INTEGRATION_CONVERGED;
   for (int i = 0; i < op->nmat; i++) /* the elastic effect's model (one per effect) */
-    if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration == DTM_INTEGRATION_FULL) model = DTM_INTEGRATION_FULL;
+    if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration != DTM_INTEGRATION_CONVERGED) model = c[i].mod.integration;
   int r = dtm_rule_parts(m, model, &op->parts, &np);
   op->nblocks = np; /* the parts, freed by destroy */
   DTM_CHECK(r);

@@ -6,7 +6,8 @@
  * A block with no curved element (every linear block, every straight-sided
  * mesh) is one part that views the mesh's own arrays: nothing is copied
  * and nothing costs more than before. The levels are found in parallel;
- * the parts keep the mesh order of their elements. */
+ * the parts keep the mesh order of their elements. Under the "calculix"
+ * model every tet10 is in the part of CalculiX's C3D10 rule. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -53,10 +54,14 @@ static int fill_part(const dtm_block *b, const unsigned char *lev, int level, si
   return DTM_OK;
 }
 
-/* Append the parts of block ib to *ps (room for DTM_K_LEVEL_MAX + 1). */
+/* Rules a block's elements may have: the full one (0), the levels 1 ..
+ * DTM_K_LEVEL_MAX and CalculiX's C3D10 rule (DTM_K_RULE_C3D10). */
+#define RULES (DTM_K_RULE_C3D10 + 1)
+
+/* Append the parts of block ib to *ps (room for RULES). */
 static int block_parts(const dtm_mesh *m, int ib, int model, dtm_rule_part *ps, int *np) {
   const dtm_block *b = &m->blocks[ib];
-  size_t count[DTM_K_LEVEL_MAX + 1] = {0};
+  size_t count[RULES] = {0};
   unsigned char *lev = dtm_ref_levelled(b->type) ? calloc(b->n + 1, 1) : NULL;
   if (lev) block_levels(m, b, model, lev);
   for (size_t e = 0; lev && e < b->n; e++) count[lev[e]]++;
@@ -67,7 +72,7 @@ static int block_parts(const dtm_mesh *m, int ib, int model, dtm_rule_part *ps, 
     return DTM_OK;
   }
   int r = DTM_OK;
-  for (int l = 0; l <= DTM_K_LEVEL_MAX && !r; l++) {
+  for (int l = 0; l < RULES && !r; l++) {
     if (!count[l]) continue;
     ps[*np].block = ib;
     r = fill_part(b, lev, l, count[l], &ps[(*np)++]);
@@ -78,7 +83,7 @@ static int block_parts(const dtm_mesh *m, int ib, int model, dtm_rule_part *ps, 
 
 int dtm_rule_parts(const dtm_mesh *m, int model, dtm_rule_part **parts, int *nparts) {
   *nparts = 0;
-  *parts = calloc((size_t)m->nblocks * (DTM_K_LEVEL_MAX + 1) + 1, sizeof **parts);
+  *parts = calloc((size_t)m->nblocks * RULES + 1, sizeof **parts);
   if (!*parts) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_parts(m, ib, model, *parts, nparts));
   return DTM_OK;

@@ -17,7 +17,7 @@ typedef struct {
   dtm_block blk; /* its elements: the mesh block itself when orig is NULL
                     (arrays not owned), else owned copies of tags, conn,
                     mat and section (group, gmask, entity NULL) */
-  int level;     /* 0: the full rule; else the levelled rule's level */
+  int level;     /* 0: the full rule; else the levelled rule's level (DTM_K_RULE_C3D10: CalculiX's C3D10 rule) */
   int block;     /* index of the mesh block */
   size_t *orig;  /* [blk.n] element index in the mesh block (owned), or NULL */
 } dtm_rule_part;
