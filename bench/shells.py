@@ -49,41 +49,52 @@ def once(path, posterior):
     if posterior:
         args += ["--posterior", "--tol", "1e-3"]
     t0 = time.perf_counter()
-    subprocess.run(args, check=True, stdout=subprocess.DEVNULL)
+    p = subprocess.Popen(args, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(p.pid, 0)
     wall = time.perf_counter() - t0
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit("failed: " + " ".join(args))
     with open(rep) as f:
         r = json.load(f)
-    return wall, r["timings"], r["mesh"]["elements"], r["dt"]
+    return (wall, usage.ru_utime + usage.ru_stime), r["timings"], r["mesh"]["elements"], r["dt"]
 
 
 def main():
     print("# Shell and beam sections: what the rotations cost\n")
     print("`bench/shells.sh` (a benchmark, not a test): the bundled stiffened panel meshed at each size, run as")
     print("membranes and trusses, then as shells and beams (three rotations per node), on the same .msh;")
-    print("medians of %d alternating runs on this machine (%d cores), seconds.\n" % (REPS, os.cpu_count()))
-    print("| size (m) | elements | sections | run (s) | --posterior (s) | element map | nodal | global | dt min (s) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("medians of %d alternating runs on this machine (%d cores), seconds: wall time and the CPU time of" %
+          (REPS, os.cpu_count()))
+    print("the process (user + system, all threads: less disturbed by other jobs on a shared machine), and")
+    print("the report's stage timings (wall) of the `--posterior` runs. Load average at the start: %s.\n" %
+          open("/proc/loadavg").read().split()[0])
+    print("| size (m) | elements | sections | run wall (s) | run CPU (s) | --posterior wall (s) | --posterior CPU (s) "
+          "| element map | nodal | global | dt min (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for size in SIZES:
         paths = {name: scene(size, name, body) for name, body in SCENES.items()}
-        res = {name: {"run": [], "post": [], "t": {s: [] for s in STAGES}} for name in SCENES}
+        res = {name: {"run": [], "post": [], "run_cpu": [], "post_cpu": [], "t": {s: [] for s in STAGES}}
+               for name in SCENES}
         for _ in range(REPS):
             for name, path in paths.items():
-                w, _, n, dt = once(path, False)
-                res[name]["run"].append(w)
-                w, t, n, dt = once(path, True)
-                res[name]["post"].append(w)
+                (w, c), _, n, dt = once(path, False)
+                res[name]["run"].append(w), res[name]["run_cpu"].append(c)
+                (w, c), t, n, dt = once(path, True)
+                res[name]["post"].append(w), res[name]["post_cpu"].append(c)
                 for s in STAGES:
                     res[name]["t"][s].append(t.get(s, float("nan")))
                 res[name]["n"], res[name]["dt"] = n, dt["min"]
         base = None
         for name in SCENES:
             r = res[name]
-            med = {k: statistics.median(r[k]) for k in ("run", "post")}
+            med = {k: statistics.median(r[k]) for k in ("run", "post", "run_cpu", "post_cpu")}
             st = {s: statistics.median(r["t"][s]) for s in STAGES}
-            ratio = "" if base is None else " (%.2fx)" % (med["post"] / base)
-            base = base or med["post"]
-            print("| %s | %d | %s | %.2f | %.2f%s | %.3f | %.3f | %.3f | %.4e |" % (
-                size, r["n"], name, med["run"], med["post"], ratio, st["effects"], st["nodal"], st["global"], r["dt"]))
+            rc = "" if base is None else " (%.2fx)" % (med["run_cpu"] / base["run_cpu"])
+            pc = "" if base is None else " (%.2fx)" % (med["post_cpu"] / base["post_cpu"])
+            base = base or med
+            print("| %s | %d | %s | %.2f | %.2f%s | %.2f | %.2f%s | %.3f | %.3f | %.3f | %.4e |" % (
+                size, r["n"], name, med["run"], med["run_cpu"], rc, med["post"], med["post_cpu"], pc, st["effects"],
+                st["nodal"], st["global"], r["dt"]))
 
 
 if __name__ == "__main__":
