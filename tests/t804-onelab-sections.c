@@ -378,20 +378,28 @@ static void test_truss(void **state) {
   assert_opened_styling();
 }
 
+/* A session of model whose panel saves its scene to saved (removed
+ * first), its panel declared. */
+static void saving_session(const char *model, const char *saved) {
+  char *file[] = {(char *)saved};
+  int ierr = 0;
+  unlink(saved);
+  session(model);
+  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
+  assert_int_equal(ierr, 0);
+  set_number("dtmap/5Scene/0save", 1);
+  run_dtmap("check");
+}
+
 /* Both sections, and the panel saved as a scene: the triangles of the
  * sheet come back too, and the saved scene reads back with the two
  * sections and their values exactly (17 digits). */
 static void test_truss_and_membrane(void **state) {
   (void)state;
-  char saved[700], *file[] = {saved};
-  int ierr = 0;
+  char saved[700];
   snprintf(saved, sizeof saved, "%s/saved.xml", dir);
-  unlink(saved);
   unlink(out);
-  session(geo);
-  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
-  set_number("dtmap/5Scene/0save", 1);
-  run_dtmap("check");
+  saving_session(geo, saved);
   set_number("dtmap/4Materials/bar/00section", 1);
   set_number("dtmap/4Materials/bar/01area", 3.1e-4);
   set_number("dtmap/4Materials/sheet/00section", 1);
@@ -433,15 +441,10 @@ static const dtm_section *section_of(const dtm_scene *s, const char *name) {
  * and the shell's thickness. */
 static void test_shell_and_beam(void **state) {
   (void)state;
-  char saved[700], *file[] = {saved};
-  int ierr = 0;
+  char saved[700];
   snprintf(saved, sizeof saved, "%s/saved_sb.xml", dir);
-  unlink(saved);
   unlink(out);
-  session(geo);
-  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
-  set_number("dtmap/5Scene/0save", 1);
-  run_dtmap("check");
+  saving_session(geo, saved);
   cJSON *p = parameter("dtmap/4Materials/bar/00section");
   assert_true(choice_value(p, "beam") == 2);
   cJSON_Delete(p);
@@ -484,16 +487,11 @@ static void test_shell_and_beam(void **state) {
  * shell. */
 static void test_scene_beam_kept(void **state) {
   (void)state;
-  char model[700], saved[700], *file[] = {saved}, orig[700];
-  int ierr = 0;
+  char model[700], saved[700], orig[700];
   snprintf(model, sizeof model, "%s/panel/stiffened_panel.geo", dir);
   snprintf(saved, sizeof saved, "%s/panel/saved.xml", dir);
   snprintf(orig, sizeof orig, "%s/panel/stiffened_panel.xml", dir);
-  unlink(saved);
-  session(model);
-  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
-  set_number("dtmap/5Scene/0save", 1);
-  run_dtmap("check");
+  saving_session(model, saved);
   assert_true(get_number("dtmap/4Materials/stiffener/00section") == 2);
   assert_null(parameter("dtmap/4Materials/skin/00section"));
   assert_null(parameter("dtmap/4Materials/stiffener/01radius"));

@@ -76,6 +76,8 @@ DTM_EXPORT int dtm_mesh_group_find(const dtm_mesh *m, const char *ref);
 DTM_EXPORT void dtm_mesh_materials_used(const dtm_mesh *m, int nmat, char *used);
 /* Gather the coordinates of block b: x[n][nn][3]. x is caller-owned. */
 DTM_EXPORT void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x);
+/* The node coordinates x[nn][3] of element e of block b alone. */
+DTM_EXPORT void dtm_mesh_gather_one(const dtm_mesh *m, const dtm_block *b, size_t e, double *x);
 /* Renumber for locality (src/mesh/order.c): the elements of each block
  * along a Hilbert curve through their centroids, the nodes in the order
  * those elements first use them. Tags and every per-element and per-node

@@ -72,9 +72,10 @@ static int moduli_of(const elastic_state *s, const dtm_material *m, const dtm_se
   int rot = sec && dtm_section_has_rotations(sec->kind);
   if (f != DTM_FORM_BAR || rot) DTM_CHECK(dtm_material_require_one(m, "nu", "elastic"));
   double nu = f == DTM_FORM_BAR ? 0.0 : dtm_material_get(m, s->inu);
-  if (rot && dtm_elastic_moduli_init(DTM_FORM_3D, dtm_material_get(m, s->iE), dtm_material_get(m, s->inu), 1.0, mod))
-    return DTM_ERR(DTM_ERR_INPUT, "material '%s': invalid elastic properties for a %s section", m->name,
-                   dtm_section_kind_name(sec->kind));
+  double nu_rot = dtm_material_get(m, s->inu); /* a bar's moduli do not check it; a beam's shear needs it */
+  if (rot && !(nu_rot > -1 && nu_rot < 0.5))
+    return DTM_ERR(DTM_ERR_INPUT, "material '%s': Poisson's ratio %g outside (-1, 0.5) for a %s section", m->name,
+                   nu_rot, dtm_section_kind_name(sec->kind));
   int r = dtm_elastic_moduli_init(f, dtm_material_get(m, s->iE), nu, dtm_material_get(m, s->irho), mod);
   if (r) return DTM_ERR(r, "material '%s': invalid elastic properties", m->name);
   mod->integration = s->integration;

@@ -75,10 +75,8 @@ static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_c
 #pragma omp parallel for schedule(dynamic, 256)
   for (long e = 0; e < n; e++) {
     double x[DTM_MAX_NODES * 3];
-    dtm_block one = *blk;
     dtm_curvature c;
-    one.n = 1, one.conn = blk->conn + (size_t)e * (size_t)blk->nn;
-    dtm_mesh_gather(a->mesh, &one, x);
+    dtm_mesh_gather_one(a->mesh, blk, (size_t)e, x);
     dep[g0 + (size_t)e] = NAN;
     if (dtm_kernel_curvature(blk->type, x, &c)) {
       a->curv_ratio[g0 + (size_t)e] = NAN, a->curv_offset[g0 + (size_t)e] = NAN;

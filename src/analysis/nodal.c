@@ -71,9 +71,7 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
 #pragma omp parallel for schedule(static)
   for (size_t e = e0; e < e1; e++) {
     double x[DTM_MAX_NODES * 3], *w = mw + (e - e0) * blk->nn;
-    dtm_block one = *blk;
-    one.n = 1, one.conn = blk->conn + e * blk->nn;
-    dtm_mesh_gather(a->mesh, &one, x);
+    dtm_mesh_gather_one(a->mesh, blk, e, x);
     const dtm_operator_coeffs *c = &cc->c[dtm_analysis_slot(a, blk, e)];
     int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]), done;
     double *mr = mrw ? mrw + (e - e0) * blk->nn : NULL;

@@ -137,9 +137,7 @@ static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, c
   const dtm_material *m = &a->scene->materials[b->mat[e]].m;
   double E = dtm_material_value(m, "E"), nu = dtm_material_value(m, "nu"), rho = dtm_material_value(m, "rho");
   double x[3 * DTM_MAX_NODES];
-  dtm_block one = *b;
-  one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
-  dtm_mesh_gather(a->mesh, &one, x);
+  dtm_mesh_gather_one(a->mesh, b, e, x);
   if (sec->kind == DTM_SECTION_TRUSS || sec->kind == DTM_SECTION_BEAM) return longest_chord(x, 2) / sqrt(E / rho);
   if (sec->kind != DTM_SECTION_MEMBRANE && sec->kind != DTM_SECTION_SHELL) return NAN;
   int tri = b->type == DTM_TRI3 || b->type == DTM_TRI6, nc = tri ? 3 : 4;
@@ -153,9 +151,7 @@ static void rotary_stats(const dtm_analysis *a, const dtm_block *b, size_t e, co
                          dtm_section_stats *st) {
   const dtm_material *m = &a->scene->materials[b->mat[e]].m;
   double x[3 * DTM_MAX_NODES];
-  dtm_block one = *b;
-  one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
-  dtm_mesh_gather(a->mesh, &one, x);
+  dtm_mesh_gather_one(a->mesh, b, e, x);
   dtm_section_bounds sb;
   if (dtm_section_element(sec, b->type, dtm_material_value(m, "E"), dtm_material_value(m, "nu"),
                           dtm_material_value(m, "rho"), x, &sb))

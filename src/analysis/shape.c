@@ -62,9 +62,7 @@ int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double
 /* A line element's well-shaped version of length h: its own direction
  * (a beam's bending axes hang on it), from its first node. */
 static void own_segment(const dtm_analysis *a, const dtm_block *blk, size_t l, double h, double *x) {
-  dtm_block one = *blk;
-  one.n = 1, one.conn = blk->conn + l * (size_t)blk->nn;
-  dtm_mesh_gather(a->mesh, &one, x);
+  dtm_mesh_gather_one(a->mesh, blk, l, x);
   double d[3], n = 0;
   for (int k = 0; k < 3; k++) d[k] = x[3 + k] - x[k], n += d[k] * d[k];
   n = sqrt(n);

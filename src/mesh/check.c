@@ -58,9 +58,7 @@ static int check_nodes(const dtm_mesh *m, const char *src) {
 
 static void shape_of(const dtm_mesh *m, const dtm_block *blk, size_t e, dtm_shape *s) {
   double x[DTM_MAX_NODES * 3];
-  dtm_block one = *blk;
-  one.n = 1, one.conn = blk->conn + e * (size_t)blk->nn;
-  dtm_mesh_gather(m, &one, x);
+  dtm_mesh_gather_one(m, blk, e, x);
   dtm_kernel_shape(blk->type, x, s);
 }
 

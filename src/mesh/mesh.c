@@ -48,6 +48,12 @@ void dtm_mesh_gather(const dtm_mesh *m, const dtm_block *b, double *x) {
     }
 }
 
+void dtm_mesh_gather_one(const dtm_mesh *m, const dtm_block *b, size_t e, double *x) {
+  dtm_block one = *b;
+  one.n = 1, one.conn = b->conn + e * (size_t)b->nn;
+  dtm_mesh_gather(m, &one, x);
+}
+
 void dtm_mesh_materials_used(const dtm_mesh *m, int nmat, char *used) {
   memset(used, 0, (size_t)nmat);
   for (int b = 0; b < m->nblocks; b++)

@@ -22,9 +22,7 @@ static void block_levels(const dtm_mesh *m, const dtm_block *b, int model, unsig
   for (long e = 0; e < n; e++) {
     double x[DTM_K_NODES * 3];
     dtm_qrule q;
-    dtm_block one = *b;
-    one.n = 1, one.conn = b->conn + (size_t)e * (size_t)b->nn;
-    dtm_mesh_gather(m, &one, x);
+    dtm_mesh_gather_one(m, b, e, x);
     lev[e] = (unsigned char)dtm_ref_rule_elem(b->type, x, model, &q);
   }
 }
