@@ -213,6 +213,13 @@ static void child(const char *stage, const job_spec *j, const job_files *f) {
   if (fd >= 0) dup2(fd, STDOUT_FILENO), dup2(fd, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
+  /* Curves and surfaces one at a time: each logs "Meshing ..." at info
+   * level, and Gmsh's API logger (which dtmap reads for errors) appends to
+   * one vector without a lock, so curves meshed on OpenMP threads corrupt
+   * it (ASan: a double free in t312, HXT on 2 threads). Volumes keep the
+   * threads asked for. */
+  gmshOptionSetNumber("Mesh.MaxNumThreads1D", 1, &ierr);
+  gmshOptionSetNumber("Mesh.MaxNumThreads2D", 1, &ierr);
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
