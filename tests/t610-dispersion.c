@@ -16,7 +16,20 @@
  * - The table interpolates err/(kh)^2, so at a point between its nodes it
  *   agrees with a direct evaluation to 2 % of the error.
  * - Bad arguments and unsupported types fail with DTM_ERR_INPUT (the
- *   measures skip such elements: t705 runs prisms and pyramids). */
+ *   measures skip such elements: t705 runs prisms and pyramids).
+ * - The regular lattice: its tri3 cell holds equilateral triangles, so its
+ *   table repeats every 60 degrees (8 of its 24 directions) to round-off,
+ *   which the right-angled cell's does not (1e-9 of err / (k h)^2).
+ * - Own shapes (src/cost/shapes.c): one tri3 with its point reflection
+ *   tiles the plane, so a table built from the two right triangles of the
+ *   cube lattice's cell, from their translates and scaled copies, or from
+ *   one of them alone is the cube lattice's table, and one equilateral
+ *   triangle (turned as the lattice's) gives the regular lattice's; the unit square gives the quad4
+ *   lattice's (one node class: the plane wave's Rayleigh quotient is the
+ *   Bloch eigenvalue). Jacobi round-off: 1e-9 of err / (k h)^2. One
+ *   element's dynamic matrix at small k is its area times the continuum's
+ *   Christoffel matrix (lam + mu) k k^T + mu k^2 I to O(k^4): 1e-6 at
+ *   k h = 1e-3 relative to the matrix. Unsupported types fail. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -34,7 +47,7 @@ static void bar_closed_form(void **state) {
   (void)state;
   for (double kh = 0.1; kh < 3.1; kh += 0.3) {
     double err[2];
-    assert_int_equal(dtm_dispersion_space(DTM_LINE2, 0, kh, ex, err), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(DTM_LINE2, DTM_LATTICE_CUBE, 0, kh, ex, err), DTM_OK);
     double exact = sin(kh / 2) / (kh / 2) - 1;
     assert_true(fabs(err[0] - exact) < 1e-12);
     for (double cr = 0.2; cr <= 1.0; cr += 0.2) {
@@ -54,18 +67,19 @@ static void axis_is_bar(void **state) {
   for (int t = 0; t < 4; t++)
     for (double kh = 0.2; kh < 3.0; kh += 0.7) {
       double err[2], bar = sin(kh / 2) / (kh / 2) - 1;
-      assert_int_equal(dtm_dispersion_space(types[t], r, kh, ex, err), DTM_OK);
+      assert_int_equal(dtm_dispersion_space(types[t], DTM_LATTICE_CUBE, r, kh, ex, err), DTM_OK);
       if (fabs(err[0] - bar) > 1e-10 || fabs(err[1] - bar) > 1e-10)
         fail_msg("%s kh %g: P %.12g S %.12g bar %.12g", dtm_elem_name(types[t]), kh, err[0], err[1], bar);
       /* one polarisation at a time: P along x, S along y */
       double ey[3] = {0, 1, 0}, p, s;
-      assert_int_equal(dtm_dispersion_polarised(types[t], r, kh, ex, ex, 0, &p), DTM_OK);
-      assert_int_equal(dtm_dispersion_polarised(types[t], r, kh, ex, ey, 1, &s), DTM_OK);
+      assert_int_equal(dtm_dispersion_polarised(types[t], DTM_LATTICE_CUBE, r, kh, ex, ex, 0, &p), DTM_OK);
+      assert_int_equal(dtm_dispersion_polarised(types[t], DTM_LATTICE_CUBE, r, kh, ex, ey, 1, &s), DTM_OK);
       if (fabs(p - bar) > 1e-10 || fabs(s - bar) > 1e-10)
         fail_msg("%s kh %g polarised: P %.12g S %.12g bar %.12g", dtm_elem_name(types[t]), kh, p, s, bar);
     }
   double e;
-  assert_int_equal(dtm_dispersion_polarised(DTM_TRI3, 0, 1, ex, ex, 1, &e), DTM_ERR_INPUT); /* no S at r = 0 */
+  assert_int_equal(dtm_dispersion_polarised(DTM_TRI3, DTM_LATTICE_CUBE, 0, 1, ex, ex, 1, &e),
+                   DTM_ERR_INPUT); /* no S at r = 0 */
 }
 
 static void converges(void **state) {
@@ -77,9 +91,10 @@ static void converges(void **state) {
     int d, nn;
     dtm_elem_info(types[t], &d, &nn);
     const double *dir = d == 1 ? ex : d == 2 ? n2 : n3;
-    assert_int_equal(dtm_dispersion_space(types[t], r, 0.4, dir, e1), DTM_OK);
-    assert_int_equal(dtm_dispersion_space(types[t], r, 0.2, dir, e2), DTM_OK);
-    assert_int_equal(dtm_dispersion_space(types[t], r, 2 * 3.14159265358979323846 / 10, dir, e3), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(types[t], DTM_LATTICE_CUBE, r, 0.4, dir, e1), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(types[t], DTM_LATTICE_CUBE, r, 0.2, dir, e2), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(types[t], DTM_LATTICE_CUBE, r, 2 * 3.14159265358979323846 / 10, dir, e3),
+                     DTM_OK);
     for (int m = 0; m < (r > 0 ? 2 : 1); m++) {
       if (!(fabs(e2[m]) < fabs(e1[m]) / 3))
         fail_msg("%s branch %d: err %g at kh 0.4, %g at 0.2", dtm_elem_name(types[t]), m, e1[m], e2[m]);
@@ -92,12 +107,12 @@ static void converges(void **state) {
 static void table_interpolates(void **state) {
   (void)state;
   dtm_dispersion t;
-  assert_int_equal(dtm_dispersion_table(DTM_TRI3, 0.3, &t), DTM_OK);
+  assert_int_equal(dtm_dispersion_table(DTM_TRI3, DTM_LATTICE_CUBE, 0.3, &t), DTM_OK);
   assert_int_equal(t.ndir, 24);
   double kh = 0.83, worst = 0;
   for (int i = 0; i < t.ndir; i++) {
     double err[2];
-    assert_int_equal(dtm_dispersion_space(DTM_TRI3, 0.3, kh, t.dir[i], err), DTM_OK);
+    assert_int_equal(dtm_dispersion_space(DTM_TRI3, DTM_LATTICE_CUBE, 0.3, kh, t.dir[i], err), DTM_OK);
     if (fabs(err[1]) > fabs(worst)) worst = err[1];
   }
   double got = dtm_dispersion_worst(&t, 1, kh, 0);
@@ -105,20 +120,95 @@ static void table_interpolates(void **state) {
   assert_true(isnan(dtm_dispersion_worst(&t, 1, 3.2, 0))); /* under 2 cells per wavelength */
 }
 
+/* The largest difference between two tables' entries relative to the largest entry. */
+static double table_diff(const dtm_dispersion *a, const dtm_dispersion *b) {
+  double d = 0, big = 0;
+  for (int m = 0; m < 2; m++)
+    for (int i = 0; i < a->ndir; i++)
+      for (int j = 0; j < DTM_DISP_KH; j++)
+        d = fmax(d, fabs(a->g[m][i][j] - b->g[m][i][j])), big = fmax(big, fabs(a->g[m][i][j]));
+  return d / big;
+}
+
+static void regular_is_hexagonal(void **state) {
+  (void)state;
+  dtm_dispersion t[2];
+  double asym[2] = {0};
+  for (int shape = 0; shape < 2; shape++) {
+    assert_int_equal(dtm_dispersion_table(DTM_TRI3, shape, 0.3, &t[shape]), DTM_OK);
+    for (int m = 0; m < 2; m++)
+      for (int i = 0; i + 8 < t[shape].ndir; i++) /* 8 directions: 60 degrees */
+        for (int j = 0; j < DTM_DISP_KH; j++)
+          asym[shape] = fmax(asym[shape], fabs(t[shape].g[m][i][j] - t[shape].g[m][i + 8][j]));
+  }
+  assert_true(asym[DTM_LATTICE_REGULAR] < 1e-9);
+  assert_true(asym[DTM_LATTICE_CUBE] > 1e-3);
+}
+
+static void own_shapes_are_lattices(void **state) {
+  (void)state;
+  dtm_dispersion lat, own;
+  /* the cube lattice's two right triangles, moved and scaled, and one alone */
+  double right[] = {0, 0, 0, 1, 0,       0, 1, 1,    0, /* */ 5, 7,    0,    5, 8,
+                    0, 6, 8, 0, /* */ 0, 0, 0, 2e-3, 0, 0,       2e-3, 2e-3, 0};
+  assert_int_equal(dtm_dispersion_table(DTM_TRI3, DTM_LATTICE_CUBE, 0.3, &lat), DTM_OK);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, right, 3, &own), DTM_OK);
+  assert_int_equal(own.shape, DTM_LATTICE_OWN);
+  assert_int_equal((int)own.samples, 3);
+  assert_true(table_diff(&lat, &own) < 1e-9);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, right + 9, 1, &own), DTM_OK);
+  assert_true(table_diff(&lat, &own) < 1e-9);
+  /* an equilateral triangle turned as the regular lattice's: an edge at -15 degrees */
+  double c15 = cos(3.14159265358979323846 / 12), s15 = sin(3.14159265358979323846 / 12);
+  double eq[] = {0, 0, 0, c15, -s15, 0, sqrt(0.5), sqrt(0.5), 0};
+  assert_int_equal(dtm_dispersion_table(DTM_TRI3, DTM_LATTICE_REGULAR, 0.3, &lat), DTM_OK);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, eq, 1, &own), DTM_OK);
+  assert_true(table_diff(&lat, &own) < 1e-9);
+  double sq[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  assert_int_equal(dtm_dispersion_table(DTM_QUAD4, DTM_LATTICE_CUBE, 0.3, &lat), DTM_OK);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_QUAD4, 0.3, sq, 1, &own), DTM_OK);
+  assert_true(table_diff(&lat, &own) < 1e-9);
+}
+
+static void element_is_christoffel(void **state) {
+  (void)state;
+  double x[] = {0.1, 0.2, 0, 1.3, 0.1, 0, 0.4, 0.9, 0}, lam = 2, mu = 1.5, kk = 1e-3, D[9];
+  double n[3] = {0.6, 0.8, 0}, k[3] = {kk * n[0], kk * n[1], 0};
+  double area = 0.5 * fabs((x[3] - x[0]) * (x[7] - x[1]) - (x[6] - x[0]) * (x[4] - x[1]));
+  assert_int_equal(dtm_dispersion_element(DTM_TRI3, x, lam, mu, k, D), DTM_OK);
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      double c = area * ((lam + mu) * k[i] * k[j] + (i == j) * mu * kk * kk);
+      assert_true(fabs(D[3 * i + j] - c) < 1e-6 * area * (lam + 2 * mu) * kk * kk);
+    }
+  double w[3];
+  dtm_dispersion_branches(2, D, n, w); /* P first: (lam + 2 mu) k^2 area */
+  assert_true(fabs(w[0] / (area * (lam + 2 * mu) * kk * kk) - 1) < 1e-6);
+  assert_true(fabs(w[1] / (area * mu * kk * kk) - 1) < 1e-6);
+  assert_int_equal(dtm_dispersion_element(DTM_TET10, x, lam, mu, k, D), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, x, 0, NULL), DTM_ERR_INPUT);
+  dtm_error_clear();
+}
+
 static void bad_input(void **state) {
   (void)state;
   double err[2];
-  assert_int_equal(dtm_dispersion_space(DTM_TRI3, 0.3, 0, ex, err), DTM_ERR_INPUT);
-  assert_int_equal(dtm_dispersion_space(DTM_TRI3, -1, 1, ex, err), DTM_ERR_INPUT);
-  assert_int_equal(dtm_dispersion_space(DTM_PRISM6, 0.3, 1, ex, err), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_space(DTM_TRI3, DTM_LATTICE_CUBE, 0.3, 0, ex, err), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_space(DTM_TRI3, DTM_LATTICE_CUBE, -1, 1, ex, err), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_space(DTM_PRISM6, DTM_LATTICE_CUBE, 0.3, 1, ex, err), DTM_ERR_INPUT);
   assert_true(!dtm_dispersion_has_model(DTM_PRISM6) && dtm_dispersion_has_model(DTM_TET10));
   dtm_error_clear();
 }
 
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
-  const struct CMUnitTest tests[] = {cmocka_unit_test(bar_closed_form), cmocka_unit_test(axis_is_bar),
-                                     cmocka_unit_test(converges), cmocka_unit_test(table_interpolates),
+  const struct CMUnitTest tests[] = {cmocka_unit_test(bar_closed_form),
+                                     cmocka_unit_test(axis_is_bar),
+                                     cmocka_unit_test(converges),
+                                     cmocka_unit_test(table_interpolates),
+                                     cmocka_unit_test(regular_is_hexagonal),
+                                     cmocka_unit_test(own_shapes_are_lattices),
+                                     cmocka_unit_test(element_is_christoffel),
                                      cmocka_unit_test(bad_input)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

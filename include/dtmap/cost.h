@@ -118,20 +118,29 @@ DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const 
 /* The discrete dispersion of central differences with lumped mass on the
  * regular lattice of an element type (src/cost/dispersion.c: Bloch
  * analysis of the periodic patch; bar, tri3, tri6, quad4, tet4, tet10,
- * hex8). r = mu / (lam + 2 mu) of the formulation (0 for the bar); kh the
- * wavenumber times the lattice spacing h (the cell edge); n[3] a unit
- * direction. */
+ * hex8). shape: the lattice (dtm_lattice); r = mu / (lam + 2 mu) of the
+ * formulation (0 for the bar); kh the wavenumber times the lattice spacing
+ * h (the cell edge of a cell of volume h^d); n[3] a unit direction. */
+typedef enum {
+  DTM_LATTICE_CUBE = 0,    /* the unit square or cube; simplices cut along its main diagonal (right-angled) */
+  DTM_LATTICE_REGULAR = 1, /* simplices as regular as a tiling allows (equilateral; body-centred cubic) */
+  DTM_LATTICE_OWN = 2      /* a table from the mesh's own element shapes (dtm_dispersion_table_shapes) */
+} dtm_lattice;
 /* The semi-discrete relative phase-speed errors omega_h / (c k) - 1 of the
  * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
  * 0 for the bar) at the wave vector kh n. */
-DTM_EXPORT int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]);
+DTM_EXPORT int dtm_dispersion_space(int type, int shape, double r, double kh, const double n[3], double err[2]);
 /* The same for the one branch whose Bloch eigenvector overlaps most with
  * the plane wave polarised along the unit vector pol (mode 0: normalised
  * by the P speed, 1: by the S speed), into *err. */
-DTM_EXPORT int dtm_dispersion_polarised(int type, double r, double kh, const double n[3], const double pol[3], int mode,
-                                        double *err);
+DTM_EXPORT int dtm_dispersion_polarised(int type, int shape, double r, double kh, const double n[3],
+                                        const double pol[3], int mode, double *err);
 /* 1 when type has a lattice model (bar, tri3, tri6, quad4, tet4, tet10, hex8). */
 DTM_EXPORT int dtm_dispersion_has_model(int type);
+/* Elements of type per lattice cell: 2 for triangles, 6 for tetrahedra
+ * (first or second order), 1 otherwise; the lattice spacing of an element
+ * of measure V is (n V)^(1/d). */
+DTM_EXPORT int dtm_dispersion_cell_elements(int type);
 /* Central differences on top: a semi-discrete error `space` and
  * x = omega_h dt / 2 give the relative phase-speed error of the fully
  * discrete scheme, (1 + space) asin(x) / x - 1 (NaN when x > 1: unstable). */
@@ -144,16 +153,34 @@ DTM_EXPORT double dtm_dispersion_time(double space, double x);
 typedef struct {
   int type;                                /* element type */
   double r;                                /* mu / (lam + 2 mu) */
+  int shape;                               /* dtm_lattice */
+  size_t samples;                          /* DTM_LATTICE_OWN: the elements it was built from */
   int ndir;                                /* directions used */
   double dir[DTM_DISP_DIRS][3];            /* unit directions */
   double g[2][DTM_DISP_DIRS][DTM_DISP_KH]; /* [P, S][dir][k h = pi (j + 1) / DTM_DISP_KH] */
 } dtm_dispersion;
-DTM_EXPORT int dtm_dispersion_table(int type, double r, dtm_dispersion *t);
+DTM_EXPORT int dtm_dispersion_table(int type, int shape, double r, dtm_dispersion *t);
 /* The fully discrete error of branch mode (0 P, 1 S) of largest magnitude
  * over the table's directions at k h = kh, with x = c k dt / 2 (c that
  * branch's exact speed); NaN when kh > pi (fewer than 2 cells per
  * wavelength: unresolved) or unstable. */
 DTM_EXPORT double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x);
+
+/* The dispersion of a mesh's own element shapes (src/cost/shapes.c), for
+ * the types whose nodes are all vertices: tri3, quad4, tet4, hex8. */
+DTM_EXPORT int dtm_dispersion_has_shapes(int type);
+/* The table of dtm_dispersion_table from n elements of the mesh, x[n][nn][3]
+ * (each scaled to its lattice spacing; the sum of their plane-wave dynamic
+ * matrices over the sum of their masses): t->shape = DTM_LATTICE_OWN. */
+DTM_EXPORT int dtm_dispersion_table_shapes(int type, double r, const double *x, size_t n, dtm_dispersion *t);
+/* One element's plane-wave dynamic matrix D[3][3] (the d x d block used):
+ * sum_ab K_ab cos(k.(x_b - x_a)) of its stiffness K for Lame lam, mu at
+ * full integration, nodes x[nn][3], wave vector k (1/length). */
+DTM_EXPORT int dtm_dispersion_element(int type, const double *x, double lam, double mu, const double k[3], double D[9]);
+/* The eigenvalues w[d] of the symmetric D[d][d] (stride 3): first the one
+ * whose eigenvector lies most along the unit vector v, then the others
+ * (omega^2 of each branch once D is divided by the mass). */
+DTM_EXPORT void dtm_dispersion_branches(int d, const double D[9], const double v[3], double w[3]);
 
 /* Accuracy measures of an analysed mesh at its step (src/cost/accuracy.c):
  * one per effect the scene names (cohesive: one per group). */

@@ -118,6 +118,10 @@ DTM_EXPORT const char *dtm_elem_name(int type);
 /* 1 for line2, tri3 and tet4: the types of the simplex closed forms; 0 for
  * every other type, tri6 and tet10 included. */
 DTM_EXPORT int dtm_elem_is_simplex(int type);
+/* The linear parent of a type (tet4 for tet10, quad4 for quad8 and quad9,
+ * ...), the type itself for a linear type, 0 for an unsupported one. Its
+ * node count is the number of corner nodes. */
+DTM_EXPORT int dtm_elem_parent(int type);
 
 /* Length (1D), area (2D) or volume (3D) of the element, m^d: the integral
  * of det J, so negative for an inverted 3D element; a warped quadrangle

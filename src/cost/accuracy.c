@@ -26,7 +26,8 @@
 #include "dtmap/topology.h"
 
 #define PI 3.14159265358979323846
-#define MAX_TABLES 16 /* element type x material pairs kept at once */
+#define MAX_TABLES 16     /* element type x material pairs kept at once */
+#define SHAPE_SAMPLES 512 /* elements an own-shape table is built from */
 
 #define CURVE_N 512   /* points of a curve over k h in [0, pi] */
 #define MAX_CURVES 64 /* curves kept (table x subcycling level) */
@@ -45,6 +46,7 @@ typedef struct {
 typedef struct {
   int n;                         /* tables in use */
   dtm_dispersion *t[MAX_TABLES]; /* owned */
+  int mat[MAX_TABLES];           /* the material of an own-shape table (-1: a lattice's) */
   int nc;                        /* curves in use */
   curve *c[MAX_CURVES];          /* owned */
 } table_cache;
@@ -87,23 +89,53 @@ static double curve_at(const curve *k, int mode, double kh) {
   return f == 0 ? k->w[mode][j] : (1 - f) * k->w[mode][j] + f * k->w[mode][j + 1];
 }
 
-static int cache_get(table_cache *c, int type, double r, const dtm_dispersion **out) {
+/* Up to SHAPE_SAMPLES elements of type and material mat (no section),
+ * every stride-th of them in mesh order, as coordinates x[n][nn][3]. */
+static int shape_sample(const dtm_mesh *mesh, int type, int mat, double **x, size_t *n) {
+  size_t count = 0, k = 0, i = 0;
+  int d, nn;
+  dtm_elem_info(type, &d, &nn);
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0; mesh->blocks[b].type == type && e < mesh->blocks[b].n; e++)
+      count += mesh->blocks[b].mat[e] == mat && !(mesh->blocks[b].section && mesh->blocks[b].section[e] >= 0);
+  size_t stride = count > SHAPE_SAMPLES ? count / SHAPE_SAMPLES : 1;
+  *x = malloc(((count + stride - 1) / stride + 1) * (size_t)nn * 3 * sizeof **x);
+  if (!*x) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < mesh->nblocks; b++)
+    for (size_t e = 0; mesh->blocks[b].type == type && e < mesh->blocks[b].n; e++) {
+      const dtm_block *bl = &mesh->blocks[b];
+      if (bl->mat[e] != mat || (bl->section && bl->section[e] >= 0)) continue;
+      if (i++ % stride == 0) dtm_mesh_gather_one(mesh, bl, e, *x + k++ * (size_t)nn * 3);
+    }
+  *n = k;
+  return DTM_OK;
+}
+
+/* The table of element type and material mat (r its mu / M): from the
+ * mesh's own shapes where the type has them, else the regular lattice. */
+static int cache_get(table_cache *c, const dtm_mesh *mesh, int type, int mat, double r, const dtm_dispersion **out) {
+  int own = dtm_dispersion_has_shapes(type);
   for (int i = 0; i < c->n; i++)
-    if (c->t[i]->type == type && c->t[i]->r == r) return *out = c->t[i], DTM_OK;
+    if (c->t[i]->type == type && c->t[i]->r == r && c->mat[i] == (own ? mat : -1)) return *out = c->t[i], DTM_OK;
   if (c->n == MAX_TABLES) return DTM_ERR(DTM_ERR_INPUT, "more than %d element type and material pairs", MAX_TABLES);
   dtm_dispersion *t = malloc(sizeof *t);
-  if (!t) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  int rc = dtm_dispersion_table(type, r, t);
+  double *x = NULL;
+  size_t n = 0;
+  int rc = t ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (!rc && own) rc = shape_sample(mesh, type, mat, &x, &n);
+  if (!rc)
+    rc = own ? dtm_dispersion_table_shapes(type, r, x, n, t) : dtm_dispersion_table(type, DTM_LATTICE_REGULAR, r, t);
+  free(x);
   if (rc) return free(t), rc;
+  c->mat[c->n] = own ? mat : -1;
   *out = c->t[c->n++] = t;
   return DTM_OK;
 }
 
 /* The lattice spacing of an element of type and measure meas: the cell
- * edge of the regular lattice of its type whose elements have its measure
- * (tri: two per square, tet: six per cube). */
+ * edge of the lattice of its type whose elements have its measure. */
 static double lattice_h(int type, int d, double meas) {
-  double per = dtm_elem_is_simplex(type) ? (d == 2 ? 2 : d == 3 ? 6 : 1) : 1;
+  double per = dtm_dispersion_cell_elements(type);
   return d == 1 ? meas : d == 2 ? sqrt(per * meas) : cbrt(per * meas);
 }
 
@@ -259,10 +291,11 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
   for (size_t e = 0; e < bl->n && !rc; e++) {
     int mt = bl->mat[e];
     if (sr->st && sr->st->level && sr->st->level[i0 + e] + 1 > levels) levels = sr->st->level[i0 + e] + 1;
-    if (mt < 0 || seen[mt]) continue;
+    if (mt < 0 || seen[mt] || (bl->section && bl->section[e] >= 0)) continue;
     seen[mt] = 1;
     if (!moduli(a, mt, f, &s[mt].m))
-      rc = cache_get(cache, bl->type, f == DTM_FORM_BAR ? 0 : s[mt].m.mu / s[mt].m.modulus, &s[mt].t);
+      rc = cache_get(cache, dtm_analysis_mesh(a), bl->type, mt, f == DTM_FORM_BAR ? 0 : s[mt].m.mu / s[mt].m.modulus,
+                     &s[mt].t);
   }
   for (int k = 0; k < nmat && !rc; k++)
     for (int l = 0; s[k].t && l < levels && !(sr->st && sr->st->added); l++) {
@@ -483,10 +516,45 @@ static double element_along(int type, const dtm_elastic_moduli *m, double h, dou
   double c = mode ? sqrt(m->mu / m->rho) : m->cd, kh = 2 * PI * f * h / c, err[2], r = m->mu / m->modulus;
   if (m->form == DTM_FORM_BAR) r = 0;
   if (!(kh <= PI)) return NAN;
-  if (pol && m->form != DTM_FORM_BAR ? dtm_dispersion_polarised(type, r, kh, n, pol, mode, &err[mode])
-                                     : dtm_dispersion_space(type, r, kh, n, err))
+  int shape = DTM_LATTICE_REGULAR;
+  if (pol && m->form != DTM_FORM_BAR ? dtm_dispersion_polarised(type, shape, r, kh, n, pol, mode, &err[mode])
+                                     : dtm_dispersion_space(type, shape, r, kh, n, err))
     return NAN;
   return dtm_dispersion_time(err[mode], (1 + err[mode]) * PI * f * dt);
+}
+
+/* The plane wave's own-shape sums: dynamic matrix and mass. */
+typedef struct {
+  double D[9], mass; /* sum of the elements' dynamic matrices (N/m) and masses (kg) */
+  int d;             /* their dimension */
+} wave_sum;
+
+/* The fully discrete error of branch mode from a dynamic matrix D over
+ * mass, along pol (else n for P, the worse transverse branch for S). */
+static double own_error(int d, const double *D, double mass, const dtm_elastic_moduli *m, double f, double dt,
+                        const double n[3], const double *pol, int mode) {
+  double c = mode ? sqrt(m->mu / m->rho) : m->cd, k = 2 * PI * f / c, A[9], w[3], e[3] = {0};
+  for (int i = 0; i < 9; i++) A[i] = D[i] / mass;
+  dtm_dispersion_branches(d, A, pol ? pol : n, w);
+  for (int i = 0; i < d; i++) e[i] = sqrt(fmax(w[i], 0)) / (c * k) - 1;
+  double space = pol || !mode ? e[0] : d == 3 && fabs(e[2]) > fabs(e[1]) ? e[2] : e[1];
+  return dtm_dispersion_time(space, (1 + space) * PI * f * dt);
+}
+
+/* One own-shape element into the sums; its own error into *err (NaN when
+ * unresolved: fewer than 2 lattice cells per wavelength). */
+static void own_along(const dtm_mesh *mesh, const dtm_block *bl, size_t e, const dtm_elastic_moduli *m, double f,
+                      double dt, const double n[3], const double *pol, int mode, wave_sum *ws, double *err) {
+  double x[3 * DTM_MAX_NODES], D[9], c = mode ? sqrt(m->mu / m->rho) : m->cd, k = 2 * PI * f / c;
+  double kv[3] = {k * n[0], k * n[1], k * n[2]};
+  dtm_mesh_gather_one(mesh, bl, e, x);
+  double meas = fabs(dtm_elem_measure(bl->type, x));
+  *err = NAN;
+  if (!(k * lattice_h(bl->type, bl->dim, meas) <= PI)) return;
+  if (dtm_dispersion_element(bl->type, x, m->modulus - 2 * m->mu, m->mu, kv, D)) return;
+  ws->d = bl->dim, ws->mass += m->rho * meas;
+  for (int i = 0; i < 9; i++) ws->D[i] += D[i];
+  *err = own_error(bl->dim, D, m->rho * meas, m, f, dt, n, pol, mode);
 }
 
 int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3], const double pol[3],
@@ -500,22 +568,29 @@ int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const d
   dtm_formulation form = formulation_of(a, k);
   memset(out, 0, sizeof *out);
   double wsum = 0, sum = 0;
+  wave_sum ws = {{0}, 0, 0};
+  dtm_elastic_moduli m, mown;
   out->worst = 0;
   for (int b = 0; b < mesh->nblocks; b++)
     for (size_t e = 0; e < mesh->blocks[b].n; e++) {
       const dtm_block *bl = &mesh->blocks[b];
-      dtm_elastic_moduli m;
       if (bl->mat[e] < 0 || (mat >= 0 && bl->mat[e] != mat) || (bl->section && bl->section[e] >= 0) ||
           !dtm_dispersion_has_model(bl->type) || moduli(a, bl->mat[e], form, &m))
         continue;
       out->speed = mode ? sqrt(m.mu / m.rho) : m.cd;
-      double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas;
-      double err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
+      double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas, err;
+      if (dtm_dispersion_has_shapes(bl->type) && form != DTM_FORM_BAR)
+        own_along(mesh, bl, e, &m, f, dt, n, pol, mode, &ws, &err), mown = m;
+      else
+        err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
       if (isnan(err)) out->unresolved++;
       if (isnan(err)) continue;
-      wsum += w, sum += w * err, out->elements++;
+      out->elements++;
+      if (!dtm_dispersion_has_shapes(bl->type) || form == DTM_FORM_BAR) wsum += w, sum += w * err;
       if (fabs(err) > fabs(out->worst)) out->worst = err;
     }
+  if (ws.mass > 0) /* the own-shape elements as one: the wave's Rayleigh quotient over them */
+    sum += ws.mass * own_error(ws.d, ws.D, ws.mass, &mown, f, dt, n, pol, mode), wsum += ws.mass;
   out->mean = wsum > 0 && !out->unresolved ? sum / wsum : NAN;
   return DTM_OK;
 }

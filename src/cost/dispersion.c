@@ -18,6 +18,7 @@
 
 #include "dtmap/cost.h"
 #include "dtmap/topology.h"
+#include "dispersion-impl.h"
 #include "reference.h"
 
 #define PI 3.14159265358979323846
@@ -34,6 +35,7 @@ typedef struct {
   int cls[MAX_EL][10];                /* node class of each element node */
   int shift[MAX_EL][10][3];           /* the cell each node lies in */
   double pos[MAX_CLS][3];             /* class position in the cell */
+  double cell[3][3];                  /* physical = cell x fractional */
   double mass[MAX_CLS];               /* lumped mass per class (density 1) */
   double klam[MAX_EL][ELDOF * ELDOF]; /* element stiffness from lam = 1, mu = 0 */
   double kmu[MAX_EL][ELDOF * ELDOF];  /* from lam = 0, mu = 1 */
@@ -117,7 +119,7 @@ static int node_class(lattice *L, const double *p, int shift[3]) {
 
 /* Element stiffness of one element at full integration for (lam, mu):
  * K[a i][b j] = int lam dNa_i dNb_j + mu (dNa_k dNb_k delta_ij + dNa_j dNb_i). */
-static void stiffness(int type, int d, int nn, const double *x, double lam, double mu, double *K) {
+void dtm_disp_stiffness(int type, int d, int nn, const double *x, double lam, double mu, double *K) {
   dtm_qrule q;
   dtm_ref_rule(type, &q);
   int n = nn * d;
@@ -146,8 +148,32 @@ static void stiffness(int type, int d, int nn, const double *x, double lam, doub
   }
 }
 
+/* The cell of the lattice: the identity (the unit square or cube cut as
+ * above), or for DTM_LATTICE_REGULAR simplices the same cut compressed
+ * along the main diagonal, x -> (I - a d d^T) x, until its elements are
+ * as regular as a tiling allows (equilateral triangles in 2D, a = 1 -
+ * 1/sqrt 3; in 3D a = 1/2 gives six congruent tetrahedra with edges in the
+ * ratio sqrt 3 / 2 : 1, the body-centred cubic tiling), scaled back to a
+ * cell of volume 1. */
+static void lattice_cell(int type, int shape, int d, lattice *L) {
+  double a = 0;
+  if (shape == DTM_LATTICE_REGULAR && d > 1 && dtm_elem_is_simplex(dtm_elem_parent(type)))
+    a = d == 2 ? 1 - 1 / sqrt(3.0) : 0.5;
+  double sc = pow(1 - a, -1.0 / d);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) L->cell[i][j] = i < d && j < d ? sc * ((i == j) - a / d) : (i == j);
+}
+
+/* Node a of element e from cell units into space (classes stay in cell units). */
+static void to_space(lattice *L, int e, int a) {
+  double q[3] = {0};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) q[i] += L->cell[i][j] * L->x[e][3 * a + j];
+  memcpy(L->x[e] + 3 * a, q, sizeof q);
+}
+
 /* The patch of type: elements, node classes, masses, stiffness parts. */
-static int lattice_build(int type, lattice *L) {
+static int lattice_build(int type, int shape, lattice *L) {
   double v[MAX_EL][4][3];
   memset(L, 0, sizeof *L);
   L->type = type;
@@ -155,17 +181,21 @@ static int lattice_build(int type, lattice *L) {
   if (!L->nel || dtm_elem_info(type, &L->d, &L->nn) || L->nn > 10)
     return DTM_ERR(DTM_ERR_INPUT, "no dispersion model for %s elements (bar, tri3, tri6, quad4, tet4, tet10, hex8)",
                    dtm_elem_name(type));
+  if (shape != DTM_LATTICE_CUBE && shape != DTM_LATTICE_REGULAR)
+    return DTM_ERR(DTM_ERR_INPUT, "dispersion: no lattice %d", shape);
+  lattice_cell(type, shape, L->d, L);
   for (int e = 0; e < L->nel; e++) {
     if (element_nodes(L, v, e)) return DTM_ERR(DTM_ERR_INTERNAL, "%s: no mid-edge layout", dtm_elem_name(type));
-    double w[DTM_K_NODES], meas = fabs(dtm_elem_measure(type, L->x[e]));
-    dtm_elem_lumped_weights(type, L->x[e], w);
     for (int a = 0; a < L->nn; a++) {
       int c = L->cls[e][a] = node_class(L, L->x[e] + 3 * a, L->shift[e][a]);
       if (c < 0) return DTM_ERR(DTM_ERR_INTERNAL, "%s: too many node classes", dtm_elem_name(type));
-      L->mass[c] += w[a] * meas;
+      to_space(L, e, a);
     }
-    stiffness(type, L->d, L->nn, L->x[e], 1, 0, L->klam[e]);
-    stiffness(type, L->d, L->nn, L->x[e], 0, 1, L->kmu[e]);
+    double w[DTM_K_NODES], meas = fabs(dtm_elem_measure(type, L->x[e]));
+    dtm_elem_lumped_weights(type, L->x[e], w);
+    for (int a = 0; a < L->nn; a++) L->mass[L->cls[e][a]] += w[a] * meas;
+    dtm_disp_stiffness(type, L->d, L->nn, L->x[e], 1, 0, L->klam[e]);
+    dtm_disp_stiffness(type, L->d, L->nn, L->x[e], 0, 1, L->kmu[e]);
   }
   return DTM_OK;
 }
@@ -178,7 +208,8 @@ static void bloch_matrix(const lattice *L, double lam, double mu, double kh, con
     for (int a = 0; a < L->nn; a++)
       for (int b = 0; b < L->nn; b++) {
         double ph = 0;
-        for (int c = 0; c < d; c++) ph += kh * n[c] * (L->shift[e][b][c] - L->shift[e][a][c]);
+        for (int c = 0; c < d; c++)
+          for (int j = 0; j < d; j++) ph += kh * n[c] * L->cell[c][j] * (L->shift[e][b][j] - L->shift[e][a][j]);
         double complex z = cexp(I * ph);
         int ca = L->cls[e][a], cb = L->cls[e][b];
         for (int i = 0; i < d; i++)
@@ -212,7 +243,7 @@ static void rotate(int n, double *A, double *V, int p, int q) {
 
 /* Eigenvalues (diagonal of A) and eigenvectors (columns of V) of the
  * symmetric A[n][n], by cyclic Jacobi to round-off. */
-static void jacobi(int n, double *A, double *V) {
+void dtm_disp_jacobi(int n, double *A, double *V) {
   for (int i = 0; i < n * n; i++) V[i] = (i / n == i % n);
   for (int sweep = 0; sweep < 60; sweep++) {
     double off = 0, diag = 0;
@@ -234,7 +265,8 @@ static double overlap(const lattice *L, const double *V, int R, int m, double kh
   double ee = 0, vv = 0;
   for (int c = 0; c < L->ncls; c++) {
     double ph = 0;
-    for (int i = 0; i < d; i++) ph += kh * n[i] * L->pos[c][i];
+    for (int i = 0; i < d; i++)
+      for (int j = 0; j < d; j++) ph += kh * n[i] * L->cell[i][j] * L->pos[c][j];
     double complex ph_c = cexp(I * ph) * sqrt(L->mass[c]);
     for (int i = 0; i < d; i++) {
       double complex v = V[(c * d + i) * R + m] + I * V[(N + c * d + i) * R + m];
@@ -285,7 +317,7 @@ static int bloch_eigen(const lattice *L, double r, double kh, const double *n, d
       A[i * R + j] = A[(N + i) * R + N + j] = re;
       A[(N + i) * R + j] = im, A[i * R + N + j] = -im;
     }
-  jacobi(R, A, V);
+  dtm_disp_jacobi(R, A, V);
   return R;
 }
 
@@ -303,12 +335,12 @@ static int space_errors(const lattice *L, double r, double kh, const double *n, 
   return DTM_OK;
 }
 
-int dtm_dispersion_polarised(int type, double r, double kh, const double n[3], const double pol[3], int mode,
+int dtm_dispersion_polarised(int type, int shape, double r, double kh, const double n[3], const double pol[3], int mode,
                              double *err) {
   lattice L;
   if (!(r >= 0 && r < 0.75) || !(kh > 0) || (mode == 1 && !(r > 0)) || (mode != 0 && mode != 1))
     return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g, branch %d", r, kh, mode);
-  DTM_CHECK(lattice_build(type, &L));
+  DTM_CHECK(lattice_build(type, shape, &L));
   double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
   int R = bloch_eigen(&L, r, kh, n, A, V);
   *err = branch(&L, A, V, R, kh, n, pol) / ((mode ? sqrt(r) : 1) * kh) - 1;
@@ -320,10 +352,10 @@ int dtm_dispersion_has_model(int type) {
          type == DTM_TET10 || type == DTM_HEX8;
 }
 
-int dtm_dispersion_space(int type, double r, double kh, const double n[3], double err[2]) {
+int dtm_dispersion_space(int type, int shape, double r, double kh, const double n[3], double err[2]) {
   lattice L;
   if (!(r >= 0 && r < 0.75) || !(kh > 0)) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g", r, kh);
-  DTM_CHECK(lattice_build(type, &L));
+  DTM_CHECK(lattice_build(type, shape, &L));
   return space_errors(&L, r, kh, n, err);
 }
 
@@ -336,7 +368,7 @@ double dtm_dispersion_time(double space, double x) {
 /* The directions of a table: 2D 24 angles over half a turn (the axes and
  * diagonals among them), 3D the axes, the face and body diagonals and 35
  * more spread over the half sphere (k and -k disperse alike). */
-static int directions(int d, double n[DTM_DISP_DIRS][3]) {
+int dtm_disp_directions(int d, double n[DTM_DISP_DIRS][3]) {
   memset(n, 0, sizeof(double) * 3 * DTM_DISP_DIRS);
   if (d == 1) {
     n[0][0] = 1;
@@ -360,11 +392,11 @@ static int directions(int d, double n[DTM_DISP_DIRS][3]) {
   return m;
 }
 
-int dtm_dispersion_table(int type, double r, dtm_dispersion *t) {
+int dtm_dispersion_table(int type, int shape, double r, dtm_dispersion *t) {
   lattice L;
-  DTM_CHECK(lattice_build(type, &L));
-  t->type = type, t->r = r;
-  t->ndir = directions(L.d, t->dir);
+  DTM_CHECK(lattice_build(type, shape, &L));
+  t->type = type, t->r = r, t->shape = shape, t->samples = 0;
+  t->ndir = dtm_disp_directions(L.d, t->dir);
   for (int j = 0; j < DTM_DISP_KH; j++) {
     double kh = PI * (j + 1) / DTM_DISP_KH, err[2];
     for (int i = 0; i < t->ndir; i++) {

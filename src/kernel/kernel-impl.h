@@ -23,10 +23,6 @@ typedef struct {
 
 /* Topology of a supported type; NULL for any other. Static storage. */
 const dtm_topology *dtm_elem_topology(int type);
-/* The linear parent of a type (tet4 for tet10, quad4 for quad8 and quad9,
- * ...), the type itself for a linear type, 0 for an unsupported one. Its
- * node count is the number of corner nodes. */
-int dtm_elem_parent(int type);
 /* 1 for the serendipity types (quad8, hex20, prism15, pyr13), whose nodes
  * stop after the mid-edge ones; 0 otherwise. */
 int dtm_elem_serendipity(int type);
