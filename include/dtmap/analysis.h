@@ -122,7 +122,7 @@ typedef struct {
 } dtm_layer;
 
 /* Stages the analysis times, s. */
-enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_COUNT };
+enum { DTM_T_MESH, DTM_T_EXTRACT, DTM_T_EFFECTS, DTM_T_NODAL, DTM_T_GLOBAL, DTM_T_ADVICE, DTM_T_COUNT };
 
 /* Run everything up to the views on scene s (which must outlive the
  * analysis): load/mesh through Gmsh, map groups to materials, create only

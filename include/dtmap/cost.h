@@ -90,6 +90,8 @@ typedef struct dtm_cost {
   double hours;                      /* element_steps x per_element_step / 3600 (NaN: no duration) */
   double hours_subcycled;            /* the same with ideal subcycling */
   struct dtm_measures *measures;     /* accuracy at the recommended step (dtm_measures_compute) */
+  double seconds;                    /* wall time of dtm_cost_create, s (the measures included) */
+  double seconds_measures;           /* of which the accuracy measures, s */
 } dtm_cost;
 
 /* The cost of analysis a: subcycling levels always; mass scaling when the

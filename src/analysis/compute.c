@@ -329,9 +329,11 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   if (r == DTM_OK) dtm_recommend(a);
   if (r == DTM_OK) r = dtm_x_agree(a, dtm_local_steps(a));
   a->timings[DTM_T_NODAL] = dtm_wtime() - t0;
+  t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_size_suggest(a);
   if (r == DTM_OK) r = dtm_x_agree(a, dtm_analysis_section_stats(a));
   if (r == DTM_OK) r = dtm_shape_classify(a);
+  a->timings[DTM_T_ADVICE] = dtm_wtime() - t0;
   if (r) {
     dtm_analysis_destroy(&a);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);

@@ -166,7 +166,9 @@ static int current(const dtm_scene *s, int dim, dtm_extracted_fn hook, void *use
   (*out)->timings[DTM_T_EXTRACT] = t[DTM_T_EXTRACT];
   (*out)->mesher = mi;
   (*out)->geo = geo;
+  double t0 = dtm_wtime();
   r = dtm_shape_classify(*out); /* again, now with the model's features */
+  if (r == DTM_OK) (*out)->timings[DTM_T_ADVICE] += dtm_wtime() - t0;
   if (r) dtm_analysis_destroy(out);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -523,20 +523,42 @@ static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F,
   return DTM_OK;
 }
 
+/* Judge every element below the target, on the OpenMP threads: each into
+ * its own slot of a->shape, then kept in element order. A worker's error
+ * record is its thread's own, so the first failing element is judged again
+ * on the calling thread for the message. */
+static int judge_below(dtm_analysis *a, const judge_ctx *jc, double target, const size_t *idx, unsigned char *lim) {
+  const long long n = (long long)a->below;
+  long long failed = n;
+#pragma omp parallel for schedule(dynamic, 256) reduction(min : failed)
+  for (long long j = 0; j < n; j++) {
+    int limited = 0;
+    size_t i = idx[j];
+    if (judge(a, jc, i, target / (a->scene->safety * a->local[i]), &limited, &a->shape[j])) failed = j;
+    lim[j] = (unsigned char)limited;
+  }
+  if (failed < n) {
+    int limited;
+    size_t i = idx[failed];
+    DTM_CHECK(judge(a, jc, i, target / (a->scene->safety * a->local[i]), &limited, &a->shape[failed]));
+  }
+  for (long long j = 0; j < n; j++)
+    if (lim[j]) a->shape[a->nshape++] = a->shape[j];
+  return DTM_OK;
+}
+
 static int classify_all(dtm_analysis *a, double target) {
   judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim)};
   int r = build_incidence(a, &jc.inc);
   if (r == DTM_OK) r = typical_quality(a, &jc.q_typ);
   a->shape = r ? NULL : malloc((a->below + 1) * sizeof *a->shape);
-  if (r == DTM_OK && !a->shape) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (size_t i = 0; i < a->nel && r == DTM_OK; i++) {
-    double step = a->scene->safety * a->local[i];
-    int limited = 0;
-    if (!(step < target)) continue;
-    r = judge(a, &jc, i, target / step, &limited, &a->shape[a->nshape]);
-    a->nshape += limited;
-  }
-  free(jc.inc.start), free(jc.inc.list);
+  size_t *idx = malloc((a->below + 1) * sizeof *idx), k = 0;
+  unsigned char *lim = malloc(a->below + 1);
+  if (r == DTM_OK && (!a->shape || !idx || !lim)) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < a->nel && r == DTM_OK; i++)
+    if (a->scene->safety * a->local[i] < target) idx[k++] = i;
+  if (r == DTM_OK) r = judge_below(a, &jc, target, idx, lim);
+  free(idx), free(lim), free(jc.inc.start), free(jc.inc.list);
   return r;
 }
 

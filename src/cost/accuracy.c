@@ -15,7 +15,6 @@
  * - diffusion (thermal, hydraulic): elements across sqrt(D t) at the
  *   scene's duration, at least DTM_BAND_DIFFUSION.
  * Each measure keeps the worst and the median over its elements. */
-#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -242,31 +241,52 @@ static double element_phase(const table_cache *c, const dtm_dispersion *t, const
   return (1 + e) * speed - 1;
 }
 
+/* Each element's lattice spacing h[i] and mean edge edge[i], m, in one
+ * pass over the coordinates (the element loop's threads). */
+static void element_sizes(const dtm_mesh *mesh, double *h, double *edge) {
+  size_t i0 = 0;
+  for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
+    const dtm_block *bl = &mesh->blocks[b];
+    const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static)
+    for (long long e = 0; e < n; e++) {
+      double meas = element_measure(mesh, bl, (size_t)e, &edge[i0 + (size_t)e]);
+      h[i0 + (size_t)e] = lattice_h(bl->type, bl->dim, meas);
+    }
+  }
+}
+
+/* The shear (bar: axial) speed of each material in formulation f, NaN
+ * where it lacks E, nu or rho, into cs[nmat]. */
+static void shear_speeds(const dtm_analysis *a, dtm_formulation f, double *cs) {
+  for (int k = 0; k < dtm_analysis_scene(a)->nmaterials; k++) {
+    dtm_elastic_moduli m;
+    cs[k] = moduli(a, k, f, &m) ? NAN : f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
+  }
+}
+
 /* The default frequency of a mesh: the smallest over its elements of
  * c_S / (N h), N the scene's elements per wavelength: the highest
  * frequency at which every element has at least N cells per shear
  * wavelength (on a graded mesh the coarse part sets it). */
-static int default_frequency(const dtm_analysis *a, dtm_formulation f, double *fd) {
+static int default_frequency(const dtm_analysis *a, dtm_formulation f, const double *h, double *fd) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
-  size_t n = dtm_analysis_nelements(a), k = 0, i = 0;
-  double *v = malloc((n + 1) * sizeof *v), N = dtm_analysis_scene(a)->elements_per_wavelength;
+  double N = dtm_analysis_scene(a)->elements_per_wavelength, lo = INFINITY;
+  double *cs = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *cs);
   if (!(N > 0)) N = DTM_SCENE_PER_WAVELENGTH;
-  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  dtm_elastic_moduli m;
-  for (int b = 0; b < mesh->nblocks; b++)
-    for (size_t e = 0, last = (size_t)-1, bad = 0; e < mesh->blocks[b].n; e++, i++) {
-      const dtm_block *bl = &mesh->blocks[b];
-      static_assert(sizeof(size_t) >= sizeof(int), "material index");
-      if (bl->mat[e] < 0 || (bl->section && bl->section[e] >= 0)) continue;
-      if ((size_t)bl->mat[e] != last) last = (size_t)bl->mat[e], bad = moduli(a, bl->mat[e], f, &m) != 0;
-      if (bad) continue;
-      double cs = f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
-      v[k++] = cs / (N * lattice_h(bl->type, bl->dim, element_measure(mesh, bl, e, NULL)));
-    }
-  double lo = INFINITY;
-  for (size_t j = 0; j < k; j++) lo = fmin(lo, v[j]);
-  *fd = k ? lo : NAN;
-  free(v);
+  if (!cs) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  shear_speeds(a, f, cs);
+  size_t i0 = 0;
+  for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
+    const dtm_block *bl = &mesh->blocks[b];
+    const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static) reduction(min : lo)
+    for (long long e = 0; e < n; e++)
+      if (bl->mat[e] >= 0 && !(bl->section && bl->section[e] >= 0) && !isnan(cs[bl->mat[e]]))
+        lo = fmin(lo, cs[bl->mat[e]] / (N * h[i0 + (size_t)e]));
+  }
+  free(cs);
+  *fd = isfinite(lo) ? lo : NAN;
   return DTM_OK;
 }
 
@@ -310,8 +330,8 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
  * it does not apply to are skipped and counted in *skipped); the smallest
  * shear wavelength over mean edge into *per_wave. The element loop runs
  * on the OpenMP threads, reading the tables and curves prepared for it. */
-static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, double *err,
-                        size_t *skipped, double *per_wave) {
+static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, const double *h,
+                        const double *edge, double *err, size_t *skipped, double *per_wave) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   table_cache cache = {0};
   slot *s = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *s);
@@ -334,10 +354,10 @@ static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, c
         continue;
       }
       const dtm_elastic_moduli *m = &s[mt].m;
-      double dt, speed, edge, meas = element_measure(mesh, bl, (size_t)e, &edge);
-      pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge));
+      double dt, speed, meas = pow(h[i], bl->dim) / dtm_dispersion_cell_elements(bl->type);
+      pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge[i]));
       element_step(sr, i, m->rho * meas, &dt, &speed);
-      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, lattice_h(bl->type, bl->dim, meas), freq, dt, speed);
+      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, h[i], freq, dt, speed);
     }
   }
   *skipped = skip;
@@ -375,17 +395,16 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
                    .band_lo = -DTM_BAND_PHASE,
                    .band_hi = DTM_BAND_PHASE,
                    .f = freq};
-  if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
-  if (!(m.f > 0)) {
-    DTM_CHECK(default_frequency(a, f, &m.f));
-    m.f_default = 1;
-  }
   size_t n = dtm_analysis_nelements(a), skipped;
-  double *err = malloc((2 * n + 1) * sizeof *err);
+  double *err = malloc((4 * n + 1) * sizeof *err), *h = err + 2 * n, *edge = err + 3 * n;
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  element_sizes(dtm_analysis_mesh(a), h, edge);
+  int rc = DTM_OK;
+  if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
+  if (!(m.f > 0)) rc = default_frequency(a, f, h, &m.f), m.f_default = 1;
   step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
   m.per_wavelength = NAN;
-  int rc = phase_errors(a, f, m.f, &sr, err, &skipped, &m.per_wavelength);
+  if (!rc) rc = phase_errors(a, f, m.f, &sr, h, edge, err, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err + n, &m);
   free(err);
   if (rc) return rc;

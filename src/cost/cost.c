@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "dtmap/cost.h"
+#include "dtmap/util.h"
 
 double dtm_cost_element_steps(const dtm_analysis *a) {
   double d = dtm_analysis_scene(a)->duration;
@@ -76,6 +77,7 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   const dtm_scene *s = dtm_analysis_scene(a);
   dtm_cost *c = calloc(1, sizeof *c);
   if (!c) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double t0 = dtm_wtime();
   int r = dtm_subcycling_compute(a, &c->subcycling);
   c->duration = s->duration;
   c->basis = dtm_analysis_recommended(a);
@@ -86,7 +88,9 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   if (r == DTM_OK && s->target > 0) r = shape_mass(a, 0, &c->shape_mass);
   if (r == DTM_OK && s->target > 0) r = shape_mass(a, 1, &c->layer_mass);
   if (r == DTM_OK) r = time_cost(a, c);
+  double t1 = dtm_wtime();
   if (r == DTM_OK) r = dtm_measures_compute(a, 0, NULL, &c->measures);
+  c->seconds_measures = dtm_wtime() - t1, c->seconds = dtm_wtime() - t0;
   if (r) {
     dtm_cost_destroy(&c);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);

@@ -417,10 +417,12 @@ cJSON *dtm_report_warnings_of(const dtm_analysis *a, const dtm_mass_scaling *ms,
 }
 
 static cJSON *timings_json(const dtm_results *r) {
-  static const char *const names[DTM_T_COUNT] = {"mesh", "extract", "effects", "nodal", "global"};
+  static const char *const names[DTM_T_COUNT] = {"mesh", "extract", "effects", "nodal", "global", "advice"};
   cJSON *t = cJSON_CreateObject();
   cJSON_AddNumberToObject(t, "scene", r->t_scene);
   for (int i = 0; i < DTM_T_COUNT; i++) cJSON_AddNumberToObject(t, names[i], dtm_analysis_timing(r->analysis, i));
+  if (r->cost) cJSON_AddNumberToObject(t, "cost", r->cost->seconds);
+  if (r->cost) cJSON_AddNumberToObject(t, "measures", r->cost->seconds_measures);
   cJSON_AddNumberToObject(t, "output", r->t_output);
   cJSON_AddNumberToObject(t, "threads", dtm_analysis_threads(r->analysis));
   return t;

@@ -122,6 +122,8 @@ static cJSON *timings_json(const dtm_par *p, const dtm_parallel_opts *o, const d
   cJSON_AddNumberToObject(t, "scene", o->t_scene);
   for (size_t i = 0; i < sizeof stage / sizeof *stage; i++)
     cJSON_AddNumberToObject(t, names[i], slowest(p, f, stage[i]));
+  /* the classification runs on rank 0's whole mesh */
+  cJSON_AddNumberToObject(t, "advice", p->advice ? dtm_analysis_timing(p->advice, DTM_T_ADVICE) : 0.0);
   cJSON_AddNumberToObject(t, "threads", dtm_analysis_threads(p->analysis));
   return t;
 }
