@@ -317,9 +317,10 @@ static double pow_p(double r, double p) { return p == 1.0 ? r : pow(r, p); }
 
 /* What the classification of one mesh shares. */
 typedef struct {
-  incidence inc; /* elements around each node */
-  double q_typ;  /* typical own-step ratio of the mesh (median of r) */
-  double spread; /* worst / nominal size of a fresh mesh */
+  incidence inc;       /* elements around each node */
+  double q_typ;        /* typical own-step ratio of the mesh (median of r) */
+  double spread;       /* worst / nominal size of a fresh mesh */
+  unsigned char *near; /* [nnodes] 1 on the corners of elements with a boundary corner (NULL: not built) */
 } judge_ctx;
 
 /* The remedy of a shape-limited element with feature f, quality ratio
@@ -357,17 +358,37 @@ static void add_corners(const dtm_analysis *a, size_t o, patch *p) {
   }
 }
 
+/* The elements already met around one element: an open-addressing set of
+ * element index + 1 (0: empty), used while it is at most half full. */
+#define SEEN_SLOTS 1024
+typedef struct {
+  size_t key[SEEN_SLOTS];
+  int n;
+} seen_set;
+
+/* 1 when o was in s already (else it is added); -1 when s is full. */
+static int seen_add(seen_set *s, size_t o) {
+  if (2 * s->n >= SEEN_SLOTS) return -1;
+  size_t h = (o * 0x9E3779B97F4A7C15u) >> 54; /* 10 bits */
+  while (s->key[h] && s->key[h] != o + 1) h = (h + 1) & (SEEN_SLOTS - 1);
+  if (s->key[h]) return 1;
+  s->key[h] = o + 1, s->n++;
+  return 0;
+}
+
 static void patch_of(const dtm_analysis *a, const judge_ctx *jc, size_t i, patch *p) {
   corners c;
+  seen_set seen;
   int g = dtm_analysis_group(a, i);
   p->nv = p->nel = 0;
+  memset(seen.key, 0, sizeof seen.key), seen.n = 0;
   get_corners(a, i, &c);
   for (int k = 0; k < c.nc; k++)
     for (size_t q = jc->inc.start[c.v[k]]; q < jc->inc.start[c.v[k] + 1]; q++) {
       size_t o = jc->inc.list[q];
-      int dup = 0;
-      for (int j = 0; j < p->nel && !dup; j++) dup = p->el[j] == o;
-      if (!dup && dtm_analysis_group(a, o) == g) add_corners(a, o, p);
+      int dup = seen_add(&seen, o);
+      for (int j = 0; j < p->nel && dup < 0; j++) dup = p->el[j] == o ? 1 : -1; /* full: as before */
+      if (dup != 1 && dtm_analysis_group(a, o) == g) add_corners(a, o, p);
     }
 }
 
@@ -425,6 +446,31 @@ static int through_material(const dtm_analysis *a, const patch *p, size_t v, siz
   return 0;
 }
 
+/* The corners of every element that has a corner on a model entity below
+ * the mesh's dimension (a boundary node, as the patch counts them): an
+ * element none of whose corners is marked has no boundary node in its
+ * patch, so nothing to measure across. NULL when out of memory (then every
+ * patch is searched). */
+static unsigned char *boundary_near(const dtm_analysis *a) {
+  unsigned char *near = calloc(a->mesh->nnodes + 1, 1);
+  for (size_t i = 0; near && i < a->nel; i++) {
+    corners c;
+    int any = 0;
+    get_corners(a, i, &c);
+    for (int k = 0; k < c.nc; k++) any |= a->geo->node_dim[c.v[k]] < a->mesh->dim;
+    for (int k = 0; k < c.nc && any; k++) near[c.v[k]] = 1;
+  }
+  return near;
+}
+
+static int near_boundary(const dtm_analysis *a, const judge_ctx *jc, size_t i) {
+  corners c;
+  get_corners(a, i, &c);
+  for (int k = 0; k < c.nc; k++)
+    if (jc->near[c.v[k]]) return 1;
+  return 0;
+}
+
 /* How thin the part is at element i: the smallest distance between two
  * boundary nodes of its patch on boundaries that do not touch, through its
  * material (a layer one or two elements across shows both of its faces
@@ -432,6 +478,7 @@ static int through_material(const dtm_analysis *a, const patch *p, size_t v, siz
 static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *dim, int *tag) {
   const dtm_geo *g = a->geo;
   patch p;
+  if (jc->near && !near_boundary(a, jc, i)) return INFINITY; /* its patch has no boundary node */
   patch_of(a, jc, i, &p);
   double best = INFINITY;
   for (int j = 0; j < p.nv; j++)
@@ -548,7 +595,7 @@ static int judge_below(dtm_analysis *a, const judge_ctx *jc, double target, cons
 }
 
 static int classify_all(dtm_analysis *a, double target) {
-  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim)};
+  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim), boundary_near(a)};
   int r = build_incidence(a, &jc.inc);
   if (r == DTM_OK) r = typical_quality(a, &jc.q_typ);
   a->shape = r ? NULL : malloc((a->below + 1) * sizeof *a->shape);
@@ -558,7 +605,7 @@ static int classify_all(dtm_analysis *a, double target) {
   for (size_t i = 0; i < a->nel && r == DTM_OK; i++)
     if (a->scene->safety * a->local[i] < target) idx[k++] = i;
   if (r == DTM_OK) r = judge_below(a, &jc, target, idx, lim);
-  free(idx), free(lim), free(jc.inc.start), free(jc.inc.list);
+  free(idx), free(lim), free(jc.near), free(jc.inc.start), free(jc.inc.list);
   return r;
 }
 
@@ -592,7 +639,7 @@ static int near_minimum(const dtm_analysis *a, size_t *c) {
 static int classify_minimum(dtm_analysis *a) {
   size_t c[AT_MIN_MAX];
   int n = near_minimum(a, c), k = 0;
-  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim)};
+  judge_ctx jc = {{NULL, NULL}, 1.0, dtm_analysis_mesh_spread(a->mesh->dim), NULL};
   unsigned char *only = calloc(a->mesh->nnodes + 1, 1);
   dtm_shape_limited found[AT_MIN_MAX];
   int r = only ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
