@@ -19,7 +19,7 @@ import testutil as tu
 SCHEMA = os.path.join(tu.SRC, "schema", "dtmap-report.schema.json")
 # A unit after a comma or in parentheses (", s", "(kg/m in 2D)", ", %", ", rad/s", ", m^2", ", h", ", Hz"),
 # or "dimensionless".
-UNIT = re.compile(r"([,(] ?(s|m|m\^2|m\^4|kg|kg/m|%|1/s\^2|1/s|rad/s|degrees|h|Hz)([ ),]|$))|dimensionless")
+UNIT = re.compile(r"([,(] ?(s|m|m\^2|m\^4|kg|kg/m|%|1/s\^2|1/s|rad/s|m/s|degrees|h|Hz)([ ),]|$))|dimensionless")
 
 
 def resolve(prop, defs):

@@ -105,5 +105,11 @@ typedef struct {
  * the steps run, each effect's growth and verdict, the overall verdict) to
  * path atomically. */
 DTM_EXPORT int dtm_verify_report_write(const dtm_analysis *a, const dtm_verify_report *v, const char *path);
+/* The same for `verify --accuracy`: the step, the wave (branch, direction,
+ * frequency, host material, polarisation, the window and the periods run),
+ * the measured and predicted phase-speed errors, their agreement and the
+ * verdict (within 20 %: "agrees"). */
+DTM_EXPORT int dtm_verify_wave_report_write(const dtm_analysis *a, double dt, const dtm_wave_spec *w,
+                                            const dtm_wave_result *r, const char *path);
 
 #endif

@@ -107,6 +107,8 @@ static int accuracy_step(const dtm_analysis *a, const cli_opts *o, double dt) {
   DTM_CHECK(wave_spec(a, o, &w));
   DTM_CHECK(dtm_verify_wave(a, dt, &w, &r));
   if (o->verbosity) print_wave(a, dt, &w, &r);
+  if (o->report) DTM_CHECK(dtm_verify_wave_report_write(a, dt, &w, &r, o->report));
+  if (o->report && o->verbosity) printf("\nwrote        %s\n", o->report);
   if (!(fabs(r.agreement) <= 0.2))
     return DTM_ERR(DTM_ERR_TARGET, "verify --accuracy: measured %+.4f %% against predicted %+.4f %%", 100 * r.measured,
                    100 * r.predicted.mean);
@@ -237,8 +239,5 @@ int dtm_cli_verify(const cli_opts *o) {
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--factor and --dt both give the step; give one");
   if (!o->accuracy && (o->wave || o->direction || o->freq > 0 || o->periods > 0))
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--wave, --direction, --freq and --periods need --accuracy");
-  if (o->accuracy && o->report)
-    return dtm_cli_usage_error(&dtm_cli_commands[1],
-                               "--report is not supported with --accuracy (the result is printed)");
   return run_scene(o, 1);
 }
