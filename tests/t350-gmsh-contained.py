@@ -12,6 +12,12 @@ is proved without relying on a Gmsh bug.
   message, and no output file.
 - Without the variable, the same scene runs and refines normally (the mesh
   handed back from the child is the one analysed: same counts as the report).
+- The mesh is made once: the child hands back its binary .msh, whose last
+  bytes hold NULs before the closing $EndElements line, and the parent does
+  not mesh again. With -v the parent's Gmsh messages reach the terminal
+  and the child's go to its log, so no "Meshing 2D" line may show (the
+  check of the handed-back file once stopped at the first NUL, took every
+  binary mesh for one cut short, and every geometry was meshed twice).
 """
 
 import os
@@ -89,6 +95,13 @@ class Contained(unittest.TestCase):
         self.assertIn("meshing: Gmsh crashed (signal 11", log)
         self.assertFalse(os.path.exists(tu.path("run_dt.msh")))
         self.assertFalse(os.path.exists(tu.path("run_dt.json")))
+
+    def test_meshed_once(self):
+        code, log = tu.run("run", scene("once"), "-v", "-o", "once_dt.msh")
+        self.assertEqual(code, 0, log)
+        self.assertIn("once.geo'...", log)  # the parent's Gmsh messages do show: it reads the geometry
+        self.assertIn("/mesh.msh'...", log)  # and the child's mesh
+        self.assertNotIn("Meshing 2D", log)
 
     def test_no_crash(self):
         target = 1.3 * recommended("ok")

@@ -188,11 +188,10 @@ static int complete(const char *path) {
   long size = in && !fseek(in, 0, SEEK_END) ? ftell(in) : -1;
   size_t n = size > 0 && !fseek(in, size > 64 ? size - 64 : 0, SEEK_SET) ? fread(buf, 1, 64, in) : 0;
   if (in) fclose(in);
-  buf[n] = '\0';
   if (!n || buf[n - 1] != '\n') return 0;
-  buf[n - 1] = '\0';
-  const char *last = strrchr(buf, '\n');
-  return !strncmp(last ? last + 1 : buf, "$End", 4);
+  size_t start = n - 1; /* the last line's first byte: the bytes before it are binary (NULs included) */
+  while (start > 0 && buf[start - 1] != '\n') start--;
+  return n - 1 - start >= 4 && !memcmp(buf + start, "$End", 4);
 }
 
 /* Hand the job's result back: the mesh (complete, without the stale
