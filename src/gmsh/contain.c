@@ -274,7 +274,9 @@ static int judge(const char *stage, int status, const job_files *f) {
 static int merge_back(const job_files *f) {
   int ierr = 0;
   gmshModelMeshClear(NULL, 0, &ierr);
-  gmshModelMeshRebuildNodeCache(0, &ierr); /* no node of the cleared mesh is left to find by tag */
+  gmshModelMeshRebuildNodeCache(0, &ierr);       /* no node of the cleared mesh is left to find by tag */
+  gmshModelRemovePhysicalGroups(NULL, 0, &ierr); /* the file brings them back; merged, each entity would be in its
+                                                    group twice */
   dtm_gmsh_log_reset();
   gmshMerge(f->mesh, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INTERNAL, "reading back the mesh of the meshing process");
