@@ -20,12 +20,15 @@
  * - The regular lattice: its tri3 cell holds equilateral triangles, so its
  *   table repeats every 60 degrees (8 of its 24 directions) to round-off,
  *   which the right-angled cell's does not (1e-9 of err / (k h)^2).
+ * - Own shapes, normalised: along the long axis of 1 x 2 rectangles and
+ *   1 x 1 x 2 boxes the table is the bar's relation at the long spacing
+ *   over the lattice spacing V^(1/d), P and S (1e-10).
  * - Own shapes (src/cost/shapes.c): one tri3 with its point reflection
  *   tiles the plane, so a table built from the two right triangles of the
  *   cube lattice's cell, from their translates and scaled copies, or from
  *   one of them alone is the cube lattice's table, and one equilateral
- *   triangle (turned as the lattice's) gives the regular lattice's; the unit square gives the quad4
- *   lattice's (one node class: the plane wave's Rayleigh quotient is the
+ *   triangle (turned as the lattice's) gives the regular lattice's; the unit square and cube give the quad4
+ *   and hex8 lattices' (one node class: the plane wave's Rayleigh quotient is the
  *   Bloch eigenvalue). Jacobi round-off: 1e-9 of err / (k h)^2. One
  *   element's dynamic matrix at small k is its area times the continuum's
  *   Christoffel matrix (lam + mu) k k^T + mu k^2 I to O(k^4): 1e-6 at
@@ -168,6 +171,38 @@ static void own_shapes_are_lattices(void **state) {
   assert_int_equal(dtm_dispersion_table(DTM_QUAD4, DTM_LATTICE_CUBE, 0.3, &lat), DTM_OK);
   assert_int_equal(dtm_dispersion_table_shapes(DTM_QUAD4, 0.3, sq, 1, &own), DTM_OK);
   assert_true(table_diff(&lat, &own) < 1e-9);
+  double cube[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  assert_int_equal(dtm_dispersion_table(DTM_HEX8, DTM_LATTICE_CUBE, 0.3, &lat), DTM_OK);
+  assert_int_equal(dtm_dispersion_table_shapes(DTM_HEX8, 0.3, cube, 1, &own), DTM_OK);
+  assert_true(table_diff(&lat, &own) < 1e-9);
+}
+
+/* Along the long axis of a lattice of rectangles (1 x 2) or boxes
+ * (1 x 1 x 2), the own-shape table has the bar's relation for both
+ * branches with the spacing 2 in units of the lattice spacing h = V^(1/d):
+ * the table's normalisation of each element to its own h, checked. */
+static void long_axis_is_bar(void **state) {
+  (void)state;
+  double rect[] = {0, 0, 0, 1, 0, 0, 1, 2, 0, 0, 2, 0};
+  double box[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 2, 1, 0, 2, 1, 1, 2, 0, 1, 2};
+  struct {
+    int type, dir; /* the table's direction along the long axis: 90 degrees in 2D, z in 3D */
+    double *x, s;  /* nodes; the long spacing over h */
+  } c[2] = {{DTM_QUAD4, 12, rect, 2 / sqrt(2.0)}, {DTM_HEX8, 2, box, 2 / cbrt(2.0)}};
+  for (int t = 0; t < 2; t++) {
+    dtm_dispersion own;
+    assert_int_equal(dtm_dispersion_table_shapes(c[t].type, 0.3, c[t].x, 1, &own), DTM_OK);
+    assert_true(fabs(own.dir[c[t].dir][t ? 2 : 1] - 1) < 1e-15);
+    for (int j = 0; j < DTM_DISP_KH; j++) {
+      double kh = 3.14159265358979323846 * (j + 1) / DTM_DISP_KH, ks = kh * c[t].s;
+      double bar = sin(ks / 2) / (ks / 2) - 1;
+      if (!(ks < 2 * 3.14159265358979323846)) continue; /* past the long spacing's zone */
+      for (int m = 0; m < 2; m++)
+        if (fabs(own.g[m][c[t].dir][j] * kh * kh - bar) > 1e-10)
+          fail_msg("%s kh %g branch %d: %.12g against the bar's %.12g", dtm_elem_name(c[t].type), kh, m,
+                   own.g[m][c[t].dir][j] * kh * kh, bar);
+    }
+  }
 }
 
 static void element_is_christoffel(void **state) {
@@ -186,6 +221,7 @@ static void element_is_christoffel(void **state) {
   assert_true(fabs(w[0] / (area * (lam + 2 * mu) * kk * kk) - 1) < 1e-6);
   assert_true(fabs(w[1] / (area * mu * kk * kk) - 1) < 1e-6);
   assert_int_equal(dtm_dispersion_element(DTM_TET10, x, lam, mu, k, D), DTM_ERR_INPUT);
+  assert_int_equal(dtm_dispersion_element(DTM_TET4, x, lam, mu, k, D), DTM_ERR_INPUT); /* left to the lattice */
   assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, x, 0, NULL), DTM_ERR_INPUT);
   dtm_error_clear();
 }
@@ -208,6 +244,7 @@ int main(int argc, char **argv) {
                                      cmocka_unit_test(table_interpolates),
                                      cmocka_unit_test(regular_is_hexagonal),
                                      cmocka_unit_test(own_shapes_are_lattices),
+                                     cmocka_unit_test(long_axis_is_bar),
                                      cmocka_unit_test(element_is_christoffel),
                                      cmocka_unit_test(bad_input)};
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -169,7 +169,7 @@ DTM_EXPORT int dtm_dispersion_table(int type, int shape, double r, dtm_dispersio
 DTM_EXPORT double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x);
 
 /* The dispersion of a mesh's own element shapes (src/cost/shapes.c), for
- * the types whose nodes are all vertices: tri3, quad4, tet4, hex8. */
+ * tri3, quad4 and hex8. */
 DTM_EXPORT int dtm_dispersion_has_shapes(int type);
 /* The table of dtm_dispersion_table from n elements of the mesh, x[n][nn][3]
  * (each scaled to its lattice spacing; the sum of their plane-wave dynamic

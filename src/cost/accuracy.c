@@ -25,8 +25,9 @@
 #include "dtmap/topology.h"
 
 #define PI 3.14159265358979323846
-#define MAX_TABLES 16     /* element type x material pairs kept at once */
-#define SHAPE_SAMPLES 512 /* elements an own-shape table is built from */
+#define MAX_TABLES 16 /* element type x material pairs kept at once */
+#define SHAPE_WORK                                                                                                     \
+  8192 /* node pairs of the elements an own-shape table is built from (tri3: 512 elements, hex8: 128) */
 
 #define CURVE_N 512   /* points of a curve over k h in [0, pi] */
 #define MAX_CURVES 64 /* curves kept (table x subcycling level) */
@@ -88,8 +89,9 @@ static double curve_at(const curve *k, int mode, double kh) {
   return f == 0 ? k->w[mode][j] : (1 - f) * k->w[mode][j] + f * k->w[mode][j + 1];
 }
 
-/* Up to SHAPE_SAMPLES elements of type and material mat (no section),
- * every stride-th of them in mesh order, as coordinates x[n][nn][3]. */
+/* Up to SHAPE_WORK / nn^2 elements (at most 512) of type and material mat
+ * (no section), every stride-th of them in mesh order, as coordinates
+ * x[n][nn][3]. */
 static int shape_sample(const dtm_mesh *mesh, int type, int mat, double **x, size_t *n) {
   size_t count = 0, k = 0, i = 0;
   int d, nn;
@@ -97,7 +99,8 @@ static int shape_sample(const dtm_mesh *mesh, int type, int mat, double **x, siz
   for (int b = 0; b < mesh->nblocks; b++)
     for (size_t e = 0; mesh->blocks[b].type == type && e < mesh->blocks[b].n; e++)
       count += mesh->blocks[b].mat[e] == mat && !(mesh->blocks[b].section && mesh->blocks[b].section[e] >= 0);
-  size_t stride = count > SHAPE_SAMPLES ? count / SHAPE_SAMPLES : 1;
+  size_t most = (size_t)(SHAPE_WORK / (nn * nn) < 512 ? SHAPE_WORK / (nn * nn) : 512);
+  size_t stride = count > most ? count / most : 1;
   *x = malloc(((count + stride - 1) / stride + 1) * (size_t)nn * 3 * sizeof **x);
   if (!*x) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < mesh->nblocks; b++)

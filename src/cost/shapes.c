@@ -1,7 +1,12 @@
-/* The dispersion of a mesh's own element shapes, for the element types
- * whose nodes are all vertices (tri3, quad4, tet4, hex8). An unstructured
- * mesh is not the regular lattice of its element type: its elements are of
- * every shape and orientation, and a wave crossing them sees their mean.
+/* The dispersion of a mesh's own element shapes, for tri3, quad4 and hex8
+ * (types whose nodes are all vertices). An unstructured mesh is not the
+ * regular lattice of its element type: its elements are of every shape
+ * and orientation, and a wave crossing them sees their mean; a structured
+ * mesh of rectangles or boxes is a lattice with one node class, whose
+ * Bloch matrix is exactly the sum below. Tetrahedra are left to the
+ * lattice (src/cost/dispersion.c): on an unstructured tetrahedral mesh the
+ * plane wave is far from a mode and the sum is too stiff for the S wave
+ * (docs/accuracy.md).
  * A plane wave u = p exp(i k.x) on the nodes of one element gives the
  * element's dynamic matrix D_e(k) = sum_ab K_ab cos(k.(x_b - x_a)) (the
  * real part: the element together with its point reflection, which for a
@@ -30,7 +35,7 @@
 #define PI 3.14159265358979323846
 #define MAX_NN 8 /* nodes of the types modelled (hex8) */
 
-int dtm_dispersion_has_shapes(int type) { return type == DTM_TRI3 || type == DTM_QUAD4; }
+int dtm_dispersion_has_shapes(int type) { return type == DTM_TRI3 || type == DTM_QUAD4 || type == DTM_HEX8; }
 
 int dtm_dispersion_cell_elements(int type) {
   int d = 0, nn = 0;
@@ -59,8 +64,7 @@ static void add_dynamic(int d, int nn, const double *K, const double *x, const d
 int dtm_dispersion_element(int type, const double *x, double lam, double mu, const double k[3], double D[9]) {
   int d, nn;
   if (!dtm_dispersion_has_shapes(type) || dtm_elem_info(type, &d, &nn))
-    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, tet4, hex8)",
-                   dtm_elem_name(type));
+    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, hex8)", dtm_elem_name(type));
   double K[MAX_NN * 3 * MAX_NN * 3];
   dtm_disp_stiffness(type, d, nn, x, lam, mu, K);
   memset(D, 0, 9 * sizeof *D);
@@ -116,8 +120,7 @@ static void table_errors(dtm_dispersion *t, int d, const double *S, double m) {
 int dtm_dispersion_table_shapes(int type, double r, const double *x, size_t n, dtm_dispersion *t) {
   int d, nn;
   if (!dtm_dispersion_has_shapes(type) || dtm_elem_info(type, &d, &nn))
-    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, tet4, hex8)",
-                   dtm_elem_name(type));
+    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, hex8)", dtm_elem_name(type));
   if (!(r >= 0 && r < 0.75) || !n) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, %zu elements", r, n);
   memset(t, 0, sizeof *t);
   t->type = type, t->r = r, t->shape = DTM_LATTICE_OWN, t->ndir = dtm_disp_directions(d, t->dir);
