@@ -209,6 +209,10 @@ DTM_EXPORT const double *dtm_analysis_dt(const dtm_analysis *a);
 DTM_EXPORT const double *dtm_analysis_length(const dtm_analysis *a);
 DTM_EXPORT const int *dtm_analysis_limiting(const dtm_analysis *a);
 DTM_EXPORT const double *dtm_analysis_size(const dtm_analysis *a);
+/* Per element: its measure (length, area or volume, m^d, as
+ * dtm_elem_measure, unsigned), or NULL when the analysis does not keep it
+ * (rank 0's whole-mesh advice in a distributed run). */
+DTM_EXPORT const double *dtm_analysis_measure(const dtm_analysis *a);
 DTM_EXPORT const double *dtm_analysis_hmax(const dtm_analysis *a);
 DTM_EXPORT const int *dtm_analysis_hmax_by(const dtm_analysis *a);
 /* Per element [nelements] for effect k: its own step (NULL when k limits

@@ -25,6 +25,7 @@ const double *dtm_analysis_dt(const dtm_analysis *a) { return a->dt; }
 const double *dtm_analysis_length(const dtm_analysis *a) { return a->len; }
 const int *dtm_analysis_limiting(const dtm_analysis *a) { return a->limiting; }
 const double *dtm_analysis_size(const dtm_analysis *a) { return a->h; }
+const double *dtm_analysis_measure(const dtm_analysis *a) { return a->meas; }
 const double *dtm_analysis_hmax(const dtm_analysis *a) { return a->hmax; }
 const int *dtm_analysis_hmax_by(const dtm_analysis *a) { return a->hmax_by; }
 

@@ -25,6 +25,7 @@ struct dtm_analysis {
   double **dt_bare;           /* [neffects][nel] wave steps before the damping
                                  modifiers; rows only when modifiers exist */
   double *h;                  /* [nel] element size (mean edge length), m */
+  double *meas;               /* [nel] element measure (length, area, volume), m^d (NULL: not kept) */
   double *hmax;               /* [nel] accuracy bound on the size, m (+inf: none) */
   int *hmax_by;               /* [nel] effect whose bound hmax is, -1: none */
   double **resolution;        /* [neffects][nel] accuracy view values; NULL rows

@@ -28,13 +28,14 @@ static int alloc_results(dtm_analysis *a) {
   a->len = malloc(n * sizeof *a->len);
   a->limiting = malloc(n * sizeof *a->limiting);
   a->h = malloc(n * sizeof *a->h);
+  a->meas = malloc(n * sizeof *a->meas);
   a->hmax = malloc(n * sizeof *a->hmax);
   a->hmax_by = malloc(n * sizeof *a->hmax_by);
   a->resolution = calloc(ne + 1, sizeof *a->resolution);
   a->dt_effect = calloc(ne + 1, sizeof *a->dt_effect);
   a->per_effect = calloc(ne + 1, sizeof *a->per_effect);
-  if (!a->dt || !a->len || !a->limiting || !a->h || !a->hmax || !a->hmax_by || !a->resolution || !a->dt_effect ||
-      !a->per_effect)
+  if (!a->dt || !a->len || !a->limiting || !a->h || !a->meas || !a->hmax || !a->hmax_by || !a->resolution ||
+      !a->dt_effect || !a->per_effect)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for %zu elements", n);
   for (size_t k = 0; k < ne; k++) {
     if (!(a->effects[k].cls->role & DTM_ROLE_LIMITS)) continue;
@@ -114,6 +115,7 @@ static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, 
     a->limiting[g0 + e] = lim;
     a->len[g0 + e] = len;
     a->h[g0 + e] = dtm_elem_mean_edge(bt->type, bt->x + 3 * (size_t)bt->nn * e);
+    a->meas[g0 + e] = fabs(dtm_elem_measure(bt->type, bt->x + 3 * (size_t)bt->nn * e));
   }
 }
 
@@ -371,6 +373,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->len);
   free(a->limiting);
   free(a->h);
+  free(a->meas);
   free(a->size_node);
   free(a->nodal_node);
   for (int k = 0; a->node_dt && k < a->neffects; k++) free(a->node_dt[k]);

@@ -244,10 +244,25 @@ static double element_phase(const table_cache *c, const dtm_dispersion *t, const
   return (1 + e) * speed - 1;
 }
 
-/* Each element's lattice spacing h[i] and mean edge edge[i], m, in one
- * pass over the coordinates (the element loop's threads). */
-static void element_sizes(const dtm_mesh *mesh, double *h, double *edge) {
+/* Each element's lattice spacing h[i] and mean edge edge[i], m: from the
+ * measures and sizes the analysis keeps, else in one pass over the
+ * coordinates (the element loop's threads). */
+static void element_sizes(const dtm_analysis *a, double *h, double *edge) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  const double *meas = dtm_analysis_measure(a), *size = dtm_analysis_size(a);
   size_t i0 = 0;
+  if (meas && size) {
+    for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
+      const dtm_block *bl = &mesh->blocks[b];
+      const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static)
+      for (long long e = 0; e < n; e++) {
+        size_t i = i0 + (size_t)e;
+        h[i] = lattice_h(bl->type, bl->dim, meas[i]), edge[i] = size[i];
+      }
+    }
+    return;
+  }
   for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
     const dtm_block *bl = &mesh->blocks[b];
     const long long n = (long long)bl->n;
@@ -401,7 +416,7 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   size_t n = dtm_analysis_nelements(a), skipped;
   double *err = malloc((4 * n + 1) * sizeof *err), *h = err + 2 * n, *edge = err + 3 * n;
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  element_sizes(dtm_analysis_mesh(a), h, edge);
+  element_sizes(a, h, edge);
   int rc = DTM_OK;
   if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
   if (!(m.f > 0)) rc = default_frequency(a, f, h, &m.f), m.f_default = 1;
