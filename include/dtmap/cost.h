@@ -237,16 +237,19 @@ DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);
 /* Name of a dtm_measure_kind, for tables. */
 DTM_EXPORT const char *dtm_measure_name(int kind);
 
-/* The lattice prediction of one wave along one direction (for the
- * simulation check, src/study/wave.c): each element's fully discrete error
- * of branch mode (0 P, 1 S: the worse transverse branch in 3D) along the
- * unit direction n at frequency f (Hz) and step dt (s), its lattice taken
- * at the spacing of its volume; averaged with the element masses as
- * weights (a plane wave's frequency shift is the energy-weighted mean of
- * the local ones to first order). pol: the polarisation (unit; the
- * branch whose eigenvector overlaps most with it; NULL: n for P, the worse
- * transverse branch for S). mat >= 0: only that material's
- * elements (-1: all). */
+/* The prediction of one wave along one direction (for the simulation
+ * check, src/study/wave.c): the fully discrete error of branch mode (0 P,
+ * 1 S: the worse transverse branch in 3D) along the unit direction n at
+ * frequency f (Hz) and step dt (s), with the measure's models: for tri3,
+ * quad4 and hex8 of one material (mat >= 0) the wave's Rayleigh quotient
+ * over their summed plane-wave matrices (dtm_dispersion_element); for
+ * the other types, and for every type when mat = -1 (all materials), each
+ * element's own error (its lattice at the spacing of its volume, or its
+ * own matrix) averaged with the element masses as weights (a plane wave's
+ * frequency shift is the energy-weighted mean of the local ones to first
+ * order). pol: the polarisation (unit; the branch whose eigenvector
+ * overlaps most with it; NULL: n for P, the worse transverse branch for
+ * S). */
 typedef struct {
   double mean;       /* mass-weighted mean error (fraction; NaN when any element is unresolved) */
   double worst;      /* the signed error of largest magnitude (fraction) */

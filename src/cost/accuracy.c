@@ -616,17 +616,18 @@ int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const d
         continue;
       out->speed = mode ? sqrt(m.mu / m.rho) : m.cd;
       double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas, err;
-      if (dtm_dispersion_has_shapes(bl->type) && form != DTM_FORM_BAR)
+      int own = dtm_dispersion_has_shapes(bl->type) && form != DTM_FORM_BAR;
+      if (own)
         own_along(mesh, bl, e, &m, f, dt, n, pol, mode, &ws, &err), mown = m;
       else
         err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
       if (isnan(err)) out->unresolved++;
       if (isnan(err)) continue;
       out->elements++;
-      if (!dtm_dispersion_has_shapes(bl->type) || form == DTM_FORM_BAR) wsum += w, sum += w * err;
+      if (!own || mat < 0) wsum += w, sum += w * err; /* one material's own shapes are summed below */
       if (fabs(err) > fabs(out->worst)) out->worst = err;
     }
-  if (ws.mass > 0) /* the own-shape elements as one: the wave's Rayleigh quotient over them */
+  if (ws.mass > 0 && mat >= 0) /* one material's own-shape elements as one: the wave's Rayleigh quotient */
     sum += ws.mass * own_error(ws.d, ws.D, ws.mass, &mown, f, dt, n, pol, mode), wsum += ws.mass;
   out->mean = wsum > 0 && !out->unresolved ? sum / wsum : NAN;
   return DTM_OK;
