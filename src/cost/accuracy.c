@@ -244,34 +244,23 @@ static double element_phase(const table_cache *c, const dtm_dispersion *t, const
   return (1 + e) * speed - 1;
 }
 
-/* Each element's lattice spacing h[i] and mean edge edge[i], m: from the
- * measures and sizes the analysis keeps, else in one pass over the
- * coordinates (the element loop's threads). */
-static void element_sizes(const dtm_analysis *a, double *h, double *edge) {
+/* Each element's measure (m^d) and mean edge (m): the analysis's own,
+ * else gathered once into buf[2 nel] (the element loop's threads). */
+static void element_sizes(const dtm_analysis *a, double *buf, const double **meas, const double **edge) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
-  const double *meas = dtm_analysis_measure(a), *size = dtm_analysis_size(a);
-  size_t i0 = 0;
-  if (meas && size) {
-    for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
-      const dtm_block *bl = &mesh->blocks[b];
-      const long long n = (long long)bl->n;
-#pragma omp parallel for schedule(static)
-      for (long long e = 0; e < n; e++) {
-        size_t i = i0 + (size_t)e;
-        h[i] = lattice_h(bl->type, bl->dim, meas[i]), edge[i] = size[i];
-      }
-    }
-    return;
-  }
+  size_t i0 = 0, nel = dtm_analysis_nelements(a);
+  *meas = dtm_analysis_measure(a), *edge = dtm_analysis_size(a);
+  if (*meas && *edge) return;
   for (int b = 0; b < mesh->nblocks; i0 += mesh->blocks[b++].n) {
     const dtm_block *bl = &mesh->blocks[b];
     const long long n = (long long)bl->n;
 #pragma omp parallel for schedule(static)
     for (long long e = 0; e < n; e++) {
-      double meas = element_measure(mesh, bl, (size_t)e, &edge[i0 + (size_t)e]);
-      h[i0 + (size_t)e] = lattice_h(bl->type, bl->dim, meas);
+      size_t i = i0 + (size_t)e;
+      buf[i] = element_measure(mesh, bl, (size_t)e, &buf[nel + i]);
     }
   }
+  *meas = buf, *edge = buf + nel;
 }
 
 /* The shear (bar: axial) speed of each material in formulation f, NaN
@@ -287,7 +276,7 @@ static void shear_speeds(const dtm_analysis *a, dtm_formulation f, double *cs) {
  * c_S / (N h), N the scene's elements per wavelength: the highest
  * frequency at which every element has at least N cells per shear
  * wavelength (on a graded mesh the coarse part sets it). */
-static int default_frequency(const dtm_analysis *a, dtm_formulation f, const double *h, double *fd) {
+static int default_frequency(const dtm_analysis *a, dtm_formulation f, const double *meas, double *fd) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   double N = dtm_analysis_scene(a)->elements_per_wavelength, lo = INFINITY;
   double *cs = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *cs);
@@ -301,7 +290,7 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, const dou
 #pragma omp parallel for schedule(static) reduction(min : lo)
     for (long long e = 0; e < n; e++)
       if (bl->mat[e] >= 0 && !(bl->section && bl->section[e] >= 0) && !isnan(cs[bl->mat[e]]))
-        lo = fmin(lo, cs[bl->mat[e]] / (N * h[i0 + (size_t)e]));
+        lo = fmin(lo, cs[bl->mat[e]] / (N * lattice_h(bl->type, bl->dim, meas[i0 + (size_t)e])));
   }
   free(cs);
   *fd = isfinite(lo) ? lo : NAN;
@@ -348,7 +337,7 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
  * it does not apply to are skipped and counted in *skipped); the smallest
  * shear wavelength over mean edge into *per_wave. The element loop runs
  * on the OpenMP threads, reading the tables and curves prepared for it. */
-static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, const double *h,
+static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, const double *meas,
                         const double *edge, double *err, size_t *skipped, double *per_wave) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   table_cache cache = {0};
@@ -372,10 +361,10 @@ static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, c
         continue;
       }
       const dtm_elastic_moduli *m = &s[mt].m;
-      double dt, speed, meas = pow(h[i], bl->dim) / dtm_dispersion_cell_elements(bl->type);
+      double dt, speed, h = lattice_h(bl->type, bl->dim, meas[i]);
       pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge[i]));
-      element_step(sr, i, m->rho * meas, &dt, &speed);
-      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, h[i], freq, dt, speed);
+      element_step(sr, i, m->rho * meas[i], &dt, &speed);
+      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, h, freq, dt, speed);
     }
   }
   *skipped = skip;
@@ -414,15 +403,17 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
                    .band_hi = DTM_BAND_PHASE,
                    .f = freq};
   size_t n = dtm_analysis_nelements(a), skipped;
-  double *err = malloc((4 * n + 1) * sizeof *err), *h = err + 2 * n, *edge = err + 3 * n;
+  int kept = dtm_analysis_measure(a) && dtm_analysis_size(a); /* else gathered after err and its scratch */
+  double *err = malloc(((kept ? 2 : 4) * n + 1) * sizeof *err);
+  const double *meas, *edge;
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  element_sizes(a, h, edge);
+  element_sizes(a, err + 2 * n, &meas, &edge);
   int rc = DTM_OK;
   if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
-  if (!(m.f > 0)) rc = default_frequency(a, f, h, &m.f), m.f_default = 1;
+  if (!(m.f > 0)) rc = default_frequency(a, f, meas, &m.f), m.f_default = 1;
   step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
   m.per_wavelength = NAN;
-  if (!rc) rc = phase_errors(a, f, m.f, &sr, h, edge, err, &skipped, &m.per_wavelength);
+  if (!rc) rc = phase_errors(a, f, m.f, &sr, meas, edge, err, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err + n, &m);
   free(err);
   if (rc) return rc;
@@ -580,12 +571,11 @@ static double own_error(int d, const double *D, double mass, const dtm_elastic_m
 
 /* One own-shape element into the sums; its own error into *err (NaN when
  * unresolved: fewer than 2 lattice cells per wavelength). */
-static void own_along(const dtm_mesh *mesh, const dtm_block *bl, size_t e, const dtm_elastic_moduli *m, double f,
-                      double dt, const double n[3], const double *pol, int mode, wave_sum *ws, double *err) {
+static void own_along(const dtm_mesh *mesh, const dtm_block *bl, size_t e, double meas, const dtm_elastic_moduli *m,
+                      double f, double dt, const double n[3], const double *pol, int mode, wave_sum *ws, double *err) {
   double x[3 * DTM_MAX_NODES], D[9], c = mode ? sqrt(m->mu / m->rho) : m->cd, k = 2 * PI * f / c;
   double kv[3] = {k * n[0], k * n[1], k * n[2]};
   dtm_mesh_gather_one(mesh, bl, e, x);
-  double meas = fabs(dtm_elem_measure(bl->type, x));
   *err = NAN;
   if (!(k * lattice_h(bl->type, bl->dim, meas) <= PI)) return;
   if (dtm_dispersion_element(bl->type, x, m->modulus - 2 * m->mu, m->mu, kv, D)) return;
@@ -618,7 +608,7 @@ int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const d
       double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas, err;
       int own = dtm_dispersion_has_shapes(bl->type) && form != DTM_FORM_BAR;
       if (own)
-        own_along(mesh, bl, e, &m, f, dt, n, pol, mode, &ws, &err), mown = m;
+        own_along(mesh, bl, e, meas, &m, f, dt, n, pol, mode, &ws, &err), mown = m;
       else
         err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
       if (isnan(err)) out->unresolved++;

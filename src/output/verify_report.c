@@ -18,12 +18,12 @@ static cJSON *effect_json(const dtm_analysis *a, int k, const dtm_verify_effect 
 }
 
 /* The fields both reports share: version, scene, the step and its basis. */
-static cJSON *step_json(const dtm_analysis *a, double step, int steps) {
+static cJSON *step_json(const dtm_analysis *a, double step, double factor, int steps) {
   cJSON *root = cJSON_CreateObject();
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
   cJSON_AddStringToObject(root, "scene", dtm_analysis_scene(a)->path);
   cJSON_AddNumberToObject(root, "step", step);
-  cJSON_AddNumberToObject(root, "factor", step / dtm_analysis_recommended(a));
+  cJSON_AddNumberToObject(root, "factor", factor);
   cJSON_AddNumberToObject(root, "recommended", dtm_analysis_recommended(a));
   cJSON_AddStringToObject(root, "basis", dtm_analysis_basis(a));
   cJSON_AddNumberToObject(root, "steps", steps);
@@ -31,7 +31,7 @@ static cJSON *step_json(const dtm_analysis *a, double step, int steps) {
 }
 
 static cJSON *verify_json(const dtm_analysis *a, const dtm_verify_report *v) {
-  cJSON *root = step_json(a, v->step, v->steps), *arr = cJSON_CreateArray();
+  cJSON *root = step_json(a, v->step, v->factor, v->steps), *arr = cJSON_CreateArray();
   double growth = 0;
   int unstable = 0;
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
@@ -89,7 +89,7 @@ static cJSON *wave_json(const dtm_analysis *a, const dtm_wave_spec *w, const dtm
 
 int dtm_verify_wave_report_write(const dtm_analysis *a, double dt, const dtm_wave_spec *w, const dtm_wave_result *r,
                                  const char *path) {
-  cJSON *root = step_json(a, dt, r->steps);
+  cJSON *root = step_json(a, dt, dt / dtm_analysis_recommended(a), r->steps);
   cJSON_AddStringToObject(root, "verdict", fabs(r->agreement) <= 0.2 ? "agrees" : "disagrees");
   cJSON_AddItemToObject(root, "accuracy", wave_json(a, w, r));
   return dtm_json_write(root, path, "verify report");
