@@ -7,7 +7,8 @@
  * needs (1.5^2 - 1) rho L/2 = 0.625 rho L, node 1 (1.5^2/2 - 1) 3 rho L/2 =
  * 0.1875 rho L, node 2 none; node 1's mass goes 1/3 to bar 0 and 2/3 to
  * bar 1: bar 0 gets 0.6875 rho L, bar 1 0.125 rho L. The element-by-element
- * form needs 1.25 rho L for bar 0 alone: the nodal form needs less. With
+ * form needs 1.25 rho L for bar 0 alone: the nodal form needs less. The
+ * same mass at the nodes: 0.625, 0.1875 and 0 rho L. With
  * only bar 1 selected, only nodes 1 and 2 count: 0.1875 rho L in all.
  * Tolerance 1e-12 relative: the kernel's steps are within a few eps of the
  * closed forms, squared and summed. */
@@ -54,7 +55,10 @@ static void nodal_closed_form(void **unused) {
   close_to(ms.added[0], 0.6875 * RHO * L), close_to(ms.added[1], 0.125 * RHO * L);
   close_to(ms.total_added, 0.8125 * RHO * L), close_to(ms.total_mass, 3 * RHO * L);
   assert_int_equal(ms.scaled, 2);
+  close_to(ms.node_added[0], 0.625 * RHO * L), close_to(ms.node_added[1], 0.1875 * RHO * L);
+  assert_true(ms.node_added[2] == 0.0 && ms.nodes == 2);
   assert_int_equal(dtm_mass_scaling_compute(a, target, &el), 0);
+  assert_null(el.node_added);
   close_to(el.added[0], 1.25 * RHO * L);
   assert_true(el.added[1] == 0.0 && ms.total_added < el.total_added);
   dtm_mass_scaling_free(&ms), dtm_mass_scaling_free(&el);
@@ -73,6 +77,8 @@ static void nodal_only(void **unused) {
   assert_int_equal(dtm_mass_scaling_nodal(a, 1.5 * L / c, only, &ms), 0);
   close_to(ms.total_added, 0.1875 * RHO * L);
   close_to(ms.added[0], 0.0625 * RHO * L), close_to(ms.added[1], 0.125 * RHO * L);
+  assert_true(ms.node_added[0] == 0.0 && ms.node_added[2] == 0.0); /* node 0 is not selected; node 2 needs none */
+  close_to(ms.node_added[1], 0.1875 * RHO * L);
   dtm_mass_scaling_free(&ms);
   assert_int_equal(dtm_mass_scaling_nodal(a, -1.0, NULL, &ms), DTM_ERR_INPUT); /* bad target, safe to free */
   dtm_mass_scaling_free(&ms);

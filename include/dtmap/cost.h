@@ -39,6 +39,9 @@ typedef struct dtm_mass_scaling_s {
   int ngroups;         /* mesh groups + 1: the last slot is "no group" */
   double *group_mass;  /* [ngroups] */
   double *group_added; /* [ngroups] */
+  double *node_added;  /* [nnodes] mass added at each node, kg, indexed like the mesh's
+                          nodes (the nodal form; NULL for the element-by-element one) */
+  size_t nodes;        /* nodes that receive mass (the nodal form) */
 } dtm_mass_scaling;
 
 DTM_EXPORT int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dtm_mass_scaling *ms);

@@ -186,6 +186,16 @@ static int combine_parts(const dtm_analysis *a, int r, node_mass *nm, size_t nn)
   return r;
 }
 
+/* The mass each node receives in all (its elements' part, m1 - m0, and
+ * its own addition), kept in ms (which takes over nm->add). */
+static void keep_node_added(node_mass *nm, size_t nn, dtm_mass_scaling *ms) {
+  for (size_t v = 0; v < nn; v++) {
+    nm->add[v] += nm->m1[v] - nm->m0[v];
+    ms->nodes += nm->add[v] > 0;
+  }
+  ms->node_added = nm->add, nm->add = NULL;
+}
+
 int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned char *only, dtm_mass_scaling *ms) {
   memset(ms, 0, sizeof *ms);
   ms->target = target, ms->nodal = 1;
@@ -202,6 +212,7 @@ int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned 
     for (size_t v = 0; v + 1 < nn; v++) nm.add[v] = nm.in[v] ? node_need(a, &nm, v, target) : 0.0;
     each_element(a, 1, node_pass1, &ctx);
     each_element(a, 0, tally_one, ms);
+    keep_node_added(&nm, nn - 1, ms);
   }
   free(nm.m0), free(nm.m1), free(nm.add), free(nm.in);
   if (r) dtm_mass_scaling_free(ms);
@@ -229,6 +240,7 @@ void dtm_mass_scaling_free(dtm_mass_scaling *ms) {
   free(ms->added);
   free(ms->group_mass);
   free(ms->group_added);
-  ms->added = ms->group_mass = ms->group_added = NULL;
+  free(ms->node_added);
+  ms->added = ms->group_mass = ms->group_added = ms->node_added = NULL;
   ms->ngroups = 0;
 }
