@@ -264,9 +264,14 @@ DTM_EXPORT double dtm_analysis_basis_step(const dtm_analysis *a);
  * (scene index) at undamped angular frequency omega (rad/s): the product
  * over the damping effects, 1 without any. */
 DTM_EXPORT int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double omega, double *factor);
-/* With a target: the elements whose safety x own safe step is below it,
- * and the shape-limited ones among them (*n entries, NULL when none;
- * owned by the analysis). Features need the Gmsh model (dtm_analysis_run
+/* The target the advice holds the elements' own safe steps (safety
+ * included) against, s: the scene's target, or on the global basis that
+ * target times the bound basis over the global estimate (src/analysis/
+ * recommend.c); 0 without a target. */
+DTM_EXPORT double dtm_analysis_advice_target(const dtm_analysis *a);
+/* With a target: the elements whose safety x own safe step is below the
+ * advice target, and the shape-limited ones among them (*n entries, NULL
+ * when none; owned by the analysis). Features need the Gmsh model (dtm_analysis_run
  * or _current); an analysis of hand-built blocks lists none. */
 DTM_EXPORT size_t dtm_analysis_below_target(const dtm_analysis *a);
 /* Where the mesh sits on the model (NULL for hand-built blocks). */

@@ -221,7 +221,7 @@ static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
 static void below_view(const dtm_analysis *a, const dtm_output_part *part, view_set *vs, int *k) {
   size_t nel = dtm_analysis_nelements(a), n = 0;
   const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a);
-  double target = dtm_analysis_scene(a)->target, safety = dtm_analysis_scene(a)->safety;
+  double target = dtm_analysis_advice_target(a), safety = dtm_analysis_scene(a)->safety;
   vs->below_at = target > 0 ? target : part ? part->below_at : quantile_1pc(dt, nel, vs->bvals);
   for (size_t i = 0; i < nel; i++) {
     double step = target > 0 ? safety * own[i] : dt[i];
