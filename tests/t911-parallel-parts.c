@@ -50,10 +50,10 @@ static cJSON *load(const char *name) {
 
 static int run_logged(int rc, int mpi, const char *scene, const char *out, const char *options) {
   char *log = NULL;
-  int r = mpi ? tu_mpirun(&log, NP, "sh -c 'cd %s && %s run %s -o %s.msh --report %s.json %s'", dir, tu_cli(), scene,
-                          out, out, options)
-              : tu_run(&log, "cd %s && %s run %s -o %s.msh --report %s.json %s", dir, tu_cli(), scene, out, out,
-                       options);
+  int r =
+      mpi ? tu_mpirun(&log, NP, "sh -c 'cd %s && %s run %s -o %s.msh --report %s.json %s'", dir, tu_cli(), scene, out,
+                      out, options)
+          : tu_run(&log, "cd %s && %s run %s -o %s.msh --report %s.json %s", dir, tu_cli(), scene, out, out, options);
   if (r) fprintf(stderr, "%s", log);
   free(log);
   return rc | r;
@@ -206,10 +206,8 @@ static void global_basis_advice(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(element_views_identical),
-      cmocka_unit_test(node_views_agree),
-      cmocka_unit_test(report_figures),
-      cmocka_unit_test(global_estimate),
+      cmocka_unit_test(element_views_identical), cmocka_unit_test(node_views_agree),
+      cmocka_unit_test(report_figures),          cmocka_unit_test(global_estimate),
       cmocka_unit_test(global_basis_advice),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

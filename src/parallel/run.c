@@ -40,7 +40,7 @@ static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
   if (r) return dtm_effects_destroy(&e, ne), r;
   dtm_par_exchange_init(p);
   r = dtm_analysis_compute_shared(&p->part, p->mesh, e, ne, &p->x, &p->analysis);
-  if (r) p->mesh = NULL; /* the analysis took the mesh and the effects, and freed them */
+  if (r) p->mesh = NULL;           /* the analysis took the mesh and the effects, and freed them */
   if (r == DTM_OK && o->posterior) /* first: on the global basis the advice holds the steps to another target */
     r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_analysis_classify_whole(p->analysis, &p->whole, &p->whole_geo, &p->advice);
