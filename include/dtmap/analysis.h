@@ -158,6 +158,17 @@ DTM_EXPORT void dtm_analysis_destroy(dtm_analysis **a);
 #define DTM_GLOBAL_BASIS 2u
 DTM_EXPORT int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags);
 
+/* Point masses at the nodes, kg per node in the mesh's node order (per
+ * unit thickness in a plane model), added to every wave effect's lumped
+ * mass (src/analysis/point_mass.c): the mesh keeps a copy (kg NULL removes
+ * them), and the nodal bound, the recommendation, each element's own step
+ * and the advice are computed again; a global estimate made before is
+ * dropped. The element steps do not change. Not in a distributed run. */
+DTM_EXPORT int dtm_analysis_set_point_masses(dtm_analysis *a, const double *kg);
+/* The point masses the analysed mesh carries (read with its .msh, view
+ * DTM_VIEW_NODE_MASS, or set), kg per node, or NULL. */
+DTM_EXPORT const double *dtm_analysis_point_masses(const dtm_analysis *a);
+
 /* What was analysed. */
 DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
 DTM_EXPORT const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a);
