@@ -91,7 +91,7 @@ class Causes(unittest.TestCase):
         code, log, ref = refine("extruded", 3, 2.0)
         self.assertEqual(code, 1, log)
         self.assertEqual(len(ref["rounds"]), 1, log)  # stopped before any remesh
-        self.assertIn("extrusions whose layer count the model fixes", ref["stopped"])
+        self.assertIn("where the model fixes the node counts", ref["stopped"])
         c = cause(ref, "fixed-node-count")
         self.assertIsNotNone(c, log)
         self.assertEqual(len(c["entities"]), 4)  # the four vertical edges of the slab

@@ -188,9 +188,11 @@ typedef struct {
 typedef struct dtm_structure dtm_structure;
 DTM_EXPORT int dtm_gmsh_structure(const dtm_geo *g, const double *size, const double *cur, dtm_structure **out);
 DTM_EXPORT void dtm_gmsh_structure_destroy(dtm_structure **s);
-/* 1 when a node of an entity an extrusion's layer curve bounds needs a
- * size above that curve's segment: no remesh reaches the target there. */
-DTM_EXPORT int dtm_gmsh_layers_cap(const dtm_structure *s);
+/* 1 when a node of an entity an extrusion's layer curve bounds (or, with
+ * keep_counts, a transfinite curve, whose count refine then keeps) needs a
+ * size above that curve's smallest segment: no remesh reaches the target
+ * there. */
+DTM_EXPORT int dtm_gmsh_counts_cap(const dtm_structure *s, int keep_counts);
 /* A curve whose node count the model fixes. */
 typedef struct {
   int tag;       /* the curve */

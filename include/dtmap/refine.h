@@ -69,8 +69,9 @@ enum {
   DTM_REFINE_GMSH_REFUSED = 7, /* Gmsh refused a remesh (its reason is the first cause) */
   DTM_REFINE_GMSH_CRASH = 8,   /* Gmsh crashed in a remesh (signal and last messages in
                                   the first cause) */
-  DTM_REFINE_LAYERS = 9,       /* elements below the target lie in extrusions whose Layers{}
-                                  count caps them, which no remesh changes (checked before
+  DTM_REFINE_LAYERS = 9,       /* elements below the target lie where the model fixes the
+                                  node counts (an extrusion's Layers{}, or transfinite curves
+                                  with keep_counts), which no remesh changes (checked before
                                   any remesh) */
   DTM_REFINE_STALLED = 10      /* a remesh left the step where it was: the same elements
                                   limit it whatever the size field */

@@ -87,7 +87,7 @@ struct dtm_structure {
   int nstat;      /* entities the curves' counts set */
   ent_stat *stat; /* [nstat] sorted by key */
   double h[2];    /* the probe's two uniform sizes, m */
-  int layers_cap; /* 1: a layer curve keeps a node below its need */
+  int caps[2];    /* 1: a layer curve ([0]) or a transfinite one ([1]) keeps a node below its need */
 };
 
 static int find_curve(const dtm_structure *s, int tag) {
@@ -274,6 +274,41 @@ static int read_transfinite(dtm_structure *s) {
   return DTM_OK;
 }
 
+/* Gmsh's bump on [0, 1]: the spacing -a (x - 1/2)^2 + b for coefficient
+ * coef (src Mesh/meshGEdge.cpp, with the count and the length scaled
+ * out: they scale a and b alike), times its density's integral's inverse
+ * at k / segs: the smallest of the segments of a curve of unit length. */
+#define BUMP_SAMPLES 2048
+static double bump_smallest(double coef, int segs) {
+  double s = sqrt(fabs(coef - 1)), a, b, cum[BUMP_SAMPLES + 1] = {0}, prev = 0, small = 1;
+  a = coef > 1 ? -4 * s * atan2(1.0, s) : 2 * s * log(fabs((1 + 1 / s) / (1 - 1 / s)));
+  b = -a / (4 * (coef - 1));
+  for (int i = 1; i <= BUMP_SAMPLES; i++) { /* midpoint rule on the density 1 / spacing */
+    double x = (i - 0.5) / BUMP_SAMPLES;
+    cum[i] = cum[i - 1] + 1.0 / (-a * (x - 0.5) * (x - 0.5) + b) / BUMP_SAMPLES;
+  }
+  for (int k = 1, i = 1; k <= segs; k++) {
+    double want = cum[BUMP_SAMPLES] * k / segs;
+    while (i < BUMP_SAMPLES && cum[i] < want) i++;
+    double x = (i - 1 + (want - cum[i - 1]) / (cum[i] - cum[i - 1])) / BUMP_SAMPLES;
+    small = fmin(small, x - prev), prev = x;
+  }
+  return small;
+}
+
+/* The smallest segment of a curve of length L with n nodes under its law. */
+static double smallest_segment(const curve *c, int n) {
+  int segs = n - 1, law = abs(c->law);
+  double r = c->coef;
+  if (segs < 1) return c->length;
+  if (law == 1 && r > 0 && fabs(r - 1) > 1e-12) {
+    double a = c->length * (r - 1) / (pow(r, segs) - 1);
+    return fmin(a, a * pow(r, segs - 1));
+  }
+  if (law == 2 && r > 0 && fabs(r - 1) > 1e-12) return c->length * bump_smallest(r, segs);
+  return c->length / segs;
+}
+
 /* ---- layer curves: the extrusions' fixed counts ------------------------ */
 
 /* Growth the field asks at node v (size over current size; 1 when none). */
@@ -398,9 +433,10 @@ static void layer_needs(dtm_structure *s, const dtm_geo *g, const double *size, 
   stats_fill(s, g, size, cur);
   for (int i = 0; i < s->n; i++) {
     curve *c = &s->c[i];
-    if (!c->fixed || c->tf) continue;
+    if (!c->fixed && !c->tf) continue;
     c->need = curve_max(s, c, 1);
-    if (c->fixed > 1 && c->need > c->length / (c->fixed - 1)) s->layers_cap = 1;
+    double seg = c->tf ? smallest_segment(c, c->nodes) : c->fixed > 1 ? c->length / (c->fixed - 1) : INFINITY;
+    if (c->need > seg) s->caps[c->tf] = 1;
   }
 }
 
@@ -436,7 +472,9 @@ void dtm_gmsh_structure_destroy(dtm_structure **ps) {
   *ps = NULL;
 }
 
-int dtm_gmsh_layers_cap(const dtm_structure *s) { return s && s->layers_cap; }
+int dtm_gmsh_counts_cap(const dtm_structure *s, int keep_counts) {
+  return s && (s->caps[0] || (keep_counts && s->caps[1]));
+}
 
 int dtm_gmsh_fixed_curves(const dtm_structure *s, int transfinite, dtm_fixed_curve *out, int max) {
   int n = 0;
@@ -450,41 +488,6 @@ int dtm_gmsh_fixed_curves(const dtm_structure *s, int transfinite, dtm_fixed_cur
 }
 
 /* ---- counts for a size field -------------------------------------------- */
-
-/* Gmsh's bump on [0, 1]: the spacing -a (x - 1/2)^2 + b for coefficient
- * coef (src Mesh/meshGEdge.cpp, with the count and the length scaled
- * out: they scale a and b alike), times its density's integral's inverse
- * at k / segs: the smallest of the segments of a curve of unit length. */
-#define BUMP_SAMPLES 2048
-static double bump_smallest(double coef, int segs) {
-  double s = sqrt(fabs(coef - 1)), a, b, cum[BUMP_SAMPLES + 1] = {0}, prev = 0, small = 1;
-  a = coef > 1 ? -4 * s * atan2(1.0, s) : 2 * s * log(fabs((1 + 1 / s) / (1 - 1 / s)));
-  b = -a / (4 * (coef - 1));
-  for (int i = 1; i <= BUMP_SAMPLES; i++) { /* midpoint rule on the density 1 / spacing */
-    double x = (i - 0.5) / BUMP_SAMPLES;
-    cum[i] = cum[i - 1] + 1.0 / (-a * (x - 0.5) * (x - 0.5) + b) / BUMP_SAMPLES;
-  }
-  for (int k = 1, i = 1; k <= segs; k++) {
-    double want = cum[BUMP_SAMPLES] * k / segs;
-    while (i < BUMP_SAMPLES && cum[i] < want) i++;
-    double x = (i - 1 + (want - cum[i - 1]) / (cum[i] - cum[i - 1])) / BUMP_SAMPLES;
-    small = fmin(small, x - prev), prev = x;
-  }
-  return small;
-}
-
-/* The smallest segment of a curve of length L with n nodes under its law. */
-static double smallest_segment(const curve *c, int n) {
-  int segs = n - 1, law = abs(c->law);
-  double r = c->coef;
-  if (segs < 1) return c->length;
-  if (law == 1 && r > 0 && fabs(r - 1) > 1e-12) {
-    double a = c->length * (r - 1) / (pow(r, segs) - 1);
-    return fmin(a, a * pow(r, segs - 1));
-  }
-  if (law == 2 && r > 0 && fabs(r - 1) > 1e-12) return c->length * bump_smallest(r, segs);
-  return c->length / segs;
-}
 
 /* The most nodes, at most the model's, whose smallest segment is grow
  * times the model's own. */

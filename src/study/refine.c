@@ -245,7 +245,7 @@ static int should_stop(dtm_refine_result *rr, const loop_state *st) {
   size_t nl;
   if (met(rr, rr->best)) return rr->stop = DTM_REFINE_MET;
   if (dtm_analysis_layers(st->cur, &nl) && nl) return rr->stop = DTM_REFINE_THICKNESS;
-  if (rr->nrounds == 1 && st->st && dtm_gmsh_layers_cap(st->st)) return rr->stop = DTM_REFINE_LAYERS;
+  if (rr->nrounds == 1 && dtm_gmsh_counts_cap(st->st, rr->options.keep_counts)) return rr->stop = DTM_REFINE_LAYERS;
   if (only_shape(rr->analysis) || only_shape(st->cur)) return rr->stop = DTM_REFINE_ONLY_SHAPE;
   if (rr->nrounds - 1 >= rr->options.max_rounds) return rr->stop = DTM_REFINE_BUDGET;
   return 0;
@@ -449,7 +449,8 @@ const char *dtm_refine_stop_text(int stop) {
   case DTM_REFINE_GMSH_REFUSED: return "Gmsh refused a remesh";
   case DTM_REFINE_GMSH_CRASH: return "Gmsh crashed in a remesh";
   case DTM_REFINE_LAYERS:
-    return "elements below the target lie in extrusions whose layer count the model fixes: no remesh changes them";
+    return "elements below the target lie where the model fixes the node counts (extrusion layers, or transfinite "
+           "curves refine keeps): no remesh changes them";
   case DTM_REFINE_STALLED:
     return "a remesh aimed higher left the step where it was: the same elements limit it whatever the size field";
   default: return "not run";
