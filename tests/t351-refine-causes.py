@@ -9,7 +9,7 @@ its recommended step with at most 3 rounds:
   the target is not met; the first cause is "fixed-node-count" naming curves
   1-4, with a "Transfinite Curve{t} = n;" line each, n below 21 (the
   suggestion is coarser); the terminal prints the lines. Without it refine
-  sets those counts itself (t352).
+  sets those counts itself (t325).
 - extruded.geo (a slab extruded in 4 layers, 0.05 m each, at a target whose
   size exceeds them): refine stops before its first remesh (no remesh
   changes the layers), and "fixed-node-count" names the four curves along

@@ -56,7 +56,8 @@
 #define GRADE 0.3       /* size slope of the field (m per m): a fresh mesh follows it */
 #define MAX_GROWTH 1.5  /* of the calibration from one round to the next */
 #define MIN_MARGIN 1.03 /* aim at least this far past the target once a round fell short */
-#define STALL 1.002     /* a remesh that raised the step by less than this left it where it was */
+#define STALL 2e-3      /* a remesh whose step is within this of the last one's left it where it was */
+#define STALL_AIM 1.05  /* ... when it aimed at least this much higher */
 
 /* Size exponent of the effect whose step is the recommendation's basis. */
 static double basis_exponent(const dtm_analysis *a) {
@@ -260,7 +261,9 @@ static int previous_mesh(const dtm_refine_result *rr, int i) {
 /* After round i: keep it if better; stop when it made the run more
  * expensive than the input without meeting the target, when it did not
  * beat the kept mesh while shape-limited elements cap the step, or when it
- * left the step where the round before had it although it aimed higher. */
+ * left the step where the round before had it (to STALL, the scatter of a
+ * fresh mesh's worst element being some per cent) although it aimed
+ * clearly higher: the same elements limit it whatever the field. */
 static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next) {
   int i = rr->nrounds - 1;
   const dtm_refine_round *input = &rr->rounds[0], *r = &rr->rounds[i], *p = &rr->rounds[previous_mesh(rr, i)];
@@ -274,7 +277,7 @@ static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next
   }
   if (met(rr, i)) return 0;
   if (dtm_refine_cost(r) > dtm_refine_cost(input)) return rr->stop = DTM_REFINE_COST_ROSE;
-  if (i > 1 && r->recommended < STALL * p->recommended && r->calibration > p->calibration)
+  if (i > 1 && fabs(r->recommended / p->recommended - 1) < STALL && r->calibration > STALL_AIM * p->calibration)
     return rr->stop = DTM_REFINE_STALLED;
   return 0;
 }

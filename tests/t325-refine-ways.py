@@ -62,7 +62,7 @@ def refine(name, target, *extra):
 
 def curve_nodes(msh):
     import gmsh
-    gmsh.initialize(["t352", "-v", "0"])
+    gmsh.initialize(["t325", "-v", "0"])
     try:
         gmsh.open(msh)
         out = {}
