@@ -122,29 +122,70 @@ static size_t curve_nodes(int tag) {
   return ierr ? 0 : n;
 }
 
+/* The spacing law of curve tag's mesh, from its segments in the order of
+ * the curve's parameter: uniform (law 1, coef 1), a progression (law 1,
+ * coef the ratio of a segment to the one before), or a bump (law 2, coef
+ * the end segment over the middle one, Gmsh's meaning). */
+#define PROBE_MAX_NODES 4096
+static void fit_law(int tag, double *law, double *coef) {
+  size_t *tags = NULL, n = 0, nc = 0, np = 0;
+  double *xyz = NULL, *par = NULL, seg[PROBE_MAX_NODES];
+  int ierr = 0, order[PROBE_MAX_NODES];
+  *law = 1, *coef = 1;
+  gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, 1, tag, 1, 1, &ierr);
+  int ok = !ierr && n >= 4 && n <= PROBE_MAX_NODES && np == n;
+  for (int i = 0; ok && i < (int)n; i++) { /* insertion sort by parameter */
+    int j = i;
+    while (j > 0 && par[order[j - 1]] > par[i]) order[j] = order[j - 1], j--;
+    order[j] = i;
+  }
+  for (size_t k = 0; ok && k + 1 < n; k++) {
+    const double *a = xyz + 3 * order[k], *b = xyz + 3 * order[k + 1];
+    seg[k] = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+  }
+  int m = (int)n - 1;
+  if (ok) {
+    double r = pow(seg[m - 1] / seg[0], 1.0 / (m - 1)), worst = 0, mid = seg[m / 2], sym = 0;
+    for (int k = 0; k < m; k++) worst = fmax(worst, fabs(seg[k] / (seg[0] * pow(r, k)) - 1));
+    for (int k = 0; k < m; k++) sym = fmax(sym, fabs(seg[k] / seg[m - 1 - k] - 1));
+    if (worst < 1e-3)
+      *coef = fabs(r - 1) < 1e-6 ? 1 : r;
+    else if (sym < 1e-3)
+      *law = 2, *coef = seg[0] / mid;
+  }
+  gmshFree(tags), gmshFree(xyz), gmshFree(par);
+}
+
 /* In the child: the curves' node counts at the two sizes, each the only
  * size source (a constant background field in place of the model's own,
  * whose sizes would otherwise hold a curve's count as a fixed one does);
- * out[i] = the count when curve i kept it (and is long enough to judge),
- * else 0. */
+ * out[4 i] = the count when curve i kept it (and is long enough to judge),
+ * else 0; then, for a kept count, whether setting it by the API moves it
+ * (out[4 i + 1]: a transfinite curve, 0 for an extrusion's), and the law
+ * and coefficient of its spacing (out[4 i + 2], out[4 i + 3]): Gmsh does
+ * not write every transfinite curve into .geo_unrolled. */
 static int probe_curves(void *arg, double *out, size_t nout) {
   const dtm_structure *s = arg;
   static const char *const off[] = {"Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin"};
-  int ierr = 0, field = gmshModelMeshFieldAdd("MathEval", -1, &ierr);
+  int ierr = 0, field = gmshModelMeshFieldAdd("MathEval", -1, &ierr), n = (int)(nout / 4);
   for (int k = 0; k < 3; k++) gmshOptionSetNumber(off[k], 0, &ierr);
   gmshOptionSetNumber("Mesh.MeshSizeFactor", 1, &ierr);
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
-  for (int pass = 0; pass < 2; pass++) {
+  for (int pass = 0; pass < 3; pass++) {
     char h[64];
-    snprintf(h, sizeof h, "%.17g", s->h[pass]);
+    snprintf(h, sizeof h, "%.17g", s->h[pass > 0]);
     gmshModelMeshFieldSetString(field, "F", h, &ierr);
     gmshModelMeshClear(NULL, 0, &ierr);
-    gmshOptionSetNumber("Mesh.MeshSizeMax", s->h[pass], &ierr);
+    gmshOptionSetNumber("Mesh.MeshSizeMax", s->h[pass > 0], &ierr);
     gmshModelMeshGenerate(1, &ierr);
     DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "meshing the curves for the probe");
-    for (size_t i = 0; i < nout; i++) {
-      double count = (double)curve_nodes(s->c[i].tag);
-      out[i] = pass ? (out[i] == count && s->c[i].length / s->h[1] >= MIN_JUDGED ? count : 0) : count;
+    for (int i = 0; i < n; i++) {
+      double count = (double)curve_nodes(s->c[i].tag), *o = out + 4 * i;
+      if (pass == 0) o[0] = count;
+      if (pass == 1) o[0] = o[0] == count && s->c[i].length / s->h[1] >= MIN_JUDGED ? count : 0;
+      if (pass == 1 && o[0] > 0) fit_law(s->c[i].tag, &o[2], &o[3]);
+      if (pass == 1 && o[0] > 0) gmshModelMeshSetTransfiniteCurve(s->c[i].tag, (int)o[0] + 2, "Progression", 1, &ierr);
+      if (pass == 2) o[1] = o[0] > 0 && count == o[0] + 2;
     }
   }
   return DTM_OK;
@@ -442,17 +483,26 @@ static void layer_needs(dtm_structure *s, const dtm_geo *g, const double *size, 
 
 /* ---- the structure ------------------------------------------------------ */
 
+/* A curve from the probe's numbers o[4]: fixed, and transfinite (its count
+ * set by the API moved it) with the law its mesh shows, until
+ * .geo_unrolled gives the model's own. */
+static void settable(curve *c, const double *o) {
+  c->fixed = (int)o[0];
+  if (!(o[1] > 0)) return;
+  c->tf = 1, c->nodes = c->set = c->fixed, c->law = (int)o[2], c->coef = o[3];
+}
+
 int dtm_gmsh_structure(const dtm_geo *g, const double *size, const double *cur, dtm_structure **out) {
   *out = NULL;
   if (!g) return DTM_OK;
   dtm_structure *s = calloc(1, sizeof *s);
   double *fixed = NULL;
   int r = s ? curves_make(g, s) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (r == DTM_OK && !(fixed = calloc((size_t)s->n + 1, sizeof *fixed))) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (r == DTM_OK && s->n &&
-      dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, s, fixed, (size_t)s->n))
-    dtm_error_clear(), memset(fixed, 0, ((size_t)s->n + 1) * sizeof *fixed); /* no probe: no curve is fixed */
-  for (int i = 0; r == DTM_OK && i < s->n; i++) s->c[i].fixed = (int)fixed[i];
+  size_t nout = 4 * (size_t)s->n;
+  if (r == DTM_OK && !(fixed = calloc(nout + 1, sizeof *fixed))) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK && s->n && dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, s, fixed, nout))
+    dtm_error_clear(), memset(fixed, 0, (nout + 1) * sizeof *fixed); /* no probe: no curve is fixed */
+  for (int i = 0; r == DTM_OK && i < s->n; i++) settable(&s->c[i], fixed + 4 * i);
   free(fixed);
   if (r == DTM_OK && s->n) r = read_transfinite(s);
   if (r == DTM_OK) r = stats_make(s, g);
