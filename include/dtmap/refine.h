@@ -47,6 +47,7 @@ typedef struct dtm_refine_round_s {
   size_t below;         /* elements below the target */
   size_t shape_limited; /* the shape-limited ones among them */
   double seconds;       /* wall time of the round (mesh + analysis) */
+  double mesh_seconds;  /* of which Gmsh's remesh (in its child, optimisers included) */
   double phase_error;   /* worst phase-speed error at the recommended step and the frequency
                            of round 0 (dtm_measures; NaN: unresolved or no elastic effect) */
   size_t unresolved;    /* elements with fewer than 2 lattice cells per wavelength */

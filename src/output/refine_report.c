@@ -50,6 +50,7 @@ static cJSON *round_json(const dtm_refine_result *rr, int i) {
   cJSON_AddNumberToObject(o, "shape_limited", (double)r->shape_limited);
   cJSON_AddNumberToObject(o, "seconds", r->seconds);
   if (r->kind != DTM_ROUND_MESH) return o;
+  cJSON_AddNumberToObject(o, "mesh_seconds", r->mesh_seconds);
   cJSON_AddNumberToObject(o, "calibration", r->calibration);
   cJSON_AddNumberToObject(o, "counts", r->counts);
   cJSON_AddItemToObject(o, "optimisers", optimisers_json(r->optimise));

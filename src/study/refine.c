@@ -197,7 +197,9 @@ static int remesh(dtm_refine_result *rr, const loop_state *st, int dim, double c
   dtm_progress_begin(stage);
   int r = size && floor ? round_field(st->input, c, size, floor) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = round_counts(rr, st, c, floor, &info->counts);
+  double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise);
+  info->mesh_seconds = dtm_wtime() - t0;
   info->optimise = dtm_gmsh_optimisers(dim, rr->options.optimise);
   *gmsh_failed = r != DTM_OK && size && floor;
   if (r == DTM_OK) r = analyse_current(rr, dim, next);
@@ -336,6 +338,7 @@ static int rounds(dtm_refine_result *rr, loop_state *st, int dim) {
     int rc = record(next, DTM_ROUND_MESH, dtm_wtime() - t0, rr, i);
     if (rc) return dtm_analysis_destroy(&next), rc;
     rr->rounds[i].calibration = c, rr->rounds[i].counts = info.counts, rr->rounds[i].optimise = info.optimise;
+    rr->rounds[i].mesh_seconds = info.mesh_seconds;
     learn_miss(rr, st);
     if (judge_round(rr, st, next)) break;
   }
