@@ -55,7 +55,8 @@
 
 #define GRADE 0.3       /* size slope of the field (m per m): a fresh mesh follows it */
 #define MAX_GROWTH 1.5  /* of the calibration from one round to the next */
-#define MIN_MARGIN 1.03 /* aim at least this far past the target once a round fell short */
+#define MIN_MARGIN 1.05 /* aim at least this far past the target once a round fell short: the worst node of a
+                           fresh mesh scatters by about 5 % from one mesh to the next */
 #define STALL 2e-3      /* a remesh whose step is within this of the last one's left it where it was */
 #define STALL_AIM 1.05  /* ... when it aimed at least this much higher */
 
@@ -302,14 +303,18 @@ static void gmsh_failed(dtm_refine_result *rr, loop_state *st) {
  * fresh mesh (on the global basis the advice target already holds the
  * nodal steps to it); later ones from the kept round's (the best so far),
  * corrected by its shortfall and by the largest miss seen so far, and at
- * least MIN_MARGIN past the target. */
+ * least MIN_MARGIN past the target; and MIN_MARGIN above every calibration
+ * tried so far (the same field gives the same mesh: a round must try a new
+ * one). */
 static double next_calibration(const dtm_refine_result *rr, const loop_state *st) {
   if (rr->nrounds == 1) return first_calibration(st->input);
   const dtm_refine_round *b = &rr->rounds[rr->best], *l = &rr->rounds[rr->nrounds - 1];
   const dtm_refine_round *base = isfinite(b->calibration) ? b : l;
-  double p = basis_exponent(st->cur), short_by = rr->target / base->recommended;
+  double p = basis_exponent(st->cur), short_by = rr->target / base->recommended, tried = 0;
   double grow = pow(fmax(short_by, 1.0) * fmax(st->miss, MIN_MARGIN), 1.0 / p);
-  return base->calibration * fmin(MAX_GROWTH, grow);
+  for (int i = 1; i < rr->nrounds; i++)
+    if (isfinite(rr->rounds[i].calibration)) tried = fmax(tried, rr->rounds[i].calibration);
+  return fmax(base->calibration * fmin(MAX_GROWTH, grow), tried * pow(MIN_MARGIN, 1.0 / p));
 }
 
 /* After a round of calibration c that raised the step from the previous
