@@ -11,7 +11,8 @@
 - The global basis: a target between the nodal-bound and the global basis
   of the bundled plate's input mesh is met by the input itself with
   --posterior (exit 0, no remesh, "met by the input"), while without it
-  refine remeshes.
+  refine remeshes. --posterior on a scene whose effects have no global
+  estimate (cohesive alone) is bad input, exit 2, nothing written.
 - Point masses: the extruded slab (extruded.geo, 4 layers) at 1.15x the
   step cannot be met by any mesh (the layers cap it); its nodes need about
   1.15^2 - 1 of their mass, so with --max-added-mass 40 it is met by
@@ -137,10 +138,13 @@ class GlobalBasis(unittest.TestCase):
         scene("cohesive_only", "transfinite.geo", 2)
         text = open(tu.path("cohesive_only.xml")).read().replace(
             '<effects><elastic formulation="plane-stress"/></effects>',
-            '<effects><thermal/></effects>').replace('rho="7850"', 'rho="7850" conductivity="50" heat-capacity="500"')
+            '<effects><cohesive groups="block"/></effects>').replace(
+                'rho="7850"', 'rho="7850" fracture-energy="100" strength="3e6"')
         tu.write("cohesive_only.xml", text)
         code, log = tu.run("refine", "cohesive_only.xml", "--target", "1", "--posterior", "-q")
-        self.assertNotEqual(code, 2, log)  # thermal has a global estimate: accepted
+        self.assertEqual(code, 2, log)  # the cohesive step has no global estimate
+        self.assertIn("needs an effect that has one", log)
+        self.assertFalse(os.path.exists(tu.path("cohesive_only_refined.msh")))
 
 
 class Mass(unittest.TestCase):
