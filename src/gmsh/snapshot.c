@@ -32,10 +32,11 @@ static int view_is(int index, const char *name) {
   return same;
 }
 
-/* Show only the view named only (opaque) and the annotation. */
+/* Show only the view named only (opaque; dt with its skin) and the
+ * annotation. */
 static void show_only(int nviews, const char *only) {
   for (int i = 0; i < nviews; i++) {
-    int keep = view_is(i, only), text = view_is(i, ANNOTATION);
+    int keep = view_is(i, only) || (!strcmp(only, "dt") && view_is(i, DTM_VIEW_DT_SKIN)), text = view_is(i, ANNOTATION);
     view_option(i, "Visible", keep || text);
     if (keep) view_option(i, "ColormapAlpha", 1.0);
   }
