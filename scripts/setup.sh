@@ -9,7 +9,9 @@ set -euo pipefail
 # PETSc and SLEPc; a build without DTM_MPI does not need them.
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
-          xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
+          xvfb xfonts-base xfonts-75dpi  # Gmsh draws dtmap's PNG snapshots on a virtual display, its
+                                         # text in X's core Helvetica (xfonts-75dpi; without it a small
+                                         # fixed font without spaces)
           python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)
 missing=()

@@ -2,8 +2,9 @@
  * (and merges its .opt, so the pictures show what a user sees on opening
  * it), a window is created whose drawing area has the requested size,
  * and each shot sets which views are visible, draws and writes a PNG through
- * a temporary renamed into place. 3D models are turned to an oblique view so
- * that the faint model and the worst elements inside it both read. */
+ * a temporary renamed into place. The camera (frame.c) frames the whole
+ * model between the text and the colour scales, and turns a model that
+ * spans 3D to an oblique view facing its worst elements. */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,15 +56,6 @@ static int write_png(const char *png) {
   return dtm_atomic_commit(&w);
 }
 
-static void oblique_camera(void) {
-  int ierr = 0;
-  if (gmshModelGetDimension(&ierr) < 3) return;
-  gmshOptionSetNumber("General.Trackball", 0, &ierr);
-  gmshOptionSetNumber("General.RotationX", -60, &ierr);
-  gmshOptionSetNumber("General.RotationY", 0, &ierr);
-  gmshOptionSetNumber("General.RotationZ", -25, &ierr);
-}
-
 static int open_window(const char *msh, int width, int height) {
   int ierr = 0;
   char what[4200];
@@ -80,7 +72,7 @@ static int open_window(const char *msh, int width, int height) {
   DTM_CHECK(dtm_gmsh_check_msh(msh));
   gmshOpen(msh, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
-  oblique_camera();
+  dtm_gmsh_snapshot_camera(width, height);
   gmshFltkInitialize(&ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, "Gmsh cannot open a window (is DISPLAY a working X display?)");
   return DTM_OK;
