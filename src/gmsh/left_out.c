@@ -18,15 +18,24 @@
 #include "dtmap/gmsh.h"
 #include "gmsh-impl.h"
 
-/* used[tag] = 1 for the tags of the nodes the elements use; their count. */
+/* used[i] = 1 for the nodes (indices) the elements use; their count. */
 static size_t mark_used(const dtm_mesh *m, unsigned char *used) {
   size_t n = 0;
   for (int b = 0; b < m->nblocks; b++)
     for (size_t k = 0; k < m->blocks[b].n * (size_t)m->blocks[b].nn; k++) {
-      size_t t = m->node_tags[m->blocks[b].conn[k]];
-      n += !used[t], used[t] = 1;
+      size_t i = m->blocks[b].conn[k];
+      n += !used[i], used[i] = 1;
     }
   return n;
+}
+
+/* The same by node tag, by_tag[maxtag + 1] (calloc'ed; NULL: out of memory). */
+static unsigned char *used_by_tag(const dtm_mesh *m, const unsigned char *used, size_t *maxtag) {
+  *maxtag = 0;
+  for (size_t i = 0; i < m->nnodes; i++) *maxtag = m->node_tags[i] > *maxtag ? m->node_tags[i] : *maxtag;
+  unsigned char *by_tag = calloc(*maxtag + 1, 1);
+  for (size_t i = 0; by_tag && i < m->nnodes; i++) by_tag[m->node_tags[i]] = used[i];
+  return by_tag;
 }
 
 /* Whether entity (dim, tag) (its boundary included) has a node no analysed
@@ -153,13 +162,14 @@ static int model_has_groups(void) {
 
 int dtm_gmsh_left_out(dtm_mesh *m) {
   size_t maxtag = 0;
-  for (size_t i = 0; i < m->nnodes; i++) maxtag = m->node_tags[i] > maxtag ? m->node_tags[i] : maxtag;
-  unsigned char *used = calloc(maxtag + 1, 1);
+  unsigned char *used = calloc(m->nnodes + 1, 1), *by_tag = NULL;
   if (!used) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   m->nodes_used = mark_used(m, used);
-  int r = DTM_OK, grouped = model_has_groups();
-  for (int d = 1; d < m->dim && r == DTM_OK && m->nodes_used < m->nnodes; d++)
-    r = dim_left(m, d, grouped, used, maxtag);
+  if (m->nodes_used < m->nnodes && m->dim > 1) by_tag = used_by_tag(m, used, &maxtag); /* a node left over */
   free(used);
+  if (m->nodes_used < m->nnodes && m->dim > 1 && !by_tag) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = DTM_OK, grouped = by_tag && model_has_groups();
+  for (int d = 1; d < m->dim && r == DTM_OK && by_tag; d++) r = dim_left(m, d, grouped, by_tag, maxtag);
+  free(by_tag);
   return r;
 }
