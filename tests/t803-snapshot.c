@@ -50,18 +50,25 @@ static void check_png(const char *path, unsigned w, unsigned h) {
   assert_true(colours > 8);
 }
 
-static void test_snapshot_without_display(void **state) {
-  (void)state;
-  const char *d = tu_tmpdir();
-  char *out = NULL;
-  int r = tu_run(&out,
-                 "cd %s && cp %s/geometries/brazilian_disc.geo %s/geometries/brazilian_disc.xml . && "
-                 "%s run brazilian_disc.xml -q -o disc.msh && env -u DISPLAY %s snapshot disc.msh --png pic "
-                 "--width 400 --height 300 -q",
-                 d, tu_src(), tu_src(), tu_cli(), tu_cli());
+/* In d: the bundled scene name copied there (NULL: d/prefix.xml is there
+ * already), `dtmap run` on it into prefix.msh, then `dtmap snapshot
+ * prefix.msh --png prefix args` with DISPLAY removed; both exit 0. */
+static void run_and_snap(const char *d, const char *name, const char *prefix, const char *args) {
+  char *out = NULL, copy[1400] = "";
+  if (name)
+    snprintf(copy, sizeof copy, "cp %s/geometries/%s.geo . && cp %s/geometries/%s.xml %s.xml && ", tu_src(), name,
+             tu_src(), name, prefix);
+  int r = tu_run(&out, "cd %s && %s%s run %s.xml -q -o %s.msh && env -u DISPLAY %s snapshot %s.msh --png %s %s -q", d,
+                 copy, tu_cli(), prefix, prefix, tu_cli(), prefix, prefix, args);
   if (r) fprintf(stderr, "%s\n", out ? out : "");
   free(out);
   assert_int_equal(r, 0);
+}
+
+static void test_snapshot_without_display(void **state) {
+  (void)state;
+  const char *d = tu_tmpdir();
+  run_and_snap(d, "brazilian_disc", "pic", "--width 400 --height 300");
   char path[600];
   snprintf(path, sizeof path, "%s/pic_dt.png", d);
   check_png(path, 400, 300);
@@ -142,14 +149,8 @@ static void check_framed(const picture *p) {
 static void test_block_framed(void **state) {
   (void)state;
   const char *d = tu_tmpdir();
-  char *out = NULL, path[600];
-  int r = tu_run(&out,
-                 "cd %s && cp %s/geometries/reinforced_block.geo %s/geometries/reinforced_block.xml . && "
-                 "%s run reinforced_block.xml -q -o rb.msh && env -u DISPLAY %s snapshot rb.msh --png rb -q",
-                 d, tu_src(), tu_src(), tu_cli(), tu_cli());
-  if (r) fprintf(stderr, "%s\n", out ? out : "");
-  free(out);
-  assert_int_equal(r, 0);
+  char path[600];
+  run_and_snap(d, "reinforced_block", "rb", "");
   picture p;
   for (int k = 0; k < 2; k++) {
     snprintf(path, sizeof path, "%s/rb_%s.png", d, k ? "worst" : "dt");
@@ -178,13 +179,13 @@ static const char shell_box[] =
 static void test_shells_seen_obliquely(void **state) {
   (void)state;
   const char *d = tu_tmpdir();
-  char path[600], *out = NULL;
+  char path[600];
   snprintf(path, sizeof path, "%s/shellbox.geo", d);
   FILE *f = fopen(path, "w");
   assert_non_null(f);
   fputs(shell_box, f);
   fclose(f);
-  snprintf(path, sizeof path, "%s/shellbox.xml", d);
+  snprintf(path, sizeof path, "%s/sb.xml", d);
   f = fopen(path, "w");
   assert_non_null(f);
   fputs("<dtmap-scene version=\"1\">\n  <geometry file=\"shellbox.geo\"/>\n  <meshing size=\"0.25\" dim=\"2\"/>\n"
@@ -193,11 +194,7 @@ static void test_shells_seen_obliquely(void **state) {
         "</dtmap-scene>\n",
         f);
   fclose(f);
-  int r = tu_run(&out, "cd %s && %s run shellbox.xml -q -o sb.msh && env -u DISPLAY %s snapshot sb.msh --png sb -q", d,
-                 tu_cli(), tu_cli());
-  if (r) fprintf(stderr, "%s\n", out ? out : "");
-  free(out);
-  assert_int_equal(r, 0);
+  run_and_snap(d, NULL, "sb", "");
   picture p;
   snprintf(path, sizeof path, "%s/sb_dt.png", d);
   load(path, &p);

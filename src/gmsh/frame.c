@@ -56,15 +56,8 @@ static void rotation(double rx, double rz, double m[3][3]) {
 /* Index of the view called name, -1 when none. */
 static int view_index(const char *name) {
   int n = (int)option("PostProcessing.NbViews");
-  for (int i = 0; i < n; i++) {
-    char key[64], *v = NULL;
-    int ierr = 0;
-    snprintf(key, sizeof key, "View[%d].Name", i);
-    gmshOptionGetString(key, &v, &ierr);
-    int same = !ierr && v && !strcmp(v, name);
-    gmshFree(v);
-    if (same) return i;
-  }
+  for (int i = 0; i < n; i++)
+    if (dtm_gmsh_view_is(i, name)) return i;
   return -1;
 }
 

@@ -23,7 +23,7 @@ static void view_option(int index, const char *opt, double v) {
   gmshOptionSetNumber(name, v, &ierr);
 }
 
-static int view_is(int index, const char *name) {
+int dtm_gmsh_view_is(int index, const char *name) {
   char key[64], *value = NULL;
   int ierr = 0;
   snprintf(key, sizeof key, "View[%d].Name", index);
@@ -37,7 +37,8 @@ static int view_is(int index, const char *name) {
  * annotation. */
 static void show_only(int nviews, const char *only) {
   for (int i = 0; i < nviews; i++) {
-    int keep = view_is(i, only) || (!strcmp(only, "dt") && view_is(i, DTM_VIEW_DT_SKIN)), text = view_is(i, ANNOTATION);
+    int keep = dtm_gmsh_view_is(i, only) || (!strcmp(only, "dt") && dtm_gmsh_view_is(i, DTM_VIEW_DT_SKIN)),
+        text = dtm_gmsh_view_is(i, ANNOTATION);
     view_option(i, "Visible", keep || text);
     if (keep) view_option(i, "ColormapAlpha", 1.0);
   }
