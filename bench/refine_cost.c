@@ -52,8 +52,8 @@ static int row(const char *name, const dtm_scene *s, double target, const char *
   int n = 0;
   for (int i = 1; i < rr->nrounds; i++)
     if (rr->rounds[i].kind == DTM_ROUND_MESH) round += rr->rounds[i].seconds, gmsh += rr->rounds[i].mesh_seconds, n++;
-  printf("| %s | %s = %.3e | %zu | %.4g | %zu | %.4g | %.3f | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f |\n", name, label,
-         target, in->elements, in->element_steps, out->elements, out->element_steps,
+  printf("| %s | %s = %.3e | %zu | %.4g | %zu | %.4g | %.3f | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f |\n", name,
+         label, target, in->elements, in->element_steps, out->elements, out->element_steps,
          out->element_steps / in->element_steps, rr->nrounds - 1, out->recommended >= target ? "yes" : "no", t,
          in->seconds, n ? round / n : NAN, n ? gmsh / n : NAN, n ? round / n / (gmsh / n + in->seconds) : NAN);
   fflush(stdout);
