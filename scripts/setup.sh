@@ -11,6 +11,7 @@ packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh l
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
           xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
           python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
+          calculix-ccx  # ccx 2.20 runs the decks of dtmap deck (tests/t371)
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)
 missing=()
 for p in "${packages[@]}"; do

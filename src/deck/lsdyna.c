@@ -18,6 +18,7 @@
  * it, so no TSSFAC could make its estimate dtmap's step. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "deck-impl.h"
@@ -32,11 +33,11 @@ static const deck_elem_row rows[] = {
 
 #define ID_MAX 99999999 /* the largest ID in 8 columns */
 
-/* v in w columns, right-aligned after at least one blank, with the most
- * digits that fit. */
+/* v in w columns, right-aligned, with the most digits that fit (LS-DYNA
+ * reads a field by its columns: it may touch the one before). */
 static void real(FILE *f, int w, double v) {
   char b[40];
-  fprintf(f, "%*s", w, deck_number(v, w - 1, b));
+  fprintf(f, "%*s", w, deck_number(v, w, b));
 }
 
 static int element(deck_ctx *c, deck_part *p) {
@@ -268,8 +269,21 @@ static void slot(deck_ctx *c, const char *what, const char *text) {
   fprintf(c->f, "$ ---- slot: %s\n$*INCLUDE\n$%s\n", text, deck_slot_name(c, what, name, sizeof name));
 }
 
+/* TSSFAC: dtmap's step over LS-DYNA's estimate, rounded down to what its
+ * 10 columns hold, so that LS-DYNA's step, TSSFAC x its estimate, is the
+ * deck's step and never above dtmap's. */
+static void tssfac(dtm_deck_info *in) {
+  double t = in->step / in->own, v = t;
+  char b[40];
+  for (int d = 8; d > 0; d--) {
+    v = floor(t * pow(10, d)) / pow(10, d);
+    if (snprintf(b, sizeof b, "%.*f", d, v) <= 10) break;
+  }
+  in->tssfac = strtod(b, NULL), in->step = in->tssfac * in->own;
+}
+
 static int write(deck_ctx *c) {
-  c->info->tssfac = c->info->step / c->info->own;
+  tssfac(c->info);
   fputs("*KEYWORD\n", c->f);
   deck_header(c, "$");
   control(c);

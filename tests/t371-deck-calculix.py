@@ -1,0 +1,77 @@
+"""Debian's CalculiX 2.20 (ccx) runs the deck `dtmap deck --solver calculix`
+writes for every bundled example (geometries/*.xml) to its end: the deck's
+two include slots are opened, with a seeded random force at every node from
+the start (tests/common/deckutil.py) and a duration of 20 of CalculiX's own
+increments, so that the run does real work. For each deck:
+- ccx exits 0 and says "Job finished", and the displacements it prints at
+  the end are finite and not all zero;
+- the estimate ccx prints (its "Volumetric COURANT initial stable time
+  increment") is the deck's own_estimate, computed by dtmap from CalculiX's
+  rule (src/deck/rules.c), within 2e-6 relative (ccx prints 7 digits);
+- ccx selects its own estimate (the packaged 2.20 takes the smaller of its
+  estimate and the deck's maximum increment, the step), which is below the
+  deck's step.
+And the deck of the box with --target (mass elements at 1391 nodes) runs to
+its end too, its mass elements adding up to the report's added mass (and to
+mass_scaling.total_added: the same nodal form) within 1e-12."""
+
+import glob
+import os
+import shutil
+import unittest
+
+import deckutil as du
+import testutil as tu
+
+CCX = shutil.which("ccx") or "ccx"
+
+
+def deck(scene, name, *extra):
+    out, rep = tu.path(name + ".inp"), tu.path(name + ".json")
+    code, text = tu.run("deck", scene, "--solver", "calculix", "-o", out, "--report", rep, "-q", *extra)
+    if code:
+        raise AssertionError("dtmap deck %s: exit %d\n%s" % (scene, code, text))
+    return out, tu.report(rep)
+
+
+def masses(path):
+    """The *MASS values of a deck."""
+    lines, total = open(path).read().split("\n"), 0.0
+    for i, line in enumerate(lines):
+        if line.startswith("*MASS,"):
+            total += float(lines[i + 1])
+    return total
+
+
+class Examples(unittest.TestCase):
+    def run_deck(self, path, rep):
+        own = rep["deck"]["own_estimate"]
+        run, step = du.prepare(path, 20 * own)
+        code, log, u, est, sel = du.run(CCX, run)
+        name = os.path.basename(path)
+        self.assertEqual(code, 0, "%s: ccx exit %d\n%s" % (name, code, log[-2000:]))
+        self.assertIn("Job finished", log, name)
+        self.assertTrue(0 < u < float("inf"), "%s: largest |u| %g" % (name, u))
+        self.assertLess(abs(est / own - 1), 2e-6, "%s: ccx's estimate %g, the deck's %g" % (name, est, own))
+        self.assertLessEqual(sel, step * (1 + 1e-6), name)
+
+    def test_every_example(self):
+        scenes = sorted(glob.glob(os.path.join(tu.SRC, "geometries", "*.xml")))
+        self.assertGreaterEqual(len(scenes), 7)
+        for scene in scenes:
+            with self.subTest(scene=os.path.basename(scene)):
+                path, rep = deck(scene, os.path.basename(scene)[:-4])
+                self.run_deck(path, rep)
+
+    def test_added_mass(self):
+        path, rep = deck(os.path.join(tu.SRC, "geometries", "box.xml"), "box_mass", "--target", "6e-7")
+        d = rep["deck"]
+        self.assertEqual(d["step"], 6e-7)
+        self.assertGreater(d["added_nodes"], 0)
+        self.assertLess(abs(masses(path) - d["added_mass"]), 1e-12 * d["added_mass"])
+        self.assertLess(abs(d["added_mass"] - rep["mass_scaling"]["total_added"]), 1e-12 * d["added_mass"])
+        self.run_deck(path, rep)
+
+
+if __name__ == "__main__":
+    tu.main()
