@@ -36,7 +36,8 @@ def deck(scene, name, *extra):
 
 def masses(path):
     """The *MASS values of a deck."""
-    lines, total = open(path).read().split("\n"), 0.0
+    with open(path) as f:
+        lines, total = f.read().split("\n"), 0.0
     for i, line in enumerate(lines):
         if line.startswith("*MASS,"):
             total += float(lines[i + 1])

@@ -34,7 +34,8 @@ def prepare(deck, duration, seed=27, increment=None):
     """Write RUN.inp beside deck (RUN: deck's name + '_run') with the slots
     opened and filled; returns (run name without .inp, the deck's step)."""
     base = os.path.splitext(deck)[0]
-    lines = open(deck).read().split("\n")
+    with open(deck) as f:
+        lines = f.read().split("\n")
     nodes = inp_nodes(lines)
     dofs = (1, 2) if all(abs(p[2]) == 0 for p in nodes.values()) else (1, 2, 3)
     i = lines.index(DYNAMIC)
@@ -87,16 +88,18 @@ def max_displacement(dat):
     finite, or nothing was printed)."""
     u, seen = 0.0, False
     try:
-        for line in open(dat):
-            w = line.split()
-            if len(w) == 4 and w[0].isdigit():
-                try:
-                    vals = [abs(float(x)) for x in w[1:]]
-                except ValueError:
-                    return float("inf")
-                if any(x != x or x == float("inf") for x in vals):
-                    return float("inf")
-                u, seen = max(u, max(vals)), True
+        with open(dat) as f:
+            lines = f.read().split("\n")
     except OSError:
         return float("inf")
+    for line in lines:
+        w = line.split()
+        if len(w) == 4 and w[0].isdigit():
+            try:
+                vals = [abs(float(x)) for x in w[1:]]
+            except ValueError:
+                return float("inf")
+            if any(x != x or x == float("inf") for x in vals):
+                return float("inf")
+            u, seen = max(u, max(vals)), True
     return u if seen else float("inf")
