@@ -99,7 +99,7 @@ int dtm_cli_deck(const cli_opts *o) {
   if (r == DTM_OK) r = outputs(s, o, ext, path, sizeof path);
   if (r == DTM_OK) r = dtm_deck_adapt(s, o->solver, note, sizeof note);
   if (r == DTM_OK && o->verbosity) printf("dtmap %s: %s deck of %s\n", DTM_VERSION, o->solver, s->path);
-  if (r == DTM_OK && o->verbosity && note[0]) printf("  %s\n", note);
+  if (r == DTM_OK && o->verbosity > 1 && note[0]) printf("  %s\n", note);
   if (r == DTM_OK) r = analyse(s, o, path, dtm_wtime() - t0);
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
