@@ -6,7 +6,8 @@
  *   length L_s is 2A/L_max = sqrt(3)/2 h on the equilateral triangle and
  *   A/L_max = b on an a x b rectangle (a > b);
  * - CalculiX: V/3 over the largest face, h sqrt(2/3)/9, on the regular
- *   tetrahedron; 8 det J over the largest face, the smallest side, on a
+ *   tetrahedron and on the straight tet10 built on it (its det J at the
+ *   centroid and 6-node faces); 8 det J over the largest face, the smallest side, on a
  *   brick; the triangle extruded by t, min(t/2, A/(2 L_max)); the
  *   rectangle extruded, min(t, A/L_max); the beam box, min(L, a, b);
  * - the wave speeds at nu = 0.25: c_d^2 = 1.2 E/rho, c_p^2 = E/(0.9375 rho);
@@ -62,6 +63,12 @@ static void calculix_rules(void **unused) {
   double x[24];
   regular_tet(x);
   near(deck_ccx_length(DTM_TET4, x, 0, 0, 0), H * sqrt(2.0 / 3) / 9, "tet: V/3 / A_max");
+  static const int ends[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}}; /* Gmsh's tet10 edges */
+  double x10[30];
+  memcpy(x10, x, 12 * sizeof *x);
+  for (int e = 0; e < 6; e++)
+    for (int k = 0; k < 3; k++) x10[3 * (4 + e) + k] = (x[3 * ends[e][0] + k] + x[3 * ends[e][1] + k]) / 2;
+  near(deck_ccx_length(DTM_TET10, x10, 0, 0, 0), H * sqrt(2.0 / 3) / 9, "straight tet10: det J / 18 / A_max");
   brick(0.3, 0.7, 0.2, x);
   near(deck_ccx_length(DTM_HEX8, x, 0, 0, 0), 0.2, "brick: 8 det J / A_max");
   const double tri[9] = {0, 0, 0, H, 0, 0, H / 2, H * sqrt(3.0) / 2, 0};

@@ -11,7 +11,9 @@ increments, so that the run does real work. For each deck:
 - ccx selects its own estimate (the packaged 2.20 takes the smaller of its
   estimate and the deck's maximum increment, the step), which is below the
   deck's step.
-And the deck of the box with --target (mass elements at 1391 nodes) runs to
+A ball of curved tet10 (C3D10; CalculiX's estimate takes det J at the
+centroid and the 6-node faces) runs too, its estimate the deck's. And the
+deck of the box with --target (mass elements at 1391 nodes) runs to
 its end too, its mass elements adding up to the report's added mass (and to
 mass_scaling.total_added: the same nodal form) within 1e-12."""
 
@@ -63,6 +65,17 @@ class Examples(unittest.TestCase):
             with self.subTest(scene=os.path.basename(scene)):
                 path, rep = deck(scene, os.path.basename(scene)[:-4])
                 self.run_deck(path, rep)
+
+    def test_curved_tet10(self):
+        tu.write("ball.geo", 'SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 0.05};\nPhysical Volume("ball") = {1};\n')
+        scene = tu.write("ball.xml", '<dtmap-scene version="1">\n  <geometry file="ball.geo"/>\n'
+                         '  <meshing size="0.02" order="2" dim="3"/>\n'
+                         '  <material name="steel" groups="ball" E="210e9" nu="0.3" rho="7850"/>\n'
+                         '  <effects><elastic/></effects>\n  <time duration="1e-4"/>\n</dtmap-scene>\n')
+        path, rep = deck(scene, "ball")
+        self.assertGreater(rep["curvature"]["curved"], 0)
+        self.assertEqual(rep["curvature"]["integration"], "calculix")
+        self.run_deck(path, rep)
 
     def test_added_mass(self):
         path, rep = deck(os.path.join(tu.SRC, "geometries", "box.xml"), "box_mass", "--target", "6e-7")

@@ -42,17 +42,7 @@ static int element(deck_ctx *c, deck_part *p) {
               "%s: Abaqus does not publish the lumping of C3D10M; the step is that of dtmap's model (HRZ); keep "
               "the safety factor",
               deck_part_label(c, p, lbl, sizeof lbl));
-  if (p->type == DTM_QUAD4 && p->kind <= DTM_SECTION_PLANE_STRESS)
-    deck_warn(c,
-              "%s: Abaqus/Explicit has only the reduced-integration %s (hourglass control); its step was not "
-              "measured against dtmap's fully integrated element",
-              deck_part_label(c, p, lbl, sizeof lbl), p->elem);
-  if (p->type == DTM_QUAD4 && p->kind == DTM_SECTION_SHELL)
-    deck_warn(c,
-              "%s: S4 takes assumed transverse shear strains, dtmap's quad4 shell one point at the centre; a "
-              "textbook MITC4 gives an element step 9.0 %% (t = 0.01 m) to 2.0 %% (0.05 m) shorter and a global step "
-              "0.1 %% to 3.0 %% shorter",
-              deck_part_label(c, p, lbl, sizeof lbl));
+  deck_warn_quad4(c, p, p->elem);
   return DTM_OK;
 }
 

@@ -179,7 +179,7 @@ static double cap(const deck_ctx *c, const dtm_block *b, size_t e, const deck_pa
   dtm_mesh_gather_one(c->m, b, e, x);
   layer(c, p, &t, &sa, &sb);
   deck_elastic(c, p->mat, &E, &nu, &rho);
-  if (p->kind == DTM_SECTION_BEAM) deck_beam_orientation(c, p, v);
+  if (p->kind == DTM_SECTION_BEAM) deck_beam_axis(&c->s->sections[p->section], x, v);
   int type = p->kind == DTM_SECTION_BEAM ? brick(x, v, sa, sb, y) : extrude(x, b->type == DTM_TRI3 ? 3 : 4, t, y);
   if (dtm_elastic_moduli_init(DTM_FORM_3D, E, nu, rho, &mod) || dtm_kernel_elastic_lambda(type, &mod, y, &lambda))
     return dtm_error_clear(), INFINITY;

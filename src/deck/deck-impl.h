@@ -117,6 +117,10 @@ void deck_plan_free(deck_ctx *c);
 void deck_warn(deck_ctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* "kind type" ("shell tri3") of part p into buf, and its group's label. */
 const char *deck_part_label(const deck_ctx *c, const deck_part *p, char *buf, size_t len);
+/* Warn about a quad4 part whose solver element elem ("CPE4R", "ELFORM
+ * 16") integrates differently: one point with hourglass control (plane),
+ * assumed transverse shear strains (shell). */
+void deck_warn_quad4(deck_ctx *c, const deck_part *p, const char *elem);
 /* DTM_ERR_INPUT: the solver lacks part p's element (why: "" or a reason). */
 int deck_lacks(const deck_ctx *c, const deck_part *p, const char *why);
 /* The Gmsh node tags of element e of block b in the solver's node order
@@ -129,10 +133,14 @@ void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho
  * damping ratio xi, the scene's where the material gives none (all 0
  * without damping). */
 void deck_damping(const deck_ctx *c, int mat, double *alpha, double *beta, double *xi);
-/* The beam orientation of part p's section: the scene's vector, else
- * global z (global y for beams within about 8 degrees of z, as the kernel
- * does), into v[3]. */
-void deck_beam_orientation(const deck_ctx *c, const deck_part *p, double v[3]);
+/* The orientation of beam x[2][3] of section sec (a vector in its local
+ * x-y plane): the scene's vector, else global z (global y for a beam
+ * within about 8 degrees of z, as the kernel does), into v[3]. */
+void deck_beam_axis(const dtm_section *sec, const double *x, double v[3]);
+/* The one orientation of part p's beams (Abaqus-style sections take one):
+ * the scene's, else the kernel's rule for most of them, warning when
+ * they differ. */
+void deck_beam_orientation(deck_ctx *c, const deck_part *p, double v[3]);
 /* v with the most significant digits (at most 17) that fit in width
  * characters, into buf[40]; returns buf. */
 const char *deck_number(double v, int width, char *buf);

@@ -41,23 +41,14 @@ static void real(FILE *f, int w, double v) {
 }
 
 static int element(deck_ctx *c, deck_part *p) {
-  char lbl[160];
   if (p->type == DTM_TET10)
     return deck_lacks(c, p,
                       "its manuals do not give the length its step takes for 10-node tetrahedra, so no TSSFAC "
                       "could make its estimate dtmap's step");
   DTM_CHECK(deck_element_from(c, p, rows, sizeof rows / sizeof *rows));
-  if (p->type == DTM_QUAD4 && p->kind <= DTM_SECTION_PLANE_STRESS)
-    deck_warn(c,
-              "%s: LS-DYNA's ELFORM %d integrates at one point with hourglass control; its step was not "
-              "measured against dtmap's fully integrated element",
-              deck_part_label(c, p, lbl, sizeof lbl), p->elform);
-  if (p->type == DTM_QUAD4 && p->kind == DTM_SECTION_SHELL)
-    deck_warn(c,
-              "%s: ELFORM 16 takes assumed transverse shear strains, dtmap's quad4 shell one point at the "
-              "centre; a textbook MITC4 gives an element step 9.0 %% (t = 0.01 m) to 2.0 %% (0.05 m) shorter and a "
-              "global step 0.1 %% to 3.0 %% shorter",
-              deck_part_label(c, p, lbl, sizeof lbl));
+  char form[16];
+  snprintf(form, sizeof form, "ELFORM %d", p->elform);
+  deck_warn_quad4(c, p, form);
   return DTM_OK;
 }
 
@@ -158,17 +149,18 @@ static int nodes(deck_ctx *c) {
   return DTM_OK;
 }
 
-/* One element's card(s): the degenerate forms of LS-DYNA (a tet repeats
- * its last node to 8, a triangle its third to 4); beams add their
- * orientation vector. */
-static void element_card(deck_ctx *c, const deck_part *p, int pid, size_t tag, const size_t *n, int nn) {
+/* The card(s) of element e of block b in part p, nodes n[nn]: the
+ * degenerate forms of LS-DYNA (a tet repeats its last node to 8, a
+ * triangle its third to 4); beams add their orientation vector. */
+static void element_card(deck_ctx *c, const deck_part *p, const dtm_block *b, size_t e, const size_t *n, int nn) {
   int slots = !strcmp(p->elem, "SOLID") ? 8 : !strcmp(p->elem, "SHELL") ? 4 : 2;
-  fprintf(c->f, "%8zu%8d", tag, pid);
+  fprintf(c->f, "%8zu%8d", b->tags[e], (int)(p - c->parts) + 1);
   for (int a = 0; a < slots; a++) fprintf(c->f, "%8zu", n[a < nn ? a : nn - 1]);
   fputc('\n', c->f);
   if (p->kind != DTM_SECTION_BEAM) return;
-  double v[3];
-  deck_beam_orientation(c, p, v);
+  double v[3], x[6];
+  dtm_mesh_gather_one(c->m, b, e, x);
+  deck_beam_axis(&c->s->sections[p->section], x, v);
   for (int k = 0; k < 3; k++) real(c->f, 16, v[k]);
   fputc('\n', c->f);
 }
@@ -183,7 +175,7 @@ static int elements(deck_ctx *c) {
       size_t e = c->order[j] - off;
       if (b->tags[e] > ID_MAX)
         return DTM_ERR(DTM_ERR_INPUT, "%s: element tag %zu does not fit LS-DYNA's 8 columns", c->s->path, b->tags[e]);
-      element_card(c, p, k + 1, b->tags[e], tags, deck_conn(c, b, e, p, tags));
+      element_card(c, p, b, e, tags, deck_conn(c, b, e, p, tags));
     }
   }
   return DTM_OK;

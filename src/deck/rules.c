@@ -113,8 +113,50 @@ static double longest_side(const double *x, int nc) {
   return mx;
 }
 
+/* The mid-edge node of edge (i, j) of a tet10 in Gmsh's order. */
+static int tet10_mid(int i, int j) {
+  static const int mid[4][4] = {{-1, 4, 6, 7}, {4, -1, 5, 9}, {6, 5, -1, 8}, {7, 9, 8, -1}};
+  return mid[i][j];
+}
+
+/* d/dL_k - d/dL_0 of the tet10's map at its centroid (corners drop out:
+ * d(L(2L - 1))/dL = 0 at L = 1/4; mid-edge 4 L_i L_j gives L_i + L_j's
+ * derivative), into g[3]. */
+static void tet10_tangent(const double *x, int k, double *g) {
+  static const int ends[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
+  for (int c = 0; c < 3; c++) g[c] = 0;
+  for (int e = 0; e < 6; e++) {
+    int d = (ends[e][0] == k) + (ends[e][1] == k) - (ends[e][0] == 0) - (ends[e][1] == 0);
+    for (int c = 0; c < 3; c++) g[c] += d * x[3 * (4 + e) + c];
+  }
+}
+
+/* The area CalculiX gives face (a, b, c) of a tet10: its 6-node triangle
+ * at the centroid, 0.5 |x_s x x_t|, x_s = (b - a)/3 + 4/3 (m_bc - m_ca),
+ * x_t = (c - a)/3 + 4/3 (m_bc - m_ab). */
+static double tet10_face(const double *x, int a, int b, int c) {
+  const double *pa = x + 3 * a, *pb = x + 3 * b, *pc = x + 3 * c;
+  const double *ab = x + 3 * tet10_mid(a, b), *bc = x + 3 * tet10_mid(b, c), *ca = x + 3 * tet10_mid(c, a);
+  double s[3], t[3], n[3];
+  for (int k = 0; k < 3; k++)
+    s[k] = (pb[k] - pa[k]) / 3 + 4 * (bc[k] - ca[k]) / 3, t[k] = (pc[k] - pa[k]) / 3 + 4 * (bc[k] - ab[k]) / 3;
+  cross(s, t, n);
+  return 0.5 * norm(n);
+}
+
+/* CalculiX's length of a tet10: det J at the centroid / 6 (its 1-point
+ * weight) / 3 over the largest face. */
+static double tet10_length(const double *x) {
+  double g[3][3], c[3], amax = 0;
+  for (int k = 1; k <= 3; k++) tet10_tangent(x, k, g[k - 1]);
+  cross(g[1], g[2], c);
+  for (int f = 0; f < 4; f++) amax = fmax(amax, tet10_face(x, tet_faces[f][0], tet_faces[f][1], tet_faces[f][2]));
+  return fabs(g[0][0] * c[0] + g[0][1] * c[1] + g[0][2] * c[2]) / 6 / 3 / amax;
+}
+
 double deck_ccx_length(int type, const double *x, double t, double a, double b) {
   int parent = dtm_elem_parent(type);
+  if (type == DTM_TET10) return tet10_length(x);
   if (parent == DTM_TET4) return tet_volume(x) / 3 / tet_max_face(x);
   if (parent == DTM_HEX8) return hex_centre_volume(x) / hex_max_face(x);
   if (parent == DTM_LINE2) return fmin(dist(x, x + 3), fmin(a, b));
