@@ -110,7 +110,8 @@ def main():
         r = example(a, s, tmp)
         ok &= r["ok"]
         st = lambda u: "diverges" if not u < 1e3 * r["u0"] else "bounded (%.2g m)" % u  # noqa: E731
-        lim = "[%.4f, %.4f]" % r["limit"] if r["limit"] else "-"
+        lim = "[%.4f, %.4f] ([%.4f, %.4f] x the deck's)" % (r["limit"] + tuple(x / r["post"] for x in r["limit"])) \
+            if r["limit"] else "-"
         print("| %s | %d | %.5g | %.4f | %.4f | %s | %s | %s | %s | %.4f |" % (
             r["name"], r["elements"], r["exact"], r["nodal"], r["post"], st(r["u0"]), st(r["u1"]), st(r["u2"]), lim,
             r["own"]), flush=True)

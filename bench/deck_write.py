@@ -8,7 +8,7 @@ gmsh.open, timed around the write alone), alternately, REPS times each; the
 medians of the wall times, and Gmsh's CPU time, with the file sizes. The
 machine may be shared: compare the medians, and the CPU column for Gmsh.
 
-Usage: /usr/bin/python3 bench/deck_write.py DTMAP [--size 0.0017] [--reps 3] [--keep DIR]
+Usage: /usr/bin/python3 bench/deck_write.py DTMAP [--size 0.00155] [--reps 3] [--keep DIR]
 """
 import argparse
 import json
@@ -77,7 +77,7 @@ def dtmap_deck(dtmap, scene, solver, out, rep):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("dtmap")
-    ap.add_argument("--size", type=float, default=0.0017)
+    ap.add_argument("--size", type=float, default=0.00155)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--keep")
     a = ap.parse_args()

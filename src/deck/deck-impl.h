@@ -141,6 +141,10 @@ void deck_beam_axis(const dtm_section *sec, const double *x, double v[3]);
  * the scene's, else the kernel's rule for most of them, warning when
  * they differ. */
 void deck_beam_orientation(deck_ctx *c, const deck_part *p, double v[3]);
+/* v in decimal at p, right-aligned in width columns (0: as long as it
+ * is); returns the end (no terminator). Element lines are built with it:
+ * a million elements' worth of fprintf calls cost more than the rest. */
+char *deck_put_uint(char *p, size_t v, int width);
 /* v with the most significant digits (at most 17) that fit in width
  * characters, into buf[40]; returns buf. */
 const char *deck_number(double v, int width, char *buf);

@@ -190,9 +190,20 @@ void deck_beam_orientation(deck_ctx *c, const deck_part *p, double v[3]) {
               c->s->path, sec->line, 2 * near_z > p->count ? "y" : "z");
 }
 
+char *deck_put_uint(char *p, size_t v, int width) {
+  char d[24];
+  int n = 0;
+  do d[n++] = (char)('0' + v % 10), v /= 10;
+  while (v);
+  for (; width > n; width--) *p++ = ' ';
+  while (n) *p++ = d[--n];
+  return p;
+}
+
 const char *deck_number(double v, int width, char *buf) {
-  for (int p = 17; p > 0; p--)
-    if (snprintf(buf, 40, "%.*g", p, v) <= width) break;
+  int p = 17, n = snprintf(buf, 40, "%.*g", p, v);
+  if (n > width) p -= n - width, n = snprintf(buf, 40, "%.*g", p > 1 ? p : 1, v); /* one digit a character */
+  while (n > width && --p > 0) n = snprintf(buf, 40, "%.*g", p, v); /* the exponent form took over */
   return buf;
 }
 

@@ -41,9 +41,10 @@ static void part_elements(deck_ctx *c, const deck_part *p) {
   for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
     size_t e = c->order[j] - off;
     int nn = deck_conn(c, b, e, p, tags);
-    fprintf(c->f, "%zu", b->tags[e]);
-    for (int a = 0; a < nn; a++) fprintf(c->f, ", %zu", tags[a]);
-    fputc('\n', c->f);
+    char line[32 * (DTM_MAX_NODES + 1)], *q = deck_put_uint(line, b->tags[e], 0);
+    for (int a = 0; a < nn; a++) *q++ = ',', *q++ = ' ', q = deck_put_uint(q, tags[a], 0);
+    *q++ = '\n';
+    fwrite(line, 1, (size_t)(q - line), c->f);
   }
 }
 

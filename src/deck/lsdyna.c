@@ -154,9 +154,10 @@ static int nodes(deck_ctx *c) {
  * triangle its third to 4); beams add their orientation vector. */
 static void element_card(deck_ctx *c, const deck_part *p, const dtm_block *b, size_t e, const size_t *n, int nn) {
   int slots = !strcmp(p->elem, "SOLID") ? 8 : !strcmp(p->elem, "SHELL") ? 4 : 2;
-  fprintf(c->f, "%8zu%8d", b->tags[e], (int)(p - c->parts) + 1);
-  for (int a = 0; a < slots; a++) fprintf(c->f, "%8zu", n[a < nn ? a : nn - 1]);
-  fputc('\n', c->f);
+  char line[32 * 10], *q = deck_put_uint(deck_put_uint(line, b->tags[e], 8), (size_t)(p - c->parts) + 1, 8);
+  for (int a = 0; a < slots; a++) q = deck_put_uint(q, n[a < nn ? a : nn - 1], 8);
+  *q++ = '\n';
+  fwrite(line, 1, (size_t)(q - line), c->f);
   if (p->kind != DTM_SECTION_BEAM) return;
   double v[3], x[6];
   dtm_mesh_gather_one(c->m, b, e, x);
