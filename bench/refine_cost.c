@@ -39,7 +39,8 @@ static int input_step(const dtm_scene *s, double *rec) {
 static int row(const char *name, const dtm_scene *s, double target, const char *label, int rounds) {
   dtm_refine_result *rr = NULL;
   double t0 = dtm_wtime();
-  if (dtm_refine_run(s, target, rounds, &rr)) return fail(name);
+  dtm_refine_options o = {.target = target, .max_rounds = rounds, .max_added_mass = NAN};
+  if (dtm_refine_run(s, &o, &rr)) return fail(name);
   double t = dtm_wtime() - t0;
   const dtm_refine_round *in = &rr->rounds[0], *out = &rr->rounds[rr->best];
   printf("| %s | %s = %.3e | %zu | %.4g | %zu | %.4g | %.3f | %d | %s | %.1f |\n", name, label, target, in->elements,

@@ -49,6 +49,10 @@ DTM_EXPORT int dtm_mass_scaling_compute(const dtm_analysis *a, double target, dt
  * with only[i] != 0 and their nodes. */
 DTM_EXPORT int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned char *only,
                                       dtm_mass_scaling *ms);
+/* The element shares, group sums and totals of given point masses kg[nnodes]
+ * (kg at each node): each node's mass shared out to its elements by their
+ * share of its lumped mass; target (s) is only recorded. */
+DTM_EXPORT int dtm_mass_scaling_of_nodes(const dtm_analysis *a, const double *kg, double target, dtm_mass_scaling *ms);
 DTM_EXPORT void dtm_mass_scaling_free(dtm_mass_scaling *ms);
 
 /* Subcycling levels from the recommended step: element e is on level k

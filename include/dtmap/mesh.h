@@ -12,6 +12,11 @@
 
 #define DTM_MAX_MASK_GROUPS 64 /* groups representable in dtm_block.gmask */
 
+/* The NodeData view of point masses added at the nodes (kg; per unit
+ * thickness in a plane model), as refine writes them and a mesh read back
+ * carries them into every estimate (dtm_mesh.node_mass). */
+#define DTM_VIEW_NODE_MASS "added mass at nodes"
+
 typedef struct {
   int dim;    /* dimension of the physical group (below the mesh's only for
                  groups a <section> names: curves and surfaces in or on it) */
@@ -63,6 +68,10 @@ typedef struct dtm_mesh {
   dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
   int space_dim;        /* the dimension of the space the nodes span, once known (a
                            distributed run agrees on it over the parts); 0: not yet */
+  double *node_mass;    /* [nnodes] point masses added at the nodes, kg (per unit thickness
+                           in a plane model): in the lumped mass of every wave effect's
+                           nodal bound, global estimate and simulation, not in the element
+                           steps; NULL: none (owned) */
 } dtm_mesh;
 
 /* Total number of elements over all blocks. */

@@ -66,6 +66,7 @@ const double *dtm_analysis_effect_hmax(const dtm_analysis *a, int k) {
 }
 
 size_t dtm_analysis_below_target(const dtm_analysis *a) { return a->below; }
+double dtm_analysis_advice_target(const dtm_analysis *a) { return a->advice_target; }
 const dtm_geo *dtm_analysis_geo(const dtm_analysis *a) { return a->geo; }
 
 const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n) {

@@ -43,6 +43,11 @@ struct dtm_analysis {
   double dt_global;           /* min over effects of the global estimate, s (NaN) */
   double recommended;         /* safety x the best guaranteed-safe estimate, s */
   double best;                /* that estimate (the basis before safety), s */
+  double advice_target;       /* the target the element and nodal steps are held
+                                 against (safety included), s: the scene's, or on
+                                 the global basis the scene's x the bound basis over
+                                 the global one (the nodal-bound step whose mesh has
+                                 the target's global step); 0 without a target */
   int global_basis;           /* 1 when a converged global estimate may be the
                                  basis (run --posterior), 0 otherwise */
   double *local;              /* [nel] each element's own safe step before safety,

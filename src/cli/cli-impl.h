@@ -28,6 +28,9 @@ typedef struct {
   double tol;            /* --tol: Lanczos relative residual */
   int lanczos_max;       /* --lanczos-max: Lanczos steps */
   int max_iter;          /* refine --max-iter: rounds */
+  double max_added_mass; /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
+  int keep_counts;       /* refine --keep-counts: the model's transfinite node counts stay */
+  const char *optimise;  /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
   double target;         /* refine --target, s (0: the scene's <time target>) */
   double factor;         /* verify --factor: multiple of the recommended step (0: not given, 1) */
   double dt;             /* verify --dt, s (0: use factor x recommended) */

@@ -86,8 +86,17 @@ static const cli_option refine_options[] = {
      "output mesh (default: <output mesh> as X_refined.msh, else SCENE_refined.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json",
      "JSON report (default: <output report> as X_refined.json, if any)"},
-    {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 31, "K", "remeshing rounds at most (default 3)"},
+    {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 30, "K", "remeshing rounds at most (default 3)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "refine on the global estimate (Lanczos), the step a solver then runs at fixed"},
+    {"--max-added-mass", CLI_DOUBLE, OPT(max_added_mass), 0, 0, 100, "P",
+     "where no mesh meets the target, add point masses up to P % of the model's mass"},
+    {"--keep-counts", CLI_FLAG, OPT(keep_counts), 1, 0, 0, NULL,
+     "keep the model's transfinite node counts (default: refine sets them)"},
+    {"--optimise", CLI_STRING, OPT(optimise), 0, 0, 0, "LIST",
+     "Gmsh's optimisers after each remesh, of gmsh,netgen,relocate,laplace, or none (default: gmsh,netgen)"},
     TOP_OPTION,
+    LANCZOS_OPTIONS,
     FORMAT_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
@@ -145,13 +154,18 @@ const cli_command dtm_cli_commands[] = {
      "frequency, direction and branch (docs/accuracy.md). Exit 1 beyond 20 % of it.",
      verify_options, dtm_cli_verify},
     {"refine",
-     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--top N] [--format F] [-j N] [-v|-q]",
+     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "
+     "[--keep-counts] [--top N] [--format F] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
      "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
-     "the background size field, then Gmsh's optimisers, until the recommended step\n"
-     "reaches DT (default: the scene's <time target>), keeping the cheapest mesh that\n"
-     "does; it stops when a round raises the cost without reaching it, or when only\n"
-     "shape-limited elements remain. Exit 1 if the target is not met.",
+     "the background size field, with the node counts of transfinite curves set from it,\n"
+     "then Gmsh's optimisers, until the recommended step reaches DT (default: the scene's\n"
+     "<time target>), keeping the cheapest mesh that does. With --posterior (or <time\n"
+     "posterior=\"true\">) the step is the global estimate, which a solver must then be\n"
+     "told to use. An input that meets DT is kept as it is. It stops when a round raises\n"
+     "the cost without reaching DT, or when nothing a remesh changes limits the step;\n"
+     "with --max-added-mass P point masses at the nodes that need them make up the rest,\n"
+     "up to P % of the model's mass (view 'added mass at nodes'). Exit 1 if DT is not met.",
      refine_options, dtm_cli_refine},
     {"sweep", "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-j N] [-v|-q]",
      "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"

@@ -203,12 +203,14 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
   return dtm_parallel_run(s, &po);
 }
 
-static int run_scene(const cli_opts *o, int verify) {
-  if (o->threads > 0) omp_set_num_threads(o->threads);
+static int run_scene(const cli_opts *given, int verify) {
+  if (given->threads > 0) omp_set_num_threads(given->threads);
   dtm_scene *s = NULL;
   cli_outputs out;
+  cli_opts scene_opts = *given, *o = &scene_opts;
   double t0 = dtm_wtime();
   int r = dtm_scene_load(o->scene, &s);
+  if (r == DTM_OK) o->posterior |= s->posterior; /* <time posterior="true"> */
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
   if (r == DTM_OK && verify && o->report) r = dtm_output_path_check(s, o->report, NULL, "--report");

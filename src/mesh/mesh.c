@@ -78,6 +78,7 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
   free(m->groups);
   free(m->flagged);
   free(m->node_tags);
+  free(m->node_mass);
   free(m->xyz);
   free(m);
   *pm = NULL;

@@ -35,6 +35,13 @@ cJSON *dtm_report_subcycling(const dtm_subcycling *sc);
  * list (taken over), or NULL for dtm_report_top_added(a, ms->added). */
 cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON *most_added);
 
+/* refine's rounds, stop, causes, counts and ways (src/output/
+ * refine_report.c), and the point masses a's mesh carries. */
+cJSON *dtm_report_refine(const dtm_results *r);
+cJSON *dtm_report_point_masses(const dtm_analysis *a);
+/* add o[key] = v, or null when v is not finite. */
+void dtm_report_number(cJSON *o, const char *key, double v);
+
 /* The cost c ({duration, steps, element_steps, ...}), the cohesive process
  * zone and the damping factor per material, the smallest steps of r (its
  * top, ascending), as the report writes them. */

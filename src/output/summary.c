@@ -124,6 +124,18 @@ static void print_min(const dtm_analysis *a, FILE *f) {
             rec >= s->target ? "met" : "NOT met (see the size suggestion view)");
 }
 
+/* The point masses the mesh carries (refine's added mass, or read back). */
+static void print_point_masses(const dtm_analysis *a, FILE *f) {
+  const double *pm = dtm_analysis_point_masses(a);
+  size_t nn = dtm_analysis_mesh(a)->nnodes, nodes = 0;
+  double total = 0;
+  for (size_t v = 0; pm && v < nn; v++) total += pm[v], nodes += pm[v] > 0;
+  if (!pm) return;
+  fprintf(f, "point masses %.4g kg at %zu node(s) (view '%s'): in the nodal bound, the global estimate and verify,\n",
+          total, nodes, DTM_VIEW_NODE_MASS);
+  fprintf(f, "             not in the element steps of the dt map\n");
+}
+
 static void print_smallest(const dtm_results *res, FILE *f) {
   const dtm_analysis *a = res->analysis;
   size_t *idx = NULL;
@@ -315,6 +327,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   FILE *f = stream;
   print_counts(r->analysis, f);
   print_min(r->analysis, f);
+  print_point_masses(r->analysis, f);
   print_damping(r->analysis, f);
   print_zones(r->analysis, f);
   print_accuracy(r->analysis, f);

@@ -1,0 +1,203 @@
+"""The ways refine reaches a target, on real Gmsh geometries:
+
+- Counts it sets itself (tests/data/refine/chained.geo: three transfinite
+  quadrangles in a row sharing their vertical curves, the first graded by
+  a progression, the third with a top side of two curves): at 1.3x and 2x
+  the recommended step one remesh meets the target, the written mesh has
+  the counts the report lists, and every transfinite surface's opposite
+  sides have as many segments (curves 1 = 4, 2 = 5, 3 = 6 + 7, the four
+  verticals equal), with curve 1's progression kept (its first segment
+  over its last is 1.03^(n-2) to 1e-6: Gmsh places the nodes to about that).
+- The global basis: a target between the nodal-bound and the global basis
+  of the bundled plate's input mesh is met by the input itself with
+  --posterior (exit 0, no remesh, "met by the input"), while without it
+  refine remeshes. --posterior on a scene whose effects have no global
+  estimate (cohesive alone) is bad input, exit 2, nothing written.
+- Point masses: the extruded slab (extruded.geo, 4 layers) at 1.15x the
+  step cannot be met by any mesh (the layers cap it); its nodes need about
+  1.15^2 - 1 of their mass, so with --max-added-mass 40 it is met by
+  mesh + mass (exit 0, "met: mesh + X % added mass at N nodes"), the view
+  'added mass at nodes' in the output sums to the report's total, and
+  `run` and `verify` on that output read the mass back: its recommended
+  step equals refine's to 1e-12 (the same nodal bound, summed in the same
+  order). With --max-added-mass 1 it is not (exit 1, the percentage it
+  would need, above 1). --max-added-mass -1, 101 or nan is a usage error.
+"""
+
+import math
+import os
+import shutil
+import unittest
+
+import testutil as tu
+
+DATA = os.path.join(tu.SRC, "tests", "data", "refine")
+
+
+def scene(name, geo, dim, extra=""):
+    for f in os.listdir(DATA):
+        shutil.copy(os.path.join(DATA, f), tu.path(f))
+    form = "3d" if dim == 3 else "plane-stress"
+    return tu.write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="%s"/>
+<meshing dim="%d"/>
+<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="%s"/></effects>
+<time duration="1e-4"%s/>
+</dtmap-scene>
+""" % (geo, dim, form, extra))
+
+
+def recommended(name, *extra):
+    code, log = tu.run("run", name + ".xml", "-q", "-o", name + "_dt.msh", "--report", name + "_dt.json", *extra)
+    assert code == 0, log
+    return tu.report(name + "_dt.json")["dt"]
+
+
+def refine(name, target, *extra):
+    code, log = tu.run("refine", name + ".xml", "--target", "%.9e" % target, "-o", name + "_r.msh",
+                       "--report", name + "_r.json", *extra)
+    return code, log, tu.report(name + "_r.json")
+
+
+def curve_nodes(msh):
+    import gmsh
+    gmsh.initialize(["t325", "-v", "0"])
+    try:
+        gmsh.open(msh)
+        out = {}
+        for _, c in gmsh.model.getEntities(1):
+            tags, xyz, _ = gmsh.model.mesh.getNodes(1, c, includeBoundary=True)
+            out[c] = (len(tags), xyz.reshape(-1, 3))
+        return out
+    finally:
+        gmsh.finalize()
+
+
+class Counts(unittest.TestCase):
+    def check(self, factor):
+        scene("chained", "chained.geo", 2)
+        target = factor * recommended("chained")["recommended"]
+        code, log, rep = refine("chained", target)
+        self.assertEqual(code, 0, log)
+        ref = rep["refine"]
+        self.assertEqual(ref["met_by"], "mesh", log)
+        self.assertEqual(len(ref["rounds"]), 2, log)  # one remesh
+        self.assertGreater(len(ref["counts"]), 0, log)
+        nodes = curve_nodes(tu.path("chained_r.msh"))
+        n = {c: v[0] for c, v in nodes.items()}
+        for c in ref["counts"]:
+            self.assertEqual(n[c["curve"]], c["to"], c)
+            self.assertLess(c["to"], c["from"], c)
+        self.assertEqual(n[1], n[4])
+        self.assertEqual(n[2], n[5])
+        self.assertEqual(n[3] - 1, (n[6] - 1) + (n[7] - 1))
+        self.assertEqual(len({n[8], n[9], n[10], n[11]}), 1)
+        # curve 1 from (0,0) to (1,0), graded 1.03: its nodes by x
+        xs = sorted(p[0] for p in nodes[1][1])
+        first, last = xs[1] - xs[0], xs[-1] - xs[-2]
+        self.assertAlmostEqual(last / first, 1.03 ** (n[1] - 2), delta=1e-6 * last / first)
+
+    def test_chained_1_3(self):
+        self.check(1.3)
+
+    def test_chained_2(self):
+        self.check(2.0)
+
+
+class GlobalBasis(unittest.TestCase):
+    def test_met_by_input(self):
+        shutil.copy(os.path.join(tu.SRC, "geometries", "plate_with_hole.geo"), tu.path("plate_with_hole.geo"))
+        tu.write("plate.xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="plate_with_hole.geo"/>
+<meshing size="5e-3" min-size="1e-3" dim="2"/>
+<material name="aluminium" groups="plate" E="70e9" nu="0.33" rho="2700"/>
+<effects><elastic formulation="plane-stress"/></effects>
+<time duration="1e-4"/>
+</dtmap-scene>
+""")
+        nodal = recommended("plate")["recommended"]
+        glob = recommended("plate", "--posterior")["recommended"]
+        self.assertGreater(glob, 1.05 * nodal)
+        target = math.sqrt(nodal * glob)  # between the two
+        code, log, rep = refine("plate", target, "--posterior")
+        self.assertEqual(code, 0, log)
+        self.assertIn("met by the input mesh as it is (global estimate): no remesh", log)
+        self.assertIn("a solver must run at this step fixed", log)
+        ref = rep["refine"]
+        self.assertEqual((ref["met_by"], len(ref["rounds"]), ref["basis"]), ("input", 1, "global estimate"))
+        self.assertEqual(rep["below_target"], 0)
+        self.assertLess(ref["element_bound"], target)
+        code, log, rep = refine("plate", target, "--max-iter", "1")
+        self.assertEqual(rep["refine"]["basis"], "nodal bound")
+        self.assertEqual(len(rep["refine"]["rounds"]), 2, log)  # the nodal basis remeshes
+
+    def test_posterior_needs_an_estimate(self):
+        scene("cohesive_only", "transfinite.geo", 2)
+        text = open(tu.path("cohesive_only.xml")).read().replace(
+            '<effects><elastic formulation="plane-stress"/></effects>',
+            '<effects><cohesive groups="block"/></effects>').replace(
+                'rho="7850"', 'rho="7850" fracture-energy="100" strength="3e6"')
+        tu.write("cohesive_only.xml", text)
+        code, log = tu.run("refine", "cohesive_only.xml", "--target", "1", "--posterior", "-q")
+        self.assertEqual(code, 2, log)  # the cohesive step has no global estimate
+        self.assertIn("needs an effect that has one", log)
+        self.assertFalse(os.path.exists(tu.path("cohesive_only_refined.msh")))
+
+
+class Mass(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        scene("slab", "extruded.geo", 3)
+        cls.target = 1.15 * recommended("slab")["recommended"]
+
+    def test_within(self):
+        code, log, rep = refine("slab", self.target, "--max-added-mass", "40")
+        self.assertEqual(code, 0, log)
+        self.assertIn("met: mesh + ", log)
+        ref = rep["refine"]
+        self.assertEqual(ref["met_by"], "mesh and point masses", log)
+        last = ref["rounds"][-1]
+        self.assertEqual(last["kind"], "mass")
+        self.assertLessEqual(last["added_percent"], 40)
+        pm = rep["point_masses"]
+        view = tu.view_values(tu.path("slab_r.msh"), "added mass at nodes")
+        self.assertEqual(len(view), pm["nodes"])
+        self.assertAlmostEqual(sum(view.values()), pm["total"], delta=1e-12 * pm["total"])
+        self.assertAlmostEqual(pm["total"], last["added_mass"], delta=1e-12 * pm["total"])
+        self.assertGreaterEqual(rep["dt"]["recommended"], self.target)
+        # read back: run and verify on the refined mesh include the masses
+        tu.write("slab_again.xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<mesh file="slab_r.msh"/>
+<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="3d"/></effects>
+<time duration="1e-4"/>
+</dtmap-scene>
+""")
+        again = recommended("slab_again")["recommended"]
+        self.assertAlmostEqual(again, rep["dt"]["recommended"], delta=1e-12 * again)
+        self.assertAlmostEqual(tu.report("slab_again_dt.json")["point_masses"]["total"], pm["total"],
+                               delta=1e-12 * pm["total"])
+        code, log = tu.run("verify", "slab_again.xml", "--steps", "500")
+        self.assertEqual(code, 0, log)
+
+    def test_beyond(self):
+        code, log, rep = refine("slab", self.target, "--max-added-mass", "1")
+        self.assertEqual(code, 1, log)
+        ref = rep["refine"]
+        self.assertGreater(ref["mass_needed_percent"], 1)
+        self.assertEqual(ref["met_by"], "not met")
+        self.assertNotIn("point_masses", rep)
+        self.assertIn("point masses would need", log)
+
+    def test_bad_limits(self):
+        for bad in ("-1", "101", "nan"):
+            code, log = tu.run("refine", "slab.xml", "--target", "1", "--max-added-mass", bad)
+            self.assertEqual(code, 2, log)
+
+
+if __name__ == "__main__":
+    tu.main()
