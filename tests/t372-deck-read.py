@@ -17,7 +17,12 @@ Gmsh's API; one thread, Delaunay: the same mesh and tags) and the scene:
   times the report's own estimate it is the deck's step, at most dtmap's
   recommended one;
 - with --target the mass elements add up to the report's added mass (and to
-  its mass_scaling.total_added) within 1e-10.
+  its mass_scaling.total_added) within 1e-10;
+- a refined mesh that carries point masses (refine's 'added mass at nodes'
+  on the extruded slab of tests/data/refine, met with 40 % mass at most):
+  every deck has a mass element at each of its nodes, adding up to the
+  refine report's total within 1e-10, and the deck's step is on the
+  masses (at least the target).
 
 Scenes: the bundled reinforced block (tetrahedra, trusses, a membrane),
 stiffened panel (shells, a beam), Brazilian disc (plane strain, with lines
@@ -26,6 +31,7 @@ written here: a box of hexahedra and a rectangle of quadrangles (plane
 strain); Abaqus also takes a box of tet10."""
 
 import os
+import shutil
 import unittest
 
 import gmsh
@@ -49,6 +55,15 @@ Rectangle(1) = {0, 0, 0, 0.1, 0.05};
 Physical Surface("slab") = {1};
 Physical Curve("bottom") = {1};
 Transfinite Curve{:} = 5; Transfinite Surface{1}; Recombine Surface{1};
+"""
+SLAB = """<?xml version="1.0"?>
+<dtmap-scene version="1">
+  %s
+  <meshing dim="3"/>
+  <material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+  <effects><elastic formulation="3d"/></effects>
+  <time duration="1e-4"%s/>
+</dtmap-scene>
 """
 SCENE = """<?xml version="1.0"?>
 <dtmap-scene version="1">
@@ -223,6 +238,29 @@ class Reader(unittest.TestCase):
         self.assertEqual({v[0] for v in decks["calculix"][0].elements.values()}, {"CPE4"})
         decks = self.scene(written("tet10", 3, "block", order=2), "tet10", solvers=("abaqus", "calculix"))
         self.assertEqual({v[0] for v in decks["calculix"][0].elements.values()}, {"C3D10"})
+
+    def test_carried_masses(self):
+        """A refined mesh that carries point masses ('added mass at nodes'):
+        every deck writes them at their nodes, adding up to the report's."""
+        shutil.copy(os.path.join(tu.SRC, "tests", "data", "refine", "extruded.geo"), tu.path("extruded.geo"))
+        slab = tu.write("slab.xml", SLAB % ('<geometry file="extruded.geo"/>', ""))
+        code, out = tu.run("run", slab, "-q", "-o", tu.path("slab_dt.msh"), "--report", tu.path("slab_dt.json"))
+        self.assertEqual(code, 0, out)
+        target = 1.15 * tu.report("slab_dt.json")["dt"]["recommended"]
+        code, out = tu.run("refine", slab, "--target", "%.9e" % target, "--max-added-mass", "40", "-q", "-o",
+                           tu.path("slab_r.msh"), "--report", tu.path("slab_r.json"))
+        self.assertEqual(code, 0, out)
+        pm = tu.report("slab_r.json")["point_masses"]
+        again = tu.write("slab_again.xml", SLAB % ('<mesh file="slab_r.msh"/>', ""))
+        for solver in ("abaqus", "lsdyna", "calculix"):
+            with self.subTest(solver=solver):
+                d, rep = deck(again, "slab", solver)
+                total = sum(m for _, m in d.masses.values())
+                self.assertEqual(rep["deck"]["carried_nodes"], pm["nodes"])
+                self.assertEqual(len(d.masses), pm["nodes"])
+                self.assertLess(abs(total / pm["total"] - 1), 1e-10)
+                self.assertLess(abs(rep["deck"]["carried_mass"] / pm["total"] - 1), 1e-12)
+                self.assertGreaterEqual(rep["deck"]["recommended"], target * (1 - 1e-12))
 
     def test_masses(self):
         scene = os.path.join(tu.SRC, "geometries", "box.xml")

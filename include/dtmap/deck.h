@@ -48,6 +48,8 @@ typedef struct dtm_deck_info {
   int element_sets;                      /* element sets (physical groups of the analysed elements) */
   int node_sets;                         /* node sets (those groups and the groups below them) */
   double model_mass;                     /* mass of the analysed elements, kg (2D: per unit thickness) */
+  double carried;                        /* point masses the mesh carries (a refined mesh), kg: written too */
+  size_t carried_nodes;                  /* nodes that carry one */
   double added;                          /* mass added at the nodes, kg */
   size_t added_nodes;                    /* nodes that receive it */
   double seconds;                        /* writing the deck, s */

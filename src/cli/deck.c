@@ -28,7 +28,7 @@ static const cli_command *command(void) {
 static int check_usage(const cli_opts *o, const char **ext) {
   if (!o->solver) return dtm_cli_usage_error(command(), "needs --solver (%s)", dtm_deck_solvers());
   if (dtm_deck_solver(o->solver, ext)) return dtm_cli_usage_error(command(), "%s", dtm_error_message());
-  if (!isnan(o->max_added) && !(o->target > 0))
+  if (!isnan(o->max_added_mass) && !(o->target > 0))
     return dtm_cli_usage_error(command(), "--max-added-mass limits the mass --target DT needs: give --target");
   return DTM_OK;
 }
@@ -68,11 +68,12 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   dtm_deck_info info;
-  dtm_deck_opts dop = {o->solver, path, o->target, o->max_added};
+  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a);
-  if (r == DTM_OK && o->posterior) r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
+  if (r == DTM_OK && (o->posterior || s->posterior))
+    r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
   if (r == DTM_OK && o->verbosity) print_deck(&info);

@@ -23,7 +23,7 @@ static cli_opts defaults(void) {
   o.steps = 2000;
   o.width = 1024;
   o.height = 768;
-  o.max_added = NAN;
+
   return o;
 }
 

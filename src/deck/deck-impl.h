@@ -60,6 +60,7 @@ typedef struct deck_ctx {
   deck_group *groups;          /* [ngroups] the mesh's groups, then the groups below */
   char *used;                  /* [nnodes] 1 for the nodes of written elements */
   const double *added;         /* [nnodes] mass added at each node, kg, or NULL */
+  const double *carried;       /* [nnodes] point masses the mesh carries (a refined mesh), kg, or NULL */
   size_t max_tag;              /* largest element tag (mass elements are numbered above it) */
   dtm_deck_info *info;         /* what is written */
 } deck_ctx;
@@ -127,6 +128,9 @@ int deck_lacks(const deck_ctx *c, const deck_part *p, const char *why);
  * (part p's perm), plane elements turned counter-clockwise about +z;
  * returns the count. */
 int deck_conn(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p, size_t *tags);
+/* The mass the deck puts at node v (mesh index): what the mesh carries and
+ * what the target adds, kg. */
+double deck_node_mass(const deck_ctx *c, size_t v);
 /* E (Pa), nu, rho (kg/m^3) of scene material mat. */
 void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho);
 /* The material's Rayleigh coefficients (alpha 1/s, beta s) and constant
@@ -185,8 +189,8 @@ int deck_inp_materials(deck_ctx *c, int damping);
 /* One section card per part; own(c, p, &done) writes the writer's own
  * card for p when it sets done (beams; CalculiX's springs). */
 int deck_inp_sections(deck_ctx *c, int (*own)(deck_ctx *c, const deck_part *p, int *done));
-/* A MASS element at every node with added mass or mass in extra[nnodes]
- * (kg; NULL: none), carrying their sum. */
+/* A MASS element at every node with mass (deck_node_mass) or mass in
+ * extra[nnodes] (kg; NULL: none), carrying their sum. */
 int deck_inp_masses(deck_ctx *c, const double *extra);
 /* A data line of n reals v[n] (each within CalculiX's 20 columns). */
 void deck_inp_reals(deck_ctx *c, int n, const double *v);

@@ -129,6 +129,10 @@ int deck_conn(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *
   return b->nn;
 }
 
+double deck_node_mass(const deck_ctx *c, size_t v) {
+  return (c->added ? c->added[v] : 0.0) + (c->carried ? c->carried[v] : 0.0);
+}
+
 void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho) {
   const dtm_material *m = &c->s->materials[mat].m;
   *E = dtm_material_value(m, "E"), *nu = dtm_material_value(m, "nu"), *rho = dtm_material_value(m, "rho");
@@ -203,7 +207,7 @@ char *deck_put_uint(char *p, size_t v, int width) {
 const char *deck_number(double v, int width, char *buf) {
   int p = 17, n = snprintf(buf, 40, "%.*g", p, v);
   if (n > width) p -= n - width, n = snprintf(buf, 40, "%.*g", p > 1 ? p : 1, v); /* one digit a character */
-  while (n > width && --p > 0) n = snprintf(buf, 40, "%.*g", p, v); /* the exponent form took over */
+  while (n > width && --p > 0) n = snprintf(buf, 40, "%.*g", p, v);               /* the exponent form took over */
   return buf;
 }
 
@@ -224,6 +228,9 @@ void deck_header(const deck_ctx *c, const char *cm) {
           in->recommended, c->s->safety, dtm_analysis_basis(c->a));
   fprintf(f, "%s %s's own estimate for this mesh: %.10g s (element %zu; %s): the step is %.4fx it\n", cm, in->title,
           in->own, in->own_element, in->own_rule, in->step / in->own);
+  if (in->carried > 0)
+    fprintf(f, "%s point masses the mesh carries: %.10g kg at %zu nodes (mass elements below)\n", cm, in->carried,
+            in->carried_nodes);
   if (in->added > 0)
     fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
             in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
@@ -340,7 +347,10 @@ static void damping_ratio(deck_ctx *c) {
 
 static void count(deck_ctx *c) {
   dtm_deck_info *in = c->info;
-  for (size_t v = 0; v < c->m->nnodes; v++) in->nodes += c->used[v];
+  for (size_t v = 0; v < c->m->nnodes; v++) {
+    in->nodes += c->used[v];
+    in->carried += c->carried ? c->carried[v] : 0.0, in->carried_nodes += c->carried && c->carried[v] > 0;
+  }
   in->elements = dtm_mesh_nelements(c->m);
   for (int g = 0; g < c->ngroups; g++) in->element_sets += c->groups[g].mesh_group >= 0;
   in->node_sets = c->ngroups;
@@ -369,7 +379,12 @@ static void info_init(const deck_ctx *c, const dtm_deck_opts *o, dtm_deck_info *
 int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info) {
   double t0 = dtm_wtime();
   int k;
-  deck_ctx c = {.a = a, .m = dtm_analysis_mesh(a), .s = dtm_analysis_scene(a), .w = find(o->solver), .info = info};
+  deck_ctx c = {.a = a,
+                .m = dtm_analysis_mesh(a),
+                .s = dtm_analysis_scene(a),
+                .w = find(o->solver),
+                .carried = dtm_analysis_point_masses(a),
+                .info = info};
   if (!c.w) return dtm_deck_solver(o->solver, NULL);
   info_init(&c, o, info);
   DTM_CHECK(elastic_of(a, &k));

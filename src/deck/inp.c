@@ -137,7 +137,7 @@ int deck_inp_sections(deck_ctx *c, int (*own)(deck_ctx *c, const deck_part *p, i
 int deck_inp_masses(deck_ctx *c, const double *extra) {
   size_t id = c->max_tag;
   for (size_t v = 0; v < c->m->nnodes; v++) {
-    double m = (c->added ? c->added[v] : 0.0) + (extra ? extra[v] : 0.0);
+    double m = deck_node_mass(c, v) + (extra ? extra[v] : 0.0);
     if (!(m > 0)) continue;
     id++;
     fprintf(c->f, "*ELEMENT, TYPE=MASS, ELSET=DTMAP_MASS%zu\n%zu, %zu\n*MASS, ELSET=DTMAP_MASS%zu\n", id, id,

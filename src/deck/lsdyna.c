@@ -184,13 +184,14 @@ static int elements(deck_ctx *c) {
 
 static int masses(deck_ctx *c) {
   size_t id = c->max_tag;
-  if (c->added) fputs("*ELEMENT_MASS\n$#   eid     nid            mass\n", c->f);
-  for (size_t v = 0; c->added && v < c->m->nnodes; v++) {
-    if (!(c->added[v] > 0)) continue;
+  if (c->added || c->carried) fputs("*ELEMENT_MASS\n$#   eid     nid            mass\n", c->f);
+  for (size_t v = 0; (c->added || c->carried) && v < c->m->nnodes; v++) {
+    double m = deck_node_mass(c, v);
+    if (!(m > 0)) continue;
     if (++id > ID_MAX)
       return DTM_ERR(DTM_ERR_INPUT, "%s: mass element %zu exceeds LS-DYNA's 8 columns", c->s->path, id);
     fprintf(c->f, "%8zu%8zu", id, c->m->node_tags[v]);
-    real(c->f, 16, c->added[v]);
+    real(c->f, 16, m);
     fputc('\n', c->f);
   }
   return DTM_OK;

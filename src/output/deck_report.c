@@ -27,6 +27,8 @@ static cJSON *deck_json(const dtm_deck_info *d) {
   cJSON_AddNumberToObject(o, "elements", (double)d->elements);
   cJSON_AddNumberToObject(o, "element_sets", d->element_sets);
   cJSON_AddNumberToObject(o, "node_sets", d->node_sets);
+  cJSON_AddNumberToObject(o, "carried_mass", d->carried);
+  cJSON_AddNumberToObject(o, "carried_nodes", (double)d->carried_nodes);
   cJSON_AddNumberToObject(o, "added_mass", d->added);
   cJSON_AddNumberToObject(o, "added_nodes", (double)d->added_nodes);
   if (isfinite(d->model_mass)) cJSON_AddNumberToObject(o, "model_mass", d->model_mass);
