@@ -11,7 +11,7 @@ increments, so that the run does real work. For each deck:
 - ccx selects its own estimate (the packaged 2.20 takes the smaller of its
   estimate and the deck's maximum increment, the step), which is below the
   deck's step.
-A ball of curved tet10 (C3D10; CalculiX's estimate takes det J at the
+A plane surface meshed clockwise runs (its elements turned). A ball of curved tet10 (C3D10; CalculiX's estimate takes det J at the
 centroid and the 6-node faces) runs too, its estimate the deck's. And the
 deck of the box with --target (mass elements at 1391 nodes) runs to
 its end too, its mass elements adding up to the report's added mass (and to
@@ -75,6 +75,21 @@ class Examples(unittest.TestCase):
         path, rep = deck(scene, "ball")
         self.assertGreater(rep["curvature"]["curved"], 0)
         self.assertEqual(rep["curvature"]["integration"], "calculix")
+        self.run_deck(path, rep)
+
+    def test_clockwise_plane(self):
+        """A plane surface meshed clockwise (its curve loop reversed): the deck
+        turns its elements counter-clockwise, else CalculiX's extrusion would
+        invert them."""
+        tu.write("cw.geo", "Point(1) = {0, 0, 0}; Point(2) = {0.1, 0, 0}; Point(3) = {0.1, 0.05, 0};\n"
+                 "Point(4) = {0, 0.05, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+                 "Line(4) = {4, 1}; Curve Loop(1) = {-4, -3, -2, -1}; Plane Surface(1) = {1};\n"
+                 "Physical Surface(\"slab\") = {1};\n")
+        scene = tu.write("cw.xml", '<dtmap-scene version="1">\n  <geometry file="cw.geo"/>\n'
+                         '  <meshing size="0.01" dim="2"/>\n'
+                         '  <material name="steel" groups="slab" E="210e9" nu="0.3" rho="7850"/>\n'
+                         '  <effects><elastic formulation="plane-strain"/></effects>\n</dtmap-scene>\n')
+        path, rep = deck(scene, "cw")
         self.run_deck(path, rep)
 
     def test_added_mass(self):

@@ -108,14 +108,16 @@ static const int *flip_of(int type) {
   return type == DTM_TRI3 ? tri3 : type == DTM_QUAD4 ? quad4 : type == DTM_TRI6 ? tri6 : quad8;
 }
 
-/* Whether a plane element (corners x) is clockwise about +z. */
+/* Whether plane element e of block b turns clockwise about +z: the
+ * cross product of its first two sides (triangles) or of its diagonals
+ * (quadrangles) points down. */
 static int clockwise(const dtm_mesh *m, const dtm_block *b, size_t e) {
   const size_t *n = b->conn + e * b->nn;
+  int quad = dtm_elem_parent(b->type) == DTM_QUAD4;
   const double *p0 = m->xyz + 3 * n[0], *p1 = m->xyz + 3 * n[1], *p2 = m->xyz + 3 * n[2];
-  const double *p3 = dtm_elem_parent(b->type) == DTM_QUAD4 ? m->xyz + 3 * n[3] : p0;
-  double ax = p2[0] - p0[0], ay = p2[1] - p0[1], bx = p3[0] - p1[0], by = p3[1] - p1[1];
-  if (p3 == p0) bx = p1[0] - p0[0], by = p1[1] - p0[1], ax = -ax, ay = -ay;
-  return ax * by - ay * bx < 0;
+  const double *u1 = quad ? p2 : p1, *v0 = quad ? p1 : p0, *v1 = quad ? m->xyz + 3 * n[3] : p2;
+  double u[2] = {u1[0] - p0[0], u1[1] - p0[1]}, v[2] = {v1[0] - v0[0], v1[1] - v0[1]};
+  return u[0] * v[1] - u[1] * v[0] < 0;
 }
 
 int deck_conn(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p, size_t *tags) {
