@@ -54,8 +54,9 @@ static void print_deck(const dtm_deck_info *d) {
   printf("\ndeck         %s (%s): %zu nodes, %zu elements, %d element sets, %d node sets, %.2f s\n", d->path, d->title,
          d->nodes, d->elements, d->element_sets, d->node_sets, d->seconds);
   printf("  step       %.6e s, %s (dtmap's recommended step %.6e s)\n", d->step, d->basis, d->recommended);
-  printf("  %s's own estimate %.6e s (element %zu): the step is %.3fx it\n", d->title, d->own, d->own_element,
-         d->step / d->own);
+  if (!isnan(d->own))
+    printf("  %s's own estimate %.6e s (element %zu): the step is %.3fx it\n", d->title, d->own, d->own_element,
+           d->step / d->own);
   if (isfinite(d->tssfac)) printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)\n", d->tssfac);
   if (d->added > 0)
     printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,

@@ -101,7 +101,7 @@ static int element(deck_ctx *c, deck_part *p) {
   return DTM_OK;
 }
 
-/* E, nu, rho and c_d of part p's material. */
+/* c_d of part p's material, m/s. */
 static double speed(const deck_ctx *c, const deck_part *p) {
   double E, nu, rho;
   deck_elastic(c, p->mat, &E, &nu, &rho);

@@ -228,8 +228,11 @@ void deck_header(const deck_ctx *c, const char *cm) {
           in->elements, in->element_sets, in->node_sets);
   fprintf(f, "%s step: %.10g s, %s (dtmap's recommended step %.10g s: safety %g x the %s)\n", cm, in->step, in->basis,
           in->recommended, c->s->safety, dtm_analysis_basis(c->a));
-  fprintf(f, "%s %s's own estimate for this mesh: %.10g s (element %zu; %s): the step is %.4fx it\n", cm, in->title,
-          in->own, in->own_element, in->own_rule, in->step / in->own);
+  if (isnan(in->own))
+    fprintf(f, "%s %s's own estimate (%s) covers none of these elements\n", cm, in->title, in->own_rule);
+  else
+    fprintf(f, "%s %s's own estimate for this mesh: %.10g s (element %zu; %s): the step is %.4fx it\n", cm, in->title,
+            in->own, in->own_element, in->own_rule, in->step / in->own);
   if (in->carried > 0)
     fprintf(f, "%s point masses the mesh carries: %.10g kg at %zu nodes (mass elements below)\n", cm, in->carried,
             in->carried_nodes);
@@ -281,6 +284,7 @@ static void own_estimate(deck_ctx *c) {
       if (t < in->own) in->own = t, in->own_element = c->m->blocks[b].tags[e];
     }
   snprintf(in->own_rule, sizeof in->own_rule, "%s", c->w->rule);
+  if (!isfinite(in->own)) in->own = NAN; /* its rule covers none of the elements (CalculiX's springs) */
 }
 
 /* The step the solver's own elements allow, as a factor on dtmap's step

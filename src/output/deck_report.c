@@ -17,10 +17,10 @@ static cJSON *deck_json(const dtm_deck_info *d) {
   cJSON_AddNumberToObject(o, "step", d->step);
   cJSON_AddStringToObject(o, "basis", d->basis);
   cJSON_AddNumberToObject(o, "recommended", d->recommended);
-  cJSON_AddNumberToObject(o, "own_estimate", d->own);
-  cJSON_AddNumberToObject(o, "own_element", (double)d->own_element);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "own_estimate", d->own);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "own_element", (double)d->own_element);
   cJSON_AddStringToObject(o, "own_rule", d->own_rule);
-  cJSON_AddNumberToObject(o, "ratio", d->step / d->own);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "ratio", d->step / d->own);
   if (isfinite(d->tssfac)) cJSON_AddNumberToObject(o, "tssfac", d->tssfac);
   cJSON_AddNumberToObject(o, "duration", d->duration);
   cJSON_AddNumberToObject(o, "nodes", (double)d->nodes);
