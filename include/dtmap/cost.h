@@ -54,6 +54,10 @@ DTM_EXPORT int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, cons
  * share of its lumped mass; target (s) is only recorded. */
 DTM_EXPORT int dtm_mass_scaling_of_nodes(const dtm_analysis *a, const double *kg, double target, dtm_mass_scaling *ms);
 DTM_EXPORT void dtm_mass_scaling_free(dtm_mass_scaling *ms);
+/* The lumped mass of each node, kg (per unit thickness in 2D), into
+ * m[nnodes]: its elements' shares (rho V times their lumped weights) and
+ * the point mass it carries. */
+DTM_EXPORT int dtm_mass_lumped(const dtm_analysis *a, double *m);
 
 /* Subcycling levels from the recommended step: element e is on level k
  * when its own safe step (dtm_analysis_local_step, the larger of its

@@ -255,6 +255,21 @@ int dtm_mass_scaling_of_nodes(const dtm_analysis *a, const double *kg, double ta
   return r;
 }
 
+/* Pass of dtm_mass_lumped: each element's lumped mass into its nodes. */
+static void lump_pass(const dtm_analysis *a, const elem *el, void *ctx) {
+  double *m = ctx;
+  (void)a;
+  for (int k = 0; k < el->blk->nn && el->m > 0; k++) m[el->blk->conn[el->e * el->blk->nn + k]] += el->m * el->w[k];
+}
+
+int dtm_mass_lumped(const dtm_analysis *a, double *m) {
+  size_t nn = dtm_analysis_mesh(a)->nnodes;
+  const double *pm = dtm_analysis_point_masses(a);
+  for (size_t v = 0; v < nn; v++) m[v] = pm ? pm[v] : 0.0;
+  each_element(a, 1, lump_pass, m);
+  return DTM_OK;
+}
+
 /* The element-by-element form. */
 static void element_added(const dtm_analysis *a, const elem *el, void *ctx) {
   dtm_mass_scaling *ms = ctx;
