@@ -330,6 +330,10 @@ DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);
 DTM_EXPORT int dtm_analysis_threads(const dtm_analysis *a);
 /* The dimension of the space the mesh's nodes span (dtm_mesh_space_dim). */
 DTM_EXPORT int dtm_analysis_space_dim(const dtm_analysis *a);
+/* The distinct parallel planes the surfaces of a plane problem (plane strain
+ * or plane stress) lie in, each analysed in its own plane; 0 when the model
+ * is no plane problem. */
+DTM_EXPORT int dtm_analysis_planes(const dtm_analysis *a);
 
 /* The operator of spectral effect k (with the scene's damping as Rayleigh
  * coefficients at omega_top, 0 for none). Caller destroys. */

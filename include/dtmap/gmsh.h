@@ -103,6 +103,11 @@ DTM_EXPORT int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm
  * such view. DTM_ERR_INPUT for a negative or non-finite mass, or one on a
  * node of no analysed element (src/gmsh/node_mass.c). */
 DTM_EXPORT int dtm_gmsh_node_masses(dtm_mesh *m, const char *src);
+/* After extraction, from the current model: m->nodes_used, and in
+ * m->left the groups of dimension below m->dim without a section whose
+ * elements reach nodes no extracted element uses (parts of the model left
+ * out; src/gmsh/left_out.c). */
+DTM_EXPORT int dtm_gmsh_left_out(dtm_mesh *m);
 /* Append to *groups the physical groups of dimension below dim that one of
  * the scene's sections names (by name, or by number when unnamed) and that
  * no group of *groups already answers to. */
@@ -279,11 +284,16 @@ DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int
  * holds one copy of the mesh, not two. */
 DTM_EXPORT void dtm_gmsh_release(void);
 
+/* The name of the copy of dt that the .opt of a 3D result with trusses or
+ * membranes adds to draw the solid elements' faint skin (src/output/mesh.c). */
+#define DTM_VIEW_DT_SKIN "dt skin"
+
 /* One picture of a result: which views it shows. */
 typedef struct {
   const char *png;  /* output file (.png), written atomically */
-  const char *only; /* show only the view of this name, opaque, plus dtmap's text
-                       annotation; NULL: the views as the .opt leaves them */
+  const char *only; /* show only the view of this name (and its skin, DTM_VIEW_DT_SKIN,
+                       for "dt"), opaque, plus dtmap's text annotation; NULL: the
+                       views as the .opt leaves them */
 } dtm_snapshot_shot;
 
 /* Pictures of a result through Gmsh's own renderer: open msh (Gmsh merges

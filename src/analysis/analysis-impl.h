@@ -75,6 +75,7 @@ struct dtm_analysis {
                                   NaN for the others; NULL without any (curvature.c) */
   double *curv_offset;         /* [nel] their node offset over the edge, NaN for the others */
   dtm_curvature_summary curv;  /* the counts and extremes of curvature.c */
+  int planes;                  /* distinct parallel planes of a plane problem's surfaces (planar.c), 0: none */
 };
 
 /* The exchange's operations (distributed.h), or, without one, the status
@@ -128,9 +129,10 @@ int dtm_analysis_has_rotations(const dtm_analysis *a);
 /* Compute a->sec_stats (once, after the nodal bound). */
 int dtm_analysis_section_stats(dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
-/* A 2D model treated as a plane elastic problem is plane
- * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */
-int dtm_analysis_check_planar(const dtm_analysis *a);
+/* A 2D model treated as a plane elastic problem is plane, or its surfaces
+ * lie in parallel planes (a->planes counts them; src/analysis/planar.c);
+ * DTM_ERR_INPUT naming the distance otherwise. */
+int dtm_analysis_check_planar(dtm_analysis *a);
 /* The curvature of the second-order elements and the rule dependence of
  * their steps (curvature.c), after the element steps. */
 int dtm_analysis_curvature_pass(dtm_analysis *a);

@@ -84,6 +84,7 @@ static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, dou
   dtm_group_map map = {gm, def, gs, defsec};
   if (r == DTM_OK) r = dtm_gmsh_extract_map(dim, &map, s, m);
   if (r == DTM_OK && whole) r = dtm_analysis_check_sections(s, m, gs);
+  if (r == DTM_OK && whole) r = dtm_gmsh_left_out(m);
   free(gm), free(gs);
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   const char *src = s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model";

@@ -165,4 +165,43 @@ int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
 int dtm_cli_can_plot(void);
 int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
 
+/* The sweep plot's label layout (labels.c), in mm on the page. */
+typedef struct {
+  double x0, y0, x1, y1; /* lower left and upper right corners */
+} dtm_plot_box;
+typedef struct {
+  double px, py; /* the point it names */
+  double radius; /* half its marker's size */
+  double w, h;   /* the label's size */
+} dtm_plot_label;
+typedef struct {
+  dtm_plot_box frame;       /* the labels stay inside it (the plot's box) */
+  const dtm_plot_box *hard; /* [nhard] what no label may cover: every point's marker, the legend */
+  int nhard;
+  const double (*seg)[4]; /* [nseg] the curves' segments (x0, y0, x1, y1): crossed only if need be */
+  int nseg;
+  double gap; /* space between a marker and its label */
+} dtm_plot_scene;
+/* out[n]: each label's box, placed in order clear of s and of the labels
+ * before it. */
+void dtm_cli_place_labels(const dtm_plot_scene *s, const dtm_plot_label *labels, int n, dtm_plot_box *out);
+
+/* What the last sweep plot drew, per panel (for tests): the frame, the
+ * points' markers, the labels and the legend, in mm on the page. */
+#define DTM_PLOT_MAX 64 /* points per curve */
+typedef struct {
+  dtm_plot_box frame;                   /* the plot's box */
+  dtm_plot_box legend;                  /* the legend's box */
+  int npoints;                          /* markers of every curve */
+  dtm_plot_box point[3 * DTM_PLOT_MAX]; /* their boxes */
+  int nlabels;                          /* labels drawn */
+  dtm_plot_box label[DTM_PLOT_MAX];     /* their boxes */
+  char text[DTM_PLOT_MAX][64];          /* their text */
+} dtm_plot_panel;
+typedef struct {
+  int npanels;             /* panels drawn (0: the plot without measures) */
+  dtm_plot_panel panel[2]; /* phase error, then counts */
+} dtm_plot_layout;
+const dtm_plot_layout *dtm_cli_sweep_plot_layout(void);
+
 #endif

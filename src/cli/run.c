@@ -84,6 +84,9 @@ static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w)
   for (int k = 0; k < m->n; k++)
     if (m->m[k].kind == DTM_MEASURE_PHASE) w->f = m->m[k].f;
   dtm_measures_destroy(&m);
+  if (!(w->f > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: no frequency: the scene has no <time f-max> and no element "
+                                  "has a dispersion model to take a default from; give --freq");
   return DTM_OK;
 }
 

@@ -359,26 +359,12 @@ static int view_style(const char *name, const dtm_mesh *m, styled *s) {
   return k;
 }
 
-/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
- * in their order, and a translucent face hides what is drawn after it. So
- * an alias of dt (the same data and options), last in the list, keeps the
- * faint skin of the solid elements, and dt itself draws the sections alone,
- * opaque, with the colour bar, before it: they show inside the solid. */
-static void sections_on_top(FILE *f, int i) {
-  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
-  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
-  fprintf(f, "AliasWithOptions View[dtmap_v0 + %d]; // the faint skin of dt's solid elements, drawn last\n", i);
-  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
-  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
-  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
-  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
-}
-
-static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
+/* The options of view name over m, each as "View[addr].option = value;". */
+static void write_style(FILE *f, const char *addr, const char *name, const dtm_mesh *m) {
   styled s[MAX_STYLE];
   int n = view_style(name, m, s);
   for (int k = 0; k < n; k++) {
-    fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
+    fprintf(f, "View[%s].%s = ", addr, s[k].o.name);
     if (s[k].o.text)
       fprintf(f, "\"%s\";", s[k].o.text);
     else
@@ -388,7 +374,34 @@ static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
     else
       fputc('\n', f);
   }
-  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i);
+}
+
+/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
+ * in their order, and a translucent face hides what is drawn after it. So
+ * a copy of dt's data (Gmsh's MathEval plugin; an alias would share dt's
+ * data and so its name), last in the list, named DTM_VIEW_DT_SKIN and
+ * styled as dt, keeps the faint skin of the solid elements, and dt itself
+ * draws the sections alone, opaque, with the colour bar, before it: they
+ * show inside the solid. */
+static void sections_on_top(FILE *f, int i, const dtm_mesh *m) {
+  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
+  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
+  fprintf(f, "Plugin(MathEval).Expression0 = \"v0\"; // the faint skin of dt's solid elements, drawn last\n");
+  fprintf(f, "Plugin(MathEval).View = dtmap_v0 + %d;\nPlugin(MathEval).OtherView = -1;\n", i);
+  fprintf(f, "Plugin(MathEval).TimeStep = -1;\nPlugin(MathEval).Run;\n");
+  fprintf(f, "View[PostProcessing.NbViews - 1].Name = \"%s\";\n", DTM_VIEW_DT_SKIN);
+  write_style(f, "PostProcessing.NbViews - 1", "dt", m);
+  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
+  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
+  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
+  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
+}
+
+static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
+  char addr[32];
+  snprintf(addr, sizeof addr, "dtmap_v0 + %d", i);
+  write_style(f, addr, name, m);
+  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i, m);
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */

@@ -381,6 +381,22 @@ static cJSON *timings_json(const dtm_results *r) {
   return t;
 }
 
+/* The nodes of the analysed elements and the groups left out (when counted). */
+static void left_out_json(const dtm_mesh *m, cJSON *mesh) {
+  if (m->nodes_used) cJSON_AddNumberToObject(mesh, "nodes_analysed", (double)m->nodes_used);
+  if (!m->nodes_used) return;
+  cJSON *arr = cJSON_AddArrayToObject(mesh, "left_out");
+  for (int i = 0; i < m->nleft; i++) {
+    cJSON *o = cJSON_CreateObject();
+    char tag[32];
+    snprintf(tag, sizeof tag, "%d", m->left[i].tag);
+    cJSON_AddStringToObject(o, "group", m->left[i].tag < 0 ? "(none)" : m->left[i].name[0] ? m->left[i].name : tag);
+    cJSON_AddNumberToObject(o, "dim", m->left[i].dim);
+    cJSON_AddNumberToObject(o, "elements", (double)m->left[i].elements);
+    cJSON_AddItemToArray(arr, o);
+  }
+}
+
 static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON *mesh = cJSON_CreateObject();
   cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
@@ -391,6 +407,7 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(mi->algorithm));
   cJSON_AddNumberToObject(mesh, "threads", mi->threads);
   cJSON_AddBoolToObject(mesh, "reproducible", mi->reproducible);
+  left_out_json(dtm_analysis_mesh(a), mesh);
   return mesh;
 }
 

@@ -53,12 +53,13 @@
 #include "dtmap/util.h"
 #include "study-impl.h"
 
-#define GRADE 0.3       /* size slope of the field (m per m): a fresh mesh follows it */
-#define MAX_GROWTH 1.5  /* of the calibration from one round to the next */
-#define MIN_MARGIN 1.05 /* aim at least this far past the target once a round fell short: the worst node of a
-                           fresh mesh scatters by about 5 % from one mesh to the next */
-#define STALL 2e-3      /* a remesh whose step is within this of the last one's left it where it was */
-#define STALL_AIM 1.05  /* ... when it aimed at least this much higher */
+#define GRADE 0.3      /* size slope of the field (m per m): a fresh mesh follows it */
+#define MAX_GROWTH 1.5 /* of the calibration from one round to the next */
+#define MIN_MARGIN                                                                                                     \
+  1.05                 /* aim at least this far past the target once a round fell short: the worst node of a           \
+                          fresh mesh scatters by about 5 % from one mesh to the next */
+#define STALL 2e-3     /* a remesh whose step is within this of the last one's left it where it was */
+#define STALL_AIM 1.05 /* ... when it aimed at least this much higher */
 
 /* Size exponent of the effect whose step is the recommendation's basis. */
 static double basis_exponent(const dtm_analysis *a) {
