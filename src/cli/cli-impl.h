@@ -43,7 +43,6 @@ typedef struct {
   const char *png;       /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;     /* their size, pixels */
   const char *solver;    /* deck --solver NAME */
-
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;

@@ -23,7 +23,6 @@ static cli_opts defaults(void) {
   o.steps = 2000;
   o.width = 1024;
   o.height = 768;
-
   return o;
 }
 
