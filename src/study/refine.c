@@ -136,6 +136,8 @@ typedef struct {
   dtm_cause model[DTM_REFINE_MAX_CAUSES]; /* [nmodel] those causes */
   dtm_structure *st;                      /* the model's fixed node counts (NULL: none found) */
   double miss;                            /* the largest miss so far: predicted over measured step, >= 1 */
+  double *field;                          /* [nnodes] the last remesh's size field (NULL: none yet) */
+  int field_counts;                       /* the transfinite counts set with it */
 } loop_state;
 
 /* The size field of a round: the calibrated suggestion, capped at the
@@ -188,17 +190,38 @@ static int round_counts(dtm_refine_result *rr, const loop_state *st, double c, c
   return r;
 }
 
+/* Whether the field size[] (with counts transfinite counts) is the one the
+ * last remesh had: the model's short curves and the grading capped every
+ * node the calibration would move, and the same field gives the same mesh. */
+static int same_field(const loop_state *st, const double *size, size_t n, int counts) {
+  if (!st->field || counts != st->field_counts) return 0;
+  for (size_t v = 0; v < n; v++)
+    if (!(size[v] == st->field[v]) && !(isnan(size[v]) && isnan(st->field[v]))) return 0;
+  return 1;
+}
+
+/* Keep the field of this remesh for the next round's comparison (taking
+ * size over). */
+static void keep_field(loop_state *st, double **size, int counts) {
+  free(st->field);
+  st->field = *size, st->field_counts = counts, *size = NULL;
+}
+
+#define SAME_FIELD (-1) /* remesh(): the field is the last one's; nothing was remeshed (not a DTM code) */
+
 /* One remesh of the current model from the input's field with calibration
- * c, and its analysis (a progress stage "refine round N"). */
-static int remesh(dtm_refine_result *rr, const loop_state *st, int dim, double c, dtm_analysis **next, int *gmsh_failed,
+ * c, and its analysis (a progress stage "refine round N"); SAME_FIELD, and
+ * no remesh, when the field is the last remesh's. */
+static int remesh(dtm_refine_result *rr, loop_state *st, int dim, double c, dtm_analysis **next, int *gmsh_failed,
                   dtm_refine_round *info) {
   const dtm_mesh *m = dtm_analysis_mesh(st->input);
   double *size = malloc((m->nnodes + 1) * sizeof *size), *floor = malloc((m->nnodes + 1) * sizeof *floor);
   char stage[64];
   snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
-  dtm_progress_begin(stage);
   int r = size && floor ? round_field(st->input, c, size, floor) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = round_counts(rr, st, c, floor, &info->counts);
+  if (r == DTM_OK && same_field(st, size, m->nnodes, info->counts)) return free(size), free(floor), SAME_FIELD;
+  dtm_progress_begin(stage);
   double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise);
   info->mesh_seconds = dtm_wtime() - t0;
@@ -206,6 +229,7 @@ static int remesh(dtm_refine_result *rr, const loop_state *st, int dim, double c
   *gmsh_failed = r != DTM_OK && size && floor;
   if (r == DTM_OK) r = analyse_current(rr, dim, next);
   dtm_progress_end();
+  if (r == DTM_OK) keep_field(st, &size, info->counts);
   free(size), free(floor);
   DTM_CHECK(r);
   return DTM_OK;
@@ -338,6 +362,7 @@ static int rounds(dtm_refine_result *rr, loop_state *st, int dim) {
     int failed = 0;
     DTM_CHECK(save_best(rr, st));
     int r = remesh(rr, st, dim, c, &next, &failed, &info);
+    if (r == SAME_FIELD) return rr->stop = DTM_REFINE_STALLED, DTM_OK; /* no remesh: it would repeat the last */
     if (r && failed) return gmsh_failed(rr, st), DTM_OK;
     DTM_CHECK(r);
     int i = rr->nrounds++;
@@ -405,6 +430,7 @@ static int refine_loop(dtm_refine_result *rr) {
   if (r == DTM_OK && !met(rr, rr->best)) r = dtm_refine_mass_round(rr);
   if (st.dir[0]) unlink(st.path), rmdir(st.dir);
   dtm_gmsh_structure_destroy(&st.st);
+  free(st.field);
   return r;
 }
 
@@ -464,7 +490,8 @@ const char *dtm_refine_stop_text(int stop) {
     return "elements below the target lie where the model fixes the node counts (extrusion layers, or transfinite "
            "curves refine keeps): no remesh changes them";
   case DTM_REFINE_STALLED:
-    return "a remesh aimed higher left the step where it was: the same elements limit it whatever the size field";
+    return "a remesh aimed higher left the step where it was, or the model's short curves and the grading cap the "
+           "field where it would grow: the same elements limit the step whatever the size field";
   default: return "not run";
   }
 }
