@@ -34,19 +34,25 @@ def _keyword(line):
     return parts[0].upper(), params
 
 
-def _blocks(path):
-    """(keyword, params, data lines) of an Abaqus-style file, comments out."""
+def _sections(path, comment, head):
+    """(head(keyword line), [data lines]) of a deck: a line starting with
+    '*' opens one, lines starting with comment are left out."""
     out = []
     with open(path) as f:
         lines = f.read().split("\n")
     for line in lines:
-        if line.startswith("**"):
+        if line.startswith(comment):
             continue
         if line.startswith("*"):
-            out.append(_keyword(line) + ([],))
+            out.append((head(line), []))
         elif out:
-            out[-1][2].append(line)
+            out[-1][1].append(line)
     return out
+
+
+def _blocks(path):
+    """(keyword, params, data lines) of an Abaqus-style file, comments out."""
+    return [k + (data,) for k, data in _sections(path, "**", _keyword)]
 
 
 def _ids(data, elsets):
@@ -119,17 +125,7 @@ def _num(text, kind=float):
 
 def _cards(path):
     """(keyword, cards) of a keyword file: each card a line, comments out."""
-    out = []
-    with open(path) as f:
-        lines = f.read().split("\n")
-    for line in lines:
-        if line.startswith("$"):
-            continue
-        if line.startswith("*"):
-            out.append((line[1:].strip().upper(), []))
-        elif out:
-            out[-1][1].append(line)
-    return out
+    return _sections(path, "$", lambda line: line[1:].strip().upper())
 
 
 def _id_cards(cards):
