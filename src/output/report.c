@@ -507,7 +507,7 @@ static cJSON *sections_json(const dtm_analysis *a) {
   return arr;
 }
 
-static cJSON *report_json(const dtm_results *r) {
+cJSON *dtm_report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
@@ -547,5 +547,5 @@ int dtm_json_write(struct cJSON *root, const char *path, const char *what) {
 }
 
 int dtm_report_write(const dtm_results *r, const char *path) {
-  return dtm_json_write(report_json(r), path, "JSON report");
+  return dtm_json_write(dtm_report_json(r), path, "JSON report");
 }

@@ -54,6 +54,8 @@ cJSON *dtm_report_zones(const dtm_analysis *a);
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
+/* The whole report of r (report.c). */
+cJSON *dtm_report_json(const dtm_results *r);
 /* The report's "shape_limited" (at most 100 of them) and
  * "thickness_limited" arrays of r's analysis, and the summary's lines on
  * them (summary.c), for the distributed run's advice. */
