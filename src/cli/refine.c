@@ -122,9 +122,14 @@ static void print_rounds(const dtm_refine_result *rr) {
            "element-steps at the kept step)\n",
            rr->forced_by, rr->forced,
            rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
-  if (rr->stop == DTM_REFINE_THICKNESS)
+  int remeshed = 0;
+  for (int i = 1; i < rr->nrounds; i++) remeshed += rr->rounds[i].kind == DTM_ROUND_MESH;
+  if (rr->stop == DTM_REFINE_THICKNESS && !remeshed)
     printf("no round was run: elements below the target are limited by the thickness of their layer, which no\n"
            "size suggestion changes; the layers and their remedies follow\n");
+  else if (rr->stop == DTM_REFINE_THICKNESS)
+    printf("a remesh did not lift the elements that the thickness of their layer limits; the layers and their\n"
+           "remedies follow\n");
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");
