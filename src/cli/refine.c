@@ -134,6 +134,7 @@ int dtm_cli_refine(const cli_opts *o) {
     dtm_cli_output_names(s, o, "_refined", &out);
     r = dtm_cli_check_outputs(s, &out);
   }
+  if (r == DTM_OK) r = dtm_cli_verified(s, o);
   if (r == DTM_OK) {
     if (o->verbosity) printf("dtmap %s: refining %s to %.4e s\n", DTM_VERSION, s->path, target);
     r = refine_scene(s, target, o);
