@@ -37,6 +37,7 @@ typedef struct {
   dtm_disp_lattice *L;  /* a structured mesh's patch (DTM_LATTICE_MESH, a lattice), else NULL */
   double kh, err;       /* its last Bloch evaluation (the elements of a lattice share their spacing) */
   double w, wh2;        /* the measured table: the elements' masses and mass-weighted squared mean edges */
+  size_t count;         /* the measured table: its elements */
   dtm_elastic_moduli m; /* the measured table: the material's moduli */
 } along_model;
 
@@ -157,27 +158,30 @@ static void element_into(const dtm_mesh *mesh, const dtm_block *bl, size_t e, al
     own_along(bl, x, meas, h, m, r->f, r->dt, r->n, r->pol, r->mode, &r->ws, &err), r->mown = *m;
   else
     err = element_along(md, m, h, r->f, r->dt, r->n, r->pol, r->mode);
+  if (md->t.shape == DTM_LATTICE_MEASURED) { /* the mesh's mean edge, as the table was measured: below */
+    md->w += w, md->wh2 += w * h * h, md->m = *m, md->count++;
+    if (fabs(err) > fabs(out->worst)) out->worst = err; /* NaN: this element alone past 2 per wavelength */
+    return;
+  }
   if (isnan(err)) {
     out->unresolved++;
     return;
   }
   out->elements++;
-  if (md->t.shape == DTM_LATTICE_MEASURED) /* the mesh's mean edge, as the table was measured: below */
-    md->w += w, md->wh2 += w * h * h, md->m = *m;
-  else if (!own || r->mat < 0) /* one material's own shapes are summed below */
-    r->wsum += w, r->sum += w * err;
+  if (!own || r->mat < 0) r->wsum += w, r->sum += w * err; /* one material's own shapes are summed below */
   if (fabs(err) > fabs(out->worst)) out->worst = err;
 }
 
 /* The measured table's share of the mean: each model's error at the root
  * mean square of its elements' mean edges (the table's abscissa), with
- * their mass as weight. */
-static void measured_into(model_set *models, along_run *r) {
+ * their mass as weight; its elements are unresolved when that is. */
+static void measured_into(model_set *models, along_run *r, dtm_phase_along *out) {
   for (int i = 0; i < models->n; i++) {
     along_model *md = models->m[i];
     if (!(md->w > 0)) continue;
     double err = element_along(md, &md->m, sqrt(md->wh2 / md->w), r->f, r->dt, r->n, r->pol, r->mode);
-    r->wsum += md->w, r->sum += md->w * err;
+    *(isnan(err) ? &out->unresolved : &out->elements) += md->count;
+    if (!isnan(err)) r->wsum += md->w, r->sum += md->w * err;
   }
 }
 
@@ -212,7 +216,7 @@ int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const d
       rc = model_get(&models, mesh, bl->type, bl->mat[e], form == DTM_FORM_BAR ? 0 : m.mu / m.modulus, &md);
       if (!rc && md->have) element_into(mesh, bl, e, md, &m, &r, out);
     }
-  measured_into(&models, &r);
+  measured_into(&models, &r, out);
   models_free(&models);
   DTM_CHECK(rc);
   if (r.ws.mass > 0 && mat >= 0) /* one material's own-shape elements as one: the wave's Rayleigh quotient */
