@@ -3,14 +3,18 @@
 # they are missing. Needs root (or sudo). Safe to run again. The Python
 # module's companions (python3-gmsh, python3-numpy) and python3-jsonschema
 # (the report schema) are for scripting dtmap and for its tests; man-db
-# reads the generated man page.
+# reads the generated man page; gmsh-doc holds Gmsh's tutorials and demos.
 set -euo pipefail
 # The last four are for the distributed run (cmake -DDTM_MPI=ON): Open MPI,
 # PETSc and SLEPc; a build without DTM_MPI does not need them.
 packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh libxml2-dev libxml2-utils
           libcjson-dev libcmocka-dev libplplot-dev plplot-driver-cairo fonts-dejavu-core libpng-dev
-          xvfb xfonts-base  # xvfb + xfonts-base: Gmsh draws dtmap's PNG snapshots on a virtual display
+          xvfb xfonts-base xfonts-75dpi  # Gmsh draws dtmap's PNG snapshots on a virtual display, its
+                                         # text in X's core Helvetica (xfonts-75dpi; without it a small
+                                         # fixed font without spaces)
           python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
+          calculix-ccx  # ccx 2.20 runs the decks of dtmap deck (tests/t371)
+          gmsh-doc  # Gmsh's tutorials and demos: tests/t318 reruns bench/surface_models.py on one
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)
 missing=()
 for p in "${packages[@]}"; do

@@ -5,13 +5,16 @@ its recommended step with at most 3 rounds:
 - clamp.geo sets Mesh.MeshSizeMin = Mesh.MeshSizeMax: refine lifts them for
   its remeshes, meets the target, and names them ("size-options", with the
   options' values and the lines that would let the suggestion through).
-- transfinite.geo (a transfinite square, 21 nodes a side): the target is not
-  met; the first cause is "fixed-node-count" naming curves 1-4, with a
-  "Transfinite Curve{t} = n;" line each, n below 21 (the suggestion is
-  coarser); the terminal prints the lines.
-- extruded.geo (a slab extruded in 4 layers): "fixed-node-count" names the
-  four curves along the extrusion, with a Layers{} count; without Recombine
-  the layers are tetrahedra, so nothing is named as recombined.
+- transfinite.geo (a transfinite square, 21 nodes a side) with --keep-counts:
+  the target is not met; the first cause is "fixed-node-count" naming curves
+  1-4, with a "Transfinite Curve{t} = n;" line each, n below 21 (the
+  suggestion is coarser); the terminal prints the lines. Without it refine
+  sets those counts itself (t325).
+- extruded.geo (a slab extruded in 4 layers, 0.05 m each, at a target whose
+  size exceeds them): refine stops before its first remesh (no remesh
+  changes the layers), and "fixed-node-count" names the four curves along
+  the extrusion, with the Layers{} count the target needs; without
+  Recombine the layers are tetrahedra, so nothing is named as recombined.
 - periodic.geo (a square whose right side copies its left): with a target out
   of reach in one round, the causes name curve 2 as periodic.
 - discrete.geo (a volume bounded by an STL surface): Gmsh refuses the first
@@ -43,13 +46,13 @@ def scene(name, dim):
 """ % (name, dim, form))
 
 
-def refine(name, dim, factor=1.3, rounds=3):
+def refine(name, dim, factor=1.3, rounds=3, *extra):
     scene(name, dim)
     code, log = tu.run("run", name + ".xml", "-q", "-o", name + "_dt.msh", "--report", name + "_dt.json")
     assert code == 0, log
     target = factor * tu.report(name + "_dt.json")["dt"]["recommended"]
     code, log = tu.run("refine", name + ".xml", "--target", "%.6e" % target, "--max-iter", str(rounds),
-                       "-o", name + "_r.msh", "--report", name + "_r.json")
+                       "-o", name + "_r.msh", "--report", name + "_r.json", *extra)
     return code, log, tu.report(name + "_r.json")["refine"]
 
 
@@ -70,7 +73,7 @@ class Causes(unittest.TestCase):
         self.assertIn("[size-options]", log)
 
     def test_transfinite(self):
-        code, log, ref = refine("transfinite", 2)
+        code, log, ref = refine("transfinite", 2, 1.3, 3, "--keep-counts")
         self.assertEqual(code, 1, log)
         c = ref["causes"][0]
         self.assertEqual(c["kind"], "fixed-node-count", log)
@@ -85,8 +88,10 @@ class Causes(unittest.TestCase):
         self.assertIn("; cause: 4 curve(s) have a node count the model fixes", log)
 
     def test_extruded(self):
-        code, log, ref = refine("extruded", 3)
+        code, log, ref = refine("extruded", 3, 2.0)
         self.assertEqual(code, 1, log)
+        self.assertEqual(len(ref["rounds"]), 1, log)  # stopped before any remesh
+        self.assertIn("where the model fixes the node counts", ref["stopped"])
         c = cause(ref, "fixed-node-count")
         self.assertIsNotNone(c, log)
         self.assertEqual(len(c["entities"]), 4)  # the four vertical edges of the slab

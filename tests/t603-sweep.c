@@ -8,7 +8,9 @@
  * reads back with its header and one row per size; the PNG is a real PNG
  * with a non-zero size in its IHDR chunk. Also the error paths: a <mesh>
  * scene, bad sizes, unwritable outputs, and the plot of rows without a
- * duration. */
+ * duration; and the error plot's labels (each point of the first curve
+ * named, inside the box, over no marker, label or legend) on the bundled
+ * scenes' sweeps. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -241,6 +243,85 @@ static void no_duration(void **unused) {
   (void)unused;
 }
 
+/* A row of the error plot: size, elements, recommended step, run hours
+ * (global, subcycled, mass scaled), phase errors (global, subcycled, mass
+ * scaled; NaN: none), elements per zone, in band. */
+static dtm_sweep_row error_row(double h, size_t n, double rec, const double t[3], const double e[3], double zone,
+                               int band) {
+  return (dtm_sweep_row){.h = h,
+                         .elements = n,
+                         .recommended = rec,
+                         .hours = t[0],
+                         .hours_subcycled = t[1],
+                         .hours_mass = t[2],
+                         .phase_error = e[0],
+                         .phase_subcycled = e[1],
+                         .phase_mass = e[2],
+                         .per_zone = zone,
+                         .per_diffusion = NAN,
+                         .per_wavelength = NAN,
+                         .frequency = 1e4,
+                         .frequency_default = 1,
+                         .speedup = t[0] / t[1],
+                         .in_band = band};
+}
+
+static int boxes_meet(const dtm_plot_box *a, const dtm_plot_box *b) {
+  return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* Every label of every panel inside the frame, clear of every marker, the
+ * legend and the other labels; one label per point of the first curve
+ * (npoints[p]), the cheapest size's first and named so, when best. */
+static void check_layout(const int *npoints, int best) {
+  const dtm_plot_layout *l = dtm_cli_sweep_plot_layout();
+  for (int p = 0; p < l->npanels; p++) {
+    const dtm_plot_panel *pl = &l->panel[p];
+    assert_int_equal(pl->nlabels, npoints[p]);
+    if (best) assert_non_null(strstr(pl->text[0], "cheapest in band: h = "));
+    for (int i = 0; i < pl->nlabels; i++) {
+      const dtm_plot_box *b = &pl->label[i];
+      assert_true(b->x0 >= pl->frame.x0 && b->x1 <= pl->frame.x1 && b->y0 >= pl->frame.y0 && b->y1 <= pl->frame.y1);
+      assert_false(boxes_meet(b, &pl->legend));
+      for (int k = 0; k < pl->npoints; k++) assert_false(boxes_meet(b, &pl->point[k]));
+      for (int k = 0; k < i; k++) assert_false(boxes_meet(b, &pl->label[k]));
+    }
+  }
+}
+
+/* The labels of the error plot on the bundled scenes' sweeps
+ * (bench/accuracy_sweeps.sh, the figures of its CSVs, to 3 digits): the
+ * Brazilian disc, whose cheapest size in band sat on the band line under
+ * the legend and whose finest size's label hid under its point, and the
+ * notched beam with a cohesive zone, whose two coarsest sizes fall on one
+ * point in both panels. */
+static void plot_labels(void **unused) {
+  const double disc_h[5] = {4e-3, 2e-3, 1e-3, 7e-4, 5e-4},
+               disc_e[5] = {-9.88e-3, -3.04e-3, -8.76e-4, -4.23e-4, -2.11e-4};
+  const double disc_t[5][3] = {{4.09e-3, 2.04e-3, 2.01e-3},
+                               {5.93e-3, 2.62e-3, 3.05e-3},
+                               {1.79e-2, 9.50e-3, 8.56e-3},
+                               {3.73e-2, 2.19e-2, 1.66e-2},
+                               {6.32e-2, 6.32e-2, 3.19e-2}};
+  dtm_sweep_row r[5];
+  for (int i = 0; i < 5; i++)
+    r[i] = error_row(disc_h[i], 1000u << i, 4e-8, disc_t[i], (const double[3]){disc_e[i], 0.95 * disc_e[i], -0.46}, NAN,
+                     1);
+  assert_int_equal(dtm_cli_sweep_plot_titled(in_tmp(3, "labels_disc.png"), "brazilian_disc.xml", r, 5), 0);
+  check_layout((const int[2]){5, 0}, 1);
+  assert_non_null(strstr(dtm_cli_sweep_plot_layout()->panel[0].text[4], "h = 0.0005 m"));
+  const double beam_h[4] = {16e-3, 12e-3, 8e-3, 6e-3}, beam_e[4] = {-1.35e-2, -1.23e-2, -6.96e-3, -3.93e-3};
+  const double beam_z[4] = {7.18, 7.61, 10.3, 13.6};
+  const double beam_t[4][3] = {{5.00, 1.34, 0.0703}, {5.02, 1.34, 0.0706}, {5.04, 1.36, 0.0734}, {6.67, 1.42, 0.0813}};
+  for (int i = 0; i < 4; i++)
+    r[i] = error_row(beam_h[i], 30000 + 1000u * i, 2e-9, beam_t[i],
+                     (const double[3]){beam_e[i], beam_e[i], i < 2 ? -0.99 : NAN}, beam_z[i], i >= 2);
+  assert_int_equal(dtm_cli_sweep_plot_titled(in_tmp(3, "labels_beam.png"), "notched_beam.xml", r, 4), 0);
+  assert_int_equal(dtm_cli_sweep_plot_layout()->npanels, 2);
+  check_layout((const int[2]){4, 4}, 1);
+  (void)unused;
+}
+
 /* LeakSanitizer (the DTM_SANITIZE build): the plot goes through PLplot,
  * which loads its cairo driver with libltdl and keeps it, and pango, whose
  * fontconfig caches live for the process. Both are third-party
@@ -263,6 +344,6 @@ static int teardown(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {cmocka_unit_test(sweep_square), cmocka_unit_test(bad_input),
-                                     cmocka_unit_test(no_duration)};
+                                     cmocka_unit_test(no_duration), cmocka_unit_test(plot_labels)};
   return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -50,23 +50,163 @@ static void check_png(const char *path, unsigned w, unsigned h) {
   assert_true(colours > 8);
 }
 
-static void test_snapshot_without_display(void **state) {
-  (void)state;
-  const char *d = tu_tmpdir();
-  char *out = NULL;
-  int r = tu_run(&out,
-                 "cd %s && cp %s/geometries/brazilian_disc.geo %s/geometries/brazilian_disc.xml . && "
-                 "%s run brazilian_disc.xml -q -o disc.msh && env -u DISPLAY %s snapshot disc.msh --png pic "
-                 "--width 400 --height 300 -q",
-                 d, tu_src(), tu_src(), tu_cli(), tu_cli());
+/* In d: the bundled scene name copied there (NULL: d/prefix.xml is there
+ * already), `dtmap run` on it into prefix.msh, then `dtmap snapshot
+ * prefix.msh --png prefix args` with DISPLAY removed; both exit 0. */
+static void run_and_snap(const char *d, const char *name, const char *prefix, const char *args) {
+  char *out = NULL, copy[1400] = "";
+  if (name)
+    snprintf(copy, sizeof copy, "cp %s/geometries/%s.geo . && cp %s/geometries/%s.xml %s.xml && ", tu_src(), name,
+             tu_src(), name, prefix);
+  int r = tu_run(&out, "cd %s && %s%s run %s.xml -q -o %s.msh && env -u DISPLAY %s snapshot %s.msh --png %s %s -q", d,
+                 copy, tu_cli(), prefix, prefix, tu_cli(), prefix, prefix, args);
   if (r) fprintf(stderr, "%s\n", out ? out : "");
   free(out);
   assert_int_equal(r, 0);
+}
+
+static void test_snapshot_without_display(void **state) {
+  (void)state;
+  const char *d = tu_tmpdir();
+  run_and_snap(d, "brazilian_disc", "pic", "--width 400 --height 300");
   char path[600];
   snprintf(path, sizeof path, "%s/pic_dt.png", d);
   check_png(path, 400, 300);
   snprintf(path, sizeof path, "%s/pic_worst.png", d);
   check_png(path, 400, 300);
+}
+
+/* A picture's pixels, RGB. */
+typedef struct {
+  unsigned w, h;
+  unsigned char *px; /* [h][w][3] */
+} picture;
+
+static void load(const char *path, picture *p) {
+  png_image im;
+  memset(&im, 0, sizeof im);
+  im.version = PNG_IMAGE_VERSION;
+  assert_true(png_image_begin_read_from_file(&im, path));
+  im.format = PNG_FORMAT_RGB;
+  p->px = malloc(PNG_IMAGE_SIZE(im));
+  assert_non_null(p->px);
+  assert_true(png_image_finish_read(&im, NULL, p->px, 0, NULL));
+  p->w = im.width, p->h = im.height;
+}
+
+static const unsigned char *at(const picture *p, unsigned x, unsigned y) { return p->px + 3 * ((size_t)y * p->w + x); }
+
+/* A colour of the viridis map (the model, a colour bar), not the white
+ * background, grey shading or black text. */
+static int coloured(const unsigned char *c) {
+  int hi = c[0] > c[1] ? (c[0] > c[2] ? c[0] : c[2]) : (c[1] > c[2] ? c[1] : c[2]);
+  int lo = c[0] < c[1] ? (c[0] < c[2] ? c[0] : c[2]) : (c[1] < c[2] ? c[1] : c[2]);
+  return hi - lo > 40;
+}
+
+static int text_ink(const unsigned char *c) { return c[0] < 90 && c[1] < 90 && c[2] < 90 && !coloured(c); }
+
+static int row_coloured(const picture *p, unsigned y) {
+  for (unsigned x = 0; x < p->w; x++)
+    if (coloured(at(p, x, y))) return 1;
+  return 0;
+}
+
+/* The first line of dtmap's text (y 8-30) spans at least 7.5 pixels per
+ * character of its text (the .opt's first T2 string): Gmsh's Helvetica
+ * draws about 10; without it (no xfonts-75dpi) X falls back to a small
+ * fixed font and drops the spaces, about 5. */
+static void check_text(const picture *p, const char *opt) {
+  char *text = NULL;
+  assert_int_equal(tu_run(&text, "sed -n 's/.*T2(10, 22, 0){\\\"\\(.*\\)\\\"}.*/\\1/p' '%s'", opt), 0);
+  size_t n = strcspn(text, "\n");
+  free(text);
+  unsigned x0 = p->w, x1 = 0;
+  for (unsigned y = 8; y < 30; y++)
+    for (unsigned x = 0; x < p->w; x++)
+      if (text_ink(at(p, x, y))) x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+  assert_true(n > 20);
+  if (!(x1 > x0 && x1 - x0 >= 7.5 * n)) fprintf(stderr, "text: %u pixels for %zu characters\n", x1 - x0, n);
+  assert_true(x1 > x0 && x1 - x0 >= 7.5 * n);
+}
+
+/* The whole model in the picture, apart from its colour scales: no
+ * coloured pixel on the picture's border, and between the scales at the
+ * bottom and the model above them at least 5 rows without colour. */
+static void check_framed(const picture *p) {
+  for (unsigned x = 0; x < p->w; x++) assert_false(coloured(at(p, x, 0)) || coloured(at(p, x, p->h - 1)));
+  for (unsigned y = 0; y < p->h; y++) assert_false(coloured(at(p, 0, y)) || coloured(at(p, p->w - 1, y)));
+  unsigned y = p->h - 1, gap = 0;
+  while (y > 0 && !row_coloured(p, y)) y--; /* below the scales */
+  while (y > 0 && row_coloured(p, y)) y--;  /* the colour bars */
+  while (y > 0 && !row_coloured(p, y)) y--, gap++;
+  assert_true(gap >= 5);
+  assert_true(y > 0); /* the model above */
+}
+
+/* The bundled reinforced block (3D, trusses and a membrane in concrete):
+ * its dt map whole, above its colour bar, with readable text. */
+static void test_block_framed(void **state) {
+  (void)state;
+  const char *d = tu_tmpdir();
+  char path[600];
+  run_and_snap(d, "reinforced_block", "rb", "");
+  picture p;
+  for (int k = 0; k < 2; k++) {
+    snprintf(path, sizeof path, "%s/rb_%s.png", d, k ? "worst" : "dt");
+    load(path, &p);
+    assert_int_equal(p.w, 1024);
+    check_framed(&p);
+    snprintf(path, sizeof path, "%s/rb.msh.opt", d);
+    check_text(&p, path);
+    free(p.px);
+  }
+}
+
+/* The six faces of a box as shells (Gmsh's OpenCASCADE box without its
+ * volume, a surface model like Gmsh's tower; default shell section), the
+ * face x = 0 meshed five times finer: its elements hold the smallest steps,
+ * the darkest colours. Seen from the top, as dtmap showed a surface model,
+ * that face is edge-on (4 % of the picture dark, the neighbours' graded
+ * elements); seen from the side of the worst elements it is in front:
+ * at least 10 % of the picture above the scales in the darkest three
+ * bands (14 %). */
+static const char shell_box[] =
+    "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 1, 1, 1};\nDelete{ Volume{1}; }\n"
+    "f() = Surface In BoundingBox{-0.01, -0.01, -0.01, 0.01, 1.01, 1.01};\nMeshSize{PointsOf{Surface{f()};}} = 0.05;\n"
+    "Physical Surface(\"skin\") = {1:6};\n";
+
+static void test_shells_seen_obliquely(void **state) {
+  (void)state;
+  const char *d = tu_tmpdir();
+  char path[600];
+  snprintf(path, sizeof path, "%s/shellbox.geo", d);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(shell_box, f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/sb.xml", d);
+  f = fopen(path, "w");
+  assert_non_null(f);
+  fputs("<dtmap-scene version=\"1\">\n  <geometry file=\"shellbox.geo\"/>\n  <meshing size=\"0.25\" dim=\"2\"/>\n"
+        "  <material name=\"steel\" default=\"true\" E=\"210e9\" nu=\"0.3\" rho=\"7850\"/>\n"
+        "  <section default=\"true\" kind=\"shell\" thickness=\"0.01\"/>\n  <effects><elastic/></effects>\n"
+        "</dtmap-scene>\n",
+        f);
+  fclose(f);
+  run_and_snap(d, NULL, "sb", "");
+  picture p;
+  snprintf(path, sizeof path, "%s/sb_dt.png", d);
+  load(path, &p);
+  size_t dark = 0, all = 0;
+  for (unsigned y = 0; y + 110 < p.h; y++)
+    for (unsigned x = 0; x < p.w; x++, all++) {
+      const unsigned char *c = at(&p, x, y); /* viridis's darkest three bands: (68, 1, 84) to (62, 73, 137) */
+      dark += c[2] > c[0] && c[2] > c[1] && c[0] < 90 && c[1] < 110 && c[2] > 70;
+    }
+  free(p.px);
+  if (dark < all / 10) fprintf(stderr, "%zu of %zu pixels in the darkest colours\n", dark, all);
+  assert_true(dark >= all / 10);
 }
 
 /* A file that is not a result is bad input: exit 2, no picture. */
@@ -84,6 +224,8 @@ int main(int argc, char **argv) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_snapshot_without_display),
       cmocka_unit_test(test_snapshot_bad_input),
+      cmocka_unit_test(test_block_framed),
+      cmocka_unit_test(test_shells_seen_obliquely),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -158,6 +158,17 @@ DTM_EXPORT void dtm_analysis_destroy(dtm_analysis **a);
 #define DTM_GLOBAL_BASIS 2u
 DTM_EXPORT int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags);
 
+/* Point masses at the nodes, kg per node in the mesh's node order (per
+ * unit thickness in a plane model), added to every wave effect's lumped
+ * mass (src/analysis/point_mass.c): the mesh keeps a copy (kg NULL removes
+ * them), and the nodal bound, the recommendation, each element's own step
+ * and the advice are computed again; a global estimate made before is
+ * dropped. The element steps do not change. Not in a distributed run. */
+DTM_EXPORT int dtm_analysis_set_point_masses(dtm_analysis *a, const double *kg);
+/* The point masses the analysed mesh carries (read with its .msh, view
+ * DTM_VIEW_NODE_MASS, or set), kg per node, or NULL. */
+DTM_EXPORT const double *dtm_analysis_point_masses(const dtm_analysis *a);
+
 /* What was analysed. */
 DTM_EXPORT const dtm_scene *dtm_analysis_scene(const dtm_analysis *a);
 DTM_EXPORT const dtm_mesh *dtm_analysis_mesh(const dtm_analysis *a);
@@ -264,9 +275,14 @@ DTM_EXPORT double dtm_analysis_basis_step(const dtm_analysis *a);
  * (scene index) at undamped angular frequency omega (rad/s): the product
  * over the damping effects, 1 without any. */
 DTM_EXPORT int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double omega, double *factor);
-/* With a target: the elements whose safety x own safe step is below it,
- * and the shape-limited ones among them (*n entries, NULL when none;
- * owned by the analysis). Features need the Gmsh model (dtm_analysis_run
+/* The target the advice holds the elements' own safe steps (safety
+ * included) against, s: the scene's target, or on the global basis that
+ * target times the bound basis over the global estimate (src/analysis/
+ * recommend.c); 0 without a target. */
+DTM_EXPORT double dtm_analysis_advice_target(const dtm_analysis *a);
+/* With a target: the elements whose safety x own safe step is below the
+ * advice target, and the shape-limited ones among them (*n entries, NULL
+ * when none; owned by the analysis). Features need the Gmsh model (dtm_analysis_run
  * or _current); an analysis of hand-built blocks lists none. */
 DTM_EXPORT size_t dtm_analysis_below_target(const dtm_analysis *a);
 /* Where the mesh sits on the model (NULL for hand-built blocks). */
@@ -314,6 +330,10 @@ DTM_EXPORT double dtm_analysis_timing(const dtm_analysis *a, int t);
 DTM_EXPORT int dtm_analysis_threads(const dtm_analysis *a);
 /* The dimension of the space the mesh's nodes span (dtm_mesh_space_dim). */
 DTM_EXPORT int dtm_analysis_space_dim(const dtm_analysis *a);
+/* The distinct parallel planes the surfaces of a plane problem (plane strain
+ * or plane stress) lie in, each analysed in its own plane; 0 when the model
+ * is no plane problem. */
+DTM_EXPORT int dtm_analysis_planes(const dtm_analysis *a);
 
 /* The operator of spectral effect k (with the scene's damping as Rayleigh
  * coefficients at omega_top, 0 for none). Caller destroys. */

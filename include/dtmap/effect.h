@@ -102,6 +102,9 @@ DTM_EXPORT int dtm_effect_args_dim(const dtm_effect_args *a);
 DTM_EXPORT int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index);
 /* Number of physical groups of the analysed dimension. */
 DTM_EXPORT int dtm_effect_args_ngroups(const dtm_effect_args *a);
+/* Number of elements of the analysed dimension without a <section>: those
+ * the effect's own formulation applies to (a section sets its groups'). */
+DTM_EXPORT size_t dtm_effect_args_unsectioned(const dtm_effect_args *a);
 /* The scene's <time f-max> (Hz, 0 when unset) and its
  * elements-per-wavelength (default DTM_SCENE_PER_WAVELENGTH). */
 DTM_EXPORT double dtm_effect_args_fmax(const dtm_effect_args *a);

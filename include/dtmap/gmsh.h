@@ -72,6 +72,9 @@ DTM_EXPORT int dtm_gmsh_model_dim(const dtm_scene *s, int *dim);
 
 /* Physical groups of dimension dim in the current model. */
 DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
+/* The Gmsh tags of the nodes of physical group (dim, tag) of the current
+ * model, *n of them into *tags (malloc'ed, the caller frees). */
+DTM_EXPORT int dtm_gmsh_group_nodes(int dim, int tag, size_t **tags, size_t *n);
 
 /* Extract the nodes and the elements of dimension dim of the current model
  * into m (m->groups must be set). group_mat[g] is the material of group g or
@@ -95,6 +98,16 @@ typedef struct {
  * membranes) are extracted too, with that group, its material and section;
  * their nodes are the ones they share with the rest of the mesh. */
 DTM_EXPORT int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm_scene *s, dtm_mesh *m);
+/* The point masses of the session's DTM_VIEW_NODE_MASS view (loaded with
+ * the .msh src), by node tag, into m->node_mass; nothing when there is no
+ * such view. DTM_ERR_INPUT for a negative or non-finite mass, or one on a
+ * node of no analysed element (src/gmsh/node_mass.c). */
+DTM_EXPORT int dtm_gmsh_node_masses(dtm_mesh *m, const char *src);
+/* After extraction, from the current model: m->nodes_used, and in
+ * m->left the groups of dimension below m->dim without a section whose
+ * elements reach nodes no extracted element uses (parts of the model left
+ * out; src/gmsh/left_out.c). */
+DTM_EXPORT int dtm_gmsh_left_out(dtm_mesh *m);
 /* Append to *groups the physical groups of dimension below dim that one of
  * the scene's sections names (by name, or by number when unnamed) and that
  * no group of *groups already answers to. */
@@ -103,13 +116,25 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
 /* Clear the current model's mesh and mesh it again (dimension dim, then
  * order) with the size scale * size[v] (m) at node v of m, the current mesh
  * (NaN: no value there), interpolated over its elements, as the only size
- * source; in 3D the default and Netgen optimisers run after. Meshes with
+ * source; then Gmsh's optimiser passes optimise asks for (DTM_OPTIMISE_*
+ * bits, those of the mesh's dimension: dtm_gmsh_optimisers). Meshes with
  * the mesher of the scene's load (dtm_gmsh_mesher_apply), in a child
  * process (round names it in messages: "remeshing round <round>").
  * DTM_ERR_INPUT with Gmsh's reason when Gmsh refuses the remesh,
  * DTM_ERR_INTERNAL with the signal and Gmsh's last messages when it
  * crashes; the model's mesh is then cleared. */
-DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round);
+DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
+                               unsigned optimise);
+/* Gmsh's optimiser passes a remesh can run (bits). */
+enum {
+  DTM_OPTIMISE_GMSH = 1,      /* Gmsh's default tetrahedral optimiser (3D) */
+  DTM_OPTIMISE_NETGEN = 2,    /* Netgen's (3D; not built into Debian's Gmsh: it does nothing there) */
+  DTM_OPTIMISE_RELOCATE = 4,  /* Relocate3D / Relocate2D: nodes moved to improve the worst elements */
+  DTM_OPTIMISE_LAPLACE2D = 8, /* Laplace smoothing of surface meshes (2D) */
+  DTM_OPTIMISE_NONE = 16      /* none (a set of its own, so that 0 can mean the default) */
+};
+/* The passes of asked that apply to a mesh of dimension dim. */
+DTM_EXPORT unsigned dtm_gmsh_optimisers(int dim, unsigned asked);
 
 /* Where the mesh sits on the model, for the advice on shape-limited
  * elements. Filled from the current Gmsh model after dtm_gmsh_extract. */
@@ -154,7 +179,7 @@ DTM_EXPORT int dtm_geo_touch(const dtm_geo *g, size_t v, size_t w);
 typedef struct {
   char kind[32];               /* "size-options", "fixed-node-count", "recombined", "periodic",
                                   "embedded", "gmsh-refused", "gmsh-crash", "shape-limited",
-                                  "thickness", "accuracy", "budget", "cost-rose" */
+                                  "thickness", "accuracy", "budget", "stalled" */
   char text[640];              /* what holds the sizes, in a sentence or two */
   char fix[2048];              /* lines to paste into the .geo, "" when none */
   int nent;                    /* entities named (the first DTM_CAUSE_ENTITIES) */
@@ -162,18 +187,58 @@ typedef struct {
   int tag[DTM_CAUSE_ENTITIES]; /* their Gmsh tags */
 } dtm_cause;
 
+/* The node counts the current model fixes (src/gmsh/counts.c): its
+ * transfinite curves (their count, law and coefficient, and the classes of
+ * curves a transfinite surface ties together), and the curves whose count
+ * it fixes otherwise, the layers of an extrusion, found on its mesh g with
+ * size[] the size that reaches the target at each node and cur[] the
+ * current size (g->nnodes each). NULL *out when g is NULL. */
+typedef struct dtm_structure dtm_structure;
+DTM_EXPORT int dtm_gmsh_structure(const dtm_geo *g, const double *size, const double *cur, dtm_structure **out);
+DTM_EXPORT void dtm_gmsh_structure_destroy(dtm_structure **s);
+/* 1 when a node of an entity an extrusion's layer curve bounds (or, with
+ * keep_counts, a transfinite curve, whose count refine then keeps) needs a
+ * size above that curve's smallest segment: no remesh reaches the target
+ * there. */
+DTM_EXPORT int dtm_gmsh_counts_cap(const dtm_structure *s, int keep_counts);
+/* A curve whose node count the model fixes. */
+typedef struct {
+  int tag;       /* the curve */
+  double length; /* its length, m */
+  int nodes;     /* its node count */
+  double need;   /* layer curves: the largest size a node of the entities it bounds needs, m (0: none) */
+} dtm_fixed_curve;
+/* The transfinite curves (transfinite = 1) or the layer curves (0), into
+ * out[max]; returns how many there are. */
+DTM_EXPORT int dtm_gmsh_fixed_curves(const dtm_structure *s, int transfinite, dtm_fixed_curve *out, int max);
+/* Plan the transfinite counts for a size field: each curve's segments
+ * divided by the largest growth size/cur asks at its nodes, the smallest
+ * over the curves a surface ties to it, never more than the model's. */
+DTM_EXPORT int dtm_gmsh_counts_plan(dtm_structure *s, const dtm_geo *g, const double *size, const double *cur);
+/* Set the planned counts on the model (its law and coefficient kept);
+ * *changed: how many curves differ from the model's own count. */
+DTM_EXPORT int dtm_gmsh_counts_apply(dtm_structure *s, int *changed);
+/* A transfinite curve whose node count refine set. */
+typedef struct {
+  int tag;      /* the curve */
+  int from, to; /* node counts, the model's and refine's */
+} dtm_count_change;
+/* The curves whose count differs from the model's, into *out (malloc'd). */
+DTM_EXPORT int dtm_gmsh_counts_list(const dtm_structure *s, dtm_count_change **out, int *n);
+
 /* What the current model holds that decides sizes a size field cannot:
  * Gmsh's size options (Mesh.MeshSizeMin/Max/Factor, which the remesh lifts),
- * curves whose node count the model fixes (transfinite or extruded layers,
- * found by meshing the curves at two sizes in a child process; fix: the
- * counts size[] implies, as "Transfinite Curve{t} = n;" lines), recombined
- * surfaces and structured volumes, periodic and embedded entities.
+ * curves whose node count the model fixes (st, from dtm_gmsh_structure:
+ * the layers of an extrusion, with the Layers{} counts the target needs;
+ * and the transfinite curves when refine keeps their counts, keep_counts,
+ * with "Transfinite Curve{t} = n;" lines), recombined surfaces and
+ * structured volumes, periodic and embedded entities.
  * s: the scene (size options that are its own <meshing size min-size> are
  * not named; may be NULL); m, g: a mesh of the model and its
  * classification; size[m->nnodes]: the suggested size at its nodes (m).
  * Appends to out[*n] up to max causes. */
 DTM_EXPORT int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size,
-                                    dtm_cause *out, int max, int *n);
+                                    const dtm_structure *st, int keep_counts, dtm_cause *out, int max, int *n);
 
 /* Save the current model's mesh (every element) to path, and replace the
  * current model by the mesh read back from path: the refine loop keeps its
@@ -219,11 +284,16 @@ DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int
  * holds one copy of the mesh, not two. */
 DTM_EXPORT void dtm_gmsh_release(void);
 
+/* The name of the copy of dt that the .opt of a 3D result with trusses or
+ * membranes adds to draw the solid elements' faint skin (src/output/mesh.c). */
+#define DTM_VIEW_DT_SKIN "dt skin"
+
 /* One picture of a result: which views it shows. */
 typedef struct {
   const char *png;  /* output file (.png), written atomically */
-  const char *only; /* show only the view of this name, opaque, plus dtmap's text
-                       annotation; NULL: the views as the .opt leaves them */
+  const char *only; /* show only the view of this name (and its skin, DTM_VIEW_DT_SKIN,
+                       for "dt"), opaque, plus dtmap's text annotation; NULL: the
+                       views as the .opt leaves them */
 } dtm_snapshot_shot;
 
 /* Pictures of a result through Gmsh's own renderer: open msh (Gmsh merges

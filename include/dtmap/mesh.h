@@ -12,6 +12,11 @@
 
 #define DTM_MAX_MASK_GROUPS 64 /* groups representable in dtm_block.gmask */
 
+/* The NodeData view of point masses added at the nodes (kg; per unit
+ * thickness in a plane model), as refine writes them and a mesh read back
+ * carries them into every estimate (dtm_mesh.node_mass). */
+#define DTM_VIEW_NODE_MASS "added mass at nodes"
+
 typedef struct {
   int dim;    /* dimension of the physical group (below the mesh's only for
                  groups a <section> names: curves and surfaces in or on it) */
@@ -49,6 +54,17 @@ typedef struct {
   int node;            /* local node where it occurs (-1: a rule point) */
 } dtm_flagged;
 
+/* A physical group of dimension below the mesh's, without a section, whose
+ * elements extraction left out although they reach nodes no analysed
+ * element has (a tower's bars, a plate beside a solid): a part of the
+ * model that is not analysed (dtm_gmsh_left_out). */
+typedef struct {
+  int dim;         /* dimension of the group (1: curves, 2: surfaces) */
+  int tag;         /* Gmsh physical tag, -1: the entities in no physical group */
+  char name[64];   /* its name, "" when it has none */
+  size_t elements; /* its elements left out */
+} dtm_left_out;
+
 typedef struct dtm_mesh {
   int dim;           /* dimension of the analysed elements */
   size_t nnodes;     /* number of nodes */
@@ -63,8 +79,19 @@ typedef struct dtm_mesh {
   dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
   int space_dim;        /* the dimension of the space the nodes span, once known (a
                            distributed run agrees on it over the parts); 0: not yet */
+  double *node_mass;    /* [nnodes] point masses added at the nodes, kg (per unit thickness
+                           in a plane model): in the lumped mass of every wave effect's
+                           nodal bound, global estimate and simulation, not in the element
+                           steps; NULL: none (owned) */
+  size_t nodes_used;    /* nodes of the extracted elements (0: not counted) */
+  size_t nleft_dim[3];  /* [d] elements of dimension d left out, each once (groups may share some) */
+  int nleft;            /* groups with elements left out */
+  dtm_left_out *left;   /* [nleft] those groups (owned; dtm_gmsh_left_out) */
 } dtm_mesh;
 
+/* Extent of the nodes the elements use along x, y and z, m, into ext[3];
+ * DTM_ERR_INTERNAL for a node index beyond the mesh. */
+DTM_EXPORT int dtm_mesh_extent(const dtm_mesh *m, double ext[3]);
 /* Total number of elements over all blocks. */
 DTM_EXPORT size_t dtm_mesh_nelements(const dtm_mesh *m);
 /* Name of a group for messages: its name, or its number when unnamed. */

@@ -65,6 +65,10 @@ typedef struct dtm_scene {
   double f_max;                   /* <time f-max>, Hz; 0 when unset */
   double elements_per_wavelength; /* <time elements-per-wavelength>; 10 when unset */
   double cost_per_element_step;   /* <time cost-per-element-step>, s; 0 when unset (dtmap's calibration) */
+  int posterior;                  /* <time posterior>: 1 when the global estimate is the basis (as
+                                     --posterior); 0 when unset */
+  double max_added_mass;          /* <time max-added-mass>: point masses refine (and deck) may add where
+                                     no mesh meets the target, % of the model's mass; NaN when unset */
   int time_line;                  /* line of <time>, 0 when there is none */
   int nprops;                     /* entries in the property catalogue */
   char **prop_names;              /* [nprops] property names: the built-in effects' first, then
@@ -115,5 +119,7 @@ DTM_EXPORT int dtm_scene_part_path(const char *file, int part, char *buf, size_t
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);
+/* Set attribute key of an effect to value (a copy), adding it when absent. */
+DTM_EXPORT int dtm_scene_effect_set(dtm_scene_effect *e, const char *key, const char *value);
 
 #endif

@@ -41,6 +41,27 @@ static int lookup(const char *v, const char *const *names) {
   return -1;
 }
 
+/* A formulation for elements of dimension fd on a mesh of dimension dim: it
+ * applies only to the elements without a section (a section sets its
+ * groups' formulation), so say what those are. */
+static int formulation_error(const dtm_effect_args *a, const char *name, int fd, int dim) {
+  size_t n = dtm_effect_args_unsectioned(a);
+  if (!n)
+    return dtm_effect_args_error(a,
+                                 "formulation '%s' applies only to elements without a <section>, and every element "
+                                 "has one here (a section sets the formulation of its groups' elements): remove the "
+                                 "attribute",
+                                 name);
+  return dtm_effect_args_error(a,
+                               "formulation '%s' is for elements of dimension %d, but the %zu elements it applies to "
+                               "(those without a <section>; a section sets the formulation of its groups' elements) "
+                               "are of dimension %d: use %s for them, or give them a section",
+                               name, fd, n, dim,
+                               dim == 3   ? "3d"
+                               : dim == 2 ? "plane-strain or plane-stress"
+                                          : "bar");
+}
+
 static int elastic_create(const dtm_effect_args *a, void **state) {
   const char *f;
   int dim = dtm_effect_args_dim(a), li, ii;
@@ -49,9 +70,7 @@ static int elastic_create(const dtm_effect_args *a, void **state) {
   DTM_CHECK(dtm_effect_args_choice(a, "integration", &ii));
   int fi = f ? lookup(f, form_names) : (int)dtm_formulation_default(dim);
   if (fi < 0) return dtm_effect_args_error(a, "unknown formulation '%s'", f);
-  if (form_dims[fi] != dim)
-    return dtm_effect_args_error(a, "formulation '%s' needs %dD elements, but the mesh is analysed in %dD",
-                                 form_names[fi], form_dims[fi], dim);
+  if (form_dims[fi] != dim) return formulation_error(a, form_names[fi], form_dims[fi], dim);
   elastic_state *s = malloc(sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   *s = (elastic_state){(dtm_formulation)fi,

@@ -8,8 +8,8 @@ Build or open a model with Gmsh's Python API, mesh it, then::
                       effects=["elastic"])
     print(r.recommended, r.basis)
 
-or ``dtmap.analyse(scene="x.xml")`` to take the materials, effects and
-time settings of a scene file (its ``<geometry>`` or ``<mesh>`` is not
+or ``dtmap.analyse(scene="x.xml")`` to take the materials, sections, effects
+and time settings of a scene file (its ``<geometry>`` or ``<mesh>`` is not
 opened: the current model is analysed).  The result holds numpy arrays
 (element and node tags, element steps, nodal steps, size suggestion), the
 recommended step and what it rests on, and the tags of the views dtmap
@@ -174,8 +174,8 @@ def _analyse(scene, dim, threads, posterior, tol, lanczos_max):
     return analysis, cost
 
 
-def analyse(scene=None, *, materials=None, effects=None, time=None, meshing=None, dim=None, threads=0,
-            posterior=False, tol=1e-4, lanczos_max=400, views=True):
+def analyse(scene=None, *, materials=None, effects=None, time=None, meshing=None, sections=None, dim=None,
+            threads=0, posterior=False, tol=1e-4, lanczos_max=400, views=True):
     """Analyse the current Gmsh model (already meshed) and return a Result.
 
     scene: a scene file for the materials, effects and <time>; or instead
@@ -183,7 +183,10 @@ def analyse(scene=None, *, materials=None, effects=None, time=None, meshing=None
         ("default": True for elements in no named group);
       effects: ["elastic", ("damping", {"xi": 0.05}), {"name": "cohesive", "groups": "rock"}, ...];
       time: {"safety": 0.9, "target": ..., "duration": ..., "f_max": ...};
-      meshing: {"dim": 2} to choose the dimension analysed.
+      meshing: {"dim": 2} to choose the dimension analysed;
+      sections: [{"groups": "rebar", "kind": "truss", "area": 3.1e-4}, ...], the scene's
+        <section> attributes ("default": True for the elements in no sectioned group;
+        shear_factor for shear-factor).
     dim: the dimension to analyse (default: the scene's <meshing dim>, else
       the model's). threads: OpenMP threads for dtmap (0: all cores).
     posterior: also the global (Lanczos) estimate, to relative residual tol
@@ -192,9 +195,9 @@ def analyse(scene=None, *, materials=None, effects=None, time=None, meshing=None
     """
     text = None
     if scene is None:
-        text = _scene.scene_text(materials, effects, time, meshing)
-    elif materials or effects or time or meshing:
-        raise ValueError("dtmap.analyse: give either scene= or materials=/effects=/time=/meshing=")
+        text = _scene.scene_text(materials, effects, time, meshing, sections)
+    elif materials or effects or time or meshing or sections:
+        raise ValueError("dtmap.analyse: give either scene= or materials=/effects=/time=/meshing=/sections=")
     handle = ctypes.c_void_p()
     try:
         handle = _load_scene(scene, text)

@@ -66,6 +66,7 @@ const double *dtm_analysis_effect_hmax(const dtm_analysis *a, int k) {
 }
 
 size_t dtm_analysis_below_target(const dtm_analysis *a) { return a->below; }
+double dtm_analysis_advice_target(const dtm_analysis *a) { return a->advice_target; }
 const dtm_geo *dtm_analysis_geo(const dtm_analysis *a) { return a->geo; }
 
 const dtm_shape_limited *dtm_analysis_shape_limited(const dtm_analysis *a, size_t *n) {
@@ -85,4 +86,5 @@ void dtm_analysis_accuracy(const dtm_analysis *a, dtm_accuracy *out) { *out = a-
 double dtm_analysis_timing(const dtm_analysis *a, int t) { return t >= 0 && t < DTM_T_COUNT ? a->timings[t] : 0.0; }
 int dtm_analysis_threads(const dtm_analysis *a) { return a->threads; }
 int dtm_analysis_space_dim(const dtm_analysis *a) { return a->mesh->space_dim; }
+int dtm_analysis_planes(const dtm_analysis *a) { return a->planes; }
 const dtm_mesher_info *dtm_analysis_mesher(const dtm_analysis *a) { return &a->mesher; }

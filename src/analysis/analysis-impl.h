@@ -43,6 +43,11 @@ struct dtm_analysis {
   double dt_global;           /* min over effects of the global estimate, s (NaN) */
   double recommended;         /* safety x the best guaranteed-safe estimate, s */
   double best;                /* that estimate (the basis before safety), s */
+  double advice_target;       /* the target the element and nodal steps are held
+                                 against (safety included), s: the scene's, or on
+                                 the global basis the scene's x the bound basis over
+                                 the global one (the nodal-bound step whose mesh has
+                                 the target's global step); 0 without a target */
   int global_basis;           /* 1 when a converged global estimate may be the
                                  basis (run --posterior), 0 otherwise */
   double *local;              /* [nel] each element's own safe step before safety,
@@ -70,6 +75,7 @@ struct dtm_analysis {
                                   NaN for the others; NULL without any (curvature.c) */
   double *curv_offset;         /* [nel] their node offset over the edge, NaN for the others */
   dtm_curvature_summary curv;  /* the counts and extremes of curvature.c */
+  int planes;                  /* distinct parallel planes of a plane problem's surfaces (planar.c), 0: none */
 };
 
 /* The exchange's operations (distributed.h), or, without one, the status
@@ -123,9 +129,10 @@ int dtm_analysis_has_rotations(const dtm_analysis *a);
 /* Compute a->sec_stats (once, after the nodal bound). */
 int dtm_analysis_section_stats(dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
-/* A 2D model treated as a plane elastic problem is plane
- * (src/analysis/planar.c); DTM_ERR_INPUT naming the extent otherwise. */
-int dtm_analysis_check_planar(const dtm_analysis *a);
+/* A 2D model treated as a plane elastic problem is plane, or its surfaces
+ * lie in parallel planes (a->planes counts them; src/analysis/planar.c);
+ * DTM_ERR_INPUT naming the distance otherwise. */
+int dtm_analysis_check_planar(dtm_analysis *a);
 /* The curvature of the second-order elements and the rule dependence of
  * their steps (curvature.c), after the element steps. */
 int dtm_analysis_curvature_pass(dtm_analysis *a);

@@ -116,9 +116,28 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   return DTM_OK;
 }
 
-int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags) {
+/* The advice again when the global basis moved its target (recommend.c):
+ * the size suggestion and the elements below the target. */
+static int readvise(dtm_analysis *a) {
   double t0 = dtm_wtime();
+  free(a->size_node), free(a->forced);
+  a->size_node = NULL, a->forced = NULL;
+  DTM_CHECK(dtm_size_suggest(a));
+  DTM_CHECK(dtm_x_agree(a, dtm_shape_classify(a)));
+  a->timings[DTM_T_ADVICE] += dtm_wtime() - t0;
+  return DTM_OK;
+}
+
+static void global_free(dtm_analysis *a) {
+  for (int k = 0; a->global && k < a->neffects; k++) free(a->global[k].mode);
+  free(a->global);
+  a->global = NULL;
+}
+
+int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigned flags) {
+  double t0 = dtm_wtime(), advised = a->advice_target;
   int want_modes = (flags & DTM_GLOBAL_MODES) != 0;
+  global_free(a); /* an earlier estimate (after the masses changed) */
   a->global = calloc((size_t)a->neffects + 1, sizeof *a->global);
   DTM_CHECK(dtm_x_agree(a, a->global ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory")));
   for (int k = 0; k < a->neffects; k++)
@@ -126,5 +145,5 @@ int dtm_analysis_estimate_global(dtm_analysis *a, double tol, int maxit, unsigne
   a->global_basis = (flags & DTM_GLOBAL_BASIS) != 0;
   dtm_recommend(a);
   a->timings[DTM_T_GLOBAL] = dtm_wtime() - t0;
-  return DTM_OK;
+  return a->advice_target != advised ? readvise(a) : DTM_OK;
 }

@@ -9,7 +9,11 @@
  * elements also carry rotations, whose lumped rotary inertia is the same
  * about every axis: K_e <= lambda_e M_e over all their unknowns gives the
  * same weighted mean over the rotary inertias J_{e,a}, and a node's bound
- * is the larger of its translational and rotational means. */
+ * is the larger of its translational and rotational means.
+ * Point masses at the nodes (dtm_mesh.node_mass) add to a wave effect's
+ * translational m_a with no stiffness: K <= max_a (num_a / (m_a + M_a)) M
+ * still holds, so the bound stays rigorous and rises where mass was
+ * added. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -169,8 +173,9 @@ static int effect_nodal(const dtm_analysis *a, int k, coeff_cache *cc, int r, do
   }
   DTM_CHECK(r);
   int wave = dtm_analysis_is_wave(a, k);
+  const double *pm = wave ? a->mesh->node_mass : NULL; /* after the sums: each part holds the whole node's */
   for (size_t v = 0; v < nn; v++) {
-    double lam = den[v] > 0 ? num[v] / den[v] : 0;
+    double lam = den[v] > 0 ? num[v] / (den[v] + (pm ? pm[v] : 0.0)) : 0;
     if (rot && den[nn + v] > 0) lam = fmax(lam, num[nn + v] / den[nn + v]);
     num[v] = wave ? sqrt(lam) : lam; /* omega (waves) or lambda (diffusion) */
     fac[v] = 1.0;

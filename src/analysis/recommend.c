@@ -9,7 +9,13 @@
  * effect the larger of the element's step (when a bound) and the smallest
  * nodal bound at its nodes. Its minimum over the elements is at least the
  * basis whenever the global estimate is not the basis, since
- * min_e max(x_e, y_e) >= max(min_e x_e, min_e y_e). */
+ * min_e max(x_e, y_e) >= max(min_e x_e, min_e y_e).
+ * The advice (size suggestion, the elements below the target and why,
+ * mass scaling) holds those local steps against the target. On the global
+ * basis it holds them against the target scaled by the bound basis over the
+ * global one: a mesh whose global step meets the target has its nodal-bound
+ * steps at that fraction of it, so a target the global step already meets
+ * asks nothing of any element, and no element is reported below it. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -24,20 +30,23 @@ static double effect_safe(const dtm_effect_min *pe, int use_global, const char *
 }
 
 void dtm_recommend(dtm_analysis *a) {
-  double best = INFINITY;
+  double best = INFINITY, bound = INFINITY;
   a->dt_nodal = a->dt_global = NAN;
   a->basis = "element bound";
   for (int k = 0; k < a->neffects; k++) {
     dtm_effect_min *pe = &a->per_effect[k];
     if (!a->dt_effect[k]) continue;
-    const char *basis;
+    const char *basis, *unused;
     pe->safe = effect_safe(pe, a->global_basis, &basis);
+    bound = fmin(bound, effect_safe(pe, 0, &unused));
     if (isfinite(pe->nodal) && !(pe->nodal >= a->dt_nodal)) a->dt_nodal = pe->nodal;
     if (isfinite(pe->global) && !(pe->global >= a->dt_global)) a->dt_global = pe->global;
     if (pe->safe < best) best = pe->safe, a->basis = basis;
   }
   a->best = best;
   a->recommended = a->scene->safety * best;
+  double t = a->scene->target;
+  a->advice_target = t > 0 && isfinite(best) && bound < best ? t * bound / best : t > 0 ? t : 0;
 }
 
 /* Own safe step of element e (local index) of block b for effect k. */

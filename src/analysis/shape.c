@@ -664,7 +664,7 @@ static int classify_minimum(dtm_analysis *a) {
 }
 
 int dtm_shape_classify(dtm_analysis *a) {
-  double target = a->scene->target;
+  double target = a->advice_target;
   free(a->shape), free(a->layers);
   a->shape = NULL, a->layers = NULL, a->nshape = a->nlayers = a->below = 0;
   if (!(target > 0)) return a->geo ? classify_minimum(a) : DTM_OK;

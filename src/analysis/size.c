@@ -161,7 +161,7 @@ static void free_fields(const dtm_analysis *a, node_fields *nf) {
  * raised to c x what reaches the target), then the accuracy clamp; free[]
  * gets the free size. */
 static void suggest_node(const dtm_analysis *a, node_fields *nf, size_t v, double c, double *size) {
-  double target = a->scene->target;
+  double target = a->advice_target;
   if (!nf->count[v]) { /* a node of no analysed element */
     size[v] = nf->free[v] = NAN;
     return;
@@ -193,7 +193,7 @@ int dtm_size_suggest(dtm_analysis *a) {
   int r = dtm_x_agree(a, a->size_node && a->forced ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"));
   if (r == DTM_OK) r = field(a, 1.0, a->size_node, &nf);
   if (r == DTM_OK) {
-    element_accounting(a, a->scene->target);
+    element_accounting(a, a->advice_target);
     forced_accounting(a, &nf);
   }
   free_fields(a, &nf);

@@ -124,6 +124,7 @@ static int classify(const dtm_analysis *part, dtm_mesh **whole, dtm_geo **geo, c
   *whole = NULL, *geo = NULL;
   w->mesh->space_dim = part->mesh->space_dim; /* agreed over the parts */
   w->dt_min = part->dt_min, w->recommended = part->recommended, w->best = part->best, w->basis = part->basis;
+  w->advice_target = part->advice_target;
   int r = dtm_effects_create(w->scene, w->mesh, &w->effects, &w->neffects);
   if (r == DTM_OK && w->neffects != part->neffects) r = DTM_ERR(DTM_ERR_INTERNAL, "the effects differ from the part's");
   if (r == DTM_OK) r = alloc_whole(part, w);
@@ -145,7 +146,7 @@ int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_
   double v[2] = {*whole && *geo ? 1.0 : 0.0, (double)part->below}, *mine = NULL, *all = NULL;
   size_t nall = 0;
   int r = part->x->reduce(part->x->ctx, DTM_OK, v, 2, DTM_X_MAX);
-  if (r || !v[0] || (part->scene->target > 0 && !v[1])) return r;
+  if (r || !v[0] || (part->advice_target > 0 && !v[1])) return r;
   r = pack(part, &mine);
   r = part->x->gather(part->x->ctx, r, mine, mine ? part->nel * width(part) : 0, &all, &nall);
   free(mine);

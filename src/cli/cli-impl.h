@@ -28,6 +28,9 @@ typedef struct {
   double tol;            /* --tol: Lanczos relative residual */
   int lanczos_max;       /* --lanczos-max: Lanczos steps */
   int max_iter;          /* refine --max-iter: rounds */
+  double max_added_mass; /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
+  int keep_counts;       /* refine --keep-counts: the model's transfinite node counts stay */
+  const char *optimise;  /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
   double target;         /* refine --target, s (0: the scene's <time target>) */
   double factor;         /* verify --factor: multiple of the recommended step (0: not given, 1) */
   double dt;             /* verify --dt, s (0: use factor x recommended) */
@@ -41,6 +44,7 @@ typedef struct {
   int calibrate;         /* run/sweep/refine --calibrate: the measures use their measured errors */
   const char *png;       /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;     /* their size, pixels */
+  const char *solver;    /* deck --solver NAME */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;
@@ -151,6 +155,7 @@ int dtm_cli_verify(const cli_opts *o);
 int dtm_cli_refine(const cli_opts *o);
 int dtm_cli_sweep(const cli_opts *o);
 int dtm_cli_snapshot(const cli_opts *o);
+int dtm_cli_deck(const cli_opts *o);
 
 /* The sweep plot (plot.c; PLplot lives on the CLI side because it exits
  * the process on some errors). Cost (element-steps, with and without
@@ -165,5 +170,44 @@ int dtm_cli_sweep_plot(const char *path, const dtm_sweep_row *rows, int n);
  * in for plot.c and the plot functions fail with DTM_ERR_INPUT). */
 int dtm_cli_can_plot(void);
 int dtm_cli_sweep_plot_titled(const char *path, const char *title, const dtm_sweep_row *rows, int n);
+
+/* The sweep plot's label layout (labels.c), in mm on the page. */
+typedef struct {
+  double x0, y0, x1, y1; /* lower left and upper right corners */
+} dtm_plot_box;
+typedef struct {
+  double px, py; /* the point it names */
+  double radius; /* half its marker's size */
+  double w, h;   /* the label's size */
+} dtm_plot_label;
+typedef struct {
+  dtm_plot_box frame;       /* the labels stay inside it (the plot's box) */
+  const dtm_plot_box *hard; /* [nhard] what no label may cover: every point's marker, the legend */
+  int nhard;
+  const double (*seg)[4]; /* [nseg] the curves' segments (x0, y0, x1, y1): crossed only if need be */
+  int nseg;
+  double gap; /* space between a marker and its label */
+} dtm_plot_scene;
+/* out[n]: each label's box, placed in order clear of s and of the labels
+ * before it. */
+void dtm_cli_place_labels(const dtm_plot_scene *s, const dtm_plot_label *labels, int n, dtm_plot_box *out);
+
+/* What the last sweep plot drew, per panel (for tests): the frame, the
+ * points' markers, the labels and the legend, in mm on the page. */
+#define DTM_PLOT_MAX 64 /* points per curve */
+typedef struct {
+  dtm_plot_box frame;                   /* the plot's box */
+  dtm_plot_box legend;                  /* the legend's box */
+  int npoints;                          /* markers of every curve */
+  dtm_plot_box point[3 * DTM_PLOT_MAX]; /* their boxes */
+  int nlabels;                          /* labels drawn */
+  dtm_plot_box label[DTM_PLOT_MAX];     /* their boxes */
+  char text[DTM_PLOT_MAX][64];          /* their text */
+} dtm_plot_panel;
+typedef struct {
+  int npanels;             /* panels drawn (0: the plot without measures) */
+  dtm_plot_panel panel[2]; /* phase error, then counts */
+} dtm_plot_layout;
+const dtm_plot_layout *dtm_cli_sweep_plot_layout(void);
 
 #endif

@@ -100,8 +100,17 @@ static const cli_option refine_options[] = {
      "output mesh (default: <output mesh> as X_refined.msh, else SCENE_refined.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json",
      "JSON report (default: <output report> as X_refined.json, if any)"},
-    {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 31, "K", "remeshing rounds at most (default 3)"},
+    {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 30, "K", "remeshing rounds at most (default 3)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "refine on the global estimate (Lanczos), the step a solver then runs at fixed"},
+    {"--max-added-mass", CLI_DOUBLE, OPT(max_added_mass), 0, 0, 100, "P",
+     "where no mesh meets the target, add point masses up to P % of the model's mass"},
+    {"--keep-counts", CLI_FLAG, OPT(keep_counts), 1, 0, 0, NULL,
+     "keep the model's transfinite node counts (default: refine sets them)"},
+    {"--optimise", CLI_STRING, OPT(optimise), 0, 0, 0, "LIST",
+     "Gmsh's optimisers after each remesh, of gmsh,netgen,relocate,laplace, or none (default: gmsh,netgen)"},
     TOP_OPTION,
+    LANCZOS_OPTIONS,
     FORMAT_OPTION,
     VERIFIED_OPTIONS,
     THREADS_OPTION,
@@ -113,6 +122,21 @@ static const cli_option sweep_options[] = {
     {"--csv", CLI_STRING, OPT(csv), 0, 0, 0, "F", "table as CSV (default SCENE_sweep.csv)"},
     {"--plot", CLI_STRING, OPT(plot), 0, 0, 0, "F.png", "cost against accuracy, log-log (default SCENE_sweep.png)"},
     VERIFIED_OPTIONS,
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
+static const cli_option deck_options[] = {
+    {"--solver", CLI_STRING, OPT(solver), 0, 0, 0, "S", "the solver: calculix, abaqus or lsdyna (required)"},
+    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "FILE", "the deck (default SCENE_S.inp, SCENE_lsdyna.k)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "estimate the global step (Lanczos); a converged one becomes the basis of the deck's step (also "
+     "<time posterior=\"true\">)"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "reach this step, s, with mass added at the nodes"},
+    {"--max-added-mass", CLI_DOUBLE, OPT(max_added_mass), 0, 0, 100, "P",
+     "with --target: exit 1 if the mass needed is above P % of the model's (default: <time max-added-mass>)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report, with the deck's step and estimates"},
+    LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -150,14 +174,18 @@ const cli_command dtm_cli_commands[] = {
      "refine read its --report with --verified (and use it with --calibrate).",
      verify_options, dtm_cli_verify},
     {"refine",
-     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--top N] [--format F] "
-     "[--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
+     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "
+     "[--keep-counts] [--top N] [--format F] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
      "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
-     "the background size field, then Gmsh's optimisers, until the recommended step\n"
-     "reaches DT (default: the scene's <time target>), keeping the cheapest mesh that\n"
-     "does; it stops when a round raises the cost without reaching it, or when only\n"
-     "shape-limited elements remain. Exit 1 if the target is not met.",
+     "the background size field, with the node counts of transfinite curves set from it,\n"
+     "then Gmsh's optimisers, until the recommended step reaches DT (default: the scene's\n"
+     "<time target>), keeping the cheapest mesh that does. With --posterior (or <time\n"
+     "posterior=\"true\">) the step is the global estimate, which a solver must then be\n"
+     "told to use. An input that meets DT is kept as it is. It stops when a round raises\n"
+     "the cost without reaching DT, or when nothing a remesh changes limits the step;\n"
+     "with --max-added-mass P point masses at the nodes that need them make up the rest,\n"
+     "up to P % of the model's mass (view 'added mass at nodes'). Exit 1 if DT is not met.",
      refine_options, dtm_cli_refine},
     {"sweep",
      "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
@@ -174,6 +202,17 @@ const cli_command dtm_cli_commands[] = {
      "measure is in its band; then the table as CSV (units in the header) and the plot\n"
      "as PNG: error against hours, the band and the cheapest size inside it marked.",
      sweep_options, dtm_cli_sweep},
+    {"deck",
+     "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "
+     "[--report R.json] [-j N] [-v|-q]",
+     "Analyses the scene as run does and writes the explicit solver's input: the nodes,\n"
+     "every analysed element in the solver's element type, one element and one node set\n"
+     "per physical group, the materials and sections, dtmap's step fixed as the\n"
+     "increment (LS-DYNA: the TSSFAC that makes its own estimate the step), the scene's\n"
+     "duration, mass at the nodes for --target, and commented *INCLUDE slots for the\n"
+     "loads, boundary conditions, contact and output requests. Prints the solver's own\n"
+     "estimate for the mesh beside the step. An element the solver lacks is exit 2.",
+     deck_options, dtm_cli_deck},
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
      "(RESULT.msh.opt applied): PREFIX_worst.png (the below-target view over the faint\n"

@@ -19,6 +19,7 @@ static cli_opts defaults(void) {
   o.tol = 1e-4;
   o.lanczos_max = 400;
   o.max_iter = 3;
+  o.max_added_mass = NAN; /* the scene's <time max-added-mass>, else none */
   o.steps = 2000;
   o.width = 1024;
   o.height = 768;

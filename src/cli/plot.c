@@ -5,8 +5,11 @@
  * (the worst phase-speed error in %; the smallest elements per cohesive
  * zone or across the diffusion length), one curve per way of running (one
  * global step, ideal subcycling, mass scaling to the target), the band as
- * dashed lines and the cheapest size inside every band ringed and named.
- * Without measures: element-steps against 1/h as before. Without a
+ * dashed lines and the cheapest size inside every band ringed and named;
+ * every point of the first curve named by its size, each label placed
+ * clear of the markers, the other labels and the legend, which stands
+ * outside the box on its right (labels.c; the layout of the last plot is
+ * kept for the tests). Without measures: element-steps against 1/h as before. Without a
  * duration the time axis is hours per simulated second. PLplot exits the
  * process on a fatal error, so every condition it would die on (no
  * pngcairo device, an unwritable file) is checked before it is called. */
@@ -147,7 +150,12 @@ static void draw_axes(const plot_data *d, const char *title) {
   plmtex("t", 6.5, 0.5, 0.5, t);
 }
 
+static dtm_plot_layout last; /* what the last plot drew (dtm_cli_sweep_plot_layout) */
+
+const dtm_plot_layout *dtm_cli_sweep_plot_layout(void) { return &last; }
+
 static void draw(const char *file, const char *title, const plot_data *d) {
+  last.npanels = 0;
   plsdev("pngcairo");
   plsfnam(file);
   plspage(0, 0, 1000, 700, 0, 0);
@@ -200,8 +208,8 @@ static void fill_curve(const dtm_sweep_row *rows, int n, int p, int way, curve *
 }
 
 /* One panel's axes: ranges over its curves and the band. */
-static double panel_axes(const curve *c, int nc, double band_lo, double band_hi, const char *xl, const char *yl,
-                         const char *title) {
+static void panel_axes(const curve *c, int nc, double band_lo, double band_hi, const char *xl, const char *yl,
+                       const char *title) {
   double x0 = INFINITY, x1 = -INFINITY, y0 = log10(band_lo), y1 = log10(band_hi);
   for (int k = 0; k < nc; k++)
     for (int i = 0; i < c[k].n; i++)
@@ -228,12 +236,53 @@ static double panel_axes(const curve *c, int nc, double band_lo, double band_hi,
     if (isfinite(v) && (k == 0 || band_hi != band_lo)) plline(2, xs, ys);
   }
   pllsty(1);
-  return 0.5 * (x0 + x1);
 }
 
-/* The curves, each point of the first named by its size (right of the
- * point in the left half of the box, left of it in the right half). */
-static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int best, double xmid) {
+/* World coordinates of the current window to mm on the page, and back. */
+typedef struct {
+  double wx0, wx1, wy0, wy1; /* world window */
+  double mx0, mx1, my0, my1; /* the viewport in mm */
+} page_map;
+
+static page_map page_of_viewport(void) {
+  page_map m;
+  double sx0, sx1, sy0, sy1, vx0, vx1, vy0, vy1;
+  plgspa(&sx0, &sx1, &sy0, &sy1);
+  plgvpd(&vx0, &vx1, &vy0, &vy1);
+  plgvpw(&m.wx0, &m.wx1, &m.wy0, &m.wy1);
+  m.mx0 = sx0 + vx0 * (sx1 - sx0), m.mx1 = sx0 + vx1 * (sx1 - sx0);
+  m.my0 = sy0 + vy0 * (sy1 - sy0), m.my1 = sy0 + vy1 * (sy1 - sy0);
+  return m;
+}
+
+static double to_mm_x(const page_map *m, double x) {
+  return m->mx0 + (x - m->wx0) / (m->wx1 - m->wx0) * (m->mx1 - m->mx0);
+}
+static double to_mm_y(const page_map *m, double y) {
+  return m->my0 + (y - m->wy0) / (m->wy1 - m->wy0) * (m->my1 - m->my0);
+}
+static double to_world_x(const page_map *m, double x) {
+  return m->wx0 + (x - m->mx0) / (m->mx1 - m->mx0) * (m->wx1 - m->wx0);
+}
+static double to_world_y(const page_map *m, double y) {
+  return m->wy0 + (y - m->my0) / (m->my1 - m->my0) * (m->wy1 - m->wy0);
+}
+
+#define MARKER 1.1 /* a marker's size in character heights */
+#define TEXT_W                                                                                                         \
+  0.72 /* a character's width in character heights, at least (DejaVu Sans through cairo, digits and lower case) */
+
+static double char_height(double scale) {
+  double def, ht;
+  plschr(0, scale);
+  plgchr(&def, &ht);
+  plschr(0, 1.0);
+  return ht;
+}
+
+/* The curves, with every point's marker box into the panel's layout. */
+static void panel_curves(const curve *c, int nc, const page_map *m, dtm_plot_panel *pl) {
+  double r = MARKER * char_height(1.0) / 2;
   for (int k = 0; k < nc; k++) {
     if (!c[k].n) continue;
     plcol0(c[k].color);
@@ -241,34 +290,87 @@ static void panel_curves(const curve *c, int nc, const dtm_sweep_row *rows, int 
     if (c[k].n > 1) plline(c[k].n, c[k].x, c[k].y);
     plstring(c[k].n, c[k].x, c[k].y, c[k].symbol);
     plwidth(1.0);
-    for (int i = 0; i < c[k].n && k == 0; i++) {
-      char t[64];
-      snprintf(t, sizeof t, "%s%g m", c[k].row[i] == best ? "cheapest in band: h = " : "h = ", rows[c[k].row[i]].h);
-      plcol0(c[k].row[i] == best ? 6 : 1);
-      if (c[k].row[i] == best) plstring(1, &c[k].x[i], &c[k].y[i], "#(850)");
-      plschr(0, c[k].row[i] == best ? 0.8 : 0.65);
-      int left = c[k].x[i] > xmid;
-      plptex(c[k].x[i], c[k].y[i], 1, 0, left ? 1.08 : -0.08, t);
-      plschr(0, 1.0);
+    for (int i = 0; i < c[k].n; i++) {
+      double x = to_mm_x(m, c[k].x[i]), y = to_mm_y(m, c[k].y[i]);
+      pl->point[pl->npoints++] = (dtm_plot_box){x - r, y - r, x + r, y + r};
     }
   }
 }
 
-static void panel_legend(const curve *c, int nc) {
+/* To the right of the box, outside it, so it hides no point; its box
+ * (pllegend gives its size as a fraction of the viewport) into pl. */
+static void panel_legend(const curve *c, int nc, const page_map *m, dtm_plot_panel *pl) {
   PLINT opt[3], tcol[3], lcol[3], lsty[3], scol[3], snum[3];
-  PLFLT lwid[3], sscale[3], w, h;
+  PLFLT lwid[3], sscale[3], w = 0, h = 0;
   const char *text[3], *sym[3];
-  int m = 0;
+  int n = 0;
   for (int k = 0; k < nc; k++) {
     if (!c[k].n) continue;
-    opt[m] = PL_LEGEND_LINE | PL_LEGEND_SYMBOL, tcol[m] = 1, lcol[m] = scol[m] = c[k].color, lsty[m] = 1;
-    snum[m] = 1, lwid[m] = 2.0, sscale[m] = 1.0, text[m] = c[k].label, sym[m] = c[k].symbol, m++;
+    opt[n] = PL_LEGEND_LINE | PL_LEGEND_SYMBOL, tcol[n] = 1, lcol[n] = scol[n] = c[k].color, lsty[n] = 1;
+    snum[n] = 1, lwid[n] = 2.0, sscale[n] = 1.0, text[n] = c[k].label, sym[n] = c[k].symbol, n++;
   }
-  if (m)
-    pllegend(&w, &h, 0, PL_POSITION_BOTTOM | PL_POSITION_LEFT | PL_POSITION_INSIDE, 0.01, 0.01, 0.05, 0, 0, 1, 0, 0, m,
-             opt, 0.8, 0.7, 1.5, 0.0, tcol, text, NULL, NULL, NULL, NULL, lcol, lsty, lwid, scol, sscale, snum, sym);
+  if (!n) return;
+  pllegend(&w, &h, 0, PL_POSITION_RIGHT | PL_POSITION_OUTSIDE, 0.02, 0.0, 0.05, 0, 0, 1, 0, 0, n, opt, 0.8, 0.7, 1.5,
+           0.0, tcol, text, NULL, NULL, NULL, NULL, lcol, lsty, lwid, scol, sscale, snum, sym);
+  double x0 = m->mx1 + 0.02 * (m->mx1 - m->mx0), yc = 0.5 * (m->my0 + m->my1), hh = 0.5 * h * (m->my1 - m->my0);
+  pl->legend = (dtm_plot_box){x0, yc - hh, x0 + w * (m->mx1 - m->mx0), yc + hh};
 }
 
+/* One label at its box (text centred in it), the cheapest size's point
+ * ringed; a thin leader line from the point when the box stands off it. */
+static void draw_label(const dtm_plot_label *l, const dtm_plot_box *b, const char *text, double scale, int top,
+                       const page_map *m) {
+  double px = to_world_x(m, l->px), py = to_world_y(m, l->py);
+  double nx = fmin(fmax(l->px, b->x0), b->x1), ny = fmin(fmax(l->py, b->y0), b->y1); /* nearest point of the box */
+  plcol0(top ? 6 : 1);
+  if (top) plstring(1, &px, &py, "#(850)");
+  if (hypot(nx - l->px, ny - l->py) > l->radius + l->h) {
+    double xs[2] = {px, to_world_x(m, nx)}, ys[2] = {py, to_world_y(m, ny)};
+    plwidth(0.5);
+    plline(2, xs, ys);
+    plwidth(1.0);
+  }
+  plschr(0, scale);
+  plptex(to_world_x(m, 0.5 * (b->x0 + b->x1)), to_world_y(m, 0.5 * (b->y0 + b->y1)), 1, 0, 0.5, text);
+  plschr(0, 1.0);
+}
+
+/* The labels of the first curve's points ("h = ..."; the cheapest size in
+ * the band ringed and named first), placed clear of the markers, of each
+ * other and of the legend (labels.c), with a leader line when a label
+ * stands off its point. */
+static void panel_labels(const curve *c, int nc, const dtm_sweep_row *rows, int best, const page_map *m,
+                         dtm_plot_panel *pl) {
+  dtm_plot_label lab[DTM_PLOT_MAX];
+  double seg[3 * DTM_PLOT_MAX][4], scale[DTM_PLOT_MAX];
+  int order[DTM_PLOT_MAX], n = 0, ns = 0;
+  for (int i = 0; i < c[0].n; i++)
+    if (c[0].row[i] == best) order[n++] = i; /* the cheapest first */
+  for (int i = 0; i < c[0].n; i++)
+    if (c[0].row[i] != best) order[n++] = i;
+  for (int k = 0; k < nc; k++)
+    for (int i = 1; i < c[k].n; i++)
+      seg[ns][0] = to_mm_x(m, c[k].x[i - 1]), seg[ns][1] = to_mm_y(m, c[k].y[i - 1]),
+      seg[ns][2] = to_mm_x(m, c[k].x[i]), seg[ns++][3] = to_mm_y(m, c[k].y[i]);
+  for (int j = 0; j < n; j++) {
+    int i = order[j], top = c[0].row[i] == best;
+    snprintf(pl->text[j], sizeof pl->text[j], "%s%g m", top ? "cheapest in band: h = " : "h = ", rows[c[0].row[i]].h);
+    scale[j] = top ? 0.8 : 0.65;
+    double ht = char_height(scale[j]);
+    lab[j] = (dtm_plot_label){to_mm_x(m, c[0].x[i]), to_mm_y(m, c[0].y[i]), MARKER * char_height(1.0) / 2,
+                              TEXT_W * ht * (double)strlen(pl->text[j]), 1.4 * ht};
+  }
+  dtm_plot_box hard[3 * DTM_PLOT_MAX + 1];
+  int nh = pl->npoints;
+  memcpy(hard, pl->point, (size_t)nh * sizeof *hard);
+  hard[nh++] = pl->legend;
+  double gap = 0.3 * char_height(1.0);
+  dtm_plot_box inner = {pl->frame.x0 + gap, pl->frame.y0 + gap, pl->frame.x1 - gap, pl->frame.y1 - gap};
+  dtm_plot_scene sc = {inner, hard, nh, (const double(*)[4])seg, ns, gap};
+  dtm_cli_place_labels(&sc, lab, n, pl->label);
+  pl->nlabels = n;
+  for (int j = 0; j < n; j++) draw_label(&lab[j], &pl->label[j], pl->text[j], scale[j], c[0].row[order[j]] == best, m);
+}
 /* The error panels that have points: 0 phase error, 1 counts. */
 static int measure_panels(const dtm_sweep_row *rows, int n, curve c[2][3], int have[2]) {
   int np = 0;
@@ -280,15 +382,39 @@ static int measure_panels(const dtm_sweep_row *rows, int n, curve c[2][3], int h
   return np;
 }
 
+/* The panel title of measure p. */
+static void panel_title(const dtm_sweep_row *rows, int p, char *pt, size_t len) {
+  if (p == 0)
+    snprintf(pt, len, "worst phase-speed error at %.4g Hz%s; band %g %%", rows[0].frequency,
+             rows[0].frequency_default ? " (mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
+  else
+    snprintf(pt, len, "smallest elements per %s; band %s",
+             isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length",
+             isfinite(rows[0].per_zone) ? "5-10" : ">= 5");
+}
+
+/* Panel p of the error plot in the current viewport, into pl. */
+static void draw_panel(const dtm_sweep_row *rows, int p, const curve *c, int best, const char *xl, dtm_plot_panel *pl) {
+  char pt[1024];
+  int nc = p ? 1 : 3;
+  panel_title(rows, p, pt, sizeof pt);
+  panel_axes(c, nc, p ? 5 : 100 * DTM_BAND_PHASE, p ? (isfinite(rows[0].per_zone) ? 10 : 5) : 100 * DTM_BAND_PHASE, xl,
+             p ? "elements" : "|phase-speed error| (%)", pt);
+  page_map m = page_of_viewport();
+  *pl = (dtm_plot_panel){.frame = {m.mx0, m.my0, m.mx1, m.my1}};
+  panel_curves(c, nc, &m, pl);
+  panel_legend(c, nc, &m, pl);
+  panel_labels(c, nc, rows, best, &m, pl);
+}
+
 static void draw_measures(const char *file, const char *title, const dtm_sweep_row *rows, int n, curve c[2][3],
                           const int have[2]) {
   int best = dtm_sweep_cheapest(rows, n), np = have[0] + have[1], j = 0;
-  int per_s = !isfinite(rows[0].hours);
-  const char *xl = per_s ? "run time per simulated second (h/s)" : "run time (h)";
-  char t[512], pt[1024];
+  const char *xl = !isfinite(rows[0].hours) ? "run time per simulated second (h/s)" : "run time (h)";
+  char t[512];
   plsdev("pngcairo");
   plsfnam(file);
-  plspage(0, 0, 1000, np > 1 ? 1100 : 700, 0, 0);
+  plspage(0, 0, 1250, np > 1 ? 1100 : 700, 0, 0);
   set_colors();
   plscol0(5, 44, 160, 44);  /* band */
   plscol0(6, 148, 0, 211);  /* cheapest in band */
@@ -296,23 +422,13 @@ static void draw_measures(const char *file, const char *title, const dtm_sweep_r
   plinit();
   pladv(0);
   snprintf(t, sizeof t, "dtmap sweep: %s", title ? title : "what accuracy costs");
+  last.npanels = 0;
   for (int p = 0; p < 2; p++) {
     if (!have[p]) continue;
     double top = 0.90 - j * (0.86 / np), bottom = top - 0.86 / np + 0.11;
-    plvpor(0.13, 0.95, bottom, top);
+    plvpor(0.09, 0.70, bottom, top);
     if (j == 0) plmtex("t", 2.6, 0.5, 0.5, t);
-    if (p == 0)
-      snprintf(pt, sizeof pt, "worst phase-speed error at %.4g Hz%s; band %g %%", rows[0].frequency,
-               rows[0].frequency_default ? " (mesh default)" : " (f-max)", 100 * DTM_BAND_PHASE);
-    else
-      snprintf(pt, sizeof pt, "smallest elements per %s; band %s",
-               isfinite(rows[0].per_zone) ? "cohesive zone" : "diffusion length",
-               isfinite(rows[0].per_zone) ? "5-10" : ">= 5");
-    double xmid = panel_axes(c[p], p ? 1 : 3, p ? 5 : 100 * DTM_BAND_PHASE,
-                             p ? (isfinite(rows[0].per_zone) ? 10 : 5) : 100 * DTM_BAND_PHASE, xl,
-                             p ? "elements" : "|phase-speed error| (%)", pt);
-    panel_curves(c[p], p ? 1 : 3, rows, best, xmid);
-    panel_legend(c[p], p ? 1 : 3);
+    draw_panel(rows, p, c[p], best, xl, &last.panel[last.npanels++]);
     j++;
   }
   plend();

@@ -1,11 +1,16 @@
 /* `dtmap refine SCENE.xml [--target DT]`: remesh until the recommended step
  * reaches DT (default: the scene's <time target>) without raising the
- * cost, printing each round (elements, recommended step, element-steps and
- * their change), then write the kept mesh with all its views and the
- * report (by default SCENE_refined.msh, never run's SCENE_dt.msh), with the
- * causes when the target is not met (each with the lines to paste into the
- * .geo where there are any). Exit 1 when the target is not met, also when
- * Gmsh refused or crashed in a remesh (the kept mesh is written). */
+ * cost, printing each round (what it was, its basis, elements, steps, how
+ * far short, element-steps and their change, what was applied), then write
+ * the kept mesh with all its views and the report (by default
+ * SCENE_refined.msh, never run's SCENE_dt.msh), with the causes when the
+ * mesh alone does not meet the target (each with the lines to paste into
+ * the .geo where there are any), and the ways found: mesh only, mesh and
+ * point masses, subcycling. On the global basis it says that a solver must
+ * then run at that fixed step, beside the element bound an element-by-
+ * element estimate of the solver's own would not exceed. Exit 1 when the
+ * target is not met, also when Gmsh refused or crashed in a remesh (the
+ * kept mesh is written). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -27,14 +32,31 @@ static const char *phase_text(const dtm_refine_round *r, char *buf, size_t len) 
   return buf;
 }
 
+/* What was applied in a round: the calibration (the margin aimed past the
+ * target), the transfinite counts set, the optimisers, the masses. */
+static const char *applied_text(const dtm_refine_round *r, char *buf, size_t len) {
+  buf[0] = '\0';
+  if (r->kind == DTM_ROUND_INPUT) return snprintf(buf, len, "input"), buf;
+  if (r->kind == DTM_ROUND_MASS)
+    return snprintf(buf, len, "+%.3g%% mass at %zu nodes", r->added_percent, r->mass_nodes), buf;
+  snprintf(buf, len, "x%.3f", r->calibration);
+  if (r->counts) snprintf(buf + strlen(buf), len - strlen(buf), ", %d counts", r->counts);
+  if (r->optimise & DTM_OPTIMISE_RELOCATE) snprintf(buf + strlen(buf), len - strlen(buf), ", relocate");
+  if (r->optimise & DTM_OPTIMISE_LAPLACE2D) snprintf(buf + strlen(buf), len - strlen(buf), ", laplace");
+  return buf;
+}
+
 static void print_round(const dtm_refine_result *rr, int i) {
   const dtm_refine_round *r = &rr->rounds[i];
   double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
-  char ph[32];
-  printf("%5d %10zu %12.4e %12.4e %12.4e %+9.1f%% %9zu %9zu %9s %5s %9.2f%s%s\n", i, r->elements, r->dt_min,
-         r->recommended, c, 100.0 * (c / c0 - 1.0), r->below, r->shape_limited, phase_text(r, ph, sizeof ph),
-         r->in_band ? "yes" : "no", r->seconds, r->recommended >= rr->target ? "  target met" : "",
-         i == rr->best ? "  (kept)" : "");
+  char ph[32], ap[64];
+  printf("%5d %-6s %10zu %12.4e %12.4e %+8.1f%% %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
+         r->basis && !strcmp(r->basis, "global estimate") ? "global"
+         : r->basis && !strcmp(r->basis, "nodal bound")   ? "nodal"
+                                                          : "elem.",
+         r->elements, r->dt_min, r->recommended, 100.0 * r->gap, c, 100.0 * (c / c0 - 1.0), r->below,
+         phase_text(r, ph, sizeof ph), r->in_band ? "yes" : "no", r->seconds, applied_text(r, ap, sizeof ap),
+         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
 }
 
 /* What the kept mesh and its step do to the accuracy of the input: on
@@ -51,6 +73,21 @@ static void print_accuracy_change(const dtm_refine_result *rr, int verbose) {
             "dtmap: warning: the kept mesh at its larger step leaves the accuracy band the input was inside "
             "(worst phase-speed error %s -> %s; see 'accuracy at the recommended step' in the summary)\n",
             phase_text(r0, a, sizeof a), phase_text(rb, b, sizeof b));
+}
+
+/* On stderr (even with -q), a kept mesh that meets the target but costs
+ * more element-steps than the input: what grew, and the cheaper ways to
+ * try (the same target on the input with point masses, or subcycling). */
+static void warn_dearer(const dtm_refine_result *rr) {
+  const dtm_refine_round *r0 = &rr->rounds[0], *rb = &rr->rounds[rr->best];
+  double c0 = dtm_refine_cost(r0), cb = dtm_refine_cost(rb);
+  if (rr->best == 0 || !(cb > c0) || rb->recommended < rr->target) return;
+  fprintf(stderr,
+          "dtmap: warning: the kept mesh meets the target but costs x%.3f the input's element-steps: %.3gx the "
+          "elements (%zu against %zu) at a %.3gx longer step; point masses on the input (--max-added-mass) or "
+          "subcycling may cost less\n",
+          cb / c0, (double)rb->elements / (double)r0->elements, rb->elements, r0->elements,
+          rb->recommended / r0->recommended);
 }
 
 /* The causes, each with its fix indented (lines to paste into the .geo). */
@@ -71,22 +108,75 @@ static void print_causes(const dtm_refine_result *rr) {
 
 static void print_rounds(const dtm_refine_result *rr) {
   int rate = isnan(rr->rounds[0].element_steps);
-  printf("\n%5s %10s %12s %12s %12s %10s %9s %9s %9s %5s %9s\n", "round", "elements", "elem. bound", "recommended",
-         rate ? "elem-steps/s" : "element-steps", "change", "below", "shape-lim", "phase", "band", "time (s)");
+  printf("\n%5s %-6s %10s %12s %12s %9s %12s %10s %9s %9s %5s %9s  %s\n", "round", "basis", "elements", "elem. bound",
+         "recommended", "short by", rate ? "elem-steps/s" : "element-steps", "change", "below", "phase", "band",
+         "time (s)", "applied");
   for (int i = 0; i < rr->nrounds; i++) print_round(rr, i);
-  printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
+  if (rr->nrounds == 1 && rr->stop == DTM_REFINE_MET)
+    printf("met by the input mesh as it is (%s): no remesh; it is written unchanged with its views\n",
+           rr->rounds[0].basis);
+  else
+    printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
   if (rr->forced_by && rr->forced >= 0.5)
     printf("accuracy: the bound '%s' asks for about %.0f more elements than the input's sizes give (%.4g "
            "element-steps at the kept step)\n",
            rr->forced_by, rr->forced,
            rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
-  if (rr->stop == DTM_REFINE_THICKNESS)
+  int remeshed = 0;
+  for (int i = 1; i < rr->nrounds; i++) remeshed += rr->rounds[i].kind == DTM_ROUND_MESH;
+  if (rr->stop == DTM_REFINE_THICKNESS && !remeshed)
     printf("no round was run: elements below the target are limited by the thickness of their layer, which no\n"
            "size suggestion changes; the layers and their remedies follow\n");
+  else if (rr->stop == DTM_REFINE_THICKNESS)
+    printf("a remesh did not lift the elements that the thickness of their layer limits; the layers and their\n"
+           "remedies follow\n");
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");
   print_causes(rr);
+}
+
+/* On the global basis: the solver must be told the step; an element-by-
+ * element estimate of its own would sit near the element bound. */
+static void print_basis_note(const dtm_refine_result *rr) {
+  const dtm_refine_round *b = &rr->rounds[rr->best];
+  if (!b->basis || strcmp(b->basis, "global estimate")) return;
+  printf("basis: the global estimate; a solver must run at this step fixed (a deck that sets it: dtmap deck), not\n"
+         "at its own element-by-element estimate, which is at most about the element bound x safety, %.4e s\n"
+         "(%.2fx smaller)\n",
+         rr->element_bound, b->recommended / rr->element_bound);
+}
+
+/* The ways found to reach the target, cheapest first among those that
+ * do: the mesh alone, the mesh with point masses, subcycling on the kept
+ * mesh (the ideal speed-up of its levels). */
+static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
+  int mesh = -1, mass = -1;
+  for (int i = 1; i < rr->nrounds; i++) {
+    const dtm_refine_round *r = &rr->rounds[i];
+    int *slot = r->kind == DTM_ROUND_MASS ? &mass : &mesh;
+    if (r->recommended >= rr->target && (*slot < 0 || dtm_refine_cost(r) < dtm_refine_cost(&rr->rounds[*slot])))
+      *slot = i;
+  }
+  double c0 = dtm_refine_cost(&rr->rounds[0]);
+  printf("ways:\n");
+  if (mesh >= 0)
+    printf("  mesh only:       round %d, %zu elements, cost x%.3f of the input\n", mesh, rr->rounds[mesh].elements,
+           dtm_refine_cost(&rr->rounds[mesh]) / c0);
+  else
+    printf("  mesh only:       not found (%s)\n",
+           rr->rounds[0].recommended >= rr->target ? "the input meets it" : dtm_refine_stop_text(rr->stop));
+  if (mass >= 0)
+    printf("  mesh + mass:     round %d, +%.3g %% of the mass at %zu nodes, cost x%.3f of the input\n", mass,
+           rr->rounds[mass].added_percent, rr->rounds[mass].mass_nodes, dtm_refine_cost(&rr->rounds[mass]) / c0);
+  else if (isfinite(rr->mass_needed))
+    printf("  mesh + mass:     needs %.3g %% of the mass, above the %.3g %% allowed\n", rr->mass_needed,
+           rr->options.max_added_mass);
+  else if (!(rr->options.max_added_mass > 0) && mesh < 0 && rr->rounds[0].recommended < rr->target)
+    printf("  mesh + mass:     not tried (--max-added-mass P allows P %% of the model's mass at the nodes)\n");
+  if (cost && cost->subcycling.speedup > 1.0005)
+    printf("  subcycling:      the kept mesh's levels, ideal speed-up %.2fx (cost x%.3f of the input)\n",
+           cost->subcycling.speedup, dtm_refine_cost(&rr->rounds[rr->best]) / cost->subcycling.speedup / c0);
 }
 
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
@@ -94,28 +184,76 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
   dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
   dtm_cli_warn_flagged(rr->analysis);
-  if (o->verbosity) print_rounds(rr);
+  if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
   print_accuracy_change(rr, o->verbosity);
+  warn_dearer(rr);
   if (o->verbosity) printf("\n"), dtm_summary_print(&res, stdout);
   int r = dtm_cli_write_outputs(&res, o, "_refined", NULL);
   dtm_cost_destroy(&cost);
   return r;
 }
 
-static int refine_scene(const dtm_scene *s, double target, const cli_opts *o) {
+/* The exit message of a target not met. */
+static int not_met(const dtm_refine_result *rr) {
+  double best = dtm_analysis_recommended(rr->analysis);
+  if (isfinite(rr->mass_needed))
+    return DTM_ERR(DTM_ERR_TARGET,
+                   "refine: the target %.4e s was not met by the mesh (best %.4e s, %s), and point masses would need "
+                   "%.3g %% of the model's mass, more than the %.3g %% allowed",
+                   rr->target, best, dtm_refine_stop_text(rr->stop), rr->mass_needed, rr->options.max_added_mass);
+  return DTM_ERR(DTM_ERR_TARGET,
+                 "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s%s%s",
+                 rr->target, rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best, rr->ncauses ? "; cause: " : "",
+                 rr->ncauses ? rr->causes[0].text : "");
+}
+
+/* The met line: by the mesh alone, or with point masses. */
+static void print_met(const dtm_refine_result *rr) {
+  const dtm_refine_round *b = &rr->rounds[rr->best];
+  if (b->kind == DTM_ROUND_MASS)
+    printf("met: mesh + %.3g %% added mass at %zu nodes (%.4g kg)\n", b->added_percent, b->mass_nodes, b->added_mass);
+}
+
+static int refine_scene(const dtm_scene *s, const dtm_refine_options *ro, const cli_opts *o) {
   dtm_refine_result *rr = NULL;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
-  if (r == DTM_OK) r = dtm_refine_run(s, target, o->max_iter, &rr);
+  if (r == DTM_OK) r = dtm_refine_run(s, ro, &rr);
   if (r == DTM_OK) r = report_rounds(rr, o);
-  double best = rr ? dtm_analysis_recommended(rr->analysis) : 0;
-  if (r == DTM_OK && best < target)
-    r = DTM_ERR(DTM_ERR_TARGET,
-                "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s%s%s",
-                target, rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best, rr->ncauses ? "; cause: " : "",
-                rr->ncauses ? rr->causes[0].text : "");
+  if (r == DTM_OK && dtm_analysis_recommended(rr->analysis) < ro->target) r = not_met(rr);
+  if (r == DTM_OK && o->verbosity) print_met(rr);
   dtm_refine_destroy(&rr);
   dtm_gmsh_stop();
   return r;
+}
+
+/* --optimise LIST into DTM_OPTIMISE_* bits; -1 for a word it does not know. */
+static int optimise_bits(const char *list) {
+  static const struct {
+    const char *name;
+    unsigned bit;
+  } words[] = {{"gmsh", DTM_OPTIMISE_GMSH},
+               {"netgen", DTM_OPTIMISE_NETGEN},
+               {"relocate", DTM_OPTIMISE_RELOCATE},
+               {"laplace", DTM_OPTIMISE_LAPLACE2D},
+               {"none", DTM_OPTIMISE_NONE}};
+  unsigned bits = 0;
+  for (const char *p = list; *p;) {
+    size_t len = strcspn(p, ","), k = 0;
+    while (k < sizeof words / sizeof words[0] && (strlen(words[k].name) != len || strncmp(p, words[k].name, len))) k++;
+    if (k == sizeof words / sizeof words[0]) return -1;
+    bits |= words[k].bit, p += len + (p[len] == ',');
+  }
+  return (int)bits;
+}
+
+/* The refine options from the command line and the scene. */
+static dtm_refine_options options_of(const dtm_scene *s, const cli_opts *o, double target) {
+  dtm_refine_options ro = {0};
+  ro.optimise = o->optimise ? (unsigned)optimise_bits(o->optimise) : 0;
+  ro.target = target, ro.max_rounds = o->max_iter, ro.global = o->posterior || s->posterior;
+  ro.tol = o->tol, ro.lanczos_max = o->lanczos_max, ro.keep_counts = o->keep_counts;
+  ro.max_added_mass = isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass;
+  return ro;
 }
 
 int dtm_cli_refine(const cli_opts *o) {
@@ -125,6 +263,13 @@ int dtm_cli_refine(const cli_opts *o) {
   dtm_scene *s = NULL;
   int r = dtm_scene_load(o->scene, &s);
   double target = o->target > 0 ? o->target : s ? s->target : 0;
+  if (o->optimise && optimise_bits(o->optimise) < 0) {
+    dtm_scene_destroy(&s);
+    return dtm_cli_usage_error(&dtm_cli_commands[2],
+                               "--optimise takes gmsh, netgen, relocate, laplace or none, "
+                               "separated by commas; got '%s'",
+                               o->optimise);
+  }
   if (r == DTM_OK && !(target > 0)) {
     dtm_scene_destroy(&s);
     return dtm_cli_usage_error(&dtm_cli_commands[2], "needs --target DT (s), or a <time target> in the scene");
@@ -136,8 +281,11 @@ int dtm_cli_refine(const cli_opts *o) {
   }
   if (r == DTM_OK) r = dtm_cli_verified(s, o);
   if (r == DTM_OK) {
-    if (o->verbosity) printf("dtmap %s: refining %s to %.4e s\n", DTM_VERSION, s->path, target);
-    r = refine_scene(s, target, o);
+    dtm_refine_options ro = options_of(s, o, target);
+    if (o->verbosity)
+      printf("dtmap %s: refining %s to %.4e s on the %s\n", DTM_VERSION, s->path, target,
+             ro.global ? "global estimate" : "nodal bound");
+    r = refine_scene(s, &ro, o);
   }
   dtm_scene_destroy(&s);
   return r ? dtm_cli_fail(r, o->verbosity) : 0;

@@ -84,6 +84,9 @@ static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w)
   for (int k = 0; k < m->n; k++)
     if (m->m[k].kind == DTM_MEASURE_PHASE) w->f = m->m[k].f;
   dtm_measures_destroy(&m);
+  if (!(w->f > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: no frequency: the scene has no <time f-max> and no element "
+                                  "has a dispersion model to take a default from; give --freq");
   return DTM_OK;
 }
 
@@ -209,12 +212,14 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
   return dtm_parallel_run(s, &po);
 }
 
-static int run_scene(const cli_opts *o, int verify) {
-  if (o->threads > 0) omp_set_num_threads(o->threads);
+static int run_scene(const cli_opts *given, int verify) {
+  if (given->threads > 0) omp_set_num_threads(given->threads);
   dtm_scene *s = NULL;
   cli_outputs out;
+  cli_opts scene_opts = *given, *o = &scene_opts;
   double t0 = dtm_wtime();
   int r = dtm_scene_load(o->scene, &s);
+  if (r == DTM_OK) o->posterior |= s->posterior; /* <time posterior="true"> */
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
   if (r == DTM_OK && !verify) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);

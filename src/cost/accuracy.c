@@ -530,6 +530,24 @@ static void phase_summary(const double *err, size_t n, double *scratch, dtm_meas
   m->in_band = m->elements > 0 && !m->unresolved && fabs(m->worst) <= m->band_hi;
 }
 
+/* Why there is no default frequency (it is taken from the elements with a
+ * dispersion model, and no element has one): how many elements are in
+ * sections, of types without a model, or without E, nu and rho. */
+static void no_model_note(const dtm_analysis *a, char *note, size_t len) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  size_t sec = 0, type = 0, n = dtm_analysis_nelements(a);
+  for (int b = 0; b < mesh->nblocks; b++) {
+    const dtm_block *bl = &mesh->blocks[b];
+    if (!dtm_dispersion_has_model(bl->type)) type += bl->n;
+    for (size_t e = 0; dtm_dispersion_has_model(bl->type) && bl->section && e < bl->n; e++) sec += bl->section[e] >= 0;
+  }
+  snprintf(note, len,
+           "no <time f-max>, and no default frequency: the default comes from the elements with a dispersion model, "
+           "and none of the %zu has one (%zu in sections: shells, membranes, trusses and beams have none; %zu of "
+           "types without one; %zu without E, nu or rho)",
+           n, sec, type, n - sec - type);
+}
+
 /* What verify --accuracy's reports said of the prediction (--verified), into the note at len. */
 static void verified_note(const dtm_scene *s, dtm_measure *m, size_t len) {
   static const char *const names[2] = {"P", "S"};
@@ -589,6 +607,7 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   cache_free(&p.cache);
   free(err);
   if (rc) return rc;
+  if (m.f_default && !isfinite(m.f)) return no_model_note(a, m.note, sizeof m.note), push(ms, &m);
   phase_note(a, skipped, &m);
   return push(ms, &m);
 }

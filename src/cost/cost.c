@@ -34,23 +34,28 @@ void dtm_cost_destroy(dtm_cost **pc) {
   *pc = NULL;
 }
 
+/* The step the advice aims the element and nodal steps at, before the
+ * safety factor: the scene's target, or its equivalent on the global
+ * basis (dtm_analysis_advice_target). */
+static double aim(const dtm_analysis *a) { return dtm_analysis_advice_target(a) / dtm_analysis_scene(a)->safety; }
+
 /* Mass scaling to the scene's target from the basis: at the nodes whenever
  * there is a nodal bound (then the recommendation, never below it, reaches
- * the target too), element by element when the element bound is all there
- * is. */
+ * the target too; on the global basis, the nodal steps reach the advice
+ * target, which a global estimate with the masses confirms only when it is
+ * run: refine does), element by element when the element bound is all
+ * there is. */
 static int target_mass(const dtm_analysis *a, dtm_cost *c) {
-  const dtm_scene *s = dtm_analysis_scene(a);
   c->mass = calloc(1, sizeof *c->mass);
   if (!c->mass) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (!isfinite(dtm_analysis_dt_nodal(a))) return dtm_mass_scaling_compute(a, s->target / s->safety, c->mass);
-  return dtm_mass_scaling_nodal(a, s->target / s->safety, NULL, c->mass);
+  if (!isfinite(dtm_analysis_dt_nodal(a))) return dtm_mass_scaling_compute(a, aim(a), c->mass);
+  return dtm_mass_scaling_nodal(a, aim(a), NULL, c->mass);
 }
 
 /* The mass the nodes of the shape-limited elements (thin: only those of
  * the thin feature, the thickness-limited ones) need, into *out; NULL when
  * there are none. */
 static int shape_mass(const dtm_analysis *a, int thin, dtm_mass_scaling **out) {
-  const dtm_scene *s = dtm_analysis_scene(a);
   size_t n, k = 0;
   const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
   for (size_t j = 0; j < n; j++) k += !thin || sl[j].feature == DTM_FEATURE_THIN;
@@ -59,7 +64,7 @@ static int shape_mass(const dtm_analysis *a, int thin, dtm_mass_scaling **out) {
   *out = calloc(1, sizeof **out);
   if (!only || !*out) return free(only), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t j = 0; j < n; j++) only[sl[j].element] |= !thin || sl[j].feature == DTM_FEATURE_THIN;
-  int r = dtm_mass_scaling_nodal(a, s->target / s->safety, only, *out);
+  int r = dtm_mass_scaling_nodal(a, aim(a), only, *out);
   free(only);
   return r;
 }
@@ -84,9 +89,10 @@ int dtm_cost_create(const dtm_analysis *a, dtm_cost **out) {
   c->steps = s->duration > 0 ? ceil(s->duration / c->basis) : NAN;
   c->element_steps = dtm_cost_element_steps(a);
   c->element_steps_subcycled = r ? NAN : dtm_cost_element_steps_subcycled(a, &c->subcycling);
-  if (r == DTM_OK && s->target > 0) r = target_mass(a, c);
-  if (r == DTM_OK && s->target > 0) r = shape_mass(a, 0, &c->shape_mass);
-  if (r == DTM_OK && s->target > 0) r = shape_mass(a, 1, &c->layer_mass);
+  int aimed = dtm_analysis_advice_target(a) > 0;
+  if (r == DTM_OK && aimed) r = target_mass(a, c);
+  if (r == DTM_OK && aimed) r = shape_mass(a, 0, &c->shape_mass);
+  if (r == DTM_OK && aimed) r = shape_mass(a, 1, &c->layer_mass);
   if (r == DTM_OK) r = time_cost(a, c);
   double t1 = dtm_wtime();
   if (r == DTM_OK) r = dtm_measures_compute(a, 0, NULL, &c->measures);

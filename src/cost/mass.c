@@ -9,7 +9,8 @@
  * element's lumped weights) whose nodal-bound step dt_a (the smallest over
  * the spectral wave effects) is below dt_t needs m_a (dt_t/dt_a)^2 in all;
  * the non-spectral wave effects are first met element by element, which
- * already adds to the node masses. Node mass is attributed to the elements
+ * already adds to the node masses. A point mass the mesh already carries
+ * counts in m_a. Node mass is attributed to the elements
  * around the node in proportion to their share of it. Reported per
  * element, per physical group (the last slot collects the elements in no
  * group) and in total. Elements whose material has no density count no
@@ -152,15 +153,17 @@ static void node_pass1(const dtm_analysis *a, const elem *el, void *ctx) {
   }
 }
 
-/* Mass node v needs on top of m1 for the spectral wave effects. */
+/* Mass node v needs on top of m1 (and the point mass it carries, which its
+ * nodal bound includes) for the spectral wave effects. */
 static double node_need(const dtm_analysis *a, const node_mass *nm, size_t v, double target) {
-  double ratio = 1.0;
+  const double *pm = dtm_analysis_point_masses(a);
+  double ratio = 1.0, carried = pm ? pm[v] : 0.0;
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
     const double *nd = dtm_analysis_effect_nodal(a, k);
     if (!nd || !dtm_effect_is_wave(dtm_analysis_effect(a, k)) || !(nd[v] < target) || !(nd[v] > 0)) continue;
     ratio = fmax(ratio, (target / nd[v]) * (target / nd[v]));
   }
-  return fmax(0.0, ratio * nm->m0[v] - nm->m1[v]);
+  return fmax(0.0, ratio * (nm->m0[v] + carried) - (nm->m1[v] + carried));
 }
 
 /* Totals, groups and counts from ms->added. */
@@ -217,6 +220,54 @@ int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, const unsigned 
   free(nm.m0), free(nm.m1), free(nm.add), free(nm.in);
   if (r) dtm_mass_scaling_free(ms);
   return r;
+}
+
+/* Pass 1 of point masses given at the nodes: each node's addition shared
+ * out to its elements by their share of its mass. */
+static void given_pass(const dtm_analysis *a, const elem *el, void *ctx) {
+  nodal_ctx *c = ctx;
+  (void)a;
+  for (int k = 0; k < el->blk->nn && el->m > 0; k++) {
+    size_t v = el->blk->conn[el->e * el->blk->nn + k];
+    if (c->nm->m0[v] > 0) c->ms->added[el->i] += c->nm->add[v] * el->m * el->w[k] / c->nm->m0[v];
+  }
+}
+
+int dtm_mass_scaling_of_nodes(const dtm_analysis *a, const double *kg, double target, dtm_mass_scaling *ms) {
+  memset(ms, 0, sizeof *ms);
+  ms->nodal = 1, ms->target = target;
+  size_t nn = dtm_analysis_mesh(a)->nnodes + 1;
+  node_mass nm = {calloc(nn, sizeof(double)), calloc(nn, sizeof(double)), malloc(nn * sizeof(double)), calloc(nn, 1)};
+  dtm_mass_scaling given = {.target = NAN}; /* pass 0 without an element part */
+  nodal_ctx ctx = {NULL, &nm, &given};
+  int r = alloc_scaling(a, ms);
+  given.added = ms->added;
+  if (r == DTM_OK && !(nm.m0 && nm.m1 && nm.add && nm.in)) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) {
+    memcpy(nm.add, kg, (nn - 1) * sizeof *nm.add);
+    each_element(a, 1, node_pass0, &ctx); /* m0; with a NaN target no element part (added stays 0) */
+    each_element(a, 1, given_pass, &ctx);
+    each_element(a, 0, tally_one, ms);
+    keep_node_added(&nm, nn - 1, ms);
+  }
+  free(nm.m0), free(nm.m1), free(nm.add), free(nm.in);
+  if (r) dtm_mass_scaling_free(ms);
+  return r;
+}
+
+/* Pass of dtm_mass_lumped: each element's lumped mass into its nodes. */
+static void lump_pass(const dtm_analysis *a, const elem *el, void *ctx) {
+  double *m = ctx;
+  (void)a;
+  for (int k = 0; k < el->blk->nn && el->m > 0; k++) m[el->blk->conn[el->e * el->blk->nn + k]] += el->m * el->w[k];
+}
+
+int dtm_mass_lumped(const dtm_analysis *a, double *m) {
+  size_t nn = dtm_analysis_mesh(a)->nnodes;
+  const double *pm = dtm_analysis_point_masses(a);
+  for (size_t v = 0; v < nn; v++) m[v] = pm ? pm[v] : 0.0;
+  each_element(a, 1, lump_pass, m);
+  return DTM_OK;
 }
 
 /* The element-by-element form. */

@@ -89,6 +89,15 @@ double dtm_effect_args_per_wavelength(const dtm_effect_args *a) {
 
 int dtm_effect_args_ngroups(const dtm_effect_args *a) { return a->mesh->ngroups; }
 
+size_t dtm_effect_args_unsectioned(const dtm_effect_args *a) {
+  size_t n = 0;
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *bl = &a->mesh->blocks[b];
+    for (size_t e = 0; bl->dim == a->mesh->dim && e < bl->n; e++) n += !bl->section || bl->section[e] < 0;
+  }
+  return n;
+}
+
 int dtm_effect_args_group(const dtm_effect_args *a, const char *ref, int *index) {
   *index = dtm_mesh_group_find(a->mesh, ref);
   if (*index >= 0) return DTM_OK;

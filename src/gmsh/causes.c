@@ -1,13 +1,13 @@
 /* What a model holds that decides its sizes where a size field cannot, for
  * the causes refine names when it stops short of its target: Gmsh's size
  * options (which clamp every field; the remesh lifts them), curves whose node
- * count the model fixes (Transfinite Curve, or the Layers of an Extrude: Gmsh
- * 4.8's API cannot list either, so the curves are meshed in a child process
- * at two uniform sizes, and a curve whose node count does not follow is
- * fixed), recombined surfaces and structured volumes (their element types),
- * periodic entities (which copy their master's mesh) and embedded entities.
- * For fixed curves the fix is the node count the size suggestion implies
- * along the curve, as a line a user can paste into the .geo. */
+ * count the model fixes and refine does not set (the Layers of an Extrude,
+ * and Transfinite Curve when refine keeps the model's counts; found by
+ * src/gmsh/counts.c), recombined surfaces and structured volumes (their
+ * element types), periodic entities (which copy their master's mesh) and
+ * embedded entities. For fixed curves the fix is the node count the size
+ * suggestion implies along the curve, or the layers the target needs, as a
+ * line a user can paste into the .geo. */
 #include <gmshc.h>
 #include <math.h>
 #include <stdio.h>
@@ -16,9 +16,6 @@
 
 #include "dtmap/gmsh.h"
 #include "gmsh-impl.h"
-
-#define PROBE_NODES 2e5 /* at most this many nodes on the curves at the probe's finer size */
-#define MIN_JUDGED 3.0  /* a curve is judged when the finer size puts at least this many segments on it */
 
 static const char *const dim_name[] = {"Point", "Curve", "Surface", "Volume"};
 
@@ -77,62 +74,6 @@ static void size_options(const dtm_scene *s, const dtm_mesh *m, const double *si
              fmin(mn, lo), fmax(mx, hi));
 }
 
-/* The model's curves and their lengths (from the mesh's classification). */
-typedef struct {
-  int n;          /* curves */
-  int *tag;       /* [n] their tags */
-  double *length; /* [n] their mesh lengths, m */
-  double h[2];    /* the probe's two uniform sizes, m */
-} curve_set;
-
-static int curves_make(const dtm_geo *g, curve_set *cs) {
-  double lmin = INFINITY, total = 0;
-  cs->n = 0;
-  cs->tag = malloc((g->nent + 1) * sizeof *cs->tag);
-  cs->length = malloc((g->nent + 1) * sizeof *cs->length);
-  if (!cs->tag || !cs->length) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (int i = 0; i < g->nent; i++)
-    if (g->ent[i].dim == 1 && g->ent[i].size > 0) {
-      cs->tag[cs->n] = g->ent[i].tag, cs->length[cs->n++] = g->ent[i].size;
-      lmin = fmin(lmin, g->ent[i].size), total += g->ent[i].size;
-    }
-  cs->h[1] = fmax(lmin / (2 * MIN_JUDGED), total / PROBE_NODES);
-  cs->h[0] = 2.2 * cs->h[1];
-  return DTM_OK;
-}
-
-static void curves_free(curve_set *cs) { free(cs->tag), free(cs->length); }
-
-static size_t curve_nodes(int tag) {
-  size_t *tags = NULL, n = 0, nc = 0, np = 0;
-  double *xyz = NULL, *par = NULL;
-  int ierr = 0;
-  gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, 1, tag, 1, 0, &ierr);
-  gmshFree(tags), gmshFree(xyz), gmshFree(par);
-  return ierr ? 0 : n;
-}
-
-/* In the child: the curves' node counts at the two sizes; out[i] = 1 when
- * curve i kept its count. */
-static int probe_curves(void *arg, double *out, size_t nout) {
-  const curve_set *cs = arg;
-  static const char *const off[] = {"Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature", "Mesh.MeshSizeMin"};
-  int ierr = 0;
-  for (int k = 0; k < 3; k++) gmshOptionSetNumber(off[k], 0, &ierr);
-  gmshOptionSetNumber("Mesh.MeshSizeFactor", 1, &ierr);
-  for (int pass = 0; pass < 2; pass++) {
-    gmshModelMeshClear(NULL, 0, &ierr);
-    gmshOptionSetNumber("Mesh.MeshSizeMax", cs->h[pass], &ierr);
-    gmshModelMeshGenerate(1, &ierr);
-    DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "meshing the curves for the probe");
-    for (size_t i = 0; i < nout; i++) {
-      double count = (double)curve_nodes(cs->tag[i]);
-      out[i] = pass ? (out[i] == count && cs->length[i] / cs->h[1] >= MIN_JUDGED) : count;
-    }
-  }
-  return DTM_OK;
-}
-
 /* The mean suggested size on the nodes inside curve tag (NaN: none). */
 static double curve_size(const dtm_geo *g, const double *size, int tag) {
   double sum = 0;
@@ -142,37 +83,49 @@ static double curve_size(const dtm_geo *g, const double *size, int tag) {
   return n ? sum / n : NAN;
 }
 
-static void fixed_fix(const dtm_geo *g, const double *size, const curve_set *cs, int i, dtm_cause *c) {
-  double h = curve_size(g, size, cs->tag[i]);
-  if (!isfinite(h) || !(h > 0)) return;
-  long nodes = lround(cs->length[i] / h) + 1;
-  char line[160];
-  snprintf(line, sizeof line, "Transfinite Curve{%d} = %ld; // or Layers{%ld} in the Extrude that makes it", cs->tag[i],
-           nodes < 2 ? 2 : nodes, nodes < 2 ? 1 : nodes - 1);
+/* The line a user pastes for fixed curve f: a transfinite count from the
+ * size the suggestion implies along it, or the Layers{} an extrusion needs
+ * for the size its entities' nodes need. */
+static void fixed_fix(const dtm_geo *g, const double *size, const dtm_fixed_curve *f, int transfinite, dtm_cause *c) {
+  char line[200];
+  if (transfinite) {
+    double h = curve_size(g, size, f->tag);
+    if (!isfinite(h) || !(h > 0)) return;
+    long nodes = lround(f->length / h) + 1;
+    snprintf(line, sizeof line, "Transfinite Curve{%d} = %ld; // now %d", f->tag, nodes < 2 ? 2 : nodes, f->nodes);
+  } else {
+    long layers = f->need > 0 ? (long)floor(f->length / f->need) : f->nodes - 1;
+    snprintf(line, sizeof line, "// Curve %d: Layers{%ld} in the Extrude that makes it (now %d)", f->tag,
+             layers < 1 ? 1 : layers, f->nodes - 1);
+  }
   append(c->fix, sizeof c->fix, line);
 }
 
-static int fixed_curves(const dtm_geo *g, const double *size, dtm_cause *c, int *found) {
-  curve_set cs;
+/* The curves whose count the model fixes and refine does not set: the
+ * layers of extrusions, and the transfinite curves when it keeps them. */
+static void fixed_curves(const dtm_geo *g, const double *size, const dtm_structure *st, int keep_counts, dtm_cause *c,
+                         int *found) {
+  dtm_fixed_curve f[DTM_CAUSE_ENTITIES];
   *found = 0;
-  int r = curves_make(g, &cs);
-  double *fixed = r ? NULL : calloc(cs.n + 1, sizeof *fixed);
-  if (!r && !fixed) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (!r && cs.n && dtm_gmsh_contained_probe("probing the curves' node counts", probe_curves, &cs, fixed, cs.n))
-    dtm_error_clear(), memset(fixed, 0, (cs.n + 1) * sizeof *fixed); /* no probe, no fixed curve named */
-  for (int i = 0; !r && i < cs.n; i++)
-    if (fixed[i]) name_entity(c, 1, cs.tag[i]), fixed_fix(g, size, &cs, i, c), (*found)++;
-  if (*found) {
-    char list[400];
-    snprintf(c->kind, sizeof c->kind, "fixed-node-count");
-    entity_list(c, list, sizeof list);
-    snprintf(c->text, sizeof c->text,
-             "%d curve(s) have a node count the model fixes (Transfinite Curve, or the Layers of an Extrude), which no "
-             "size field changes: %s; the counts the size suggestion implies follow",
-             *found, list);
+  for (int tf = 0; tf <= keep_counts; tf++) {
+    int n = dtm_gmsh_fixed_curves(st, tf, f, DTM_CAUSE_ENTITIES);
+    for (int i = 0; i < n; i++) {
+      name_entity(c, 1, i < DTM_CAUSE_ENTITIES ? f[i].tag : 0);
+      if (i < DTM_CAUSE_ENTITIES) fixed_fix(g, size, &f[i], tf, c);
+    }
+    *found += n;
   }
-  free(fixed), curves_free(&cs);
-  return r;
+  if (!*found) return;
+  char list[400];
+  snprintf(c->kind, sizeof c->kind, "fixed-node-count");
+  entity_list(c, list, sizeof list);
+  snprintf(c->text, sizeof c->text,
+           "%d curve(s) have a node count the model fixes (%s), which no size field changes: %s; the counts the "
+           "size suggestion implies follow",
+           *found,
+           keep_counts ? "Transfinite Curve, kept by --keep-counts, or the Layers of an Extrude"
+                       : "the Layers of an Extrude, which Gmsh's API cannot set",
+           list);
 }
 
 static int has_type(int dim, int tag, const int *types, int ntypes) {
@@ -265,16 +218,16 @@ static void embedded(dtm_cause *c, int *found) {
            "embedded entities keep their nodes in every mesh and small elements around them: %s", list);
 }
 
-int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size, dtm_cause *out,
-                         int max, int *n) {
+int dtm_gmsh_size_causes(const dtm_scene *s, const dtm_mesh *m, const dtm_geo *g, const double *size,
+                         const dtm_structure *st, int keep_counts, dtm_cause *out, int max, int *n) {
   int found = 0;
   if (*n >= max) return DTM_OK;
   memset(&out[*n], 0, sizeof out[*n]);
   size_options(s, m, size, &out[*n], &found);
   if (found && ++*n >= max) return DTM_OK;
-  if (g) {
+  if (g && st) {
     memset(&out[*n], 0, sizeof out[*n]);
-    DTM_CHECK(fixed_curves(g, size, &out[*n], &found));
+    fixed_curves(g, size, st, keep_counts, &out[*n], &found);
     if (found && ++*n >= max) return DTM_OK;
   }
   void (*const probes[])(dtm_cause *, int *) = {recombined, periodic, embedded};

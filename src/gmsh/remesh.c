@@ -3,7 +3,13 @@
  * list-based view (a PostView field cannot use a view built on the model it
  * is remeshing), which is the only size source of a fresh mesh of the same
  * geometry: sizes from points, curvature and the boundary are switched off.
- * In 3D Gmsh's default and Netgen optimisers then remove slivers. */
+ * Gmsh's optimisers then run, the passes the caller asks for
+ * (DTM_OPTIMISE_*): in 3D the default tetrahedral optimiser and Netgen's
+ * (not built into Debian's Gmsh: it logs an error and leaves the mesh),
+ * and Relocate3D, which moves nodes to improve the worst elements; in 2D
+ * Relocate2D and Laplace2D. A pass that fails is not the input's fault:
+ * the mesh before it is kept. A partitioned model is made whole first
+ * (src/gmsh/unpartition.c). */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,8 +92,36 @@ static void restore_options(const double *old) {
  * input's fault, so the log is checked after meshing and after the order
  * change only. */
 typedef struct {
-  int dim, order; /* dimension to mesh, element order */
+  int dim, order;    /* dimension to mesh, element order */
+  unsigned optimise; /* DTM_OPTIMISE_* passes asked for */
 } remesh_job;
+
+/* The optimiser passes of a dimension, in the order they run. */
+static const struct {
+  unsigned bit;       /* DTM_OPTIMISE_* */
+  int dim;            /* the mesh dimension it applies to */
+  const char *method; /* Gmsh's name for it */
+} passes[] = {{DTM_OPTIMISE_GMSH, 3, ""},
+              {DTM_OPTIMISE_NETGEN, 3, "Netgen"},
+              {DTM_OPTIMISE_RELOCATE, 3, "Relocate3D"},
+              {DTM_OPTIMISE_RELOCATE, 2, "Relocate2D"},
+              {DTM_OPTIMISE_LAPLACE2D, 2, "Laplace2D"}};
+
+/* The passes the job asks for in its dimension, once each. */
+static void optimise(const remesh_job *j) {
+  for (size_t k = 0; k < sizeof passes / sizeof passes[0]; k++) {
+    int ierr = 0;
+    if ((j->optimise & passes[k].bit) && passes[k].dim == j->dim)
+      gmshModelMeshOptimize(passes[k].method, 0, 1, NULL, 0, &ierr);
+  }
+}
+
+unsigned dtm_gmsh_optimisers(int dim, unsigned asked) {
+  unsigned ran = 0;
+  for (size_t k = 0; k < sizeof passes / sizeof passes[0]; k++)
+    if ((asked & passes[k].bit) && passes[k].dim == dim) ran |= passes[k].bit;
+  return ran;
+}
 
 static int generate(void *arg) {
   const remesh_job *j = arg;
@@ -95,21 +129,21 @@ static int generate(void *arg) {
   dtm_gmsh_log_reset();
   gmshModelMeshGenerate(dim, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, "remeshing with the size suggestion failed");
-  if (dim == 3) gmshModelMeshOptimize("", 0, 1, NULL, 0, &ierr);
-  if (!ierr && dim == 3) gmshModelMeshOptimize("Netgen", 0, 1, NULL, 0, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, "optimising the remeshed mesh failed");
+  optimise(j);
   dtm_gmsh_log_reset();
   if (order > 1) gmshModelMeshSetOrder(order, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, "remeshing with the size suggestion failed");
   return DTM_OK;
 }
 
-int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round) {
+int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
+                    unsigned optimise) {
   int view, ierr = 0;
-  remesh_job job = {dim, order};
+  remesh_job job = {dim, order, optimise};
   char stage[64];
   snprintf(stage, sizeof stage, "remeshing round %d", round);
   DTM_CHECK(size_view(m, size, scale, &view));
+  DTM_CHECK(dtm_gmsh_unpartition());
   gmshModelMeshClear(NULL, 0, &ierr);
   int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);

@@ -2,8 +2,9 @@
  * (and merges its .opt, so the pictures show what a user sees on opening
  * it), a window is created whose drawing area has the requested size,
  * and each shot sets which views are visible, draws and writes a PNG through
- * a temporary renamed into place. 3D models are turned to an oblique view so
- * that the faint model and the worst elements inside it both read. */
+ * a temporary renamed into place. The camera (frame.c) frames the whole
+ * model between the text and the colour scales, and turns a model that
+ * spans 3D to an oblique view facing its worst elements. */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,7 +23,7 @@ static void view_option(int index, const char *opt, double v) {
   gmshOptionSetNumber(name, v, &ierr);
 }
 
-static int view_is(int index, const char *name) {
+int dtm_gmsh_view_is(int index, const char *name) {
   char key[64], *value = NULL;
   int ierr = 0;
   snprintf(key, sizeof key, "View[%d].Name", index);
@@ -32,10 +33,12 @@ static int view_is(int index, const char *name) {
   return same;
 }
 
-/* Show only the view named only (opaque) and the annotation. */
+/* Show only the view named only (opaque; dt with its skin) and the
+ * annotation. */
 static void show_only(int nviews, const char *only) {
   for (int i = 0; i < nviews; i++) {
-    int keep = view_is(i, only), text = view_is(i, ANNOTATION);
+    int keep = dtm_gmsh_view_is(i, only) || (!strcmp(only, "dt") && dtm_gmsh_view_is(i, DTM_VIEW_DT_SKIN)),
+        text = dtm_gmsh_view_is(i, ANNOTATION);
     view_option(i, "Visible", keep || text);
     if (keep) view_option(i, "ColormapAlpha", 1.0);
   }
@@ -54,15 +57,6 @@ static int write_png(const char *png) {
   return dtm_atomic_commit(&w);
 }
 
-static void oblique_camera(void) {
-  int ierr = 0;
-  if (gmshModelGetDimension(&ierr) < 3) return;
-  gmshOptionSetNumber("General.Trackball", 0, &ierr);
-  gmshOptionSetNumber("General.RotationX", -60, &ierr);
-  gmshOptionSetNumber("General.RotationY", 0, &ierr);
-  gmshOptionSetNumber("General.RotationZ", -25, &ierr);
-}
-
 static int open_window(const char *msh, int width, int height) {
   int ierr = 0;
   char what[4200];
@@ -79,7 +73,7 @@ static int open_window(const char *msh, int width, int height) {
   DTM_CHECK(dtm_gmsh_check_msh(msh));
   gmshOpen(msh, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
-  oblique_camera();
+  dtm_gmsh_snapshot_camera(width, height);
   gmshFltkInitialize(&ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, "Gmsh cannot open a window (is DISPLAY a working X display?)");
   return DTM_OK;

@@ -77,7 +77,9 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
   free(m->blocks);
   free(m->groups);
   free(m->flagged);
+  free(m->left);
   free(m->node_tags);
+  free(m->node_mass);
   free(m->xyz);
   free(m);
   *pm = NULL;
@@ -101,6 +103,12 @@ static int node_extent(const dtm_mesh *m, double ext[3]) {
   return 0;
 }
 
+int dtm_mesh_extent(const dtm_mesh *m, double ext[3]) {
+  if (node_extent(m, ext))
+    return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to a node beyond the mesh's %zu nodes", m->nnodes);
+  return DTM_OK;
+}
+
 /* The space the unknowns live in, *d: the mesh's dimension when its
  * nodes allow (a 2D mesh in a plane z = const, a 1D mesh along x), else the
  * smallest that holds them (a 1D mesh in a plane z = const: 2; anything
@@ -108,11 +116,7 @@ static int node_extent(const dtm_mesh *m, double ext[3]) {
 int dtm_mesh_space_dim(const dtm_mesh *m, int *d) {
   double ext[3], size;
   if (m->space_dim > 0) return *d = m->space_dim, DTM_OK;
-  if (node_extent(m, ext))
-    return DTM_ERR(DTM_ERR_INTERNAL,
-                   "element connectivity refers to a node beyond the "
-                   "mesh's %zu nodes",
-                   m->nnodes);
+  DTM_CHECK(dtm_mesh_extent(m, ext));
   size = fmax(ext[0], fmax(ext[1], ext[2]));
   if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
   int flat_z = ext[2] <= 1e-9 * size, flat_y = ext[1] <= 1e-9 * size;

@@ -171,11 +171,15 @@ static int sort_blocks(dtm_mesh *m, const size_t *new_of) {
 static int permute_nodes(dtm_mesh *m, const size_t *old_of) {
   double *xyz = malloc((3 * m->nnodes + 1) * sizeof *xyz);
   size_t *tags = m->node_tags ? malloc((m->nnodes + 1) * sizeof *tags) : NULL;
-  if (!xyz || (m->node_tags && !tags)) return free(xyz), free(tags), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double *mass = m->node_mass ? malloc((m->nnodes + 1) * sizeof *mass) : NULL;
+  if (!xyz || (m->node_tags && !tags) || (m->node_mass && !mass))
+    return free(xyz), free(tags), free(mass), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t v = 0; v < m->nnodes; v++) memcpy(xyz + 3 * v, m->xyz + 3 * old_of[v], 3 * sizeof *xyz);
   for (size_t v = 0; tags && v < m->nnodes; v++) tags[v] = m->node_tags[old_of[v]];
+  for (size_t v = 0; mass && v < m->nnodes; v++) mass[v] = m->node_mass[old_of[v]];
   free(m->xyz), m->xyz = xyz;
   if (tags) free(m->node_tags), m->node_tags = tags;
+  if (mass) free(m->node_mass), m->node_mass = mass;
   return DTM_OK;
 }
 

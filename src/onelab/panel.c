@@ -93,6 +93,7 @@ static int times(ol_conn *c, const ol_model *m, ol_panel *pn) {
   pn->safety = m->base ? m->base->safety : 0.9;
   pn->target = m->base ? m->base->target : 0;
   pn->duration = m->base ? m->base->duration : 0;
+  pn->posterior = m->base ? m->base->posterior : 0; /* <time posterior="true">: the switch starts on */
   DTM_CHECK(number(c, "2Time/0safety", "safety factor", NULL, &pn->safety));
   DTM_CHECK(number(c, "2Time/1target", "target step (0: none)", "s", &pn->target));
   DTM_CHECK(number(c, "2Time/2duration", "duration (0: none)", "s", &pn->duration));

@@ -209,6 +209,8 @@ static void times(FILE *f, const ol_model *m, const ol_panel *pn) {
   if (pn->duration > 0) attr_num(f, "duration", pn->duration);
   if (m->base && m->base->f_max > 0) attr_num(f, "f-max", m->base->f_max);
   if (m->base && m->base->f_max > 0) attr_num(f, "elements-per-wavelength", m->base->elements_per_wavelength);
+  if (pn->posterior) fprintf(f, " posterior=\"true\"");
+  if (m->base && m->base->max_added_mass > 0) attr_num(f, "max-added-mass", m->base->max_added_mass);
   fprintf(f, "/>\n");
 }
 

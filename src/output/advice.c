@@ -99,6 +99,7 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   conflict_warning(r->analysis, w);
   if (r->cost) unresolved_warning(r->cost, w);
   curvature_warning(r->analysis, w);
+  dtm_output_section_warnings(r->analysis, w);
 }
 
 const char *dtm_feature_name(int kind) {

@@ -88,6 +88,8 @@ typedef struct {
   double *tvals;         /* the local thickness there, m */
   size_t *itags;         /* tags of the flagged elements [nflagged] */
   double *ivals;         /* their smallest scaled Jacobians [nflagged] */
+  size_t *mtags;         /* node tags of the point masses [nnodes] */
+  double *mvals;         /* the masses, kg [nnodes] */
 } view_set;
 
 static void free_views(view_set *vs) {
@@ -105,6 +107,8 @@ static void free_views(view_set *vs) {
   free(vs->names);
   free(vs->itags);
   free(vs->ivals);
+  free(vs->mtags);
+  free(vs->mvals);
   free(vs->views);
 }
 
@@ -118,7 +122,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 13, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 14, sizeof *vs->views);
   if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
       !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -161,6 +165,22 @@ static int mesh_views(const dtm_results *r, view_set *vs) {
   if (r->cost && r->cost->mass)
     vs->views[k++] = (dtm_view){"added mass", 0, vs->etags, r->cost->mass->added, nel, NULL, 0};
   return k;
+}
+
+/* DTM_VIEW_NODE_MASS: the point masses the mesh carries (refine's added
+ * mass, or the input's), kg, at the nodes that carry one, so that the mesh
+ * read back carries them again (src/gmsh/node_mass.c). */
+static int point_mass_view(const dtm_analysis *a, view_set *vs, int *k) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  const double *pm = dtm_analysis_point_masses(a);
+  size_t n = 0;
+  if (!pm) return DTM_OK;
+  vs->mtags = malloc((m->nnodes + 1) * sizeof *vs->mtags), vs->mvals = malloc((m->nnodes + 1) * sizeof *vs->mvals);
+  if (!vs->mtags || !vs->mvals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < m->nnodes; v++)
+    if (pm[v] > 0) vs->mtags[n] = m->node_tags[v], vs->mvals[n++] = pm[v];
+  if (n) vs->views[(*k)++] = (dtm_view){DTM_VIEW_NODE_MASS, 1, vs->mtags, vs->mvals, n, NULL, 0};
+  return DTM_OK;
 }
 
 /* "dt <effect>" of each limiting effect and each accuracy view, over the
@@ -221,7 +241,7 @@ static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
 static void below_view(const dtm_analysis *a, const dtm_output_part *part, view_set *vs, int *k) {
   size_t nel = dtm_analysis_nelements(a), n = 0;
   const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a);
-  double target = dtm_analysis_scene(a)->target, safety = dtm_analysis_scene(a)->safety;
+  double target = dtm_analysis_advice_target(a), safety = dtm_analysis_scene(a)->safety;
   vs->below_at = target > 0 ? target : part ? part->below_at : quantile_1pc(dt, nel, vs->bvals);
   for (size_t i = 0; i < nel; i++) {
     double step = target > 0 ? safety * own[i] : dt[i];
@@ -267,6 +287,7 @@ static int thickness_view(const dtm_analysis *a, view_set *vs, int *k) {
 static int build_views(const dtm_results *r, const dtm_output_part *part, view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
+  DTM_CHECK(point_mass_view(r->analysis, vs, nviews));
   DTM_CHECK(shape_view(r->analysis, vs, nviews));
   DTM_CHECK(thickness_view(r->analysis, vs, nviews));
   DTM_CHECK(effect_views(r->analysis, vs, nviews));
@@ -284,6 +305,7 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, view_s
 static const char *unit_of(const char *name) {
   if (!strcmp(name, "dt") || !strncmp(name, "dt ", 3) || !strcmp(name, "nodal dt") || strstr(name, "[s]")) return "s";
   if (!strcmp(name, "characteristic length") || !strcmp(name, "size suggestion")) return "m";
+  if (!strncmp(name, "added mass", 10)) return "kg";
   return "";
 }
 
@@ -337,26 +359,12 @@ static int view_style(const char *name, const dtm_mesh *m, styled *s) {
   return k;
 }
 
-/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
- * in their order, and a translucent face hides what is drawn after it. So
- * an alias of dt (the same data and options), last in the list, keeps the
- * faint skin of the solid elements, and dt itself draws the sections alone,
- * opaque, with the colour bar, before it: they show inside the solid. */
-static void sections_on_top(FILE *f, int i) {
-  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
-  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
-  fprintf(f, "AliasWithOptions View[dtmap_v0 + %d]; // the faint skin of dt's solid elements, drawn last\n", i);
-  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
-  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
-  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
-  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
-}
-
-static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
+/* The options of view name over m, each as "View[addr].option = value;". */
+static void write_style(FILE *f, const char *addr, const char *name, const dtm_mesh *m) {
   styled s[MAX_STYLE];
   int n = view_style(name, m, s);
   for (int k = 0; k < n; k++) {
-    fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
+    fprintf(f, "View[%s].%s = ", addr, s[k].o.name);
     if (s[k].o.text)
       fprintf(f, "\"%s\";", s[k].o.text);
     else
@@ -366,7 +374,34 @@ static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
     else
       fputc('\n', f);
   }
-  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i);
+}
+
+/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
+ * in their order, and a translucent face hides what is drawn after it. So
+ * a copy of dt's data (Gmsh's MathEval plugin; an alias would share dt's
+ * data and so its name), last in the list, named DTM_VIEW_DT_SKIN and
+ * styled as dt, keeps the faint skin of the solid elements, and dt itself
+ * draws the sections alone, opaque, with the colour bar, before it: they
+ * show inside the solid. */
+static void sections_on_top(FILE *f, int i, const dtm_mesh *m) {
+  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
+  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
+  fprintf(f, "Plugin(MathEval).Expression0 = \"v0\"; // the faint skin of dt's solid elements, drawn last\n");
+  fprintf(f, "Plugin(MathEval).View = dtmap_v0 + %d;\nPlugin(MathEval).OtherView = -1;\n", i);
+  fprintf(f, "Plugin(MathEval).TimeStep = -1;\nPlugin(MathEval).Run;\n");
+  fprintf(f, "View[PostProcessing.NbViews - 1].Name = \"%s\";\n", DTM_VIEW_DT_SKIN);
+  write_style(f, "PostProcessing.NbViews - 1", "dt", m);
+  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
+  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
+  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
+  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
+}
+
+static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
+  char addr[32];
+  snprintf(addr, sizeof addr, "dtmap_v0 + %d", i);
+  write_style(f, addr, name, m);
+  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i, m);
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */

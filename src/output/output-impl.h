@@ -21,6 +21,11 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+/* Its part on sections (section_advice.c): groups left out, rotary-inertia
+ * scales above DTM_ROTARY_WARN, a thickness, area or profile larger than the
+ * model. */
+#define DTM_ROTARY_WARN 100.0 /* rotary-inertia scale above which a warning is given (docs/sections.md) */
+void dtm_output_section_warnings(const dtm_analysis *a, dtm_warnings *w);
 /* The run time in hours and the accuracy measures of c, for the summary
  * (stream is a FILE *; src/output/measures.c). */
 void dtm_summary_measures(const dtm_analysis *a, const dtm_cost *c, void *stream);

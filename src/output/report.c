@@ -140,7 +140,7 @@ cJSON *dtm_report_subcycling(const dtm_subcycling *sc) {
 }
 
 /* A number, or null when it is not one (no duration). */
-static void add_number(cJSON *o, const char *key, double v) {
+void dtm_report_number(cJSON *o, const char *key, double v) {
   if (isfinite(v))
     cJSON_AddNumberToObject(o, key, v);
   else
@@ -150,15 +150,15 @@ static void add_number(cJSON *o, const char *key, double v) {
 cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddNumberToObject(o, "duration", c->duration);
-  add_number(o, "steps", c->steps);
-  add_number(o, "element_steps", c->element_steps);
-  add_number(o, "element_steps_subcycled", c->element_steps_subcycled);
+  dtm_report_number(o, "steps", c->steps);
+  dtm_report_number(o, "element_steps", c->element_steps);
+  dtm_report_number(o, "element_steps_subcycled", c->element_steps_subcycled);
   cJSON_AddNumberToObject(o, "basis", c->basis);
   cJSON_AddStringToObject(o, "basis_estimate", dtm_analysis_basis(a));
   cJSON_AddNumberToObject(o, "per_element_step", c->per_element_step);
   cJSON_AddStringToObject(o, "per_element_step_source", c->per_element_step_source);
-  add_number(o, "hours", c->element_steps * c->per_element_step / 3600);
-  add_number(o, "hours_subcycled", c->element_steps_subcycled * c->per_element_step / 3600);
+  dtm_report_number(o, "hours", c->element_steps * c->per_element_step / 3600);
+  dtm_report_number(o, "hours_subcycled", c->element_steps_subcycled * c->per_element_step / 3600);
   return o;
 }
 
@@ -189,8 +189,8 @@ cJSON *dtm_report_damping(const dtm_analysis *a) {
     cJSON_AddStringToObject(o, "material", dtm_analysis_scene(a)->materials[rows[j].mat].m.name);
     cJSON_AddNumberToObject(o, "omega", rows[j].omega);
     cJSON_AddNumberToObject(o, "factor", rows[j].factor);
-    add_number(o, "element_factor_min", rows[j].emin);
-    add_number(o, "element_factor_max", rows[j].emax);
+    dtm_report_number(o, "element_factor_min", rows[j].emin);
+    dtm_report_number(o, "element_factor_max", rows[j].emax);
     cJSON_AddItemToArray(arr, o);
   }
   free(rows);
@@ -228,7 +228,7 @@ static cJSON *shape_entry(const dtm_results *r, const dtm_shape_limited *s) {
   char buf[256];
   cJSON *o = where_json(r->analysis, s->element), *f = cJSON_CreateObject(), *m = cJSON_CreateObject();
   cJSON_AddStringToObject(f, "kind", dtm_feature_name(s->feature));
-  add_number(f, "angle", s->angle);
+  dtm_report_number(f, "angle", s->angle);
   cJSON_AddNumberToObject(f, "entity_dim", s->entity_dim);
   cJSON_AddNumberToObject(f, "entity", s->entity_tag);
   cJSON_AddNumberToObject(f, "size", s->size);
@@ -237,7 +237,7 @@ static cJSON *shape_entry(const dtm_results *r, const dtm_shape_limited *s) {
   cJSON_AddNumberToObject(o, "quality", s->quality);
   cJSON_AddNumberToObject(o, "reach", s->reach);
   cJSON_AddStringToObject(m, "kind", dtm_remedy_name(s->remedy));
-  add_number(m, "size", s->split);
+  dtm_report_number(m, "size", s->split);
   if (r->cost && r->cost->shape_mass) cJSON_AddNumberToObject(m, "mass", r->cost->shape_mass->added[s->element]);
   cJSON_AddStringToObject(m, "text", dtm_remedy_text(r, s, buf, sizeof buf));
   cJSON_AddItemToObject(o, "remedy", m);
@@ -304,15 +304,20 @@ static cJSON *advice_json(const dtm_results *r, cJSON *root) {
   return root;
 }
 
-cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m) {
-  size_t idx[DTM_REPORT_TOP_ADDED];
+int dtm_report_largest(const double *m, size_t n, size_t *idx, int max) {
   int k = 0;
-  for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
-    if (!(m[i] > 0) || (k == DTM_REPORT_TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
-    int j = k < DTM_REPORT_TOP_ADDED ? k++ : DTM_REPORT_TOP_ADDED - 1;
+  for (size_t i = 0; i < n; i++) {
+    if (!(m[i] > 0) || (k == max && m[i] <= m[idx[k - 1]])) continue;
+    int j = k < max ? k++ : max - 1;
     while (j > 0 && m[idx[j - 1]] < m[i]) idx[j] = idx[j - 1], j--;
     idx[j] = i;
   }
+  return k;
+}
+
+cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m) {
+  size_t idx[DTM_REPORT_TOP_ADDED];
+  int k = dtm_report_largest(m, dtm_analysis_nelements(a), idx, DTM_REPORT_TOP_ADDED);
   cJSON *arr = cJSON_CreateArray();
   for (int r = 0; r < k; r++) {
     cJSON *o = cJSON_CreateObject();
@@ -344,53 +349,6 @@ cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON 
   for (int g = 0; g < ms->ngroups; g++)
     if (ms->group_mass[g] > 0) cJSON_AddItemToArray(groups, group_mass_json(dtm_analysis_mesh(a), ms, g));
   cJSON_AddItemToObject(o, "most_added", most_added ? most_added : dtm_report_top_added(a, ms->added));
-  return o;
-}
-
-static cJSON *round_json(const dtm_refine_result *rr, int i) {
-  const dtm_refine_round *r = &rr->rounds[i];
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddNumberToObject(o, "round", i);
-  cJSON_AddNumberToObject(o, "elements", (double)r->elements);
-  cJSON_AddNumberToObject(o, "dt_min", r->dt_min);
-  cJSON_AddNumberToObject(o, "recommended", r->recommended);
-  add_number(o, "element_steps", r->element_steps);
-  cJSON_AddNumberToObject(o, "element_steps_per_second", r->rate);
-  cJSON_AddNumberToObject(o, "below_target", (double)r->below);
-  cJSON_AddNumberToObject(o, "shape_limited", (double)r->shape_limited);
-  cJSON_AddNumberToObject(o, "seconds", r->seconds);
-  return o;
-}
-
-static cJSON *cause_json(const dtm_cause *c) {
-  cJSON *o = cJSON_CreateObject(), *ents;
-  cJSON_AddStringToObject(o, "kind", c->kind);
-  cJSON_AddStringToObject(o, "message", c->text);
-  ents = cJSON_AddArrayToObject(o, "entities");
-  for (int i = 0; i < c->nent && i < DTM_CAUSE_ENTITIES; i++) {
-    cJSON *e = cJSON_CreateObject();
-    cJSON_AddNumberToObject(e, "dim", c->dim[i]);
-    cJSON_AddNumberToObject(e, "tag", c->tag[i]);
-    cJSON_AddItemToArray(ents, e);
-  }
-  if (c->nent > DTM_CAUSE_ENTITIES) cJSON_AddNumberToObject(o, "entities_total", c->nent);
-  if (c->fix[0]) cJSON_AddStringToObject(o, "fix", c->fix);
-  return o;
-}
-
-static cJSON *refine_json(const dtm_refine_result *rr) {
-  cJSON *o = cJSON_CreateObject(), *arr = cJSON_AddArrayToObject(o, "rounds");
-  for (int i = 0; i < rr->nrounds; i++) cJSON_AddItemToArray(arr, round_json(rr, i));
-  cJSON_AddNumberToObject(o, "target", rr->target);
-  cJSON_AddNumberToObject(o, "best", rr->best);
-  cJSON_AddStringToObject(o, "stopped", dtm_refine_stop_text(rr->stop));
-  cJSON_AddBoolToObject(o, "met", rr->rounds[rr->best].recommended >= rr->target);
-  double c0 = dtm_refine_cost(&rr->rounds[0]), c1 = dtm_refine_cost(&rr->rounds[rr->best]);
-  cJSON_AddNumberToObject(o, "cost_change", c1 / c0 - 1.0);
-  if (rr->forced_by) cJSON_AddStringToObject(o, "accuracy_bound", rr->forced_by);
-  if (rr->forced_by) cJSON_AddNumberToObject(o, "accuracy_elements", rr->forced);
-  cJSON *causes = cJSON_AddArrayToObject(o, "causes");
-  for (int i = 0; i < rr->ncauses; i++) cJSON_AddItemToArray(causes, cause_json(&rr->causes[i]));
   return o;
 }
 
@@ -428,6 +386,22 @@ static cJSON *timings_json(const dtm_results *r) {
   return t;
 }
 
+/* The nodes of the analysed elements and the groups left out (when counted). */
+static void left_out_json(const dtm_mesh *m, cJSON *mesh) {
+  if (m->nodes_used) cJSON_AddNumberToObject(mesh, "nodes_analysed", (double)m->nodes_used);
+  if (!m->nodes_used) return;
+  cJSON *arr = cJSON_AddArrayToObject(mesh, "left_out");
+  for (int i = 0; i < m->nleft; i++) {
+    cJSON *o = cJSON_CreateObject();
+    char tag[32];
+    snprintf(tag, sizeof tag, "%d", m->left[i].tag);
+    cJSON_AddStringToObject(o, "group", m->left[i].tag < 0 ? "(none)" : m->left[i].name[0] ? m->left[i].name : tag);
+    cJSON_AddNumberToObject(o, "dim", m->left[i].dim);
+    cJSON_AddNumberToObject(o, "elements", (double)m->left[i].elements);
+    cJSON_AddItemToArray(arr, o);
+  }
+}
+
 static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON *mesh = cJSON_CreateObject();
   cJSON_AddNumberToObject(mesh, "elements", (double)dtm_analysis_nelements(a));
@@ -438,6 +412,7 @@ static cJSON *mesh_json(const dtm_analysis *a) {
   cJSON_AddStringToObject(mesh, "algorithm", dtm_scene_algorithm_name(mi->algorithm));
   cJSON_AddNumberToObject(mesh, "threads", mi->threads);
   cJSON_AddBoolToObject(mesh, "reproducible", mi->reproducible);
+  left_out_json(dtm_analysis_mesh(a), mesh);
   return mesh;
 }
 
@@ -532,7 +507,7 @@ static cJSON *sections_json(const dtm_analysis *a) {
   return arr;
 }
 
-static cJSON *report_json(const dtm_results *r) {
+cJSON *dtm_report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
@@ -547,7 +522,8 @@ static cJSON *report_json(const dtm_results *r) {
   if (dtm_analysis_curvature(a)->second_order) cJSON_AddItemToObject(root, "curvature", curvature_json(a));
   if (dtm_analysis_scene(a)->nsections) cJSON_AddItemToObject(root, "sections", sections_json(a));
   if (has_accuracy(a)) cJSON_AddItemToObject(root, "accuracy", accuracy_json(a));
-  if (r->refine) cJSON_AddItemToObject(root, "refine", refine_json(r->refine));
+  if (r->refine) cJSON_AddItemToObject(root, "refine", dtm_report_refine(r));
+  if (dtm_analysis_point_masses(a)) cJSON_AddItemToObject(root, "point_masses", dtm_report_point_masses(a));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));
   if (r->cost) cJSON_AddItemToObject(root, "accuracy_measures", dtm_report_measures(a, r->cost->measures));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
@@ -571,5 +547,5 @@ int dtm_json_write(struct cJSON *root, const char *path, const char *what) {
 }
 
 int dtm_report_write(const dtm_results *r, const char *path) {
-  return dtm_json_write(report_json(r), path, "JSON report");
+  return dtm_json_write(dtm_report_json(r), path, "JSON report");
 }

@@ -26,6 +26,9 @@ void dtm_report_effect(cJSON *o, const dtm_analysis *a, int k, size_t nodal_node
 /* The first DTM_REPORT_LISTED elements of a that are larger than their
  * accuracy bound ({element, h, hmax} each), in a's element order. */
 cJSON *dtm_report_under_resolved(const dtm_analysis *a);
+/* The indices of the (at most) max largest positive values of m[n], largest
+ * first, into idx[max]; returns how many. */
+int dtm_report_largest(const double *m, size_t n, size_t *idx, int max);
 /* The DTM_REPORT_TOP_ADDED elements of a with the most added mass m[nel]
  * ({element, added} each), most first. */
 cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m);
@@ -34,6 +37,13 @@ cJSON *dtm_report_subcycling(const dtm_subcycling *sc);
 /* The mass scaling ms (totals, groups of a's mesh), with most_added as its
  * list (taken over), or NULL for dtm_report_top_added(a, ms->added). */
 cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON *most_added);
+
+/* refine's rounds, stop, causes, counts and ways (src/output/
+ * refine_report.c), and the point masses a's mesh carries. */
+cJSON *dtm_report_refine(const dtm_results *r);
+cJSON *dtm_report_point_masses(const dtm_analysis *a);
+/* add o[key] = v, or null when v is not finite. */
+void dtm_report_number(cJSON *o, const char *key, double v);
 
 /* The cost c ({duration, steps, element_steps, ...}), the cohesive process
  * zone and the damping factor per material, the smallest steps of r (its
@@ -44,6 +54,8 @@ cJSON *dtm_report_zones(const dtm_analysis *a);
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
+/* The whole report of r (report.c). */
+cJSON *dtm_report_json(const dtm_results *r);
 /* The report's "shape_limited" (at most 100 of them) and
  * "thickness_limited" arrays of r's analysis, and the summary's lines on
  * them (summary.c), for the distributed run's advice. */

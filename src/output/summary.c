@@ -54,6 +54,12 @@ static void print_sections(const dtm_analysis *a, FILE *f) {
     else
       fprintf(f, "             physical rotary inertia (rotary=\"physical\"): the bound above and the step use it\n");
   }
+  for (int i = 0; i < s->nsections; i++)
+    if (isfinite(st[i].anchor_min)) {
+      fprintf(f, "             element bound: dtmap's, 2/omega_max of each element (an eigenvalue bound, safe); in "
+                 "brackets: the solver's length rule, not a bound\n");
+      break;
+    }
   free(st);
 }
 
@@ -63,10 +69,15 @@ static void print_counts(const dtm_analysis *a, FILE *f) {
   for (int b = 0; b < m->nblocks; b++)
     fprintf(f, "%s%s %zu", b ? ", " : "", dtm_elem_name(m->blocks[b].type), m->blocks[b].n);
   int space = dtm_analysis_space_dim(a);
-  if (space > m->dim)
-    fprintf(f, "), %zu nodes, analysed in %dD (elements of dimension %d and below)\n", m->nnodes, space, m->dim);
+  fprintf(f, "), %zu nodes", m->nnodes);
+  if (m->nodes_used && m->nodes_used < m->nnodes) fprintf(f, " (%zu in analysed elements)", m->nodes_used);
+  if (dtm_analysis_planes(a) > 1)
+    fprintf(f, ", analysed in %d parallel planes (each surface a plane problem in its own plane)\n",
+            dtm_analysis_planes(a));
+  else if (space > m->dim)
+    fprintf(f, ", analysed in %dD (elements of dimension %d and below)\n", space, m->dim);
   else
-    fprintf(f, "), %zu nodes, analysed in %dD\n", m->nnodes, m->dim);
+    fprintf(f, ", analysed in %dD\n", m->dim);
   print_sections(a, f);
   const dtm_mesher_info *mi = dtm_analysis_mesher(a);
   if (!mi->reproducible)
@@ -122,6 +133,18 @@ static void print_min(const dtm_analysis *a, FILE *f) {
   if (s->target > 0)
     fprintf(f, "target       %.4e s: %s\n", s->target,
             rec >= s->target ? "met" : "NOT met (see the size suggestion view)");
+}
+
+/* The point masses the mesh carries (refine's added mass, or read back). */
+static void print_point_masses(const dtm_analysis *a, FILE *f) {
+  const double *pm = dtm_analysis_point_masses(a);
+  size_t nn = dtm_analysis_mesh(a)->nnodes, nodes = 0;
+  double total = 0;
+  for (size_t v = 0; pm && v < nn; v++) total += pm[v], nodes += pm[v] > 0;
+  if (!pm) return;
+  fprintf(f, "point masses %.4g kg at %zu node(s) (view '%s'): in the nodal bound, the global estimate and verify,\n",
+          total, nodes, DTM_VIEW_NODE_MASS);
+  fprintf(f, "             not in the element steps of the dt map\n");
 }
 
 static void print_smallest(const dtm_results *res, FILE *f) {
@@ -315,6 +338,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   FILE *f = stream;
   print_counts(r->analysis, f);
   print_min(r->analysis, f);
+  print_point_masses(r->analysis, f);
   print_damping(r->analysis, f);
   print_zones(r->analysis, f);
   print_accuracy(r->analysis, f);

@@ -314,7 +314,7 @@ static double kth_smallest(const dtm_par *p, const double *v, size_t n, unsigned
 static void output_part(dtm_par *p, const dtm_par_figures *f) {
   const double *dt = dtm_analysis_dt(p->analysis), *own = dtm_analysis_local_step(p->analysis);
   size_t n = dtm_analysis_nelements(p->analysis);
-  double target = p->scene->target, safety = p->scene->safety;
+  double target = dtm_analysis_advice_target(p->analysis), safety = p->scene->safety;
   unsigned long long fin = 0, all = 0, below = 0;
   for (size_t i = 0; i < n; i++) fin += isfinite(dt[i]) && dt[i] > 0;
   MPI_Allreduce(&fin, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, p->comm);

@@ -3,9 +3,9 @@
  * (write.c; Gmsh's model is then released); find how the parts meet and
  * renumber the part's nodes (layout.c); create the scene's effects and
  * analyse the part with an exchange to the others (the analysis module's
- * distributed interface) and classify the elements below the target on
- * rank 0's whole mesh and model (dtm_analysis_classify_whole), then the
- * global estimate and the cost; write the
+ * distributed interface), the global estimate, and classify the elements
+ * below the target on rank 0's whole mesh and model
+ * (dtm_analysis_classify_whole), then the cost; write the
  * views, the report and the summary (write.c, summary.c). Every step ends
  * in an agreement, so all ranks stop together; only the rank where an
  * error arose keeps it to print. */
@@ -40,10 +40,10 @@ static int analyse(dtm_par *p, const dtm_parallel_opts *o) {
   if (r) return dtm_effects_destroy(&e, ne), r;
   dtm_par_exchange_init(p);
   r = dtm_analysis_compute_shared(&p->part, p->mesh, e, ne, &p->x, &p->analysis);
-  if (r) p->mesh = NULL; /* the analysis took the mesh and the effects, and freed them */
-  if (r == DTM_OK) r = dtm_analysis_classify_whole(p->analysis, &p->whole, &p->whole_geo, &p->advice);
-  if (r == DTM_OK && o->posterior)
+  if (r) p->mesh = NULL;           /* the analysis took the mesh and the effects, and freed them */
+  if (r == DTM_OK && o->posterior) /* first: on the global basis the advice holds the steps to another target */
     r = dtm_analysis_estimate_global(p->analysis, o->tol, o->max_products, DTM_GLOBAL_BASIS);
+  if (r == DTM_OK) r = dtm_analysis_classify_whole(p->analysis, &p->whole, &p->whole_geo, &p->advice);
   if (r == DTM_OK) r = dtm_par_agree(p, dtm_cost_create(p->analysis, &p->cost));
   if (r == DTM_OK) r = dtm_analysis_share_advice(p->analysis, p->advice); /* the parts' views mark them */
   if (p->analysis) {

@@ -163,6 +163,8 @@ static int read_time(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(dtm_scene_attr_positive(s, n, "target", 0, &s->target));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "duration", 0, &s->duration));
   DTM_CHECK(dtm_scene_attr_positive(s, n, "f-max", 0, &s->f_max));
+  DTM_CHECK(dtm_scene_attr_bool(s, n, "posterior", &s->posterior));
+  DTM_CHECK(dtm_scene_attr_percent(s, n, "max-added-mass", &s->max_added_mass));
   return dtm_scene_attr_positive(s, n, "elements-per-wavelength", DTM_SCENE_PER_WAVELENGTH,
                                  &s->elements_per_wavelength);
 }
@@ -261,6 +263,7 @@ static int scene_new(const char *path, dtm_scene **out) {
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   s->mesh_order = 1;
   s->safety = 0.9;
+  s->max_added_mass = NAN;
   s->elements_per_wavelength = DTM_SCENE_PER_WAVELENGTH;
   DTM_CHECK(dtm_scene_strdup(path, &s->path));
   return scene_dir(path, &s->dir);

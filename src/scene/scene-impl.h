@@ -38,6 +38,12 @@ int dtm_scene_attr(const xmlNode *n, const char *key, char **out);
 int dtm_scene_parse_double(const char *text, double *v);
 /* Attribute key of n as a finite number > 0; *out = def when absent. */
 int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n, const char *key, double def, double *out);
+/* Attribute key of n as true/1 or false/0 into *out (unchanged when
+ * absent); anything else is an error at n's line. */
+int dtm_scene_attr_bool(const dtm_scene *s, const xmlNode *n, const char *key, int *out);
+/* Attribute key of n as a percentage, 0 to 100, into *out (unchanged when
+ * absent). */
+int dtm_scene_attr_percent(const dtm_scene *s, const xmlNode *n, const char *key, double *out);
 /* *out = malloc'd path rel resolved against the scene's directory. */
 int dtm_scene_resolve(const dtm_scene *s, const char *rel, char **out);
 /* Split text at XML white space into *n malloc'd tokens *items. */

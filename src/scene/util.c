@@ -71,6 +71,33 @@ int dtm_scene_attr_positive(const dtm_scene *s, const xmlNode *n, const char *ke
   return rc;
 }
 
+int dtm_scene_attr_bool(const dtm_scene *s, const xmlNode *n, const char *key, int *out) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, key, &text));
+  if (!text) return DTM_OK;
+  int rc = DTM_OK;
+  if (!strcmp(text, "true") || !strcmp(text, "1"))
+    *out = 1;
+  else if (!strcmp(text, "false") || !strcmp(text, "0"))
+    *out = 0;
+  else
+    rc = DTM_SCENE_ERR(s, n, "<%s> %s=\"%s\" is not true or false", (const char *)n->name, key, text);
+  free(text);
+  return rc;
+}
+
+int dtm_scene_attr_percent(const dtm_scene *s, const xmlNode *n, const char *key, double *out) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, key, &text));
+  if (!text) return DTM_OK;
+  int bad = dtm_scene_parse_double(text, out) || !(*out >= 0 && *out <= 100);
+  int rc = bad ? DTM_SCENE_ERR(s, n, "<%s> %s=\"%s\" is not admissible (need a percentage from 0 to 100)",
+                               (const char *)n->name, key, text)
+               : DTM_OK;
+  free(text);
+  return rc;
+}
+
 int dtm_scene_resolve(const dtm_scene *s, const char *rel, char **out) {
   if (rel[0] == '/' || strcmp(s->dir, ".") == 0) return dtm_scene_strdup(rel, out);
   size_t nd = strlen(s->dir), nr = strlen(rel);

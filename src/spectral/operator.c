@@ -442,6 +442,17 @@ static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, do
   return DTM_OK;
 }
 
+/* The point masses the mesh carries (dtm_mesh.node_mass) on every
+ * translational unknown of their node: elastic only (mass stores no heat),
+ * and without mass-proportional damping (an added mass is not the
+ * material's). */
+static void point_masses(dtm_operator *op, const dtm_mesh *m) {
+  if (!m->node_mass || op->kind != DTM_OP_ELASTIC) return;
+  size_t nc = (size_t)op->ncomp;
+  for (size_t v = 0; v < m->nnodes; v++)
+    for (size_t i = 0; i < nc; i++) op->mass[v * nc + i] += m->node_mass[v];
+}
+
 static int mass_setup(dtm_operator *op, const dtm_mesh *m) {
   double *w = malloc((size_t)MASS_CHUNK * DTM_K_NODES * sizeof *w);
   if (!w) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -449,6 +460,7 @@ static int mass_setup(dtm_operator *op, const dtm_mesh *m) {
   for (int ib = 0; ib < op->nblocks && !r; ib++) r = block_mass(op, m, &op->blocks[ib], w);
   free(w);
   if (r == DTM_OK) dtm_op_struct_masses(&op->st, op->slot_alpha, op->mass, op->mass_alpha);
+  if (r == DTM_OK) point_masses(op, m);
   for (size_t k = 0; k < op->ndof; k++) op->dsq[k] = op->mass[k] > 0 ? 1 / sqrt(op->mass[k]) : 0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -1,12 +1,14 @@
 /* Private to src/study/: the shaping of a size field (grade.c) that the
  * refine loop applies before it remeshes: caps at short model curves and
- * grading. */
+ * grading; and the parts of the refine loop in files of their own: its
+ * causes (refine_causes.c) and its mass round (refine_mass.c). */
 #ifndef DTM_STUDY_IMPL_H
 #define DTM_STUDY_IMPL_H
 
 #include "dtmap/error.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/mesh.h"
+#include "dtmap/refine.h"
 
 /* Limit size[nnodes] (m, NaN: no value) on mesh m so that no node's size
  * exceeds a neighbour's by more than slope times their distance along mesh
@@ -16,5 +18,21 @@ int dtm_grade_sizes(const dtm_mesh *m, double slope, const double *floor, double
 /* Cap size at every node on a model curve at the curve's length, and at a
  * model point at its shortest curve's, never below floor. g may be NULL. */
 void dtm_cap_at_features(const dtm_geo *g, const double *floor, double *size);
+
+/* A new cause of kind (cleared) in rr, or NULL when the list is full. */
+dtm_cause *dtm_refine_new_cause(dtm_refine_result *rr, const char *kind);
+/* The causes of a target the kept mesh does not meet, from the way the loop
+ * stopped, the kept analysis and the nmodel causes the model holds (found
+ * on the input mesh), then the size options refine lifted. */
+void dtm_refine_collect_causes(dtm_refine_result *rr, const dtm_cause *model, int nmodel);
+/* The cause "mass-limit": rr->mass_needed % of the mass would meet the
+ * target, more than the options allow. */
+void dtm_refine_mass_cause(dtm_refine_result *rr);
+/* Point masses on the kept mesh (rr->analysis) that lift its basis to the
+ * target, when the options allow them and the mesh alone fell short
+ * (dtm_mass_points). Within the limit the analysis keeps the masses and a
+ * DTM_ROUND_MASS round is recorded and kept; beyond it, rr->mass_needed
+ * says how much was needed and the analysis is left as it was. */
+int dtm_refine_mass_round(dtm_refine_result *rr);
 
 #endif

@@ -1,0 +1,313 @@
+"""The ways refine reaches a target, on real Gmsh geometries:
+
+- Counts it sets itself (tests/data/refine/chained.geo: three transfinite
+  quadrangles in a row sharing their vertical curves, the first graded by
+  a progression, the third with a top side of two curves): at 1.3x and 2x
+  the recommended step one remesh meets the target, the written mesh has
+  the counts the report lists, and every transfinite surface's opposite
+  sides have as many segments (curves 1 = 4, 2 = 5, 3 = 6 + 7, the four
+  verticals equal), with curve 1's progression kept (its first segment
+  over its last is 1.03^(n-2) to 1e-6: Gmsh places the nodes to about that).
+- The global basis: a target between the nodal-bound and the global basis
+  of the bundled plate's input mesh is met by the input itself with
+  --posterior (exit 0, no remesh, "met by the input"), while without it
+  refine remeshes. --posterior on a scene whose effects have no global
+  estimate (cohesive alone) is bad input, exit 2, nothing written.
+- Point masses: the extruded slab (extruded.geo, 4 layers) at 1.15x the
+  step cannot be met by any mesh (the layers cap it); its nodes need about
+  1.15^2 - 1 of their mass, so with --max-added-mass 40 it is met by
+  mesh + mass (exit 0, "met: mesh + X % added mass at N nodes"), the view
+  'added mass at nodes' in the output sums to the report's total, and
+  `run` and `verify` on that output read the mass back: its recommended
+  step equals refine's to 1e-12 (the same nodal bound, summed in the same
+  order). With --max-added-mass 1 it is not (exit 1, the percentage it
+  would need, above 1). --max-added-mass -1, 101 or nan is a usage error.
+- A partitioned model (partitioned.geo: meshed, then `PartitionMesh 3`, as
+  Gmsh's tutorial t21): refine at 1.3x remeshes the whole model, not the
+  partition entities (before, the remesh held 10 elements and no
+  triangle: exit 2), meets the target, and keeps the curve group
+  'left_side', whose '_' Gmsh's unpartition takes for a partitioner's name.
+- A thin layer among other elements below the target is tried by one
+  remesh (gmsh-doc's demos/boolean/neuron.geo at 1.3x its step: `run
+  --target` names a layer whose best reach it estimates below the target,
+  yet one remesh meets it, 12420 -> 6599 elements; before, refine stopped
+  at once, exit 1).
+- A first remesh that costs more than the input without meeting the target
+  does not end the loop (gmsh-doc's demos/boolean/simple3.geo, plane
+  stress, at 1.3x: round 1 has 382 elements against 328 and a shorter
+  step; round 2 meets the target with 218 elements, 0.47x the cost; before,
+  refine stopped after round 1, exit 1).
+- A kept mesh that costs more than the input is said to (gmsh-doc's
+  demos/boolean/slicer.geo, a STEP part, at 1.3x its input's global-basis
+  step with --posterior: one remesh meets the target with 4496 elements
+  against 3031, 1.07x the element-steps; the same counts in every run
+  seen): exit 0 and a warning on stderr with the ratio and the counts.
+"""
+
+import gzip
+import math
+import os
+import shutil
+import unittest
+
+import testutil as tu
+
+DATA = os.path.join(tu.SRC, "tests", "data", "refine")
+
+
+def scene(name, geo, dim, extra=""):
+    for f in os.listdir(DATA):
+        shutil.copy(os.path.join(DATA, f), tu.path(f))
+    form = "3d" if dim == 3 else "plane-stress"
+    return tu.write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="%s"/>
+<meshing dim="%d"/>
+<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="%s"/></effects>
+<time duration="1e-4"%s/>
+</dtmap-scene>
+""" % (geo, dim, form, extra))
+
+
+def recommended(name, *extra):
+    code, log = tu.run("run", name + ".xml", "-q", "-o", name + "_dt.msh", "--report", name + "_dt.json", *extra)
+    assert code == 0, log
+    return tu.report(name + "_dt.json")["dt"]
+
+
+def refine(name, target, *extra):
+    code, log = tu.run("refine", name + ".xml", "--target", "%.9e" % target, "-o", name + "_r.msh",
+                       "--report", name + "_r.json", *extra)
+    return code, log, tu.report(name + "_r.json")
+
+
+def demo(name, *extra, dim=3):
+    """gmsh-doc's demos/boolean/NAME.geo (and the files it reads) in the
+    test's directory, with a steel scene NAME.xml (3D, or plane stress)."""
+    ex = "/usr/share/doc/gmsh-doc/doc/gmsh/demos/boolean"
+    assert os.path.isdir(ex), "%s: install gmsh-doc (scripts/setup.sh does)" % ex
+    for f in (name + ".geo",) + extra:  # Debian compresses the larger examples
+        src = os.path.join(ex, f)
+        if os.path.exists(src):
+            shutil.copy(src, tu.path(f))
+        else:
+            with gzip.open(src + ".gz", "rb") as z, open(tu.path(f), "wb") as out:
+                shutil.copyfileobj(z, out)
+    tu.write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="%s.geo"/>
+<meshing dim="%d"/>
+<material name="steel" default="true" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="%s"/></effects>
+<time duration="1e-3"/>
+</dtmap-scene>
+""" % (name, dim, "3d" if dim == 3 else "plane-stress"))
+
+
+def curve_nodes(msh):
+    import gmsh
+    gmsh.initialize(["t325", "-v", "0"])
+    try:
+        gmsh.open(msh)
+        out = {}
+        for _, c in gmsh.model.getEntities(1):
+            tags, xyz, _ = gmsh.model.mesh.getNodes(1, c, includeBoundary=True)
+            out[c] = (len(tags), xyz.reshape(-1, 3))
+        return out
+    finally:
+        gmsh.finalize()
+
+
+class Counts(unittest.TestCase):
+    def check(self, factor):
+        scene("chained", "chained.geo", 2)
+        target = factor * recommended("chained")["recommended"]
+        code, log, rep = refine("chained", target)
+        self.assertEqual(code, 0, log)
+        ref = rep["refine"]
+        self.assertEqual(ref["met_by"], "mesh", log)
+        self.assertEqual(len(ref["rounds"]), 2, log)  # one remesh
+        self.assertGreater(len(ref["counts"]), 0, log)
+        nodes = curve_nodes(tu.path("chained_r.msh"))
+        n = {c: v[0] for c, v in nodes.items()}
+        for c in ref["counts"]:
+            self.assertEqual(n[c["curve"]], c["to"], c)
+            self.assertLess(c["to"], c["from"], c)
+        self.assertEqual(n[1], n[4])
+        self.assertEqual(n[2], n[5])
+        self.assertEqual(n[3] - 1, (n[6] - 1) + (n[7] - 1))
+        self.assertEqual(len({n[8], n[9], n[10], n[11]}), 1)
+        # curve 1 from (0,0) to (1,0), graded 1.03: its nodes by x
+        xs = sorted(p[0] for p in nodes[1][1])
+        first, last = xs[1] - xs[0], xs[-1] - xs[-2]
+        self.assertAlmostEqual(last / first, 1.03 ** (n[1] - 2), delta=1e-6 * last / first)
+
+    def test_chained_1_3(self):
+        self.check(1.3)
+
+    def test_chained_2(self):
+        self.check(2.0)
+
+
+class GlobalBasis(unittest.TestCase):
+    def test_met_by_input(self):
+        shutil.copy(os.path.join(tu.SRC, "geometries", "plate_with_hole.geo"), tu.path("plate_with_hole.geo"))
+        tu.write("plate.xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="plate_with_hole.geo"/>
+<meshing size="5e-3" min-size="1e-3" dim="2"/>
+<material name="aluminium" groups="plate" E="70e9" nu="0.33" rho="2700"/>
+<effects><elastic formulation="plane-stress"/></effects>
+<time duration="1e-4"/>
+</dtmap-scene>
+""")
+        nodal = recommended("plate")["recommended"]
+        glob = recommended("plate", "--posterior")["recommended"]
+        self.assertGreater(glob, 1.05 * nodal)
+        target = math.sqrt(nodal * glob)  # between the two
+        code, log, rep = refine("plate", target, "--posterior")
+        self.assertEqual(code, 0, log)
+        self.assertIn("met by the input mesh as it is (global estimate): no remesh", log)
+        self.assertIn("a solver must run at this step fixed", log)
+        ref = rep["refine"]
+        self.assertEqual((ref["met_by"], len(ref["rounds"]), ref["basis"]), ("input", 1, "global estimate"))
+        self.assertEqual(rep["below_target"], 0)
+        self.assertLess(ref["element_bound"], target)
+        code, log, rep = refine("plate", target, "--max-iter", "1")
+        self.assertEqual(rep["refine"]["basis"], "nodal bound")
+        self.assertEqual(len(rep["refine"]["rounds"]), 2, log)  # the nodal basis remeshes
+
+    def test_posterior_needs_an_estimate(self):
+        scene("cohesive_only", "transfinite.geo", 2)
+        text = open(tu.path("cohesive_only.xml")).read().replace(
+            '<effects><elastic formulation="plane-stress"/></effects>',
+            '<effects><cohesive groups="block"/></effects>').replace(
+                'rho="7850"', 'rho="7850" fracture-energy="100" strength="3e6"')
+        tu.write("cohesive_only.xml", text)
+        code, log = tu.run("refine", "cohesive_only.xml", "--target", "1", "--posterior", "-q")
+        self.assertEqual(code, 2, log)  # the cohesive step has no global estimate
+        self.assertIn("needs an effect that has one", log)
+        self.assertFalse(os.path.exists(tu.path("cohesive_only_refined.msh")))
+
+
+class Mass(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        scene("slab", "extruded.geo", 3)
+        cls.target = 1.15 * recommended("slab")["recommended"]
+
+    def test_within(self):
+        code, log, rep = refine("slab", self.target, "--max-added-mass", "40")
+        self.assertEqual(code, 0, log)
+        self.assertIn("met: mesh + ", log)
+        ref = rep["refine"]
+        self.assertEqual(ref["met_by"], "mesh and point masses", log)
+        last = ref["rounds"][-1]
+        self.assertEqual(last["kind"], "mass")
+        self.assertLessEqual(last["added_percent"], 40)
+        pm = rep["point_masses"]
+        view = tu.view_values(tu.path("slab_r.msh"), "added mass at nodes")
+        self.assertEqual(len(view), pm["nodes"])
+        self.assertAlmostEqual(sum(view.values()), pm["total"], delta=1e-12 * pm["total"])
+        self.assertAlmostEqual(pm["total"], last["added_mass"], delta=1e-12 * pm["total"])
+        self.assertGreaterEqual(rep["dt"]["recommended"], self.target)
+        # read back: run and verify on the refined mesh include the masses
+        tu.write("slab_again.xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<mesh file="slab_r.msh"/>
+<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="3d"/></effects>
+<time duration="1e-4"/>
+</dtmap-scene>
+""")
+        again = recommended("slab_again")["recommended"]
+        self.assertAlmostEqual(again, rep["dt"]["recommended"], delta=1e-12 * again)
+        self.assertAlmostEqual(tu.report("slab_again_dt.json")["point_masses"]["total"], pm["total"],
+                               delta=1e-12 * pm["total"])
+        code, log = tu.run("verify", "slab_again.xml", "--steps", "500")
+        self.assertEqual(code, 0, log)
+
+    def test_beyond(self):
+        code, log, rep = refine("slab", self.target, "--max-added-mass", "1")
+        self.assertEqual(code, 1, log)
+        ref = rep["refine"]
+        self.assertGreater(ref["mass_needed_percent"], 1)
+        self.assertEqual(ref["met_by"], "not met")
+        self.assertNotIn("point_masses", rep)
+        self.assertIn("point masses would need", log)
+
+    def test_bad_limits(self):
+        for bad in ("-1", "101", "nan"):
+            code, log = tu.run("refine", "slab.xml", "--target", "1", "--max-added-mass", bad)
+            self.assertEqual(code, 2, log)
+
+
+class Partitioned(unittest.TestCase):
+    def test_remesh_whole(self):
+        scene("parts", "partitioned.geo", 2)
+        dt = recommended("parts")["recommended"]
+        code, log, rep = refine("parts", 1.3 * dt)
+        self.assertEqual(code, 0, log)
+        self.assertEqual(rep["refine"]["met_by"], "mesh", log)
+        self.assertGreaterEqual(rep["dt"]["recommended"], 1.3 * dt * (1 - 1e-12), log)
+        import gmsh
+        gmsh.initialize(["t325", "-v", "0"])
+        try:
+            gmsh.open(tu.path("parts_r.msh"))
+            names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
+            self.assertIn("left_side", names, names)
+            d, t = names["left_side"]
+            lines = sum(len(gmsh.model.mesh.getElements(d, e)[1][0]) for e in gmsh.model.getEntitiesForPhysicalGroup(d, t))
+            self.assertGreater(lines, 0)  # its curve elements, not an empty group
+            self.assertGreater(rep["mesh"]["elements"], 100, log)  # triangles, not the 10 boundary elements
+        finally:
+            gmsh.finalize()
+
+
+class Dearer(unittest.TestCase):
+    def test_warned(self):
+        demo("slicer", "component8.step")
+        dt = recommended("slicer", "--posterior")["recommended"]
+        code, log, rep = refine("slicer", 1.3 * dt, "--posterior")
+        self.assertEqual(code, 0, log)
+        rounds = rep["refine"]["rounds"]
+        kept, first = rounds[rep["refine"]["best"]], rounds[0]
+        ratio = kept["element_steps"] / first["element_steps"]
+        self.assertGreater(ratio, 1.0, "the remesh of slicer.geo no longer costs more than its input: %s" % rounds)
+        self.assertIn("the kept mesh meets the target but costs x%.3f" % ratio, log)
+        self.assertIn("(%d against %d)" % (kept["elements"], first["elements"]), log)
+
+
+class LayerTried(unittest.TestCase):
+    def test_one_remesh(self):
+        demo("neuron")
+        dt = recommended("neuron")["recommended"]
+        with open(tu.path("neuron.xml")) as f:
+            tu.write("neuron_t.xml", f.read().replace('duration="1e-3"', 'duration="1e-3" target="%.9e"' % (1.3 * dt)))
+        code, log = tu.run("run", "neuron_t.xml", "-q", "--report", "n_t.json", "-o", "n_t.msh")
+        self.assertEqual(code, 0, log)
+        layers = tu.report("n_t.json")["thickness_limited"]
+        self.assertTrue(layers and all(l["reach"] < 1.3 * dt for l in layers), layers)  # the estimate says no
+        code, log, rep = refine("neuron", 1.3 * dt)
+        self.assertEqual(code, 0, log)  # and one remesh does
+        self.assertEqual(rep["refine"]["met_by"], "mesh", log)
+        self.assertEqual(len(rep["refine"]["rounds"]), 2, log)
+
+
+class DearerFirstRound(unittest.TestCase):
+    def test_goes_on(self):
+        demo("simple3", dim=2)
+        dt = recommended("simple3")["recommended"]
+        code, log, rep = refine("simple3", 1.3 * dt)
+        self.assertEqual(code, 0, log)
+        rounds = rep["refine"]["rounds"]
+        self.assertEqual(len(rounds), 3, log)
+        self.assertGreater(rounds[1]["element_steps"], rounds[0]["element_steps"], log)  # the dearer first remesh
+        self.assertLess(rounds[1]["recommended"], 1.3 * dt, log)
+        self.assertEqual(rep["refine"]["best"], 2, log)  # met, and cheaper than the input
+        self.assertLess(rounds[2]["element_steps"], rounds[0]["element_steps"], log)
+
+
+if __name__ == "__main__":
+    tu.main()
