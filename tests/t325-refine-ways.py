@@ -22,6 +22,11 @@
   step equals refine's to 1e-12 (the same nodal bound, summed in the same
   order). With --max-added-mass 1 it is not (exit 1, the percentage it
   would need, above 1). --max-added-mass -1, 101 or nan is a usage error.
+- Gmsh's optimisers (the bundled plate, one remesh at 1.3x): none by
+  default; `--optimise relocate,laplace` runs both 2D passes (the report's
+  round lists them, and the mesh's step differs from the remesh without
+  them), `--optimise gmsh` runs nothing in 2D (the same step as none: the
+  same field gives the same mesh), an unknown pass is a usage error.
 - A partitioned model (partitioned.geo: meshed, then `PartitionMesh 3`, as
   Gmsh's tutorial t21): refine at 1.3x remeshes the whole model, not the
   partition entities (before, the remesh held 10 elements and no
@@ -100,10 +105,9 @@ class Counts(unittest.TestCase):
         self.check(2.0)
 
 
-class GlobalBasis(unittest.TestCase):
-    def test_met_by_input(self):
-        shutil.copy(os.path.join(tu.SRC, "geometries", "plate_with_hole.geo"), tu.path("plate_with_hole.geo"))
-        tu.write("plate.xml", """<?xml version="1.0"?>
+def plate_scene():
+    shutil.copy(os.path.join(tu.SRC, "geometries", "plate_with_hole.geo"), tu.path("plate_with_hole.geo"))
+    tu.write("plate.xml", """<?xml version="1.0"?>
 <dtmap-scene version="1">
 <geometry file="plate_with_hole.geo"/>
 <meshing size="5e-3" min-size="1e-3" dim="2"/>
@@ -112,6 +116,11 @@ class GlobalBasis(unittest.TestCase):
 <time duration="1e-4"/>
 </dtmap-scene>
 """)
+
+
+class GlobalBasis(unittest.TestCase):
+    def test_met_by_input(self):
+        plate_scene()
         nodal = tu.run_dt("plate")["recommended"]
         glob = tu.run_dt("plate", "--posterior")["recommended"]
         self.assertGreater(glob, 1.05 * nodal)
@@ -191,6 +200,24 @@ class Mass(unittest.TestCase):
         for bad in ("-1", "101", "nan"):
             code, log = tu.run("refine", "slab.xml", "--target", "1", "--max-added-mass", bad)
             self.assertEqual(code, 2, log)
+
+
+class Optimisers(unittest.TestCase):
+    def test_passes(self):
+        plate_scene()
+        target = 1.3 * tu.run_dt("plate")["recommended"]
+        steps = {}
+        for passes, ran in ((None, []), ("relocate,laplace", ["relocate", "laplace"]), ("gmsh", [])):
+            extra = ("--optimise", passes) if passes else ()
+            code, log, rep = tu.refine("plate", target, "--max-iter", "1", *extra)
+            r1 = rep["refine"]["rounds"][1]
+            self.assertEqual(r1["optimisers"], ran, log)  # Gmsh's tetrahedral pass does not run in 2D
+            steps[passes] = r1["recommended"]
+        self.assertNotEqual(steps["relocate,laplace"], steps[None])  # the passes moved nodes
+        self.assertEqual(steps["gmsh"], steps[None])  # the same field, the same mesh
+        code, log = tu.run("refine", "plate.xml", "--target", "1", "--optimise", "relocate,bogus")
+        self.assertEqual(code, 2, log)
+        self.assertIn("bogus", log)
 
 
 class Partitioned(unittest.TestCase):

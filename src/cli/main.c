@@ -108,7 +108,7 @@ static const cli_option refine_options[] = {
     {"--keep-counts", CLI_FLAG, OPT(keep_counts), 1, 0, 0, NULL,
      "keep the model's transfinite node counts (default: refine sets them)"},
     {"--optimise", CLI_STRING, OPT(optimise), 0, 0, 0, "LIST",
-     "Gmsh's optimisers after each remesh, of gmsh,netgen,relocate,laplace, or none (default: gmsh,netgen)"},
+     "Gmsh's optimisers after each remesh, of gmsh,netgen,relocate,laplace, or none (default: none)"},
     TOP_OPTION,
     LANCZOS_OPTIONS,
     FORMAT_OPTION,
