@@ -31,11 +31,10 @@ int dtm_op_struct_is(const dtm_operator_coeffs *c);
 int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat);
 /* mass[k] += the elements' lumped masses; mass_alpha (or NULL) += alpha times them. */
 void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, double *mass, double *mass_alpha);
-/* y += sum_e f_e K_e (D u) over the elements, D = diag(in) or I, f_e =
- * beta_of_slot[slot] (NULL: 1): the element products in parallel, the
- * scatter serial, in element order (the same sum whatever the threads). */
-void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
-                         double *y);
+/* y += sum_e f_e K_e u over the elements, f_e = beta_of_slot[slot] (NULL:
+ * 1): the element products in parallel, the scatter serial, in element
+ * order (the same sum whatever the threads). */
+void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *beta_of_slot, double *y);
 void dtm_op_struct_free(dtm_op_struct *s);
 
 #endif

@@ -140,13 +140,13 @@ void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, d
     }
 }
 
-/* fe = f K_e (D u) of element i. */
-static void element_product(const dtm_op_struct *s, size_t i, const double *u, const double *in, double f, double *fe) {
+/* fe = f K_e u of element i. */
+static void element_product(const dtm_op_struct *s, size_t i, const double *u, double f, double *fe) {
   int n = s->ndof[i];
   const size_t *idx = s->idx + i * DTM_STRUCT_DOF;
   const double *K = s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF;
   double ue[DTM_STRUCT_DOF];
-  for (int r = 0; r < n; r++) ue[r] = u[idx[r]] * (in ? in[idx[r]] : 1.0);
+  for (int r = 0; r < n; r++) ue[r] = u[idx[r]];
   for (int r = 0; r < n; r++) {
     double acc = 0;
     for (int q = 0; q < n; q++) acc += K[(size_t)r * n + q] * ue[q];
@@ -154,11 +154,10 @@ static void element_product(const dtm_op_struct *s, size_t i, const double *u, c
   }
 }
 
-void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
-                         double *y) {
+void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *beta_of_slot, double *y) {
 #pragma omp parallel for schedule(static) if (s->n > 2000)
   for (size_t i = 0; i < s->n; i++)
-    element_product(s, i, u, in, beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0, s->fe + i * DTM_STRUCT_DOF);
+    element_product(s, i, u, beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0, s->fe + i * DTM_STRUCT_DOF);
   for (size_t i = 0; i < s->n; i++)
     for (int r = 0; r < s->ndof[i]; r++) y[s->idx[i * DTM_STRUCT_DOF + r]] += s->fe[i * DTM_STRUCT_DOF + r];
 }
