@@ -19,6 +19,7 @@
 
 #include "dtmap/mesh.h"
 #include "dtmap/problem.h"
+#include "dtmap/section.h"
 
 typedef struct dtm_operator dtm_operator;
 
@@ -36,6 +37,13 @@ DTM_EXPORT int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_ope
 DTM_EXPORT int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
                                             const double *alpha, const double *beta, int nmat, int nsec,
                                             dtm_operator **out);
+/* The same with the bounds an analysis kept for its shells and beams
+ * (kept[block][element], dtm_section_element; nn = 0, or a NULL row: none):
+ * a shell's rotary-inertia scale is taken from there instead of being
+ * solved again. kept may be NULL. */
+DTM_EXPORT int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
+                                        const double *alpha, const double *beta, int nmat, int nsec,
+                                        const dtm_section_bounds *const *kept, dtm_operator **out);
 DTM_EXPORT void dtm_operator_destroy(dtm_operator **op);
 
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);

@@ -9,10 +9,14 @@
 #include "distributed.h"
 #include "dtmap/analysis.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/section.h"
 
 struct dtm_analysis {
   const dtm_scene *scene;       /* not owned */
   dtm_section_stats *sec_stats; /* [nsections] what dtm_analysis_sections returns, computed once */
+  dtm_section_bounds **rot;     /* [nblocks][n] each shell's and beam's bounds, its rotary scale's
+                                   eigenproblem solved once (sections.c); nn = 0 where none or refused;
+                                   NULL rows for blocks without them, NULL without any */
   dtm_mesh *mesh;               /* owned */
   int neffects;
   dtm_effect *effects;        /* [neffects] owned, scene order */
@@ -126,7 +130,9 @@ int dtm_analysis_nslots(const dtm_analysis *a);
 /* 1 when a scene section is a shell or a beam (nodes with rotations): the
  * same on every part of a distributed run. */
 int dtm_analysis_has_rotations(const dtm_analysis *a);
-/* Compute a->sec_stats (once, after the nodal bound). */
+/* Compute a->rot (before the nodal bound, which reads the masses there)
+ * and a->sec_stats (once, after the nodal bound; it reads a->rot). */
+int dtm_analysis_rotary(dtm_analysis *a);
 int dtm_analysis_section_stats(dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
 /* A 2D model treated as a plane elastic problem is plane, or its surfaces

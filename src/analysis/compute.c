@@ -327,6 +327,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
     r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
   t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_analysis_rotary(a);
   if (r == DTM_OK) r = dtm_nodal_bounds(a);
   if (r == DTM_OK) dtm_recommend(a);
   if (r == DTM_OK) r = dtm_x_agree(a, dtm_local_steps(a));
@@ -358,6 +359,8 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->shape);
   free(a->layers);
   free(a->sec_stats);
+  for (int b = 0; a->rot && b < a->mesh->nblocks; b++) free(a->rot[b]);
+  free(a->rot);
   dtm_gmsh_geo_destroy(&a->geo);
   for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
   free(a->dt_bare);

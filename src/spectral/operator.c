@@ -86,10 +86,11 @@ struct dtm_operator {
   double *scaled;          /* [ndof] M^-1/2 x of a symmetric product (work, owned) */
   const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
-  dtm_op_struct st;     /* shells and beams (structural.c): st.n = 0 when none */
-  double *slot_alpha;   /* [nmat] Rayleigh alpha of each slot, for them */
-  double *slot_beta;    /* [nmat] Rayleigh beta of each slot */
-  dtm_rule_part *parts; /* [nblocks] the parts the blocks are built on (owned) */
+  dtm_op_struct st;                      /* shells and beams (structural.c): st.n = 0 when none */
+  double *slot_alpha;                    /* [nmat] Rayleigh alpha of each slot, for them */
+  double *slot_beta;                     /* [nmat] Rayleigh beta of each slot */
+  dtm_rule_part *parts;                  /* [nblocks] the parts the blocks are built on (owned) */
+  const dtm_section_bounds *const *kept; /* the shells' and beams' kept bounds (creation only), or NULL */
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
@@ -496,7 +497,8 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < np; ib++) DTM_CHECK(block_setup(op, m, &op->parts[ib], &op->blocks[ib]));
   DTM_CHECK(materials_setup(op, c, alpha, beta));
-  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base)); /* after materials_setup: it checks every slot */
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base, op->kept)); /* after materials_setup: it checks every
+                                                                               slot */
   op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
@@ -515,6 +517,12 @@ int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeff
 
 int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
                                  const double *beta, int nmat, int nsec, dtm_operator **out) {
+  return dtm_operator_create_kept(mesh, kind, coef, alpha, beta, nmat, nsec, NULL, out);
+}
+
+int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                             const double *beta, int nmat, int nsec, const dtm_section_bounds *const *kept,
+                             dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   int d;
   DTM_CHECK(dtm_mesh_space_dim(mesh, &d));
@@ -524,6 +532,7 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->kind = kind, op->d = d, op->nmat_base = nmat, op->nsec = nsec, op->nmat = nmat * (nsec + 1);
   op->ncomp = kind == DTM_OP_ELASTIC ? d : 1;
+  op->kept = kept;
   int r = create(op, mesh, coef, alpha, beta);
   if (r) {
     dtm_operator_destroy(&op);
