@@ -854,27 +854,31 @@ static inline ALWAYS_INLINE void elastic_p1_x4(const v4d *ji, v4d dv, const v4d 
   }
 }
 
-/* Elements [e, e + 4) of a 3D linear tet block with 32-bit connectivity;
- * the lanes are filled from arrays of doubles (memcpy: vector loads). */
+/* Four scalars as one vector, built in registers (a vector loaded from
+ * four scalars just stored would wait for the stores to drain). */
+#define LANES(a, b, c, d) ((v4d){(a), (b), (c), (d)})
+
+/* Elements [e, e + 4) of a 3D linear tet block with 32-bit connectivity. */
 static inline ALWAYS_INLINE void tets_x4(const dtm_operator *op, const op_block *b, size_t e, const double *u,
                                          double *y, int which) {
-  double lane[24][4], sc[4];
-  v4d in[24], fe[12];
+  v4d ji[9] = {{0}}, ue[12] = {{0}}, fe[12]; /* zeroed: GCC 12 takes the lanes filled below for read first */
+  double sc[4], lam[4], mu[4];
   const uint32_t *c = b->c32 + e * 4;
   const double *g = b->geo + e * 10;
   UNROLL
   for (int l = 0; l < 4; l++) {
     const op_mat *mt = &op->mats[slot_of(b, e + (size_t)l)];
     sc[l] = which == APPLY_BETA ? mt->beta : 1;
-    lane[22][l] = sc[l] * mt->lam, lane[23][l] = sc[l] * mt->mu;
-    UNROLL
-    for (int k = 0; k < 10; k++) lane[12 + k][l] = g[10 * l + k];
-    UNROLL
-    for (int a = 0; a < 4; a++) UNROLL
-    for (int i = 0; i < 3; i++) lane[a * 3 + i][l] = u[c[4 * l + a] * 3 + i];
+    lam[l] = sc[l] * mt->lam, mu[l] = sc[l] * mt->mu;
   }
-  memcpy(in, lane, sizeof in); /* [0, 12) u, [12, 21) J^-1, 21 dv, 22 lambda, 23 mu */
-  elastic_p1_x4(in + 12, in[21], in, fe, in[22], in[23]);
+  UNROLL
+  for (int k = 0; k < 9; k++) ji[k] = LANES(g[k], g[10 + k], g[20 + k], g[30 + k]);
+  UNROLL
+  for (int a = 0; a < 4; a++) UNROLL
+  for (int i = 0; i < 3; i++)
+    ue[a * 3 + i] = LANES(u[c[a] * 3 + i], u[c[4 + a] * 3 + i], u[c[8 + a] * 3 + i], u[c[12 + a] * 3 + i]);
+  elastic_p1_x4(ji, LANES(g[9], g[19], g[29], g[39]), ue, fe, LANES(lam[0], lam[1], lam[2], lam[3]),
+                LANES(mu[0], mu[1], mu[2], mu[3]));
   UNROLL
   for (int l = 0; l < 4; l++) {
     if (sc[l] == 0) continue;
