@@ -1039,14 +1039,21 @@ static int shares_setup(dtm_operator *op) {
   return DTM_OK;
 }
 
-/* y = sum_e s_e K_e u. Shares are summed in a fixed order, so the result
- * does not depend on scheduling. */
-static void apply_k(const dtm_operator *op, const double *u, double *y, int which) {
-  int ns = op->nshares;
+/* y = sum_e s_e K_e u, or with dsq (M^-1/2) y = D K D u, D = diag(dsq):
+ * then D u is formed once per dof (op->scaled), not at every element's
+ * gather, and y scaled where it is summed, each thread over its own range
+ * of dofs (the same products as scaling before and after). Shares are
+ * summed in a fixed order, so the result does not depend on scheduling. */
+static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *dsq) {
+  int ns = op->nshares, late = dsq && op->st.n; /* shells and beams add after the region: scale y after them */
   size_t n = op->ndof;
+  const double *x = dsq ? op->scaled : u;
 #pragma omp parallel num_threads(ns) if (ns > 1)
   {
     int t = thread_id(), tn = team_size();
+    size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
+    for (size_t k = k0; dsq && k < k1; k++) op->scaled[k] = u[k] * dsq[k];
+#pragma omp barrier
     for (int s = t; s < ns; s += tn) {
       const op_share *sh = &op->share[s];
       double *ys = s ? op->buf + (size_t)(s - 1) * n : y;
@@ -1054,32 +1061,27 @@ static void apply_k(const dtm_operator *op, const double *u, double *y, int whic
         memset(ys + sh->lo, 0, (sh->hi - sh->lo) * sizeof *ys);
       else
         memset(y, 0, n * sizeof *y);
-      share(op, s, ns, u, ys, which);
+      share(op, s, ns, x, ys, which);
     }
 #pragma omp barrier
-    size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
     for (int s = 1; s < ns; s++) {
       const op_share *sh = &op->share[s];
       const double *bs = op->buf + (size_t)(s - 1) * n;
       for (size_t k = k0 > sh->lo ? k0 : sh->lo; k < k1 && k < sh->hi; k++) y[k] += bs[k];
     }
+    for (size_t k = k0; dsq && !late && k < k1; k++) y[k] *= dsq[k];
   }
-  if (op->st.n) dtm_op_struct_apply(&op->st, u, which == APPLY_BETA ? op->slot_beta : NULL, y);
+  if (op->st.n) dtm_op_struct_apply(&op->st, x, which == APPLY_BETA ? op->slot_beta : NULL, y);
+  for (size_t k = 0; late && k < n; k++) y[k] *= dsq[k];
 }
 
-void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K); }
+void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }
 
-/* M^-1/2 x is formed once per dof (op->scaled), not at every element's
- * gather: the same products, a dozen fewer per element. */
-void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) {
-  for (size_t k = 0; k < op->ndof; k++) op->scaled[k] = x[k] * op->dsq[k];
-  apply_k(op, op->scaled, y, APPLY_K);
-  for (size_t k = 0; k < op->ndof; k++) y[k] *= op->dsq[k];
-}
+void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) { apply_k(op, x, y, APPLY_K, op->dsq); }
 
 void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y) {
   if (op->has_beta)
-    apply_k(op, v, y, APPLY_BETA);
+    apply_k(op, v, y, APPLY_BETA, NULL);
   else
     memset(y, 0, op->ndof * sizeof *y);
   for (size_t k = 0; op->mass_alpha && k < op->ndof; k++) y[k] += op->mass_alpha[k] * v[k];
