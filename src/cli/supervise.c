@@ -23,7 +23,8 @@
  * their own (src/gmsh/contain.c), so that a crash of Gmsh in a remesh ends
  * that round, not the run, while the kept mesh waits in a file without a
  * name; a crash anywhere else ends the command, which had nothing to keep.
- * An MPI rank is not supervised: its launcher owns the processes. */
+ * An MPI rank is not supervised: its launcher owns the processes; nor is
+ * a command run with DTMAP_SUPERVISE=0 (for a debugger). */
 #define _GNU_SOURCE /* strsignal */
 #include <errno.h>
 #include <signal.h>
@@ -127,8 +128,11 @@ static int wait_worker(const cli_supervised *s, pid_t pid, int log) {
   return crashed(s, sig, log);
 }
 
-/* An MPI rank: the job in this process, with its progress. */
-static int unsupervised(const cli_supervised *s) {
+/* An MPI rank, or DTMAP_SUPERVISE=0 (a debugger; the containment
+ * benchmark's baseline, which meshes here too, uncontained: in_process):
+ * the job in this process, with its progress. */
+static int unsupervised(const cli_supervised *s, int in_process) {
+  if (in_process) dtm_gmsh_contain(0, -1);
   dtm_cli_progress_start(s->verbosity);
   int code = s->job(s->arg);
   dtm_cli_progress_stop();
@@ -136,7 +140,9 @@ static int unsupervised(const cli_supervised *s) {
 }
 
 int dtm_cli_supervise(const cli_supervised *s) {
-  if (dtm_parallel_launched()) return unsupervised(s);
+  const char *env = getenv("DTMAP_SUPERVISE");
+  int off = env && !strcmp(env, "0");
+  if (off || dtm_parallel_launched()) return unsupervised(s, off);
   void *names = mmap(NULL, NAMES_BYTES, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (names != MAP_FAILED) dtm_atomic_share(names, NAMES_BYTES);
   dtm_cli_progress_place();
