@@ -14,6 +14,9 @@
 struct dtm_analysis {
   const dtm_scene *scene;       /* not owned */
   dtm_section_stats *sec_stats; /* [nsections] what dtm_analysis_sections returns, computed once */
+  unsigned char **level;        /* [nblocks][n] each second-order element's converged rule level,
+                                   found once (curvature.c; 0: straight-sided); NULL rows for
+                                   linear blocks, NULL without any */
   dtm_section_bounds **rot;     /* [nblocks][n] each shell's and beam's bounds, its rotary scale's
                                    eigenproblem solved once (sections.c); nn = 0 where none or refused;
                                    NULL rows for blocks without them, NULL without any */
@@ -130,6 +133,11 @@ int dtm_analysis_nslots(const dtm_analysis *a);
 /* 1 when a scene section is a shell or a beam (nodes with rotations): the
  * same on every part of a distributed run. */
 int dtm_analysis_has_rotations(const dtm_analysis *a);
+/* Compute a->level (before the element map: its measures, the nodal
+ * bound's masses and the global operator read it). */
+int dtm_analysis_levels(dtm_analysis *a);
+/* The kept level of element e of block b, or -1 (search it). */
+int dtm_analysis_level(const dtm_analysis *a, int b, size_t e);
 /* Compute a->rot (before the nodal bound, which reads the masses there)
  * and a->sec_stats (once, after the nodal bound; it reads a->rot). */
 int dtm_analysis_rotary(dtm_analysis *a);

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "reference.h"
 
 /* Coefficients of effect k for each scene material, computed on first use. */
 typedef struct {
@@ -88,7 +89,8 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
     if (r) dtm_par_error_keep(&pe, r);
     if (r || done) continue;
     int model = c->kind == DTM_OP_ELASTIC ? c->mod.integration : DTM_INTEGRATION_CONVERGED;
-    double m = c->capacity * c->section_factor * dtm_elem_lumped_model(blk->type, x, model, w);
+    double m = c->capacity * c->section_factor *
+               dtm_elem_lumped_at(blk->type, x, model, dtm_analysis_level(a, b, (size_t)e), w);
     for (int i = 0; i < blk->nn; i++) w[i] *= m;
   }
   if (pe.code)

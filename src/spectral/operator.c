@@ -86,11 +86,11 @@ struct dtm_operator {
   double *scaled;          /* [ndof] M^-1/2 x of a symmetric product (work, owned) */
   const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
-  dtm_op_struct st;                      /* shells and beams (structural.c): st.n = 0 when none */
-  double *slot_alpha;                    /* [nmat] Rayleigh alpha of each slot, for them */
-  double *slot_beta;                     /* [nmat] Rayleigh beta of each slot */
-  dtm_rule_part *parts;                  /* [nblocks] the parts the blocks are built on (owned) */
-  const dtm_section_bounds *const *kept; /* the shells' and beams' kept bounds (creation only), or NULL */
+  dtm_op_struct st;              /* shells and beams (structural.c): st.n = 0 when none */
+  double *slot_alpha;            /* [nmat] Rayleigh alpha of each slot, for them */
+  double *slot_beta;             /* [nmat] Rayleigh beta of each slot */
+  dtm_rule_part *parts;          /* [nblocks] the parts the blocks are built on (owned) */
+  const dtm_operator_kept *kept; /* what an analysis kept (creation only), or NULL */
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
@@ -384,10 +384,16 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part 
 
 /* ---- creation: lumped diagonals ------------------------------------- */
 
+/* The converged level an analysis kept for element e of part b, or -1. */
+static int kept_level(const dtm_operator *op, const op_block *b, size_t e) {
+  const unsigned char *row = op->kept && op->kept->level ? op->kept->level[b->mbi] : NULL;
+  return row ? row[b->orig ? b->orig[e] : e] : -1;
+}
+
 /* Lumped node masses of element e per unit capacity, into w[nn]: the
  * kernel's weights times the measure, which is the sum of the stored dv
  * (the same rule as dtm_elem_measure, without integrating a second time). */
-static void lumped_weights(const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+static void lumped_weights(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double x[DTM_K_NODES * 3];
   const size_t *c = b->conn + e * (size_t)b->nn;
   if (b->p1) { /* row sums of a linear simplex (lump.c), without gathering the nodes */
@@ -396,17 +402,17 @@ static void lumped_weights(const dtm_mesh *m, const op_block *b, size_t e, doubl
   }
   for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
   if (b->level == DTM_K_RULE_C3D10) /* CalculiX's lumping goes with its rule (src/kernel/lump.c) */
-    dtm_elem_lumped_model(b->type, x, DTM_INTEGRATION_CALCULIX, w);
-  else
-    dtm_elem_lumped_weights(b->type, x, w);
+    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CALCULIX, b->level, w);
+  else /* the converged weights, at the level an analysis kept (else searched) */
+    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CONVERGED, kept_level(op, b, e), w);
 }
 
-static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double meas = 0;
   size_t st = (size_t)b->st;
   const double *g = b->geo + e * (size_t)b->nq * st;
   for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
-  lumped_weights(m, b, e, w);
+  lumped_weights(op, m, b, e, w);
   int ok = 1;
   for (int a = 0; a < b->nn; a++) {
     w[a] *= meas;
@@ -419,11 +425,12 @@ static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w
 
 /* Lumped masses w[e - e0][nn] of elements [e0, e1) of b, in parallel;
  * returns the first element with a bad one, or e1. */
-static size_t chunk_lumped(const dtm_mesh *m, const op_block *b, size_t e0, size_t e1, double *w) {
+static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
+                           double *w) {
   size_t bad = e1;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = e0; e < e1; e++)
-    if (elem_lumped(m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
+    if (elem_lumped(op, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
   return bad;
 }
 
@@ -445,7 +452,7 @@ static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1,
 static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, double *w) {
   for (size_t e0 = 0; e0 < b->n; e0 += MASS_CHUNK) {
     size_t e1 = b->n - e0 < MASS_CHUNK ? b->n : e0 + MASS_CHUNK;
-    size_t bad = chunk_lumped(m, b, e0, e1, w);
+    size_t bad = chunk_lumped(op, m, b, e0, e1, w);
     char t[32];
     if (bad < e1)
       return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass", tag_text(b, bad, t, sizeof t),
@@ -490,15 +497,15 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   int np = 0, model = DTM_INTEGRATION_CONVERGED;
   for (int i = 0; i < op->nmat; i++) /* the elastic effect's model (one per effect) */
     if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration != DTM_INTEGRATION_CONVERGED) model = c[i].mod.integration;
-  int r = dtm_rule_parts(m, model, &op->parts, &np);
+  int r = dtm_rule_parts(m, model, op->kept ? op->kept->level : NULL, &op->parts, &np);
   op->nblocks = np; /* the parts, freed by destroy */
   DTM_CHECK(r);
   op->blocks = calloc((size_t)np + 1, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < np; ib++) DTM_CHECK(block_setup(op, m, &op->parts[ib], &op->blocks[ib]));
   DTM_CHECK(materials_setup(op, c, alpha, beta));
-  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base, op->kept)); /* after materials_setup: it checks every
-                                                                               slot */
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base, op->kept ? op->kept->rot : NULL)); /* after
+                                                                    materials_setup: it checks every slot */
   op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
@@ -521,7 +528,7 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
 }
 
 int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
-                             const double *beta, int nmat, int nsec, const dtm_section_bounds *const *kept,
+                             const double *beta, int nmat, int nsec, const dtm_operator_kept *kept,
                              dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   int d;
