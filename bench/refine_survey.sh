@@ -11,7 +11,8 @@
 # Prints one markdown row per model: outcome (exit code or signal), how the
 # target was met (input, mesh, mesh and point masses), the first cause the
 # report names, the kept mesh's cost over the input's, the remeshes run, and
-# the point masses added (% of the mass).
+# the point masses added (% of the mass), or the share they would need
+# beyond the limit.
 # Usage: bench/refine_survey.sh DTMAP MODE [FACTOR] [EXAMPLES_DIR] [MODEL...]
 set -u
 DTMAP=${1:?usage: refine_survey.sh DTMAP MODE [FACTOR] [EXAMPLES_DIR] [MODEL...]}
@@ -76,8 +77,10 @@ cause = causes[0]['kind'] if causes else j.get('stopped', '')
 r = j['rounds']
 mass = [x.get('added_percent', 0) for x in r if x.get('kind') == 'mass']
 mesh = sum(1 for x in r if x.get('kind') == 'mesh')
+need = j.get('mass_needed_percent')
+mass_cell = '%.3g' % mass[0] if mass else ('needs %.3g' % need if need is not None else '')
 print('| %s | %s | %.2f | %d | %s |' % (j.get('met_by', ''), cause, r[j['best']]['element_steps'] / r[0]['element_steps'],
-                                       mesh, '%.3g' % mass[0] if mass else ''))
+                                       mesh, mass_cell))
 PYEOF
 )
   if [ "$out" != met ] && [ "$row" = "| | | | | |" ]; then row="| | $(head -c 160 "$WORK/$name.err" | tr '\n|' ' /') | | | |"; fi

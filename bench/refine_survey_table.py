@@ -30,7 +30,8 @@ def cell(c):
         if met_by == "mesh and point masses":
             return "mesh + %s %% mass (x%s)" % (mass, cost)
         return "met, %s remesh(es), cost x%s" % (rounds, cost)
-    return "%s: %s (%s remesh(es))" % (outcome, cause, rounds)
+    need = "; point masses need %s %%" % mass.split()[1] if mass.startswith("needs") else ""
+    return "%s: %s (%s remesh(es))%s" % (outcome, cause, rounds, need)
 
 
 def counts(table):

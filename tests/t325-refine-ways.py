@@ -22,6 +22,11 @@
   step equals refine's to 1e-12 (the same nodal bound, summed in the same
   order). With --max-added-mass 1 it is not (exit 1, the percentage it
   would need, above 1). --max-added-mass -1, 101 or nan is a usage error.
+- A partitioned model (partitioned.geo: meshed, then `PartitionMesh 3`, as
+  Gmsh's tutorial t21): refine at 1.3x remeshes the whole model, not the
+  partition entities (before, the remesh held 10 elements and no
+  triangle: exit 2), meets the target, and keeps the curve group
+  'left_side', whose '_' Gmsh's unpartition takes for a partitioner's name.
 """
 
 import math
@@ -197,6 +202,28 @@ class Mass(unittest.TestCase):
         for bad in ("-1", "101", "nan"):
             code, log = tu.run("refine", "slab.xml", "--target", "1", "--max-added-mass", bad)
             self.assertEqual(code, 2, log)
+
+
+class Partitioned(unittest.TestCase):
+    def test_remesh_whole(self):
+        scene("parts", "partitioned.geo", 2)
+        dt = recommended("parts")["recommended"]
+        code, log, rep = refine("parts", 1.3 * dt)
+        self.assertEqual(code, 0, log)
+        self.assertEqual(rep["refine"]["met_by"], "mesh", log)
+        self.assertGreaterEqual(rep["dt"]["recommended"], 1.3 * dt * (1 - 1e-12), log)
+        import gmsh
+        gmsh.initialize(["t325", "-v", "0"])
+        try:
+            gmsh.open(tu.path("parts_r.msh"))
+            names = {gmsh.model.getPhysicalName(d, t): (d, t) for d, t in gmsh.model.getPhysicalGroups()}
+            self.assertIn("left_side", names, names)
+            d, t = names["left_side"]
+            lines = sum(len(gmsh.model.mesh.getElements(d, e)[1][0]) for e in gmsh.model.getEntitiesForPhysicalGroup(d, t))
+            self.assertGreater(lines, 0)  # its curve elements, not an empty group
+            self.assertGreater(rep["mesh"]["elements"], 100, log)  # triangles, not the 10 boundary elements
+        finally:
+            gmsh.finalize()
 
 
 if __name__ == "__main__":

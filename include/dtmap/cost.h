@@ -54,6 +54,31 @@ DTM_EXPORT int dtm_mass_scaling_nodal(const dtm_analysis *a, double target, cons
  * share of its lumped mass; target (s) is only recorded. */
 DTM_EXPORT int dtm_mass_scaling_of_nodes(const dtm_analysis *a, const double *kg, double target, dtm_mass_scaling *ms);
 DTM_EXPORT void dtm_mass_scaling_free(dtm_mass_scaling *ms);
+/* Point masses at the nodes that lift analysis a's recommended step to a
+ * target (src/cost/point_masses.c): on the nodal basis the rule of
+ * dtm_mass_scaling_nodal; on the global basis (global = 1) the lesser of
+ * that rule aimed until the global estimate, run again with the masses,
+ * meets the target, and the nodes of the top mode given the mass that
+ * lowers its eigenvalue. a keeps them (on top of those it carried) when
+ * they meet the target within max_percent % of the mass of its analysed
+ * elements; otherwise it is put back as it was. */
+#define DTM_MASS_CAP 100.0 /* % of the model's mass past which the search gives up */
+typedef struct {
+  double target;      /* the recommended step to reach, s */
+  int global;         /* 1: on the global estimate, run again with the masses */
+  double tol;         /* its relative residual (0: 1e-4) */
+  int lanczos_max;    /* its Lanczos steps at most (0: 400) */
+  double max_percent; /* the share of the model's mass a may keep, % */
+} dtm_mass_aim;
+typedef struct {
+  int met;           /* masses were found that meet the target */
+  int kept;          /* ... within max_percent: a carries them */
+  double percent;    /* their share of the model's mass, % (NaN: none found) */
+  double added;      /* kg added (kept only) */
+  size_t nodes;      /* nodes that got some (kept only) */
+  double model_mass; /* the mass of the analysed elements, kg */
+} dtm_mass_found;
+DTM_EXPORT int dtm_mass_points(dtm_analysis *a, const dtm_mass_aim *aim, dtm_mass_found *out);
 /* The lumped mass of each node, kg (per unit thickness in 2D), into
  * m[nnodes]: its elements' shares (rho V times their lumped weights) and
  * the point mass it carries. */

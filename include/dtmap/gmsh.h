@@ -85,6 +85,9 @@ DTM_EXPORT int dtm_gmsh_model_dim(const dtm_scene *s, int *dim);
 
 /* Physical groups of dimension dim in the current model. */
 DTM_EXPORT int dtm_gmsh_groups(int dim, dtm_group **groups, int *ngroups);
+/* The Gmsh tags of the nodes of physical group (dim, tag) of the current
+ * model, *n of them into *tags (malloc'ed, the caller frees). */
+DTM_EXPORT int dtm_gmsh_group_nodes(int dim, int tag, size_t **tags, size_t *n);
 
 /* Extract the nodes and the elements of dimension dim of the current model
  * into m (m->groups must be set). group_mat[g] is the material of group g or

@@ -7,6 +7,7 @@
 
 #include "dtmap/analysis.h"
 #include "dtmap/cost.h"
+#include "dtmap/deck.h"
 #include "dtmap/export.h"
 #include "dtmap/refine.h"
 #include "dtmap/verify.h"
@@ -91,6 +92,8 @@ DTM_EXPORT void dtm_output_abort(dtm_output_file **f);
 DTM_EXPORT int dtm_output_add_views(const dtm_results *r, int *tags, int cap, int *n);
 /* Write the JSON report to path atomically. */
 DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
+/* The same with the object "deck" of a solver deck written (dtmap deck). */
+DTM_EXPORT int dtm_report_write_deck(const dtm_results *r, const dtm_deck_info *d, const char *path);
 /* Print the terminal summary (counts, the recommended step and its basis
  * beside the element bound, accuracy, cost, the shape-limited elements,
  * damping, the smallest steps, a histogram by decade, warnings) to stream

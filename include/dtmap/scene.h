@@ -115,5 +115,7 @@ DTM_EXPORT int dtm_scene_part_path(const char *file, int part, char *buf, size_t
 
 /* Value of attribute key of an effect, or NULL. */
 DTM_EXPORT const char *dtm_scene_effect_attr(const dtm_scene_effect *e, const char *key);
+/* Set attribute key of an effect to value (a copy), adding it when absent. */
+DTM_EXPORT int dtm_scene_effect_set(dtm_scene_effect *e, const char *key, const char *value);
 
 #endif

@@ -42,6 +42,7 @@ typedef struct {
   double periods;        /* verify --periods (0: 30) */
   const char *png;       /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;     /* their size, pixels */
+  const char *solver;    /* deck --solver NAME */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;
@@ -176,6 +177,7 @@ int dtm_cli_verify(const cli_opts *o);
 int dtm_cli_refine(const cli_opts *o);
 int dtm_cli_sweep(const cli_opts *o);
 int dtm_cli_snapshot(const cli_opts *o);
+int dtm_cli_deck(const cli_opts *o);
 
 /* The sweep plot (plot.c; PLplot lives on the CLI side because it exits
  * the process on some errors). Cost (element-steps, with and without

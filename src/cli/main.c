@@ -109,6 +109,21 @@ static const cli_option sweep_options[] = {
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
+static const cli_option deck_options[] = {
+    {"--solver", CLI_STRING, OPT(solver), 0, 0, 0, "S", "the solver: calculix, abaqus or lsdyna (required)"},
+    {"-o", CLI_STRING, OPT(out), 0, 0, 0, "FILE", "the deck (default SCENE_S.inp, SCENE_lsdyna.k)"},
+    {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
+     "estimate the global step (Lanczos); a converged one becomes the basis of the deck's step (also "
+     "<time posterior=\"true\">)"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "reach this step, s, with mass added at the nodes"},
+    {"--max-added-mass", CLI_DOUBLE, OPT(max_added_mass), 0, 0, 100, "P",
+     "with --target: exit 1 if the mass needed is above P % of the model's (default: <time max-added-mass>)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report, with the deck's step and estimates"},
+    LANCZOS_OPTIONS,
+    THREADS_OPTION,
+    VERBOSITY_OPTIONS,
+    {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
+
 static const cli_option snapshot_options[] = {
     {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "picture prefix (default: RESULT without .msh)"},
     PICTURE_OPTIONS,
@@ -166,6 +181,17 @@ const cli_command dtm_cli_commands[] = {
      "measure is in its band; then the table as CSV (units in the header) and the plot\n"
      "as PNG: error against hours, the band and the cheapest size inside it marked.",
      sweep_options, dtm_cli_sweep},
+    {"deck",
+     "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "
+     "[--report R.json] [-j N] [-v|-q]",
+     "Analyses the scene as run does and writes the explicit solver's input: the nodes,\n"
+     "every analysed element in the solver's element type, one element and one node set\n"
+     "per physical group, the materials and sections, dtmap's step fixed as the\n"
+     "increment (LS-DYNA: the TSSFAC that makes its own estimate the step), the scene's\n"
+     "duration, mass at the nodes for --target, and commented *INCLUDE slots for the\n"
+     "loads, boundary conditions, contact and output requests. Prints the solver's own\n"
+     "estimate for the mesh beside the step. An element the solver lacks is exit 2.",
+     deck_options, dtm_cli_deck},
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
      "(RESULT.msh.opt applied): PREFIX_worst.png (the below-target view over the faint\n"

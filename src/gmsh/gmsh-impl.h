@@ -95,6 +95,9 @@ int dtm_gmsh_contained_probe(const char *stage, dtm_gmsh_probe_job probe, void *
 
 /* Whether view index's name is name (snapshot.c). */
 int dtm_gmsh_view_is(int index, const char *name);
+/* A partitioned model's elements back in their parent entities, its
+ * user's physical groups kept (src/gmsh/unpartition.c); no-op otherwise. */
+int dtm_gmsh_unpartition(void);
 /* The camera of a snapshot of the model just opened, for a drawing area of
  * width x height pixels: an oblique view facing the worst elements for a
  * model that spans 3D, and the whole model framed between dtmap's text and

@@ -8,7 +8,8 @@
  * (not built into Debian's Gmsh: it logs an error and leaves the mesh),
  * and Relocate3D, which moves nodes to improve the worst elements; in 2D
  * Relocate2D and Laplace2D. A pass that fails is not the input's fault:
- * the mesh before it is kept. */
+ * the mesh before it is kept. A partitioned model is made whole first
+ * (src/gmsh/unpartition.c). */
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -142,6 +143,7 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   char stage[64];
   snprintf(stage, sizeof stage, "remeshing round %d", round);
   DTM_CHECK(size_view(m, size, scale, &view));
+  DTM_CHECK(dtm_gmsh_unpartition());
   gmshModelMeshClear(NULL, 0, &ierr);
   int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);

@@ -159,13 +159,7 @@ cJSON *dtm_report_refine(const dtm_results *r) {
 /* The TOP_NODES nodes with the largest masses m[nnodes], by Gmsh tag. */
 static cJSON *largest_nodes(const dtm_mesh *mesh, const double *m) {
   size_t idx[TOP_NODES];
-  int k = 0;
-  for (size_t v = 0; v < mesh->nnodes; v++) {
-    if (!(m[v] > 0) || (k == TOP_NODES && m[v] <= m[idx[k - 1]])) continue;
-    int j = k < TOP_NODES ? k++ : TOP_NODES - 1;
-    while (j > 0 && m[idx[j - 1]] < m[v]) idx[j] = idx[j - 1], j--;
-    idx[j] = v;
-  }
+  int k = dtm_report_largest(m, mesh->nnodes, idx, TOP_NODES);
   cJSON *arr = cJSON_CreateArray();
   for (int r = 0; r < k; r++) {
     cJSON *o = cJSON_CreateObject();

@@ -304,15 +304,20 @@ static cJSON *advice_json(const dtm_results *r, cJSON *root) {
   return root;
 }
 
-cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m) {
-  size_t idx[DTM_REPORT_TOP_ADDED];
+int dtm_report_largest(const double *m, size_t n, size_t *idx, int max) {
   int k = 0;
-  for (size_t i = 0; i < dtm_analysis_nelements(a); i++) {
-    if (!(m[i] > 0) || (k == DTM_REPORT_TOP_ADDED && m[i] <= m[idx[k - 1]])) continue;
-    int j = k < DTM_REPORT_TOP_ADDED ? k++ : DTM_REPORT_TOP_ADDED - 1;
+  for (size_t i = 0; i < n; i++) {
+    if (!(m[i] > 0) || (k == max && m[i] <= m[idx[k - 1]])) continue;
+    int j = k < max ? k++ : max - 1;
     while (j > 0 && m[idx[j - 1]] < m[i]) idx[j] = idx[j - 1], j--;
     idx[j] = i;
   }
+  return k;
+}
+
+cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m) {
+  size_t idx[DTM_REPORT_TOP_ADDED];
+  int k = dtm_report_largest(m, dtm_analysis_nelements(a), idx, DTM_REPORT_TOP_ADDED);
   cJSON *arr = cJSON_CreateArray();
   for (int r = 0; r < k; r++) {
     cJSON *o = cJSON_CreateObject();
@@ -502,7 +507,7 @@ static cJSON *sections_json(const dtm_analysis *a) {
   return arr;
 }
 
-static cJSON *report_json(const dtm_results *r) {
+cJSON *dtm_report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
@@ -542,5 +547,5 @@ int dtm_json_write(struct cJSON *root, const char *path, const char *what) {
 }
 
 int dtm_report_write(const dtm_results *r, const char *path) {
-  return dtm_json_write(report_json(r), path, "JSON report");
+  return dtm_json_write(dtm_report_json(r), path, "JSON report");
 }

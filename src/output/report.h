@@ -26,6 +26,9 @@ void dtm_report_effect(cJSON *o, const dtm_analysis *a, int k, size_t nodal_node
 /* The first DTM_REPORT_LISTED elements of a that are larger than their
  * accuracy bound ({element, h, hmax} each), in a's element order. */
 cJSON *dtm_report_under_resolved(const dtm_analysis *a);
+/* The indices of the (at most) max largest positive values of m[n], largest
+ * first, into idx[max]; returns how many. */
+int dtm_report_largest(const double *m, size_t n, size_t *idx, int max);
 /* The DTM_REPORT_TOP_ADDED elements of a with the most added mass m[nel]
  * ({element, added} each), most first. */
 cJSON *dtm_report_top_added(const dtm_analysis *a, const double *m);
@@ -51,6 +54,8 @@ cJSON *dtm_report_zones(const dtm_analysis *a);
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
+/* The whole report of r (report.c). */
+cJSON *dtm_report_json(const dtm_results *r);
 /* The report's "shape_limited" (at most 100 of them) and
  * "thickness_limited" arrays of r's analysis, and the summary's lines on
  * them (summary.c), for the distributed run's advice. */

@@ -17,13 +17,12 @@
  * nodal step is about 0.78 of the median in 3D, 0.8 in 2D). The size that
  * reaches the target is therefore scaled by a calibration c, the margin
  * aimed past the target: the first round uses 1/0.72 (2D) or 1/0.8 (3D);
- * each later one corrects the calibration of the best round so far by
- * the shortfall it measured, times the largest miss seen so far (how far a
- * round fell from the step its calibration predicted: the scatter of a
- * fresh mesh's worst element), so that a loop within a few per cent of the
- * target aims past it by that scatter instead of creeping up to it. A
- * round that overshoots (met, but dearer than needed is never the case: a
- * coarser mesh is cheaper) ends the loop.
+ * each later one corrects the calibration of the best round so far by its
+ * shortfall and by the largest miss seen so far (how far a round fell from
+ * the step its calibration predicted: the scatter of a fresh mesh's worst
+ * element), at least 5 % past the target and 5 % above every calibration
+ * tried, so that a loop within a few per cent of the target aims past it
+ * by that scatter instead of creeping up to it, and never repeats a field.
  * The field is capped at the length of the model curves a node lies on and
  * graded (slope 0.3), so that the mesher can follow it.
  * The loop keeps the best mesh (saved to a .msh without a name while it
@@ -395,7 +394,7 @@ static int model_causes(const dtm_refine_result *rr, loop_state *st) {
 }
 
 /* The counts refine set for the kept mesh, for the report. */
-static int keep_counts(dtm_refine_result *rr, const loop_state *st) {
+static int record_counts(dtm_refine_result *rr, const loop_state *st) {
   if (!st->st || rr->rounds[rr->best].kind == DTM_ROUND_INPUT || !rr->rounds[rr->best].counts) return DTM_OK;
   return dtm_gmsh_counts_list(st->st, &rr->counts, &rr->ncounts);
 }
@@ -415,7 +414,7 @@ static int refine_loop(dtm_refine_result *rr) {
   input_accuracy(rr, rr->analysis);
   int r = met(rr, 0) ? DTM_OK : model_causes(rr, &st);
   if (r == DTM_OK) r = rounds(rr, &st, dim);
-  if (r == DTM_OK && !met(rr, 0)) r = keep_counts(rr, &st);
+  if (r == DTM_OK && !met(rr, 0)) r = record_counts(rr, &st);
   if (r == DTM_OK) dtm_refine_collect_causes(rr, st.model, st.nmodel);
   release(&st.cur, st.input, rr->analysis);
   release(&st.input, rr->analysis, NULL);

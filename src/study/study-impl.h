@@ -29,13 +29,10 @@ void dtm_refine_collect_causes(dtm_refine_result *rr, const dtm_cause *model, in
  * target, more than the options allow. */
 void dtm_refine_mass_cause(dtm_refine_result *rr);
 /* Point masses on the kept mesh (rr->analysis) that lift its basis to the
- * target, when the options allow them and the mesh alone fell short: the
- * least the nodes below it need (src/cost/mass.c's rule, aimed at the
- * advice target), confirmed on the global basis by a global estimate with
- * the masses (the aim raised until it meets the target). Within the limit
- * the analysis keeps the masses and a DTM_ROUND_MASS round is recorded and
- * kept; beyond it, rr->mass_needed says how much was needed and the
- * analysis is left without masses. */
+ * target, when the options allow them and the mesh alone fell short
+ * (dtm_mass_points). Within the limit the analysis keeps the masses and a
+ * DTM_ROUND_MASS round is recorded and kept; beyond it, rr->mass_needed
+ * says how much was needed and the analysis is left as it was. */
 int dtm_refine_mass_round(dtm_refine_result *rr);
 
 #endif

@@ -1,0 +1,78 @@
+/* Solver input decks (src/deck/): the analysed mesh handed to an explicit
+ * solver with the step dtmap proved. One deck holds the nodes, every
+ * analysed element in the solver's own element type (the one whose
+ * integration and lumping match the step), one element set and one node set
+ * per physical group (node sets also for the groups below the analysed
+ * dimension, where loads and supports go), the materials and the sections
+ * of the scene, the step fixed as the solver's increment (CalculiX,
+ * Abaqus) or as the scale of the solver's own estimate (LS-DYNA's TSSFAC),
+ * the duration, any mass added at the nodes to reach a target, and
+ * commented *INCLUDE slots for what the scene does not describe (loads,
+ * boundary conditions, contact, output requests). Each solver's format is
+ * one small writer behind one table of operations, chosen by name
+ * (src/deck/list.h). The deck is written atomically: a failed write
+ * leaves the old file whole. */
+#ifndef DTMAP_DECK_H
+#define DTMAP_DECK_H
+
+#include <stddef.h>
+
+#include "dtmap/analysis.h"
+#include "dtmap/export.h"
+
+#define DTM_DECK_WARN_MAX 8 /* warnings a deck keeps */
+
+/* What to write. */
+typedef struct {
+  const char *solver; /* a name of dtm_deck_solvers() */
+  const char *path;   /* the deck (written atomically; not owned) */
+  double target;      /* > 0: the step to reach with mass added at the nodes, s; 0: none */
+  double max_added;   /* the added mass may reach this percent of the model's mass; NaN: no limit */
+} dtm_deck_opts;
+
+/* What was written, for the terminal and the report. */
+typedef struct dtm_deck_info {
+  char solver[16];                       /* its name ("calculix") */
+  char title[48];                        /* the solver as the deck names it ("CalculiX 2.20") */
+  char path[4096];                       /* the deck written */
+  double step;                           /* the increment the deck fixes, s */
+  double recommended;                    /* dt.recommended of the analysis, s */
+  char basis[48];                        /* what the step rests on ("nodal bound", "target with added mass") */
+  double own;                            /* the solver's own element-by-element estimate, s */
+  size_t own_element;                    /* Gmsh tag of the element that sets it */
+  char own_rule[200];                    /* that rule, in words */
+  double tssfac;                         /* LS-DYNA's TSSFAC (NaN for the others) */
+  double duration;                       /* the step's duration (<time duration>; else 1000 steps), s */
+  size_t nodes;                          /* nodes written */
+  size_t elements;                       /* elements written (mass elements not counted) */
+  int element_sets;                      /* element sets (physical groups of the analysed elements) */
+  int node_sets;                         /* node sets (those groups and the groups below them) */
+  double model_mass;                     /* mass of the analysed elements, kg (2D: per unit thickness) */
+  double carried;                        /* point masses the mesh carries (a refined mesh), kg: written too */
+  size_t carried_nodes;                  /* nodes that carry one */
+  double added;                          /* mass added at the nodes, kg */
+  size_t added_nodes;                    /* nodes that receive it */
+  double seconds;                        /* writing the deck, s */
+  int nwarnings;                         /* warnings kept */
+  char warnings[DTM_DECK_WARN_MAX][480]; /* one sentence each */
+} dtm_deck_info;
+
+/* The solvers, "calculix, abaqus, lsdyna" (static). */
+DTM_EXPORT const char *dtm_deck_solvers(void);
+/* 0 when name is a solver (and *ext, when not NULL, its file extension:
+ * ".inp", ".k"); DTM_ERR_INPUT naming it and listing the solvers. */
+DTM_EXPORT int dtm_deck_solver(const char *name, const char **ext);
+/* Prepare scene s for the solver's elements before it is analysed: for
+ * CalculiX the elastic effect takes integration="calculix" (its C3D10), so
+ * that the step is the one of the solver's element. note[len] receives one
+ * sentence on what was changed ("" when nothing). */
+DTM_EXPORT int dtm_deck_adapt(dtm_scene *s, const char *solver, char *note, size_t len);
+/* Write the deck of analysis a (its mesh, scene and recommended step) as
+ * o says, filling *info. DTM_ERR_INPUT for an element kind the solver
+ * lacks (naming the kind and the group), a scene without the elastic
+ * effect, or a write that fails (the old file stays whole);
+ * DTM_ERR_TARGET when the mass the target needs is above o->max_added
+ * percent of the model's (nothing is written). */
+DTM_EXPORT int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info);
+
+#endif

@@ -1,0 +1,326 @@
+/* The CalculiX 2.20 deck (ccx, Abaqus-style input; its manual's chapters
+ * 6 and 7 and its sources). Elements: C3D4, C3D10 (with the scene's elastic
+ * effect set to integration="calculix", so that the step is the one of
+ * CalculiX's 4-point C3D10 and its lumping, docs/curved.md), C3D8 (full
+ * integration, as dtmap's hex8), CPE3/CPE4/CPE6/CPE8 and CPS*, M3D3/M3D4,
+ * S3/S4, B31, and trusses as SPRINGA springs of stiffness E A / L with
+ * their mass rho A L / 2 in MASS elements at their nodes: exactly dtmap's
+ * truss (CalculiX's T3D2 becomes a hinged brick whose rigid-body MPCs
+ * explicit dynamics refuses beside the linear ones that tie it to other
+ * elements). CalculiX has no genuine 2D element, nor beam: it extrudes each
+ * into a layer of solids (gen3delem.f) of the section's thickness (plane,
+ * membrane, shell) or sides (the beam's rectangle), so
+ * - plane strain is exact (the layer's nodes are tied to the midplane);
+ * - plane stress leaves the layer's thickness strain free, and at the top
+ *   frequencies the layer cannot follow it: the elements stiffen towards
+ *   plane strain, so the deck's step is dtmap's plane-stress step times
+ *   sqrt(M_ps / M_pe) = sqrt(1 - 2 nu) / (1 - nu) (M the P-wave moduli);
+ * - a membrane, shell or beam layer has thickness modes of its own, about
+ *   t / c_d across the thickness t: the deck's step is capped at a
+ *   measured share of the element bound of those solids (cap() below).
+ * The step is the increment of *DYNAMIC, EXPLICIT (ALPHA=0: central
+ * differences, as dtmap's step assumes) and its maximum. What CalculiX 2.20
+ * does with it (nonlingeo.c): it takes the smaller of its own estimate and
+ * the maximum increment, so a packaged ccx runs at its own estimate; a
+ * minimum increment above its estimate would switch on selective mass
+ * scaling instead (the deck leaves it at 1e-30). A ccx built with
+ * bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "deck-impl.h"
+#include "dtmap/scene.h"
+
+static const double PI = 3.14159265358979323846;
+static const int c3d10[] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8}; /* Gmsh's last two mid-edge nodes swap */
+
+static const deck_elem_row rows[] = {
+    {DTM_SECTION_SOLID, DTM_TET4, "C3D4", 0, NULL},         {DTM_SECTION_SOLID, DTM_TET10, "C3D10", 0, c3d10},
+    {DTM_SECTION_SOLID, DTM_HEX8, "C3D8", 0, NULL},         {DTM_SECTION_PLANE_STRAIN, DTM_TRI3, "CPE3", 0, NULL},
+    {DTM_SECTION_PLANE_STRAIN, DTM_QUAD4, "CPE4", 0, NULL}, {DTM_SECTION_PLANE_STRAIN, DTM_TRI6, "CPE6", 0, NULL},
+    {DTM_SECTION_PLANE_STRAIN, DTM_QUAD8, "CPE8", 0, NULL}, {DTM_SECTION_PLANE_STRESS, DTM_TRI3, "CPS3", 0, NULL},
+    {DTM_SECTION_PLANE_STRESS, DTM_QUAD4, "CPS4", 0, NULL}, {DTM_SECTION_PLANE_STRESS, DTM_TRI6, "CPS6", 0, NULL},
+    {DTM_SECTION_PLANE_STRESS, DTM_QUAD8, "CPS8", 0, NULL}, {DTM_SECTION_MEMBRANE, DTM_TRI3, "M3D3", 0, NULL},
+    {DTM_SECTION_MEMBRANE, DTM_QUAD4, "M3D4", 0, NULL},     {DTM_SECTION_SHELL, DTM_TRI3, "S3", 0, NULL},
+    {DTM_SECTION_SHELL, DTM_QUAD4, "S4", 0, NULL},          {DTM_SECTION_TRUSS, DTM_LINE2, "SPRINGA", 0, NULL},
+    {DTM_SECTION_BEAM, DTM_LINE2, "B31", 0, NULL}};
+
+/* A beam section's rectangle: sides a (along the section's y) and b (z)
+ * with its second moments (exact for a rectangle), or the square of its
+ * area for a circle (CalculiX's B31 takes no circle). */
+static int is_circle(const dtm_section *s) {
+  return fabs(s->iy - s->iz) <= 1e-12 * s->iy && fabs(s->iy - s->area * s->area / (4 * PI)) <= 1e-9 * s->iy;
+}
+
+static void beam_sides(const dtm_section *s, double *a, double *b) {
+  if (is_circle(s)) {
+    *a = *b = sqrt(s->area);
+    return;
+  }
+  *a = sqrt(12 * s->iz / s->area), *b = sqrt(12 * s->iy / s->area);
+}
+
+/* The sides of the solid a beam becomes, or the thickness of a 2D part. */
+static void layer(const deck_ctx *c, const deck_part *p, double *t, double *a, double *b) {
+  *t = p->thickness, *a = *b = 0.0;
+  if (p->kind == DTM_SECTION_BEAM) beam_sides(&c->s->sections[p->section], a, b);
+}
+
+/* Parts CalculiX extrudes into a layer with a thickness mode of its own. */
+static int layered(const deck_part *p) {
+  return p->kind == DTM_SECTION_MEMBRANE || p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_BEAM;
+}
+
+/* The share of the element bound of a layer's solids (below) at which
+ * CalculiX's explicit run was measured to stay stable (bench/deck_ccx.py,
+ * docs/deck.md): the M3D3 membrane of geometries/reinforced_block.xml
+ * blows up above 0.916 - 0.919 of it, the S3 shell of stiffened_panel.xml
+ * above 0.823 - 0.829; beams (not the governing layer there) take the
+ * shells'. The ties of the layer to its midsurface are not the subspace
+ * that would keep the element bound a bound. */
+static double measured(int kind) { return kind == DTM_SECTION_MEMBRANE ? 0.9 : 0.8; }
+
+static int element(deck_ctx *c, deck_part *p) {
+  DTM_CHECK(deck_element_from(c, p, rows, sizeof rows / sizeof *rows));
+  char lbl[160];
+  double t, a, b;
+  int line = p->kind == DTM_SECTION_BEAM;
+  layer(c, p, &t, &a, &b);
+  if (p->kind == DTM_SECTION_BEAM && is_circle(&c->s->sections[p->section]))
+    deck_warn(c,
+              "%s: CalculiX's B31 takes no circular section; the deck gives them the square of the same area "
+              "(bending stiffness x pi/3 = 1.047)",
+              deck_part_label(c, p, lbl, sizeof lbl));
+  if (layered(p))
+    deck_warn(c,
+              "%s: CalculiX expands %s into a layer of solids %.4g m across, whose thickness modes cap the "
+              "step: at %.2f x their element bound, where CalculiX was measured stable (docs/deck.md)",
+              deck_part_label(c, p, lbl, sizeof lbl), p->elem, line ? fmin(a, b) : t, measured(p->kind));
+  return DTM_OK;
+}
+
+/* c_d of part p's material, m/s. */
+static double speed(const deck_ctx *c, const deck_part *p) {
+  double E, nu, rho;
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  return deck_speed_3d(E, nu, rho);
+}
+
+/* CalculiX's rule (rules.c); it passes over springs. */
+static double own(const deck_ctx *c, const dtm_block *b, size_t e, size_t i, const deck_part *p) {
+  double x[3 * DTM_MAX_NODES], t, sa, sb;
+  if (p->kind == DTM_SECTION_TRUSS) return INFINITY;
+  dtm_mesh_gather_one(c->m, b, e, x);
+  layer(c, p, &t, &sa, &sb);
+  (void)i;
+  return 0.8 * 0.98 * deck_ccx_length(b->type, x, t, sa, sb) * deck_ccx_elemfac(p->elem) / speed(c, p);
+}
+
+static double factor(deck_ctx *c, const deck_part *p) {
+  if (p->kind != DTM_SECTION_PLANE_STRESS) return 1.0;
+  double E, nu, rho, f;
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  f = sqrt(1 - 2 * nu) / (1 - nu);
+  char lbl[160];
+  deck_warn(c,
+            "%s: CalculiX's plane stress layer stiffens towards plane strain at the top frequencies; the step is "
+            "dtmap's plane-stress step x sqrt(1 - 2 nu) / (1 - nu) = %.4f",
+            deck_part_label(c, p, lbl, sizeof lbl), f);
+  return f;
+}
+
+/* Unit vector of a (returns its length). */
+static double unit(double *a) {
+  double n = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  for (int k = 0; k < 3; k++) a[k] /= n;
+  return n;
+}
+
+/* The 2D element of nc corners x extruded by t along its normal into
+ * y[2 nc][3] (prism6 or hex8, Gmsh's order: the -t/2 face first). */
+static int extrude(const double *x, int nc, double t, double *y) {
+  double u[3], v[3], n[3];
+  for (int k = 0; k < 3; k++) u[k] = x[6 + k] - x[k], v[k] = x[3 * (nc - 1) + k] - x[3 + k];
+  n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+  unit(n);
+  for (int a = 0; a < nc; a++)
+    for (int k = 0; k < 3; k++)
+      y[3 * a + k] = x[3 * a + k] - n[k] * t / 2, y[3 * (a + nc) + k] = x[3 * a + k] + n[k] * t / 2;
+  return nc == 3 ? DTM_PRISM6 : DTM_HEX8;
+}
+
+/* The beam x[2][3] as a brick of sides a (along its section's y, the
+ * orientation vector o made normal to the axis) and b, into y[8][3]. */
+static int brick(const double *x, const double *o, double a, double b, double *y) {
+  static const int s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  double e1[3], e2[3], e3[3];
+  for (int k = 0; k < 3; k++) e1[k] = x[3 + k] - x[k];
+  unit(e1);
+  double d = o[0] * e1[0] + o[1] * e1[1] + o[2] * e1[2];
+  for (int k = 0; k < 3; k++) e2[k] = o[k] - d * e1[k];
+  unit(e2);
+  e3[0] = e1[1] * e2[2] - e1[2] * e2[1], e3[1] = e1[2] * e2[0] - e1[0] * e2[2], e3[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  for (int end = 0; end < 2; end++)
+    for (int q = 0; q < 4; q++)
+      for (int k = 0; k < 3; k++)
+        y[3 * (4 * end + q) + k] = x[3 * end + k] + s[q][0] * a / 2 * e2[k] + s[q][1] * b / 2 * e3[k];
+  return DTM_HEX8;
+}
+
+/* The step the solid CalculiX builds from element e of a layered part
+ * allows: the measured share of its element bound by dtmap's prism6 and
+ * hex8 kernels (full integration, row sums), s. */
+static double cap(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
+  double x[3 * DTM_MAX_NODES], y[24], t, sa, sb, E, nu, rho, lambda, v[3];
+  dtm_elastic_moduli mod;
+  if (!layered(p)) return INFINITY;
+  dtm_mesh_gather_one(c->m, b, e, x);
+  layer(c, p, &t, &sa, &sb);
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  if (p->kind == DTM_SECTION_BEAM) deck_beam_axis(&c->s->sections[p->section], x, v);
+  int type = p->kind == DTM_SECTION_BEAM ? brick(x, v, sa, sb, y) : extrude(x, b->type == DTM_TRI3 ? 3 : 4, t, y);
+  if (dtm_elastic_moduli_init(DTM_FORM_3D, E, nu, rho, &mod) || dtm_kernel_elastic_lambda(type, &mod, y, &lambda))
+    return dtm_error_clear(), INFINITY;
+  return measured(p->kind) * 2 / sqrt(lambda);
+}
+
+/* integration="calculix" on the elastic effect: CalculiX's C3D10. */
+static int adapt(dtm_scene *s, char *note, size_t len) {
+  for (int k = 0; k < s->neffects; k++) {
+    dtm_scene_effect *ef = &s->effects[k];
+    if (strcmp(ef->name, "elastic")) continue;
+    const char *was = dtm_scene_effect_attr(ef, "integration");
+    if (was && !strcmp(was, "calculix")) return DTM_OK;
+    DTM_CHECK(dtm_scene_effect_set(ef, "integration", "calculix"));
+    snprintf(note, len,
+             "the elastic effect is analysed with integration=\"calculix\" (was \"%s\"): CalculiX's "
+             "C3D10 integration and lumping",
+             was ? was : "converged");
+  }
+  return DTM_OK;
+}
+
+static void section_beam(deck_ctx *c, const deck_part *p) {
+  double a, b, v[3];
+  char name[DECK_NAME_MAX];
+  beam_sides(&c->s->sections[p->section], &a, &b);
+  deck_beam_orientation(c, p, v);
+  deck_safe_name(c->s->materials[p->mat].m.name, p->mat + 1, name);
+  fprintf(c->f, "*BEAM SECTION, ELSET=%s, MATERIAL=%s, SECTION=RECT\n", p->set, name);
+  deck_inp_reals(c, 2, (double[]){a, b});
+  deck_inp_reals(c, 3, v);
+}
+
+/* Length of element e of block b (a line), m. */
+static double length(const deck_ctx *c, const dtm_block *b, size_t e) {
+  const double *p = c->m->xyz + 3 * b->conn[2 * e], *q = c->m->xyz + 3 * b->conn[2 * e + 1];
+  return sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]));
+}
+
+/* k with a decimal point ("1e+09" -> "1.e+09", "12" -> "12."). */
+static void with_point(char *k) {
+  if (strchr(k, '.')) return;
+  size_t at = strcspn(k, "eE");
+  memmove(k + at + 1, k + at, strlen(k + at) + 1);
+  k[at] = '.';
+}
+
+/* A truss part as springs: each element its own set and *SPRING, E A / L
+ * written with a decimal point (CalculiX tells stiffness from degrees of
+ * freedom by it). */
+static void springs(deck_ctx *c, const deck_part *p) {
+  size_t off;
+  const dtm_block *b = deck_part_block(c, p, &off);
+  double E, nu, rho;
+  char k[48];
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  for (size_t j = c->first[p - c->parts]; j < c->first[p - c->parts + 1]; j++) {
+    size_t e = c->order[j] - off;
+    deck_number(E * p->thickness / length(c, b, e), 20, k);
+    with_point(k);
+    fprintf(c->f, "*ELSET, ELSET=DTMAP_SPRING%zu\n%zu\n*SPRING, ELSET=DTMAP_SPRING%zu\n\n%s\n", b->tags[e], b->tags[e],
+            b->tags[e], k);
+  }
+}
+
+static int own_card(deck_ctx *c, const deck_part *p, int *done) {
+  *done = p->kind == DTM_SECTION_BEAM || p->kind == DTM_SECTION_TRUSS;
+  if (p->kind == DTM_SECTION_BEAM) section_beam(c, p);
+  if (p->kind == DTM_SECTION_TRUSS) springs(c, p);
+  return DTM_OK;
+}
+
+/* The trusses' lumped masses rho A L / 2 at their nodes, [nnodes] kg
+ * (NULL when there are none, or out of memory: *r). */
+static double *truss_masses(deck_ctx *c, int *r) {
+  double *m = NULL;
+  *r = DTM_OK;
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    if (p->kind != DTM_SECTION_TRUSS) continue;
+    if (!m && !(m = calloc(c->m->nnodes + 1, sizeof *m))) return *r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), NULL;
+    size_t off;
+    const dtm_block *b = deck_part_block(c, p, &off);
+    double E, nu, rho;
+    deck_elastic(c, p->mat, &E, &nu, &rho);
+    for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
+      size_t e = c->order[j] - off;
+      double half = rho * p->thickness * length(c, b, e) / 2;
+      m[b->conn[2 * e]] += half, m[b->conn[2 * e + 1]] += half;
+    }
+  }
+  return m;
+}
+
+/* Rayleigh damping: CalculiX takes one global *DAMPING, and in explicit
+ * dynamics (without massless contact) only its mass part. */
+static void damping(deck_ctx *c) {
+  double alpha = -1, a, b, xi;
+  int uniform = 1;
+  for (int k = 0; k < c->nparts; k++) {
+    deck_damping(c, c->parts[k].mat, &a, &b, &xi);
+    if (b > 0 || (alpha >= 0 && a != alpha)) uniform = 0;
+    alpha = a;
+  }
+  if (uniform && alpha > 0) fprintf(c->f, "*DAMPING, ALPHA=%.14g, BETA=0\n", alpha);
+  if (!uniform)
+    deck_warn(c, "the scene's Rayleigh damping (a stiffness part beta, or values differing by material) has no "
+                 "CalculiX explicit equivalent: it takes one mass-proportional *DAMPING for the model; not written");
+}
+
+static int write(deck_ctx *c) {
+  FILE *f = c->f;
+  deck_header(c, "**");
+  fprintf(f,
+          "** CalculiX 2.20 takes the smaller of its own estimate and the maximum increment (this step); a\n"
+          "** ccx built with bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC=%.10g. A minimum increment above\n"
+          "** its estimate would switch on its selective mass scaling instead.\n",
+          c->info->step);
+  fprintf(f, "*HEADING\ndtmap deck of %s\n", c->s->path);
+  DTM_CHECK(deck_inp_nodes(c));
+  DTM_CHECK(deck_inp_elements(c));
+  DTM_CHECK(deck_inp_sets(c));
+  DTM_CHECK(deck_inp_materials(c, 0));
+  DTM_CHECK(deck_inp_sections(c, own_card));
+  int r;
+  double *tm = truss_masses(c, &r);
+  if (r == DTM_OK) r = deck_inp_masses(c, tm);
+  free(tm);
+  DTM_CHECK(r);
+  damping(c);
+  deck_inp_slot(c, "model", "boundary and initial conditions, contact (model data)");
+  fputs("*STEP, INC=1000000000\n*DYNAMIC, EXPLICIT, ALPHA=0\n", f);
+  deck_inp_reals(c, 4, (double[]){c->info->step, c->info->duration, 1e-30, c->info->step});
+  deck_inp_slot(c, "step", "loads and output requests (step data)");
+  fputs("*END STEP\n", f);
+  return DTM_OK;
+}
+
+const deck_writer dtm_deck_calculix = {
+    "calculix", "CalculiX 2.20",
+    ".inp",     "0.8 x 0.98 x min over faces (volume weight / face area) x elemfac / c_d",
+    element,    own,
+    factor,     cap,
+    adapt,      write};

@@ -1,0 +1,412 @@
+/* Solver decks: the table of writers (one line each in list.h), the choice
+ * by name, and the one flow every deck follows: plan the parts and sets
+ * (plan.c), choose the step (dtmap's recommended step, capped where the
+ * solver builds an element differently, or the target with mass added at
+ * the nodes), the solver's own estimate by its documented rule, then the
+ * writer writes the deck to a temporary renamed into place only when
+ * complete. Also the helpers every writer shares: the connectivity in the
+ * solver's node order, material values, damping, beam orientation,
+ * warnings and the deck's header. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base.h"
+#include "deck-impl.h"
+#include "dtmap/cost.h"
+#include "dtmap/util.h"
+#include "dtmap/version.h"
+
+#define DECK_WRITER(t) extern const deck_writer t;
+#include "list.h"
+#undef DECK_WRITER
+static const deck_writer *const writers[] = {
+#define DECK_WRITER(t) &t,
+#include "list.h"
+#undef DECK_WRITER
+    NULL};
+
+#define DECK_STEPS_DEFAULT 1000 /* steps of a deck whose scene gives no duration */
+
+const char *dtm_deck_solvers(void) {
+  static char list[256];
+  list[0] = '\0';
+  for (int i = 0; writers[i]; i++) dtm_strlist_add(list, sizeof list, writers[i]->name, 0);
+  return list;
+}
+
+static const deck_writer *find(const char *name) {
+  for (int i = 0; name && writers[i]; i++)
+    if (!strcmp(name, writers[i]->name)) return writers[i];
+  return NULL;
+}
+
+int dtm_deck_solver(const char *name, const char **ext) {
+  const deck_writer *w = find(name);
+  if (!w)
+    return DTM_ERR(DTM_ERR_INPUT, "unknown solver '%s'; the solvers are: %s", name ? name : "", dtm_deck_solvers());
+  if (ext) *ext = w->ext;
+  return DTM_OK;
+}
+
+int dtm_deck_adapt(dtm_scene *s, const char *solver, char *note, size_t len) {
+  const deck_writer *w = find(solver);
+  if (len) note[0] = '\0';
+  if (!w) return dtm_deck_solver(solver, NULL);
+  return w->adapt ? w->adapt(s, note, len) : DTM_OK;
+}
+
+/* ---- helpers the writers share ---- */
+
+void deck_warn(deck_ctx *c, const char *fmt, ...) {
+  dtm_deck_info *in = c->info;
+  char text[sizeof in->warnings[0]];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(text, sizeof text, fmt, ap);
+  va_end(ap);
+  for (int i = 0; i < in->nwarnings; i++)
+    if (!strcmp(in->warnings[i], text)) return;
+  if (in->nwarnings < DTM_DECK_WARN_MAX) memcpy(in->warnings[in->nwarnings++], text, sizeof text);
+}
+
+const char *deck_part_label(const deck_ctx *c, const deck_part *p, char *buf, size_t len) {
+  char g[64];
+  snprintf(buf, len, "%s %s elements of group '%s'", dtm_section_kind_name(p->kind), dtm_elem_name(p->type),
+           p->group >= 0 ? dtm_mesh_group_label(c->m, p->group, g, sizeof g) : "(none)");
+  return buf;
+}
+
+void deck_warn_quad4(deck_ctx *c, const deck_part *p, const char *elem) {
+  char lbl[160];
+  if (p->type != DTM_QUAD4) return;
+  deck_part_label(c, p, lbl, sizeof lbl);
+  if (p->kind == DTM_SECTION_PLANE_STRAIN || p->kind == DTM_SECTION_PLANE_STRESS)
+    deck_warn(c,
+              "%s: %s integrates at one point with hourglass control; its step was not measured against dtmap's "
+              "fully integrated element",
+              lbl, elem);
+  if (p->kind == DTM_SECTION_SHELL)
+    deck_warn(c,
+              "%s: %s takes assumed transverse shear strains, dtmap's quad4 shell one point at the centre; a "
+              "textbook MITC4 gives an element step 9.0 %% (t = 0.01 m) to 2.0 %% (0.05 m) shorter and a global step "
+              "0.1 %% to 3.0 %% shorter",
+              lbl, elem);
+}
+
+int deck_lacks(const deck_ctx *c, const deck_part *p, const char *why) {
+  char lbl[160];
+  return DTM_ERR(DTM_ERR_INPUT, "%s: %s has no element for the %s%s%s (choose another solver: %s)", c->s->path,
+                 c->w->title, deck_part_label(c, p, lbl, sizeof lbl), why[0] ? ": " : "", why, dtm_deck_solvers());
+}
+
+/* Gmsh local nodes of a plane element turned over (counter-clockwise). */
+static const int *flip_of(int type) {
+  static const int tri3[] = {0, 2, 1}, quad4[] = {0, 3, 2, 1}, tri6[] = {0, 2, 1, 5, 4, 3},
+                   quad8[] = {0, 3, 2, 1, 7, 6, 5, 4};
+  return type == DTM_TRI3 ? tri3 : type == DTM_QUAD4 ? quad4 : type == DTM_TRI6 ? tri6 : quad8;
+}
+
+/* Whether plane element e of block b turns clockwise about +z: the
+ * cross product of its first two sides (triangles) or of its diagonals
+ * (quadrangles) points down. */
+static int clockwise(const dtm_mesh *m, const dtm_block *b, size_t e) {
+  const size_t *n = b->conn + e * b->nn;
+  int quad = dtm_elem_parent(b->type) == DTM_QUAD4;
+  const double *p0 = m->xyz + 3 * n[0], *p1 = m->xyz + 3 * n[1], *p2 = m->xyz + 3 * n[2];
+  const double *u1 = quad ? p2 : p1, *v0 = quad ? p1 : p0, *v1 = quad ? m->xyz + 3 * n[3] : p2;
+  double u[2] = {u1[0] - p0[0], u1[1] - p0[1]}, v[2] = {v1[0] - v0[0], v1[1] - v0[1]};
+  return u[0] * v[1] - u[1] * v[0] < 0;
+}
+
+int deck_conn(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p, size_t *tags) {
+  const size_t *conn = b->conn + e * b->nn;
+  int plane = p->kind == DTM_SECTION_PLANE_STRAIN || p->kind == DTM_SECTION_PLANE_STRESS;
+  const int *fl = plane && clockwise(c->m, b, e) ? flip_of(b->type) : NULL;
+  for (int k = 0; k < b->nn; k++) {
+    int a = p->perm ? p->perm[k] : k;
+    tags[k] = c->m->node_tags[conn[fl ? fl[a] : a]];
+  }
+  return b->nn;
+}
+
+double deck_node_mass(const deck_ctx *c, size_t v) {
+  return (c->added ? c->added[v] : 0.0) + (c->carried ? c->carried[v] : 0.0);
+}
+
+void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho) {
+  const dtm_material *m = &c->s->materials[mat].m;
+  *E = dtm_material_value(m, "E"), *nu = dtm_material_value(m, "nu"), *rho = dtm_material_value(m, "rho");
+  if (isnan(*nu)) *nu = 0.0; /* a bar's material needs none */
+}
+
+/* The scene's damping effect, or NULL. */
+static const dtm_scene_effect *damping_effect(const dtm_scene *s) {
+  for (int k = 0; k < s->neffects; k++)
+    if (!strcmp(s->effects[k].name, "damping")) return &s->effects[k];
+  return NULL;
+}
+
+/* The material's value of key, else the effect's, else 0. */
+static double damping_value(const dtm_material *m, const dtm_scene_effect *d, const char *key) {
+  double v = dtm_material_value(m, key);
+  const char *t = isnan(v) ? dtm_scene_effect_attr(d, key) : NULL;
+  return !isnan(v) ? v : t ? strtod(t, NULL) : 0.0;
+}
+
+void deck_damping(const deck_ctx *c, int mat, double *alpha, double *beta, double *xi) {
+  const dtm_scene_effect *d = damping_effect(c->s);
+  const dtm_material *m = &c->s->materials[mat].m;
+  *alpha = *beta = *xi = 0.0;
+  if (!d) return;
+  *alpha = damping_value(m, d, "alpha"), *beta = damping_value(m, d, "beta"), *xi = damping_value(m, d, "xi");
+}
+
+/* Whether the beam x[2][3] runs within about 8 degrees of z (the kernel
+ * then orients it by global y). */
+static int along_z(const double *x) {
+  double d[3], len = 0;
+  for (int k = 0; k < 3; k++) d[k] = x[3 + k] - x[k], len += d[k] * d[k];
+  return fabs(d[2]) > 0.99 * sqrt(len);
+}
+
+void deck_beam_axis(const dtm_section *sec, const double *x, double v[3]) {
+  memcpy(v, sec->orient, 3 * sizeof *v);
+  if (v[0] != 0 || v[1] != 0 || v[2] != 0) return;
+  v[along_z(x) ? 1 : 2] = 1.0;
+}
+
+void deck_beam_orientation(deck_ctx *c, const deck_part *p, double v[3]) {
+  const dtm_section *sec = &c->s->sections[p->section];
+  size_t off, k = (size_t)(p - c->parts), near_z = 0;
+  const dtm_block *b = deck_part_block(c, p, &off);
+  double x[6];
+  for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
+    dtm_mesh_gather_one(c->m, b, c->order[j] - off, x);
+    near_z += along_z(x);
+  }
+  memcpy(v, sec->orient, 3 * sizeof *v);
+  if (v[0] != 0 || v[1] != 0 || v[2] != 0) return;
+  v[2 * near_z > p->count ? 1 : 2] = 1.0;
+  if (near_z && near_z < p->count)
+    deck_warn(c,
+              "section at %s:%d gives no orientation and its beams run both along z and across it: the deck "
+              "orients them all by global %s; give orientation=\"x y z\"",
+              c->s->path, sec->line, 2 * near_z > p->count ? "y" : "z");
+}
+
+char *deck_put_uint(char *p, size_t v, int width) {
+  char d[24];
+  int n = 0;
+  do d[n++] = (char)('0' + v % 10), v /= 10;
+  while (v);
+  for (; width > n; width--) *p++ = ' ';
+  while (n) *p++ = d[--n];
+  return p;
+}
+
+const char *deck_number(double v, int width, char *buf) {
+  int p = 17, n = snprintf(buf, 40, "%.*g", p, v);
+  if (n > width) p -= n - width, n = snprintf(buf, 40, "%.*g", p > 1 ? p : 1, v); /* one digit a character */
+  while (n > width && --p > 0) n = snprintf(buf, 40, "%.*g", p, v);               /* the exponent form took over */
+  return buf;
+}
+
+const char *deck_slot_name(const deck_ctx *c, const char *what, char *buf, size_t len) {
+  const char *path = c->info->path, *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+  const char *dot = strrchr(base, '.');
+  snprintf(buf, len, "%.*s_%s%s", dot ? (int)(dot - base) : (int)strlen(base), base, what, c->w->ext);
+  return buf;
+}
+
+void deck_header(const deck_ctx *c, const char *cm) {
+  const dtm_deck_info *in = c->info;
+  FILE *f = c->f;
+  fprintf(f, "%s dtmap %s: %s input deck\n%s scene: %s\n", cm, dtm_version(), in->title, cm, c->s->path);
+  fprintf(f, "%s %zu nodes, %zu elements, %d element sets and %d node sets (one per physical group)\n", cm, in->nodes,
+          in->elements, in->element_sets, in->node_sets);
+  fprintf(f, "%s step: %.10g s, %s (dtmap's recommended step %.10g s: safety %g x the %s)\n", cm, in->step, in->basis,
+          in->recommended, c->s->safety, dtm_analysis_basis(c->a));
+  if (isnan(in->own))
+    fprintf(f, "%s %s's own estimate (%s) covers none of these elements\n", cm, in->title, in->own_rule);
+  else
+    fprintf(f, "%s %s's own estimate for this mesh: %.10g s (element %zu; %s): the step is %.4fx it\n", cm, in->title,
+            in->own, in->own_element, in->own_rule, in->step / in->own);
+  if (in->carried > 0)
+    fprintf(f, "%s point masses the mesh carries: %.10g kg at %zu nodes (mass elements below)\n", cm, in->carried,
+            in->carried_nodes);
+  if (in->added > 0)
+    fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
+            in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
+  if (isfinite(in->tssfac))
+    fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its estimate is the step\n", cm, in->tssfac,
+            in->title);
+  fprintf(f, "%s duration: %.10g s%s\n", cm, in->duration,
+          c->s->duration > 0 ? " (<time duration>)" : " (the scene gives no <time duration>: 1000 steps)");
+  for (int i = 0; i < in->nwarnings; i++) fprintf(f, "%s warning: %s\n", cm, in->warnings[i]);
+  fprintf(f,
+          "%s Not in this deck, since the scene does not describe it: loads, boundary conditions, initial\n"
+          "%s conditions, contact and output requests. Add them in the files of the two include slots\n"
+          "%s below and uncomment the slots.\n",
+          cm, cm, cm);
+}
+
+/* ---- the flow ---- */
+
+/* The scene's elastic effect (its index into *k), required. */
+static int elastic_of(const dtm_analysis *a, int *k) {
+  for (*k = 0; *k < dtm_analysis_neffects(a); (*k)++)
+    if (!strcmp(dtm_analysis_effect(a, *k)->name, "elastic")) return DTM_OK;
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s: a deck needs the elastic effect (<elastic/> under <effects>): the solver's "
+                 "materials and step are elastic",
+                 dtm_analysis_scene(a)->path);
+}
+
+/* The elastic effect's formulation (its attribute, else the dimension's). */
+static int formulation(const dtm_analysis *a, int k) {
+  const char *names[] = DTM_FORMULATION_NAMES;
+  const char *v = dtm_scene_effect_attr(&dtm_analysis_scene(a)->effects[k], "formulation");
+  for (int i = 0; v && names[i]; i++)
+    if (!strcmp(v, names[i])) return i;
+  return dtm_formulation_default(dtm_analysis_mesh(a)->dim);
+}
+
+/* The solver's own estimate: the smallest element step by its rule. */
+static void own_estimate(deck_ctx *c) {
+  dtm_deck_info *in = c->info;
+  size_t i = 0;
+  in->own = INFINITY;
+  for (int b = 0; b < c->m->nblocks; b++)
+    for (size_t e = 0; e < c->m->blocks[b].n; e++, i++) {
+      double t = c->w->own(c, &c->m->blocks[b], e, i, &c->parts[c->part[i]]);
+      if (t < in->own) in->own = t, in->own_element = c->m->blocks[b].tags[e];
+    }
+  snprintf(in->own_rule, sizeof in->own_rule, "%s", c->w->rule);
+  if (!isfinite(in->own)) in->own = NAN; /* its rule covers none of the elements (CalculiX's springs) */
+}
+
+/* The step the solver's own elements allow, as a factor on dtmap's step
+ * (*factor) and as a cap before the safety factor (returned, s). */
+static double solver_limits(deck_ctx *c, double *factor) {
+  double cap = INFINITY;
+  size_t i = 0;
+  *factor = 1.0;
+  for (int k = 0; k < c->nparts && c->w->factor; k++) *factor = fmin(*factor, c->w->factor(c, &c->parts[k]));
+  for (int b = 0; b < c->m->nblocks && c->w->cap; b++)
+    for (size_t e = 0; e < c->m->blocks[b].n; e++, i++)
+      cap = fmin(cap, c->w->cap(c, &c->m->blocks[b], e, &c->parts[c->part[i]]));
+  return cap;
+}
+
+/* The mass the target needs at the nodes: the one call that decides it
+ * (the nodal form, each node's nodal-bound step brought to dt_t / safety). */
+static int target_mass(const dtm_analysis *a, double dt_t, dtm_mass_scaling *ms) {
+  return dtm_mass_scaling_nodal(a, dt_t / dtm_analysis_scene(a)->safety, NULL, ms);
+}
+
+static int mass_check(const deck_ctx *c, const dtm_deck_opts *o) {
+  const dtm_deck_info *in = c->info;
+  double pc = 100 * in->added / in->model_mass;
+  if (!(pc > o->max_added)) return DTM_OK;
+  return DTM_ERR(DTM_ERR_TARGET,
+                 "%s: the target %.4e s needs %.6g kg added at %zu nodes, %.4g %% of the model's %.6g kg: above "
+                 "--max-added-mass %g %%; nothing written",
+                 c->s->path, o->target, in->added, in->added_nodes, pc, in->model_mass, o->max_added);
+}
+
+/* The step and its basis; the masses when the target needs them. */
+static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms) {
+  dtm_deck_info *in = c->info;
+  double factor, cap = c->s->safety * solver_limits(c, &factor);
+  in->recommended = dtm_analysis_recommended(c->a);
+  in->step = fmin(in->recommended * factor, cap);
+  snprintf(in->basis, sizeof in->basis, "%s",
+           in->step < in->recommended ? "capped by the solver's elements" : "the recommended step");
+  if (!(o->target > in->step)) return DTM_OK;
+  DTM_CHECK(target_mass(c->a, o->target / factor, ms));
+  in->added = ms->total_added, in->model_mass = ms->total_mass, in->added_nodes = ms->nodes;
+  c->added = ms->node_added;
+  in->step = fmin(o->target, cap);
+  snprintf(in->basis, sizeof in->basis, "the target, with added mass");
+  if (cap < o->target)
+    deck_warn(c,
+              "%s's own elements cap the step at %.4e s, below the target %.4e s: the mass added does not lift "
+              "that cap",
+              in->title, cap, o->target);
+  return mass_check(c, o);
+}
+
+/* A constant damping ratio has no solver equivalent: say so. */
+static void damping_ratio(deck_ctx *c) {
+  double alpha, beta, xi;
+  for (int k = 0; k < c->nparts; k++) {
+    deck_damping(c, c->parts[k].mat, &alpha, &beta, &xi);
+    if (xi > 0)
+      deck_warn(c,
+                "the scene's damping ratio xi = %g (material '%s') has no equivalent in %s's input: add the "
+                "damping you mean; the step already includes its factor",
+                xi, c->s->materials[c->parts[k].mat].m.name, c->w->title);
+  }
+}
+
+static void count(deck_ctx *c) {
+  dtm_deck_info *in = c->info;
+  for (size_t v = 0; v < c->m->nnodes; v++) {
+    in->nodes += c->used[v];
+    in->carried += c->carried ? c->carried[v] : 0.0, in->carried_nodes += c->carried && c->carried[v] > 0;
+  }
+  in->elements = dtm_mesh_nelements(c->m);
+  for (int g = 0; g < c->ngroups; g++) in->element_sets += c->groups[g].mesh_group >= 0;
+  in->node_sets = c->ngroups;
+}
+
+static int write_file(deck_ctx *c, const char *path) {
+  dtm_atomic w;
+  DTM_CHECK(dtm_atomic_open(&w, path, "", 1));
+  c->f = w.f;
+  int r = c->w->write(c);
+  if (r) {
+    dtm_atomic_abort(&w);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
+  return dtm_atomic_commit(&w);
+}
+
+static void info_init(const deck_ctx *c, const dtm_deck_opts *o, dtm_deck_info *in) {
+  memset(in, 0, sizeof *in);
+  snprintf(in->solver, sizeof in->solver, "%s", c->w->name);
+  snprintf(in->title, sizeof in->title, "%s", c->w->title);
+  snprintf(in->path, sizeof in->path, "%s", o->path);
+  in->tssfac = in->model_mass = NAN;
+}
+
+int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info) {
+  double t0 = dtm_wtime();
+  int k;
+  deck_ctx c = {.a = a,
+                .m = dtm_analysis_mesh(a),
+                .s = dtm_analysis_scene(a),
+                .w = find(o->solver),
+                .carried = dtm_analysis_point_masses(a),
+                .info = info};
+  if (!c.w) return dtm_deck_solver(o->solver, NULL);
+  info_init(&c, o, info);
+  DTM_CHECK(elastic_of(a, &k));
+  c.form = formulation(a, k), c.elastic = k;
+  dtm_mass_scaling ms = {0};
+  int r = deck_plan(&c);
+  if (r == DTM_OK) r = choose_step(&c, o, &ms);
+  if (r == DTM_OK) {
+    own_estimate(&c);
+    damping_ratio(&c);
+    count(&c);
+    info->duration = c.s->duration > 0 ? c.s->duration : DECK_STEPS_DEFAULT * info->step;
+    r = write_file(&c, o->path);
+  }
+  dtm_mass_scaling_free(&ms);
+  deck_plan_free(&c);
+  info->seconds = dtm_wtime() - t0;
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}

@@ -1,0 +1,45 @@
+/* The report's "deck" object (dtmap deck --report): the solver and the
+ * file, the step the deck fixes with its basis beside dtmap's recommended
+ * step, the solver's own estimate for the same mesh by its rule and the
+ * ratio of the two, LS-DYNA's TSSFAC, the duration, what was written
+ * (nodes, elements, sets) and the mass added at the nodes, and the
+ * warnings on the solver's elements. */
+#include <cJSON.h>
+#include <math.h>
+
+#include "output-impl.h"
+#include "report.h"
+
+static cJSON *deck_json(const dtm_deck_info *d) {
+  cJSON *o = cJSON_CreateObject(), *w = cJSON_CreateArray();
+  cJSON_AddStringToObject(o, "solver", d->solver);
+  cJSON_AddStringToObject(o, "file", d->path);
+  cJSON_AddNumberToObject(o, "step", d->step);
+  cJSON_AddStringToObject(o, "basis", d->basis);
+  cJSON_AddNumberToObject(o, "recommended", d->recommended);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "own_estimate", d->own);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "own_element", (double)d->own_element);
+  cJSON_AddStringToObject(o, "own_rule", d->own_rule);
+  if (!isnan(d->own)) cJSON_AddNumberToObject(o, "ratio", d->step / d->own);
+  if (isfinite(d->tssfac)) cJSON_AddNumberToObject(o, "tssfac", d->tssfac);
+  cJSON_AddNumberToObject(o, "duration", d->duration);
+  cJSON_AddNumberToObject(o, "nodes", (double)d->nodes);
+  cJSON_AddNumberToObject(o, "elements", (double)d->elements);
+  cJSON_AddNumberToObject(o, "element_sets", d->element_sets);
+  cJSON_AddNumberToObject(o, "node_sets", d->node_sets);
+  cJSON_AddNumberToObject(o, "carried_mass", d->carried);
+  cJSON_AddNumberToObject(o, "carried_nodes", (double)d->carried_nodes);
+  cJSON_AddNumberToObject(o, "added_mass", d->added);
+  cJSON_AddNumberToObject(o, "added_nodes", (double)d->added_nodes);
+  if (isfinite(d->model_mass)) cJSON_AddNumberToObject(o, "model_mass", d->model_mass);
+  for (int i = 0; i < d->nwarnings; i++) cJSON_AddItemToArray(w, cJSON_CreateString(d->warnings[i]));
+  cJSON_AddItemToObject(o, "warnings", w);
+  cJSON_AddNumberToObject(o, "seconds", d->seconds);
+  return o;
+}
+
+int dtm_report_write_deck(const dtm_results *r, const dtm_deck_info *d, const char *path) {
+  cJSON *root = dtm_report_json(r);
+  cJSON_AddItemToObject(root, "deck", deck_json(d));
+  return dtm_json_write(root, path, "JSON report");
+}

@@ -1,0 +1,122 @@
+"""Debian's CalculiX 2.20 (ccx) runs the deck `dtmap deck --solver calculix`
+writes for every bundled example (geometries/*.xml) to its end: the deck's
+two include slots are opened, with a seeded random force at every node from
+the start (tests/common/deckutil.py) and a duration of 20 of CalculiX's own
+increments, so that the run does real work. For each deck:
+- ccx exits 0 and says "Job finished", and the displacements it prints at
+  the end are finite and not all zero;
+- the estimate ccx prints (its "Volumetric COURANT initial stable time
+  increment") is the deck's own_estimate, computed by dtmap from CalculiX's
+  rule (src/deck/rules.c), within 2e-6 relative (ccx prints 7 digits);
+- ccx selects its own estimate (the packaged 2.20 takes the smaller of its
+  estimate and the deck's maximum increment, the step), which is below the
+  deck's step.
+A plane surface meshed clockwise runs (its elements turned); a bar of
+springs alone, which CalculiX's estimate passes over, runs at the deck's step. A ball of curved tet10 (C3D10; CalculiX's estimate takes det J at the
+centroid and the 6-node faces) runs too, its estimate the deck's. And the
+deck of the box with --target (mass elements at 1391 nodes) runs to
+its end too, its mass elements adding up to the report's added mass (and to
+mass_scaling.total_added: the same nodal form) within 1e-12."""
+
+import glob
+import os
+import shutil
+import unittest
+
+import deckutil as du
+import testutil as tu
+
+CCX = shutil.which("ccx") or "ccx"
+
+
+def deck(scene, name, *extra):
+    out, rep = tu.path(name + ".inp"), tu.path(name + ".json")
+    code, text = tu.run("deck", scene, "--solver", "calculix", "-o", out, "--report", rep, "-q", *extra)
+    if code:
+        raise AssertionError("dtmap deck %s: exit %d\n%s" % (scene, code, text))
+    return out, tu.report(rep)
+
+
+def masses(path):
+    """The *MASS values of a deck."""
+    with open(path) as f:
+        lines, total = f.read().split("\n"), 0.0
+    for i, line in enumerate(lines):
+        if line.startswith("*MASS,"):
+            total += float(lines[i + 1])
+    return total
+
+
+class Examples(unittest.TestCase):
+    def run_deck(self, path, rep):
+        own = rep["deck"].get("own_estimate")
+        run, step = du.prepare(path, 20 * (own or rep["deck"]["step"]))
+        code, log, u, est, sel = du.run(CCX, run)
+        name = os.path.basename(path)
+        self.assertEqual(code, 0, "%s: ccx exit %d\n%s" % (name, code, log[-2000:]))
+        self.assertIn("Job finished", log, name)
+        self.assertTrue(0 < u < float("inf"), "%s: largest |u| %g" % (name, u))
+        if own is None:  # its rule covers none of the elements: it takes the deck's maximum increment
+            self.assertLess(abs(sel / step - 1), 2e-6, name)
+            return
+        self.assertLess(abs(est / own - 1), 2e-6, "%s: ccx's estimate %g, the deck's %g" % (name, est, own))
+        self.assertLessEqual(sel, step * (1 + 1e-6), name)
+
+    def test_springs_alone(self):
+        """A bar model (1D, formulation bar): springs and masses only, which
+        CalculiX's estimate passes over; it runs at the deck's step."""
+        tu.write("bar.geo", "Point(1) = {0, 0, 0, 0.01}; Point(2) = {0.2, 0, 0, 0.01}; Line(1) = {1, 2};\n"
+                 "Physical Curve(\"bar\") = {1};\n")
+        scene = tu.write("bar.xml", '<dtmap-scene version="1">\n  <geometry file="bar.geo"/>\n'
+                         '  <meshing dim="1"/>\n  <material name="steel" groups="bar" E="210e9" rho="7850"/>\n'
+                         '  <effects><elastic formulation="bar"/></effects>\n</dtmap-scene>\n')
+        path, rep = deck(scene, "bar")
+        self.assertNotIn("own_estimate", rep["deck"])
+        self.run_deck(path, rep)
+
+    def test_every_example(self):
+        scenes = sorted(glob.glob(os.path.join(tu.SRC, "geometries", "*.xml")))
+        self.assertGreaterEqual(len(scenes), 7)
+        for scene in scenes:
+            with self.subTest(scene=os.path.basename(scene)):
+                path, rep = deck(scene, os.path.basename(scene)[:-4])
+                self.run_deck(path, rep)
+
+    def test_curved_tet10(self):
+        tu.write("ball.geo", 'SetFactory("OpenCASCADE");\nSphere(1) = {0, 0, 0, 0.05};\nPhysical Volume("ball") = {1};\n')
+        scene = tu.write("ball.xml", '<dtmap-scene version="1">\n  <geometry file="ball.geo"/>\n'
+                         '  <meshing size="0.02" order="2" dim="3"/>\n'
+                         '  <material name="steel" groups="ball" E="210e9" nu="0.3" rho="7850"/>\n'
+                         '  <effects><elastic/></effects>\n  <time duration="1e-4"/>\n</dtmap-scene>\n')
+        path, rep = deck(scene, "ball")
+        self.assertGreater(rep["curvature"]["curved"], 0)
+        self.assertEqual(rep["curvature"]["integration"], "calculix")
+        self.run_deck(path, rep)
+
+    def test_clockwise_plane(self):
+        """A plane surface meshed clockwise (its curve loop reversed): the deck
+        turns its elements counter-clockwise, else CalculiX's extrusion would
+        invert them."""
+        tu.write("cw.geo", "Point(1) = {0, 0, 0}; Point(2) = {0.1, 0, 0}; Point(3) = {0.1, 0.05, 0};\n"
+                 "Point(4) = {0, 0.05, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+                 "Line(4) = {4, 1}; Curve Loop(1) = {-4, -3, -2, -1}; Plane Surface(1) = {1};\n"
+                 "Physical Surface(\"slab\") = {1};\n")
+        scene = tu.write("cw.xml", '<dtmap-scene version="1">\n  <geometry file="cw.geo"/>\n'
+                         '  <meshing size="0.01" dim="2"/>\n'
+                         '  <material name="steel" groups="slab" E="210e9" nu="0.3" rho="7850"/>\n'
+                         '  <effects><elastic formulation="plane-strain"/></effects>\n</dtmap-scene>\n')
+        path, rep = deck(scene, "cw")
+        self.run_deck(path, rep)
+
+    def test_added_mass(self):
+        path, rep = deck(os.path.join(tu.SRC, "geometries", "box.xml"), "box_mass", "--target", "6e-7")
+        d = rep["deck"]
+        self.assertEqual(d["step"], 6e-7)
+        self.assertGreater(d["added_nodes"], 0)
+        self.assertLess(abs(masses(path) - d["added_mass"]), 1e-12 * d["added_mass"])
+        self.assertLess(abs(d["added_mass"] - rep["mass_scaling"]["total_added"]), 1e-12 * d["added_mass"])
+        self.run_deck(path, rep)
+
+
+if __name__ == "__main__":
+    tu.main()
