@@ -27,8 +27,19 @@
   partition entities (before, the remesh held 10 elements and no
   triangle: exit 2), meets the target, and keeps the curve group
   'left_side', whose '_' Gmsh's unpartition takes for a partitioner's name.
+- A thin layer among other elements below the target is tried by one
+  remesh (gmsh-doc's demos/boolean/neuron.geo at 1.3x its step: `run
+  --target` names a layer whose best reach it estimates below the target,
+  yet one remesh meets it, 12420 -> 6599 elements; before, refine stopped
+  at once, exit 1).
+- A kept mesh that costs more than the input is said to (gmsh-doc's
+  demos/boolean/slicer.geo, a STEP part, at 1.3x its input's global-basis
+  step with --posterior: one remesh meets the target with 4496 elements
+  against 3031, 1.07x the element-steps; the same counts in every run
+  seen): exit 0 and a warning on stderr with the ratio and the counts.
 """
 
+import gzip
 import math
 import os
 import shutil
@@ -64,6 +75,29 @@ def refine(name, target, *extra):
     code, log = tu.run("refine", name + ".xml", "--target", "%.9e" % target, "-o", name + "_r.msh",
                        "--report", name + "_r.json", *extra)
     return code, log, tu.report(name + "_r.json")
+
+
+def demo(name, *extra):
+    """gmsh-doc's demos/boolean/NAME.geo (and the files it reads) in the
+    test's directory, with a 3D steel scene NAME.xml."""
+    ex = "/usr/share/doc/gmsh-doc/doc/gmsh/demos/boolean"
+    assert os.path.isdir(ex), "%s: install gmsh-doc (scripts/setup.sh does)" % ex
+    for f in (name + ".geo",) + extra:  # Debian compresses the larger examples
+        src = os.path.join(ex, f)
+        if os.path.exists(src):
+            shutil.copy(src, tu.path(f))
+        else:
+            with gzip.open(src + ".gz", "rb") as z, open(tu.path(f), "wb") as out:
+                shutil.copyfileobj(z, out)
+    tu.write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="%s.geo"/>
+<meshing dim="3"/>
+<material name="steel" default="true" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="3d"/></effects>
+<time duration="1e-3"/>
+</dtmap-scene>
+""" % name)
 
 
 def curve_nodes(msh):
@@ -224,6 +258,36 @@ class Partitioned(unittest.TestCase):
             self.assertGreater(rep["mesh"]["elements"], 100, log)  # triangles, not the 10 boundary elements
         finally:
             gmsh.finalize()
+
+
+class Dearer(unittest.TestCase):
+    def test_warned(self):
+        demo("slicer", "component8.step")
+        dt = recommended("slicer", "--posterior")["recommended"]
+        code, log, rep = refine("slicer", 1.3 * dt, "--posterior")
+        self.assertEqual(code, 0, log)
+        rounds = rep["refine"]["rounds"]
+        kept, first = rounds[rep["refine"]["best"]], rounds[0]
+        ratio = kept["element_steps"] / first["element_steps"]
+        self.assertGreater(ratio, 1.0, "the remesh of slicer.geo no longer costs more than its input: %s" % rounds)
+        self.assertIn("the kept mesh meets the target but costs x%.3f" % ratio, log)
+        self.assertIn("(%d against %d)" % (kept["elements"], first["elements"]), log)
+
+
+class LayerTried(unittest.TestCase):
+    def test_one_remesh(self):
+        demo("neuron")
+        dt = recommended("neuron")["recommended"]
+        with open(tu.path("neuron.xml")) as f:
+            tu.write("neuron_t.xml", f.read().replace('duration="1e-3"', 'duration="1e-3" target="%.9e"' % (1.3 * dt)))
+        code, log = tu.run("run", "neuron_t.xml", "-q", "--report", "n_t.json", "-o", "n_t.msh")
+        self.assertEqual(code, 0, log)
+        layers = tu.report("n_t.json")["thickness_limited"]
+        self.assertTrue(layers and all(l["reach"] < 1.3 * dt for l in layers), layers)  # the estimate says no
+        code, log, rep = refine("neuron", 1.3 * dt)
+        self.assertEqual(code, 0, log)  # and one remesh does
+        self.assertEqual(rep["refine"]["met_by"], "mesh", log)
+        self.assertEqual(len(rep["refine"]["rounds"]), 2, log)
 
 
 if __name__ == "__main__":

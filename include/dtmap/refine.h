@@ -65,8 +65,8 @@ enum {
   DTM_REFINE_SHAPE_CAP = 5,    /* shape-limited elements cap the step, and a round
                                   around them did not beat the kept mesh */
   DTM_REFINE_THICKNESS = 6,    /* elements the thickness of their layer caps are below the
-                                  target: no mesh of that layer reaches it (checked before
-                                  any remesh) */
+                                  target: they are all that is below it, or a remesh did not
+                                  beat the kept mesh */
   DTM_REFINE_GMSH_REFUSED = 7, /* Gmsh refused a remesh (its reason is the first cause) */
   DTM_REFINE_GMSH_CRASH = 8,   /* Gmsh crashed in a remesh (signal and last messages in
                                   the first cause) */

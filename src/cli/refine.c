@@ -75,6 +75,21 @@ static void print_accuracy_change(const dtm_refine_result *rr, int verbose) {
             phase_text(r0, a, sizeof a), phase_text(rb, b, sizeof b));
 }
 
+/* On stderr (even with -q), a kept mesh that meets the target but costs
+ * more element-steps than the input: what grew, and the cheaper ways to
+ * try (the same target on the input with point masses, or subcycling). */
+static void warn_dearer(const dtm_refine_result *rr) {
+  const dtm_refine_round *r0 = &rr->rounds[0], *rb = &rr->rounds[rr->best];
+  double c0 = dtm_refine_cost(r0), cb = dtm_refine_cost(rb);
+  if (rr->best == 0 || !(cb > c0) || rb->recommended < rr->target) return;
+  fprintf(stderr,
+          "dtmap: warning: the kept mesh meets the target but costs x%.3f the input's element-steps: %.3gx the "
+          "elements (%zu against %zu) at a %.3gx longer step; point masses on the input (--max-added-mass) or "
+          "subcycling may cost less\n",
+          cb / c0, (double)rb->elements / (double)r0->elements, rb->elements, r0->elements,
+          rb->recommended / r0->recommended);
+}
+
 /* The causes, each with its fix indented (lines to paste into the .geo). */
 static void print_causes(const dtm_refine_result *rr) {
   if (rr->ncauses) printf("causes:\n");
@@ -107,9 +122,14 @@ static void print_rounds(const dtm_refine_result *rr) {
            "element-steps at the kept step)\n",
            rr->forced_by, rr->forced,
            rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
-  if (rr->stop == DTM_REFINE_THICKNESS)
+  int remeshed = 0;
+  for (int i = 1; i < rr->nrounds; i++) remeshed += rr->rounds[i].kind == DTM_ROUND_MESH;
+  if (rr->stop == DTM_REFINE_THICKNESS && !remeshed)
     printf("no round was run: elements below the target are limited by the thickness of their layer, which no\n"
            "size suggestion changes; the layers and their remedies follow\n");
+  else if (rr->stop == DTM_REFINE_THICKNESS)
+    printf("a remesh did not lift the elements that the thickness of their layer limits; the layers and their\n"
+           "remedies follow\n");
   if (rr->stop == DTM_REFINE_ONLY_SHAPE)
     printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
            "the mass-scaling alternative for exactly these elements follow\n");
@@ -166,6 +186,7 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cli_warn_flagged(rr->analysis);
   if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
   print_accuracy_change(rr, o->verbosity);
+  warn_dearer(rr);
   if (o->verbosity) printf("\n"), dtm_summary_print(&res, stdout);
   int r = dtm_cli_write_outputs(&res, o, "_refined", NULL);
   dtm_cost_destroy(&cost);
