@@ -192,7 +192,7 @@ DTM_EXPORT int dtm_geo_touch(const dtm_geo *g, size_t v, size_t w);
 typedef struct {
   char kind[32];               /* "size-options", "fixed-node-count", "recombined", "periodic",
                                   "embedded", "gmsh-refused", "gmsh-crash", "shape-limited",
-                                  "thickness", "accuracy", "budget", "cost-rose" */
+                                  "thickness", "accuracy", "budget", "stalled" */
   char text[640];              /* what holds the sizes, in a sentence or two */
   char fix[2048];              /* lines to paste into the .geo, "" when none */
   int nent;                    /* entities named (the first DTM_CAUSE_ENTITIES) */

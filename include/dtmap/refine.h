@@ -59,7 +59,8 @@ typedef struct dtm_refine_round_s {
 /* Why the loop stopped. */
 enum {
   DTM_REFINE_MET = 1,          /* the target is met */
-  DTM_REFINE_COST_ROSE = 2,    /* a round cost more than the input without meeting it */
+                               /* 2: unused (a round dearer than the input no longer ends
+                                  the loop: it is not kept, and the next aims from the best) */
   DTM_REFINE_ONLY_SHAPE = 3,   /* only shape-limited elements remain below it */
   DTM_REFINE_BUDGET = 4,       /* the round budget is spent */
   DTM_REFINE_SHAPE_CAP = 5,    /* shape-limited elements cap the step, and a round

@@ -64,7 +64,7 @@ static void last_meshes(const dtm_refine_result *rr, int *last, int *prev) {
 /* How many more rounds the last two predict at their rate of rise. */
 static void budget_cause(dtm_refine_result *rr) {
   int il, ip;
-  dtm_cause *c = dtm_refine_new_cause(rr, rr->stop == DTM_REFINE_BUDGET ? "budget" : "cost-rose");
+  dtm_cause *c = dtm_refine_new_cause(rr, "budget");
   if (!c) return;
   last_meshes(rr, &il, &ip);
   double last = rr->rounds[il].recommended, rise = last / rr->rounds[ip].recommended,
@@ -107,7 +107,7 @@ void dtm_refine_collect_causes(dtm_refine_result *rr, const dtm_cause *model, in
     if (by_elements) analysis_causes(rr, rr->analysis);
     add_causes(rr, model, nmodel, 0);
     if (!by_elements) analysis_causes(rr, rr->analysis);
-    if (rr->stop == DTM_REFINE_BUDGET || rr->stop == DTM_REFINE_COST_ROSE) budget_cause(rr);
+    if (rr->stop == DTM_REFINE_BUDGET) budget_cause(rr);
     if (rr->stop == DTM_REFINE_STALLED) stall_cause(rr);
   }
   add_causes(rr, model, nmodel, 1);
