@@ -39,10 +39,13 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/cost.h"
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
+#include "dtmap/mesh.h"
 
 static const double ex[3] = {1, 0, 0};
 
@@ -220,9 +223,117 @@ static void element_is_christoffel(void **state) {
   dtm_dispersion_branches(2, D, n, w); /* P first: (lam + 2 mu) k^2 area */
   assert_true(fabs(w[0] / (area * (lam + 2 * mu) * kk * kk) - 1) < 1e-6);
   assert_true(fabs(w[1] / (area * mu * kk * kk) - 1) < 1e-6);
-  assert_int_equal(dtm_dispersion_element(DTM_TET10, x, lam, mu, k, D), DTM_ERR_INPUT);
-  assert_int_equal(dtm_dispersion_element(DTM_TET4, x, lam, mu, k, D), DTM_ERR_INPUT); /* left to the lattice */
+  assert_int_equal(dtm_dispersion_element(DTM_TET10, x, lam, mu, k, D), DTM_ERR_INPUT); /* mid-edge nodes */
+  /* a tetrahedron: its volume times the Christoffel matrix too */
+  double xt[] = {0.1, 0.2, 0.05, 1.3, 0.1, 0.2, 0.4, 0.9, 0.1, 0.3, 0.4, 1.1}, k3[3] = {0.48e-3, 0.6e-3, 0.64e-3}, V;
+  V = fabs(dtm_elem_measure(DTM_TET4, xt));
+  assert_int_equal(dtm_dispersion_element(DTM_TET4, xt, lam, mu, k3, D), DTM_OK);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double c = V * ((lam + mu) * k3[i] * k3[j] + (i == j) * mu * kk * kk);
+      assert_true(fabs(D[3 * i + j] - c) < 1e-6 * V * (lam + 2 * mu) * kk * kk);
+    }
   assert_int_equal(dtm_dispersion_table_shapes(DTM_TRI3, 0.3, x, 0, NULL), DTM_ERR_INPUT);
+  dtm_error_clear();
+}
+
+/* A box of n^3 unit cells, each cut into the six tetrahedra of the cube
+ * lattice (around its main diagonal, the cells all alike), first or second
+ * order (mid-edge nodes on a grid of half the spacing), with node jiggle
+ * added to node `moved` (none when negative). */
+static dtm_mesh *kuhn_box(int n, int order, long moved, double jiggle) {
+  static const int perm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  static const int mid[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}}; /* Gmsh's tet10 edge order */
+  int g = order * n + 1, nn = order == 1 ? 4 : 10; /* grid points per side at the finest spacing */
+  dtm_mesh *m = calloc(1, sizeof *m);
+  m->dim = 3, m->nnodes = (size_t)g * g * g, m->nblocks = 1;
+  m->xyz = malloc(3 * m->nnodes * sizeof *m->xyz);
+  for (size_t a = 0; a < m->nnodes; a++)
+    for (int c = 0, r = (int)a; c < 3; c++, r /= g) m->xyz[3 * a + c] = (double)(r % g) / order;
+  if (moved >= 0) m->xyz[3 * moved] += jiggle;
+  dtm_block *b = m->blocks = calloc(1, sizeof *b);
+  b->type = order == 1 ? DTM_TET4 : DTM_TET10, b->dim = 3, b->nn = nn, b->n = (size_t)6 * n * n * n;
+  b->conn = malloc(b->n * (size_t)nn * sizeof *b->conn), b->mat = calloc(b->n, sizeof *b->mat);
+  size_t e = 0;
+  for (int cell = 0; cell < n * n * n; cell++)
+    for (int t = 0; t < 6; t++, e++) {
+      int v[4][3] = {{cell % n, cell / n % n, cell / n / n}};
+      for (int s = 1; s < 4; s++) memcpy(v[s], v[s - 1], sizeof v[s]), v[s][perm[t][s - 1]]++;
+      for (int a = 0; a < nn; a++) {
+        int p[3];
+        for (int c = 0; c < 3; c++)
+          p[c] = a < 4 ? order * v[a][c] : v[mid[a - 4][0]][c] + v[mid[a - 4][1]][c]; /* order 2: doubled grid */
+        b->conn[e * (size_t)nn + (size_t)a] = (size_t)p[0] + (size_t)g * ((size_t)p[1] + (size_t)g * (size_t)p[2]);
+      }
+    }
+  return m;
+}
+
+static void kuhn_free(dtm_mesh *m) {
+  free(m->xyz), free(m->blocks->conn), free(m->blocks->mat), free(m->blocks), free(m);
+}
+
+/* A structured mesh is recognised and predicted by its own lattice: the
+ * box of cube-lattice cells gives that lattice's table (tet4: the plane-wave
+ * sums of its node grid; tet10: the Bloch analysis of its cell, eight node
+ * classes), to round-off (1e-9 of err / (k h)^2, as above); one node moved
+ * by a tenth of a cell breaks it. */
+static void structured_is_lattice(void **state) {
+  (void)state;
+  for (int order = 1; order <= 2; order++) {
+    dtm_dispersion lat, mesh;
+    int found = 0, type = order == 1 ? DTM_TET4 : DTM_TET10;
+    dtm_mesh *m = kuhn_box(3, order, -1, 0);
+    assert_int_equal(dtm_dispersion_table(type, DTM_LATTICE_CUBE, 0.3, &lat), DTM_OK);
+    assert_int_equal(dtm_dispersion_table_mesh(m, type, 0, 0.3, &mesh, &found), DTM_OK);
+    assert_int_equal(found, 1);
+    assert_int_equal(mesh.shape, DTM_LATTICE_MESH);
+    assert_true(fabs(mesh.per_cell - 6) < 1e-12);
+    if (table_diff(&lat, &mesh) > 1e-9) fail_msg("%s: %g", dtm_elem_name(type), table_diff(&lat, &mesh));
+    assert_int_equal(dtm_dispersion_table_mesh(m, type, 1, 0.3, &mesh, &found), DTM_OK); /* no element of material 1 */
+    assert_int_equal(found, 0);
+    kuhn_free(m);
+    m = kuhn_box(3, order, order == 1 ? 21 : 3 * 49 + 2 * 7 + 3, 0.1); /* an interior vertex */
+    assert_int_equal(dtm_dispersion_table_mesh(m, type, 0, 0.3, &mesh, &found), DTM_OK);
+    assert_int_equal(found, 0);
+    kuhn_free(m);
+  }
+}
+
+/* The measured table (src/cost/measured.c) of Gmsh's unstructured
+ * tetrahedra: the P wave lags in every direction by close to the same
+ * amount (the meshes are isotropic for it: the three classes within 20 %
+ * of each other at k h = 1), its error is quadratic at small k h (err /
+ * (k h)^2 within 10 % between the first two points), the S wave of tet4
+ * stiffens as nu nears 1/2 (it leads at nu = 0.45, lags at 0.3), and
+ * outside the measured range of nu the table is the nearest end's. */
+static void measured_table(void **state) {
+  (void)state;
+  const double r03 = 0.4 / 1.4, r045 = 0.1 / 1.1, r049 = 0.02 / 1.02; /* (1 - 2 nu) / (2 (1 - nu)) */
+  dtm_dispersion t, t2;
+  for (int type = DTM_TET4; type; type = type == DTM_TET4 ? DTM_TET10 : 0) {
+    assert_int_equal(dtm_dispersion_table_measured(type, r03, &t), DTM_OK);
+    assert_int_equal(t.ndir, 3);
+    assert_int_equal(t.shape, DTM_LATTICE_MEASURED);
+    assert_true(t.per_cell == 0); /* at the mean edge */
+    double p[3];
+    for (int i = 0; i < 3; i++) p[i] = dtm_dispersion_at(&t, 0, i, 1.0);
+    for (int i = 0; i < 3; i++) {
+      if (!(p[i] < 0 && fabs(p[i] / p[0] - 1) < 0.2))
+        fail_msg("%s P class %d: %g (axis %g)", dtm_elem_name(type), i, p[i], p[0]);
+      if (!(fabs(t.g[0][i][1] / t.g[0][i][0] - 1) < 0.1))
+        fail_msg("%s P class %d not quadratic", dtm_elem_name(type), i);
+    }
+    assert_int_equal(dtm_dispersion_table_measured(type, r045, &t2), DTM_OK);
+    assert_int_equal(dtm_dispersion_table_measured(type, r049, &t), DTM_OK);
+    assert_true(table_diff(&t, &t2) < 1e-15); /* clamped */
+  }
+  assert_int_equal(dtm_dispersion_table_measured(DTM_TET4, r045, &t), DTM_OK);
+  assert_true(dtm_dispersion_at(&t, 1, 0, 1.0) > 0);
+  assert_int_equal(dtm_dispersion_table_measured(DTM_TET4, r03, &t), DTM_OK);
+  assert_true(dtm_dispersion_at(&t, 1, 0, 1.0) < 0);
+  assert_true(isnan(dtm_dispersion_at(&t, 1, 0, 3.2))); /* under 2 mean edges per wavelength */
+  assert_int_equal(dtm_dispersion_table_measured(DTM_HEX8, r03, &t), DTM_ERR_INPUT);
   dtm_error_clear();
 }
 
@@ -246,6 +357,8 @@ int main(int argc, char **argv) {
                                      cmocka_unit_test(own_shapes_are_lattices),
                                      cmocka_unit_test(long_axis_is_bar),
                                      cmocka_unit_test(element_is_christoffel),
+                                     cmocka_unit_test(structured_is_lattice),
+                                     cmocka_unit_test(measured_table),
                                      cmocka_unit_test(bad_input)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

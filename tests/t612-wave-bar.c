@@ -49,7 +49,7 @@ static void whole_wave(void **state) {
   dtm_analysis *a = bar(32);
   double dt = dtm_analysis_recommended(a), r = dt * C / L, kh = PI / 8;
   assert_true(fabs(r - 0.9) < 1e-12);
-  dtm_wave_spec w = {kh / L * C / (2 * PI), {1, 0, 0}, 0, 20};
+  dtm_wave_spec w = {kh / L * C / (2 * PI), {1, 0, 0}, 0, 20, 0};
   dtm_wave_result res;
   assert_int_equal(dtm_verify_wave(a, dt, &w, &res), DTM_OK);
   double exact = closed_form(kh, r);
@@ -64,7 +64,7 @@ static void packet(void **state) {
   (void)state;
   dtm_analysis *a = bar(400);
   double dt = dtm_analysis_recommended(a), kh = PI / 5;
-  dtm_wave_spec w = {kh / L * C / (2 * PI), {1, 0, 0}, 0, 0};
+  dtm_wave_spec w = {kh / L * C / (2 * PI), {1, 0, 0}, 0, 0, 0};
   dtm_wave_result res;
   assert_int_equal(dtm_verify_wave(a, dt, &w, &res), DTM_OK);
   double exact = closed_form(kh, dt * C / L);
@@ -78,8 +78,8 @@ static void bad_specs(void **state) {
   dtm_analysis *a = bar(8);
   double dt = dtm_analysis_recommended(a);
   dtm_wave_result res;
-  const dtm_wave_spec bad[] = {{0, {1, 0, 0}, 0, 0},   {1e3, {1, 1, 0}, 0, 0}, {1e3, {1, 0, 0}, 0, 1},
-                               {1e3, {1, 0, 0}, 2, 0}, {NAN, {1, 0, 0}, 0, 0}, {1e3, {0, 0, 0}, 1, 0}};
+  const dtm_wave_spec bad[] = {{0, {1, 0, 0}, 0, 0, 0},   {1e3, {1, 1, 0}, 0, 0, 0}, {1e3, {1, 0, 0}, 0, 1, 0},
+                               {1e3, {1, 0, 0}, 2, 0, 0}, {NAN, {1, 0, 0}, 0, 0, 0}, {1e3, {0, 0, 0}, 1, 0, 0}};
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++)
     assert_int_equal(dtm_verify_wave(a, dt, &bad[i], &res), DTM_ERR_INPUT);
   assert_int_equal(dtm_verify_wave(a, 0, &bad[0], &res), DTM_ERR_INPUT);

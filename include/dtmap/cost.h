@@ -162,8 +162,13 @@ DTM_EXPORT double dtm_cost_element_steps_subcycled(const dtm_analysis *a, const 
 typedef enum {
   DTM_LATTICE_CUBE = 0,    /* the unit square or cube; simplices cut along its main diagonal (right-angled) */
   DTM_LATTICE_REGULAR = 1, /* simplices as regular as a tiling allows (equilateral; body-centred cubic) */
-  DTM_LATTICE_OWN = 2      /* a table from the mesh's own element shapes (dtm_dispersion_table_shapes) */
+  DTM_LATTICE_OWN = 2,     /* a table from the mesh's own element shapes (dtm_dispersion_table_shapes) */
+  DTM_LATTICE_MESH = 3,    /* a structured mesh's own lattice (dtm_dispersion_table_mesh) */
+  DTM_LATTICE_MEASURED = 4 /* measured on Gmsh's unstructured meshes (dtm_dispersion_table_measured) */
 } dtm_lattice;
+/* The name of a model (dtm_lattice) for reports: "cube lattice", "regular
+ * lattice", "own shapes", "structured lattice", "measured". */
+DTM_EXPORT const char *dtm_dispersion_model_name(int shape);
 /* The semi-discrete relative phase-speed errors omega_h / (c k) - 1 of the
  * P branch (err[0]) and the S branch (err[1], the worse of the two in 3D;
  * 0 for the bar) at the wave vector kh n. */
@@ -192,7 +197,9 @@ typedef struct {
   int type;                                /* element type */
   double r;                                /* mu / (lam + 2 mu) */
   int shape;                               /* dtm_lattice */
-  size_t samples;                          /* DTM_LATTICE_OWN: the elements it was built from */
+  size_t samples;                          /* DTM_LATTICE_OWN, _MESH: the elements it was built from */
+  double per_cell;                         /* elements per lattice cell: an element of measure V is at
+                                              k h with h = (per_cell V)^(1/d); 0: h its mean edge */
   int ndir;                                /* directions used */
   double dir[DTM_DISP_DIRS][3];            /* unit directions */
   double g[2][DTM_DISP_DIRS][DTM_DISP_KH]; /* [P, S][dir][k h = pi (j + 1) / DTM_DISP_KH] */
@@ -203,6 +210,27 @@ DTM_EXPORT int dtm_dispersion_table(int type, int shape, double r, dtm_dispersio
  * branch's exact speed); NaN when kh > pi (fewer than 2 cells per
  * wavelength: unresolved) or unstable. */
 DTM_EXPORT double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x);
+/* The semi-discrete error of branch mode along the table's direction dir
+ * at k h = kh, interpolated (NaN when kh > pi). */
+DTM_EXPORT double dtm_dispersion_at(const dtm_dispersion *t, int mode, int dir, double kh);
+/* The same as dtm_dispersion_worst, and the index of its direction into *dir (NULL: not wanted). */
+DTM_EXPORT double dtm_dispersion_worst_dir(const dtm_dispersion *t, int mode, double kh, double x, int *dir);
+
+/* The measured dispersion of Gmsh's unstructured tetrahedral meshes
+ * (src/cost/measured.c; the table bench/tet_dispersion.py measures by
+ * simulation): tet4 and tet10, P and S along the axes, the face and the
+ * body diagonals, k h with h an element's mean edge, interpolated in r
+ * between the Poisson's ratios measured (0.15 to 0.45; clamped outside). */
+DTM_EXPORT int dtm_dispersion_has_measured(int type);
+DTM_EXPORT int dtm_dispersion_table_measured(int type, double r, dtm_dispersion *t);
+
+/* A structured mesh (src/cost/structured.c): when the elements of type
+ * and material mat (no section) of mesh are the translates of at most 12
+ * shapes (one of each per cell, at most 8 node classes) by one lattice (a transfinite or extruded mesh of
+ * a box), *found = 1 and t is that lattice's exact Bloch table
+ * (t->shape = DTM_LATTICE_MESH); else *found = 0 and t is untouched. */
+DTM_EXPORT int dtm_dispersion_table_mesh(const dtm_mesh *mesh, int type, int mat, double r, dtm_dispersion *t,
+                                         int *found);
 
 /* The dispersion of a mesh's own element shapes (src/cost/shapes.c), for
  * tri3, quad4 and hex8. */
@@ -247,7 +275,10 @@ typedef struct {
   int f_default;         /* phase: 1 when the scene names no f-max and f is the mesh's default */
   double per_wavelength; /* phase: the smallest shear wavelength at f over the element's mean edge
                             (the elastic effect's "elements per wavelength", also without f-max) */
-  char note[320];        /* one line when something is missing or assumed ("" when not) */
+  int wave;              /* phase: the branch of the worst, 0 P, 1 S (-1: none) */
+  double direction[3];   /* phase: the direction of the worst (unit; the model's direction) */
+  int model;             /* phase: the model of the worst's elements (dtm_lattice; -1: none) */
+  char note[640];        /* one line when something is missing or assumed ("" when not) */
 } dtm_measure;
 
 typedef struct dtm_measures {
@@ -274,24 +305,27 @@ DTM_EXPORT void dtm_measures_destroy(dtm_measures **m);
 DTM_EXPORT const char *dtm_measure_name(int kind);
 
 /* The prediction of one wave along one direction (for the simulation
- * check, src/study/wave.c): the fully discrete error of branch mode (0 P,
- * 1 S: the worse transverse branch in 3D) along the unit direction n at
- * frequency f (Hz) and step dt (s), with the measure's models: for tri3,
- * quad4 and hex8 of one material (mat >= 0) the wave's Rayleigh quotient
- * over their summed plane-wave matrices (dtm_dispersion_element); for
- * the other types, and for every type when mat = -1 (all materials), each
- * element's own error (its lattice at the spacing of its volume, or its
- * own matrix) averaged with the element masses as weights (a plane wave's
+ * check, src/study/wave.c; src/cost/along.c): the fully discrete error of
+ * branch mode (0 P, 1 S: the worse transverse branch in 3D) along the unit
+ * direction n at frequency f (Hz) and step dt (s), with the measure's
+ * models: for tri3, quad4 and hex8 of one material (mat >= 0), and a
+ * structured grid, the wave's Rayleigh quotient over their summed
+ * plane-wave matrices (dtm_dispersion_element); a structured lattice's
+ * Bloch branch; the measured table of unstructured tetrahedra in its
+ * direction class nearest n, at the root mean square of the elements' mean
+ * edges; the regular lattice of the other types, element by element. The
+ * parts are averaged with the element masses as weights (a plane wave's
  * frequency shift is the energy-weighted mean of the local ones to first
- * order). pol: the polarisation (unit; the branch whose eigenvector
- * overlaps most with it; NULL: n for P, the worse transverse branch for
- * S). */
+ * order; with mat = -1, all materials, every element counts on its own).
+ * pol: the polarisation (unit; the branch whose eigenvector overlaps most
+ * with it; NULL: n for P, the worse transverse branch for S). */
 typedef struct {
   double mean;       /* mass-weighted mean error (fraction; NaN when any element is unresolved) */
-  double worst;      /* the signed error of largest magnitude (fraction) */
+  double worst;      /* the signed error of largest magnitude, each element on its own (fraction) */
   size_t elements;   /* elements measured */
   size_t unresolved; /* elements with k h > pi or unstable */
   double speed;      /* the exact speed of the branch in the (last) material measured, m/s */
+  int model;         /* the model of the (last) elements measured (dtm_lattice; -1: none) */
 } dtm_phase_along;
 DTM_EXPORT int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3],
                                         const double pol[3], int mode, int mat, dtm_phase_along *out);

@@ -119,4 +119,17 @@ DTM_EXPORT int dtm_verify_report_write(const dtm_analysis *a, const dtm_verify_r
 DTM_EXPORT int dtm_verify_wave_report_write(const dtm_analysis *a, double dt, const dtm_wave_spec *w,
                                             const dtm_wave_result *r, const char *path);
 
+/* What a `verify --accuracy` report says of the prediction. */
+typedef struct {
+  int mode;         /* the wave: 0 P, 1 S */
+  double dir[3];    /* its direction (unit) */
+  double f;         /* its frequency, Hz */
+  double measured;  /* the measured phase-speed error, fraction */
+  double predicted; /* the predicted one, fraction */
+} dtm_wave_check;
+/* Read the report at path (dtm_verify_wave_report_write's) into c;
+ * DTM_ERR_INPUT naming the file when it cannot be read or is not one, or
+ * has no measured or predicted error. */
+DTM_EXPORT int dtm_verify_wave_report_read(const char *path, dtm_wave_check *c);
+
 #endif

@@ -75,8 +75,9 @@ enum {
                                   node counts (an extrusion's Layers{}, or transfinite curves
                                   with keep_counts), which no remesh changes (checked before
                                   any remesh) */
-  DTM_REFINE_STALLED = 10      /* a remesh left the step where it was: the same elements
-                                  limit it whatever the size field */
+  DTM_REFINE_STALLED = 10      /* a remesh left the step where it was, or two in a row did
+                                  not beat the kept mesh: the same elements limit it
+                                  whatever the size field */
 };
 
 /* What the caller asks of refine. */

@@ -78,6 +78,10 @@ typedef struct dtm_scene {
   char *out_report;               /* resolved <output report>, or NULL */
   int out_format;                 /* <output format>: DTM_MSH_AUTO (unset), _ASCII, _BINARY */
   int out_line;                   /* line of <output>, 0 when there is none */
+  double phase_ratio[2];          /* measured / predicted phase-speed error of P [0] and S [1] from
+                                     verify --accuracy's reports (--verified; 0: none) */
+  int phase_calibrate;            /* 1: the measures multiply each branch's errors by phase_ratio
+                                     (--calibrate) */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

@@ -41,6 +41,7 @@ typedef struct {
                               used at every size */
   double phase_error;      /* worst phase-speed error at the recommended step, signed fraction
                               (dtm_measures; NaN when unresolved or no elastic effect) */
+  int phase_wave;          /* the wave of that worst: 0 P, 1 S (-1: none) */
   double phase_median;     /* median |phase-speed error| at the recommended step */
   size_t unresolved;       /* elements with fewer than 2 lattice cells per wavelength */
   double phase_subcycled;  /* worst with every element at its subcycling level's step */

@@ -40,6 +40,8 @@ typedef struct {
   const char *direction; /* verify --direction x,y,z (NULL: the x axis) */
   double freq;           /* verify --freq, Hz (0: the report's frequency) */
   double periods;        /* verify --periods (0: 30) */
+  const char *verified;  /* run/sweep/refine --verified: verify --accuracy reports, comma-separated */
+  int calibrate;         /* run/sweep/refine --calibrate: the measures use their measured errors */
   const char *png;       /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;     /* their size, pixels */
   const char *solver;    /* deck --solver NAME */
@@ -90,6 +92,11 @@ void dtm_cli_print_effects_to(void *stream);
 int dtm_cli_generate(const char *what);
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
+/* --verified and --calibrate (src/cli/verified.c): read verify --accuracy's
+ * reports, say whether each agrees with the prediction, and give the
+ * scene's measures the ratios measured / predicted (applied with
+ * --calibrate). */
+int dtm_cli_verified(dtm_scene *s, const cli_opts *o);
 /* SCENE<suffix> in the current directory (SCENE: the scene's base name
  * without its extension). */
 void dtm_cli_default_out(const char *scene, const char *suffix, char *buf, size_t len);

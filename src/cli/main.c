@@ -36,6 +36,19 @@
     "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                         \
   }
 
+#define VERIFIED_OPTIONS                                                                                               \
+  {"--verified",                                                                                                       \
+   CLI_STRING,                                                                                                         \
+   OPT(verified),                                                                                                      \
+   0,                                                                                                                  \
+   0,                                                                                                                  \
+   0,                                                                                                                  \
+   "V.json,...",                                                                                                       \
+   "verify --accuracy reports: say whether their measured phase errors agree with the prediction"},                    \
+  {                                                                                                                    \
+    "--calibrate", CLI_FLAG, OPT(calibrate), 1, 0, 0, NULL,                                                            \
+        "with --verified: scale each wave's predicted errors to the measured ones"                                     \
+  }
 #define FORMAT_OPTION                                                                                                  \
   {                                                                                                                    \
     "--format", CLI_STRING, OPT(format), 0, 0, 0, "F",                                                                 \
@@ -51,6 +64,7 @@ static const cli_option run_options[] = {
     PICTURE_OPTIONS,
     TOP_OPTION,
     FORMAT_OPTION,
+    VERIFIED_OPTIONS,
     {"--views-only", CLI_FLAG, OPT(views_only), 1, 0, 0, NULL,
      "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
     LANCZOS_OPTIONS,
@@ -97,6 +111,7 @@ static const cli_option refine_options[] = {
     TOP_OPTION,
     LANCZOS_OPTIONS,
     FORMAT_OPTION,
+    VERIFIED_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -105,6 +120,7 @@ static const cli_option sweep_options[] = {
     {"--sizes", CLI_STRING, OPT(sizes), 0, 0, 0, "h1,h2,...", "mesh sizes, m, comma-separated (required)"},
     {"--csv", CLI_STRING, OPT(csv), 0, 0, 0, "F", "table as CSV (default SCENE_sweep.csv)"},
     {"--plot", CLI_STRING, OPT(plot), 0, 0, 0, "F.png", "cost against accuracy, log-log (default SCENE_sweep.png)"},
+    VERIFIED_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -133,7 +149,7 @@ static const cli_option snapshot_options[] = {
 const cli_command dtm_cli_commands[] = {
     {"run",
      "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--top N] [--format F] [--views-only] "
-     "[-j N] [-v|-q]",
+     "[--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
@@ -149,13 +165,16 @@ const cli_command dtm_cli_commands[] = {
      "default exactly the step `run` reports; with --posterior that of `run --posterior`)\n"
      "or at DT. Exit 1 if the energy grows (the step is unstable). With --accuracy, a plane\n"
      "wave cos(k.x) in the host material (the largest by volume) is integrated undamped at\n"
-     "that step instead; the frequency of its projection on the plane-wave mode gives the\n"
-     "measured phase-speed error, compared with the lattice prediction for the same\n"
-     "frequency, direction and branch (docs/accuracy.md). Exit 1 beyond 20 % of it.",
+     "that step instead, for several periods (on a periodic sample, a box meshed with\n"
+     "periodic faces, the whole wave; else a packet, the default frequency raised until\n"
+     "it fits); the peak of its projection on the plane-wave mode gives the measured\n"
+     "phase-speed error, compared with the measures' prediction for the same frequency,\n"
+     "direction and branch (docs/accuracy.md). Exit 1 beyond 20 % of it. run, sweep and\n"
+     "refine read its --report with --verified (and use it with --calibrate).",
      verify_options, dtm_cli_verify},
     {"refine",
      "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "
-     "[--keep-counts] [--top N] [--format F] [-j N] [-v|-q]",
+     "[--keep-counts] [--top N] [--format F] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
      "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
      "the background size field, with the node counts of transfinite curves set from it,\n"
@@ -167,7 +186,8 @@ const cli_command dtm_cli_commands[] = {
      "with --max-added-mass P point masses at the nodes that need them make up the rest,\n"
      "up to P % of the model's mass (view 'added mass at nodes'). Exit 1 if DT is not met.",
      refine_options, dtm_cli_refine},
-    {"sweep", "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [-j N] [-v|-q]",
+    {"sweep",
+     "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Meshes the scene's geometry at each <meshing size> h (m; min-size is capped at h)\n"
      "and prints, per size: elements, nodes, the element bound (the smallest element\n"
      "step), the recommended step, the whole steps the scene's <time duration> takes at\n"

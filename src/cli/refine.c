@@ -279,6 +279,7 @@ int dtm_cli_refine(const cli_opts *o) {
     dtm_cli_output_names(s, o, "_refined", &out);
     r = dtm_cli_check_outputs(s, &out);
   }
+  if (r == DTM_OK) r = dtm_cli_verified(s, o);
   if (r == DTM_OK) {
     dtm_refine_options ro = options_of(s, o, target);
     if (o->verbosity)

@@ -67,7 +67,7 @@ static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_
 
 /* The spec of --accuracy: branch, direction (normalised), frequency. */
 static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w) {
-  *w = (dtm_wave_spec){o->freq, {1, 0, 0}, 0, o->periods};
+  *w = (dtm_wave_spec){o->freq, {1, 0, 0}, 0, o->periods, !(o->freq > 0)};
   if (o->wave && (strcmp(o->wave, "P") && strcmp(o->wave, "S")))
     return DTM_ERR(DTM_ERR_INPUT, "verify --wave: expected P or S, got '%s'", o->wave);
   w->mode = o->wave && !strcmp(o->wave, "S");
@@ -94,13 +94,19 @@ static int wave_spec(const dtm_analysis *a, const cli_opts *o, dtm_wave_spec *w)
 
 static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, const dtm_wave_result *r) {
   printf("\naccuracy     %s wave along (%.3g, %.3g, %.3g) at %.4g Hz, %d steps of %.4e s (%.3fx the recommended)\n",
-         w->mode ? "S" : "P", w->dir[0], w->dir[1], w->dir[2], w->f, r->steps, dt, dt / dtm_analysis_recommended(a));
+         w->mode ? "S" : "P", r->dir[0], r->dir[1], r->dir[2], r->f, r->steps, dt, dt / dtm_analysis_recommended(a));
+  if (r->periodic)
+    printf("  a periodic sample: opposite faces joined, the whole wave fitted to the box (asked: %.4g Hz)\n", w->f);
+  else if (r->f != w->f)
+    printf("  the default %.4g Hz raised to %.4g Hz: the lowest at which a packet runs 3 periods in the mesh\n", w->f,
+           r->f);
   printf("  host material %s: c = %.1f m/s, wavelength %.4g m, window %.3g m, %.2f periods, %d zero crossings, "
          "%.2f s\n",
          dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, 2 * 3.14159265358979323846 / r->k, r->sigma,
          r->duration * r->speed * r->k / (2 * 3.14159265358979323846), r->crossings, r->seconds);
-  printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (mean over %zu elements; worst %+.4f %%)\n",
-         100 * r->measured, 100 * r->predicted.mean, r->predicted.elements, 100 * r->predicted.worst);
+  printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (%s, mean over %zu elements; worst %+.4f %%)\n",
+         100 * r->measured, 100 * r->predicted.mean, dtm_dispersion_model_name(r->predicted.model),
+         r->predicted.elements, 100 * r->predicted.worst);
   printf("  from the zero crossings: %+.4f %%\n", 100 * (r->omega_crossings / (r->speed * r->k) - 1));
   printf("  agreement: %+.1f %% of the prediction (band 20 %%): %s\n", 100 * r->agreement,
          fabs(r->agreement) <= 0.2 ? "agrees" : "DISAGREES");
@@ -217,6 +223,7 @@ static int run_scene(const cli_opts *given, int verify) {
   int r = dtm_scene_load(o->scene, &s);
   if (r == DTM_OK) o->posterior |= s->posterior; /* <time posterior="true"> */
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
+  if (r == DTM_OK && !verify) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
   if (r == DTM_OK && verify && o->report) r = dtm_output_path_check(s, o->report, NULL, "--report");
   if (r == DTM_OK && dtm_parallel_wanted(s))

@@ -86,6 +86,7 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   output_paths(o, csv, png, sizeof csv);
   int r = dtm_scene_load(o->scene, &s), started = 0;
   if (r == DTM_OK) r = check_outputs(s, o, csv, png);
+  if (r == DTM_OK) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");

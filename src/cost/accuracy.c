@@ -1,15 +1,20 @@
 /* What a mesh and its recommended step buy: one accuracy measure per
  * effect the scene names, computed for every element of the real mesh.
  * - elastic waves: the phase-speed error at the frequency of interest
- *   (<time f-max>, else a default from the mesh, said so in the note) of
- *   the element type's lattice (dtm_dispersion_table, once per element type
- *   and material), lumped mass, central differences at the recommended
- *   step (or at the element's subcycling level's step, or at the target
- *   step with the element's mass scaling). Each element is taken as a cell
- *   of its type's regular lattice of the same volume; the error is the
- *   worse of P and S over the lattice directions; fewer than 2 cells per
- *   wavelength (or a step above the element's own safe step: unstable) is
- *   "unresolved", counted, never a small number;
+ *   (<time f-max>, else a default from the mesh, said so in the note),
+ *   lumped mass, central differences at the recommended step (or at the
+ *   element's subcycling level's step, or at the target step with the
+ *   element's mass scaling), from the model of each element type and
+ *   material (dtm_acc_table, once each): the mesh's own shapes, a
+ *   structured mesh's own lattice, the measured table of Gmsh's
+ *   unstructured tetrahedra, or the regular lattice. The error is the
+ *   worse of P and S over the model's directions; the measured table takes
+ *   each element at the root mean square of the mean edges around it (how
+ *   the table was measured, and what a wave crossing them sees).
+ *   Fewer than 2 cells per wavelength (or a step above the element's own
+ *   safe step: unstable) is "unresolved", counted, never a small number.
+ *   The worst names its wave, direction and model; --calibrate's ratios
+ *   (dtm_scene.phase_ratio) multiply each branch's error;
  * - cohesive zones: elements per process zone (the effect's own view),
  *   per group, against the 5-10 band;
  * - diffusion (thermal, hydraulic): elements across sqrt(D t) at the
@@ -20,17 +25,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "accuracy-impl.h"
+#include "dispersion-impl.h"
 #include "dtmap/cost.h"
 #include "dtmap/kernel.h"
 #include "dtmap/topology.h"
 
 #define PI 3.14159265358979323846
-#define MAX_TABLES 16 /* element type x material pairs kept at once */
+#define MAX_TABLES 64 /* element type x material pairs kept at once */
 #define SHAPE_WORK                                                                                                     \
   8192 /* node pairs of the elements an own-shape table is built from (tri3: 512 elements, hex8: 128) */
 
-#define CURVE_N 512   /* points of a curve over k h in [0, pi] */
-#define MAX_CURVES 64 /* curves kept (table x subcycling level) */
+#define CURVE_N 512     /* points of a curve over k h in [0, pi] */
+#define SMOOTH_PASSES 3 /* rings of elements the measured model's spacing is averaged over */
+#define MAX_CURVES 64   /* curves kept (table x subcycling level) */
 
 /* The worst error of one table at one x = pi f dt against k h, both
  * branches, sampled once so that an element costs an interpolation instead
@@ -45,14 +53,15 @@ typedef struct {
 /* The lattice tables and curves met so far. */
 typedef struct {
   int n;                         /* tables in use */
-  dtm_dispersion *t[MAX_TABLES]; /* owned */
-  int mat[MAX_TABLES];           /* the material of an own-shape table (-1: a lattice's) */
+  dtm_dispersion *t[MAX_TABLES]; /* owned (NULL: no model for that type and material) */
+  int mat[MAX_TABLES];           /* the material of each */
+  int type[MAX_TABLES];          /* the element type of each */
   int nc;                        /* curves in use */
   curve *c[MAX_CURVES];          /* owned */
 } table_cache;
 
 static void cache_free(table_cache *c) {
-  for (int i = 0; i < c->n; i++) free(c->t[i]);
+  for (int i = 0; i < c->n; i++) free(c->t[i]); /* NULL for a pair without a model */
   for (int i = 0; i < c->nc; i++) free(c->c[i]);
 }
 
@@ -113,32 +122,50 @@ static int shape_sample(const dtm_mesh *mesh, int type, int mat, double **x, siz
   return DTM_OK;
 }
 
-/* The table of element type and material mat (r its mu / M): from the
- * mesh's own shapes where the type has them, else the regular lattice. */
+int dtm_acc_table(const dtm_mesh *mesh, int type, int mat, double r, dtm_dispersion *t, int *have) {
+  *have = 1;
+  if (dtm_dispersion_has_shapes(type) && r > 0) {
+    double *x = NULL;
+    size_t n = 0;
+    int rc = shape_sample(mesh, type, mat, &x, &n);
+    if (!rc) rc = dtm_dispersion_table_shapes(type, r, x, n, t);
+    free(x);
+    return rc;
+  }
+  *have = 0;
+  if (type != DTM_LINE2) DTM_CHECK(dtm_dispersion_table_mesh(mesh, type, mat, r, t, have));
+  if (*have) return DTM_OK;
+  *have = dtm_dispersion_has_model(type);
+  if (dtm_dispersion_has_measured(type) && r > 0) return dtm_dispersion_table_measured(type, r, t);
+  return *have ? dtm_dispersion_table(type, DTM_LATTICE_REGULAR, r, t) : DTM_OK;
+}
+
+/* The table of element type and material mat (r its mu / M), built on
+ * first use; *out = NULL when no model applies to them. */
 static int cache_get(table_cache *c, const dtm_mesh *mesh, int type, int mat, double r, const dtm_dispersion **out) {
-  int own = dtm_dispersion_has_shapes(type);
   for (int i = 0; i < c->n; i++)
-    if (c->t[i]->type == type && c->t[i]->r == r && c->mat[i] == (own ? mat : -1)) return *out = c->t[i], DTM_OK;
+    if (c->type[i] == type && c->mat[i] == mat) return *out = c->t[i], DTM_OK;
   if (c->n == MAX_TABLES) return DTM_ERR(DTM_ERR_INPUT, "more than %d element type and material pairs", MAX_TABLES);
   dtm_dispersion *t = malloc(sizeof *t);
-  double *x = NULL;
-  size_t n = 0;
-  int rc = t ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (!rc && own) rc = shape_sample(mesh, type, mat, &x, &n);
-  if (!rc)
-    rc = own ? dtm_dispersion_table_shapes(type, r, x, n, t) : dtm_dispersion_table(type, DTM_LATTICE_REGULAR, r, t);
-  free(x);
-  if (rc) return free(t), rc;
-  c->mat[c->n] = own ? mat : -1;
+  int have = 0, rc = t ? dtm_acc_table(mesh, type, mat, r, t, &have) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (rc || !have) free(t), t = NULL;
+  if (rc) return rc;
+  c->mat[c->n] = mat, c->type[c->n] = type;
   *out = c->t[c->n++] = t;
   return DTM_OK;
 }
 
 /* The lattice spacing of an element of type and measure meas: the cell
- * edge of the lattice of its type whose elements have its measure. */
+ * edge of the lattice of its type whose elements have its measure (the
+ * default frequency's). */
 static double lattice_h(int type, int d, double meas) {
   double per = dtm_dispersion_cell_elements(type);
   return d == 1 ? meas : d == 2 ? sqrt(per * meas) : cbrt(per * meas);
+}
+
+double dtm_acc_spacing(const dtm_dispersion *t, int d, double meas, double edge) {
+  if (!(t->per_cell > 0)) return edge;
+  return d == 1 ? meas : d == 2 ? sqrt(t->per_cell * meas) : cbrt(t->per_cell * meas);
 }
 
 /* The measure of element e of block bl (m^d) and its mean edge (m). */
@@ -193,8 +220,7 @@ static int push(dtm_measures *ms, const dtm_measure *m) {
   return DTM_OK;
 }
 
-/* The elastic formulation effect k uses (its attribute, else the default). */
-static dtm_formulation formulation_of(const dtm_analysis *a, int k) {
+dtm_formulation dtm_acc_formulation(const dtm_analysis *a, int k) {
   const char *names[] = DTM_FORMULATION_NAMES;
   const char *f = dtm_scene_effect_attr(&dtm_analysis_scene(a)->effects[k], "formulation");
   for (int i = 0; f && names[i]; i++)
@@ -202,8 +228,7 @@ static dtm_formulation formulation_of(const dtm_analysis *a, int k) {
   return dtm_formulation_default(dtm_analysis_mesh(a)->dim);
 }
 
-/* Moduli of material index mat for formulation f; -1 when it lacks E, nu or rho. */
-static int moduli(const dtm_analysis *a, int mat, dtm_formulation f, dtm_elastic_moduli *m) {
+int dtm_acc_moduli(const dtm_analysis *a, int mat, dtm_formulation f, dtm_elastic_moduli *m) {
   const dtm_material *mt = &dtm_analysis_scene(a)->materials[mat].m;
   double nu = f == DTM_FORM_BAR ? 0 : dtm_material_value(mt, "nu");
   return dtm_elastic_moduli_init(f, dtm_material_value(mt, "E"), nu, dtm_material_value(mt, "rho"), m) ? -1 : 0;
@@ -231,14 +256,22 @@ static double worst(const dtm_dispersion *t, const curve *k, int mode, double kh
   return k ? curve_at(k, mode, kh) : dtm_dispersion_worst(t, mode, kh, x);
 }
 
-/* The phase error of one element at frequency f: the worse of P and S. */
+/* The ratio --calibrate applies to branch mode (dtm_scene.phase_ratio; 1: none). */
+static double branch_scale(const dtm_analysis *a, int mode) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  double r = s->phase_ratio[mode];
+  return s->phase_calibrate && r != 0 && isfinite(r) ? r : 1;
+}
+
+/* The phase error of one element at frequency f: the worse of P and S,
+ * each times its ratio sc[branch]. */
 static double element_phase(const table_cache *c, const dtm_dispersion *t, const dtm_elastic_moduli *m, double h,
-                            double f, double dt, double speed) {
+                            double f, double dt, double speed, const double sc[2]) {
   double cp = m->cd * speed, cs = sqrt(m->mu / m->rho) * speed, x = PI * f * dt;
   const curve *k = speed == 1 ? curve_find(c, t, x) : NULL;
   /* the lattice's own error at the scaled speed, then the speed's own factor */
-  double ep = worst(t, k, 0, 2 * PI * f * h / cp, x);
-  double es = m->form == DTM_FORM_BAR ? 0 : worst(t, k, 1, 2 * PI * f * h / cs, x);
+  double ep = sc[0] * worst(t, k, 0, 2 * PI * f * h / cp, x);
+  double es = m->form == DTM_FORM_BAR ? 0 : sc[1] * worst(t, k, 1, 2 * PI * f * h / cs, x);
   if (isnan(ep) || isnan(es)) return NAN;
   double e = fabs(es) > fabs(ep) ? es : ep;
   return (1 + e) * speed - 1;
@@ -268,7 +301,7 @@ static void element_sizes(const dtm_analysis *a, double *buf, const double **mea
 static void shear_speeds(const dtm_analysis *a, dtm_formulation f, double *cs) {
   for (int k = 0; k < dtm_analysis_scene(a)->nmaterials; k++) {
     dtm_elastic_moduli m;
-    cs[k] = moduli(a, k, f, &m) ? NAN : f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
+    cs[k] = dtm_acc_moduli(a, k, f, &m) ? NAN : f == DTM_FORM_BAR ? m.cd : sqrt(m.mu / m.rho);
   }
 }
 
@@ -298,10 +331,11 @@ static int default_frequency(const dtm_analysis *a, dtm_formulation f, const dou
 }
 
 /* One block's material slots: the moduli and table of each material the
- * block uses (NULL table: the material lacks E, nu or rho). */
+ * block uses (NULL table: the material lacks E, nu or rho, or no model
+ * applies to the block's type). */
 typedef struct {
   dtm_elastic_moduli m;    /* moduli in the formulation */
-  const dtm_dispersion *t; /* its lattice table, or NULL */
+  const dtm_dispersion *t; /* its table, or NULL */
 } slot;
 
 /* The tables of every material of block bl into s[nmat], and the curves
@@ -311,7 +345,6 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
                          const dtm_block *bl, size_t i0, table_cache *cache, slot *s) {
   int nmat = dtm_analysis_scene(a)->nmaterials;
   for (int k = 0; k < nmat; k++) s[k].t = NULL;
-  if (!dtm_dispersion_has_model(bl->type)) return DTM_OK; /* its elements are counted as not measured */
   char *seen = calloc((size_t)nmat + 1, 1);
   if (!seen) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int rc = DTM_OK, levels = 1;
@@ -320,7 +353,7 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
     if (sr->st && sr->st->level && sr->st->level[i0 + e] + 1 > levels) levels = sr->st->level[i0 + e] + 1;
     if (mt < 0 || seen[mt] || (bl->section && bl->section[e] >= 0)) continue;
     seen[mt] = 1;
-    if (!moduli(a, mt, f, &s[mt].m))
+    if (!dtm_acc_moduli(a, mt, f, &s[mt].m))
       rc = cache_get(cache, dtm_analysis_mesh(a), bl->type, mt, f == DTM_FORM_BAR ? 0 : s[mt].m.mu / s[mt].m.modulus,
                      &s[mt].t);
   }
@@ -333,45 +366,148 @@ static int prepare_block(const dtm_analysis *a, dtm_formulation f, double freq, 
   return rc;
 }
 
+/* Whether element e of block bl takes the measured table (slots s). */
+static int is_measured(const dtm_block *bl, size_t e, const slot *s) {
+  int mt = bl->mat[e];
+  return mt >= 0 && !(bl->section && bl->section[e] >= 0) && s[mt].t && s[mt].t->shape == DTM_LATTICE_MEASURED;
+}
+
+/* One pass of smooth_sizes: at each corner node the volume-weighted mean
+ * of its elements' values v (summed in one thread: a node's sum is shared
+ * by its elements), then at each element the mean over its nv corners (on
+ * the OpenMP threads). sum and w: [nnodes] work arrays. */
+static void smooth_pass(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, int nv, const slot *s, const double *meas,
+                        double *v, double *sum, double *w) {
+  const size_t nn = (size_t)bl->nn;
+  memset(sum, 0, mesh->nnodes * sizeof *sum), memset(w, 0, mesh->nnodes * sizeof *w);
+  for (size_t e = 0; e < bl->n; e++) {
+    if (!is_measured(bl, e, s)) continue;
+    double x = v[i0 + e], m = meas[i0 + e];
+    for (int j = 0; j < nv; j++) sum[bl->conn[e * nn + (size_t)j]] += m * x, w[bl->conn[e * nn + (size_t)j]] += m;
+  }
+  const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static)
+  for (long long e = 0; e < n; e++) {
+    if (!is_measured(bl, (size_t)e, s)) continue;
+    double x = 0;
+    for (int j = 0; j < nv; j++)
+      x += sum[bl->conn[(size_t)e * nn + (size_t)j]] / w[bl->conn[(size_t)e * nn + (size_t)j]];
+    v[i0 + (size_t)e] = x / nv;
+  }
+}
+
+/* The spacing at which each element of block bl under the measured table
+ * enters it, into hs: the root mean square of the mean edges of the
+ * elements around it, SMOOTH_PASSES rings deep, volume-weighted. The table
+ * gives a mesh's error at the root mean square of its mean edges; a wave
+ * crossing the mesh sees the elements within a fraction of its wavelength
+ * so, not one element alone. sum and w: [nnodes] work arrays. */
+static void smooth_sizes(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, const slot *s, const double *meas,
+                         const double *edge, double *hs, double *sum, double *w) {
+  int d, nv;
+  dtm_elem_info(dtm_elem_parent(bl->type), &d, &nv);
+  for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = edge[i0 + e] * edge[i0 + e];
+  for (int p = 0; p < SMOOTH_PASSES; p++) smooth_pass(mesh, bl, i0, nv, s, meas, hs, sum, w);
+  for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = sqrt(hs[i0 + e]);
+}
+
+/* Whether any slot of the block's materials takes the measured table. */
+static int any_measured(const slot *s, int nmat) {
+  for (int k = 0; k < nmat; k++)
+    if (s[k].t && s[k].t->shape == DTM_LATTICE_MEASURED) return 1;
+  return 0;
+}
+
+/* What phase_errors needs besides the analysis. */
+typedef struct {
+  dtm_formulation f;   /* the elastic formulation */
+  double freq;         /* Hz */
+  const step_rule *sr; /* the steps */
+  const double *meas;  /* [nel] element measures, m^d */
+  const double *edge;  /* [nel] mean edges, m */
+  double *hs;          /* [nel] the measured table's spacings (smooth_sizes), m */
+  double sc[2];        /* --calibrate's ratios of P and S (1: none) */
+  table_cache cache;   /* the tables and curves met */
+} phase_run;
+
+/* The errors of block bl into err (INFINITY where it does not apply,
+ * counted in *skip; NaN unresolved); the smallest shear wavelength over
+ * mean edge into *pwmin. The element loop runs on the OpenMP threads,
+ * reading the tables and curves prepared for it. */
+static void block_errors(const dtm_block *bl, size_t i0, const slot *s, phase_run *p, double *err, size_t *skip,
+                         double *pwmin) {
+  const long long n = (long long)bl->n;
+  size_t sk = 0;
+  double pw = INFINITY;
+#pragma omp parallel for schedule(static) reduction(+ : sk) reduction(min : pw)
+  for (long long e = 0; e < n; e++) {
+    size_t i = i0 + (size_t)e;
+    int mt = bl->mat[e];
+    err[i] = INFINITY; /* not applicable */
+    if (mt < 0 || (bl->section && bl->section[e] >= 0) || !s[mt].t) {
+      sk++;
+      continue;
+    }
+    const dtm_elastic_moduli *m = &s[mt].m;
+    double dt, speed,
+        h = s[mt].t->shape == DTM_LATTICE_MEASURED ? p->hs[i]
+                                                   : dtm_acc_spacing(s[mt].t, bl->dim, p->meas[i], p->edge[i]);
+    pw = fmin(pw, (p->f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (p->freq * p->edge[i]));
+    element_step(p->sr, i, m->rho * p->meas[i], &dt, &speed);
+    err[i] = isnan(dt) ? NAN : element_phase(&p->cache, s[mt].t, m, h, p->freq, dt, speed, p->sc);
+  }
+  *skip += sk, *pwmin = fmin(*pwmin, pw);
+}
+
 /* Per element phase errors into err[nel] (NaN: unresolved; the elements
  * it does not apply to are skipped and counted in *skipped); the smallest
- * shear wavelength over mean edge into *per_wave. The element loop runs
- * on the OpenMP threads, reading the tables and curves prepared for it. */
-static int phase_errors(const dtm_analysis *a, dtm_formulation f, double freq, const step_rule *sr, const double *meas,
-                        const double *edge, double *err, size_t *skipped, double *per_wave) {
+ * shear wavelength over mean edge into *per_wave; work: [2 nnodes]. */
+static int phase_errors(const dtm_analysis *a, phase_run *p, double *err, double *work, size_t *skipped,
+                        double *per_wave) {
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
-  table_cache cache = {0};
-  slot *s = malloc(((size_t)dtm_analysis_scene(a)->nmaterials + 1) * sizeof *s);
+  int nmat = dtm_analysis_scene(a)->nmaterials;
+  slot *s = malloc(((size_t)nmat + 1) * sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   size_t i0 = 0, skip = 0;
   double pwmin = INFINITY;
   int rc = DTM_OK;
   for (int b = 0; b < mesh->nblocks && !rc; i0 += mesh->blocks[b++].n) {
     const dtm_block *bl = &mesh->blocks[b];
-    rc = prepare_block(a, f, freq, sr, bl, i0, &cache, s);
+    rc = prepare_block(a, p->f, p->freq, p->sr, bl, i0, &p->cache, s);
     if (rc) break;
-    const long long n = (long long)bl->n;
-#pragma omp parallel for schedule(static) reduction(+ : skip) reduction(min : pwmin)
-    for (long long e = 0; e < n; e++) {
-      size_t i = i0 + (size_t)e;
-      int mt = bl->mat[e];
-      err[i] = INFINITY; /* not applicable */
-      if (mt < 0 || (bl->section && bl->section[e] >= 0) || !s[mt].t) {
-        skip++;
-        continue;
-      }
-      const dtm_elastic_moduli *m = &s[mt].m;
-      double dt, speed, h = lattice_h(bl->type, bl->dim, meas[i]);
-      pwmin = fmin(pwmin, (f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (freq * edge[i]));
-      element_step(sr, i, m->rho * meas[i], &dt, &speed);
-      err[i] = isnan(dt) ? NAN : element_phase(&cache, s[mt].t, m, h, freq, dt, speed);
-    }
+    if (any_measured(s, nmat)) smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
+    block_errors(bl, i0, s, p, err, &skip, &pwmin);
   }
   *skipped = skip;
   *per_wave = isfinite(pwmin) ? pwmin : NAN;
-  cache_free(&cache);
   free(s);
   return rc;
+}
+
+/* The wave (branch), direction and model of the worst element's error. */
+static int describe_worst(const dtm_analysis *a, phase_run *p, dtm_measure *m) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  size_t i0 = 0, i = m->worst_element;
+  int b = 0;
+  while (i >= i0 + mesh->blocks[b].n) i0 += mesh->blocks[b++].n;
+  const dtm_block *bl = &mesh->blocks[b];
+  int mt = bl->mat[i - i0];
+  dtm_elastic_moduli mod;
+  const dtm_dispersion *t;
+  if (dtm_acc_moduli(a, mt, p->f, &mod)) return DTM_OK;
+  DTM_CHECK(cache_get(&p->cache, mesh, bl->type, mt, p->f == DTM_FORM_BAR ? 0 : mod.mu / mod.modulus, &t));
+  double dt, speed, e[2] = {0, 0};
+  double h = t->shape == DTM_LATTICE_MEASURED ? p->hs[i] : dtm_acc_spacing(t, bl->dim, p->meas[i], p->edge[i]);
+  int dir[2] = {0, 0};
+  element_step(p->sr, i, mod.rho * p->meas[i], &dt, &speed);
+  for (int w = 0; w < (p->f == DTM_FORM_BAR ? 1 : 2); w++) {
+    double c = (w ? sqrt(mod.mu / mod.rho) : mod.cd) * speed;
+    e[w] = p->sc[w] * dtm_dispersion_worst_dir(t, w, 2 * PI * p->freq * h / c, PI * p->freq * dt, &dir[w]);
+  }
+  m->wave = fabs(e[1]) > fabs(e[0]);
+  memcpy(m->direction, t->dir[dir[m->wave]], sizeof m->direction);
+  m->model = t->shape;
+  return DTM_OK;
 }
 
 /* Worst (largest magnitude, signed), median of |err| and counts. */
@@ -412,39 +548,67 @@ static void no_model_note(const dtm_analysis *a, char *note, size_t len) {
            n, sec, type, n - sec - type);
 }
 
+/* What verify --accuracy's reports said of the prediction (--verified), into the note at len. */
+static void verified_note(const dtm_scene *s, dtm_measure *m, size_t len) {
+  static const char *const names[2] = {"P", "S"};
+  for (int b = 0; b < 2; b++) {
+    double r = s->phase_ratio[b];
+    if (r == 0 || !isfinite(r)) continue;
+    len += (size_t)snprintf(m->note + len, sizeof m->note - len,
+                            "%sverify --accuracy measured %.3g x the predicted %s error (%s)%s", len ? "; " : "", r,
+                            names[b], fabs(r - 1) <= 0.2 ? "agrees" : "DISAGREES",
+                            s->phase_calibrate ? ", applied (--calibrate)" : ", not applied (--calibrate applies it)");
+    if (len >= sizeof m->note) return;
+  }
+}
+
+/* The note of a phase measure: the default frequency, what was not measured, verify's word. */
+static void phase_note(const dtm_analysis *a, size_t skipped, dtm_measure *m) {
+  size_t len;
+  if (m->f_default)
+    snprintf(m->note, sizeof m->note,
+             "no <time f-max>: at the mesh's default %.4g Hz (at least %g cells per shear wavelength in "
+             "every element)",
+             m->f, dtm_analysis_scene(a)->elements_per_wavelength);
+  len = strlen(m->note);
+  if (skipped)
+    snprintf(m->note + len, sizeof m->note - len,
+             "%s%zu elements not measured (a section, no E/nu/rho, or a type without a dispersion model)",
+             len ? "; " : "", skipped);
+  verified_note(dtm_analysis_scene(a), m, strlen(m->note));
+}
+
 static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_measure_step *st, dtm_measures *ms) {
-  dtm_formulation f = formulation_of(a, k);
   dtm_measure m = {.kind = DTM_MEASURE_PHASE,
                    .effect = k,
                    .group = -1,
                    .band_lo = -DTM_BAND_PHASE,
                    .band_hi = DTM_BAND_PHASE,
-                   .f = freq};
-  size_t n = dtm_analysis_nelements(a), skipped;
+                   .f = freq,
+                   .wave = -1,
+                   .model = -1};
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  size_t n = dtm_analysis_nelements(a), skipped, nw = 2 * mesh->nnodes;
   int kept = dtm_analysis_measure(a) && dtm_analysis_size(a); /* else gathered after err and its scratch */
-  double *err = malloc(((kept ? 2 : 4) * n + 1) * sizeof *err);
-  const double *meas, *edge;
+  double *err = malloc(((kept ? 3 : 5) * n + nw + 1) * sizeof *err);
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  element_sizes(a, err + 2 * n, &meas, &edge);
+  step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
+  phase_run p = {.f = dtm_acc_formulation(a, k), .sr = &sr, .sc = {branch_scale(a, 0), branch_scale(a, 1)}};
+  p.hs = err + 2 * n + nw;
+  element_sizes(a, err + 3 * n + nw, &p.meas, &p.edge);
   int rc = DTM_OK;
   if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
-  if (!(m.f > 0)) rc = default_frequency(a, f, meas, &m.f), m.f_default = 1;
-  step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
+  if (!(m.f > 0)) rc = default_frequency(a, p.f, p.meas, &m.f), m.f_default = 1;
+  p.freq = m.f;
   m.per_wavelength = NAN;
-  if (!rc) rc = phase_errors(a, f, m.f, &sr, meas, edge, err, &skipped, &m.per_wavelength);
+  if (!rc) rc = phase_errors(a, &p, err, err + 2 * n, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err + n, &m);
+  if (!rc && isfinite(m.worst) && m.elements) rc = describe_worst(a, &p, &m);
+  cache_free(&p.cache);
   free(err);
   if (rc) return rc;
   if (m.f_default && !isfinite(m.f)) return no_model_note(a, m.note, sizeof m.note), push(ms, &m);
-  if (m.f_default)
-    snprintf(m.note, sizeof m.note,
-             "no <time f-max>: at the mesh's default %.4g Hz (at least %g cells per shear wavelength in "
-             "every element)",
-             m.f, dtm_analysis_scene(a)->elements_per_wavelength);
-  if (skipped)
-    snprintf(m.note + strlen(m.note), sizeof m.note - strlen(m.note),
-             "%s%zu elements not measured (a section, no E/nu/rho, or a type without a dispersion model)",
-             m.note[0] ? "; " : "", skipped);
+  phase_note(a, skipped, &m);
   return push(ms, &m);
 }
 
@@ -554,90 +718,4 @@ const char *dtm_measure_name(int kind) {
   return kind == DTM_MEASURE_PHASE  ? "phase-speed error"
          : kind == DTM_MEASURE_ZONE ? "elements per cohesive zone"
                                     : "elements across sqrt(D t)";
-}
-
-/* One element's fully discrete error of branch mode along n at frequency f
- * and step dt (its lattice at its own spacing); NaN when unresolved. */
-static double element_along(int type, const dtm_elastic_moduli *m, double h, double f, double dt, const double n[3],
-                            const double *pol, int mode) {
-  double c = mode ? sqrt(m->mu / m->rho) : m->cd, kh = 2 * PI * f * h / c, err[2], r = m->mu / m->modulus;
-  if (m->form == DTM_FORM_BAR) r = 0;
-  if (!(kh <= PI)) return NAN;
-  int shape = DTM_LATTICE_REGULAR;
-  if (pol && m->form != DTM_FORM_BAR ? dtm_dispersion_polarised(type, shape, r, kh, n, pol, mode, &err[mode])
-                                     : dtm_dispersion_space(type, shape, r, kh, n, err))
-    return NAN;
-  return dtm_dispersion_time(err[mode], (1 + err[mode]) * PI * f * dt);
-}
-
-/* The plane wave's own-shape sums: dynamic matrix and mass. */
-typedef struct {
-  double D[9], mass; /* sum of the elements' dynamic matrices (N/m) and masses (kg) */
-  int d;             /* their dimension */
-} wave_sum;
-
-/* The fully discrete error of branch mode from a dynamic matrix D over
- * mass, along pol (else n for P, the worse transverse branch for S). */
-static double own_error(int d, const double *D, double mass, const dtm_elastic_moduli *m, double f, double dt,
-                        const double n[3], const double *pol, int mode) {
-  double c = mode ? sqrt(m->mu / m->rho) : m->cd, k = 2 * PI * f / c, A[9], w[3], e[3] = {0};
-  for (int i = 0; i < 9; i++) A[i] = D[i] / mass;
-  dtm_dispersion_branches(d, A, pol ? pol : n, w);
-  for (int i = 0; i < d; i++) e[i] = sqrt(fmax(w[i], 0)) / (c * k) - 1;
-  double space = pol || !mode ? e[0] : d == 3 && fabs(e[2]) > fabs(e[1]) ? e[2] : e[1];
-  return dtm_dispersion_time(space, (1 + space) * PI * f * dt);
-}
-
-/* One own-shape element into the sums; its own error into *err (NaN when
- * unresolved: fewer than 2 lattice cells per wavelength). */
-static void own_along(const dtm_mesh *mesh, const dtm_block *bl, size_t e, double meas, const dtm_elastic_moduli *m,
-                      double f, double dt, const double n[3], const double *pol, int mode, wave_sum *ws, double *err) {
-  double x[3 * DTM_MAX_NODES], D[9], c = mode ? sqrt(m->mu / m->rho) : m->cd, k = 2 * PI * f / c;
-  double kv[3] = {k * n[0], k * n[1], k * n[2]};
-  dtm_mesh_gather_one(mesh, bl, e, x);
-  *err = NAN;
-  if (!(k * lattice_h(bl->type, bl->dim, meas) <= PI)) return;
-  if (dtm_dispersion_element(bl->type, x, m->modulus - 2 * m->mu, m->mu, kv, D)) return;
-  ws->d = bl->dim, ws->mass += m->rho * meas;
-  for (int i = 0; i < 9; i++) ws->D[i] += D[i];
-  *err = own_error(bl->dim, D, m->rho * meas, m, f, dt, n, pol, mode);
-}
-
-int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3], const double pol[3],
-                             int mode, int mat, dtm_phase_along *out) {
-  const dtm_mesh *mesh = dtm_analysis_mesh(a);
-  int k = 0;
-  while (k < dtm_analysis_neffects(a) && strcmp(dtm_analysis_effect(a, k)->name, "elastic")) k++;
-  if (k == dtm_analysis_neffects(a)) return DTM_ERR(DTM_ERR_INPUT, "phase error: the scene has no elastic effect");
-  if (!(f > 0) || !(dt > 0) || (mode != 0 && mode != 1))
-    return DTM_ERR(DTM_ERR_INPUT, "phase error: f = %g Hz, dt = %g s, branch %d", f, dt, mode);
-  dtm_formulation form = formulation_of(a, k);
-  memset(out, 0, sizeof *out);
-  double wsum = 0, sum = 0;
-  wave_sum ws = {{0}, 0, 0};
-  dtm_elastic_moduli m, mown;
-  out->worst = 0;
-  for (int b = 0; b < mesh->nblocks; b++)
-    for (size_t e = 0; e < mesh->blocks[b].n; e++) {
-      const dtm_block *bl = &mesh->blocks[b];
-      if (bl->mat[e] < 0 || (mat >= 0 && bl->mat[e] != mat) || (bl->section && bl->section[e] >= 0) ||
-          !dtm_dispersion_has_model(bl->type) || moduli(a, bl->mat[e], form, &m))
-        continue;
-      out->speed = mode ? sqrt(m.mu / m.rho) : m.cd;
-      double meas = element_measure(mesh, bl, e, NULL), w = m.rho * meas, err;
-      int own = dtm_dispersion_has_shapes(bl->type) && form != DTM_FORM_BAR;
-      if (own)
-        own_along(mesh, bl, e, meas, &m, f, dt, n, pol, mode, &ws, &err), mown = m;
-      else
-        err = element_along(bl->type, &m, lattice_h(bl->type, bl->dim, meas), f, dt, n, pol, mode);
-      if (isnan(err)) out->unresolved++;
-      if (isnan(err)) continue;
-      out->elements++;
-      if (!own || mat < 0) wsum += w, sum += w * err; /* one material's own shapes are summed below */
-      if (fabs(err) > fabs(out->worst)) out->worst = err;
-    }
-  if (ws.mass > 0 && mat >= 0) /* one material's own-shape elements as one: the wave's Rayleigh quotient */
-    sum += ws.mass * own_error(ws.d, ws.D, ws.mass, &mown, f, dt, n, pol, mode), wsum += ws.mass;
-  out->mean = wsum > 0 && !out->unresolved ? sum / wsum : NAN;
-  return DTM_OK;
 }

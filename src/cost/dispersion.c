@@ -14,6 +14,7 @@
  * sin(omega dt / 2) = omega_h dt / 2 (dtm_dispersion_time). */
 #include <complex.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "dtmap/cost.h"
@@ -23,28 +24,15 @@
 
 #define PI 3.14159265358979323846
 
-#define MAX_EL 6  /* elements per cell (tet: six) */
-#define MAX_CLS 8 /* node classes per cell (tet10: a vertex and seven edges) */
-#define MAX_N 24  /* unknowns per cell: MAX_CLS x 3 */
-#define MAX_R 48  /* the real symmetric form: twice that */
-#define ELDOF 30  /* unknowns of one element (tet10) */
+#define MAX_N (DTM_DISP_MAX_CLS * 3) /* unknowns per cell */
+#define MAX_R (2 * MAX_N)            /* the real symmetric form: twice that */
 
-typedef struct {
-  int type, d, nel, nn, ncls;         /* element type, dimension, elements, nodes each, classes */
-  double x[MAX_EL][ELDOF];            /* node coordinates [nel][nn][3] in cell units */
-  int cls[MAX_EL][10];                /* node class of each element node */
-  int shift[MAX_EL][10][3];           /* the cell each node lies in */
-  double pos[MAX_CLS][3];             /* class position in the cell */
-  double cell[3][3];                  /* physical = cell x fractional */
-  double mass[MAX_CLS];               /* lumped mass per class (density 1) */
-  double klam[MAX_EL][ELDOF * ELDOF]; /* element stiffness from lam = 1, mu = 0 */
-  double kmu[MAX_EL][ELDOF * ELDOF];  /* from lam = 0, mu = 1 */
-} lattice;
+typedef dtm_disp_lattice lattice;
 
 /* Vertices of the patch elements, in cell units (Gmsh node order). */
-static int patch_vertices(int type, double v[MAX_EL][4][3]) {
+static int patch_vertices(int type, double v[DTM_DISP_MAX_EL][4][3]) {
   static const int perm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  memset(v, 0, sizeof(double) * MAX_EL * 12);
+  memset(v, 0, sizeof(double) * DTM_DISP_MAX_EL * 12);
   switch (type) {
   case DTM_LINE2: v[0][1][0] = 1; return 1;
   case DTM_QUAD4: v[0][1][0] = v[0][2][0] = v[0][2][1] = v[0][3][1] = 1; return 1;
@@ -90,17 +78,16 @@ static int midside_pairs(int type, int nv, int nn, int pair[10][2]) {
   return 0;
 }
 
-/* Coordinates of element e of the patch into L->x[e]. */
-static int element_nodes(lattice *L, double v[MAX_EL][4][3], int e) {
-  double *x = L->x[e];
-  if (L->type == DTM_HEX8) return hex_cell(x), 0;
-  int nv = L->d + 1 + (L->type == DTM_QUAD4);
+/* Nodes of element e of the patch in cell units into x[nn][3]. */
+static int element_nodes(int type, int d, int nn, double v[DTM_DISP_MAX_EL][4][3], int e, double *x) {
+  if (type == DTM_HEX8) return hex_cell(x), 0;
+  int nv = d + 1 + (type == DTM_QUAD4);
   for (int a = 0; a < nv; a++)
     for (int c = 0; c < 3; c++) x[3 * a + c] = v[e][a][c];
-  if (L->nn == nv) return 0;
+  if (nn == nv) return 0;
   int pair[10][2];
-  if (midside_pairs(L->type, nv, L->nn, pair)) return -1;
-  for (int m = nv; m < L->nn; m++)
+  if (midside_pairs(type, nv, nn, pair)) return -1;
+  for (int m = nv; m < nn; m++)
     for (int c = 0; c < 3; c++) x[3 * m + c] = 0.5 * (x[3 * pair[m][0] + c] + x[3 * pair[m][1] + c]);
   return 0;
 }
@@ -111,7 +98,7 @@ static int node_class(lattice *L, const double *p, int shift[3]) {
   for (int c = 0; c < 3; c++) shift[c] = (int)floor(p[c] + 1e-9), q[c] = p[c] - shift[c];
   for (int k = 0; k < L->ncls; k++)
     if (fabs(q[0] - L->pos[k][0]) + fabs(q[1] - L->pos[k][1]) + fabs(q[2] - L->pos[k][2]) < 1e-9) return k;
-  if (L->ncls == MAX_CLS) return -1;
+  if (L->ncls == DTM_DISP_MAX_CLS) return -1;
   memcpy(L->pos[L->ncls], q, sizeof q);
   L->mass[L->ncls] = 0;
   return L->ncls++;
@@ -155,47 +142,59 @@ void dtm_disp_stiffness(int type, int d, int nn, const double *x, double lam, do
  * 1/sqrt 3; in 3D a = 1/2 gives six congruent tetrahedra with edges in the
  * ratio sqrt 3 / 2 : 1, the body-centred cubic tiling), scaled back to a
  * cell of volume 1. */
-static void lattice_cell(int type, int shape, int d, lattice *L) {
+static void lattice_cell(int type, int shape, int d, double cell[3][3]) {
   double a = 0;
   if (shape == DTM_LATTICE_REGULAR && d > 1 && dtm_elem_is_simplex(dtm_elem_parent(type)))
     a = d == 2 ? 1 - 1 / sqrt(3.0) : 0.5;
   double sc = pow(1 - a, -1.0 / d);
   for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) L->cell[i][j] = i < d && j < d ? sc * ((i == j) - a / d) : (i == j);
+    for (int j = 0; j < 3; j++) cell[i][j] = i < d && j < d ? sc * ((i == j) - a / d) : (i == j);
 }
 
-/* Node a of element e from cell units into space (classes stay in cell units). */
-static void to_space(lattice *L, int e, int a) {
-  double q[3] = {0};
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) q[i] += L->cell[i][j] * L->x[e][3 * a + j];
-  memcpy(L->x[e] + 3 * a, q, sizeof q);
-}
-
-/* The patch of type: elements, node classes, masses, stiffness parts. */
-static int lattice_build(int type, int shape, lattice *L) {
-  double v[MAX_EL][4][3];
+int dtm_disp_lattice_begin(lattice *L, int type, const double cell[3][3]) {
   memset(L, 0, sizeof *L);
   L->type = type;
-  L->nel = type == DTM_HEX8 ? 1 : patch_vertices(type, v);
-  if (!L->nel || dtm_elem_info(type, &L->d, &L->nn) || L->nn > 10)
+  if (dtm_elem_info(type, &L->d, &L->nn) || L->nn > DTM_DISP_MAX_NN || L->nn * L->d > DTM_DISP_ELDOF)
+    return DTM_ERR(DTM_ERR_INPUT, "no dispersion model for %s elements", dtm_elem_name(type));
+  memcpy(L->cell, cell, sizeof L->cell);
+  return DTM_OK;
+}
+
+int dtm_disp_lattice_add(lattice *L, const double *f) {
+  int e = L->nel;
+  if (e == DTM_DISP_MAX_EL) return DTM_ERR(DTM_ERR_INPUT, "a cell of more than %d elements", DTM_DISP_MAX_EL);
+  for (int a = 0; a < L->nn; a++) {
+    int c = L->cls[e][a] = node_class(L, f + 3 * a, L->shift[e][a]);
+    if (c < 0) return DTM_ERR(DTM_ERR_INPUT, "a cell of more than %d node classes", DTM_DISP_MAX_CLS);
+    for (int i = 0; i < 3; i++) {
+      L->x[e][3 * a + i] = 0;
+      for (int j = 0; j < 3; j++) L->x[e][3 * a + i] += L->cell[i][j] * f[3 * a + j];
+    }
+  }
+  double w[DTM_K_NODES], meas = fabs(dtm_elem_measure(L->type, L->x[e]));
+  dtm_elem_lumped_weights(L->type, L->x[e], w);
+  for (int a = 0; a < L->nn; a++) L->mass[L->cls[e][a]] += w[a] * meas;
+  dtm_disp_stiffness(L->type, L->d, L->nn, L->x[e], 1, 0, L->klam[e]);
+  dtm_disp_stiffness(L->type, L->d, L->nn, L->x[e], 0, 1, L->kmu[e]);
+  L->nel++;
+  return DTM_OK;
+}
+
+/* The patch of type on lattice shape: elements, node classes, masses, stiffness parts. */
+static int lattice_build(int type, int shape, lattice *L) {
+  double v[DTM_DISP_MAX_EL][4][3], cell[3][3], f[3 * DTM_DISP_MAX_NN];
+  int d, nn, nel = type == DTM_HEX8 ? 1 : patch_vertices(type, v);
+  if (!nel || dtm_elem_info(type, &d, &nn) || nn > 10)
     return DTM_ERR(DTM_ERR_INPUT, "no dispersion model for %s elements (bar, tri3, tri6, quad4, tet4, tet10, hex8)",
                    dtm_elem_name(type));
   if (shape != DTM_LATTICE_CUBE && shape != DTM_LATTICE_REGULAR)
     return DTM_ERR(DTM_ERR_INPUT, "dispersion: no lattice %d", shape);
-  lattice_cell(type, shape, L->d, L);
-  for (int e = 0; e < L->nel; e++) {
-    if (element_nodes(L, v, e)) return DTM_ERR(DTM_ERR_INTERNAL, "%s: no mid-edge layout", dtm_elem_name(type));
-    for (int a = 0; a < L->nn; a++) {
-      int c = L->cls[e][a] = node_class(L, L->x[e] + 3 * a, L->shift[e][a]);
-      if (c < 0) return DTM_ERR(DTM_ERR_INTERNAL, "%s: too many node classes", dtm_elem_name(type));
-      to_space(L, e, a);
-    }
-    double w[DTM_K_NODES], meas = fabs(dtm_elem_measure(type, L->x[e]));
-    dtm_elem_lumped_weights(type, L->x[e], w);
-    for (int a = 0; a < L->nn; a++) L->mass[L->cls[e][a]] += w[a] * meas;
-    dtm_disp_stiffness(type, L->d, L->nn, L->x[e], 1, 0, L->klam[e]);
-    dtm_disp_stiffness(type, L->d, L->nn, L->x[e], 0, 1, L->kmu[e]);
+  lattice_cell(type, shape, d, cell);
+  DTM_CHECK(dtm_disp_lattice_begin(L, type, cell));
+  for (int e = 0; e < nel; e++) {
+    if (element_nodes(type, d, nn, v, e, f))
+      return DTM_ERR(DTM_ERR_INTERNAL, "%s: no mid-edge layout", dtm_elem_name(type));
+    DTM_CHECK(dtm_disp_lattice_add(L, f));
   }
   return DTM_OK;
 }
@@ -321,30 +320,79 @@ static int bloch_eigen(const lattice *L, double r, double kh, const double *n, d
   return R;
 }
 
-static int space_errors(const lattice *L, double r, double kh, const double *n, double err[2]) {
+/* The index of the largest of v[R] not yet taken (taken[m] set when chosen). */
+static int take_largest(const double *v, int R, char *taken) {
+  int best = -1;
+  for (int m = 0; m < R; m++)
+    if (!taken[m] && (best < 0 || v[m] > v[best])) best = m;
+  taken[best] = 1;
+  return best;
+}
+
+/* The worse error of the transverse branches: the d - 1 eigenpairs (each
+ * twice in the real form) that overlap most with the plane across n, once
+ * the P branch's pair is set aside (so that two transverse branches whose
+ * eigenvectors lie between the fixed transverse vectors are both found). */
+static double shear_worst(const lattice *L, const double *A, const double *V, int R, double kh, const double *n,
+                          double r) {
+  double t[2][3], along[MAX_R] = {0}, across[MAX_R] = {0}, worst = 0;
+  char taken[MAX_R] = {0};
   int np;
-  double A[MAX_R * MAX_R], V[MAX_R * MAX_R], t[2][3];
+  transverse(L->d, n, t, &np);
+  for (int m = 0; m < R; m++) {
+    along[m] = overlap(L, V, R, m, kh, n, n), across[m] = 0;
+    for (int p = 0; p < np; p++) across[m] += overlap(L, V, R, m, kh, n, t[p]);
+  }
+  take_largest(along, R, taken), take_largest(along, R, taken);
+  for (int k = 0; k < 2 * np; k++) {
+    int m = take_largest(across, R, taken);
+    double e = sqrt(fmax(A[m * R + m], 0)) / (sqrt(r) * kh) - 1;
+    if (k == 0 || fabs(e) > fabs(worst)) worst = e;
+  }
+  return worst;
+}
+
+static int space_errors(const lattice *L, double r, double kh, const double *n, double err[2]) {
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
   int R = bloch_eigen(L, r, kh, n, A, V);
   err[0] = branch(L, A, V, R, kh, n, n) / kh - 1;
-  err[1] = 0;
-  transverse(L->d, n, t, &np);
-  for (int p = 0; p < np && r > 0; p++) {
-    double e = branch(L, A, V, R, kh, n, t[p]) / (sqrt(r) * kh) - 1;
-    if (p == 0 || fabs(e) > fabs(err[1])) err[1] = e;
-  }
+  err[1] = r > 0 ? shear_worst(L, A, V, R, kh, n, r) : 0;
+  return DTM_OK;
+}
+
+int dtm_disp_lattice_polarised(const lattice *L, double r, double kh, const double n[3], const double pol[3], int mode,
+                               double *err) {
+  if (!(r >= 0 && r < 0.75) || !(kh > 0) || (mode == 1 && !(r > 0)) || (mode != 0 && mode != 1))
+    return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g, branch %d", r, kh, mode);
+  double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
+  int R = bloch_eigen(L, r, kh, n, A, V);
+  *err = branch(L, A, V, R, kh, n, pol) / ((mode ? sqrt(r) : 1) * kh) - 1;
+  return DTM_OK;
+}
+
+/* The patch of type on lattice shape, allocated (*out owned by the caller). */
+static int lattice_new(int type, int shape, lattice **out) {
+  lattice *L = malloc(sizeof *L);
+  if (!L) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int rc = lattice_build(type, shape, L);
+  if (rc) return free(L), rc;
+  *out = L;
   return DTM_OK;
 }
 
 int dtm_dispersion_polarised(int type, int shape, double r, double kh, const double n[3], const double pol[3], int mode,
                              double *err) {
-  lattice L;
-  if (!(r >= 0 && r < 0.75) || !(kh > 0) || (mode == 1 && !(r > 0)) || (mode != 0 && mode != 1))
-    return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g, branch %d", r, kh, mode);
-  DTM_CHECK(lattice_build(type, shape, &L));
-  double A[MAX_R * MAX_R], V[MAX_R * MAX_R];
-  int R = bloch_eigen(&L, r, kh, n, A, V);
-  *err = branch(&L, A, V, R, kh, n, pol) / ((mode ? sqrt(r) : 1) * kh) - 1;
-  return DTM_OK;
+  lattice *L;
+  DTM_CHECK(lattice_new(type, shape, &L));
+  int rc = dtm_disp_lattice_polarised(L, r, kh, n, pol, mode, err);
+  free(L);
+  return rc;
+}
+
+const char *dtm_dispersion_model_name(int shape) {
+  static const char *const names[] = {"cube lattice", "regular lattice", "own shapes", "structured lattice",
+                                      "measured"};
+  return shape >= 0 && shape <= DTM_LATTICE_MEASURED ? names[shape] : "none";
 }
 
 int dtm_dispersion_has_model(int type) {
@@ -353,10 +401,12 @@ int dtm_dispersion_has_model(int type) {
 }
 
 int dtm_dispersion_space(int type, int shape, double r, double kh, const double n[3], double err[2]) {
-  lattice L;
+  lattice *L;
   if (!(r >= 0 && r < 0.75) || !(kh > 0)) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g", r, kh);
-  DTM_CHECK(lattice_build(type, shape, &L));
-  return space_errors(&L, r, kh, n, err);
+  DTM_CHECK(lattice_new(type, shape, &L));
+  int rc = space_errors(L, r, kh, n, err);
+  free(L);
+  return rc;
 }
 
 double dtm_dispersion_time(double space, double x) {
@@ -392,19 +442,26 @@ int dtm_disp_directions(int d, double n[DTM_DISP_DIRS][3]) {
   return m;
 }
 
-int dtm_dispersion_table(int type, int shape, double r, dtm_dispersion *t) {
-  lattice L;
-  DTM_CHECK(lattice_build(type, shape, &L));
-  t->type = type, t->r = r, t->shape = shape, t->samples = 0;
-  t->ndir = dtm_disp_directions(L.d, t->dir);
+int dtm_disp_lattice_table(const lattice *L, double r, dtm_dispersion *t) {
+  t->type = L->type, t->r = r, t->samples = 0, t->per_cell = L->nel;
+  t->ndir = dtm_disp_directions(L->d, t->dir);
   for (int j = 0; j < DTM_DISP_KH; j++) {
     double kh = PI * (j + 1) / DTM_DISP_KH, err[2];
     for (int i = 0; i < t->ndir; i++) {
-      DTM_CHECK(space_errors(&L, r, kh, t->dir[i], err));
+      DTM_CHECK(space_errors(L, r, kh, t->dir[i], err));
       t->g[0][i][j] = err[0] / (kh * kh), t->g[1][i][j] = err[1] / (kh * kh);
     }
   }
   return DTM_OK;
+}
+
+int dtm_dispersion_table(int type, int shape, double r, dtm_dispersion *t) {
+  lattice *L;
+  DTM_CHECK(lattice_new(type, shape, &L));
+  int rc = dtm_disp_lattice_table(L, r, t);
+  t->shape = shape, t->per_cell = dtm_dispersion_cell_elements(type);
+  free(L);
+  return rc;
 }
 
 /* err / (k h)^2 of branch mode in direction i at kh, linear between the
@@ -418,14 +475,32 @@ static double g_at(const dtm_dispersion *t, int mode, int i, double kh) {
   return (1 - f) * t->g[mode][i][j] + f * t->g[mode][i][j + 1];
 }
 
-double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x) {
+double dtm_dispersion_at(const dtm_dispersion *t, int mode, int dir, double kh) {
+  if (!(kh <= PI) || dir < 0 || dir >= t->ndir) return NAN;
+  return g_at(t, mode, dir, kh) * kh * kh;
+}
+
+int dtm_disp_lattice_space(const lattice *L, double r, double kh, const double n[3], double err[2]) {
+  if (!(r >= 0 && r < 0.75) || !(kh > 0)) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, k h = %g", r, kh);
+  return space_errors(L, r, kh, n, err);
+}
+
+double dtm_dispersion_worst_dir(const dtm_dispersion *t, int mode, double kh, double x, int *dir) {
+  if (dir) *dir = 0;
   if (!(kh <= PI)) return NAN;
   double worst = 0;
   for (int i = 0; i < t->ndir; i++) {
     double s = g_at(t, mode, i, kh) * kh * kh;
     double e = dtm_dispersion_time(s, x * (1 + s));
     if (isnan(e)) return NAN;
-    if (fabs(e) > fabs(worst)) worst = e;
+    if (fabs(e) > fabs(worst)) {
+      worst = e;
+      if (dir) *dir = i;
+    }
   }
   return worst;
+}
+
+double dtm_dispersion_worst(const dtm_dispersion *t, int mode, double kh, double x) {
+  return dtm_dispersion_worst_dir(t, mode, kh, x, NULL);
 }

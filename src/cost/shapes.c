@@ -61,10 +61,15 @@ static void add_dynamic(int d, int nn, const double *K, const double *x, const d
     }
 }
 
+/* Whether type's nodes are all corners (at most MAX_NN): its plane-wave sums are defined. */
+static int corners_only(int type, int *d, int *nn) {
+  return !dtm_elem_info(type, d, nn) && dtm_elem_parent(type) == type && *nn <= MAX_NN && *d >= 2;
+}
+
 int dtm_dispersion_element(int type, const double *x, double lam, double mu, const double k[3], double D[9]) {
   int d, nn;
-  if (!dtm_dispersion_has_shapes(type) || dtm_elem_info(type, &d, &nn))
-    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, hex8)", dtm_elem_name(type));
+  if (!corners_only(type, &d, &nn))
+    return DTM_ERR(DTM_ERR_INPUT, "no plane-wave dispersion for %s elements (first-order types)", dtm_elem_name(type));
   double K[MAX_NN * 3 * MAX_NN * 3];
   dtm_disp_stiffness(type, d, nn, x, lam, mu, K);
   memset(D, 0, 9 * sizeof *D);
@@ -117,20 +122,21 @@ static void table_errors(dtm_dispersion *t, int d, const double *S, double m) {
     }
 }
 
-int dtm_dispersion_table_shapes(int type, double r, const double *x, size_t n, dtm_dispersion *t) {
+int dtm_disp_table_weighted(int type, double r, const double *x, const double *w, size_t n, dtm_dispersion *t) {
   int d, nn;
-  if (!dtm_dispersion_has_shapes(type) || dtm_elem_info(type, &d, &nn))
-    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, hex8)", dtm_elem_name(type));
+  if (!corners_only(type, &d, &nn))
+    return DTM_ERR(DTM_ERR_INPUT, "no plane-wave dispersion for %s elements (first-order types)", dtm_elem_name(type));
   if (!(r >= 0 && r < 0.75) || !n) return DTM_ERR(DTM_ERR_INPUT, "dispersion: mu/M = %g, %zu elements", r, n);
   memset(t, 0, sizeof *t);
   t->type = type, t->r = r, t->shape = DTM_LATTICE_OWN, t->ndir = dtm_disp_directions(d, t->dir);
+  t->per_cell = dtm_dispersion_cell_elements(type);
   double *S = calloc((size_t)t->ndir * DTM_DISP_KH * 9, sizeof *S), m = 0;
   if (!S) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t e = 0; e < n; e++) {
-    double y[3 * MAX_NN], K[MAX_NN * 3 * MAX_NN * 3];
+    double y[3 * MAX_NN], K[MAX_NN * 3 * MAX_NN * 3], we = w ? w[e] : 1;
     if (!scaled(type, d, nn, x + (size_t)e * nn * 3, y)) continue;
-    dtm_disp_stiffness(type, d, nn, y, 1 - 2 * r, r, K);
-    m += fabs(dtm_elem_measure(type, y)), t->samples++;
+    dtm_disp_stiffness(type, d, nn, y, we * (1 - 2 * r), we * r, K);
+    m += we * fabs(dtm_elem_measure(type, y)), t->samples++;
     for (int i = 0; i < t->ndir; i++)
       for (int j = 0; j < DTM_DISP_KH; j++) {
         double kh = PI * (j + 1) / DTM_DISP_KH, k[3] = {kh * t->dir[i][0], kh * t->dir[i][1], kh * t->dir[i][2]};
@@ -140,4 +146,10 @@ int dtm_dispersion_table_shapes(int type, double r, const double *x, size_t n, d
   if (t->samples) table_errors(t, d, S, m);
   free(S);
   return t->samples ? DTM_OK : DTM_ERR(DTM_ERR_INPUT, "dispersion: no %s element with a measure", dtm_elem_name(type));
+}
+
+int dtm_dispersion_table_shapes(int type, double r, const double *x, size_t n, dtm_dispersion *t) {
+  if (!dtm_dispersion_has_shapes(type))
+    return DTM_ERR(DTM_ERR_INPUT, "no own-shape dispersion for %s elements (tri3, quad4, hex8)", dtm_elem_name(type));
+  return dtm_disp_table_weighted(type, r, x, NULL, n, t);
 }

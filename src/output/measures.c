@@ -41,6 +41,11 @@ static cJSON *measure_json(const dtm_analysis *a, const dtm_measure *m) {
     cJSON_AddNumberToObject(o, "frequency", m->f);
     cJSON_AddStringToObject(o, "frequency_from", m->f_default ? "mesh default" : "scene f-max");
   }
+  if (m->kind == DTM_MEASURE_PHASE && m->wave >= 0) {
+    cJSON_AddStringToObject(o, "wave", m->wave ? "S" : "P");
+    cJSON_AddItemToObject(o, "direction", cJSON_CreateDoubleArray(m->direction, 3));
+    cJSON_AddStringToObject(o, "model", dtm_dispersion_model_name(m->model));
+  }
   if (m->note[0]) cJSON_AddStringToObject(o, "note", m->note);
   return o;
 }
@@ -61,8 +66,10 @@ static void print_measure(const dtm_analysis *a, const dtm_measure *m, FILE *f) 
     fprintf(f, " unresolved: %zu of %zu elements have fewer than 2 per wavelength at %.4g Hz\n", m->unresolved,
             m->elements, m->f);
   else if (m->kind == DTM_MEASURE_PHASE && isfinite(m->worst))
-    fprintf(f, " worst %+.3g%%, median %.3g%% at %.4g Hz (band +-%g%%): %s\n", 100 * m->worst, 100 * m->median, m->f,
-            100 * m->band_hi, m->in_band ? "inside" : "OUTSIDE");
+    fprintf(f, " worst %+.3g%% (%s along (%.2g, %.2g, %.2g), %s), median %.3g%% at %.4g Hz (band +-%g%%): %s\n",
+            100 * m->worst, m->wave ? "S" : "P", m->direction[0], m->direction[1], m->direction[2],
+            dtm_dispersion_model_name(m->model), 100 * m->median, m->f, 100 * m->band_hi,
+            m->in_band ? "inside" : "OUTSIDE");
   else if (isfinite(m->worst) && isfinite(m->band_hi))
     fprintf(f, " smallest %.3g, median %.3g (band %g-%g): %s\n", m->worst, m->median, m->band_lo, m->band_hi,
             m->in_band ? (m->worst > m->band_hi ? "above (finer than needed)" : "inside") : "BELOW");

@@ -2,9 +2,13 @@
  * (and how it relates to dt.recommended and its basis), how many steps ran,
  * each simulated effect's energy growth and verdict, and the overall
  * verdict; with --accuracy, the plane wave run and its measured and
- * predicted phase-speed errors instead. Written atomically. */
+ * predicted phase-speed errors instead. Written atomically; the latter is
+ * read back by run, sweep and refine (--verified). */
 #include <cJSON.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "output-impl.h"
 
@@ -67,9 +71,12 @@ static cJSON *vector_json(const double *v) {
 static cJSON *wave_json(const dtm_analysis *a, const dtm_wave_spec *w, const dtm_wave_result *r) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "wave", w->mode ? "S" : "P");
-  cJSON_AddItemToObject(o, "direction", vector_json(w->dir));
+  cJSON_AddItemToObject(o, "direction", vector_json(r->dir));
   cJSON_AddItemToObject(o, "polarisation", vector_json(r->pol));
-  cJSON_AddNumberToObject(o, "frequency", w->f);
+  cJSON_AddNumberToObject(o, "frequency", r->f);
+  cJSON_AddNumberToObject(o, "frequency_asked", w->f);
+  cJSON_AddBoolToObject(o, "periodic", r->periodic);
+  cJSON_AddStringToObject(o, "model", dtm_dispersion_model_name(r->predicted.model));
   cJSON_AddStringToObject(o, "host", dtm_analysis_scene(a)->materials[r->material].m.name);
   cJSON_AddNumberToObject(o, "speed", r->speed);
   cJSON_AddNumberToObject(o, "wavelength", 2 * 3.14159265358979323846 / r->k);
@@ -93,4 +100,47 @@ int dtm_verify_wave_report_write(const dtm_analysis *a, double dt, const dtm_wav
   cJSON_AddStringToObject(root, "verdict", fabs(r->agreement) <= 0.2 ? "agrees" : "disagrees");
   cJSON_AddItemToObject(root, "accuracy", wave_json(a, w, r));
   return dtm_json_write(root, path, "verify report");
+}
+
+/* The whole of the file at path, NUL-terminated (NULL when it cannot be read). */
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  char *text = NULL;
+  long n = f && !fseek(f, 0, SEEK_END) ? ftell(f) : -1;
+  if (n >= 0 && !fseek(f, 0, SEEK_SET) && (text = malloc((size_t)n + 1)) && fread(text, 1, (size_t)n, f) == (size_t)n)
+    text[n] = 0;
+  else
+    free(text), text = NULL;
+  if (f) fclose(f);
+  return text;
+}
+
+/* The number at key of o into *v; 0 when it is not one. */
+static int number_at(const cJSON *o, const char *key, double *v) {
+  const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
+  return cJSON_IsNumber(x) ? (*v = x->valuedouble, 1) : 0;
+}
+
+int dtm_verify_wave_report_read(const char *path, dtm_wave_check *c) {
+  char *text = slurp(path);
+  if (!text) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot read the verify report", path);
+  cJSON *root = cJSON_Parse(text);
+  free(text);
+  const cJSON *acc = cJSON_GetObjectItemCaseSensitive(root, "accuracy");
+  const cJSON *wave = cJSON_GetObjectItemCaseSensitive(acc, "wave"),
+              *dir = cJSON_GetObjectItemCaseSensitive(acc, "direction");
+  int ok = cJSON_IsString(wave) && (!strcmp(wave->valuestring, "P") || !strcmp(wave->valuestring, "S")) &&
+           cJSON_GetArraySize(dir) == 3 && number_at(acc, "frequency", &c->f) &&
+           number_at(acc, "measured", &c->measured) && number_at(acc, "predicted", &c->predicted);
+  for (int i = 0; ok && i < 3; i++) ok = cJSON_IsNumber(cJSON_GetArrayItem(dir, i));
+  if (ok) {
+    c->mode = !strcmp(wave->valuestring, "S");
+    for (int i = 0; i < 3; i++) c->dir[i] = cJSON_GetArrayItem(dir, i)->valuedouble;
+  }
+  cJSON_Delete(root);
+  return ok ? DTM_OK
+            : DTM_ERR(DTM_ERR_INPUT,
+                      "%s: not a verify --accuracy report with a measured and a predicted error (dtmap verify "
+                      "--accuracy --report)",
+                      path);
 }

@@ -295,13 +295,17 @@ static int previous_mesh(const dtm_refine_result *rr, int i) {
 }
 
 /* After round i: keep it if better; stop when it did not beat the kept
- * mesh while shape-limited elements cap the step, or when it
+ * mesh while shape-limited elements cap the step, when neither it nor the
+ * remesh before it beat the kept mesh (the rounds scatter around a step
+ * that what the model fixes holds: import2.geo and revolve2.geo spent
+ * their third round so), or when it
  * left the step where the round before had it (to STALL, the scatter of a
  * fresh mesh's worst element being some per cent) although it aimed
  * clearly higher: the same elements limit it whatever the field. */
 static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next) {
   int i = rr->nrounds - 1;
-  const dtm_refine_round *r = &rr->rounds[i], *p = &rr->rounds[previous_mesh(rr, i)];
+  int j = previous_mesh(rr, i);
+  const dtm_refine_round *r = &rr->rounds[i], *p = &rr->rounds[j];
   release(&st->cur, st->input, rr->analysis);
   st->cur = next, st->model_round = i;
   if (better(rr, i)) {
@@ -313,6 +317,7 @@ static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next
   if (met(rr, i)) return 0;
   if (i > 1 && fabs(r->recommended / p->recommended - 1) < STALL && r->calibration > STALL_AIM * p->calibration)
     return rr->stop = DTM_REFINE_STALLED;
+  if (j > 0 && rr->best != i && rr->best != j) return rr->stop = DTM_REFINE_STALLED; /* two in a row beat nothing */
   return 0;
 }
 
@@ -495,8 +500,9 @@ const char *dtm_refine_stop_text(int stop) {
     return "elements below the target lie where the model fixes the node counts (extrusion layers, or transfinite "
            "curves refine keeps): no remesh changes them";
   case DTM_REFINE_STALLED:
-    return "a remesh aimed higher left the step where it was, or the model's short curves and the grading cap the "
-           "field where it would grow: the same elements limit the step whatever the size field";
+    return "a remesh aimed higher left the step where it was, or two remeshes in a row did not beat the kept mesh, "
+           "or the model's short curves and the grading cap the field where it would grow: the same elements limit "
+           "the step whatever the size field";
   default: return "not run";
   }
 }

@@ -54,6 +54,7 @@ static int phase_variants(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_ro
 static int fill_measures(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row *row) {
   dtm_measures *m = NULL;
   row->phase_error = row->phase_median = row->per_diffusion = NAN;
+  row->phase_wave = -1;
   row->in_band = 1;
   DTM_CHECK(dtm_measures_compute(a, row->frequency, NULL, &m));
   int phase = 0;
@@ -61,8 +62,9 @@ static int fill_measures(const dtm_analysis *a, const dtm_cost *c, dtm_sweep_row
     const dtm_measure *x = &m->m[k];
     row->in_band &= x->in_band;
     if (x->kind == DTM_MEASURE_PHASE)
-      phase = 1, row->phase_error = x->worst, row->phase_median = x->median, row->unresolved = x->unresolved,
-      row->frequency = x->f, row->frequency_default = x->f_default, row->per_wave_default = x->per_wavelength;
+      phase = 1, row->phase_error = x->worst, row->phase_wave = x->wave, row->phase_median = x->median,
+      row->unresolved = x->unresolved, row->frequency = x->f, row->frequency_default = x->f_default,
+      row->per_wave_default = x->per_wavelength;
     if (x->kind == DTM_MEASURE_DIFFUSION && !(x->worst >= row->per_diffusion)) row->per_diffusion = x->worst;
   }
   dtm_measures_destroy(&m);
@@ -162,10 +164,12 @@ static const char *cell(char *buf, size_t len, const char *f, double v) {
   return buf;
 }
 
-/* A phase error in percent, "unres." when some element is unresolved. */
-static const char *phase_cell(char *buf, size_t len, double v, size_t unresolved) {
+/* A phase error in percent, "unres." when some element is unresolved;
+ * wave >= 0: followed by the wave it is of (P or S). */
+static const char *phase_cell(char *buf, size_t len, double v, size_t unresolved, int wave) {
   if (unresolved) return snprintf(buf, len, "unres."), buf;
-  return cell(buf, len, "%+.3g", 100 * v);
+  if (isnan(v) || wave < 0) return cell(buf, len, "%+.3g", 100 * v);
+  return snprintf(buf, len, "%+.3g %c", 100 * v, wave ? 'S' : 'P'), buf;
 }
 
 static void print_row(FILE *f, const dtm_sweep_row *r) {
@@ -176,11 +180,12 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
           r->h, r->elements, r->nodes, r->dt_min, r->recommended, cell(c[0], 32, "%.0f", r->steps),
           cell(c[1], 32, "%.4e", r->cost), cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup,
           cell(c[3], 32, "%.3g", r->per_zone), cell(c[4], 32, "%.3g", r->per_wavelength),
-          phase_cell(c[5], 32, r->phase_error, r->unresolved), cell(c[12], 32, "%.3g", 100 * r->phase_median),
-          r->unresolved, phase_cell(c[6], 32, r->phase_subcycled, r->unresolved),
-          cell(c[7], 32, "%+.3g", 100 * r->phase_mass), cell(c[8], 32, "%.4g", r->hours),
-          cell(c[9], 32, "%.4g", r->hours_subcycled), cell(c[10], 32, "%.4g", r->hours_mass),
-          cell(c[11], 32, "%.3g", r->per_diffusion), r->in_band ? "yes" : "no", r->seconds);
+          phase_cell(c[5], 32, r->phase_error, r->unresolved, r->phase_wave),
+          cell(c[12], 32, "%.3g", 100 * r->phase_median), r->unresolved,
+          phase_cell(c[6], 32, r->phase_subcycled, r->unresolved, -1), cell(c[7], 32, "%+.3g", 100 * r->phase_mass),
+          cell(c[8], 32, "%.4g", r->hours), cell(c[9], 32, "%.4g", r->hours_subcycled),
+          cell(c[10], 32, "%.4g", r->hours_mass), cell(c[11], 32, "%.3g", r->per_diffusion), r->in_band ? "yes" : "no",
+          r->seconds);
 }
 
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
@@ -194,7 +199,9 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
           "(h)", "(h)", "(min)", "", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
   if (n && isfinite(rows[0].frequency))
-    fprintf(f, "\nphase-speed error at %.4g Hz%s, worst over the mesh, lumped mass, central differences\n",
+    fprintf(f,
+            "\nphase-speed error at %.4g Hz%s, worst over the mesh and its wave (P or S), lumped mass, central "
+            "differences\n",
             rows[0].frequency,
             rows[0].frequency_default ? " (no <time f-max>: the default of the first size's mesh, "
                                         "at least 10 cells per shear wavelength in every element; 'per wave' is "

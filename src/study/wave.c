@@ -2,23 +2,34 @@
  * predicted phase-speed error. A plane wave u0 = p cos(k.x) (p the
  * polarisation: along k for P, across it for S) with zero velocity is put
  * on the nodes of the host material (the material of the largest volume)
- * under a Gaussian window (a packet, see wave_window; or, given a number
- * of periods, everywhere on the host) and integrated undamped by central
- * differences with the lumped mass,
+ * and integrated undamped by central differences with the lumped mass,
  *   u_1 = u_0 - dt^2/2 M^-1 K u_0,  u_{n+1} = 2 u_n - u_{n-1} - dt^2 M^-1 K u_n,
- * at the step given. Its projection on the plane-wave mode,
+ * at the step given, for several periods:
+ * - on a periodic sample (src/study/periodic.c: the mesh of a box whose
+ *   opposite faces carry the same nodes, made one unknown), the whole
+ *   plane wave, its wave vector the nearest that fits the box, for 12
+ *   periods (or --periods): no boundary is met;
+ * - on any other mesh, a packet under a Gaussian window of width sigma
+ *   about the host's centre (a quarter of the free distance d, half the
+ *   smallest extent of its box, but at most (d - 3 lambda) / 2 so that the
+ *   run covers 3 periods, and at least a wavelength), run until its part
+ *   above e^-2 of the peak could reach the boundary; when the mesh cannot
+ *   hold that at the frequency asked, the default frequency is raised to
+ *   the lowest that fits (a frequency given with --freq is refused);
+ * - with --periods on a bounded mesh, the whole plane wave, boundary
+ *   included.
+ * Its projection on the plane-wave mode,
  *   q_n = sum_a m_a (p.u_a) cos(k.x_a) / sum_a m_a,
- * picks the single Fourier component k of the field: on a translation-
- * invariant mesh (a lattice) it oscillates at exactly the discrete
- * frequency of k whatever the window, until the wave meets the boundary;
- * the packet's run stops before that. (The whole plane wave on a bounded
- * mesh is not an eigenmode: the boundary mixes in the frequencies of
- * nearby wave numbers, a spread of about c pi / size.) Its zero crossings,
- * linearly interpolated, are fitted by a straight line over all of them:
- * half a period per crossing, so omega = pi / slope, and the measured
- * error is omega / (c k) - 1. The prediction is the mass-weighted mean of
- * the host elements' lattice errors for the same direction, branch,
- * frequency and step (dtm_measures_phase_along). */
+ * picks the Fourier component k of the field: on a lattice one cosine at
+ * the Bloch frequency; on an unstructured mesh the coherent wave (a sharp
+ * peak) plus a spread of higher frequencies from the elements'
+ * fluctuations. The measured frequency is that of the coherent wave: the
+ * largest peak of the Hann-windowed spectrum of q, refined by the least-
+ * squares fit of one sinusoid (exact for a single oscillation, whatever the
+ * run's length); the mean frequency of q (its Rayleigh quotient) would be
+ * too stiff there. A straight line through the zero crossings is kept as a
+ * second figure. The measured error is omega / (c k) - 1; the prediction is
+ * the same wave's from the measures' model (dtm_measures_phase_along). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,8 +39,11 @@
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
 #include "dtmap/verify.h"
+#include "wave-impl.h"
 
 #define PI 3.14159265358979323846
+#define PACKET_PERIODS 3    /* a packet runs at least this many periods */
+#define PERIODIC_PERIODS 12 /* the whole wave on a periodic sample, by default */
 
 /* The material of the largest volume (the host of the wave). */
 static int host_material(const dtm_mesh *mesh, int nmat) {
@@ -74,10 +88,8 @@ static void polarisation(int mode, int nc, const double n[3], double p[3]) {
 }
 
 /* The packet's window over the host's nodes: a Gaussian of width sigma
- * about the mass-free centroid x0 of the host's nodes, sigma a quarter of
- * the free distance (half the smallest extent of their bounding box); the
- * free time is (distance - 2 sigma) / c: until then no part of the wave
- * above e^-2 of its peak has met the boundary. */
+ * about the centre x0 of the host's bounding box; the free distance is
+ * half its smallest extent (set here), sigma is chosen by plan_packet. */
 typedef struct {
   double x0[3];    /* centre, m */
   double sigma;    /* width, m (0: no window, the whole host) */
@@ -94,7 +106,6 @@ static void window_of(const dtm_mesh *mesh, const char *on, wave_window *w) {
     w->x0[c] = 0.5 * (lo[c] + hi[c]);
     if (c < mesh->dim) w->distance = fmin(w->distance, 0.5 * (hi[c] - lo[c]));
   }
-  w->sigma = w->distance / 4;
 }
 
 static double window_at(const wave_window *w, const double *x) {
@@ -109,6 +120,8 @@ typedef struct {
   size_t n;           /* dofs */
   int nc;             /* components per node */
   const double *m;    /* lumped mass [n] */
+  const size_t *root; /* [nnodes] a periodic sample's node classes (NULL: none) */
+  double *mc;         /* [n] the mass of each unknown's class (m without classes) */
   double *u, *up, *f; /* u_n, u_{n-1}, K u_n */
   double *w;          /* projection weights [n]: m_a p_c cos(k.x_a) / sum m_a (0 off the host) */
 } wave_state;
@@ -136,14 +149,33 @@ static double project(const wave_state *s) {
   return q;
 }
 
-/* One step (f = K u_n computed here); first: the zero-velocity start. */
+/* Each unknown's class mass: the sum over the nodes of its class. */
+static void class_mass(wave_state *s, size_t nnodes) {
+  memcpy(s->mc, s->m, s->n * sizeof *s->mc);
+  for (size_t a = 0; s->root && a < nnodes; a++)
+    for (int c = 0; c < s->nc && s->root[a] != a; c++)
+      s->mc[s->root[a] * (size_t)s->nc + c] += s->m[a * (size_t)s->nc + c];
+}
+
+/* One step (f = K u_n computed here); first: the zero-velocity start. A
+ * class's forces are summed on its root, which steps; its other nodes copy it. */
 static void wave_step(wave_state *s, double dt, int first) {
+  size_t nn = s->n / (size_t)s->nc;
   dtm_operator_apply(s->op, s->u, s->f);
+  for (size_t a = 0; s->root && a < nn; a++)
+    for (int c = 0; c < s->nc && s->root[a] != a; c++)
+      s->f[s->root[a] * (size_t)s->nc + c] += s->f[a * (size_t)s->nc + c];
   for (size_t i = 0; i < s->n; i++) {
-    double acc = s->m[i] > 0 ? s->f[i] / s->m[i] : 0;
+    if (s->root && s->root[i / (size_t)s->nc] != i / (size_t)s->nc) continue;
+    double acc = s->mc[i] > 0 ? s->f[i] / s->mc[i] : 0;
     double un = first ? s->u[i] - 0.5 * dt * dt * acc : 2 * s->u[i] - s->up[i] - dt * dt * acc;
-    s->up[i] = s->u[i], s->u[i] = s->m[i] > 0 ? un : 0;
+    s->up[i] = s->u[i], s->u[i] = s->mc[i] > 0 ? un : 0;
   }
+  for (size_t a = 0; s->root && a < nn; a++)
+    for (int c = 0; c < s->nc && s->root[a] != a; c++) {
+      size_t i = a * (size_t)s->nc + c, r = s->root[a] * (size_t)s->nc + c;
+      s->up[i] = s->up[r], s->u[i] = s->u[r];
+    }
 }
 
 /* Straight-line fit of the zero crossings of q[0..nq) (step dt): omega =
@@ -162,39 +194,73 @@ static double crossing_omega(const double *q, int nq, double dt, int *ncross) {
   return PI / slope;
 }
 
-/* The least-squares frequency of the recurrence q_{n+1} + q_{n-1} =
- * 2 cos(omega dt) q_n over the run: exact for a single oscillation, and
- * usable over less than a period. */
-static double recurrence_omega(const double *q, int nq, double dt) {
-  double num = 0, den = 0;
-  for (int n = 1; n + 1 < nq; n++) num += q[n] * (q[n + 1] + q[n - 1]), den += 2 * q[n] * q[n];
-  double c = den > 0 ? num / den : NAN;
-  return c >= -1 && c <= 1 ? acos(c) / dt : NAN;
+/* The least-squares fit of A cos(omega t) + B sin(omega t) to q over
+ * [n0, n1) (t = n dt): its energy in *energy, the phase of A - i B. */
+static double fit_phase(const double *q, int n0, int n1, double dt, double omega, double *energy) {
+  double cc = 0, ss = 0, cs = 0, qc = 0, qs = 0;
+  for (int n = n0; n < n1; n++) {
+    double c = cos(omega * n * dt), s = sin(omega * n * dt);
+    cc += c * c, ss += s * s, cs += c * s, qc += q[n] * c, qs += q[n] * s;
+  }
+  double det = cc * ss - cs * cs, A = det > 0 ? (qc * ss - qs * cs) / det : 0,
+         B = det > 0 ? (qs * cc - qc * cs) / det : 0;
+  if (energy) *energy = A * qc + B * qs;
+  return atan2(-B, A);
 }
 
-static void wave_free(wave_state *s) { free(s->u), free(s->up), free(s->f), free(s->w); }
+/* The frequency of the largest peak of the Hann-windowed spectrum of q
+ * over [0.3, 2] omega0; refined by golden section on the energy of the fit
+ * of one sinusoid within a grid step, then twice by the drift of the fitted
+ * phase between the two halves of the run (the energy's maximum is flat:
+ * its location is known to sqrt(round-off) only; the phase's drift is not).
+ * Exact for a single oscillation, whatever the run's length. */
+static double tone_omega(const double *q, int nq, double dt, double omega0) {
+  double step = 2 * PI / (8 * nq * dt), best = -1, w1 = omega0;
+  for (double w = 0.3 * omega0; w <= 2 * omega0; w += step) {
+    double re = 0, im = 0;
+    for (int n = 0; n < nq; n++) {
+      double h = 0.5 - 0.5 * cos(2 * PI * n / (nq - 1));
+      re += h * q[n] * cos(w * n * dt), im += h * q[n] * sin(w * n * dt);
+    }
+    if (re * re + im * im > best) best = re * re + im * im, w1 = w;
+  }
+  double a = w1 - step, b = w1 + step, g = 0.5 * (sqrt(5.0) - 1), ec, ed;
+  for (int it = 0; it < 60 && b - a > 1e-12 * w1; it++) {
+    double c = b - g * (b - a), d = a + g * (b - a);
+    fit_phase(q, 0, nq, dt, c, &ec), fit_phase(q, 0, nq, dt, d, &ed);
+    if (ec > ed)
+      b = d;
+    else
+      a = c;
+  }
+  double w = 0.5 * (a + b);
+  for (int it = 0; it < 2; it++) {
+    double drift = fit_phase(q, nq / 2, nq, dt, w, NULL) - fit_phase(q, 0, nq / 2, dt, w, NULL);
+    w += remainder(drift, 2 * PI) / (0.5 * nq * dt);
+  }
+  return w;
+}
+
+static void wave_free(wave_state *s) { free(s->u), free(s->up), free(s->f), free(s->w), free(s->mc); }
 
 static int wave_alloc(wave_state *s) {
   size_t b = (s->n ? s->n : 1) * sizeof(double);
-  s->u = malloc(b), s->up = malloc(b), s->f = malloc(b), s->w = malloc(b);
-  if (s->u && s->up && s->f && s->w) return DTM_OK;
+  s->u = malloc(b), s->up = malloc(b), s->f = malloc(b), s->w = malloc(b), s->mc = malloc(b);
+  if (s->u && s->up && s->f && s->w && s->mc) return DTM_OK;
   wave_free(s);
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the wave run");
 }
 
-/* Integrate spec->periods periods and measure omega into r. */
-static int wave_run(const dtm_operator *op, const dtm_mesh *mesh, const char *on, const dtm_wave_spec *w, double dt,
-                    const double k[3], dtm_wave_result *r) {
-  wave_state s = {.op = op, .n = dtm_operator_ndof(op), .nc = dtm_operator_ncomp(op), .m = dtm_operator_mass(op)};
+/* Integrate for r->duration (window win, classes root) and measure omega into r. */
+static int wave_run(const dtm_operator *op, const dtm_mesh *mesh, const char *on, const wave_window *win,
+                    const size_t *root, double dt, dtm_wave_result *r) {
+  wave_state s = {
+      .op = op, .n = dtm_operator_ndof(op), .nc = dtm_operator_ncomp(op), .m = dtm_operator_mass(op), .root = root};
   DTM_CHECK(wave_alloc(&s));
-  double p[3];
-  polarisation(w->mode, s.nc, w->dir, p);
-  wave_window win = {{0, 0, 0}, 0, 0};
-  if (!(w->periods > 0)) window_of(mesh, on, &win);
-  wave_start(&s, mesh, on, &win, k, p);
-  double T = w->periods > 0 ? w->periods * 2 * PI / (r->speed * r->k) : (win.distance - 2 * win.sigma) / r->speed;
-  int nq = (int)ceil(T / dt) + 1;
-  r->sigma = win.sigma, r->duration = T;
+  double k[3] = {r->k * r->dir[0], r->k * r->dir[1], r->k * r->dir[2]};
+  class_mass(&s, mesh->nnodes);
+  wave_start(&s, mesh, on, win, k, r->pol);
+  int nq = (int)ceil(r->duration / dt) + 1;
   double *q = malloc((size_t)nq * sizeof *q), t0 = dtm_wtime();
   if (!q) return wave_free(&s), DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the wave run");
   for (int n = 0; n < nq; n++) {
@@ -202,7 +268,7 @@ static int wave_run(const dtm_operator *op, const dtm_mesh *mesh, const char *on
     if (n + 1 < nq) wave_step(&s, dt, n == 0);
   }
   r->omega_crossings = crossing_omega(q, nq, dt, &r->crossings);
-  r->omega = recurrence_omega(q, nq, dt);
+  r->omega = tone_omega(q, nq, dt, r->speed * r->k);
   r->steps = nq - 1, r->seconds = dtm_wtime() - t0;
   free(q), wave_free(&s);
   return DTM_OK;
@@ -229,6 +295,85 @@ static int check_spec(const dtm_analysis *a, const dtm_wave_spec *w, double dt) 
   return DTM_OK;
 }
 
+/* The wave on a periodic sample: the nearest wave vector that fits the
+ * box (a wavelength along the direction's largest component when it
+ * rounds to none), the whole wave for w->periods (default 12) periods. */
+static void plan_periodic(const dtm_mesh *mesh, const dtm_wave_spec *w, const dtm_wave_periodic *pp,
+                          dtm_wave_result *r) {
+  double k[3] = {r->k * w->dir[0], r->k * w->dir[1], r->k * w->dir[2]};
+  if (!dtm_wave_periodic_fit(pp, mesh->dim, k)) {
+    int c = fabs(w->dir[1]) > fabs(w->dir[0]) ? 1 : 0;
+    c = fabs(w->dir[2]) > fabs(w->dir[c]) ? 2 : c;
+    k[c] = copysign(2 * PI / pp->L[c], w->dir[c]);
+  }
+  r->k = sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
+  for (int c = 0; c < 3; c++) r->dir[c] = k[c] / r->k;
+  r->f = r->speed * r->k / (2 * PI), r->periodic = 1;
+  r->duration = (w->periods > 0 ? w->periods : PERIODIC_PERIODS) * 2 * PI / (r->speed * r->k);
+}
+
+/* The packet on a bounded mesh: a window of at least a wavelength that
+ * leaves PACKET_PERIODS periods before the boundary; the default frequency
+ * is raised until the mesh holds that, a given one is refused. */
+static int plan_packet(const dtm_mesh *mesh, const char *on, const dtm_wave_spec *w, wave_window *win,
+                       dtm_wave_result *r) {
+  window_of(mesh, on, win);
+  double d = win->distance, lam = 2 * PI / r->k;
+  if (d < (PACKET_PERIODS + 2) * lam) {
+    double fmin = (PACKET_PERIODS + 2) * r->speed / d;
+    if (!w->raise)
+      return DTM_ERR(DTM_ERR_INPUT,
+                     "verify --accuracy: at %.4g Hz the mesh's free distance (%.3g m, half its smallest extent) "
+                     "holds a packet for %.2g periods; %d need %.4g Hz or more (or a periodic sample: a box meshed "
+                     "with periodic faces)",
+                     w->f, d, fmax(d / lam - 2, 0), PACKET_PERIODS, fmin);
+    r->f = fmin, r->k = 2 * PI * fmin / r->speed, lam = 2 * PI / r->k;
+  }
+  win->sigma = fmin(d / 4, (d - PACKET_PERIODS * lam) / 2);
+  r->duration = (d - 2 * win->sigma) / r->speed;
+  return DTM_OK;
+}
+
+/* The frequency, wave vector, window and duration of the run into r and win. */
+static int plan(const dtm_mesh *mesh, const char *on, const dtm_wave_spec *w, const dtm_wave_periodic *pp,
+                wave_window *win, dtm_wave_result *r) {
+  r->f = w->f, r->k = 2 * PI * w->f / r->speed;
+  memcpy(r->dir, w->dir, sizeof r->dir);
+  win->sigma = 0;
+  if (pp->periodic) return plan_periodic(mesh, w, pp, r), DTM_OK;
+  if (w->periods > 0) return r->duration = w->periods * 2 * PI / (r->speed * r->k), DTM_OK;
+  return plan_packet(mesh, on, w, win, r);
+}
+
+/* Whether every node of the mesh is on the host (a periodic sample must be the host alone). */
+static int all_on(const dtm_mesh *mesh, const char *on) {
+  for (size_t a = 0; a < mesh->nnodes; a++)
+    if (!on[a]) return 0;
+  return 1;
+}
+
+/* Plan, predict and run the wave of analysis a (operator op, host nodes on). */
+static int wave_measure(const dtm_analysis *a, const dtm_operator *op, const char *on, double dt,
+                        const dtm_wave_spec *w, dtm_wave_result *r) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  dtm_wave_periodic pp = {0};
+  wave_window win = {{0, 0, 0}, 0, 0};
+  if (mesh->dim >= 2 && all_on(mesh, on)) DTM_CHECK(dtm_wave_periodic_find(mesh, &pp));
+  int rc = plan(mesh, on, w, &pp, &win, r);
+  polarisation(w->mode, dtm_analysis_space_dim(a), r->dir, r->pol);
+  if (!rc) rc = dtm_measures_phase_along(a, r->f, dt, r->dir, r->pol, w->mode, r->material, &r->predicted);
+  if (!rc && r->predicted.unresolved && r->f != w->f)
+    rc = DTM_ERR(DTM_ERR_INPUT,
+                 "verify --accuracy: the mesh is too small for a packet: at %.4g Hz, the lowest at which one runs %d "
+                 "periods, %zu host elements have fewer than 2 per wavelength (mesh finer, or a periodic sample: a "
+                 "box meshed with periodic faces)",
+                 r->f, PACKET_PERIODS, r->predicted.unresolved);
+  r->sigma = win.sigma;
+  if (!rc) rc = wave_run(op, mesh, on, &win, pp.periodic ? pp.root : NULL, dt, r);
+  dtm_wave_periodic_free(&pp);
+  return rc;
+}
+
 int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dtm_wave_result *r) {
   memset(r, 0, sizeof *r);
   DTM_CHECK(check_spec(a, w, dt));
@@ -237,16 +382,12 @@ int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dt
   if (r->material < 0) return DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: no element has a material");
   polarisation(w->mode, dtm_analysis_space_dim(a), w->dir, r->pol);
   DTM_CHECK(dtm_measures_phase_along(a, w->f, dt, w->dir, r->pol, w->mode, r->material, &r->predicted));
-  r->speed = r->predicted.speed, r->k = 2 * PI * w->f / r->speed;
+  r->speed = r->predicted.speed; /* the branch's exact speed in the host */
   char *on = calloc(mesh->nnodes + 1, 1);
   dtm_operator *op = NULL;
   int rc = on ? dtm_analysis_operator(a, elastic_effect(a), 0, &op) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (rc == DTM_OK && dtm_operator_ncomp(op) < mesh->dim) rc = DTM_ERR(DTM_ERR_INPUT, "verify --accuracy: no plane");
-  if (rc == DTM_OK) {
-    double k[3] = {r->k * w->dir[0], r->k * w->dir[1], r->k * w->dir[2]};
-    host_nodes(mesh, r->material, on);
-    rc = wave_run(op, mesh, on, w, dt, k, r);
-  }
+  if (rc == DTM_OK) host_nodes(mesh, r->material, on), rc = wave_measure(a, op, on, dt, w, r);
   dtm_operator_destroy(&op);
   free(on);
   DTM_CHECK(rc);

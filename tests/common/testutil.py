@@ -80,6 +80,21 @@ def report(name):
         return json.load(f)
 
 
+def run_dt(name, *extra):
+    """`dtmap run NAME.xml` into NAME_dt.msh and NAME_dt.json; its "dt" object."""
+    code, log = run("run", name + ".xml", "-q", "-o", name + "_dt.msh", "--report", name + "_dt.json", *extra)
+    assert code == 0, log
+    return report(name + "_dt.json")["dt"]
+
+
+def refine(name, target, *extra):
+    """`dtmap refine NAME.xml --target T` into NAME_r.msh and NAME_r.json:
+    (exit code, output, report)."""
+    code, log = run("refine", name + ".xml", "--target", "%.9e" % target, "-o", name + "_r.msh",
+                    "--report", name + "_r.json", *extra)
+    return code, log, report(name + "_r.json")
+
+
 def _check_reports():
     if _tmp is None:
         return 0
