@@ -1,12 +1,14 @@
-"""What containing Gmsh's meshing in a child process costs (src/gmsh/contain.c).
+"""What handing a mesh back from a child process costs (src/gmsh/contain.c):
+what each remesh of `dtmap refine` pays (the first mesh of a command is made
+in the supervised worker and handed nowhere; bench/perf.sh measures that
+supervisor against one process).
 
 The child inherits the session by fork, meshes, writes its mesh as a binary
 .msh and exits; the parent clears its mesh and merges that file. The extra work
 over meshing in process is therefore the fork, the write and the read-back.
 This script times each of them with Gmsh's Python API on the bundled box at a
 size that gives about 1e6 tetrahedra (or --size), and `dtmap run` on the same
-scene (which meshes contained), and prints the ratio of the extra work to the
-run's wall time.
+scene, and prints the ratio of the extra work to the run's wall time.
 
 Usage: /usr/bin/python3 bench/contain_cost.py DTMAP [--size H]
 """

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Regenerate docs/performance.md: dtmap end to end against Gmsh's own
-# read + write and meshing, and the global estimate against scipy's eigsh,
-# side by side in one run (bench/perf.py). Takes 10-20 minutes on 2 cores;
-# meshes are kept in BENCH_WORK (default /tmp/dtmap-perf) for the next run.
+# read + write and meshing, supervised against one process, the global
+# estimate against scipy's eigsh, 1e7 tets, shells against membranes and
+# curved tet10 against straight-sided, every row side by side in one run
+# (bench/perf.py). Takes 30-60 minutes on 2 cores and about 3 GB of memory
+# (the 1e7 rows); meshes are kept in BENCH_WORK (default /tmp/dtmap-perf)
+# for the next run.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 # The default (serial) build, what `cmake -S . -B build` gives a user: an

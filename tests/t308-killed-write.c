@@ -1,16 +1,22 @@
-/* Outputs survive a killed run. dtmap writes every output to a locked
- * temporary beside the target and renames it into place when complete
- * (src/base/atomic.c). Here a run on a large mesh (a structured cube of
+/* Outputs survive a killed run. dtmap writes every output to a file
+ * without a name beside the target, reached by a link .out.msh.tmpPID.msh
+ * while it is written, and links it in and renames it into place when
+ * complete (src/base/atomic.c); the command runs in a supervised worker
+ * (src/cli/supervise.c). Here a run on a large mesh (a structured cube of
  * 6 x 40^3 tetrahedra, written by this test; its output .msh is about 55
  * MB) is killed while it writes:
- *  - SIGKILL: the older output at the path stays intact, and the killed
- *    run's temporary is left; a second killed run removes the first one's,
- *    so they never accumulate; a complete run then replaces the output and
- *    leaves no temporary.
- *  - SIGTERM: the signal handler removes the temporary; the older output
- *    stays.
- *  - A temporary whose PID still runs (this test's own) is not touched; one
- *    whose PID is gone and that nobody locks is removed. */
+ *  - the command killed by SIGKILL, SIGTERM or SIGINT: the older output at
+ *    the path stays intact and no temporary is left (the worker, told by
+ *    the signal passed on or by its parent's death, removes the link);
+ *  - the worker killed by SIGKILL (what the OOM killer does): the command
+ *    exits 3 naming the stage and the signal, removes the worker's link,
+ *    and the older output stays;
+ *  - both killed by SIGKILL at once (the process group): the link is left,
+ *    dangling (no data outlives them); the next run removes it, replaces
+ *    the output and leaves no temporary;
+ *  - a temporary whose PID still runs (this test's own) is not touched; a
+ *    plain one whose PID is gone and that nobody locks is removed, and so
+ *    is a dangling link of a PID that is gone. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -74,41 +80,57 @@ static pid_t start_run(void) {
   pid_t pid = fork();
   assert_true(pid >= 0);
   if (pid == 0) {
+    setpgid(0, 0); /* its own group: the test can kill the command and its worker at once */
     execl(tu_cli(), tu_cli(), "run", scene, "-q", "-o", out, (char *)NULL);
     _exit(127);
   }
   return pid;
 }
 
-/* Size of the file at path, -1 when absent. */
+/* Size of the file at path (through a link), -1 when absent. */
 static long size_of(const char *path) {
   struct stat st;
   return stat(path, &st) ? -1 : (long)st.st_size;
 }
 
-/* Run dtmap and send sig once its temporary output holds BIG_ENOUGH bytes
- * (polled every millisecond); returns 0, or -1 when the run ended first. */
-static int kill_mid_write(int sig, char *tmp, size_t len) {
+/* The names in dir that start with ".out.msh.tmp"; the last into last. */
+static int temporaries(char *last, size_t len) {
+  DIR *d = opendir(dir);
+  int n = 0;
+  for (struct dirent *e; (e = readdir(d));)
+    if (!strncmp(e->d_name, ".out.msh.tmp", 12)) {
+      n++;
+      if (last) snprintf(last, len, "%s/%s", dir, e->d_name);
+    }
+  closedir(d);
+  return n;
+}
+
+/* Whether no temporary is left within 3 s (the worker may still be
+ * running its handler when the command is gone). */
+static int none_left(void) {
+  for (int i = 0; i < 300 && temporaries(NULL, 0); i++) nanosleep(&(struct timespec){0, 10000000}, NULL);
+  return temporaries(NULL, 0) == 0;
+}
+
+/* Run dtmap and, once its temporary output holds BIG_ENOUGH bytes (polled
+ * every millisecond), send sig to the command (whom: 0), to its worker
+ * (whom: 1, the PID in the temporary's name) or to both (whom: 2); returns
+ * the command's wait status, or -1 when the run ended first. */
+static int kill_mid_write(int sig, int whom) {
   pid_t pid = start_run();
-  snprintf(tmp, len, "%s/.out.msh.tmp%ld.msh", dir, (long)pid);
+  char tmp[1024] = "";
   int status;
-  while (size_of(tmp) < BIG_ENOUGH) {
+  while (!temporaries(tmp, sizeof tmp) || size_of(tmp) < BIG_ENOUGH) {
     if (waitpid(pid, &status, WNOHANG) == pid) return -1;
     nanosleep(&(struct timespec){0, 1000000}, NULL);
   }
-  kill(pid, sig);
+  pid_t worker = (pid_t)atol(strstr(tmp, ".tmp") + 4);
+  assert_true(worker > 0 && worker != pid);
+  if (whom == 2) kill(-pid, sig);
+  kill(whom == 1 ? worker : pid, sig);
   assert_int_equal(waitpid(pid, &status, 0), pid);
-  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == sig);
-  return 0;
-}
-
-/* Files in dir whose names start with ".out.msh.tmp". */
-static int temporaries(void) {
-  DIR *d = opendir(dir);
-  int n = 0;
-  for (struct dirent *e; (e = readdir(d));) n += !strncmp(e->d_name, ".out.msh.tmp", 12);
-  closedir(d);
-  return n;
+  return status;
 }
 
 static void assert_old_output(void) {
@@ -120,57 +142,86 @@ static void assert_old_output(void) {
   assert_string_equal(line, OLD);
 }
 
+static void command_killed(int sig) {
+  tu_write(out, OLD);
+  int status = kill_mid_write(sig, 0);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == sig);
+  assert_old_output();
+  assert_true(none_left());
+}
+
 static void test_sigkill(void **state) {
   (void)state;
-  char first[700], second[700];
-  tu_write(out, OLD);
-  assert_int_equal(kill_mid_write(SIGKILL, first, sizeof first), 0);
-  assert_old_output();
-  assert_true(size_of(first) >= BIG_ENOUGH); /* what a killed run leaves ... */
-  assert_int_equal(kill_mid_write(SIGKILL, second, sizeof second), 0);
-  assert_old_output();
-  assert_int_equal(size_of(first), -1); /* ... the next run removes */
-  assert_int_equal(temporaries(), 1);
-  char *log = NULL;
-  assert_int_equal(tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, out), 0);
-  free(log);
-  assert_int_equal(temporaries(), 0);
-  assert_true(size_of(out) > BIG_ENOUGH);
+  command_killed(SIGKILL);
 }
 
 static void test_sigterm(void **state) {
   (void)state;
-  char tmp[700];
-  tu_write(out, OLD);
-  assert_int_equal(kill_mid_write(SIGTERM, tmp, sizeof tmp), 0);
-  assert_old_output();
-  assert_int_equal(temporaries(), 0);
+  command_killed(SIGTERM);
 }
 
-/* A live writer's temporary stays; a dead, unlocked one goes. */
+static void test_sigint(void **state) {
+  (void)state;
+  command_killed(SIGINT);
+}
+
+static void test_worker_killed(void **state) {
+  (void)state;
+  tu_write(out, OLD);
+  int status = kill_mid_write(SIGKILL, 1);
+  assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 3);
+  assert_old_output();
+  assert_int_equal(temporaries(NULL, 0), 0); /* the command removed it before it ended */
+}
+
+static void test_both_killed(void **state) {
+  (void)state;
+  char link[1024], *log = NULL;
+  struct stat st;
+  tu_write(out, OLD);
+  int status = kill_mid_write(SIGKILL, 2);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  assert_old_output();
+  assert_int_equal(temporaries(link, sizeof link), 1); /* what both killed leave ... */
+  assert_int_equal(lstat(link, &st), 0);
+  assert_true(S_ISLNK(st.st_mode));
+  for (int i = 0; i < 300 && size_of(link) >= 0; i++) /* ... a link to nothing, once the worker is gone */
+    nanosleep(&(struct timespec){0, 10000000}, NULL);
+  assert_int_equal(size_of(link), -1);
+  assert_int_equal(tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, out), 0);
+  free(log);
+  assert_int_equal(temporaries(NULL, 0), 0); /* the next run removed it */
+  assert_true(size_of(out) > BIG_ENOUGH);
+}
+
+/* A live writer's temporary stays; a dead, unlocked one goes, and so does
+ * a dead one's link. */
 static void test_live_and_dead(void **state) {
   (void)state;
-  char live[700], dead[700], *log = NULL;
+  char live[700], dead[700], link[1024], *log = NULL;
+  struct stat st;
   pid_t child = fork();
   if (child == 0) _exit(0);
   waitpid(child, NULL, 0); /* its PID is now gone */
   snprintf(live, sizeof live, "%s/.out.msh.tmp%ld.msh", dir, (long)getpid());
   snprintf(dead, sizeof dead, "%s/.out.msh.tmp%ld.msh", dir, (long)child);
+  snprintf(link, sizeof link, "%s/.out.msh.tmp%ld", dir, (long)child);
   tu_write(live, "being written\n");
   tu_write(dead, "left by a killed run\n");
+  assert_int_equal(symlink("/proc/1/fd/999", link), 0);
   assert_int_equal(tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, out), 0);
   free(log);
   assert_true(size_of(live) > 0);
   assert_int_equal(size_of(dead), -1);
+  assert_int_equal(lstat(link, &st), -1);
   unlink(live);
 }
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_sigkill),
-      cmocka_unit_test(test_sigterm),
-      cmocka_unit_test(test_live_and_dead),
+      cmocka_unit_test(test_sigkill),       cmocka_unit_test(test_sigterm),     cmocka_unit_test(test_sigint),
+      cmocka_unit_test(test_worker_killed), cmocka_unit_test(test_both_killed), cmocka_unit_test(test_live_and_dead),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -27,6 +27,19 @@ DTM_EXPORT int dtm_gmsh_attach(int threads);
  * version of the headers libdtmap was built with (owned by the library).
  * Starts and stops Gmsh when no session is open. */
 DTM_EXPORT int dtm_gmsh_version(char *buf, size_t len, const char **api);
+/* Where Gmsh meshes a scene (src/gmsh/contain.c). contained = 1 (the
+ * default, for a script's process): in a forked child, so that a crash in
+ * Gmsh is an error with its signal and Gmsh's last messages. contained = 0:
+ * the caller contains this whole process (the dtmap command's supervisor
+ * forks it as its worker and reports its crash), so the first mesh is made
+ * here, nothing handed back; while Gmsh reads or meshes, its messages go to
+ * log_fd (unless the terminal shows them, verbosity 2), -1 for none.
+ * Remeshes and probes (refine) stay in a child either way: a crash there
+ * ends a round, not the run. */
+DTM_EXPORT void dtm_gmsh_contain(int contained, int log_fd);
+/* Gmsh's last messages in the log at fd (up to four lines, "; "-separated;
+ * "" when it holds none) into buf[len]. */
+DTM_EXPORT void dtm_gmsh_log_tail(int fd, char *buf, size_t len);
 /* Give dtmap's loops back the thread count in force at dtm_gmsh_start
  * (Gmsh resets it to its own General.NumThreads when it meshes). */
 DTM_EXPORT void dtm_gmsh_restore_threads(void);

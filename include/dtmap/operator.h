@@ -19,6 +19,7 @@
 
 #include "dtmap/mesh.h"
 #include "dtmap/problem.h"
+#include "dtmap/section.h"
 
 typedef struct dtm_operator dtm_operator;
 
@@ -36,6 +37,21 @@ DTM_EXPORT int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_ope
 DTM_EXPORT int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
                                             const double *alpha, const double *beta, int nmat, int nsec,
                                             dtm_operator **out);
+/* What an analysis kept per element that the operator would otherwise
+ * compute again. */
+typedef struct {
+  const dtm_section_bounds *const *rot; /* [nblocks][n] each shell's and beam's bounds (dtm_section_element;
+                                           nn = 0, or a NULL row: none): a shell's rotary-inertia scale is
+                                           taken from there instead of being solved again; or NULL */
+  const unsigned char *const *level;    /* [nblocks][n] each second-order element's converged rule level
+                                           (the kernel's level search under the converged model: 0 for a
+                                           straight-sided element; NULL rows for the others), or NULL */
+} dtm_operator_kept;
+
+/* The same with what an analysis kept (kept may be NULL). */
+DTM_EXPORT int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef,
+                                        const double *alpha, const double *beta, int nmat, int nsec,
+                                        const dtm_operator_kept *kept, dtm_operator **out);
 DTM_EXPORT void dtm_operator_destroy(dtm_operator **op);
 
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);

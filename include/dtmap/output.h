@@ -61,18 +61,22 @@ typedef struct {
   int views_only;              /* 1: write only the views, for Gmsh to merge on top of the
                                   scene's input .msh (needs a <mesh> scene) */
   const dtm_output_part *part; /* a distributed run's part (read when the views are written), or NULL */
+  int background;              /* dtm_output_begin: Gmsh writes the mesh on a thread of its own, then
+                                  releases the model (dtm_gmsh_release), while the caller computes;
+                                  the caller makes no Gmsh call until finish or abort */
 } dtm_output_opts;
 
 /* dtm_output_write with options (NULL: the defaults above). */
 DTM_EXPORT int dtm_output_write_ex(const dtm_results *r, const char *path, const dtm_output_opts *o);
 
 /* The same in two steps, so that the current Gmsh model's mesh can be
- * written as soon as it is extracted and the model released before the
- * analysis computes (dtm_analysis_run_ex): begin checks path (as
+ * written as soon as it is extracted and the model released before or while
+ * the analysis computes (dtm_analysis_run_ex): begin checks path (as
  * dtm_output_write), opens its temporary and writes the mesh (not for
- * views_only; nelements chooses the automatic encoding); finish appends
- * the views of r, renames the file into place, writes path.opt (not for a
- * distributed run's parts after the first) and frees the handle; abort
+ * views_only; nelements chooses the automatic encoding), or starts writing
+ * it (background); finish waits for that write, appends the views of r,
+ * renames the file into place, writes path.opt (not for a distributed run's
+ * parts after the first) and frees the handle; abort waits too, then
  * removes the temporary. */
 typedef struct dtm_output_file dtm_output_file;
 DTM_EXPORT int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,

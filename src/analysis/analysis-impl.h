@@ -9,10 +9,17 @@
 #include "distributed.h"
 #include "dtmap/analysis.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/section.h"
 
 struct dtm_analysis {
   const dtm_scene *scene;       /* not owned */
   dtm_section_stats *sec_stats; /* [nsections] what dtm_analysis_sections returns, computed once */
+  unsigned char **level;        /* [nblocks][n] each second-order element's converged rule level,
+                                   found once (curvature.c; 0: straight-sided); NULL rows for
+                                   linear blocks, NULL without any */
+  dtm_section_bounds **rot;     /* [nblocks][n] each shell's and beam's bounds, its rotary scale's
+                                   eigenproblem solved once (sections.c); nn = 0 where none or refused;
+                                   NULL rows for blocks without them, NULL without any */
   dtm_mesh *mesh;               /* owned */
   int neffects;
   dtm_effect *effects;        /* [neffects] owned, scene order */
@@ -126,7 +133,14 @@ int dtm_analysis_nslots(const dtm_analysis *a);
 /* 1 when a scene section is a shell or a beam (nodes with rotations): the
  * same on every part of a distributed run. */
 int dtm_analysis_has_rotations(const dtm_analysis *a);
-/* Compute a->sec_stats (once, after the nodal bound). */
+/* Compute a->level (before the element map: its measures, the nodal
+ * bound's masses and the global operator read it). */
+int dtm_analysis_levels(dtm_analysis *a);
+/* The kept level of element e of block b, or -1 (search it). */
+int dtm_analysis_level(const dtm_analysis *a, int b, size_t e);
+/* Compute a->rot (before the nodal bound, which reads the masses there)
+ * and a->sec_stats (once, after the nodal bound; it reads a->rot). */
+int dtm_analysis_rotary(dtm_analysis *a);
 int dtm_analysis_section_stats(dtm_analysis *a);
 int dtm_analysis_slot(const dtm_analysis *a, const dtm_block *b, size_t e);
 /* A 2D model treated as a plane elastic problem is plane, or its surfaces

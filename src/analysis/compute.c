@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "reference.h"
 #include "dtmap/topology.h"
 
 #define CHUNK 512 /* elements per batch: x[CHUNK][8][3] stays in L2 */
@@ -102,7 +103,9 @@ int dtm_analysis_wave_factor(const dtm_analysis *a, int mat, double omega, doubl
   return DTM_OK;
 }
 
-static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, const double *lens) {
+/* lev: the chunk's kept rule levels (dtm_analysis_levels), or NULL. */
+static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, const double *lens,
+                         const unsigned char *lev) {
   for (size_t e = 0; e < bt->n; e++) {
     double best = INFINITY, len = NAN;
     int lim = -1;
@@ -115,7 +118,7 @@ static void reduce_chunk(const dtm_analysis *a, const dtm_batch *bt, size_t g0, 
     a->limiting[g0 + e] = lim;
     a->len[g0 + e] = len;
     a->h[g0 + e] = dtm_elem_mean_edge(bt->type, bt->x + 3 * (size_t)bt->nn * e);
-    a->meas[g0 + e] = fabs(dtm_elem_measure(bt->type, bt->x + 3 * (size_t)bt->nn * e));
+    a->meas[g0 + e] = fabs(dtm_elem_measure_at(bt->type, bt->x + 3 * (size_t)bt->nn * e, lev ? lev[e] : -1));
   }
 }
 
@@ -196,7 +199,7 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
     if (a->dt_bare[k]) memcpy(a->dt_bare[k] + g0, a->dt_effect[k] + g0, n * sizeof(double));
   DTM_CHECK(apply_modifiers(a, &bt, g0, w->lens));
   DTM_CHECK(accuracy_chunk(a, &bt, g0));
-  reduce_chunk(a, &bt, g0, w->lens);
+  reduce_chunk(a, &bt, g0, w->lens, a->level && a->level[b] ? a->level[b] + e0 : NULL);
   return DTM_OK;
 }
 
@@ -319,6 +322,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
   r = space_dim(a, r);
   if (r == DTM_OK) r = dtm_analysis_check_planar(a);
   double t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_analysis_levels(a);
   for (int b = 0; b < mesh->nblocks && r == DTM_OK; b++) r = compute_block(a, b);
   r = dtm_x_agree(a, r);
   if (r == DTM_OK) r = summarize(a);
@@ -327,6 +331,7 @@ int dtm_analysis_compute_shared(const dtm_scene *s, dtm_mesh *mesh, dtm_effect *
     r = DTM_ERR(DTM_ERR_INPUT, "%s: no element is limited by any of the scene's effects", s->path);
   a->timings[DTM_T_EFFECTS] = dtm_wtime() - t0;
   t0 = dtm_wtime();
+  if (r == DTM_OK) r = dtm_analysis_rotary(a);
   if (r == DTM_OK) r = dtm_nodal_bounds(a);
   if (r == DTM_OK) dtm_recommend(a);
   if (r == DTM_OK) r = dtm_x_agree(a, dtm_local_steps(a));
@@ -358,6 +363,10 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->shape);
   free(a->layers);
   free(a->sec_stats);
+  for (int b = 0; a->level && b < a->mesh->nblocks; b++) free(a->level[b]);
+  free(a->level);
+  for (int b = 0; a->rot && b < a->mesh->nblocks; b++) free(a->rot[b]);
+  free(a->rot);
   dtm_gmsh_geo_destroy(&a->geo);
   for (int k = 0; a->dt_bare && k < a->neffects; k++) free(a->dt_bare[k]);
   free(a->dt_bare);

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "reference.h"
 
 #define OFFSET_CURVED 1e-9  /* node offset above which an element is curved (curved.c) */
 #define RULE_SENSITIVE 1e-3 /* relative step change that makes an element rule sensitive */
@@ -38,6 +39,36 @@ static int second_order(int type) {
   default: return 0;
   }
 }
+
+/* Each second-order element's converged rule level, once (the kernel's
+ * level search: src/kernel/curved.c), for the element map's measures, the
+ * nodal bound's masses and the global operator, which took it by searching
+ * again each. Levelled blocks only; a straight-sided element costs its node
+ * offset test. */
+static void block_levels(const dtm_analysis *a, const dtm_block *b, unsigned char *lev) {
+  long n = (long)b->n;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (long e = 0; e < n; e++) {
+    double x[DTM_MAX_NODES * 3];
+    dtm_qrule q;
+    dtm_mesh_gather_one(a->mesh, b, (size_t)e, x);
+    lev[e] = (unsigned char)dtm_ref_rule_elem(b->type, x, DTM_INTEGRATION_CONVERGED, &q);
+  }
+}
+
+int dtm_analysis_levels(dtm_analysis *a) {
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *blk = &a->mesh->blocks[b];
+    if (!dtm_ref_levelled(blk->type)) continue;
+    if (!a->level) a->level = calloc((size_t)a->mesh->nblocks + 1, sizeof *a->level);
+    if (a->level) a->level[b] = malloc(blk->n + 1);
+    if (!a->level || !a->level[b]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    block_levels(a, blk, a->level[b]);
+  }
+  return DTM_OK;
+}
+
+int dtm_analysis_level(const dtm_analysis *a, int b, size_t e) { return a->level && a->level[b] ? a->level[b][e] : -1; }
 
 /* The first elastic effect whose element step is the bound, or -1. */
 static int elastic_effect(const dtm_analysis *a) {

@@ -60,8 +60,9 @@ int dtm_analysis_operator(const dtm_analysis *a, int k, double omega_top, dtm_op
   int kind = DTM_OP_NONE;
   for (int i = 0; i < dtm_analysis_nslots(a); i++)
     if (t.used[i]) kind = t.c[i].kind;
+  dtm_operator_kept kept = {(const dtm_section_bounds *const *)a->rot, (const unsigned char *const *)a->level};
   if (r == DTM_OK)
-    r = dtm_operator_create_sections(a->mesh, kind, t.c, t.al, t.be, a->scene->nmaterials, a->scene->nsections, op);
+    r = dtm_operator_create_kept(a->mesh, kind, t.c, t.al, t.be, a->scene->nmaterials, a->scene->nsections, &kept, op);
   free(t.c), free(t.al), free(t.be), free(t.used);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "reference.h"
 
 /* Coefficients of effect k for each scene material, computed on first use. */
 typedef struct {
@@ -52,15 +53,19 @@ static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_
 
 #define NODAL_CHUNK 65536 /* elements whose lambda_e and masses are held at once */
 
-/* The translational and rotary masses of a shell or beam element from its
- * kernel, into w[nn] and mr[nn]; 0 when element e has no rotations. */
-static int structural_masses(const dtm_operator_coeffs *c, const dtm_block *blk, const double *x, double *w, double *mr,
-                             int *done) {
+/* The translational and rotary masses of shell or beam element e of block
+ * b, kept by dtm_analysis_rotary (its kernel again for one it refused, to
+ * raise the kernel's error), into w[nn] and mr[nn]; 0 when element e has no
+ * rotations. */
+static int structural_masses(const dtm_analysis *a, const dtm_operator_coeffs *c, int b, size_t e, const double *x,
+                             double *w, double *mr, int *done) {
+  const dtm_block *blk = &a->mesh->blocks[b];
   *done = 0;
   if (!mr || c->kind != DTM_OP_ELASTIC || !c->section || !dtm_section_has_rotations(c->section->kind)) return DTM_OK;
   dtm_section_bounds sb;
-  DTM_CHECK(dtm_section_element_step(c->section, blk->type, c->E, c->nu, c->capacity, x, &sb));
-  for (int i = 0; i < blk->nn; i++) w[i] = sb.mt[i], mr[i] = sb.mr[i];
+  const dtm_section_bounds *kept = a->rot && a->rot[b] && a->rot[b][e].nn ? &a->rot[b][e] : NULL;
+  if (!kept) DTM_CHECK(dtm_section_element_step(c->section, blk->type, c->E, c->nu, c->capacity, x, &sb));
+  for (int i = 0; i < blk->nn; i++) w[i] = (kept ? kept : &sb)->mt[i], mr[i] = (kept ? kept : &sb)->mr[i];
   *done = 1;
   return DTM_OK;
 }
@@ -80,11 +85,12 @@ static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t 
     int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]), done;
     double *mr = mrw ? mrw + (e - e0) * blk->nn : NULL;
     if (mr) memset(mr, 0, (size_t)blk->nn * sizeof *mr);
-    if (r == DTM_OK) r = structural_masses(c, blk, x, w, mr, &done);
+    if (r == DTM_OK) r = structural_masses(a, c, b, (size_t)e, x, w, mr, &done);
     if (r) dtm_par_error_keep(&pe, r);
     if (r || done) continue;
     int model = c->kind == DTM_OP_ELASTIC ? c->mod.integration : DTM_INTEGRATION_CONVERGED;
-    double m = c->capacity * c->section_factor * dtm_elem_lumped_model(blk->type, x, model, w);
+    double m = c->capacity * c->section_factor *
+               dtm_elem_lumped_at(blk->type, x, model, dtm_analysis_level(a, b, (size_t)e), w);
     for (int i = 0; i < blk->nn; i++) w[i] *= m;
   }
   if (pe.code)

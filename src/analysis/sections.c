@@ -145,20 +145,57 @@ static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, c
   return (tri ? 2 : 1) * area / longest_chord(x, nc) / sqrt(E / (rho * (1 - nu * nu)));
 }
 
+/* The bounds of every shell and beam element of block b under its
+ * section's convention (dtm_section_element: the rotary scale's
+ * eigenproblem solved once), for the nodal bound and the report; an element
+ * the kernel refuses keeps nn = 0 (the nodal bound then raises the
+ * kernel's error for it). */
+static void block_rotary(const dtm_analysis *a, const dtm_block *b, dtm_section_bounds *out) {
+#pragma omp parallel for schedule(dynamic, 256)
+  for (size_t e = 0; e < b->n; e++) {
+    const dtm_section *sec = dtm_analysis_section(a, b, e);
+    const dtm_material *m = &a->scene->materials[b->mat[e]].m;
+    double x[3 * DTM_MAX_NODES];
+    out[e].nn = 0;
+    if (!sec || !dtm_section_has_rotations(sec->kind)) continue;
+    dtm_mesh_gather_one(a->mesh, b, e, x);
+    if (dtm_section_element(sec, b->type, dtm_material_value(m, "E"), dtm_material_value(m, "nu"),
+                            dtm_material_value(m, "rho"), x, &out[e]))
+      out[e].nn = 0, dtm_error_clear();
+  }
+}
+
+static int has_rotary(const dtm_analysis *a, const dtm_block *b) {
+  for (size_t e = 0; e < b->n; e++) {
+    const dtm_section *sec = dtm_analysis_section(a, b, e);
+    if (sec && dtm_section_has_rotations(sec->kind)) return 1;
+  }
+  return 0;
+}
+
+int dtm_analysis_rotary(dtm_analysis *a) {
+  if (!dtm_analysis_has_rotations(a)) return DTM_OK;
+  a->rot = calloc((size_t)a->mesh->nblocks + 1, sizeof *a->rot);
+  if (!a->rot) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    const dtm_block *blk = &a->mesh->blocks[b];
+    if (!has_rotary(a, blk)) continue;
+    a->rot[b] = malloc(blk->n * sizeof **a->rot);
+    if (!a->rot[b]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    block_rotary(a, blk, a->rot[b]);
+  }
+  return DTM_OK;
+}
+
 /* A shell or beam element's step with physical rotary inertia and the
- * scale of the scaled convention, into st. */
-static void rotary_stats(const dtm_analysis *a, const dtm_block *b, size_t e, const dtm_section *sec,
-                         dtm_section_stats *st) {
-  const dtm_material *m = &a->scene->materials[b->mat[e]].m;
-  double x[3 * DTM_MAX_NODES];
-  dtm_mesh_gather_one(a->mesh, b, e, x);
-  dtm_section_bounds sb;
-  if (dtm_section_element(sec, b->type, dtm_material_value(m, "E"), dtm_material_value(m, "nu"),
-                          dtm_material_value(m, "rho"), x, &sb))
-    return;
-  double dt = 2.0 / sqrt(sb.lambda_physical);
-  if (!(dt >= st->dt_physical_min)) st->dt_physical_min = dt, st->physical_element = b->tags ? b->tags[e] : e;
-  if (!(sb.scale <= st->scale_max)) st->scale_max = sb.scale;
+ * scale of the scaled convention, into st (from a->rot). */
+static void rotary_stats(const dtm_analysis *a, int b, size_t e, dtm_section_stats *st) {
+  const dtm_section_bounds *sb = &a->rot[b][e];
+  if (!sb->nn) return;
+  double dt = 2.0 / sqrt(sb->lambda_physical);
+  if (!(dt >= st->dt_physical_min))
+    st->dt_physical_min = dt, st->physical_element = a->mesh->blocks[b].tags ? a->mesh->blocks[b].tags[e] : e;
+  if (!(sb->scale <= st->scale_max)) st->scale_max = sb->scale;
 }
 
 static const char *anchor_rule(int k) {
@@ -181,7 +218,7 @@ static void section_stats(const dtm_analysis *a, dtm_section_stats *out) {
       if (!(dt[g] >= st->dt_min)) st->dt_min = dt[g], st->element = blk->tags[e];
       double an = anchor_step(a, blk, e, sec);
       if (isfinite(an) && !(an >= st->anchor_min)) st->anchor_min = an;
-      if (dtm_section_has_rotations(sec->kind)) rotary_stats(a, blk, e, sec, st);
+      if (dtm_section_has_rotations(sec->kind)) rotary_stats(a, b, e, st);
     }
 }
 

@@ -1,18 +1,26 @@
 /* Atomic output files: every file dtmap writes (mesh, .opt, report, CSV,
- * plot) goes to a temporary in the target's directory, named
- * .BASE.tmpPID<suffix>, and is renamed over the target only once it is
- * complete; on any failure the temporary is removed and the target, if it
- * existed, is untouched.
+ * plot) is written whole before it gets its name. Its data goes to an
+ * unnamed file (O_TMPFILE) in the target's directory, which the kernel
+ * removes with the last descriptor, so a killed run (SIGKILL, the OOM
+ * killer, a power cut) leaves no data behind; it is linked in as
+ * .BASE.tmpPID<suffix> only once complete and at once renamed over the
+ * target. On any failure it is dropped and the target, if it existed, is
+ * untouched.
  *
- * A process killed while writing (SIGKILL, the OOM killer, a power cut)
- * cannot remove its temporary, so nothing is ever left at the target but
- * the temporary stays. Each writer therefore holds an exclusive flock() on
- * its temporary from creation to rename, and the next writer of the same
- * target removes every temporary of that target that no process holds and
- * whose PID no longer runs (both, so a temporary that is being created is
- * never taken for stale). Temporaries in use are also listed here, so a
- * SIGINT/SIGTERM/SIGHUP handler can remove them (dtm_atomic_cleanup_signal,
- * async-signal-safe).
+ * Libraries (Gmsh, PLplot) write files by name, so the temporary also has
+ * a name while it is open: .BASE.tmpPID<suffix>, a symbolic link to the
+ * unnamed file through /proc (a name whose extension tells Gmsh the
+ * format), which holds no data. The links in use are listed, so a
+ * SIGINT/SIGTERM/SIGHUP handler removes them (dtm_atomic_cleanup_signal,
+ * async-signal-safe), and the list can live in memory shared with a
+ * supervising parent (dtm_atomic_share), which removes them after a worker
+ * died by a signal it could not handle. What a process killed with its
+ * parent leaves (a dangling link) is removed by the next writer of the
+ * same target, with the temporaries of killed runs that wrote by name: on
+ * a file system without O_TMPFILE the temporary is a plain file as before,
+ * held under an exclusive flock() from creation to rename, and removed
+ * when no process holds it and its PID no longer runs (both, so a
+ * temporary that is being created is never taken for stale).
  *
  * A write that fails names the target (not only its temporary) and the
  * reason. stdio's errno of the first failed write may be overwritten by the
@@ -21,7 +29,7 @@
  * anyway). A file a library wrote by name (Gmsh, PLplot: they do not check
  * their writes) counts as failed when the evidence says so: it reached the
  * process's file size limit, or its file system has no space left. */
-#define _DEFAULT_SOURCE /* flock() */
+#define _GNU_SOURCE /* O_TMPFILE, flock() */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -38,29 +46,42 @@
 #include "dtmap/error.h"
 #include "dtmap/util.h"
 
-#define ACTIVE_MAX 8 /* temporaries of this process a signal can remove */
 #include "base.h"
 
 #define CAUSE_UNKNOWN DTM_WRITE_CAUSE_UNKNOWN /* a write failed, but writing again succeeds */
+#define SLOT (DTM_PATH_MAX + 64)              /* bytes of one listed name: a flag byte, then the name */
+#define OWN_SLOTS 8                           /* names listed in this process's own memory */
 
-static char active[ACTIVE_MAX][DTM_PATH_MAX + 64]; /* "" when free */
+static char own_list[OWN_SLOTS][SLOT];
+static char (*active)[SLOT] = own_list; /* the names in use: slot[0] = 1, the name from slot + 1 */
+static size_t nactive = OWN_SLOTS;
 
+void dtm_atomic_share(void *area, size_t bytes) {
+  active = area ? (char(*)[SLOT])area : own_list;
+  nactive = area ? bytes / SLOT : OWN_SLOTS;
+  for (size_t i = 0; area && i < nactive; i++) active[i][0] = 0;
+}
+
+/* The flag is set after the name and cleared before it changes, so a
+ * process that reads the list after this one died reads whole names. */
 static void track(const char *tmp) {
-  for (int i = 0; i < ACTIVE_MAX; i++)
+  for (size_t i = 0; i < nactive; i++)
     if (!active[i][0]) {
-      snprintf(active[i], sizeof active[i], "%s", tmp);
+      size_t n = strnlen(tmp, SLOT - 2);
+      memcpy(active[i] + 1, tmp, n), active[i][n + 1] = '\0';
+      __atomic_store_n(&active[i][0], 1, __ATOMIC_RELEASE);
       return;
     }
 }
 
 static void untrack(const char *tmp) {
-  for (int i = 0; i < ACTIVE_MAX; i++)
-    if (!strcmp(active[i], tmp)) active[i][0] = '\0';
+  for (size_t i = 0; i < nactive; i++)
+    if (active[i][0] && !strcmp(active[i] + 1, tmp)) __atomic_store_n(&active[i][0], 0, __ATOMIC_RELEASE);
 }
 
 void dtm_atomic_cleanup_signal(void) {
-  for (int i = 0; i < ACTIVE_MAX; i++)
-    if (active[i][0]) unlink(active[i]);
+  for (size_t i = 0; i < nactive; i++)
+    if (__atomic_load_n(&active[i][0], __ATOMIC_ACQUIRE)) unlink(active[i] + 1);
 }
 
 static void temp_name(const char *path, const char *suffix, char *out, size_t len) {
@@ -80,9 +101,15 @@ static long temp_pid(const char *name, const char *base) {
   return pid > 0 ? pid : 0;
 }
 
-/* Remove file when no process holds its lock and pid does not run. */
+/* Remove file when pid does not run and, for a plain file, no process
+ * holds its lock (a link holds no data: its PID is enough). */
 static void remove_if_stale(const char *file, long pid) {
-  if (pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH) return;
+  struct stat st;
+  if (pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH || lstat(file, &st)) return;
+  if (S_ISLNK(st.st_mode)) {
+    unlink(file);
+    return;
+  }
   int fd = open(file, O_RDONLY | O_NOFOLLOW);
   if (fd < 0) return;
   if (flock(fd, LOCK_EX | LOCK_NB) == 0) unlink(file);
@@ -106,26 +133,67 @@ static void remove_stale(const char *path) {
   closedir(d);
 }
 
-static int open_fail(dtm_atomic *w, const char *path, int e) {
-  if (w->fd >= 0) close(w->fd), unlink(w->tmp), untrack(w->tmp);
+/* Close and remove whatever w holds. */
+static void drop(dtm_atomic *w) {
+  if (w->f) fclose(w->f);
+  w->f = NULL;
+  if (w->tmp[0]) unlink(w->tmp), untrack(w->tmp);
+  if (w->fd >= 0) close(w->fd);
   w->fd = -1;
   w->tmp[0] = '\0';
+}
+
+static int open_fail(dtm_atomic *w, const char *path, int e) {
+  drop(w);
   return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write: %s", path, strerror(e));
+}
+
+/* An unnamed file in path's directory, named w->tmp through a link to it:
+ * 0, or the errno (EOPNOTSUPP and the like: the file system has none). */
+static int open_unnamed(dtm_atomic *w, const char *path) {
+  const char *slash = strrchr(path, '/');
+  char dir[DTM_PATH_MAX], target[64];
+  snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+  w->fd = open(dir, O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
+  if (w->fd < 0) return errno;
+  snprintf(target, sizeof target, "/proc/%ld/fd/%d", (long)getpid(), w->fd);
+  int e = symlink(target, w->tmp) ? errno : 0;
+  if (e == EEXIST && !unlink(w->tmp)) /* left by a killed process that had this PID */
+    e = symlink(target, w->tmp) ? errno : 0;
+  if (!e) return w->unnamed = 1, 0;
+  close(w->fd), w->fd = -1;
+  return e;
+}
+
+/* A plain temporary under its lock (file systems without O_TMPFILE). */
+static int open_named(dtm_atomic *w) {
+  w->fd = open(w->tmp, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (w->fd < 0) return errno;
+  return flock(w->fd, LOCK_EX | LOCK_NB) ? errno : 0;
 }
 
 int dtm_atomic_open(dtm_atomic *w, const char *path, const char *suffix, int stream) {
   w->f = NULL;
   w->fd = -1;
   w->tmp[0] = '\0';
+  w->unnamed = 0;
   if ((size_t)snprintf(w->path, sizeof w->path, "%s", path) >= sizeof w->path)
     return DTM_ERR(DTM_ERR_INPUT, "%s: the path is too long", path);
   remove_stale(path);
   temp_name(path, suffix, w->tmp, sizeof w->tmp);
-  w->fd = open(w->tmp, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
-  if (w->fd < 0) return open_fail(w, path, errno);
-  if (flock(w->fd, LOCK_EX | LOCK_NB)) return open_fail(w, path, errno);
+  int e = open_unnamed(w, path);
+  if (e && (e = open_named(w)) != 0) { /* no O_TMPFILE, or no link: a plain file, or the reason */
+    if (w->fd >= 0) close(w->fd), w->fd = -1, unlink(w->tmp);
+    w->tmp[0] = '\0';
+    return open_fail(w, path, e);
+  }
   track(w->tmp);
-  if (stream && !(w->f = fopen(w->tmp, "w"))) return open_fail(w, path, errno);
+  int sfd = stream ? dup(w->fd) : -1;
+  if (stream && (sfd < 0 || !(w->f = fdopen(sfd, "w")))) {
+    e = errno;
+    if (sfd >= 0) close(sfd);
+    return open_fail(w, path, e);
+  }
   return DTM_OK;
 }
 
@@ -176,9 +244,18 @@ static int write_status(dtm_atomic *w) {
   return e;
 }
 
+/* Give the unnamed file the name of its link (the link goes first). */
+static int link_in(dtm_atomic *w) {
+  char self[64];
+  snprintf(self, sizeof self, "/proc/self/fd/%d", w->fd);
+  if (unlink(w->tmp) && errno != ENOENT) return errno;
+  return linkat(AT_FDCWD, self, AT_FDCWD, w->tmp, AT_SYMLINK_FOLLOW) ? errno : 0;
+}
+
 int dtm_atomic_commit(dtm_atomic *w) {
   char why[256];
   int e = write_status(w);
+  if (!e && w->unnamed) e = link_in(w);
   if (!e && rename(w->tmp, w->path)) e = errno;
   if (e) {
     dtm_write_reason(e, why, sizeof why);
@@ -192,14 +269,7 @@ int dtm_atomic_commit(dtm_atomic *w) {
   return DTM_OK;
 }
 
-void dtm_atomic_abort(dtm_atomic *w) {
-  if (w->f) fclose(w->f);
-  w->f = NULL;
-  if (w->tmp[0]) unlink(w->tmp), untrack(w->tmp);
-  if (w->fd >= 0) close(w->fd);
-  w->fd = -1;
-  w->tmp[0] = '\0';
-}
+void dtm_atomic_abort(dtm_atomic *w) { drop(w); }
 
 int dtm_atomic_write_text(const char *path, const char *text, int add_newline) {
   dtm_atomic w;
@@ -207,4 +277,23 @@ int dtm_atomic_write_text(const char *path, const char *text, int add_newline) {
   fputs(text, w.f);
   if (add_newline) fputc('\n', w.f);
   return dtm_atomic_commit(&w);
+}
+
+int dtm_scratch_fd(void) {
+  const char *dir = getenv("TMPDIR");
+  char path[DTM_PATH_MAX];
+  if (!dir || !dir[0]) dir = "/tmp";
+  int fd = open(dir, O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (fd >= 0) return fd;
+  snprintf(path, sizeof path, "%s/dtmap-scratch-XXXXXX", dir);
+  fd = mkostemp(path, O_CLOEXEC);
+  if (fd >= 0) unlink(path);
+  return fd;
+}
+
+int dtm_scratch_named(dtm_atomic *w, const char *base, const char *suffix) {
+  const char *dir = getenv("TMPDIR");
+  char path[DTM_PATH_MAX];
+  snprintf(path, sizeof path, "%s/%s", dir && dir[0] ? dir : "/tmp", base);
+  return dtm_atomic_open(w, path, suffix, 0);
 }

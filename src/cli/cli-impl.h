@@ -140,10 +140,39 @@ int dtm_cli_with_display(int (*draw)(void *arg), void *arg);
  * its exit code; -1 when argv has no -onelab. */
 int dtm_cli_onelab(int argc, char **argv);
 /* The progress line (progress.c): on a terminal and unless quiet
- * (verbosity 0), install the library's progress hook and draw long stages
- * on stderr; stop erases the line and ends the drawing thread. */
+ * (verbosity 0), draw long stages on stderr. start: in one process (place,
+ * draw, hook); stop erases the line and ends the drawing thread. Under the
+ * supervisor: place puts the record in shared memory before the fork, hook
+ * (in the worker) records the library's stages in it, draw (in the
+ * supervisor) starts the thread that draws them and, once a second, hands
+ * the open stages' path ("refine round 1 > meshing") and the time since
+ * the outermost began (s) to relay (NULL: none); stage gives the
+ * innermost open stage's name (returns how many are open). */
+typedef void (*cli_progress_relay)(void *user, const char *stages, double seconds);
 void dtm_cli_progress_start(int verbosity);
 void dtm_cli_progress_stop(void);
+void dtm_cli_progress_place(void);
+void dtm_cli_progress_hook(void);
+void dtm_cli_progress_draw(int verbosity, cli_progress_relay relay, void *user);
+int dtm_cli_progress_stage(char *buf, size_t len);
+
+/* A job for the supervisor (supervise.c). */
+typedef struct {
+  int (*job)(void *arg);                            /* the whole command, run in the worker: its exit code */
+  void *arg;                                        /* its argument */
+  int verbosity;                                    /* 0: no progress line */
+  cli_progress_relay relay;                         /* the supervisor's relay of the worker's stages, or NULL */
+  void (*crashed)(void *user, const char *message); /* told after the worker died by a signal, or NULL */
+  void *user;                                       /* their argument */
+} cli_supervised;
+/* Run s->job in a worker process and wait for it: its exit code; 3 after
+ * it died by a signal (reported on stderr and to s->crashed); the
+ * supervisor dies by SIGINT, SIGTERM or SIGHUP when it received one (after
+ * passing it on and waiting). An MPI rank runs the job in this process. */
+int dtm_cli_supervise(const cli_supervised *s);
+/* SIGINT, SIGTERM, SIGHUP remove the temporaries being written, then end
+ * the process as the signal would (an unsupervised process, the worker). */
+void dtm_cli_catch_signals(void);
 /* Warn on stderr about the elements analysed although inverted at a node. */
 void dtm_cli_warn_flagged(const dtm_analysis *a);
 /* The same for curved elements whose step depends on the rule (warn.c). */

@@ -4,7 +4,6 @@
  * 1 target or verification not met, 2 bad input or usage, 3 internal
  * error. */
 #include <float.h>
-#include <signal.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -242,25 +241,19 @@ static int usage_error(const char *what, const char *arg) {
   return 2;
 }
 
-/* Interrupted (Ctrl-C, kill, a closed terminal): remove the temporaries
- * being written, then end as the signal would have. */
-static void on_signal(int sig) {
-  dtm_atomic_cleanup_signal();
-  signal(sig, SIG_DFL);
-  raise(sig);
-}
+/* A command, run in the supervisor's worker (supervise.c). */
+typedef struct {
+  const cli_command *c; /* the command */
+  const cli_opts *o;    /* its options */
+} command_job;
 
-static void catch_signals(void) {
-  static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  for (size_t i = 0; i < sizeof sigs / sizeof *sigs; i++) sigaction(sigs[i], &sa, NULL);
+static int run_command(void *arg) {
+  const command_job *j = arg;
+  return j->c->main(j->o);
 }
 
 int main(int argc, char **argv) {
-  catch_signals();
+  dtm_cli_catch_signals();
   int onelab = dtm_cli_onelab(argc, argv);
   if (onelab >= 0) return onelab;
   const char *cmd = argc > 1 ? argv[1] : "";
@@ -277,10 +270,9 @@ int main(int argc, char **argv) {
       return usage_error("only run is distributed; run this command without mpirun: ", c->name);
     int r = dtm_cli_parse(c, argc, argv, &o);
     if (r) return r < 0 ? 0 : r;
-    dtm_cli_progress_start(o.verbosity);
-    r = c->main(&o);
-    dtm_cli_progress_stop();
-    return r;
+    command_job j = {c, &o};
+    cli_supervised s = {run_command, &j, o.verbosity, NULL, NULL, NULL};
+    return dtm_cli_supervise(&s);
   }
   return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

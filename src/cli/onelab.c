@@ -1,7 +1,8 @@
 /* `-onelab NAME ADDRESS` anywhere on dtmap's command line: Gmsh runs its
  * solvers as `EXE [args] -onelab NAME ADDRESS`. The other arguments may be
  * the command `run`, a scene file (instead of MODEL.xml beside the model
- * open in Gmsh) and -v, -q, -j N; then the ONELAB client takes over. */
+ * open in Gmsh) and -v, -q, -j N; then the ONELAB client takes over, in a
+ * supervised worker like every command that runs Gmsh. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,6 +44,12 @@ static int other_args(int argc, char **argv, int at, dtm_onelab_opts *o) {
   return 0;
 }
 
+/* The supervisor's side (supervise.c): the worker serves, the supervisor
+ * relays its stages and its crash to Gmsh. */
+static int serve(void *cl) { return dtm_onelab_serve(cl); }
+static void relay(void *cl, const char *stages, double seconds) { dtm_onelab_progress(cl, stages, seconds); }
+static void crashed(void *cl, const char *message) { dtm_onelab_crashed(cl, message); }
+
 int dtm_cli_onelab(int argc, char **argv) {
   int at = -1;
   for (int i = 1; i < argc; i++)
@@ -50,6 +57,12 @@ int dtm_cli_onelab(int argc, char **argv) {
   if (at < 0) return -1;
   if (at + 2 >= argc) return onelab_usage("-onelab needs a client name and Gmsh's socket address", "");
   dtm_onelab_opts o = {argv[at + 1], argv[at + 2], NULL, 1, 0};
+  dtm_onelab_client *cl = NULL;
   int r = other_args(argc, argv, at, &o);
-  return r ? r : dtm_onelab_main(&o);
+  if (r) return r;
+  r = dtm_onelab_open(&o, &cl);
+  cli_supervised s = {serve, cl, o.verbosity, relay, crashed, cl};
+  if (r == 0) r = dtm_cli_supervise(&s);
+  dtm_onelab_close(&cl);
+  return r;
 }

@@ -23,11 +23,13 @@ int dtm_cli_format(const cli_command *c, const char *word, int *out) {
   return word ? dtm_cli_usage_error(c, "--format '%s' is not ascii, binary or auto", word) : DTM_OK;
 }
 
-/* Begin the output mesh at out (write the mesh now); *seconds accumulates. */
-static int begin_output(const dtm_scene *s, const cli_opts *o, const char *out, size_t nel, dtm_output_file **f,
-                        double *seconds) {
+/* Begin the output mesh at out (write the mesh now, or start writing it
+ * in the background, which then releases Gmsh's model); *seconds
+ * accumulates. */
+static int begin_output(const dtm_scene *s, const cli_opts *o, const char *out, size_t nel, int background,
+                        dtm_output_file **f, double *seconds) {
   double t0 = dtm_wtime();
-  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only, 0};
+  dtm_output_opts oo = {DTM_MSH_AUTO, o->views_only, 0, background};
   dtm_cli_format(NULL, o->format, &oo.format); /* checked before the analysis */
   int r = dtm_output_begin(s, out, &oo, nel, f);
   *seconds += dtm_wtime() - t0;
@@ -41,7 +43,7 @@ int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffi
   const char *out = names.mesh, *rep = names.report[0] ? names.report : NULL;
   dtm_output_file *f = begun ? *begun : NULL;
   if (begun) *begun = NULL;
-  if (!f) DTM_CHECK(begin_output(s, o, out, dtm_analysis_nelements(res->analysis), &f, &res->t_output));
+  if (!f) DTM_CHECK(begin_output(s, o, out, dtm_analysis_nelements(res->analysis), 0, &f, &res->t_output));
   double t0 = dtm_wtime();
   DTM_CHECK(dtm_output_finish(&f, res));
   res->t_output += dtm_wtime() - t0;
@@ -148,9 +150,11 @@ static unsigned global_flags(const cli_opts *o, int verify) {
   return (verify ? DTM_GLOBAL_MODES : 0u) | (o->posterior ? DTM_GLOBAL_BASIS : 0u);
 }
 
-/* The output of `run`, begun as soon as the mesh is extracted: the mesh is
- * written then and Gmsh's copy of the model released, so the analysis
- * never holds two copies of a large mesh. */
+/* The output of `run`, begun as soon as the mesh is extracted: Gmsh writes
+ * the mesh on a thread of its own while the analysis computes (nothing
+ * below calls Gmsh until the output is finished), then releases its copy of
+ * the model, so the two copies of a large mesh live only as long as that
+ * write. */
 typedef struct {
   const dtm_scene *s;    /* the scene */
   const cli_opts *o;     /* the options */
@@ -162,9 +166,7 @@ static int write_early(void *user, size_t nelements) {
   early_output *e = user;
   cli_outputs names;
   dtm_cli_output_names(e->s, e->o, NULL, &names);
-  DTM_CHECK(begin_output(e->s, e->o, names.mesh, nelements, &e->file, &e->seconds));
-  dtm_gmsh_release();
-  return DTM_OK;
+  return begin_output(e->s, e->o, names.mesh, nelements, 1, &e->file, &e->seconds);
 }
 
 /* Analyse, then summarise and either write the outputs or verify. */

@@ -19,27 +19,18 @@
 #include "dtmap/cost.h"
 #include "dtmap/error.h"
 
-/* Level of a finite step dt against the basis b: floor(log2(dt/b)), 0 below
- * b, corrected by exact comparisons with b 2^k (ldexp is exact) so that
- * rounding in log2 never moves an element across a level boundary. */
-static int level_of(double dt, double b) {
-  if (!(dt > b)) return 0;
-  double l = floor(log2(dt / b));
-  int k = l < 0 ? 0 : l > DTM_MAX_LEVELS - 1 ? DTM_MAX_LEVELS - 1 : (int)l;
-  while (k > 0 && ldexp(b, k) > dt) k--;
-  while (k < DTM_MAX_LEVELS - 1 && ldexp(b, k + 1) <= dt) k++;
+/* Level of a finite step dt against the basis b, whose levels' steps are
+ * at[k] = b 2^k (exact): the largest k with at[k] <= dt, 0 below b. The
+ * binary exponent of dt / b guesses it, exact comparisons with at[] settle
+ * it, so rounding in the division never moves an element across a level
+ * boundary. */
+static int level_of(double dt, const double *at) {
+  if (!(dt > at[0])) return 0;
+  int k = ilogb(dt / at[0]);
+  k = k < 0 ? 0 : k > DTM_MAX_LEVELS - 1 ? DTM_MAX_LEVELS - 1 : k;
+  while (k > 0 && at[k] > dt) k--;
+  while (k < DTM_MAX_LEVELS - 1 && at[k + 1] <= dt) k++;
   return k;
-}
-
-/* Highest level of the finite steps. */
-static int top_finite_level(const double *dt, size_t n, double b) {
-  int top = 0;
-  for (size_t i = 0; i < n; i++)
-    if (isfinite(dt[i])) {
-      int k = level_of(dt[i], b);
-      if (k > top) top = k;
-    }
-  return top;
 }
 
 static double speedup_of(const dtm_subcycling *sc, size_t n) {
@@ -56,14 +47,21 @@ int dtm_subcycling_compute(const dtm_analysis *a, dtm_subcycling *sc) {
 }
 
 int dtm_subcycling_levels(const double *own, size_t n, double b, dtm_subcycling *sc) {
+  double at[DTM_MAX_LEVELS];
   memset(sc, 0, sizeof *sc);
   sc->level = calloc(n + 1, sizeof *sc->level);
   if (!sc->level) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the levels of %zu elements", n);
-  int ok = b > 0 && isfinite(b), top = ok ? top_finite_level(own, n, b) : 0;
+  int ok = b > 0 && isfinite(b), top = 0, infinite = 0;
+  for (int k = 0; k < DTM_MAX_LEVELS; k++) at[k] = ldexp(b, k);
+  for (size_t i = 0; ok && i < n; i++) {
+    int inf = isinf(own[i]) && own[i] > 0, k = inf ? 0 : level_of(own[i], at);
+    sc->level[i] = k, infinite |= inf;
+    if (!inf && isfinite(own[i]) && k > top) top = k;
+  }
+  for (size_t i = 0; infinite && i < n; i++) /* no finite step: the highest finite level */
+    if (isinf(own[i]) && own[i] > 0) sc->level[i] = top;
   for (size_t i = 0; i < n; i++) {
-    double dt = own[i];
-    int k = !ok ? 0 : isinf(dt) && dt > 0 ? top : level_of(dt, b);
-    sc->level[i] = k;
+    int k = sc->level[i];
     sc->count[k]++;
     if (k + 1 > sc->nlevels) sc->nlevels = k + 1;
   }

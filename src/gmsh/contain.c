@@ -1,21 +1,36 @@
 /* Gmsh's meshing, contained: a crash inside Gmsh's mesher (a SIGSEGV in
  * its surface smoothing has been seen on STL-based models) must not take
- * dtmap down with the rounds it has already paid for. The current model is
- * meshed in a forked child, which inherits the whole session (geometry,
- * options, size fields), meshes, saves the mesh to a temporary binary .msh
- * and exits; the parent merges that file into its own model, whose CAD
- * entities the .msh names by tag, so later remeshes still start from the
- * geometry. The child's terminal output (Gmsh's messages at info level) goes
- * to a log file, whose last lines the parent quotes when the child dies by a
- * signal; an error the child raises (Gmsh refused the model) comes back with
- * its code and message. When the child cannot hand its mesh back (the
- * temporary file cannot be written whole: a full disk, a file size limit),
- * the job runs again in this process, uncontained. A probe (what the model does to sizes, causes.c)
- * runs the same way and hands numbers back instead of a mesh, leaving the
- * parent's model as it was. The environment variable DTMAP_TEST_GMSH_CRASH,
- * read only in the child, makes it raise SIGSEGV after meshing when it
- * names the stage ("meshing", "remeshing round 2"): the tests prove the
- * path with it. */
+ * dtmap down with the rounds it has already paid for.
+ *
+ * Two ways. Under a supervisor (the dtmap command: src/cli/supervise.c
+ * forks one worker that does the whole job and reports its crash, and
+ * calls dtm_gmsh_contain(0, log) in it), the first mesh of a scene is
+ * made in this process, with nothing to hand back, and Gmsh's messages go
+ * to the supervisor's log meanwhile. Otherwise (a script's process, the
+ * Python module), and always for a remesh (refine: a crash in Gmsh ends
+ * that round, not the run, which keeps its best mesh) and for a probe, the
+ * current model is meshed in a forked child, which inherits the whole
+ * session (geometry, options, size fields), meshes, saves the mesh as a
+ * binary .msh and exits; the parent merges that file into its own model,
+ * whose CAD entities the .msh names by tag, so later remeshes still start
+ * from the geometry. A probe (what the model does to sizes, causes.c) runs
+ * the same way and hands numbers back instead of a mesh, leaving the
+ * parent's model as it was.
+ *
+ * The child dies with its parent (PR_SET_PDEATHSIG, then a check that its
+ * parent is still the one that forked it). Its files cannot outlive the
+ * processes: its terminal (Gmsh's messages at info level: the parent
+ * quotes their end when the child dies by a signal), its error message
+ * (an error the child raises comes back with its code and message) and a
+ * probe's numbers are unnamed files it inherits; its mesh is an unnamed
+ * file in $TMPDIR that Gmsh writes and reads by the name of a link to it
+ * (dtm_atomic_open), which a signal handler removes. When the child cannot
+ * hand its mesh back (the file cannot be written whole: a full disk, a
+ * file size limit), the job runs again in this process, uncontained. The
+ * environment variable DTMAP_TEST_GMSH_CRASH makes the job raise SIGSEGV
+ * after meshing when it names the stage ("meshing", "remeshing round 2"):
+ * the tests prove both ways with it. */
+#define _GNU_SOURCE /* pread */
 #include <errno.h>
 #include <gmshc.h>
 #include <omp.h>
@@ -24,22 +39,31 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/util.h"
 #include "gmsh-impl.h"
 
 #define TAIL_LINES 4 /* of Gmsh's log quoted after a crash */
 #define HANDBACK 4   /* the child's exit code when it meshed but could not hand the result back */
 
-/* The temporary files of one contained job. */
+static int supervised;          /* the caller contains this process: the first mesh is made here */
+static int supervisor_log = -1; /* where Gmsh's messages go meanwhile, or -1 */
+
+void dtm_gmsh_contain(int contained, int log_fd) {
+  supervised = !contained;
+  supervisor_log = contained ? -1 : log_fd;
+}
+
+/* The files of one contained job. */
 typedef struct {
-  char dir[256];   /* the temporary directory */
-  char mesh[300];  /* dir/mesh.msh: the child's mesh */
-  char log[300];   /* dir/gmsh.log: the child's terminal */
-  char error[300]; /* dir/error.txt: the child's error message */
-  char data[300];  /* dir/data.bin: a probe's numbers */
+  dtm_atomic mesh; /* the child's mesh, written and merged by the name mesh.tmp */
+  int log;         /* the child's terminal */
+  int error;       /* the child's error message */
+  int data;        /* a probe's numbers */
 } job_files;
 
 /* What the child runs and what it hands back. */
@@ -53,25 +77,28 @@ typedef struct {
   int no_periodic;          /* leave the $Periodic section out of the mesh handed back */
 } job_spec;
 
-static int files_make(job_files *f) {
-  const char *tmp = getenv("TMPDIR");
-  snprintf(f->dir, sizeof f->dir, "%s/dtmap-mesh-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-  if (!mkdtemp(f->dir)) return DTM_ERR(DTM_ERR_INTERNAL, "cannot make a temporary directory in %s", f->dir);
-  snprintf(f->mesh, sizeof f->mesh, "%s/mesh.msh", f->dir);
-  snprintf(f->log, sizeof f->log, "%s/gmsh.log", f->dir);
-  snprintf(f->error, sizeof f->error, "%s/error.txt", f->dir);
-  snprintf(f->data, sizeof f->data, "%s/data.bin", f->dir);
-  return DTM_OK;
+static void files_close(job_files *f) {
+  dtm_atomic_abort(&f->mesh);
+  if (f->log >= 0) close(f->log);
+  if (f->error >= 0) close(f->error);
+  if (f->data >= 0) close(f->data);
+  f->log = f->error = f->data = -1;
 }
 
-static void files_remove(const job_files *f) {
-  unlink(f->mesh), unlink(f->log), unlink(f->error), unlink(f->data);
-  rmdir(f->dir);
+static int files_make(job_files *f, int mesh) {
+  f->mesh.fd = -1, f->mesh.tmp[0] = '\0', f->mesh.f = NULL;
+  f->log = dtm_scratch_fd(), f->error = dtm_scratch_fd(), f->data = dtm_scratch_fd();
+  int r = f->log < 0 || f->error < 0 || f->data < 0
+              ? DTM_ERR(DTM_ERR_INTERNAL, "cannot make a scratch file in $TMPDIR: %s", strerror(errno))
+              : DTM_OK;
+  if (r == DTM_OK && mesh) r = dtm_scratch_named(&f->mesh, "dtmap-mesh", ".msh");
+  if (r) files_close(f);
+  return r;
 }
 
-static void write_text(const char *path, const char *text) {
-  FILE *o = fopen(path, "w");
-  if (o) fputs(text, o), fclose(o);
+static void write_text(int fd, const char *text) {
+  size_t n = strlen(text);
+  if (pwrite(fd, text, n, 0) != (ssize_t)n) return; /* the parent then quotes the log instead */
 }
 
 /* Offset of the first pat at or after from in f, or -1 (chunked, so that
@@ -128,25 +155,25 @@ static void maybe_crash(const char *stage) {
   raise(SIGSEGV);
 }
 
-static int write_data(const char *path, const double *v, size_t n) {
-  FILE *o = fopen(path, "wb");
-  int ok = o && fwrite(v, sizeof *v, n, o) == n;
-  if (o && fclose(o)) ok = 0;
-  return ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot write %s", path);
+static int write_data(int fd, const double *v, size_t n) {
+  size_t bytes = n * sizeof *v;
+  int ok = pwrite(fd, v, bytes, 0) == (ssize_t)bytes;
+  return ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot write the probe's results: %s", strerror(errno));
 }
 
-static int read_data(const char *path, double *v, size_t n) {
-  FILE *in = fopen(path, "rb");
-  int ok = in && fread(v, sizeof *v, n, in) == n;
-  if (in) fclose(in);
-  return ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot read back the probe's results (%s)", path);
+static int read_data(int fd, double *v, size_t n) {
+  size_t bytes = n * sizeof *v;
+  int ok = pread(fd, v, bytes, 0) == (ssize_t)bytes;
+  return ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot read back the probe's results");
 }
 
 /* The job runs on a thread of its own: OpenMP's (libgomp's) pool of
  * worker threads belongs to the thread that made it, and a forked child
  * has only the forking thread, whose pool names workers that did not
  * survive the fork; a team started from it waits for them forever. A new
- * thread starts with no pool, so Gmsh's parallel regions make their own. */
+ * thread starts with no pool, so Gmsh's parallel regions make their own.
+ * A job made in this process runs on such a thread too, so that it makes
+ * the mesh a child would make. */
 typedef struct {
   const job_spec *j; /* the job */
   int r;             /* its result */
@@ -165,7 +192,7 @@ static void *job_main(void *arg) {
 #define JOB_STACK ((size_t)256 << 20) /* reserved, not committed: Gmsh's recursions have room */
 
 static int run_job(const job_spec *j) {
-  static job_thread t; /* the child's only job */
+  static job_thread t; /* one job at a time */
   t.j = j, t.r = DTM_ERR_INTERNAL;
   pthread_attr_t attr;
   pthread_t th;
@@ -198,27 +225,40 @@ static int complete(const char *path) {
  * periodic pairs of a remesh) or the probe's numbers. */
 static int hand_back(const job_spec *j, const job_files *f) {
   if (!j->job) return write_data(f->data, j->out, j->nout);
-  DTM_CHECK(dtm_gmsh_save_mesh(f->mesh));
-  if (!complete(f->mesh)) return DTM_ERR(DTM_ERR_INTERNAL, "%s was cut short", f->mesh);
-  return j->no_periodic ? strip_periodic(f->mesh) : DTM_OK;
+  DTM_CHECK(dtm_gmsh_save_mesh(f->mesh.tmp));
+  if (!complete(f->mesh.tmp)) return DTM_ERR(DTM_ERR_INTERNAL, "%s was cut short", f->mesh.tmp);
+  return j->no_periodic ? strip_periodic(f->mesh.tmp) : DTM_OK;
 }
 
-/* The child: Gmsh's terminal to the log, the job, its mesh or numbers to a
- * file. */
-static void child(const char *stage, const job_spec *j, const job_files *f) {
-  int ierr = 0, fd = -1;
-  FILE *log = fopen(f->log, "w");
-  if (log) fd = fileno(log);
-  if (fd >= 0) dup2(fd, STDOUT_FILENO), dup2(fd, STDERR_FILENO);
+/* Curves and surfaces are meshed one at a time: each logs "Meshing ..."
+ * at info level, and Gmsh's API logger (which dtmap reads for errors)
+ * appends to one vector without a lock, so curves meshed on OpenMP threads
+ * corrupt it (ASan: a double free in t312, HXT on 2 threads). Volumes keep
+ * the threads asked for. */
+static const char *const thread_keys[] = {"Mesh.MaxNumThreads1D", "Mesh.MaxNumThreads2D"};
+
+static void serial_surfaces(double *old) {
+  int ierr = 0;
+  for (int i = 0; i < 2; i++) {
+    if (old) gmshOptionGetNumber(thread_keys[i], &old[i], &ierr);
+    gmshOptionSetNumber(thread_keys[i], 1, &ierr);
+  }
+}
+
+static void restore_surfaces(const double *old) {
+  int ierr = 0;
+  for (int i = 0; i < 2; i++) gmshOptionSetNumber(thread_keys[i], old[i], &ierr);
+}
+
+/* The child: dies with its parent, Gmsh's terminal to the log, the job,
+ * its mesh or numbers back. */
+static void child(pid_t parent, const char *stage, const job_spec *j, const job_files *f) {
+  int ierr = 0;
+  if (prctl(PR_SET_PDEATHSIG, SIGKILL) || getppid() != parent) _exit(DTM_ERR_INTERNAL);
+  dup2(f->log, STDOUT_FILENO), dup2(f->log, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
-  /* Curves and surfaces one at a time: each logs "Meshing ..." at info
-   * level, and Gmsh's API logger (which dtmap reads for errors) appends to
-   * one vector without a lock, so curves meshed on OpenMP threads corrupt
-   * it (ASan: a double free in t312, HXT on 2 threads). Volumes keep the
-   * threads asked for. */
-  gmshOptionSetNumber("Mesh.MaxNumThreads1D", 1, &ierr);
-  gmshOptionSetNumber("Mesh.MaxNumThreads2D", 1, &ierr);
+  serial_surfaces(NULL);
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
@@ -228,13 +268,17 @@ static void child(const char *stage, const job_spec *j, const job_files *f) {
   _exit(r >= 0 && r < 126 ? r : DTM_ERR_INTERNAL); /* no atexit handler: the parent owns the session */
 }
 
-/* The last n non-empty lines of path, "; "-separated, into buf. */
-static void tail(const char *path, int n, char *buf, size_t len) {
+/* The last n non-empty lines of the file at fd, "; "-separated, into buf. */
+static void tail(int fd, int n, char *buf, size_t len) {
   char lines[TAIL_LINES][400], line[400];
-  int count = 0;
-  FILE *in = fopen(path, "r");
+  int count = 0, copy = fd >= 0 ? dup(fd) : -1;
+  FILE *in = copy >= 0 ? fdopen(copy, "r") : NULL;
   buf[0] = '\0';
-  if (!in) return;
+  if (!in) {
+    if (copy >= 0) close(copy);
+    return;
+  }
+  rewind(in);
   while (fgets(line, sizeof line, in)) {
     line[strcspn(line, "\r\n")] = '\0';
     if (line[0] && (!count || strcmp(line, lines[(count - 1) % TAIL_LINES]))) /* a repeated line once */
@@ -247,11 +291,11 @@ static void tail(const char *path, int n, char *buf, size_t len) {
   }
 }
 
-static int read_text(const char *path, char *buf, size_t len) {
-  FILE *in = fopen(path, "r");
-  size_t n = in ? fread(buf, 1, len - 1, in) : 0;
-  if (in) fclose(in);
-  buf[n] = '\0';
+void dtm_gmsh_log_tail(int fd, char *buf, size_t len) { tail(fd, TAIL_LINES, buf, len); }
+
+static int read_text(int fd, char *buf, size_t len) {
+  ssize_t n = pread(fd, buf, len - 1, 0);
+  buf[n > 0 ? n : 0] = '\0';
   return n > 0;
 }
 
@@ -278,17 +322,18 @@ static int merge_back(const job_files *f) {
   gmshModelRemovePhysicalGroups(NULL, 0, &ierr); /* the file brings them back; merged, each entity would be in its
                                                     group twice */
   dtm_gmsh_log_reset();
-  gmshMerge(f->mesh, &ierr);
+  gmshMerge(f->mesh.tmp, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INTERNAL, "reading back the mesh of the meshing process");
   return DTM_OK;
 }
 
 static int run_child(const char *stage, const job_spec *j, const job_files *f) {
   int status = 0;
+  pid_t parent = getpid();
   fflush(NULL);
   pid_t pid = fork();
   if (pid < 0) return DTM_ERR(DTM_ERR_INTERNAL, "%s: cannot start the meshing process: %s", stage, strerror(errno));
-  if (pid == 0) child(stage, j, f);
+  if (pid == 0) child(parent, stage, j, f);
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return DTM_ERR(DTM_ERR_INTERNAL, "%s: lost the meshing process: %s", stage, strerror(errno));
   int r = judge(stage, status, f);
@@ -299,9 +344,9 @@ static int run_child(const char *stage, const job_spec *j, const job_files *f) {
 
 static int contained(const char *stage, const job_spec *j) {
   job_files f;
-  DTM_CHECK(files_make(&f));
+  DTM_CHECK(files_make(&f, j->job != NULL));
   int r = run_child(stage, j, &f);
-  files_remove(&f);
+  files_close(&f);
   if (r == HANDBACK && j->job)
     r = j->job(j->arg); /* the temporary file cannot be written (a full disk, a file
                            size limit): mesh in this process, uncontained */
@@ -310,9 +355,61 @@ static int contained(const char *stage, const job_spec *j) {
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
+/* Gmsh's terminal to the supervisor's log, at info level as the child's
+ * (unless the terminal shows Gmsh's messages: dtmap -v). */
+typedef struct {
+  int out, err;               /* the saved stdout and stderr, or -1: not redirected */
+  double terminal, verbosity; /* Gmsh's options before */
+} log_redirect;
+
+static log_redirect log_begin(void) {
+  log_redirect s = {-1, -1, 0, 0};
+  int ierr = 0;
+  gmshOptionGetNumber("General.Verbosity", &s.verbosity, &ierr);
+  if (supervisor_log < 0 || s.verbosity >= 5) return s;
+  gmshOptionGetNumber("General.Terminal", &s.terminal, &ierr);
+  fflush(NULL);
+  s.out = dup(STDOUT_FILENO), s.err = dup(STDERR_FILENO);
+  dup2(supervisor_log, STDOUT_FILENO), dup2(supervisor_log, STDERR_FILENO);
+  gmshOptionSetNumber("General.Terminal", 1, &ierr);
+  gmshOptionSetNumber("General.Verbosity", 4, &ierr);
+  return s;
+}
+
+static void log_end(log_redirect s) {
+  int ierr = 0;
+  if (s.out < 0) return;
+  fflush(NULL);
+  gmshOptionSetNumber("General.Terminal", s.terminal, &ierr);
+  gmshOptionSetNumber("General.Verbosity", s.verbosity, &ierr);
+  dup2(s.out, STDOUT_FILENO), close(s.out);
+  dup2(s.err, STDERR_FILENO), close(s.err);
+}
+
+int dtm_gmsh_logged(dtm_gmsh_job fn, void *arg) {
+  log_redirect s = log_begin();
+  int r = fn(arg);
+  log_end(s);
+  return r;
+}
+
+/* The job in this process, as the child would run it; the supervisor
+ * reports a crash. */
+static int in_process(const char *stage, const job_spec *j) {
+  double old[2];
+  log_redirect s = log_begin();
+  serial_surfaces(old);
+  int r = run_job(j);
+  fflush(NULL);
+  maybe_crash(stage);
+  restore_surfaces(old);
+  log_end(s);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
 int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg, int remesh) {
   job_spec j = {job, NULL, arg, NULL, 0, omp_get_max_threads(), remesh};
-  return contained(stage, &j);
+  return supervised && !remesh ? in_process(stage, &j) : contained(stage, &j);
 }
 
 int dtm_gmsh_contained_probe(const char *stage, dtm_gmsh_probe_job probe, void *arg, double *out, size_t nout) {

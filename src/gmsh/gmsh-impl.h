@@ -81,8 +81,13 @@ typedef int (*dtm_gmsh_job)(void *arg);
  * 2"). A crash of the child is DTM_ERR_INTERNAL "<stage>: Gmsh crashed
  * (signal N, name); its last messages: ..."; an error the job raised comes
  * back with its message, DTM_ERR_INPUT or DTM_ERR_INTERNAL. remesh: the
- * model had a mesh before (its periodic node pairs are not handed back). */
+ * model had a mesh before (its periodic node pairs are not handed back).
+ * The first mesh (remesh 0) of a supervised process is made in this
+ * process instead (dtm_gmsh_contain), its crash the supervisor's to report. */
 int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg, int remesh);
+/* Run fn(arg) in this process with Gmsh's messages in the supervisor's
+ * log (dtm_gmsh_contain), at info level; just fn(arg) without one. */
+int dtm_gmsh_logged(dtm_gmsh_job fn, void *arg);
 /* A probe of the current model run in a child: it fills out[nout], which
  * comes back to the caller; the caller's model is left as it was. */
 typedef int (*dtm_gmsh_probe_job)(void *arg, double *out, size_t nout);

@@ -122,7 +122,7 @@ int dtm_gmsh_version(char *buf, size_t len, const char **api) {
   return DTM_OK;
 }
 
-/* What the meshing process does (contain.c): mesh, then raise the order. */
+/* What the meshing job does (contain.c): mesh, then raise the order. */
 typedef struct {
   const dtm_scene *s; /* the scene */
   int dim;            /* dimension to mesh */
@@ -143,7 +143,8 @@ static int mesh_job(void *arg) {
   return DTM_OK;
 }
 
-/* Mesh the geometry in a child process, so that a crash inside Gmsh is an
+/* Mesh the geometry contained (a child process, or this one when a
+ * supervisor contains it: contain.c), so that a crash inside Gmsh is an
  * error with its signal and Gmsh's last messages, not dtmap's end. */
 static int mesh_geometry(const dtm_scene *s, int dim) {
   int ierr = 0;
@@ -175,8 +176,21 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
   return DTM_OK;
 }
 
+/* Gmsh reads the file (in the supervisor's log: dtm_gmsh_logged). */
+typedef struct {
+  const char *path; /* the file */
+  int ierr;         /* Gmsh's error code */
+} open_job;
+
+static int open_file(void *arg) {
+  open_job *j = arg;
+  gmshOpen(j->path, &j->ierr);
+  return DTM_OK;
+}
+
 int dtm_gmsh_open(const char *path, int *dim) {
   int ierr = 0;
+  open_job j = {path, 0};
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot read it", path);
   DTM_CHECK(dtm_gmsh_check_msh(path)); /* only .msh files are scanned */
@@ -184,9 +198,9 @@ int dtm_gmsh_open(const char *path, int *dim) {
   dtm_gmsh_mesher_defaults();
   dtm_gmsh_log_reset();
   dtm_progress_begin("reading");
-  gmshOpen(path, &ierr);
+  dtm_gmsh_logged(open_file, &j);
   dtm_progress_end();
-  DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
+  DTM_GMSH_CHECK_LOG(j.ierr, DTM_ERR_INPUT, what);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);
   return DTM_OK;

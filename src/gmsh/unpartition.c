@@ -50,8 +50,9 @@ static void keep_parents(kept_group *g) {
   g->n = k;
 }
 
-/* The groups whose names Gmsh's unpartition would take for its own. */
-static kept_group *record(size_t *count) {
+/* The groups whose names Gmsh's unpartition would take for its own, or
+ * with all, every group. */
+static kept_group *record(int all, size_t *count) {
   int *dt = NULL, ierr = 0;
   size_t n = 0, k = 0;
   gmshModelGetPhysicalGroups(&dt, &n, -1, &ierr);
@@ -60,7 +61,7 @@ static kept_group *record(size_t *count) {
     kept_group *c = &g[k];
     c->dim = dt[i], c->tag = dt[i + 1];
     gmshModelGetPhysicalName(c->dim, c->tag, &c->name, &ierr);
-    if (!c->name || !strchr(c->name, '_')) {
+    if (!c->name || (!all && !strchr(c->name, '_'))) {
       gmshFree(c->name), c->name = NULL;
       continue;
     }
@@ -83,28 +84,52 @@ static int has_group(int dim, int tag) {
   return found;
 }
 
-/* Put back a group the unpartition removed. */
-static void restore(const kept_group *g) {
+static void add_group(const kept_group *g) {
   int ierr = 0;
-  if (g->n == 0 || has_group(g->dim, g->tag)) return;
   gmshModelAddPhysicalGroup(g->dim, g->ents, g->n, g->tag, &ierr);
   gmshModelSetPhysicalName(g->dim, g->tag, g->name, &ierr);
+}
+
+static void free_groups(kept_group *g, size_t n) {
+  for (size_t i = 0; g && i < n; i++) gmshFree(g[i].name), gmshFree(g[i].ents);
+  free(g);
+}
+
+/* Put back the groups g[n] the unpartition removed. A model read from a
+ * .geo still holds them in its script's definitions, where Gmsh refuses
+ * to add them again ("already exists") and where removing one alone frees
+ * it twice at the end (Gmsh 4.8.4): every group is removed at once and
+ * added back, those the model kept and the missing ones. */
+static int restore(kept_group *g, size_t n) {
+  size_t nc = 0, missing = 0;
+  for (size_t i = 0; i < n; i++)
+    if (g[i].n == 0 || has_group(g[i].dim, g[i].tag))
+      g[i].n = 0;
+    else
+      missing++;
+  if (!missing) return DTM_OK;
+  kept_group *cur = record(1, &nc);
+  if (!cur) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int ierr = 0;
+  gmshModelRemovePhysicalGroups(NULL, 0, &ierr);
+  for (size_t i = 0; i < nc; i++) add_group(&cur[i]);
+  for (size_t i = 0; i < n; i++)
+    if (g[i].n) add_group(&g[i]);
+  free_groups(cur, nc);
+  return DTM_OK;
 }
 
 int dtm_gmsh_unpartition(void) {
   if (!model_partitioned()) return DTM_OK;
   size_t n = 0;
-  kept_group *g = record(&n);
+  kept_group *g = record(0, &n);
   if (!g) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int ierr = 0;
   dtm_gmsh_log_reset();
   gmshModelMeshUnpartition(&ierr);
   int r = dtm_gmsh_check_log(ierr, DTM_ERR_INPUT, __FILE__, __LINE__, __func__,
                              "making the partitioned mesh whole before remeshing failed");
-  for (size_t i = 0; i < n; i++) {
-    if (r == DTM_OK) restore(&g[i]);
-    gmshFree(g[i].name), gmshFree(g[i].ents);
-  }
-  free(g);
+  if (r == DTM_OK) r = restore(g, n);
+  free_groups(g, n);
   return r;
 }

@@ -21,7 +21,9 @@ int dtm_elem_setup(int type, const double *x, int model, dtm_elem_geom *eg) {
   eg->level = 0, eg->settled = 1;
   if (dtm_elem_local(type, x, eg->xl)) return -1;
   eg->level = dtm_elem_rule_choose(type, eg->d, eg->nn, (const double(*)[3])eg->xl, model, &eg->q, &eg->settled);
-  eg->bad = dtm_map_first_bad(type, eg->d, eg->nn, (const double(*)[3])eg->xl, &eg->q, &eg->bad_det);
+  const dtm_ref_table *t = dtm_ref_level_table(type, eg->level);
+  eg->bad = t ? dtm_map_first_bad_table(eg->d, eg->nn, (const double(*)[3])eg->xl, t, &eg->bad_det)
+              : dtm_map_first_bad(type, eg->d, eg->nn, (const double(*)[3])eg->xl, &eg->q, &eg->bad_det);
   return eg->bad < 0 ? 0 : -1;
 }
 
@@ -35,14 +37,19 @@ int dtm_elem_prepare(int type, const double *x, int model, dtm_elem_geom *eg) {
                  dtm_elem_name(type), eg->bad_det, eg->bad);
 }
 
-/* Calls visit(ctx, N, g, dv) at every quadrature point. */
+/* Calls visit(ctx, N, g, dv) at every quadrature point (a levelled rule's
+ * shape functions from its table). */
 static void each_point(const dtm_elem_geom *eg,
                        void (*visit)(void *, const dtm_elem_geom *, const double *, const double (*)[3], double),
                        void *ctx) {
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv;
+  const dtm_ref_table *t = dtm_ref_level_table(eg->type, eg->level);
   for (int k = 0; k < eg->q.n; k++) {
-    dtm_map_eval(eg->type, eg->d, eg->nn, (const double(*)[3])eg->xl, eg->q.p[k], eg->q.w[k], N, g, &dv);
-    visit(ctx, eg, N, (const double(*)[3])g, dv);
+    if (t)
+      dtm_map_eval_dn(eg->d, eg->nn, (const double(*)[3])eg->xl, (const double(*)[3])t->dN[k], eg->q.w[k], g, &dv);
+    else
+      dtm_map_eval(eg->type, eg->d, eg->nn, (const double(*)[3])eg->xl, eg->q.p[k], eg->q.w[k], N, g, &dv);
+    visit(ctx, eg, t ? t->N[k] : N, (const double(*)[3])g, dv);
   }
 }
 

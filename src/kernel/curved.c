@@ -89,19 +89,21 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
   return worst;
 }
 
-/* T at level n (see above) into T[nd][nd], nd = nn d; the rule into q.
- * Returns |T|_F. */
-static double tensor_at(int type, int d, int nn, const double (*xl)[3], int n, dtm_qrule *q, double *T) {
+/* T at level n (see above) into T[nd][nd], nd = nn d, from the level's
+ * table (its shape functions evaluated once: ref_table.c). Returns |T|_F. */
+static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T) {
   int nd = nn * d;
-  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0;
-  dtm_ref_rule_level(type, n, q);
-  dtm_lumped_mass(type, d, nn, xl, q, m);
+  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0;
+  dtm_lumped_mass_table(type, d, nn, xl, t, m);
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
-  for (int k = 0; k < q->n; k++) {
-    dtm_map_eval(type, d, nn, xl, q->p[k], q->w[k], N, g, &dv);
+  for (int k = 0; k < t->q.n; k++) {
+    double gl[DTM_K_DOF]; /* g flattened: gl[x] = g[x / d][x % d], the divisions once per point */
+    dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv);
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
     for (int x = 0; x < nd; x++) {
-      double gx = g[x / d][x % d] * dv;
-      for (int y = x; y < nd; y++) T[x * nd + y] += gx * g[y / d][y % d];
+      double gx = gl[x] * dv, *row = T + x * nd;
+      for (int y = x; y < nd; y++) row[y] += gx * gl[y];
     }
   }
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
@@ -121,14 +123,17 @@ static double diff_norm(int nd, const double *A, const double *B) {
   return sqrt(s);
 }
 
-/* The converged level of a curved element, its rule into q. */
-static int converge(int type, int d, int nn, const double (*xl)[3], dtm_qrule *q, int *settled) {
+/* The converged level of a curved element (its table into *t); 0 when a
+ * table cannot be had (no memory). */
+static int converge(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table **t, int *settled) {
   double T[2][DTM_K_DOF * DTM_K_DOF]; /* 105 kB on the stack at most (hex27) */
   int n = mass_level(type), cur = 0, nd = nn * d;
-  tensor_at(type, d, nn, xl, n, q, T[cur]);
   *settled = 0;
+  if (!(*t = dtm_ref_level_table(type, n))) return 0;
+  tensor_at(type, d, nn, xl, *t, T[cur]);
   while (n < DTM_K_LEVEL_MAX) {
-    double norm = tensor_at(type, d, nn, xl, ++n, q, T[1 - cur]);
+    if (!(*t = dtm_ref_level_table(type, ++n))) return 0;
+    double norm = tensor_at(type, d, nn, xl, *t, T[1 - cur]);
     cur = 1 - cur;
     if (diff_norm(nd, T[0], T[1]) <= TOL * norm) {
       *settled = 1;
@@ -149,13 +154,15 @@ int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int mod
     dtm_ref_rule(type, q);
     return 0;
   }
-  int n = converge(type, d, nn, xl, q, &s);
+  const dtm_ref_table *t;
+  int n = converge(type, d, nn, xl, &t, &s);
   double dj;
-  if (dtm_map_first_bad(type, d, nn, xl, q, &dj) >= 0) { /* inverted near a node: no converged model */
+  if (!n || dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0) { /* inverted near a node: no converged model */
     dtm_ref_rule(type, q);
     if (settled) *settled = 0;
     return 0;
   }
+  *q = t->q;
   if (settled) *settled = s;
   return n;
 }

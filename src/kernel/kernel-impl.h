@@ -56,11 +56,27 @@ int dtm_elem_plane_axes(int nc, const double *x, double axes[3][3]);
  * Returns 0, or -1 when no frame exists (coincident nodes, collinear 2D). */
 int dtm_elem_local(int type, const double *x, double (*xl)[3]);
 
+/* A levelled rule with its shape functions evaluated at its points
+ * (ref_table.c), shared by every element of the type. */
+typedef struct {
+  dtm_qrule q;                         /* the rule (dtm_ref_rule_level) */
+  double N[DTM_K_QP][DTM_K_NODES];     /* shape functions at its points */
+  double dN[DTM_K_QP][DTM_K_NODES][3]; /* their reference gradients */
+} dtm_ref_table;
+/* The table of type's levelled rule at level (1 .. DTM_K_LEVEL_MAX), built
+ * on first use (thread-safe); NULL for a type without levelled rules or
+ * another level. Read only; it lives until the process ends. */
+const dtm_ref_table *dtm_ref_level_table(int type, int level);
+
 /* The isoparametric map at one rule point, in the local frame of dimension
  * d: N[nn], physical gradients g[nn][3] (first d components) and the
  * volume factor dv = det J * rule weight. Returns det J. */
 double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
                     double (*g)[3], double *dv);
+/* The same from the reference gradients dN[nn][3] at the point (a table's:
+ * dtm_ref_level_table), without N. */
+double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
+                       double *dv);
 /* det J of the map at rule coordinates p, and the product of the column
  * lengths of J in *hadamard (|det J| <= hadamard). */
 double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard);
@@ -69,6 +85,8 @@ double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double 
  * every rule point. Nodes are not checked (dtm_kernel_shape does). Raises
  * nothing. */
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj);
+/* The same over the points of a levelled rule's table. */
+int dtm_map_first_bad_table(int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *dj);
 
 /* n Gauss-Legendre points x[n] (ascending) and weights w[n] on [-1, 1]. */
 void dtm_gauss_legendre(int n, double *x, double *w);
@@ -135,6 +153,9 @@ int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m, const doub
  * Linear types: row sums m_a = integral N_a. Second-order types: HRZ,
  * m_a = integral N_a^2 scaled so that sum_a m_a = measure (see lump.c). */
 double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m);
+/* The same at the points of a levelled rule's table (its shape functions
+ * evaluated once). */
+double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *m);
 
 /* Three-component vectors: difference, dot and cross products. */
 static inline void dtm_v3_sub(const double *a, const double *b, double *c) {

@@ -36,12 +36,17 @@ static void lump_c3d10(double vol, double *m) {
   for (int a = 0; a < 10; a++) m[a] *= a < 4 ? fe : fm;
 }
 
-double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {
-  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
+/* The masses of the rule q, with the shape functions of table t when
+ * there is one (else evaluated here). */
+static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, const dtm_ref_table *t,
+                     double *m) {
+  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
   int hrz = dtm_elem_parent(type) != type;
   for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < q->n; k++) {
-    dtm_map_eval(type, d, nn, xl, q->p[k], q->w[k], N, g, &dv);
+    if (!t) dtm_ref_eval(type, q->p[k], Nk, dN);
+    const double *N = t ? t->N[k] : Nk;
+    dtm_map_eval_dn(d, nn, xl, t ? (const double(*)[3])t->dN[k] : (const double(*)[3])dN, q->w[k], g, &dv);
     for (int a = 0; a < nn; a++) m[a] += (hrz ? N[a] * N[a] : N[a]) * dv;
     vol += dv;
   }
@@ -50,4 +55,12 @@ double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm
   for (int a = 0; a < nn; a++) sum += m[a];
   for (int a = 0; a < nn; a++) m[a] = sum != 0 ? m[a] * (vol / sum) : 0;
   return vol;
+}
+
+double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {
+  return lumped(type, d, nn, xl, q, NULL, m);
+}
+
+double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *m) {
+  return lumped(type, d, nn, xl, &t->q, t, m);
 }

@@ -23,11 +23,10 @@ static void jacobian(int d, int nn, const double (*xl)[3], const double (*dN)[3]
     }
 }
 
-double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
-                    double (*g)[3], double *dv) {
-  double dN[DTM_K_NODES][3], J[3][3], K[3][3];
-  dtm_ref_eval(type, p, N, dN);
-  jacobian(d, nn, xl, (const double(*)[3])dN, J);
+double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
+                       double *dv) {
+  double J[3][3], K[3][3];
+  jacobian(d, nn, xl, dN, J);
   double dj = dtm_mat_det(d, (const double(*)[3])J);
   dtm_mat_inverse(d, (const double(*)[3])J, dj, K);
   for (int a = 0; a < nn; a++)
@@ -39,23 +38,44 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
   return dj;
 }
 
-double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard) {
-  double N[DTM_K_NODES], dN[DTM_K_NODES][3], J[3][3];
+double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
+                    double (*g)[3], double *dv) {
+  double dN[DTM_K_NODES][3];
   dtm_ref_eval(type, p, N, dN);
-  jacobian(d, nn, xl, (const double(*)[3])dN, J);
+  return dtm_map_eval_dn(d, nn, xl, (const double(*)[3])dN, wq, g, dv);
+}
+
+static double det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard) {
+  double J[3][3];
+  jacobian(d, nn, xl, dN, J);
   *hadamard = dtm_mat_hadamard(d, (const double(*)[3])J);
   return dtm_mat_det(d, (const double(*)[3])J);
 }
 
-/* 0 when det J at rule coordinates p is safely positive. */
-static int valid_at(int type, int d, int nn, const double (*xl)[3], const double p[3], double *dj) {
+double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard) {
+  double N[DTM_K_NODES], dN[DTM_K_NODES][3];
+  dtm_ref_eval(type, p, N, dN);
+  return det_dn(d, nn, xl, (const double(*)[3])dN, hadamard);
+}
+
+/* 0 when det J with reference gradients dN is safely positive. */
+static int valid_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *dj) {
   double had;
-  *dj = dtm_map_det(type, d, nn, xl, p, &had);
+  *dj = det_dn(d, nn, xl, dN, &had);
   return *dj > 32 * DBL_EPSILON * had && isfinite(*dj) ? 0 : -1;
 }
 
 int dtm_map_first_bad(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *dj) {
-  for (int k = 0; k < q->n; k++)
-    if (valid_at(type, d, nn, xl, q->p[k], dj)) return k;
+  double N[DTM_K_NODES], dN[DTM_K_NODES][3];
+  for (int k = 0; k < q->n; k++) {
+    dtm_ref_eval(type, q->p[k], N, dN);
+    if (valid_dn(d, nn, xl, (const double(*)[3])dN, dj)) return k;
+  }
+  return -1;
+}
+
+int dtm_map_first_bad_table(int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *dj) {
+  for (int k = 0; k < t->q.n; k++)
+    if (valid_dn(d, nn, xl, (const double(*)[3])t->dN[k], dj)) return k;
   return -1;
 }

@@ -30,8 +30,10 @@ void dtm_mat_inverse(int d, const double J[3][3], double dj, double K[3][3]) {
     K[0][0] = J[1][1] / dj, K[0][1] = -J[0][1] / dj;
     K[1][0] = -J[1][0] / dj, K[1][1] = J[0][0] / dj;
   } else {
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) {
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; j++) { /* unrolled: the indices are constants */
         int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
         K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
       }

@@ -12,8 +12,26 @@
 
 #include "kernel-impl.h"
 
-/* Lumped masses per unit density into m[nn] and the measure, or NaN. */
-static double integrate(int type, const double *x, int model, double *m) {
+int dtm_ref_rule_id(int type, int model, int level) {
+  if (model == DTM_INTEGRATION_CALCULIX && type == DTM_TET10) return DTM_K_RULE_C3D10;
+  return model == DTM_INTEGRATION_CONVERGED && dtm_ref_level_table(type, level) ? level : 0;
+}
+
+int dtm_ref_rule_at(int type, int model, int level, dtm_qrule *q) {
+  int id = dtm_ref_rule_id(type, model, level);
+  if (id == DTM_K_RULE_C3D10)
+    dtm_ref_rule_c3d10(q);
+  else if (id)
+    *q = dtm_ref_level_table(type, id)->q;
+  else
+    dtm_ref_rule(type, q);
+  return id;
+}
+
+/* Lumped masses per unit density into m[nn] and the measure, or NaN, with
+ * the rule of level (as dtm_elem_rule_choose returns it) or, when level is
+ * -1, the rule the model chooses (the level search of curved.c). */
+static double integrate(int type, const double *x, int model, int level, double *m) {
   int d, nn;
   double xl[DTM_K_NODES][3];
   dtm_qrule q;
@@ -21,8 +39,13 @@ static double integrate(int type, const double *x, int model, double *m) {
   dtm_elem_info(type, &d, &nn);
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
-  dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, &q, NULL);
-  return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
+  if (level < 0)
+    level = dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, &q, NULL);
+  else
+    level = dtm_ref_rule_at(type, model, level, &q);
+  const dtm_ref_table *t = dtm_ref_level_table(type, level);
+  return t ? dtm_lumped_mass_table(type, d, nn, (const double(*)[3])xl, t, m)
+           : dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
 }
 
 /* Closed forms of the linear simplices, the hot path of the nodal bound and
@@ -40,24 +63,30 @@ static int simplex_measure(int type, const double *x, double *v) {
   return *v = (n[0] * c[0] + n[1] * c[1] + n[2] * c[2]) / 6.0, 1;
 }
 
-double dtm_elem_measure(int type, const double *x) {
+double dtm_elem_measure_at(int type, const double *x, int level) {
   double m[DTM_K_NODES], v;
   if (simplex_measure(type, x, &v)) return v;
-  return integrate(type, x, DTM_INTEGRATION_CONVERGED, m);
+  return integrate(type, x, DTM_INTEGRATION_CONVERGED, level, m);
 }
 
-double dtm_elem_lumped_model(int type, const double *x, int model, double *w) {
+double dtm_elem_measure(int type, const double *x) { return dtm_elem_measure_at(type, x, -1); }
+
+double dtm_elem_lumped_at(int type, const double *x, int model, int level, double *w) {
   if (type == DTM_LINE2 || type == DTM_TRI3 || type == DTM_TET4) {
     int nn = type == DTM_LINE2 ? 2 : type == DTM_TRI3 ? 3 : 4;
     for (int a = 0; a < nn; a++) w[a] = 1.0 / nn; /* row sums of a linear simplex */
     return dtm_elem_measure(type, x);
   }
   double m[DTM_K_NODES];
-  double vol = integrate(type, x, model, m);
+  double vol = integrate(type, x, model, level, m);
   int nn = 0;
   if (dtm_elem_topology(type)) dtm_elem_info(type, NULL, &nn);
   for (int a = 0; a < nn; a++) w[a] = m[a] / vol;
   return vol;
+}
+
+double dtm_elem_lumped_model(int type, const double *x, int model, double *w) {
+  return dtm_elem_lumped_at(type, x, model, -1, w);
 }
 
 void dtm_elem_lumped_weights(int type, const double *x, double *w) {

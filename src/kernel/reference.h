@@ -46,6 +46,17 @@ int dtm_ref_rule_elem(int type, const double *x, int model, dtm_qrule *q);
 /* 1 when curved elements of type get levelled rules (the second-order
  * types but pyramids), else 0. */
 int dtm_ref_levelled(int type);
+/* What a kept level saves (measure.c): an element whose converged level
+ * (dtm_ref_rule_elem under DTM_INTEGRATION_CONVERGED: 0 for a straight-
+ * sided element) is known. dtm_ref_rule_at gives the rule the model
+ * integrates it with and returns what dtm_ref_rule_elem would (0, the level,
+ * or DTM_K_RULE_C3D10), without the level search; dtm_elem_lumped_at and
+ * dtm_elem_measure_at are dtm_elem_lumped_model and dtm_elem_measure with
+ * that rule (level -1: searched, as they do). The same numbers, bitwise. */
+int dtm_ref_rule_at(int type, int model, int level, dtm_qrule *q);
+int dtm_ref_rule_id(int type, int model, int level); /* what dtm_ref_rule_at returns, without q */
+double dtm_elem_lumped_at(int type, const double *x, int model, int level, double *w);
+double dtm_elem_measure_at(int type, const double *x, int level);
 /* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
  * written, unused ones zero) with respect to the reference coordinates
  * (u, v, w), at rule coordinates p. */

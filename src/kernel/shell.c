@@ -216,18 +216,37 @@ static int shell_setup(int type, const dtm_shell_section *sec, const double *x, 
   return DTM_OK;
 }
 
-/* K[n][n] += w B^T D B for B[nr][n] and D[nr][nr]. */
-static void add_btdb(int n, int nr, const double *B, const double *D, double w, double *K) {
-  double DB[3 * DTM_STRUCT_DOF]; /* [nr][n] */
+/* Unknowns a strain of each kind involves, per node (the others' columns
+ * of its B are zero): membrane u, v; bending theta_x, theta_y; transverse
+ * shear w, theta_x, theta_y. */
+static const int membrane_dofs[] = {0, 1}, bending_dofs[] = {3, 4}, shear_dofs[] = {2, 3, 4};
+
+/* K[n][n] += w B^T D B for B[nr][n] and D[nr][nr], whose nonzero columns
+ * are the unknowns dofs[nd] of each of the nn = n / 6 nodes: the sums of
+ * the full product without its terms with a zero column, which only added
+ * zeros, each entry's terms in the same order (a third to a ninth of the
+ * work). B's and D B's nonzero columns are packed first (bc, dbc). */
+static void add_btdb(int n, int nr, const double *B, const double *D, double w, double *restrict K, const int *dofs,
+                     int nd) {
+  double bc[3][DTM_STRUCT_DOF], dbc[3][DTM_STRUCT_DOF];
+  int col[DTM_STRUCT_DOF], nc = 0;
+  for (int a = 0; a < n / ND; a++)
+    for (int k = 0; k < nd; k++) col[nc++] = ND * a + dofs[k];
   for (int r = 0; r < nr; r++)
-    for (int j = 0; j < n; j++) {
-      DB[r * n + j] = 0;
-      for (int c = 0; c < nr; c++) DB[r * n + j] += D[r * nr + c] * B[c * n + j];
+    for (int jj = 0; jj < nc; jj++) bc[r][jj] = B[r * n + col[jj]];
+  for (int r = 0; r < nr; r++)
+    for (int jj = 0; jj < nc; jj++) {
+      dbc[r][jj] = 0;
+      for (int c = 0; c < nr; c++) dbc[r][jj] += D[r * nr + c] * bc[c][jj];
     }
-  for (int i = 0; i < n; i++)
-    for (int r = 0; r < nr; r++)
-      if (B[r * n + i] != 0)
-        for (int j = 0; j < n; j++) K[i * n + j] += w * B[r * n + i] * DB[r * n + j];
+  for (int ii = 0; ii < nc; ii++) {
+    double *row = K + col[ii] * n;
+    for (int r = 0; r < nr; r++) {
+      if (bc[r][ii] == 0) continue;
+      double f = w * bc[r][ii];
+      for (int jj = 0; jj < nc; jj++) row[col[jj]] += f * dbc[r][jj];
+    }
+  }
 }
 
 /* Plane-stress matrix times f: f E/(1-nu^2) [1 nu 0; nu 1 0; 0 0 (1-nu)/2]. */
@@ -251,8 +270,8 @@ static void add_membrane_bending(const shell_elem *e, double *K) {
       Bm[u] = g[a][0], Bm[n + v] = g[a][1], Bm[2 * n + u] = g[a][1], Bm[2 * n + v] = g[a][0];
       Bb[ty] = g[a][0], Bb[n + tx] = -g[a][1], Bb[2 * n + ty] = g[a][1], Bb[2 * n + tx] = -g[a][0];
     }
-    add_btdb(n, 3, Bm, Dm, dv, K);
-    add_btdb(n, 3, Bb, Db, dv, K);
+    add_btdb(n, 3, Bm, Dm, dv, K, membrane_dofs, 2);
+    add_btdb(n, 3, Bb, Db, dv, K, bending_dofs, 2);
   }
 }
 
@@ -266,7 +285,7 @@ static void add_shear_quad(const shell_elem *e, double *K) {
     int w = ND * a + 2, tx = w + 1, ty = w + 2;
     Bs[w] = g[a][0], Bs[ty] = N[a], Bs[n + w] = g[a][1], Bs[n + tx] = -N[a];
   }
-  add_btdb(n, 2, Bs, Ds, dv, K);
+  add_btdb(n, 2, Bs, Ds, dv, K, shear_dofs, 3);
 }
 
 /* tri3 MITC3 shear: Bs[2][n] at a point with N[3] and gradients g[3][3]. */
@@ -291,7 +310,7 @@ static void add_shear_tri(const shell_elem *e, double *K) {
     double Bs[2 * DTM_STRUCT_DOF] = {0};
     dtm_map_eval(e->type, 2, 3, (const double(*)[3])e->xl, e->q.p[k], e->q.w[k], N, g, &dv);
     mitc3_b(e, N, (const double(*)[3])g, Bs);
-    add_btdb(ND * 3, 2, Bs, Ds, dv, K);
+    add_btdb(ND * 3, 2, Bs, Ds, dv, K, shear_dofs, 3);
   }
 }
 

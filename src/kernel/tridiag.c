@@ -50,12 +50,12 @@ static double reflect(int n, double *a, int k) {
 }
 
 /* Number of eigenvalues of the tridiagonal (d, e) below x (Sturm count of
- * the LDL^T pivots; a zero pivot is nudged off zero). */
-static int below(int n, const double *d, const double *e, double x) {
+ * the LDL^T pivots; a zero pivot is nudged off zero); e2[i] = e[i]^2. */
+static int below(int n, const double *d, const double *e2, double x) {
   int c = 0;
   double q = 1;
   for (int i = 0; i < n; i++) {
-    q = d[i] - x - (i ? e[i - 1] * e[i - 1] / q : 0);
+    q = d[i] - x - (i ? e2[i - 1] / q : 0);
     if (q == 0) q = -DBL_EPSILON * (fabs(x) + DBL_MIN);
     c += q < 0;
   }
@@ -70,11 +70,12 @@ static double tri_max(int n, const double *d, const double *e) {
     double r = (i ? fabs(e[i - 1]) : 0) + (i + 1 < n ? fabs(e[i]) : 0);
     lo = fmin(lo, d[i] - r), hi = fmax(hi, d[i] + r);
   }
-  double tol = 4 * DBL_EPSILON * fmax(fabs(lo), fabs(hi));
+  double tol = 4 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), e2[DTM_K_DOF];
+  for (int i = 0; i + 1 < n; i++) e2[i] = e[i] * e[i]; /* once, not at every step */
   for (int it = 0; it < 200 && hi - lo > tol; it++) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    if (below(n, d, e, mid) == n)
+    if (below(n, d, e2, mid) == n)
       hi = mid; /* all below: max < mid */
     else
       lo = mid;
@@ -85,8 +86,8 @@ static double tri_max(int n, const double *d, const double *e) {
 double dtm_eig_sym_max_tridiag(int n, double *a) {
   double d[DTM_K_DOF], e[DTM_K_DOF], s = 0;
   for (int i = 0; i < n * n; i++) {
-    if (!isfinite(a[i])) return NAN; /* fmax would skip a NaN */
-    s = fmax(s, fabs(a[i]));
+    if (!isfinite(a[i])) return NAN; /* a NaN would not compare */
+    s = fabs(a[i]) > s ? fabs(a[i]) : s;
   }
   if (s == 0) return 0;
   for (int i = 0; i < n * n; i++) a[i] /= s;

@@ -85,29 +85,42 @@ void dtm_mesh_destroy(dtm_mesh **pm) {
   *pm = NULL;
 }
 
-/* Extent of the nodes the elements use, per component, into ext[3];
- * -1 for a node index out of range. */
-static int node_extent(const dtm_mesh *m, double ext[3]) {
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+/* Whether every node index of the elements is below the node count. */
+static int conn_in_range(const dtm_mesh *m) {
   for (int ib = 0; ib < m->nblocks; ib++) {
     const dtm_block *b = &m->blocks[ib];
-    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) {
-      if (b->conn[k] >= m->nnodes) return -1;
+    size_t top = 0;
+    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) top = b->conn[k] > top ? b->conn[k] : top;
+    if (b->n && top >= m->nnodes) return 0;
+  }
+  return 1;
+}
+
+/* Extent per component, into ext[3], of the nodes the elements use (all:
+ * of every node, a bound of it). */
+static void node_extent(const dtm_mesh *m, int all, double ext[3]) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t v = 0; all && v < m->nnodes; v++)
+    for (int i = 0; i < 3; i++) lo[i] = fmin(lo[i], m->xyz[3 * v + i]), hi[i] = fmax(hi[i], m->xyz[3 * v + i]);
+  for (int ib = 0; !all && ib < m->nblocks; ib++) {
+    const dtm_block *b = &m->blocks[ib];
+    for (size_t k = 0; k < b->n * (size_t)b->nn; k++)
       for (int i = 0; i < 3; i++) {
         double x = m->xyz[3 * b->conn[k] + i];
         lo[i] = fmin(lo[i], x), hi[i] = fmax(hi[i], x);
       }
-    }
   }
   for (int i = 0; i < 3; i++) ext[i] = hi[i] >= lo[i] ? hi[i] - lo[i] : 0;
-  return 0;
 }
 
 int dtm_mesh_extent(const dtm_mesh *m, double ext[3]) {
-  if (node_extent(m, ext))
+  if (!conn_in_range(m))
     return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to a node beyond the mesh's %zu nodes", m->nnodes);
+  node_extent(m, 0, ext);
   return DTM_OK;
 }
+
+static double extent_size(const double ext[3]) { return fmax(ext[0], fmax(ext[1], ext[2])); }
 
 /* The space the unknowns live in, *d: the mesh's dimension when its
  * nodes allow (a 2D mesh in a plane z = const, a 1D mesh along x), else the
@@ -116,8 +129,11 @@ int dtm_mesh_extent(const dtm_mesh *m, double ext[3]) {
 int dtm_mesh_space_dim(const dtm_mesh *m, int *d) {
   double ext[3], size;
   if (m->space_dim > 0) return *d = m->space_dim, DTM_OK;
-  DTM_CHECK(dtm_mesh_extent(m, ext));
-  size = fmax(ext[0], fmax(ext[1], ext[2]));
+  if (!conn_in_range(m))
+    return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to a node beyond the mesh's %zu nodes", m->nnodes);
+  node_extent(m, 1, ext); /* a 3D mesh is 3D whatever its extent: every node's, finite, is enough */
+  if (m->dim < 3 || !isfinite(extent_size(ext))) node_extent(m, 0, ext);
+  size = extent_size(ext);
   if (!isfinite(size)) return DTM_ERR(DTM_ERR_INPUT, "the mesh has non-finite node coordinates");
   int flat_z = ext[2] <= 1e-9 * size, flat_y = ext[1] <= 1e-9 * size;
   *d = m->dim == 3 || !flat_z ? 3 : m->dim == 2 || !flat_y ? 2 : 1;

@@ -6,9 +6,13 @@
  * stages, with nothing written, when the user presses Gmsh's Stop (which
  * sets NAME/Action to "stop"; compute.c). Progress goes to
  * Gmsh's status bar; any error goes to Gmsh as a ONELAB error with dtmap's
- * own message (which names the file and line, or the group and element). */
+ * own message (which names the file and line, or the group and element).
+ * The dtmap command connects in its supervisor and serves in its worker
+ * (src/cli/supervise.c): the supervisor also sends the worker's stages
+ * while they run, and the crash message when the worker dies by a signal. */
 #include <omp.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "dtmap/error.h"
@@ -51,14 +55,47 @@ static void report(ol_conn *c, int r, int verbosity) {
   (void)r;
 }
 
-int dtm_onelab_main(const dtm_onelab_opts *o) {
-  ol_conn c = {-1, "", 0};
-  char action[64] = "";
-  if (o->threads > 0) omp_set_num_threads(o->threads);
-  int r = dtm_ol_connect(&c, o->name, o->address);
-  if (r == DTM_OK) r = dtm_ol_action(&c, action, sizeof action);
-  if (r == DTM_OK) r = act(&c, o, action);
-  if (r) report(&c, r, o->verbosity);
-  dtm_ol_close(&c);
+/* The client: its connection, opened by the supervisor and shared with
+ * the worker (src/cli/supervise.c). */
+struct dtm_onelab_client {
+  ol_conn c;                /* the connection to Gmsh */
+  const dtm_onelab_opts *o; /* the command line's options */
+};
+
+int dtm_onelab_open(const dtm_onelab_opts *o, dtm_onelab_client **out) {
+  dtm_onelab_client *cl = calloc(1, sizeof *cl);
+  *out = cl;
+  if (!cl) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  cl->c.fd = -1, cl->o = o;
+  int r = dtm_ol_connect(&cl->c, o->name, o->address);
+  if (r) report(&cl->c, r, o->verbosity);
   return r;
+}
+
+int dtm_onelab_serve(dtm_onelab_client *cl) {
+  char action[64] = "";
+  if (cl->o->threads > 0) omp_set_num_threads(cl->o->threads);
+  int r = dtm_ol_action(&cl->c, action, sizeof action);
+  if (r == DTM_OK) r = act(&cl->c, cl->o, action);
+  if (r) report(&cl->c, r, cl->o->verbosity);
+  return r;
+}
+
+void dtm_onelab_progress(dtm_onelab_client *cl, const char *stages, double seconds) {
+  char line[600];
+  snprintf(line, sizeof line, "dtmap: %s, %.0f s", stages, seconds);
+  dtm_ol_send_text(&cl->c, OL_PROGRESS, line);
+  dtm_error_clear(); /* a lost connection is the worker's to report */
+}
+
+void dtm_onelab_crashed(dtm_onelab_client *cl, const char *message) {
+  dtm_ol_send_text(&cl->c, OL_ERROR, message);
+  dtm_error_clear();
+}
+
+void dtm_onelab_close(dtm_onelab_client **cl) {
+  if (!*cl) return;
+  dtm_ol_close(&(*cl)->c);
+  free(*cl);
+  *cl = NULL;
 }

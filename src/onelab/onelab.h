@@ -16,9 +16,18 @@ typedef struct {
   int threads;         /* -j N, 0 = all cores */
 } dtm_onelab_opts;
 
-/* Run one ONELAB action (Gmsh's NAME/Action: initialize, check, compute;
- * none = check then compute). Returns the exit code; errors are also sent
- * to Gmsh as ONELAB errors. */
-int dtm_onelab_main(const dtm_onelab_opts *o);
+/* The client (opaque). open connects to Gmsh (o is kept, not copied);
+ * serve runs one ONELAB action (Gmsh's NAME/Action: initialize, check,
+ * compute; none = check then compute) and returns the exit code; errors are
+ * also sent to Gmsh as ONELAB errors, and printed. progress shows the open
+ * stages and their time (s) in Gmsh's status bar; crashed sends message as
+ * an error; close says goodbye and frees. open and close belong to the
+ * supervisor, serve to its worker (the connection is shared by fork). */
+typedef struct dtm_onelab_client dtm_onelab_client;
+int dtm_onelab_open(const dtm_onelab_opts *o, dtm_onelab_client **out);
+int dtm_onelab_serve(dtm_onelab_client *cl);
+void dtm_onelab_progress(dtm_onelab_client *cl, const char *stages, double seconds);
+void dtm_onelab_crashed(dtm_onelab_client *cl, const char *message);
+void dtm_onelab_close(dtm_onelab_client **cl);
 
 #endif

@@ -49,13 +49,19 @@ static int connect_tcp(const char *address) {
   return fd;
 }
 
-static int write_all(int fd, const void *buf, size_t n) {
-  const char *p = buf;
-  while (n) {
-    ssize_t k = send(fd, p, n, MSG_NOSIGNAL);
+/* Write the head and the body with one sendmsg when the socket takes them
+ * whole: the supervisor and its worker share the connection, and a message
+ * sent in one call is not interleaved with another's. */
+static int write_all(int fd, const void *head, size_t nh, const void *body, size_t nb) {
+  struct iovec iov[2] = {{(void *)head, nh}, {(void *)body, nb}};
+  struct msghdr m = {.msg_iov = iov, .msg_iovlen = nb ? 2 : 1};
+  while (m.msg_iovlen) {
+    ssize_t k = sendmsg(fd, &m, MSG_NOSIGNAL);
     if (k < 0 && errno == EINTR) continue;
     if (k <= 0) return -1;
-    p += k, n -= (size_t)k;
+    size_t done = (size_t)k;
+    while (m.msg_iovlen && done >= m.msg_iov->iov_len) done -= m.msg_iov->iov_len, m.msg_iov++, m.msg_iovlen--;
+    if (m.msg_iovlen) m.msg_iov->iov_base = (char *)m.msg_iov->iov_base + done, m.msg_iov->iov_len -= done;
   }
   return 0;
 }
@@ -74,7 +80,7 @@ static int read_all(int fd, void *buf, size_t n) {
 int dtm_ol_send(ol_conn *c, int type, const char *body, size_t len) {
   int head[2] = {type, (int)len};
   if (c->fd < 0) return DTM_ERR(DTM_ERR_INTERNAL, "ONELAB: not connected");
-  if (write_all(c->fd, head, sizeof head) || write_all(c->fd, body, len))
+  if (write_all(c->fd, head, sizeof head, body, len))
     return DTM_ERR(DTM_ERR_INTERNAL, "ONELAB: lost the connection to Gmsh (%s)", strerror(errno));
   return DTM_OK;
 }

@@ -13,6 +13,7 @@
  * its temporary, and leaves both older files (.msh and .opt) as they were:
  * the .opt is written before the .msh is renamed into place. */
 #include <math.h>
+#include <pthread.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -492,12 +493,53 @@ static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
 }
 
 /* An output mesh being written: the mesh first (possibly long before the
- * views exist), the views when the results are there. */
+ * views exist, possibly on a thread of its own while the analysis
+ * computes), the views when the results are there. */
 struct dtm_output_file {
   dtm_atomic w;                /* the temporary beside the target */
   dtm_msh_format fmt;          /* its encoding; views_only: no mesh */
   const dtm_output_part *part; /* a distributed run's part, or NULL */
+  pthread_t writer;            /* the thread writing the mesh (background) */
+  int writing;                 /* 1 until the writer is joined */
+  int written;                 /* the writer's result */
+  char msg[4096];              /* its error message (error records are per thread) */
 };
+
+static int write_mesh(dtm_output_file *f) {
+  dtm_progress_begin("writing the mesh");
+  int r = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w);
+  dtm_progress_end();
+  return r;
+}
+
+/* The background writer: the mesh, then the model released (no progress:
+ * the library's stages belong to the caller's thread). */
+static void *writer(void *arg) {
+  dtm_output_file *f = arg;
+  f->written = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w);
+  snprintf(f->msg, sizeof f->msg, "%s", f->written ? dtm_error_message() : "");
+  dtm_error_clear();
+  dtm_gmsh_release();
+  return NULL;
+}
+
+/* Wait for the background writer; its error, raised on this thread. */
+static int join_writer(dtm_output_file *f) {
+  if (!f->writing) return DTM_OK;
+  dtm_progress_begin("writing the mesh");
+  pthread_join(f->writer, NULL);
+  dtm_progress_end();
+  f->writing = 0;
+  return f->written ? DTM_ERR(f->written, "%s", f->msg) : DTM_OK;
+}
+
+static int start_writer(dtm_output_file *f) {
+  f->writing = pthread_create(&f->writer, NULL, writer, f) == 0;
+  if (f->writing) return DTM_OK;
+  int r = write_mesh(f); /* no thread: now */
+  dtm_gmsh_release();
+  return r;
+}
 
 int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts *o, size_t nelements,
                      dtm_output_file **out) {
@@ -509,12 +551,10 @@ int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts
   f->fmt = format_of(s, nelements, o);
   f->part = o ? o->part : NULL;
   int r = dtm_atomic_open(&f->w, path, ".msh", 0);
-  if (r == DTM_OK && !f->fmt.views_only) {
-    dtm_progress_begin("writing the mesh");
-    r = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w);
-    dtm_progress_end();
-    if (r) dtm_atomic_abort(&f->w);
-  }
+  int background = o && o->background;
+  if (r == DTM_OK && !f->fmt.views_only) r = background ? start_writer(f) : write_mesh(f);
+  if (r == DTM_OK && f->fmt.views_only && background) dtm_gmsh_release(); /* nothing to write */
+  if (r) dtm_atomic_abort(&f->w);
   if (r) return free(f), dtm_error_trace(r, __FILE__, __LINE__, __func__);
   *out = f;
   return DTM_OK;
@@ -522,6 +562,7 @@ int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts
 
 void dtm_output_abort(dtm_output_file **pf) {
   if (!*pf) return;
+  if (join_writer(*pf)) dtm_error_clear(); /* the caller's own error is the one to report */
   dtm_atomic_abort(&(*pf)->w);
   free(*pf);
   *pf = NULL;
@@ -531,7 +572,8 @@ int dtm_output_finish(dtm_output_file **pf, const dtm_results *res) {
   dtm_output_file *f = *pf;
   view_set vs = {0};
   dtm_atomic opt = {.fd = -1};
-  int nviews = 0, r = build_views(res, f->part, &vs, &nviews), with_opt = !f->part || f->part->part == 1;
+  int nviews = 0, r = join_writer(f), with_opt = !f->part || f->part->part == 1;
+  if (r == DTM_OK) r = build_views(res, f->part, &vs, &nviews);
   if (r == DTM_OK) {
     dtm_progress_begin("writing the views");
     r = name_target(dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt), &f->w);

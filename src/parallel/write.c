@@ -58,7 +58,7 @@ static int begin_part(dtm_par *p, const dtm_parallel_opts *o) {
   snprintf(w->mesh_tmp, sizeof w->mesh_tmp, "%s/%s", w->dir, base ? base + 1 : w->mesh);
   snprintf(w->opt, sizeof w->opt, "%s.opt", w->mesh);
   snprintf(w->opt_tmp, sizeof w->opt_tmp, "%s.opt", w->mesh_tmp);
-  dtm_output_opts oo = {o->format, o->views_only, &p->outpart};
+  dtm_output_opts oo = {o->format, o->views_only, &p->outpart, 0};
   p->outpart.part = p->rank + 1;
   return dtm_output_begin(&p->part, w->mesh_tmp, &oo, dtm_mesh_nelements(p->mesh), &w->file);
 }

@@ -83,12 +83,14 @@ struct dtm_operator {
   double *mass;            /* [ndof] lumped diagonal */
   double *mass_alpha;      /* [ndof] sum_e alpha_e M_e, or NULL */
   double *dsq;             /* [ndof] M^-1/2, 0 where the mass is 0 */
+  double *scaled;          /* [ndof] M^-1/2 x of a symmetric product (work, owned) */
   const size_t *node_tags; /* [nnodes] the mesh's Gmsh node tags, or NULL (not owned) */
   int has_beta;
-  dtm_op_struct st;     /* shells and beams (structural.c): st.n = 0 when none */
-  double *slot_alpha;   /* [nmat] Rayleigh alpha of each slot, for them */
-  double *slot_beta;    /* [nmat] Rayleigh beta of each slot */
-  dtm_rule_part *parts; /* [nblocks] the parts the blocks are built on (owned) */
+  dtm_op_struct st;              /* shells and beams (structural.c): st.n = 0 when none */
+  double *slot_alpha;            /* [nmat] Rayleigh alpha of each slot, for them */
+  double *slot_beta;             /* [nmat] Rayleigh beta of each slot */
+  dtm_rule_part *parts;          /* [nblocks] the parts the blocks are built on (owned) */
+  const dtm_operator_kept *kept; /* what an analysis kept (creation only), or NULL */
 };
 
 enum { APPLY_K = 0, APPLY_BETA = 1 };
@@ -271,7 +273,9 @@ static int elem_geometry(const dtm_operator *op, const op_block *b, const double
   double sign = 0;
   for (int k = 0; k < b->nq; k++) {
     double J[3][3] = {{0}}, *g = b->geo + (e * (size_t)b->nq + (size_t)k) * (size_t)st;
-    for (int a = 0; a < b->nn; a++)
+    for (int i = 0; b->p1 && i < d; i++) /* the sum below, without its products by 0 and 1 */
+      for (int j = 0; j < d; j++) J[i][j] = -xyz[3 * c[0] + i] + xyz[3 * c[j + 1] + i];
+    for (int a = 0; !b->p1 && a < b->nn; a++)
       for (int i = 0; i < d; i++)
         for (int j = 0; j < d; j++) J[i][j] += xyz[3 * c[a] + i] * b->dn[k][a][j];
     double dj = dtm_mat_det(d, (const double(*)[3])J);
@@ -380,20 +384,35 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part 
 
 /* ---- creation: lumped diagonals ------------------------------------- */
 
+/* The converged level an analysis kept for element e of part b, or -1. */
+static int kept_level(const dtm_operator *op, const op_block *b, size_t e) {
+  const unsigned char *row = op->kept && op->kept->level ? op->kept->level[b->mbi] : NULL;
+  return row ? row[b->orig ? b->orig[e] : e] : -1;
+}
+
 /* Lumped node masses of element e per unit capacity, into w[nn]: the
  * kernel's weights times the measure, which is the sum of the stored dv
  * (the same rule as dtm_elem_measure, without integrating a second time). */
-static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w) {
-  double x[DTM_K_NODES * 3], meas = 0;
+static void lumped_weights(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+  double x[DTM_K_NODES * 3];
   const size_t *c = b->conn + e * (size_t)b->nn;
+  if (b->p1) { /* row sums of a linear simplex (lump.c), without gathering the nodes */
+    for (int a = 0; a < b->nn; a++) w[a] = 1.0 / b->nn;
+    return;
+  }
+  for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
+  if (b->level == DTM_K_RULE_C3D10) /* CalculiX's lumping goes with its rule (src/kernel/lump.c) */
+    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CALCULIX, b->level, w);
+  else /* the converged weights, at the level an analysis kept (else searched) */
+    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CONVERGED, kept_level(op, b, e), w);
+}
+
+static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+  double meas = 0;
   size_t st = (size_t)b->st;
   const double *g = b->geo + e * (size_t)b->nq * st;
   for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
-  for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
-  if (b->level == DTM_K_RULE_C3D10) /* CalculiX's lumping goes with its rule (src/kernel/lump.c) */
-    dtm_elem_lumped_model(b->type, x, DTM_INTEGRATION_CALCULIX, w);
-  else
-    dtm_elem_lumped_weights(b->type, x, w);
+  lumped_weights(op, m, b, e, w);
   int ok = 1;
   for (int a = 0; a < b->nn; a++) {
     w[a] *= meas;
@@ -406,11 +425,12 @@ static int elem_lumped(const dtm_mesh *m, const op_block *b, size_t e, double *w
 
 /* Lumped masses w[e - e0][nn] of elements [e0, e1) of b, in parallel;
  * returns the first element with a bad one, or e1. */
-static size_t chunk_lumped(const dtm_mesh *m, const op_block *b, size_t e0, size_t e1, double *w) {
+static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
+                           double *w) {
   size_t bad = e1;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = e0; e < e1; e++)
-    if (elem_lumped(m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
+    if (elem_lumped(op, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
   return bad;
 }
 
@@ -432,7 +452,7 @@ static void chunk_add(dtm_operator *op, const op_block *b, size_t e0, size_t e1,
 static int block_mass(dtm_operator *op, const dtm_mesh *m, const op_block *b, double *w) {
   for (size_t e0 = 0; e0 < b->n; e0 += MASS_CHUNK) {
     size_t e1 = b->n - e0 < MASS_CHUNK ? b->n : e0 + MASS_CHUNK;
-    size_t bad = chunk_lumped(m, b, e0, e1, w);
+    size_t bad = chunk_lumped(op, m, b, e0, e1, w);
     char t[32];
     if (bad < e1)
       return DTM_ERR(DTM_ERR_INPUT, "element %s (%s) has a non-positive lumped mass", tag_text(b, bad, t, sizeof t),
@@ -477,19 +497,21 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   int np = 0, model = DTM_INTEGRATION_CONVERGED;
   for (int i = 0; i < op->nmat; i++) /* the elastic effect's model (one per effect) */
     if (c[i].kind == DTM_OP_ELASTIC && c[i].mod.integration != DTM_INTEGRATION_CONVERGED) model = c[i].mod.integration;
-  int r = dtm_rule_parts(m, model, &op->parts, &np);
+  int r = dtm_rule_parts(m, model, op->kept ? op->kept->level : NULL, &op->parts, &np);
   op->nblocks = np; /* the parts, freed by destroy */
   DTM_CHECK(r);
   op->blocks = calloc((size_t)np + 1, sizeof *op->blocks);
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < np; ib++) DTM_CHECK(block_setup(op, m, &op->parts[ib], &op->blocks[ib]));
   DTM_CHECK(materials_setup(op, c, alpha, beta));
-  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base)); /* after materials_setup: it checks every slot */
+  DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base, op->kept ? op->kept->rot : NULL)); /* after
+                                                                    materials_setup: it checks every slot */
   op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
   op->mass = calloc(op->ndof, sizeof *op->mass);
   op->dsq = malloc(op->ndof * sizeof *op->dsq);
+  op->scaled = malloc(op->ndof * sizeof *op->scaled);
   if (any_alpha(op, alpha)) op->mass_alpha = calloc(op->ndof, sizeof *op->mass_alpha);
-  if (!op->mass || !op->dsq || (any_alpha(op, alpha) && !op->mass_alpha))
+  if (!op->mass || !op->dsq || !op->scaled || (any_alpha(op, alpha) && !op->mass_alpha))
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   DTM_CHECK(shares_setup(op));
   return mass_setup(op, m);
@@ -502,6 +524,12 @@ int dtm_operator_create(const dtm_mesh *mesh, int kind, const dtm_operator_coeff
 
 int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
                                  const double *beta, int nmat, int nsec, dtm_operator **out) {
+  return dtm_operator_create_kept(mesh, kind, coef, alpha, beta, nmat, nsec, NULL, out);
+}
+
+int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_coeffs *coef, const double *alpha,
+                             const double *beta, int nmat, int nsec, const dtm_operator_kept *kept,
+                             dtm_operator **out) {
   DTM_CHECK(check_args(mesh, kind, coef, nmat, out));
   int d;
   DTM_CHECK(dtm_mesh_space_dim(mesh, &d));
@@ -511,6 +539,7 @@ int dtm_operator_create_sections(const dtm_mesh *mesh, int kind, const dtm_opera
   if (!op) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   op->kind = kind, op->d = d, op->nmat_base = nmat, op->nsec = nsec, op->nmat = nmat * (nsec + 1);
   op->ncomp = kind == DTM_OP_ELASTIC ? d : 1;
+  op->kept = kept;
   int r = create(op, mesh, coef, alpha, beta);
   if (r) {
     dtm_operator_destroy(&op);
@@ -531,6 +560,7 @@ void dtm_operator_destroy(dtm_operator **op) {
   free((*op)->mass);
   free((*op)->mass_alpha);
   free((*op)->dsq);
+  free((*op)->scaled);
   free((*op)->slot_alpha);
   free((*op)->slot_beta);
   dtm_op_struct_free(&(*op)->st);
@@ -728,8 +758,8 @@ static void manifold_diffusion(const int d, const op_block *b, const double *geo
 }
 
 /* K_e D u of the manifold elements [e0, e1) of b into y (as block_range). */
-static void manifold_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
-                           const double *in, double *y, int which) {
+static void manifold_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
+                           int which) {
   const int d = op->d, nc = op->ncomp, nn = b->nn, el = op->kind == DTM_OP_ELASTIC;
   double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
   for (size_t e = e0; e < e1; e++) {
@@ -740,7 +770,7 @@ static void manifold_range(const dtm_operator *op, const op_block *b, size_t e0,
     for (int a = 0; a < nn; a++)
       for (int i = 0; i < nc; i++) {
         size_t kk = c[a] * (size_t)nc + (size_t)i;
-        ue[a * nc + i] = in ? u[kk] * in[kk] : u[kk], fe[a * nc + i] = 0;
+        ue[a * nc + i] = u[kk], fe[a * nc + i] = 0;
       }
     const double *geo = b->geo + e * (size_t)b->nq * (size_t)b->st;
     if (el)
@@ -752,13 +782,13 @@ static void manifold_range(const dtm_operator *op, const op_block *b, size_t e0,
   }
 }
 
-/* Add K_e D u (scaled by beta_e for APPLY_BETA; D = diag(in), or I when in
- * is NULL) of elements [e0, e1) of b into y: elastic (el = 1, d unknowns
+/* Add K_e u (scaled by beta_e for APPLY_BETA) of elements [e0, e1) of b
+ * into y: elastic (el = 1, d unknowns
  * per node) or diffusion (el = 0, one unknown); nnc is the node count when
  * known at compile time, else 0. */
 static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1,
-                                             const double *u, const double *in, double *y, int which, const int d,
-                                             const int el, const int nnc, const int narrow, const int p1) {
+                                             const double *u, double *y, int which, const int d, const int el,
+                                             const int nnc, const int narrow, const int p1) {
   const int nc = el ? d : 1, nn = nnc ? nnc : b->nn, st = d * d + 1;
   double ue[DTM_K_NODES * 3], fe[DTM_K_NODES * 3];
   for (size_t e = e0; e < e1; e++) {
@@ -773,7 +803,7 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
     for (int a = 0; a < nn; a++) UNROLL
     for (int i = 0; i < nc; i++) {
       size_t k = c[a] * (size_t)nc + (size_t)i;
-      ue[a * nc + i] = in ? u[k] * in[k] : u[k], fe[a * nc + i] = 0;
+      ue[a * nc + i] = u[k], fe[a * nc + i] = 0;
     }
     const double *geo = b->geo + e * (size_t)b->nq * (size_t)st;
     if (p1 && el)
@@ -790,12 +820,87 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
   }
 }
 
-#define RANGE(d, el, nn) block_range(op, b, e0, e1, u, in, y, which, d, el, nn, 1, 0)
-#define RANGE_WIDE(d, el) block_range(op, b, e0, e1, u, in, y, which, d, el, 0, 0, 0)
+/* Four linear tets at once, one per lane of a vector (GCC's and Clang's
+ * vector extension: SSE2 pairs on any x86-64, AVX2 where the processor has
+ * it, target_clones below): elastic_p1 (d = 3) with the same operations
+ * in the same order in every lane, so each element's forces are bitwise
+ * the scalar kernel's, and they are added into y element by element in
+ * the same order. The element's arithmetic, about 150 flops for a dozen
+ * gathered values, is what a product costs; four lanes share it. */
+typedef double v4d __attribute__((vector_size(32)));
+
+static inline ALWAYS_INLINE void elastic_p1_x4(const v4d *ji, v4d dv, const v4d *ue, v4d *fe, v4d lam, v4d mu) {
+  const v4d zero = {0, 0, 0, 0};
+  v4d fr[3][3], f[3][3], s[3][3], tr = zero;
+  UNROLL
+  for (int i = 0; i < 3; i++) UNROLL
+  for (int j = 0; j < 3; j++) fr[i][j] = ue[(j + 1) * 3 + i] - ue[i];
+  UNROLL
+  for (int i = 0; i < 3; i++) UNROLL
+  for (int m = 0; m < 3; m++) {
+    f[i][m] = zero;
+    UNROLL
+    for (int j = 0; j < 3; j++) f[i][m] += fr[i][j] * ji[j * 3 + m];
+  }
+  UNROLL
+  for (int i = 0; i < 3; i++) tr += f[i][i];
+  UNROLL
+  for (int i = 0; i < 3; i++) UNROLL
+  for (int m = 0; m < 3; m++) s[i][m] = mu * (f[i][m] + f[m][i]) + (i == m ? lam * tr : zero);
+  UNROLL
+  for (int i = 0; i < 3; i++) {
+    v4d sum = zero;
+    UNROLL
+    for (int j = 0; j < 3; j++) {
+      v4d pij = zero;
+      UNROLL
+      for (int m = 0; m < 3; m++) pij += s[i][m] * ji[j * 3 + m];
+      fe[(j + 1) * 3 + i] = pij * dv, sum += pij;
+    }
+    fe[i] = -sum * dv;
+  }
+}
+
+/* Four scalars as one vector, built in registers (a vector loaded from
+ * four scalars just stored would wait for the stores to drain). */
+#define LANES(a, b, c, d) ((v4d){(a), (b), (c), (d)})
+
+/* Elements [e, e + 4) of a 3D linear tet block with 32-bit connectivity. */
+static inline ALWAYS_INLINE void tets_x4(const dtm_operator *op, const op_block *b, size_t e, const double *u,
+                                         double *y, int which) {
+  v4d ji[9] = {{0}}, ue[12] = {{0}}, fe[12]; /* zeroed: GCC 12 takes the lanes filled below for read first */
+  double sc[4], lam[4], mu[4];
+  const uint32_t *c = b->c32 + e * 4;
+  const double *g = b->geo + e * 10;
+  UNROLL
+  for (int l = 0; l < 4; l++) {
+    const op_mat *mt = &op->mats[slot_of(b, e + (size_t)l)];
+    sc[l] = which == APPLY_BETA ? mt->beta : 1;
+    lam[l] = sc[l] * mt->lam, mu[l] = sc[l] * mt->mu;
+  }
+  UNROLL
+  for (int k = 0; k < 9; k++) ji[k] = LANES(g[k], g[10 + k], g[20 + k], g[30 + k]);
+  UNROLL
+  for (int a = 0; a < 4; a++) UNROLL
+  for (int i = 0; i < 3; i++)
+    ue[a * 3 + i] = LANES(u[c[a] * 3 + i], u[c[4 + a] * 3 + i], u[c[8 + a] * 3 + i], u[c[12 + a] * 3 + i]);
+  elastic_p1_x4(ji, LANES(g[9], g[19], g[29], g[39]), ue, fe, LANES(lam[0], lam[1], lam[2], lam[3]),
+                LANES(mu[0], mu[1], mu[2], mu[3]));
+  UNROLL
+  for (int l = 0; l < 4; l++) {
+    if (sc[l] == 0) continue;
+    UNROLL
+    for (int a = 0; a < 4; a++) UNROLL
+    for (int i = 0; i < 3; i++) y[c[4 * l + a] * 3 + i] += fe[a * 3 + i][l];
+  }
+}
+
+#define RANGE(d, el, nn) block_range(op, b, e0, e1, u, y, which, d, el, nn, 1, 0)
+#define RANGE_WIDE(d, el) block_range(op, b, e0, e1, u, y, which, d, el, 0, 0, 0)
 /* A linear simplex (b->p1) of dimension d, 32- or 64-bit connectivity
  * (the same arithmetic either way). */
-#define RANGE_P1(d, el) block_range(op, b, e0, e1, u, in, y, which, d, el, d + 1, 1, 1)
-#define RANGE_WIDE_P1(d, el) block_range(op, b, e0, e1, u, in, y, which, d, el, d + 1, 0, 1)
+#define RANGE_P1(d, el) block_range(op, b, e0, e1, u, y, which, d, el, d + 1, 1, 1)
+#define RANGE_WIDE_P1(d, el) block_range(op, b, e0, e1, u, y, which, d, el, d + 1, 0, 1)
 
 /* Linear simplices (b->p1), with either connectivity width: the same
  * arithmetic, so a product does not depend on the width. */
@@ -826,30 +931,42 @@ static inline ALWAYS_INLINE void block_range(const dtm_operator *op, const op_bl
       b->c32 ? RANGE(1, el, 0) : RANGE_WIDE(1, el);                                                                    \
   } while (0)
 
-static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
-                          const double *in, double *y, int which) {
-  if (b->p1)
+/* A 3D linear tet block with 32-bit connectivity: four at a time, then
+ * the rest one by one. */
+__attribute__((target_clones("avx2", "default"))) static void
+tet_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y, int which) {
+  size_t e = e0;
+  for (; e + 4 <= e1; e += 4) tets_x4(op, b, e, u, y, which);
+  e0 = e;
+  RANGE_P1(3, 1);
+}
+
+static void elastic_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
+                          int which) {
+  if (b->p1 && op->d == 3 && b->nn == 4 && b->c32)
+    tet_block(op, b, e0, e1, u, y, which);
+  else if (b->p1)
     P1_BLOCK(1);
   else
     OTHER_BLOCK(1);
 }
 
-static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
-                            const double *in, double *y, int which) {
+static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
+                            int which) {
   if (b->p1)
     P1_BLOCK(0);
   else
     OTHER_BLOCK(0);
 }
 
-static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u,
-                        const double *in, double *y, int which) {
+static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
+                        int which) {
   if (b->manifold)
-    manifold_range(op, b, e0, e1, u, in, y, which);
+    manifold_range(op, b, e0, e1, u, y, which);
   else if (op->kind == DTM_OP_ELASTIC)
-    elastic_block(op, b, e0, e1, u, in, y, which);
+    elastic_block(op, b, e0, e1, u, y, which);
   else
-    diffusion_block(op, b, e0, e1, u, in, y, which);
+    diffusion_block(op, b, e0, e1, u, y, which);
 }
 
 /* ---- parallel product ------------------------------------------------ */
@@ -891,12 +1008,12 @@ static void share_range(const op_block *b, int t, int nt, size_t *e0, size_t *e1
 }
 
 /* Share t of nt: its part of every block into yt. */
-static void share(const dtm_operator *op, int t, int nt, const double *u, const double *in, double *yt, int which) {
+static void share(const dtm_operator *op, int t, int nt, const double *u, double *yt, int which) {
   for (int ib = 0; ib < op->nblocks; ib++) {
     const op_block *b = &op->blocks[ib];
     size_t e0, e1;
     share_range(b, t, nt, &e0, &e1);
-    block_apply(op, b, e0, e1, u, in, yt, which);
+    block_apply(op, b, e0, e1, u, yt, which);
   }
 }
 
@@ -929,14 +1046,21 @@ static int shares_setup(dtm_operator *op) {
   return DTM_OK;
 }
 
-/* y = sum_e s_e K_e (D u), D = diag(in) or I when in is NULL. Shares are
+/* y = sum_e s_e K_e u, or with dsq (M^-1/2) y = D K D u, D = diag(dsq):
+ * then D u is formed once per dof (op->scaled), not at every element's
+ * gather, and y scaled where it is summed, each thread over its own range
+ * of dofs (the same products as scaling before and after). Shares are
  * summed in a fixed order, so the result does not depend on scheduling. */
-static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *in) {
-  int ns = op->nshares;
+static void apply_k(const dtm_operator *op, const double *u, double *y, int which, const double *dsq) {
+  int ns = op->nshares, late = dsq && op->st.n; /* shells and beams add after the region: scale y after them */
   size_t n = op->ndof;
+  const double *x = dsq ? op->scaled : u;
 #pragma omp parallel num_threads(ns) if (ns > 1)
   {
     int t = thread_id(), tn = team_size();
+    size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
+    for (size_t k = k0; dsq && k < k1; k++) op->scaled[k] = u[k] * dsq[k];
+#pragma omp barrier
     for (int s = t; s < ns; s += tn) {
       const op_share *sh = &op->share[s];
       double *ys = s ? op->buf + (size_t)(s - 1) * n : y;
@@ -944,25 +1068,23 @@ static void apply_k(const dtm_operator *op, const double *u, double *y, int whic
         memset(ys + sh->lo, 0, (sh->hi - sh->lo) * sizeof *ys);
       else
         memset(y, 0, n * sizeof *y);
-      share(op, s, ns, u, in, ys, which);
+      share(op, s, ns, x, ys, which);
     }
 #pragma omp barrier
-    size_t k0 = n * (size_t)t / (size_t)tn, k1 = n * (size_t)(t + 1) / (size_t)tn;
     for (int s = 1; s < ns; s++) {
       const op_share *sh = &op->share[s];
       const double *bs = op->buf + (size_t)(s - 1) * n;
       for (size_t k = k0 > sh->lo ? k0 : sh->lo; k < k1 && k < sh->hi; k++) y[k] += bs[k];
     }
+    for (size_t k = k0; dsq && !late && k < k1; k++) y[k] *= dsq[k];
   }
-  if (op->st.n) dtm_op_struct_apply(&op->st, u, in, which == APPLY_BETA ? op->slot_beta : NULL, y);
+  if (op->st.n) dtm_op_struct_apply(&op->st, x, which == APPLY_BETA ? op->slot_beta : NULL, y);
+  for (size_t k = 0; late && k < n; k++) y[k] *= dsq[k];
 }
 
 void dtm_operator_apply(const dtm_operator *op, const double *u, double *y) { apply_k(op, u, y, APPLY_K, NULL); }
 
-void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) {
-  apply_k(op, x, y, APPLY_K, op->dsq);
-  for (size_t k = 0; k < op->ndof; k++) y[k] *= op->dsq[k];
-}
+void dtm_operator_apply_sym(const dtm_operator *op, const double *x, double *y) { apply_k(op, x, y, APPLY_K, op->dsq); }
 
 void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y) {
   if (op->has_beta)

@@ -5,7 +5,8 @@
  * operator integrates every element exactly as its element bound does.
  * A block with no curved element (every linear block, every straight-sided
  * mesh) is one part that views the mesh's own arrays: nothing is copied
- * and nothing costs more than before. The levels are found in parallel;
+ * and nothing costs more than before. The levels are those an analysis
+ * kept, or found here in parallel;
  * the parts keep the mesh order of their elements. Under the "calculix"
  * model every tet10 is in the part of CalculiX's C3D10 rule. */
 #include <stdlib.h>
@@ -15,13 +16,19 @@
 #include "spectral.h"
 #include "reference.h"
 
-/* lev[e] = the rule level of element e of block b (0: full rule). */
-static void block_levels(const dtm_mesh *m, const dtm_block *b, int model, unsigned char *lev) {
+/* lev[e] = the rule level of element e of block b (0: full rule): from
+ * the converged levels kept (when not NULL), else searched. */
+static void block_levels(const dtm_mesh *m, const dtm_block *b, int model, const unsigned char *kept,
+                         unsigned char *lev) {
   long n = (long)b->n;
 #pragma omp parallel for schedule(dynamic, 1024)
   for (long e = 0; e < n; e++) {
     double x[DTM_K_NODES * 3];
     dtm_qrule q;
+    if (kept) {
+      lev[e] = (unsigned char)dtm_ref_rule_id(b->type, model, kept[e]);
+      continue;
+    }
     dtm_mesh_gather_one(m, b, e, x);
     lev[e] = (unsigned char)dtm_ref_rule_elem(b->type, x, model, &q);
   }
@@ -57,11 +64,11 @@ static int fill_part(const dtm_block *b, const unsigned char *lev, int level, si
 #define RULES (DTM_K_RULE_C3D10 + 1)
 
 /* Append the parts of block ib to *ps (room for RULES). */
-static int block_parts(const dtm_mesh *m, int ib, int model, dtm_rule_part *ps, int *np) {
+static int block_parts(const dtm_mesh *m, int ib, int model, const unsigned char *kept, dtm_rule_part *ps, int *np) {
   const dtm_block *b = &m->blocks[ib];
   size_t count[RULES] = {0};
   unsigned char *lev = dtm_ref_levelled(b->type) ? calloc(b->n + 1, 1) : NULL;
-  if (lev) block_levels(m, b, model, lev);
+  if (lev) block_levels(m, b, model, kept, lev);
   for (size_t e = 0; lev && e < b->n; e++) count[lev[e]]++;
   if (!lev || count[0] == b->n) { /* the block as it is */
     ps[*np] = (dtm_rule_part){*b, 0, ib, NULL};
@@ -79,11 +86,11 @@ static int block_parts(const dtm_mesh *m, int ib, int model, dtm_rule_part *ps, 
   return r;
 }
 
-int dtm_rule_parts(const dtm_mesh *m, int model, dtm_rule_part **parts, int *nparts) {
+int dtm_rule_parts(const dtm_mesh *m, int model, const unsigned char *const *kept, dtm_rule_part **parts, int *nparts) {
   *nparts = 0;
   *parts = calloc((size_t)m->nblocks * RULES + 1, sizeof **parts);
   if (!*parts) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_parts(m, ib, model, *parts, nparts));
+  for (int ib = 0; ib < m->nblocks; ib++) DTM_CHECK(block_parts(m, ib, model, kept ? kept[ib] : NULL, *parts, nparts));
   return DTM_OK;
 }
 

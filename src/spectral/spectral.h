@@ -24,8 +24,9 @@ typedef struct {
 
 /* The parts of every block of m for the integration model
  * (DTM_INTEGRATION_*) into *parts[*nparts] (owned: dtm_rule_parts_free,
- * also after an error). */
-int dtm_rule_parts(const dtm_mesh *m, int model, dtm_rule_part **parts, int *nparts);
+ * also after an error); kept[block][element] (or NULL, or a NULL row) the
+ * elements' converged levels an analysis found (then not searched again). */
+int dtm_rule_parts(const dtm_mesh *m, int model, const unsigned char *const *kept, dtm_rule_part **parts, int *nparts);
 void dtm_rule_parts_free(dtm_rule_part *parts, int n);
 
 #endif

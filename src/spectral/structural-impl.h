@@ -8,34 +8,37 @@
 
 #include "dtmap/mesh.h"
 #include "dtmap/problem.h"
+#include "dtmap/section.h"
 
 typedef struct {
-  size_t n;         /* shell and beam elements */
-  int *ndof;        /* [n] 6 nn */
-  size_t *idx;      /* [n][DTM_STRUCT_DOF] the global dof of each element unknown */
-  double *K;        /* [n][DTM_STRUCT_DOF^2] stiffness in global axes, (6 nn)^2 used */
-  double *m;        /* [n][DTM_STRUCT_DOF] lumped masses (diagonal in any frame) */
-  int *slot;        /* [n] coefficient slot */
-  size_t base;      /* first rotation dof: nnodes * 3 */
-  size_t nrot;      /* nodes with rotations */
-  size_t *rot_of;   /* [nnodes] rank of each node's rotations, SIZE_MAX for none */
-  size_t *rot_node; /* [nrot] node of each rank */
-  double *fe;       /* [n][DTM_STRUCT_DOF] element forces of a product (work, owned) */
+  size_t n;                              /* shell and beam elements */
+  int *ndof;                             /* [n] 6 nn */
+  size_t *idx;                           /* [n][DTM_STRUCT_DOF] the global dof of each element unknown */
+  double *K;                             /* [n][DTM_STRUCT_DOF^2] stiffness in global axes, (6 nn)^2 used */
+  double *m;                             /* [n][DTM_STRUCT_DOF] lumped masses (diagonal in any frame) */
+  int *slot;                             /* [n] coefficient slot */
+  size_t base;                           /* first rotation dof: nnodes * 3 */
+  size_t nrot;                           /* nodes with rotations */
+  size_t *rot_of;                        /* [nnodes] rank of each node's rotations, SIZE_MAX for none */
+  size_t *rot_node;                      /* [nrot] node of each rank */
+  double *fe;                            /* [n][DTM_STRUCT_DOF] element forces of a product (work, owned) */
+  const dtm_section_bounds *const *kept; /* [nblocks][n] an analysis's kept bounds (setup only), or NULL */
 } dtm_op_struct;
 
 /* Whether slot coefficients c are a shell or beam section's (elastic). */
 int dtm_op_struct_is(const dtm_operator_coeffs *c);
 /* Collect the structural elements of m (coefficients c per slot, nmat the
  * mesh's materials: slot = mat + nmat (section + 1)); s->n = 0 when none.
- * DTM_ERR_INPUT names the element for a bad one. */
-int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat);
+ * A shell's rotary scale comes from kept (dtm_operator_create_kept) when
+ * it holds one. DTM_ERR_INPUT names the element for a bad one. */
+int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat,
+                        const dtm_section_bounds *const *kept);
 /* mass[k] += the elements' lumped masses; mass_alpha (or NULL) += alpha times them. */
 void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, double *mass, double *mass_alpha);
-/* y += sum_e f_e K_e (D u) over the elements, D = diag(in) or I, f_e =
- * beta_of_slot[slot] (NULL: 1): the element products in parallel, the
- * scatter serial, in element order (the same sum whatever the threads). */
-void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
-                         double *y);
+/* y += sum_e f_e K_e u over the elements, f_e = beta_of_slot[slot] (NULL:
+ * 1): the element products in parallel, the scatter serial, in element
+ * order (the same sum whatever the threads). */
+void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *beta_of_slot, double *y);
 void dtm_op_struct_free(dtm_op_struct *s);
 
 #endif

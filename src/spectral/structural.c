@@ -60,6 +60,23 @@ static int number_rotations(dtm_op_struct *s, const char *mark, size_t nnodes) {
   return DTM_OK;
 }
 
+/* The element's matrices under its section's convention; a shell whose
+ * bounds an analysis kept takes its rotary scale from them (its physical
+ * matrices with the rotary masses times the scale: what the scaled
+ * convention computes, without solving for the scale again). */
+static int kept_matrices(const dtm_op_struct *s, const dtm_mesh *m, const dtm_block *b, size_t e,
+                         const dtm_operator_coeffs *c, const double *x, dtm_struct_matrices *mat) {
+  const dtm_section_bounds *k = s->kept && s->kept[b - m->blocks] ? &s->kept[b - m->blocks][e] : NULL;
+  if (!k || !k->nn || c->section->kind != DTM_SECTION_SHELL)
+    return dtm_section_matrices(c->section, b->type, c->E, c->nu, c->capacity, x, mat);
+  dtm_section physical = *c->section;
+  physical.rotary = DTM_ROTARY_PHYSICAL_INERTIA;
+  DTM_CHECK(dtm_section_matrices(&physical, b->type, c->E, c->nu, c->capacity, x, mat));
+  for (int i = 0; i < 6 * mat->nn; i++)
+    if (i % 6 >= 3) mat->m[i] *= k->scale, mat->M[i * 6 * mat->nn + i] = mat->m[i];
+  return DTM_OK;
+}
+
 /* Element i: block b's element e, matrices and dof indices. */
 static int one(dtm_op_struct *s, size_t i, const dtm_mesh *m, const dtm_block *b, size_t e,
                const dtm_operator_coeffs *c) {
@@ -70,7 +87,7 @@ static int one(dtm_op_struct *s, size_t i, const dtm_mesh *m, const dtm_block *b
     return DTM_ERR(DTM_ERR_INPUT, "a %s section takes no %s elements", dtm_section_kind_name(c->section->kind),
                    dtm_elem_name(b->type));
   for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * conn[a], 3 * sizeof *x);
-  if (dtm_section_matrices(c->section, b->type, c->E, c->nu, c->capacity, x, &mat)) {
+  if (kept_matrices(s, m, b, e, c, x, &mat)) {
     char place[256];
     dtm_mesh_element_place(m, (int)(b - m->blocks), e, place, sizeof place);
     return DTM_ERR(DTM_ERR_INPUT, "%s: %s", place, dtm_error_message());
@@ -117,8 +134,10 @@ static int fill(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *
   return r;
 }
 
-int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat) {
+int dtm_op_struct_setup(dtm_op_struct *s, const dtm_mesh *m, const dtm_operator_coeffs *c, int nmat,
+                        const dtm_section_bounds *const *kept) {
   memset(s, 0, sizeof *s);
+  s->kept = kept;
   char *mark = calloc(m->nnodes + 1, 1);
   if (!mark) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   s->n = count(m, c, nmat, mark);
@@ -140,13 +159,13 @@ void dtm_op_struct_masses(const dtm_op_struct *s, const double *alpha_of_slot, d
     }
 }
 
-/* fe = f K_e (D u) of element i. */
-static void element_product(const dtm_op_struct *s, size_t i, const double *u, const double *in, double f, double *fe) {
+/* fe = f K_e u of element i. */
+static void element_product(const dtm_op_struct *s, size_t i, const double *u, double f, double *fe) {
   int n = s->ndof[i];
   const size_t *idx = s->idx + i * DTM_STRUCT_DOF;
   const double *K = s->K + i * DTM_STRUCT_DOF * DTM_STRUCT_DOF;
   double ue[DTM_STRUCT_DOF];
-  for (int r = 0; r < n; r++) ue[r] = u[idx[r]] * (in ? in[idx[r]] : 1.0);
+  for (int r = 0; r < n; r++) ue[r] = u[idx[r]];
   for (int r = 0; r < n; r++) {
     double acc = 0;
     for (int q = 0; q < n; q++) acc += K[(size_t)r * n + q] * ue[q];
@@ -154,11 +173,10 @@ static void element_product(const dtm_op_struct *s, size_t i, const double *u, c
   }
 }
 
-void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *in, const double *beta_of_slot,
-                         double *y) {
+void dtm_op_struct_apply(const dtm_op_struct *s, const double *u, const double *beta_of_slot, double *y) {
 #pragma omp parallel for schedule(static) if (s->n > 2000)
   for (size_t i = 0; i < s->n; i++)
-    element_product(s, i, u, in, beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0, s->fe + i * DTM_STRUCT_DOF);
+    element_product(s, i, u, beta_of_slot ? beta_of_slot[s->slot[i]] : 1.0, s->fe + i * DTM_STRUCT_DOF);
   for (size_t i = 0; i < s->n; i++)
     for (int r = 0; r < s->ndof[i]; r++) y[s->idx[i * DTM_STRUCT_DOF + r]] += s->fe[i * DTM_STRUCT_DOF + r];
 }

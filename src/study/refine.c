@@ -25,8 +25,8 @@
  * by that scatter instead of creeping up to it, and never repeats a field.
  * The field is capped at the length of the model curves a node lies on and
  * graded (slope 0.3), so that the mesher can follow it.
- * The loop keeps the best mesh (saved to a temporary .msh while it remeshes
- * on, and read back at the end) and stops as soon as the target is met,
+ * The loop keeps the best mesh (saved to a .msh without a name while it
+ * remeshes on, and read back at the end) and stops as soon as the target is met,
  * only shape-limited elements remain below the target (or cap
  * it, and a round around them did not beat the kept mesh), a remesh left
  * the step where it was, or the budget is spent. A round that costs more
@@ -53,7 +53,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "dtmap/cost.h"
 #include "dtmap/gmsh.h"
@@ -138,9 +137,8 @@ typedef struct {
   dtm_analysis *input;                    /* round 0: every round's size field comes from it */
   dtm_analysis *cur;                      /* the last round's analysis */
   int model_round;                        /* the round the Gmsh model holds */
-  char dir[256];                          /* temporary directory of the saved mesh ("" until made) */
-  char path[300];                         /* dir/best.msh */
-  int saved;                              /* round saved in path, -1: none */
+  dtm_atomic kept;                        /* the saved mesh: a file without a name, saved and read by kept.tmp */
+  int saved;                              /* round saved in kept, -1: none */
   int nmodel;                             /* causes the model holds (found on round 0's mesh) */
   dtm_cause model[DTM_REFINE_MAX_CAUSES]; /* [nmodel] those causes */
   dtm_structure *st;                      /* the model's fixed node counts (NULL: none found) */
@@ -253,13 +251,8 @@ static void release(dtm_analysis **a, const dtm_analysis *o1, const dtm_analysis
 /* Save the kept mesh before remeshing it away. */
 static int save_best(const dtm_refine_result *rr, loop_state *st) {
   if (rr->best != st->model_round || st->saved == rr->best) return DTM_OK;
-  if (!st->dir[0]) {
-    const char *tmp = getenv("TMPDIR");
-    snprintf(st->dir, sizeof st->dir, "%s/dtmap-refine-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
-    if (!mkdtemp(st->dir)) return st->dir[0] = 0, DTM_ERR(DTM_ERR_INTERNAL, "cannot make a temporary directory");
-    snprintf(st->path, sizeof st->path, "%s/best.msh", st->dir);
-  }
-  DTM_CHECK(dtm_gmsh_save_mesh(st->path));
+  if (st->kept.fd < 0) DTM_CHECK(dtm_scratch_named(&st->kept, "dtmap-refine", ".msh"));
+  DTM_CHECK(dtm_gmsh_save_mesh(st->kept.tmp));
   st->saved = rr->best;
   return DTM_OK;
 }
@@ -431,7 +424,7 @@ static int refine_loop(dtm_refine_result *rr) {
   double t0 = dtm_wtime();
   static loop_state st0; /* zero: no cause yet */
   loop_state st = st0;
-  st.saved = -1, st.miss = 1.0;
+  st.saved = -1, st.miss = 1.0, st.kept.fd = -1;
   int dim;
   DTM_CHECK(dtm_gmsh_load(&rr->scene, &dim));
   DTM_CHECK(analyse_current(rr, dim, &rr->analysis));
@@ -444,9 +437,9 @@ static int refine_loop(dtm_refine_result *rr) {
   if (r == DTM_OK) dtm_refine_collect_causes(rr, st.model, st.nmodel);
   release(&st.cur, st.input, rr->analysis);
   release(&st.input, rr->analysis, NULL);
-  if (r == DTM_OK && rr->best != st.model_round) r = dtm_gmsh_restore_mesh(st.path);
+  if (r == DTM_OK && rr->best != st.model_round) r = dtm_gmsh_restore_mesh(st.kept.tmp);
   if (r == DTM_OK && !met(rr, rr->best)) r = dtm_refine_mass_round(rr);
-  if (st.dir[0]) unlink(st.path), rmdir(st.dir);
+  dtm_atomic_abort(&st.kept);
   dtm_gmsh_structure_destroy(&st.st);
   free(st.field);
   return r;
