@@ -28,7 +28,8 @@ def cell(c):
         if met_by == "input":
             return "met by the input"
         if met_by == "mesh and point masses":
-            return "mesh + %s %% mass (x%s)" % (mass, cost)
+            on = "input" if rounds == "0" else "mesh of %s remesh(es)" % rounds
+            return "%s + %s %% mass, cost x%s" % (on, mass, cost)
         return "met, %s remesh(es), cost x%s" % (rounds, cost)
     need = "; point masses need %s %%" % mass.split()[1] if mass.startswith("needs") else ""
     return "%s: %s (%s remesh(es))%s" % (outcome, cause, rounds, need)
@@ -50,12 +51,13 @@ def main():
     for m in models:
         print("| %s | %s |" % (m, " | ".join(cell(t.get(m)) for t in tables)))
     print()
-    print("| survey | usable | met | by the input | by a remesh | by mesh + mass | not met: causes |")
+    print("| survey | usable | met | by the input | by a remesh | by mesh + mass (of them on the input) | not met: causes |")
     print("|---|---|---|---|---|---|---|")
     for name, t in zip(names, tables):
         usable, met, causes = counts(t)
-        print("| %s | %d | %d | %d | %d | %d | %s |" % (
-            name, usable, sum(met.values()), met["input"], met["mesh"], met["mesh and point masses"],
+        on_input = sum(1 for c in t.values() if c[0] == "met" and c[1] == "mesh and point masses" and c[4] == "0")
+        print("| %s | %d | %d | %d | %d | %d (%d) | %s |" % (
+            name, usable, sum(met.values()), met["input"], met["mesh"], met["mesh and point masses"], on_input,
             ", ".join("%s %d" % kv for kv in causes.most_common())))
 
 
