@@ -47,16 +47,7 @@ DATA = os.path.join(tu.SRC, "tests", "data", "refine")
 def scene(name, geo, dim, extra=""):
     for f in os.listdir(DATA):
         shutil.copy(os.path.join(DATA, f), tu.path(f))
-    form = "3d" if dim == 3 else "plane-stress"
-    return tu.write(name + ".xml", """<?xml version="1.0"?>
-<dtmap-scene version="1">
-<geometry file="%s"/>
-<meshing dim="%d"/>
-<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
-<effects><elastic formulation="%s"/></effects>
-<time duration="1e-4"%s/>
-</dtmap-scene>
-""" % (geo, dim, form, extra))
+    return tu.elastic_scene(name, geo, dim, time='duration="1e-4"' + extra)
 
 
 

@@ -44,15 +44,7 @@ def demo(name, *extra, dim=3):
         else:
             with gzip.open(src + ".gz", "rb") as z, open(tu.path(f), "wb") as out:
                 shutil.copyfileobj(z, out)
-    tu.write(name + ".xml", """<?xml version="1.0"?>
-<dtmap-scene version="1">
-<geometry file="%s.geo"/>
-<meshing dim="%d"/>
-<material name="steel" default="true" E="210e9" nu="0.3" rho="7850"/>
-<effects><elastic formulation="%s"/></effects>
-<time duration="1e-3"/>
-</dtmap-scene>
-""" % (name, dim, "3d" if dim == 3 else "plane-stress"))
+    tu.elastic_scene(name, name + ".geo", dim, material='default="true"', time='duration="1e-3"')
 
 
 class Dearer(unittest.TestCase):

@@ -34,16 +34,7 @@ DATA = os.path.join(tu.SRC, "tests", "data", "refine")
 def scene(name, dim):
     for f in os.listdir(DATA):
         shutil.copy(os.path.join(DATA, f), tu.path(f))
-    form = "3d" if dim == 3 else "plane-stress"
-    return tu.write(name + ".xml", """<?xml version="1.0"?>
-<dtmap-scene version="1">
-<geometry file="%s.geo"/>
-<meshing dim="%d"/>
-<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
-<effects><elastic formulation="%s"/></effects>
-<time duration="1e-4"/>
-</dtmap-scene>
-""" % (name, dim, form))
+    return tu.elastic_scene(name, name + ".geo", dim)
 
 
 def refine(name, dim, factor=1.3, rounds=3, *extra):

@@ -37,6 +37,20 @@ def write(name, text):
     return path(name)
 
 
+def elastic_scene(name, geo, dim, material='groups="block"', time='duration="1e-4"'):
+    """NAME.xml: GEO meshed in dim, steel (material: its groups or default
+    attribute), the elastic effect (3D, or plane stress in 2D), <time TIME/>."""
+    return write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="%s"/>
+<meshing dim="%d"/>
+<material name="steel" %s E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="%s"/></effects>
+<time %s/>
+</dtmap-scene>
+""" % (geo, dim, material, "3d" if dim == 3 else "plane-stress", time))
+
+
 def plain_env(**extra):
     """The environment for programs that are not dtmap's (man, bash): without
     the sanitizer runtimes a sanitizer build preloads into python3."""
