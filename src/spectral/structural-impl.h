@@ -14,7 +14,9 @@ typedef struct {
   size_t n;                              /* shell and beam elements */
   int *ndof;                             /* [n] 6 nn */
   size_t *idx;                           /* [n][DTM_STRUCT_DOF] the global dof of each element unknown */
-  double *K;                             /* [n][DTM_STRUCT_DOF^2] stiffness in global axes, (6 nn)^2 used */
+  double *K;                             /* stiffness in global axes: of element i the rows of its upper
+                                            triangle, (6 nn)(6 nn + 1)/2 numbers from koff[i] */
+  size_t *koff;                          /* [n] where element i's stiffness starts in K */
   double *m;                             /* [n][DTM_STRUCT_DOF] lumped masses (diagonal in any frame) */
   int *slot;                             /* [n] coefficient slot */
   size_t base;                           /* first rotation dof: nnodes * 3 */
