@@ -13,7 +13,8 @@ tests/reference/periodic_wave.py: numpy/scipy, no dtmap code).
   report names its wave, direction and the measured model.
 - `dtmap verify --accuracy` on the same boxes (periodic samples: the whole
   wave, 12 periods) agrees with the prediction, exit 0, for P and S along x;
-  its report says the sample was periodic and which model predicted.
+  its report says the sample was periodic and which model predicted (the
+  first box alone under the sanitizers: the optimised build checks all).
 """
 
 import math
@@ -38,7 +39,7 @@ class Unstructured(unittest.TestCase):
             self.assertAlmostEqual(sum(x * x for x in phase["direction"]), 1.0, places=9)
             ratio = phase["worst"] / worst
             self.assertTrue(0.7 <= ratio <= 1.5, text)
-            for wave in "PS":
+            for wave in "PS" if name == CASES[0][0] or not tu.SANITIZED else "":  # sanitizers: the first box drives it
                 report = name + "_verify_" + wave + ".json"
                 code, out = tu.run("verify", name + ".xml", "--accuracy", "--wave", wave, "--report", report)
                 self.assertEqual(code, 0, out)

@@ -10,7 +10,8 @@ numpy/scipy, no dtmap code).
   worst the simulation measures at dtmap's step among the P and S waves
   along x and along the box's diagonal, from the measured model.
 - `dtmap verify --accuracy` on the coarser box (a periodic sample) agrees
-  with the prediction for P and S along x, exit 0.
+  with the prediction for P and S along x, exit 0 (P alone under the
+  sanitizers, where each takes 40 s: the optimised build checks both).
 """
 
 import unittest
@@ -31,7 +32,7 @@ class Quadratic(unittest.TestCase):
             self.assertLess(abs(per_wl - per) / per, 0.07, text)  # whole wavelengths fit the box: within 7 %
             self.assertEqual(phase["model"], "measured", text)
             self.assertTrue(0.7 <= phase["worst"] / worst <= 1.5, text)
-        for wave in "PS":
+        for wave in "P" if tu.SANITIZED else "PS":  # 40 s each under the sanitizers: one drives the path
             code, out = tu.run("verify", CASES[0][0] + ".xml", "--accuracy", "--wave", wave)
             self.assertEqual(code, 0, out)
             self.assertIn("a periodic sample", out)
