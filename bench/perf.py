@@ -6,9 +6,12 @@ as docs/performance.md by bench/perf.sh.
 Every comparison runs both sides in the same run, alternating, REPS times
 (once for the slow rows); a time is the best (least disturbed) of the
 repetitions, a CPU time (user + system of the process and its children: the
-supervisor and its worker) the best too, a peak RSS the largest. The load
-average is recorded before and after: the machine may be shared, and the
-ratios, measured side by side under the same load, are what to read.
+supervisor and its worker) the best too, a peak RSS the largest. The ratio
+is the median over the pairs (each pair runs back to back, under the same
+load) with their range beside it: on a shared virtual machine one command's
+wall time has been seen to vary 1.8x from one run to the next, so the
+ratio of two best times can be off by more than the goals it is read
+against. The load average is recorded before and after.
 
 Meshes (made once in WORK, reused): box.geo, the unit cube; box_1m.msh,
 Gmsh's default Delaunay at size 0.0158 (about 1.2e6 tets, ASCII msh 4.1,
@@ -20,6 +23,7 @@ edges (Mesh.SecondOrderLinear), the same elements otherwise.
 """
 import json
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -29,7 +33,7 @@ BUILD = os.environ.get("BUILD_DIR", os.path.join(ROOT, "build-bench"))
 DTMAP = os.path.join(BUILD, "dtmap")
 QUALITY = os.path.join(BUILD, "bench", "bench_dt_vs_quality")
 WORK = os.environ.get("BENCH_WORK", "/tmp/dtmap-perf")
-REPS = int(os.environ.get("BENCH_REPS", "3"))
+REPS = int(os.environ.get("BENCH_REPS", "5"))
 H1M, H10M = 0.0158, 0.0072
 BALL = 2.45e6  # HXT makes about 0.42 tets per this target's (Delaunay) count: about 1e6 tet10
 STEEL = 'E="210e9" nu="0.3" rho="7850"'
@@ -55,12 +59,13 @@ def best(rs):
 
 
 def side_by_side(a, b, reps=REPS, env_a=None, env_b=None):
-    """Alternate commands a and b: (wall, RSS, CPU) of each."""
+    """Alternate commands a and b: (wall, RSS, CPU) of each, and the wall
+    ratios a / b of the pairs."""
     ra, rb = [], []
     for _ in range(reps):
         ra.append(run(a, env_a))
         rb.append(run(b, env_b))
-    return best(ra), best(rb)
+    return best(ra), best(rb), [x[0] / y[0] for x, y in zip(ra, rb)]
 
 
 def load():
@@ -159,33 +164,41 @@ def timed(x):
     return f"{x[0]:.2f}" + (f" ({x[2]:.2f})" if x[2] == x[2] else "")
 
 
-def row(what, d, other, o, goal="", rss=True):
-    """One table row: dtmap's (wall, RSS, CPU) d against other's o."""
-    r = f"| {what} | {timed(d)} | {other} | {timed(o)} | **{d[0] / o[0]:.2f}x** |"
+def ratio(d, o, pairs):
+    """The median of the pairs' ratios and their range, or d over o."""
+    if not pairs or len(pairs) < 2:
+        return f"**{d[0] / o[0]:.2f}x**"
+    return f"**{statistics.median(pairs):.2f}x** ({min(pairs):.2f}-{max(pairs):.2f})"
+
+
+def row(what, d, other, o, goal="", rss=True, pairs=None):
+    """One table row: dtmap's (wall, RSS, CPU) d against other's o, the
+    wall ratios of the pairs when they ran side by side."""
+    r = f"| {what} | {timed(d)} | {other} | {timed(o)} | {ratio(d, o, pairs)} |"
     r += f" {d[1]:.0f} / {o[1]:.0f} MB = **{d[1] / o[1]:.2f}x** |" if rss else " |"
     ROWS.append(r + f" {goal} |")
 
 
 def from_msh():
-    d, g = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "o1.msh", "--report", "r1m.json"],
-                        ["gmsh", "box_1m.msh", "-0", "-bin", "-o", "g1.msh"])
+    d, g, p = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "o1.msh", "--report", "r1m.json"],
+                           ["gmsh", "box_1m.msh", "-0", "-bin", "-o", "g1.msh"])
     row("run from a .msh (1.2e6 tets, binary out)", d, "`gmsh box_1m.msh -0 -bin` (read + write)", g,
-        "<= 1.3x, RSS <= 1.5x")
-    d2, g2 = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "o1a.msh", "--format", "ascii"],
+        "<= 1.3x, RSS <= 1.5x", pairs=p)
+    d2, g2, _ = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "o1a.msh", "--format", "ascii"],
                           ["gmsh", "box_1m.msh", "-0", "-o", "g1a.msh"], reps=1)
     row("the same, ASCII out (`--format ascii`)", d2, "`gmsh box_1m.msh -0` (ASCII)", g2)
-    d3, _ = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "v1.msh", "--views-only"], ["true"])
+    d3, _, _ = side_by_side([DTMAP, "run", "msh1m.xml", "-q", "-o", "v1.msh", "--views-only"], ["true"])
     row("run `--views-only` (the mesh is not written again)", d3, "`gmsh box_1m.msh -0 -bin`", g)
 
 
 def from_geometry():
-    d, g = side_by_side([DTMAP, "run", "hxt1m.xml", "-q", "-o", "oh.msh", "--report", "rh.json"],
-                        ["gmsh", "box.geo", "-3", "-clmax", str(H1M), "-algo", "hxt", "-nt", "2", "-bin", "-o",
-                         "gh.msh"])
+    d, g, p = side_by_side([DTMAP, "run", "hxt1m.xml", "-q", "-o", "oh.msh", "--report", "rh.json"],
+                           ["gmsh", "box.geo", "-3", "-clmax", str(H1M), "-algo", "hxt", "-nt", "2", "-bin", "-o",
+                            "gh.msh"])
     n = report("rh.json")["mesh"]["elements"]
     row(f"run from geometry, HXT on 2 threads ({n:.3g} tets)", d, "`gmsh box.geo -3 -algo hxt -nt 2 -bin`", g,
-        "<= 1.05x")
-    d, g = side_by_side([DTMAP, "run", "del1m.xml", "-q", "-o", "od.msh", "--report", "rd.json"],
+        "<= 1.05x", pairs=p)
+    d, g, _ = side_by_side([DTMAP, "run", "del1m.xml", "-q", "-o", "od.msh", "--report", "rd.json"],
                         ["gmsh", "box.geo", "-3", "-clmax", str(H1M), "-bin", "-o", "gd.msh"], reps=1)
     n = report("rd.json")["mesh"]["elements"]
     row(f"run from geometry, Delaunay on 1 thread ({n:.3g} tets)", d, "`gmsh box.geo -3 -bin`", g, "<= 1.05x")
@@ -193,9 +206,9 @@ def from_geometry():
 
 def containment():
     cmd = [DTMAP, "run", "hxt1m.xml", "-q", "-o", "oc.msh"]
-    d, u = side_by_side(cmd, cmd, env_b={"DTMAP_SUPERVISE": "0"})
+    d, u, p = side_by_side(cmd, cmd, env_b={"DTMAP_SUPERVISE": "0"})
     row("the same, supervised (a worker that dies with the run)", d,
-        "itself in one process, uncontained (`DTMAP_SUPERVISE=0`)", u, "<= 1.02x")
+        "itself in one process, uncontained (`DTMAP_SUPERVISE=0`)", u, "<= 1.02x", pairs=p)
 
 
 def global_estimate():
@@ -219,7 +232,7 @@ def global_estimate():
 
 
 def ten_million():
-    d, g = side_by_side([DTMAP, "run", "msh10m.xml", "-q", "-o", "o10.msh", "--report", "r10m.json"],
+    d, g, _ = side_by_side([DTMAP, "run", "msh10m.xml", "-q", "-o", "o10.msh", "--report", "r10m.json"],
                         ["gmsh", "box_10m.msh", "-0", "-bin", "-o", "g10.msh"], reps=1)
     n = report("r10m.json")["mesh"]["elements"]
     row(f"run from a .msh ({n:.3g} tets, binary in and out)", d, "`gmsh box_10m.msh -0 -bin`", g,
@@ -228,13 +241,13 @@ def ten_million():
 
 def shells():
     args = ["-q", "--views-only", "--report"]
-    d, m = side_by_side([DTMAP, "run", "shell.xml", "-o", "sh.msh"] + args + ["sh.json"],
-                        [DTMAP, "run", "membrane.xml", "-o", "mb.msh"] + args + ["mb.json"])
+    d, m, p = side_by_side([DTMAP, "run", "shell.xml", "-o", "sh.msh"] + args + ["sh.json"],
+                           [DTMAP, "run", "membrane.xml", "-o", "mb.msh"] + args + ["mb.json"])
     n = report("sh.json")["mesh"]["elements"]
     row(f"shells and beams ({n} elements, stiffened panel at 5 mm), run", d, "the same mesh as membranes and trusses",
-        m, "<= 2x")
+        m, "<= 2x", pairs=p)
     post = ["--posterior", "--tol", "1e-3"]
-    d, m = side_by_side([DTMAP, "run", "shell.xml", "-o", "sh.msh"] + post + args + ["shp.json"],
+    d, m, _ = side_by_side([DTMAP, "run", "shell.xml", "-o", "sh.msh"] + post + args + ["shp.json"],
                         [DTMAP, "run", "membrane.xml", "-o", "mb.msh"] + post + args + ["mbp.json"], reps=1)
     row("the same, `--posterior --tol 1e-3`", d, "membranes and trusses, `--posterior`", m)
     ts, tm = report("shp.json")["timings"], report("mbp.json")["timings"]
@@ -247,7 +260,7 @@ def shells():
 def curved():
     args = ["-q", "--views-only", "--posterior", "--tol", "1e-3", "--report"]
     rc, rs = [], []
-    for _ in range(max(1, REPS - 2)):
+    for _ in range(1):
         rc.append(run([DTMAP, "run", "ball_curved.xml", "-o", "bc.msh"] + args + ["bc.json"]))
         c = report("bc.json")
         rs.append(run([DTMAP, "run", "ball_straight.xml", "-o", "bs.msh"] + args + ["bs.json"]))
@@ -278,7 +291,8 @@ def per_element():
 NOTES = """
 The machine is shared (2 cores, other jobs running): read the ratios, each measured side by side
 under the same load; the lead may regenerate this file on a quiet machine with `bench/perf.sh`.
-Times are wall clock (best of the runs); CPU, in parentheses, is user + system time of the
+Times are wall clock (best of the runs; one command's wall time has been seen to vary 1.8x
+from one run to the next here, hence the median of the pairs' ratios); CPU, in parentheses, is user + system time of the
 process and its children, all threads. dtmap is the default, serial build (`-DDTM_MPI=OFF`,
 in build-bench/).
 
@@ -304,7 +318,8 @@ computes, and releases Gmsh's model when that write is done; binary output above
 views written directly as $ElementData/$NodeData; `--views-only` writes no mesh at all; the
 mesh is renumbered for locality; the global product takes linear tets four at a time in
 vector lanes, with the mass scaling applied once per unknown; shells and beams solve their
-rotary-scale eigenproblem once per element and keep it."""
+rotary-scale eigenproblem once per element and keep it, and the global operator stores their
+stiffness as the upper triangle of each element's matrix."""
 
 
 def main():
@@ -323,8 +338,9 @@ def main():
     print("# Performance: dtmap against Gmsh, scipy, and itself\n")
     print(f"Generated by `bench/perf.sh` on {os.cpu_count()} cores ({time.strftime('%Y-%m-%d')}), "
           f"{time.time() - t0:.0f} s; load average {load0} before, {load1} after. Each time is the best of "
-          f"{REPS} alternating runs (1 for the ASCII, Delaunay, 1e7 and `--posterior` shell rows, "
-          f"{max(1, REPS - 2)} for the curved ones), each peak RSS the largest.\n")
+          f"{REPS} alternating runs (1 for the ASCII, Delaunay, 1e7, `--posterior` shell and curved rows), each "
+          f"peak RSS the largest; a ratio is the median of the pairs' ratios, their range in parentheses, where "
+          f"{REPS} pairs ran.\n")
     print("| what | dtmap, s (CPU) | against | its time, s (CPU) | ratio | peak RSS dtmap / other | goal |")
     print("|---|---|---|---|---|---|---|")
     print("\n".join(ROWS))
