@@ -16,13 +16,18 @@
  *    the output and leaves no temporary;
  *  - a temporary whose PID still runs (this test's own) is not touched; a
  *    plain one whose PID is gone and that nobody locks is removed, and so
- *    is a dangling link of a PID that is gone. */
+ *    is a dangling link of a PID that is gone;
+ *  - a link left by a writer that ended but is not reaped yet (a zombie:
+ *    its PID still answers, as a worker's does until its new parent reaps
+ *    it after both were killed) is removed by the next run. */
+#define _GNU_SOURCE /* O_TMPFILE */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
 
 #include <dirent.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -217,11 +222,48 @@ static void test_live_and_dead(void **state) {
   unlink(live);
 }
 
+/* A writer that ended but was not reaped yet (a zombie, whose PID still
+ * answers kill(pid, 0): what a run killed with its worker leaves until the
+ * worker's new parent reaps it) left a link to its closed descriptor: the
+ * next run removes it. */
+static void test_zombie_writer(void **state) {
+  (void)state;
+  char link[1024], *log = NULL;
+  struct stat st;
+  int go[2];
+  assert_int_equal(pipe(go), 0);
+  pid_t child = fork();
+  if (child == 0) { /* a writer: an unnamed file, its link, then killed before the rename */
+    char name[1024];
+    int fd = open(dir, O_TMPFILE | O_WRONLY, 0644);
+    snprintf(name, sizeof name, "/proc/%ld/fd/%d", (long)getpid(), fd);
+    snprintf(link, sizeof link, "%s/.out.msh.tmp%ld.msh", dir, (long)getpid());
+    char ok = fd >= 0 && symlink(name, link) == 0;
+    if (write(go[1], &ok, 1) != 1) _exit(1);
+    _exit(0);
+  }
+  char ok = 0;
+  close(go[1]);
+  assert_int_equal(read(go[0], &ok, 1), 1);
+  close(go[0]);
+  assert_true(ok);
+  snprintf(link, sizeof link, "%s/.out.msh.tmp%ld.msh", dir, (long)child);
+  siginfo_t si;
+  assert_int_equal(waitid(P_PID, (id_t)child, &si, WEXITED | WNOWAIT), 0); /* ended, not reaped */
+  assert_int_equal(kill(child, 0), 0);
+  assert_int_equal(lstat(link, &st), 0);
+  assert_int_equal(tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, out), 0);
+  free(log);
+  assert_int_equal(lstat(link, &st), -1);
+  waitpid(child, NULL, 0);
+}
+
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_sigkill),       cmocka_unit_test(test_sigterm),     cmocka_unit_test(test_sigint),
       cmocka_unit_test(test_worker_killed), cmocka_unit_test(test_both_killed), cmocka_unit_test(test_live_and_dead),
+      cmocka_unit_test(test_zombie_writer),
   };
   return cmocka_run_group_tests(tests, setup, NULL);
 }

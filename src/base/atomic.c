@@ -15,7 +15,7 @@
  * async-signal-safe), and the list can live in memory shared with a
  * supervising parent (dtm_atomic_share), which removes them after a worker
  * died by a signal it could not handle. What a process killed with its
- * parent leaves (a dangling link) is removed by the next writer of the
+ * parent leaves (a link to nothing) is removed by the next writer of the
  * same target, with the temporaries of killed runs that wrote by name: on
  * a file system without O_TMPFILE the temporary is a plain file as before,
  * held under an exclusive flock() from creation to rename, and removed
@@ -101,15 +101,18 @@ static long temp_pid(const char *name, const char *base) {
   return pid > 0 ? pid : 0;
 }
 
-/* Remove file when pid does not run and, for a plain file, no process
- * holds its lock (a link holds no data: its PID is enough). */
+/* Remove file when its writer is gone: a link when it leads nowhere (the
+ * descriptor it names through /proc is closed: the writer ended, even as
+ * a zombie its new parent has not reaped yet, whose PID still answers); a
+ * plain file when pid does not run and no process holds its lock. */
 static void remove_if_stale(const char *file, long pid) {
-  struct stat st;
-  if (pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH || lstat(file, &st)) return;
+  struct stat st, to;
+  if (pid == (long)getpid() || lstat(file, &st)) return;
   if (S_ISLNK(st.st_mode)) {
-    unlink(file);
+    if (stat(file, &to) && errno == ENOENT) unlink(file);
     return;
   }
+  if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) return;
   int fd = open(file, O_RDONLY | O_NOFOLLOW);
   if (fd < 0) return;
   if (flock(fd, LOCK_EX | LOCK_NB) == 0) unlink(file);
