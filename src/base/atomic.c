@@ -103,16 +103,19 @@ static long temp_pid(const char *name, const char *base) {
 
 /* Remove file when its writer is gone: a link when it leads nowhere (the
  * descriptor it names through /proc is closed: the writer ended, even as
- * a zombie its new parent has not reaped yet, whose PID still answers); a
- * plain file when pid does not run and no process holds its lock. */
+ * a zombie its new parent has not reaped yet, whose PID still answers)
+ * and its PID is gone or ours to signal (another user's process may only
+ * be hidden from this /proc); a plain file when pid does not run and no
+ * process holds its lock. */
 static void remove_if_stale(const char *file, long pid) {
   struct stat st, to;
   if (pid == (long)getpid() || lstat(file, &st)) return;
+  int mine = kill((pid_t)pid, 0) == 0, gone = !mine && errno == ESRCH;
   if (S_ISLNK(st.st_mode)) {
-    if (stat(file, &to) && errno == ENOENT) unlink(file);
+    if ((gone || mine) && stat(file, &to) && errno == ENOENT) unlink(file);
     return;
   }
-  if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) return;
+  if (!gone) return;
   int fd = open(file, O_RDONLY | O_NOFOLLOW);
   if (fd < 0) return;
   if (flock(fd, LOCK_EX | LOCK_NB) == 0) unlink(file);
