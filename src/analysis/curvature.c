@@ -109,7 +109,7 @@ static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_c
     dtm_curvature c;
     dtm_mesh_gather_one(a->mesh, blk, (size_t)e, x);
     dep[g0 + (size_t)e] = NAN;
-    if (dtm_kernel_curvature(blk->type, x, &c)) {
+    if (dtm_kernel_curvature_shape(blk->type, x, &c)) { /* the levels are kept: dtm_analysis_levels */
       a->curv_ratio[g0 + (size_t)e] = NAN, a->curv_offset[g0 + (size_t)e] = NAN;
       continue;
     }

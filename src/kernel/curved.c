@@ -192,19 +192,36 @@ static double sampled_ratio(int type, int d, int nn, const double (*xl)[3]) {
   return hi > 0 ? lo / hi : 0;
 }
 
-int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c) {
-  int d, nn;
-  double xl[DTM_K_NODES][3], r;
-  dtm_qrule q;
-  DTM_CHECK(dtm_elem_info(type, &d, &nn));
+/* The shape part of dtm_kernel_curvature into c, with the element in its
+ * frame into xl; 1 when the level search applies (a second-order element
+ * whose frame was found), else 0. */
+static int curvature_shape(int type, int d, int nn, const double *x, double (*xl)[3], dtm_curvature *c) {
+  double r;
   *c = (dtm_curvature){0, 1, 1, 0, 1};
-  if (dtm_elem_parent(type) == type) return DTM_OK;
+  if (dtm_elem_parent(type) == type) return 0;
   c->offset = dtm_elem_node_offset(type, (const double(*)[3])x);
-  if (dtm_elem_local(type, x, xl)) return c->jac_ratio = 0, c->bounded = 0, DTM_OK;
+  if (dtm_elem_local(type, x, xl)) return c->jac_ratio = 0, c->bounded = 0, 0;
   if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
     c->jac_ratio = fmin(r, 1);
   else
     c->jac_ratio = sampled_ratio(type, d, nn, (const double(*)[3])xl), c->bounded = 0;
-  c->level = dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, DTM_INTEGRATION_CONVERGED, &q, &c->settled);
+  return 1;
+}
+
+int dtm_kernel_curvature_shape(int type, const double *x, dtm_curvature *c) {
+  int d, nn;
+  double xl[DTM_K_NODES][3];
+  DTM_CHECK(dtm_elem_info(type, &d, &nn));
+  curvature_shape(type, d, nn, x, xl, c);
+  return DTM_OK;
+}
+
+int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c) {
+  int d, nn;
+  double xl[DTM_K_NODES][3];
+  dtm_qrule q;
+  DTM_CHECK(dtm_elem_info(type, &d, &nn));
+  if (curvature_shape(type, d, nn, x, xl, c))
+    c->level = dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, DTM_INTEGRATION_CONVERGED, &q, &c->settled);
   return DTM_OK;
 }

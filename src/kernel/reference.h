@@ -54,6 +54,9 @@ int dtm_ref_levelled(int type);
  * dtm_elem_measure_at are dtm_elem_lumped_model and dtm_elem_measure with
  * that rule (level -1: searched, as they do). The same numbers, bitwise. */
 int dtm_ref_rule_at(int type, int model, int level, dtm_qrule *q);
+/* dtm_kernel_curvature without the level search (the analysis keeps the
+ * levels: offset, jac_ratio and bounded only; level 0, settled 1). */
+int dtm_kernel_curvature_shape(int type, const double *x, dtm_curvature *c);
 int dtm_ref_rule_id(int type, int model, int level); /* what dtm_ref_rule_at returns, without q */
 double dtm_elem_lumped_at(int type, const double *x, int model, int level, double *w);
 double dtm_elem_measure_at(int type, const double *x, int level);
