@@ -15,7 +15,16 @@ Gmsh's API; one thread, Delaunay: the same mesh and tags) and the scene:
 - the step: the *DYNAMIC increment is the report's step within 1e-14 (15
   digits in CalculiX's 20 columns); LS-DYNA's TSSFAC is the report's, and
   times the report's own estimate it is the deck's step, at most dtmap's
-  recommended one;
+  recommended one; LS-DYNA's LCTM names a *DEFINE_CURVE flat at the deck's
+  step (never above it, within 1e-14 below: 15 digits in 20 columns) from
+  time 0 to at least ENDTIM; the LS-DYNA and Abaqus headers say the step
+  was proven for the undeformed mesh;
+- LS-DYNA's cards are readable: every card of more than one field is in
+  free format, its fields separated by commas, none empty or holding a
+  blank, each within its fixed columns (the reader refuses a longer one:
+  the same digits as fixed columns);
+- the shells' transverse shear factor (SHRF) is dtmap's 5/6 (within 1e-8:
+  8 digits in 10 columns), as the beams' is;
 - with --target the mass elements add up to the report's added mass (and to
   its mass_scaling.total_added) within 1e-10;
 - a refined mesh that carries point masses (refine's 'added mass at nodes'
@@ -162,16 +171,53 @@ class Reader(unittest.TestCase):
         for name, (E, nu, rho) in want.items():
             self.assertEqual(got[name], (E, nu, rho), name)
 
-    def steps(self, d, rep, solver):
+    def steps(self, d, rep, solver, path):
         dk = rep["deck"]
         if solver == "lsdyna":
             self.assertEqual(d.controls["tssfac"], dk["tssfac"])
             self.assertLess(abs(d.controls["tssfac"] * dk["own_estimate"] / dk["step"] - 1), 1e-15)
             self.assertLessEqual(dk["step"], dk["recommended"])
             self.assertEqual(d.controls["endtim"], dk["duration"])
+            curve = d.curves[d.controls["lctm"]]  # the cap on every step
+            self.assertEqual(curve[0][0], 0.0)
+            self.assertGreaterEqual(curve[-1][0], dk["duration"])
+            for _, cap in curve:
+                self.assertLessEqual(cap, dk["step"])
+                self.assertLess(1 - cap / dk["step"], 1e-14)
+            self.separated(path)
         else:  # 15 digits in CalculiX's 20 columns
             self.assertLess(abs(d.controls["dynamic"][1][0] / dk["step"] - 1), 1e-14)
             self.assertLess(abs(d.controls["dynamic"][1][1] / dk["duration"] - 1), 1e-14)
+        if solver in ("lsdyna", "abaqus"):
+            with open(path) as f:
+                head = [line.lstrip("$*").strip() for line in f.read().split("\n")[:20]]
+            self.assertTrue(any(h.startswith("The step was proven for the undeformed mesh.") for h in head), path)
+
+    def separated(self, path):
+        """Every LS-DYNA card of more than one field: commas between its
+        fields, none empty or holding a blank (titles are one field)."""
+        with open(path) as f:
+            lines = f.read().split("\n")
+        title, cards = False, 0
+        for n, line in enumerate(lines, 1):
+            if line.startswith("*"):
+                key = line[1:].strip().upper()
+                title = key.endswith("_TITLE") or key in ("TITLE", "PART")
+                continue
+            if not line.strip() or line.startswith("$"):
+                continue
+            if title:
+                title = False
+                continue
+            cards += 1
+            where = "%s:%d: %r" % (path, n, line)
+            fields = line.split(",")
+            if len(fields) == 1:  # one field in its columns
+                self.assertEqual(len(line.split()), 1, where)
+                continue
+            for t in fields:
+                self.assertTrue(t and " " not in t, where)
+        self.assertGreater(cards, 10)
 
     def scene(self, scene, name, solvers=("abaqus", "lsdyna", "calculix"), sectioned=(), mats=None):
         groups = msh_of(scene, name)
@@ -181,7 +227,8 @@ class Reader(unittest.TestCase):
                 d, rep = deck(scene, name, solver)
                 self.check_mesh(d, rep, groups, solver, sectioned)
                 self.connectivity(d, name)
-                self.steps(d, rep, solver)
+                ext = ".k" if solver == "lsdyna" else ".inp"
+                self.steps(d, rep, solver, tu.path(name + "_" + solver + ext))
                 if mats:
                     self.materials(d, solver, mats)
                 out[solver] = (d, rep)
@@ -216,6 +263,8 @@ class Reader(unittest.TestCase):
             self.assertLess(abs(g / w - 1), 1e-12)
         self.assertEqual(ab["STIFFENER"][2][1], [1.0, 0.0, 0.0])  # n1: the scene's orientation
         ls = {v[1]: v for v in decks["lsdyna"][0].sections["sections"].values()}
+        for name in ("SKIN", "STIFFENER"):  # SHRF: dtmap's shear factor
+            self.assertLess(abs(float(ls[name][2][0][2]) / (5 / 6) - 1), 1e-8, name)
         got = [float(x) for x in ls["STIFFENER"][2][1][:3]]
         for g, w in zip(got, want):
             self.assertLess(abs(g / w - 1), 2e-5)

@@ -7,7 +7,8 @@
  * side), CPE3/CPE4R/CPE6M and CPS*, M3D3/M3D4, S3R/S4, T3D2, B31 with a
  * general section (A, I11 = the section's I_y, I22 = I_z, J; n1 along the
  * section's y). The step is fixed with *DYNAMIC, EXPLICIT, DIRECT USER
- * CONTROL (increment, time period). Abaqus's own estimate is
+ * CONTROL (increment, time period) for the whole step; the header says it
+ * was proven for the undeformed mesh. Abaqus's own estimate is
  * element-by-element from each element's highest (dilatational) frequency:
  * for the elements of this deck that is dtmap's element bound (the map's
  * smallest step), which is what it shows. */
@@ -68,6 +69,11 @@ static int section_beam(deck_ctx *c, const deck_part *p, int *done) {
 
 static int write(deck_ctx *c) {
   FILE *f = c->f;
+  snprintf(c->proven, sizeof c->proven,
+           "The step was proven for the undeformed mesh. DIRECT USER CONTROL fixes the increment at\n"
+           "%.10g s for the whole step: Abaqus does not shorten it as elements deform, so a run whose\n"
+           "elements shrink or distort needs a margin of its own (or Abaqus's own stable increment).",
+           c->info->step);
   deck_header(c, "**");
   fprintf(f, "*HEADING\ndtmap deck of %s\n", c->s->path);
   DTM_CHECK(deck_inp_nodes(c));

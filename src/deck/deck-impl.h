@@ -63,6 +63,7 @@ typedef struct deck_ctx {
   const double *carried;       /* [nnodes] point masses the mesh carries (a refined mesh), kg, or NULL */
   size_t max_tag;              /* largest element tag (mass elements are numbered above it) */
   dtm_deck_info *info;         /* what is written */
+  char proven[640];            /* the writer's lines on where the step was proven and what holds it ("": none) */
 } deck_ctx;
 
 /* One solver's format. */

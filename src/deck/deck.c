@@ -240,8 +240,13 @@ void deck_header(const deck_ctx *c, const char *cm) {
     fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
             in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
   if (isfinite(in->tssfac))
-    fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its estimate is the step\n", cm, in->tssfac,
-            in->title);
+    fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its first step is the deck's\n", cm,
+            in->tssfac, in->title);
+  for (const char *l = c->proven; *l;) {
+    size_t n = strcspn(l, "\n");
+    fprintf(f, "%s %.*s\n", cm, (int)n, l);
+    l += n + (l[n] == '\n');
+  }
   fprintf(f, "%s duration: %.10g s%s\n", cm, in->duration,
           c->s->duration > 0 ? " (<time duration>)" : " (the scene gives no <time duration>: 1000 steps)");
   for (int i = 0; i < in->nwarnings; i++) fprintf(f, "%s warning: %s\n", cm, in->warnings[i]);

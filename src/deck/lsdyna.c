@@ -1,21 +1,32 @@
 /* The LS-DYNA keyword deck (LS-DYNA Keyword User's Manual, volume I):
- * fixed-column cards (IDs in 8 columns for *NODE and *ELEMENT_*, 10 for
- * the others; reals in 16 columns for coordinates and masses, 10 for the
- * others, each written with the most digits that fit), '$' comments.
+ * cards in LS-DYNA's free format, fields separated by commas, so that a
+ * person can read and edit them; each field keeps at most the characters
+ * of its fixed columns (IDs 8 for *NODE and *ELEMENT_*, 10 for the others;
+ * reals 16 for coordinates and masses, 20 for curve points, 10 for the
+ * others, each with the most digits that fit), so it carries the digits
+ * the fixed columns would; a card of one field stays in its columns. '$'
+ * comments.
  * Elements: *ELEMENT_SOLID (tet4 as the 8-node degenerate form, ELFORM 10,
  * the 1-point tetrahedron; hex8 ELFORM 2, the fully integrated
  * selectively reduced brick, whose one-point volumetric term can only lower
  * the top eigenvalue: dtmap's step is on the safe side), *ELEMENT_SHELL
  * (plane strain ELFORM 13, plane stress 12, membranes 5 (tri3) and 9
- * (quad4), shells 4 (the C0 triangle) and 16 (fully integrated quadrangle)),
- * *ELEMENT_BEAM (trusses ELFORM 3, beams ELFORM 2, the resultant beam with
- * A, I_ss = the section's I_y, I_tt = I_z, J; its s axis along the
- * section's y, given as the orientation vector). One *PART per part.
- * LS-DYNA chooses its own step as TSSFAC x the smallest element step by
- * its rule (rules.c); the deck's TSSFAC is dtmap's step over that smallest
- * step, so that LS-DYNA's estimate is dtmap's step. A 10-node tetrahedron
- * is refused: the manuals do not give the length LS-DYNA's step takes for
- * it, so no TSSFAC could make its estimate dtmap's step. */
+ * (quad4), shells 4 (the C0 triangle) and 16 (fully integrated quadrangle),
+ * with the transverse shear factor dtmap's shell takes, 5/6 unless the
+ * section gives one), *ELEMENT_BEAM (trusses ELFORM 3, beams ELFORM 2, the
+ * resultant beam with A, I_ss = the section's I_y, I_tt = I_z, J; its s
+ * axis along the section's y, given as the orientation vector). One *PART
+ * per part.
+ * The step: LS-DYNA takes TSSFAC x the smallest element step by its rule
+ * (rules.c), recomputed every cycle; the deck's TSSFAC is dtmap's step over
+ * that smallest step, so that LS-DYNA's first step is dtmap's, and LCTM
+ * names a *DEFINE_CURVE flat at dtmap's step, the largest step LS-DYNA may
+ * take, for the whole run: once the mesh deforms and TSSFAC scales another
+ * estimate, the step still never exceeds the one proven (for the
+ * undeformed mesh). A 10-node tetrahedron is refused: the manuals do not
+ * give the length LS-DYNA's step takes for it, so no TSSFAC could make its
+ * estimate dtmap's step. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,12 +43,55 @@ static const deck_elem_row rows[] = {
     {DTM_SECTION_TRUSS, DTM_LINE2, "BEAM", 3, NULL},         {DTM_SECTION_BEAM, DTM_LINE2, "BEAM", 2, NULL}};
 
 #define ID_MAX 99999999 /* the largest ID in 8 columns */
+#define CARD_MAX 256    /* a card's characters: 10 fields of 20 and their commas */
+#define LCTM 1          /* the ID of the curve that caps the step */
+#define LCTM_SPAN 1000  /* the curve runs flat to this many times ENDTIM */
 
-/* v in w columns, right-aligned, with the most digits that fit (LS-DYNA
- * reads a field by its columns: it may touch the one before). */
-static void real(FILE *f, int w, double v) {
+/* One card being built: fields separated by commas (LS-DYNA's free
+ * format), each at most as long as its fixed columns. */
+typedef struct {
+  char s[CARD_MAX];
+  int n; /* characters so far */
+} card;
+
+static void put_text(card *l, const char *t) {
+  size_t k = strlen(t);
+  if (l->n) l->s[l->n++] = ',';
+  memcpy(l->s + l->n, t, k);
+  l->n += (int)k;
+}
+
+/* v with the most digits its w columns hold. */
+static void put_real(card *l, int w, double v) {
   char b[40];
-  fprintf(f, "%*s", w, deck_number(v, w, b));
+  put_text(l, deck_number(v, w, b));
+}
+
+/* v >= 0 with the most digits its w columns hold, rounded down: the cap
+ * written is never above the step it caps. */
+static void put_real_down(card *l, int w, double v) {
+  char b[40];
+  double x = v, d = v * DBL_EPSILON;
+  while (strtod(deck_number(x, w, b), NULL) > v) x = v - d, d *= 2;
+  put_text(l, b);
+}
+
+static void put_id(card *l, size_t v) {
+  if (l->n) l->s[l->n++] = ',';
+  l->n = (int)(deck_put_uint(l->s + l->n, v, 0) - l->s);
+}
+
+static void card_end(card *l, FILE *f) {
+  l->s[l->n++] = '\n';
+  fwrite(l->s, 1, (size_t)l->n, f);
+  l->n = 0;
+}
+
+/* A card of one field, v in its w columns (fixed format: no comma to
+ * separate it from anything). */
+static void real_alone(FILE *f, int w, double v) {
+  char b[40];
+  fprintf(f, "%*s\n", w, deck_number(v, w, b));
 }
 
 static int element(deck_ctx *c, deck_part *p) {
@@ -73,15 +127,36 @@ static double own(const deck_ctx *c, const dtm_block *b, size_t e, size_t i, con
 
 /* ---- cards ---- */
 
+/* *CONTROL_TIMESTEP: TSSFAC makes LS-DYNA's first step the deck's; LCTM
+ * names the curve that caps every later one. */
 static void control(deck_ctx *c) {
   dtm_deck_info *in = c->info;
+  card l = {.n = 0};
   fprintf(c->f, "*TITLE\ndtmap deck of %.70s\n*CONTROL_TERMINATION\n$#  endtim\n", c->s->path);
-  real(c->f, 10, in->duration);
+  real_alone(c->f, 10, in->duration);
+  fputs("*CONTROL_TIMESTEP\n$# dtinit,tssfac,isdo,tslimt,dt2ms,lctm,erode,ms1st\n", c->f);
+  put_text(&l, "0.0"), put_real(&l, 10, in->tssfac), put_text(&l, "0"), put_text(&l, "0.0"), put_text(&l, "0.0");
+  put_id(&l, LCTM), put_text(&l, "0"), put_text(&l, "0");
+  card_end(&l, c->f);
+}
+
+/* The curve LCTM names: the deck's step from time 0 to LCTM_SPAN x ENDTIM
+ * (a longer run keeps the cap). */
+static void step_curve(deck_ctx *c) {
+  const dtm_deck_info *in = c->info;
+  card l = {.n = 0};
   fprintf(c->f,
-          "\n*CONTROL_TIMESTEP\n$#  dtinit    tssfac      isdo    tslimt     dt2ms      lctm     erode     ms1st\n"
-          "       0.0");
-  real(c->f, 10, in->tssfac);
-  fprintf(c->f, "         0       0.0       0.0         0         0         0\n");
+          "*DEFINE_CURVE_TITLE\nDTMAP_LARGEST_STEP\n$ the largest step LS-DYNA may take (LCTM of *CONTROL_TIMESTEP): "
+          "the deck's step, flat to %d x ENDTIM\n$# lcid,sidr,sfa,sfo,offa,offo,dattyp\n",
+          LCTM_SPAN);
+  put_id(&l, LCTM), put_text(&l, "0"), put_text(&l, "1.0"), put_text(&l, "1.0"), put_text(&l, "0.0");
+  put_text(&l, "0.0"), put_text(&l, "0");
+  card_end(&l, c->f);
+  fputs("$# a1 (time, s),o1 (largest step, s)\n", c->f);
+  put_text(&l, "0.0"), put_real_down(&l, 20, in->step);
+  card_end(&l, c->f);
+  put_real(&l, 20, LCTM_SPAN * in->duration), put_real_down(&l, 20, in->step);
+  card_end(&l, c->f);
 }
 
 static void materials(deck_ctx *c) {
@@ -91,60 +166,86 @@ static void materials(deck_ctx *c) {
     for (int k = 0; k < c->nparts; k++) used |= c->parts[k].mat == mat;
     if (!used) continue;
     double E, nu, rho;
+    card l = {.n = 0};
     deck_elastic(c, mat, &E, &nu, &rho);
     deck_safe_name(c->s->materials[mat].m.name, mat + 1, name);
-    fprintf(c->f, "*MAT_ELASTIC_TITLE\n%s\n$#     mid        ro         e        pr\n%10d", name, mat + 1);
-    real(c->f, 10, rho), real(c->f, 10, E), real(c->f, 10, nu);
-    fputc('\n', c->f);
+    fprintf(c->f, "*MAT_ELASTIC_TITLE\n%s\n$# mid,ro,e,pr\n", name);
+    put_id(&l, (size_t)mat + 1), put_real(&l, 10, rho), put_real(&l, 10, E), put_real(&l, 10, nu);
+    card_end(&l, c->f);
   }
+}
+
+/* The transverse shear factor of part p's shells and beams: the section's,
+ * else 5/6, as dtmap's kernels take it. */
+static double shear_factor(const deck_ctx *c, const deck_part *p) {
+  double k = p->section >= 0 ? c->s->sections[p->section].shear : 0.0;
+  return k > 0 ? k : 5.0 / 6.0;
 }
 
 static void section_beam(deck_ctx *c, const deck_part *p) {
   const dtm_section *s = p->section >= 0 ? &c->s->sections[p->section] : NULL;
-  fprintf(c->f, "*SECTION_BEAM_TITLE\n%s\n$#   secid    elform      shrf\n%10d%10d", p->set, (int)(p - c->parts) + 1,
-          p->elform);
+  card l = {.n = 0};
+  fprintf(c->f, "*SECTION_BEAM_TITLE\n%s\n$# secid,elform,shrf\n", p->set);
+  put_id(&l, (size_t)(p - c->parts) + 1), put_id(&l, (size_t)p->elform);
   if (p->kind == DTM_SECTION_TRUSS) {
-    fprintf(c->f, "       1.0\n$#       a\n");
-    real(c->f, 10, p->thickness);
-  } else {
-    double k = s->shear > 0 ? s->shear : 5.0 / 6.0;
-    real(c->f, 10, k);
-    fprintf(c->f, "\n$#       a       iss       itt         j        sa\n");
-    real(c->f, 10, s->area), real(c->f, 10, s->iy), real(c->f, 10, s->iz), real(c->f, 10, s->jt);
-    real(c->f, 10, k * s->area);
+    put_text(&l, "1.0");
+    card_end(&l, c->f);
+    fputs("$#       a\n", c->f);
+    real_alone(c->f, 10, p->thickness);
+    return;
   }
-  fputc('\n', c->f);
+  double k = shear_factor(c, p);
+  put_real(&l, 10, k);
+  card_end(&l, c->f);
+  fputs("$# a,iss,itt,j,sa\n", c->f);
+  put_real(&l, 10, s->area), put_real(&l, 10, s->iy), put_real(&l, 10, s->iz), put_real(&l, 10, s->jt);
+  put_real(&l, 10, k * s->area);
+  card_end(&l, c->f);
+}
+
+/* *SECTION_SHELL: SHRF is the shear factor dtmap's shell takes (plane and
+ * membrane elements have no transverse shear: it is written alike). */
+static void section_shell(deck_ctx *c, const deck_part *p) {
+  card l = {.n = 0};
+  fprintf(c->f, "*SECTION_SHELL_TITLE\n%s\n$# secid,elform,shrf,nip\n", p->set);
+  put_id(&l, (size_t)(p - c->parts) + 1), put_id(&l, (size_t)p->elform), put_real(&l, 10, shear_factor(c, p));
+  put_text(&l, "2.0");
+  card_end(&l, c->f);
+  fputs("$# t1,t2,t3,t4\n", c->f);
+  for (int j = 0; j < 4; j++) put_real(&l, 10, p->thickness);
+  card_end(&l, c->f);
 }
 
 static void sections(deck_ctx *c) {
   for (int k = 0; k < c->nparts; k++) {
     const deck_part *p = &c->parts[k];
+    card l = {.n = 0};
     if (!strcmp(p->elem, "BEAM")) {
       section_beam(c, p);
     } else if (!strcmp(p->elem, "SOLID")) {
-      fprintf(c->f, "*SECTION_SOLID_TITLE\n%s\n$#   secid    elform\n%10d%10d\n", p->set, k + 1, p->elform);
+      fprintf(c->f, "*SECTION_SOLID_TITLE\n%s\n$# secid,elform\n", p->set);
+      put_id(&l, (size_t)k + 1), put_id(&l, (size_t)p->elform);
+      card_end(&l, c->f);
     } else {
-      fprintf(c->f,
-              "*SECTION_SHELL_TITLE\n%s\n$#   secid    elform      shrf       nip\n%10d%10d       1.0       2.0\n"
-              "$#      t1        t2        t3        t4\n",
-              p->set, k + 1, p->elform);
-      for (int j = 0; j < 4; j++) real(c->f, 10, p->thickness);
-      fputc('\n', c->f);
+      section_shell(c, p);
     }
-    fprintf(c->f, "*PART\n%s\n$#     pid     secid       mid\n%10d%10d%10d\n", p->set, k + 1, k + 1, p->mat + 1);
+    fprintf(c->f, "*PART\n%s\n$# pid,secid,mid\n", p->set);
+    put_id(&l, (size_t)k + 1), put_id(&l, (size_t)k + 1), put_id(&l, (size_t)p->mat + 1);
+    card_end(&l, c->f);
   }
 }
 
 static int nodes(deck_ctx *c) {
-  fputs("*NODE\n$#   nid               x               y               z\n", c->f);
+  card l = {.n = 0};
+  fputs("*NODE\n$# nid,x,y,z\n", c->f);
   for (size_t v = 0; v < c->m->nnodes; v++) {
     if (!c->used[v]) continue;
     if (c->m->node_tags[v] > ID_MAX)
       return DTM_ERR(DTM_ERR_INPUT, "%s: node tag %zu does not fit LS-DYNA's 8 columns (at most %d)", c->s->path,
                      c->m->node_tags[v], ID_MAX);
-    fprintf(c->f, "%8zu", c->m->node_tags[v]);
-    for (int k = 0; k < 3; k++) real(c->f, 16, c->m->xyz[3 * v + k]);
-    fputc('\n', c->f);
+    put_id(&l, c->m->node_tags[v]);
+    for (int k = 0; k < 3; k++) put_real(&l, 16, c->m->xyz[3 * v + k]);
+    card_end(&l, c->f);
   }
   return DTM_OK;
 }
@@ -154,16 +255,16 @@ static int nodes(deck_ctx *c) {
  * triangle its third to 4); beams add their orientation vector. */
 static void element_card(deck_ctx *c, const deck_part *p, const dtm_block *b, size_t e, const size_t *n, int nn) {
   int slots = !strcmp(p->elem, "SOLID") ? 8 : !strcmp(p->elem, "SHELL") ? 4 : 2;
-  char line[32 * 10], *q = deck_put_uint(deck_put_uint(line, b->tags[e], 8), (size_t)(p - c->parts) + 1, 8);
-  for (int a = 0; a < slots; a++) q = deck_put_uint(q, n[a < nn ? a : nn - 1], 8);
-  *q++ = '\n';
-  fwrite(line, 1, (size_t)(q - line), c->f);
+  card l = {.n = 0};
+  put_id(&l, b->tags[e]), put_id(&l, (size_t)(p - c->parts) + 1);
+  for (int a = 0; a < slots; a++) put_id(&l, n[a < nn ? a : nn - 1]);
+  card_end(&l, c->f);
   if (p->kind != DTM_SECTION_BEAM) return;
   double v[3], x[6];
   dtm_mesh_gather_one(c->m, b, e, x);
   deck_beam_axis(&c->s->sections[p->section], x, v);
-  for (int k = 0; k < 3; k++) real(c->f, 16, v[k]);
-  fputc('\n', c->f);
+  for (int k = 0; k < 3; k++) put_real(&l, 16, v[k]);
+  card_end(&l, c->f);
 }
 
 static int elements(deck_ctx *c) {
@@ -172,6 +273,7 @@ static int elements(deck_ctx *c) {
     const deck_part *p = &c->parts[k];
     const dtm_block *b = deck_part_block(c, p, &off);
     fprintf(c->f, "*ELEMENT_%s%s\n", p->elem, p->kind == DTM_SECTION_BEAM ? "_ORIENTATION" : "");
+    fprintf(c->f, "$# eid,pid,n1,...%s\n", p->kind == DTM_SECTION_BEAM ? "\n$# vx,vy,vz (orientation)" : "");
     for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
       size_t e = c->order[j] - off;
       if (b->tags[e] > ID_MAX)
@@ -184,22 +286,30 @@ static int elements(deck_ctx *c) {
 
 static int masses(deck_ctx *c) {
   size_t id = c->max_tag;
-  if (c->added || c->carried) fputs("*ELEMENT_MASS\n$#   eid     nid            mass\n", c->f);
+  card l = {.n = 0};
+  if (c->added || c->carried) fputs("*ELEMENT_MASS\n$# eid,nid,mass\n", c->f);
   for (size_t v = 0; (c->added || c->carried) && v < c->m->nnodes; v++) {
     double m = deck_node_mass(c, v);
     if (!(m > 0)) continue;
     if (++id > ID_MAX)
       return DTM_ERR(DTM_ERR_INPUT, "%s: mass element %zu exceeds LS-DYNA's 8 columns", c->s->path, id);
-    fprintf(c->f, "%8zu%8zu", id, c->m->node_tags[v]);
-    real(c->f, 16, m);
-    fputc('\n', c->f);
+    put_id(&l, id), put_id(&l, c->m->node_tags[v]), put_real(&l, 16, m);
+    card_end(&l, c->f);
   }
   return DTM_OK;
 }
 
-/* IDs, 8 to a line of 10 columns. */
+/* IDs, 8 to a card (a lone ID in its 10 columns). */
 static void id_lines(FILE *f, const size_t *ids, size_t n) {
-  for (size_t i = 0; i < n; i++) fprintf(f, "%10zu%s", ids[i], (i + 1) % 8 && i + 1 < n ? "" : "\n");
+  card l = {.n = 0};
+  for (size_t i = 0; i < n; i++) {
+    if (i + 1 == n && i % 8 == 0) {
+      fprintf(f, "%10zu\n", ids[i]);
+      break;
+    }
+    put_id(&l, ids[i]);
+    if ((i + 1) % 8 == 0 || i + 1 == n) card_end(&l, f);
+  }
 }
 
 /* IDs written as they come, 8 to a line. */
@@ -278,9 +388,16 @@ static void tssfac(dtm_deck_info *in) {
 
 static int write(deck_ctx *c) {
   tssfac(c->info);
+  snprintf(c->proven, sizeof c->proven,
+           "The step was proven for the undeformed mesh. LS-DYNA recomputes its estimate every cycle and\n"
+           "multiplies it by TSSFAC; LCTM (*DEFINE_CURVE %d) caps its step at %.10g s for the whole run,\n"
+           "so it never exceeds the proven step; once the mesh deforms, only LS-DYNA's own estimate\n"
+           "shortens it.",
+           LCTM, c->info->step);
   fputs("*KEYWORD\n", c->f);
   deck_header(c, "$");
   control(c);
+  step_curve(c);
   materials(c);
   sections(c);
   DTM_CHECK(nodes(c));

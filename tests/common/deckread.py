@@ -8,19 +8,23 @@ dtmap's writers, for tests/t372-deck-read.py:
 - LS-DYNA keyword input (Keyword User's Manual, vol. I, "General card
   format"): a keyword starts with '*' in column 1, '$' starts a comment,
   cards are fixed columns (*NODE: I8 then 3 x E16; *ELEMENT_SOLID, _SHELL,
-  _BEAM and _MASS: I8 fields, the mass an E16; the others 10 columns), the
-  _TITLE option adds a title line before the first card.
+  _BEAM and _MASS: I8 fields, the mass an E16; *DEFINE_CURVE's points
+  2 x E20; the others 10 columns), or, when the card holds a comma, free
+  format: fields separated by commas, each at most as many characters as
+  its fixed columns (a longer one is refused here), a missing one empty;
+  the _TITLE option adds a title line before the first card.
 
 Both return a Deck: nodes {id: xyz}, elements {id: (type, nodes, set or
 part)}, element sets {name: set of ids}, node sets {name: set of ids},
 materials {name: (E, nu, rho)}, sections per set or part, masses {element
-id: (node, mass)} and the step controls."""
+id: (node, mass)}, the step controls and (LS-DYNA) the curves."""
 
 
 class Deck:
     def __init__(self):
         self.nodes, self.elements, self.elsets, self.nsets = {}, {}, {}, {}
         self.materials, self.sections, self.masses, self.controls = {}, {}, {}, {}
+        self.curves = {}  # LS-DYNA: {lcid: [(abscissa, ordinate)]}
 
 
 # ---- Abaqus-style ----
@@ -112,6 +116,14 @@ def read_inp(path):
 # ---- LS-DYNA ----
 
 def _fields(line, widths):
+    if "," in line:  # free format
+        out = [t.strip() for t in line.split(",")]
+        if len(out) > len(widths):
+            raise ValueError("%d fields, the card has %d: %r" % (len(out), len(widths), line))
+        for t, w in zip(out, widths):
+            if len(t) > w:
+                raise ValueError("field %r longer than its %d columns: %r" % (t, w, line))
+        return out + [""] * (len(widths) - len(out))
     out, at = [], 0
     for w in widths:
         out.append(line[at:at + w].strip())
@@ -173,6 +185,13 @@ def read_k(path):
         elif key == "CONTROL_TIMESTEP":
             f = _fields(cards[0], [10] * 8)
             d.controls["tssfac"] = float(f[1])
+            d.controls["lctm"] = _num(f[5], int)
+        elif key in ("DEFINE_CURVE", "DEFINE_CURVE_TITLE"):
+            cards = cards[1:] if key.endswith("_TITLE") else cards
+            f = _fields(cards[0], [10] * 8)
+            sfa, sfo = _num(f[2]) or 1.0, _num(f[3]) or 1.0  # 0: 1
+            points = [tuple(_num(x) for x in _fields(c, [20, 20])) for c in cards[1:]]
+            d.curves[int(f[0])] = [(sfa * (a + _num(f[4])), sfo * (o + _num(f[5]))) for a, o in points]  # offsets first
         elif key == "CONTROL_TERMINATION":
             d.controls["endtim"] = float(_fields(cards[0], [10])[0])
     return d
