@@ -2,7 +2,11 @@
 - an unknown solver, or none: exit 2, the message lists the solvers;
 - an element kind the solver lacks: exit 2 naming the kind and the group
   (LS-DYNA and tet10: no length rule to set its TSSFAC by; Abaqus/Explicit
-  and quad8 plane elements), nothing written;
+  and quad8 plane elements), nothing written, and what would work: the
+  solvers that take it (tet10: calculix and abaqus, not lsdyna; plane
+  strain quad8: calculix alone), or, for hex20 and hex27, which no solver
+  takes, a first-order mesh (its hex8 taken by all three), never "choose
+  another solver";
 - --max-added-mass negative, not a number or above 100: exit 2; without
   --target: exit 2; a need above it: exit 1 with the figures, nothing
   written (an older deck stays as it was);
@@ -33,6 +37,8 @@ SCENE = """<?xml version="1.0"?>
 BOX = 'SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.1, 0.05, 0.04};\nPhysical Volume("block") = {1};\n'
 SLAB = ('SetFactory("OpenCASCADE");\nRectangle(1) = {0, 0, 0, 0.1, 0.05};\nPhysical Surface("slab") = {1};\n'
         'Recombine Surface{1};\nMesh.SecondOrderIncomplete = 1;\n')
+HEX = ('SetFactory("OpenCASCADE");\nBox(1) = {0, 0, 0, 0.1, 0.05, 0.04};\nPhysical Volume("block") = {1};\n'
+       'Transfinite Curve{:} = 3; Transfinite Surface{:}; Recombine Surface{:}; Transfinite Volume{1};\n')
 OLD = "an older deck\n"
 
 
@@ -56,7 +62,7 @@ class Errors(unittest.TestCase):
             self.assertEqual(code, 2, out)
             self.assertIn("calculix, abaqus, lsdyna", out)
 
-    def lacks(self, name, geo, dim, group, form, solver, words):
+    def lacks(self, name, geo, dim, group, form, solver, words, absent=()):
         tu.write(name + ".geo", geo)
         scene = tu.write(name + ".xml", SCENE % (name, dim, group, form))
         out_path = tu.path(name + ".k")
@@ -64,12 +70,26 @@ class Errors(unittest.TestCase):
         self.assertEqual(code, 2, out)
         for w in words:
             self.assertIn(w, out)
+        for w in absent:
+            self.assertNotIn(w, out)
         self.assertFalse(os.path.exists(out_path))
 
     def test_kind_lacking(self):
-        self.lacks("tet10", BOX, 3, "block", "", "lsdyna", ["LS-DYNA", "solid tet10", "group 'block'"])
+        self.lacks("tet10", BOX, 3, "block", "", "lsdyna", ["LS-DYNA", "solid tet10", "group 'block'",
+                                                             "(choose another solver: calculix, abaqus)"])
         self.lacks("quad8", SLAB, 2, "slab", ' formulation="plane-strain"', "abaqus",
-                   ["Abaqus/Explicit", "plane-strain quad8", "group 'slab'"])
+                   ["Abaqus/Explicit", "plane-strain quad8", "group 'slab'", "(choose another solver: calculix)"])
+
+    def test_second_order_hexahedra(self):
+        """hex20 and hex27: no solver takes them; the error names the
+        first-order mesh whose hex8 all three take."""
+        for name, geo in (("hex20", HEX + "Mesh.SecondOrderIncomplete = 1;\n"), ("hex27", HEX)):
+            for solver in ("calculix", "abaqus", "lsdyna"):
+                with self.subTest(elements=name, solver=solver):
+                    self.lacks(name, geo, 3, "block", "", solver,
+                               ["solid %s elements of group 'block'" % name, "no solver here takes them",
+                                'a first-order mesh would (<meshing order="1"> in the scene): calculix, abaqus, '
+                                "lsdyna take its hex8 elements"], ["choose another solver"])
 
     def test_max_added_mass(self):
         for p in ("-1", "nan", "101"):

@@ -64,6 +64,7 @@ typedef struct deck_ctx {
   size_t max_tag;              /* largest element tag (mass elements are numbered above it) */
   dtm_deck_info *info;         /* what is written */
   char proven[640];            /* the writer's lines on where the step was proven and what holds it ("": none) */
+  int probe;                   /* 1 while deck_lacks asks the other writers: raise no error */
 } deck_ctx;
 
 /* One solver's format. */
@@ -123,7 +124,9 @@ const char *deck_part_label(const deck_ctx *c, const deck_part *p, char *buf, si
  * 16") integrates differently: one point with hourglass control (plane),
  * assumed transverse shear strains (shell). */
 void deck_warn_quad4(deck_ctx *c, const deck_part *p, const char *elem);
-/* DTM_ERR_INPUT: the solver lacks part p's element (why: "" or a reason). */
+/* DTM_ERR_INPUT: the solver lacks part p's element (why: "" or a reason), naming
+ * what would work instead: the solvers that take it, else a first-order
+ * mesh when one would be taken, else none. */
 int deck_lacks(const deck_ctx *c, const deck_part *p, const char *why);
 /* The Gmsh node tags of element e of block b in the solver's node order
  * (part p's perm), plane elements turned counter-clockwise about +z;

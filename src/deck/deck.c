@@ -95,10 +95,51 @@ void deck_warn_quad4(deck_ctx *c, const deck_part *p, const char *elem) {
               lbl, elem);
 }
 
+/* The writers (but skip) that have an element for part p's kind as type:
+ * their names into list[len]. Each is asked as it would be asked for the
+ * part (its element operation), on a copy that raises no error and keeps
+ * its warnings apart. */
+static void takers(const deck_ctx *c, const deck_part *p, int type, const deck_writer *skip, char *list, size_t len) {
+  dtm_deck_info *scratch = malloc(sizeof *scratch);
+  list[0] = '\0';
+  for (int i = 0; scratch && writers[i]; i++) {
+    deck_ctx t = *c;
+    deck_part q = *p;
+    if (writers[i] == skip) continue;
+    memset(scratch, 0, sizeof *scratch);
+    t.w = writers[i], t.info = scratch, t.probe = 1, q.type = type;
+    if (writers[i]->element(&t, &q) == DTM_OK) dtm_strlist_add(list, len, writers[i]->name, 0);
+  }
+  free(scratch);
+}
+
+/* What would work instead of part p with c's writer, into buf: the
+ * solvers that take its elements, else a first-order mesh when one would
+ * be taken, else none. */
+static const char *instead(const deck_ctx *c, const deck_part *p, char *buf, size_t len) {
+  char list[256];
+  int parent = dtm_elem_parent(p->type);
+  takers(c, p, p->type, c->w, list, sizeof list);
+  if (list[0]) {
+    snprintf(buf, len, "choose another solver: %s", list);
+    return buf;
+  }
+  if (parent && parent != p->type) takers(c, p, parent, NULL, list, sizeof list);
+  if (parent && parent != p->type && list[0])
+    snprintf(buf, len, "no solver here takes them; a first-order mesh would%s: %s take%s its %s elements",
+             c->s->mesh ? "" : " (<meshing order=\"1\"> in the scene)", list, strchr(list, ',') ? "" : "s",
+             dtm_elem_name(parent));
+  else
+    snprintf(buf, len, "no solver here takes them");
+  return buf;
+}
+
 int deck_lacks(const deck_ctx *c, const deck_part *p, const char *why) {
-  char lbl[160];
-  return DTM_ERR(DTM_ERR_INPUT, "%s: %s has no element for the %s%s%s (choose another solver: %s)", c->s->path,
-                 c->w->title, deck_part_label(c, p, lbl, sizeof lbl), why[0] ? ": " : "", why, dtm_deck_solvers());
+  char lbl[160], alt[512];
+  if (c->probe) return DTM_ERR_INPUT;
+  deck_part_label(c, p, lbl, sizeof lbl);
+  return DTM_ERR(DTM_ERR_INPUT, "%s: %s has no element for the %s%s%s (%s)", c->s->path, c->w->title, lbl,
+                 why[0] ? ": " : "", why, instead(c, p, alt, sizeof alt));
 }
 
 /* Gmsh local nodes of a plane element turned over (counter-clockwise). */
