@@ -37,7 +37,7 @@ static const char header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps
                              "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
                              "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
                              "elements_per_diffusion_length,cost_per_element_step_s,run_h,run_subcycled_h,"
-                             "run_mass_scaled_h,in_band";
+                             "run_mass_scaled_h,in_band,failed";
 #define NCOL 24
 
 static char path_buf[4][512];

@@ -24,7 +24,7 @@ typedef struct {
   int threads;           /* -j N, 0 = all cores */
   int verbosity;         /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
   int posterior;         /* run/verify --posterior */
-  int top;               /* --top N: elements listed as the smallest steps (0: 10) */
+  int top;               /* --top N: elements listed as the smallest steps (default 10; 0: none) */
   double tol;            /* --tol: Lanczos relative residual */
   int lanczos_max;       /* --lanczos-max: Lanczos steps */
   int max_iter;          /* refine --max-iter: rounds */
@@ -90,6 +90,8 @@ int dtm_cli_print_overview(void);
 int dtm_cli_print_effects(void);
 void dtm_cli_print_effects_to(void *stream);
 int dtm_cli_generate(const char *what);
+/* --top as dtm_results.top counts it (there 0 is the default, < 0 none). */
+static inline int dtm_cli_top(const cli_opts *o) { return o->top > 0 ? o->top : -1; }
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
 /* --verified and --calibrate (src/cli/verified.c): read verify --accuracy's

@@ -25,7 +25,7 @@
 #define THREADS_OPTION                                                                                                 \
   { "-j", CLI_INT, OPT(threads), 0, 1, 4096, "N", "threads (default: all cores)" }
 #define TOP_OPTION                                                                                                     \
-  { "--top", CLI_INT, OPT(top), 0, 1, 1e6, "N", "list the N smallest element steps (default 10)" }
+  { "--top", CLI_INT, OPT(top), 0, 0, 1e6, "N", "list the N smallest element steps (default 10; 0: none)" }
 #define LANCZOS_OPTIONS                                                                                                \
   {"--tol", CLI_DOUBLE, OPT(tol), 0, DBL_MIN, 0.5, "T", "Lanczos relative residual (default 1e-4)"}, {                 \
     "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
@@ -163,7 +163,9 @@ const cli_command dtm_cli_commands[] = {
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
      "mode of the global estimate plus a random part, at F x the recommended step (by\n"
      "default exactly the step `run` reports; with --posterior that of `run --posterior`)\n"
-     "or at DT. Exit 1 if the energy grows (the step is unstable). With --accuracy, a plane\n"
+     "or at DT. Exit 1 if the energy grows (the step is unstable): its growth is the\n"
+     "largest energy norm over the second half of the run over the norm at the start\n"
+     "(about 1 when stable; unstable above 1e6 or not finite). With --accuracy, a plane\n"
      "wave cos(k.x) in the host material (the largest by volume) is integrated undamped at\n"
      "that step instead, for several periods (on a periodic sample, a box meshed with\n"
      "periodic faces, the whole wave; else a packet, the default frequency raised until\n"
@@ -199,7 +201,11 @@ const cli_command dtm_cli_commands[] = {
      "scaling to the target, elements across the diffusion length, the run time of each\n"
      "(<time cost-per-element-step>, else dtmap's CalculiX calibration) and whether every\n"
      "measure is in its band; then the table as CSV (units in the header) and the plot\n"
-     "as PNG: error against hours, the band and the cheapest size inside it marked.",
+     "as PNG: error against hours, the band and the cheapest size inside it marked.\n"
+     "The band column (1stp) judges the one global step only; the subcycled and\n"
+     "mass-scaled errors are shown beside it, not judged. A size Gmsh cannot mesh (or\n"
+     "whose mesh is refused) is a row saying why, the other sizes are written, and the\n"
+     "exit code is 1.",
      sweep_options, dtm_cli_sweep},
     {"deck",
      "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "

@@ -46,17 +46,42 @@ static const char *applied_text(const dtm_refine_round *r, char *buf, size_t len
   return buf;
 }
 
+/* x rounded to the one decimal printed, without a sign when that is 0. */
+static double no_negative_zero(double x) { return fabs(x) < 0.05 ? 0.0 : x; }
+
+/* How far short of the target a round is: "-" when it is not (never a
+ * negative or negative-zero shortfall), "<0.1%" below what one decimal
+ * shows. */
+static const char *short_text(const dtm_refine_round *r, char *buf, size_t len) {
+  if (!(r->gap > 0))
+    snprintf(buf, len, "-");
+  else if (r->gap < 5e-4)
+    snprintf(buf, len, "<0.1%%");
+  else
+    snprintf(buf, len, "%.1f%%", 100.0 * r->gap);
+  return buf;
+}
+
+/* Whether the round's measures are inside their bands: "-" when no phase
+ * error was measured and the verdict is no (shells, beams: nothing
+ * measured, nothing to judge). */
+static const char *band_text(const dtm_refine_round *r) {
+  if (r->in_band) return "yes";
+  return isnan(r->phase_error) && !r->unresolved ? "-" : "no";
+}
+
 static void print_round(const dtm_refine_result *rr, int i) {
   const dtm_refine_round *r = &rr->rounds[i];
   double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
-  char ph[32], ap[64];
-  printf("%5d %-6s %10zu %12.4e %12.4e %+8.1f%% %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
+  char ph[32], ap[64], sh[16];
+  printf("%5d %-6s %10zu %12.4e %12.4e %9s %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
          r->basis && !strcmp(r->basis, "global estimate") ? "global"
          : r->basis && !strcmp(r->basis, "nodal bound")   ? "nodal"
                                                           : "elem.",
-         r->elements, r->dt_min, r->recommended, 100.0 * r->gap, c, 100.0 * (c / c0 - 1.0), r->below,
-         phase_text(r, ph, sizeof ph), r->in_band ? "yes" : "no", r->seconds, applied_text(r, ap, sizeof ap),
-         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
+         r->elements, r->dt_min, r->recommended, short_text(r, sh, sizeof sh), c,
+         no_negative_zero(100.0 * (c / c0 - 1.0)), r->below, phase_text(r, ph, sizeof ph), band_text(r), r->seconds,
+         applied_text(r, ap, sizeof ap), r->recommended >= rr->target ? "  target met" : "",
+         i == rr->best ? "  (kept)" : "");
 }
 
 /* What the kept mesh and its step do to the accuracy of the input: on
@@ -182,7 +207,7 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
-  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
+  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o)};
   dtm_cli_warn_flagged(rr->analysis);
   if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
   print_accuracy_change(rr, o->verbosity);
