@@ -163,16 +163,17 @@ const cli_command dtm_cli_commands[] = {
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
      "mode of the global estimate plus a random part, at F x the recommended step (by\n"
      "default exactly the step `run` reports; with --posterior that of `run --posterior`)\n"
-     "or at DT. Exit 1 if the energy grows (the step is unstable): its growth is the\n"
-     "largest energy norm over the second half of the run over the norm at the start\n"
-     "(about 1 when stable; unstable above 1e6 or not finite). With --accuracy, a plane\n"
+     "or at DT. Exit 1 if the energy grows (the step is unstable). With --accuracy, a plane\n"
      "wave cos(k.x) in the host material (the largest by volume) is integrated undamped at\n"
      "that step instead, for several periods (on a periodic sample, a box meshed with\n"
      "periodic faces, the whole wave; else a packet, the default frequency raised until\n"
      "it fits); the peak of its projection on the plane-wave mode gives the measured\n"
      "phase-speed error, compared with the measures' prediction for the same frequency,\n"
      "direction and branch (docs/accuracy.md). Exit 1 beyond 20 % of it. run, sweep and\n"
-     "refine read its --report with --verified (and use it with --calibrate).",
+     "refine read its --report with --verified (and use it with --calibrate).\n"
+     "Its growth is the largest energy norm over the second half of the run over the\n"
+     "norm at the start: bounded (a few units) when stable; unstable above 1e6 or not\n"
+     "finite.",
      verify_options, dtm_cli_verify},
     {"refine",
      "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "

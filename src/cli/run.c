@@ -66,7 +66,8 @@ static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_
   printf("\nverify       %d steps of %.4e s (%.3fx the recommended step)\n", steps, dt,
          dt / dtm_analysis_recommended(a));
   printf("  growth: the largest energy norm over the run's second half / the norm at the start\n"
-         "  (about 1 when stable; UNSTABLE above 1e6 or not finite)\n");
+         "  (a few units when stable: the discrete energy is not exactly conserved; UNSTABLE above 1e6 or\n"
+         "  not finite)\n");
   printf("  %-10s %-12s %-25s %-12s %s\n", "effect", "growth", "global dt bracket (s)", "time (s)", "verdict");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
     if (!v[k].simulated) continue;
