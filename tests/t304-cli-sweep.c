@@ -63,6 +63,9 @@ static void sweep_keeps_what_it_can(void **unused) {
   assert_non_null(strstr(log, "dtmap: error: sweep at size 1e-09 m:"));
   assert_non_null(strstr(log, "1e-09  FAILED: "));
   assert_non_null(strstr(log, "1 of 3 sizes FAILED"));
+  /* the band column says it judges the one global step (issue 37) */
+  assert_non_null(strstr(log, " 1stp "));
+  assert_non_null(strstr(log, "band (1stp): every measure's worst inside its band with one global step"));
   free(log);
   assert_int_equal(count_lines(csv), 4);
   char *t = slurp(csv);
