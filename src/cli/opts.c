@@ -4,6 +4,7 @@
  * the declared range), `CMD --help` prints that command's help, and errors
  * name the option and the command. Also the error printing and default
  * output names every command shares. */
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -68,6 +69,7 @@ static void number_problem(const cli_option *p, const char *text, double *v, cha
   char *end = NULL, buf[96];
   int is_int = p->kind == CLI_INT;
   why[0] = '\0';
+  errno = 0;
   *v = strtod(text, &end);
   if (!text[0])
     snprintf(why, len, "is empty: give %s", is_int ? "an integer" : "a number");
@@ -75,6 +77,8 @@ static void number_problem(const cli_option *p, const char *text, double *v, cha
     snprintf(why, len, "is not a number: it does not start with digits");
   else if (*end)
     snprintf(why, len, "is not a number: '%s' follows the number %.*s", end, (int)(end - text), text);
+  else if (isinf(*v) && errno == ERANGE)
+    snprintf(why, len, "is too large for a number (above %g)", DBL_MAX);
   else if (!isfinite(*v))
     snprintf(why, len, "is not a finite number");
   else if (is_int && *v != floor(*v))
