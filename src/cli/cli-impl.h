@@ -76,6 +76,9 @@ extern const struct cli_command dtm_cli_commands[];
  * usage exit code 2 after printing what is wrong, or -1 when --help was
  * asked for and printed (the caller exits 0). */
 int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
+/* The command name (or "effects", "help") a misspelt name likely means (at
+ * most 2 edits, a third of its letters), or NULL. */
+const char *dtm_cli_near_command(const char *name);
 /* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
 int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* The documentation (help.c), all from the command tables: the help of

@@ -281,5 +281,11 @@ int main(int argc, char **argv) {
     cli_supervised s = {run_command, &j, o.verbosity, NULL, NULL, NULL};
     return dtm_cli_supervise(&s);
   }
+  const char *near = dtm_cli_near_command(cmd);
+  if (argc > 1 && near) {
+    char what[256];
+    snprintf(what, sizeof what, "unknown command: %.64s (did you mean %s?)", cmd, near);
+    return usage_error(what, "");
+  }
   return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

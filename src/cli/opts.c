@@ -158,6 +158,21 @@ static const char *nearest(const cli_command *c, const char *a) {
   return best;
 }
 
+const char *dtm_cli_near_command(const char *name) {
+  static const char *const others[] = {"effects", "help", NULL};
+  const char *best = NULL;
+  int bd = 3, limit = (int)strlen(name) / 3;
+  for (const cli_command *d = dtm_cli_commands; d->name; d++) {
+    int k = distance(name, d->name);
+    if (k < bd && k <= limit && k > 0) bd = k, best = d->name;
+  }
+  for (int i = 0; others[i]; i++) {
+    int k = distance(name, others[i]);
+    if (k < bd && k <= limit && k > 0) bd = k, best = others[i];
+  }
+  return best;
+}
+
 /* "unknown option", with where it belongs (another command's option) or the
  * option it likely misspells. */
 static int unknown_option(const cli_command *c, const char *a) {
