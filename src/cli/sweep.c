@@ -89,16 +89,18 @@ static void warn_flagged(const dtm_sweep_row *rows, int n) {
               rows[i].h, rows[i].flagged, rows[i].flagged == 1 ? " is" : "s are");
 }
 
-/* On stderr, even with -q: each size that gave no figures, and why;
- * returns how many. */
-static int warn_failed(const dtm_sweep_row *rows, int n) {
+/* On stderr, even with -q: each size that gave no figures, and why
+ * (written: the others were written; else every size failed and the
+ * first is the command's error); returns how many. */
+static int warn_failed(const dtm_sweep_row *rows, int n, int written) {
   int k = 0;
-  for (int i = 0; i < n; i++)
-    if (rows[i].failed[0])
-      k++, fprintf(stderr,
-                   "dtmap: error: sweep at size %g m: %s (a row of the table and the CSV; the other sizes "
-                   "are written)\n",
-                   rows[i].h, rows[i].failed);
+  for (int i = 0; i < n; i++) {
+    if (!rows[i].failed[0]) continue;
+    if (written || k)
+      fprintf(stderr, "dtmap: error: sweep at size %g m: %s%s\n", rows[i].h, rows[i].failed,
+              written ? " (a row of the table and the CSV; the other sizes are written)" : "");
+    k++;
+  }
   return k;
 }
 
@@ -115,13 +117,13 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");
-  if (r == DTM_OK) r = dtm_sweep_run(s, sizes, n, rows);
+  if (r == DTM_OK && (r = dtm_sweep_run(s, sizes, n, rows)) != DTM_OK) warn_failed(rows, n, 0);
   if (r == DTM_OK && o->verbosity) dtm_sweep_print(rows, n, stdout);
   if (r == DTM_OK) warn_flagged(rows, n);
   if (r == DTM_OK && o->verbosity && !(s->duration > 0))
     printf("(no <time duration>: steps and element-steps need one; the plot shows cost per simulated second)\n");
   if (r == DTM_OK) r = write_files(o, rows, n);
-  if (r == DTM_OK && warn_failed(rows, n)) r = -1;
+  if (r == DTM_OK && warn_failed(rows, n, 1)) r = -1;
   if (started) dtm_gmsh_stop();
   dtm_scene_destroy(&s);
   free(rows);
