@@ -79,6 +79,13 @@ static const error_case cases[] = {
     {"bad-version", {2}, {"<dtmap-scene version=\"2\">"}, 2, "schema: "},
     {"no-effects", {6, 7, 8}, {"", "", ""}, 9, "schema: Element 'time': This element is not expected."},
     {"empty-effects", {7}, {""}, 6, "schema: Element 'effects': Missing child element(s)."},
+    /* an element out of order: the message states <dtmap-scene>'s order (issue 37) */
+    {"time-before-material",
+     {4, 9},
+     {"  <time safety=\"0.9\"/>", "  <material name=\"rock\" groups=\"rock\" E=\"60e9\" nu=\"0.25\" rho=\"2700\"/>"},
+     4,
+     "Element 'time': This element is not expected. Expected is one of ( meshing, material, section ). "
+     "(<dtmap-scene> holds, in this order: (geometry | mesh | model), meshing?, (material | section)+, effects"},
     {"effect-without-name", {7}, {"    <effect library=\"x.so\"/>"}, 7, "schema: "},
     {"E-junk",
      {4},

@@ -37,7 +37,7 @@ static const char header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps
                              "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
                              "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
                              "elements_per_diffusion_length,cost_per_element_step_s,run_h,run_subcycled_h,"
-                             "run_mass_scaled_h,in_band";
+                             "run_mass_scaled_h,in_band,failed";
 #define NCOL 24
 
 static char path_buf[4][512];
@@ -322,6 +322,41 @@ static void plot_labels(void **unused) {
   (void)unused;
 }
 
+/* Labels never hidden: sweeps of 2 to 6 sizes with errors and run times
+ * drawn at random (seeded: the same cases each run), mass-scaled errors far
+ * outside the band as in issue 37 (-12.8 %, -51.7 %), the cheapest size in
+ * the band anywhere in the list or none; every layout is checked as above
+ * (each label inside the box, over no marker, legend or other label). */
+static void plot_labels_random(void **unused) {
+  unsigned seed = 12345;
+  int failures = 0;
+  for (int trial = 0; trial < 60; trial++) {
+    dtm_sweep_row r[6];
+    int n = 2 + trial % 5, best = trial % 7 - 1; /* -1: none in band */
+    double t = 1e-3, e = 0.02;
+    for (int i = 0; i < n; i++) {
+      seed = seed * 1103515245u + 12345u;
+      double u = (double)(seed >> 8 & 0xffff) / 65536.0;
+      t *= 1.3 + 3 * u, e *= 0.25 + 0.6 * u;
+      double times[3] = {t, 0.6 * t, 0.3 * t}, errs[3] = {-e, -0.9 * e, i % 2 ? -0.128 : -0.517};
+      r[i] = error_row(0.01 / (1 << i), 1000u << (2 * i), 1e-7, times, errs, NAN, i == best);
+    }
+    assert_int_equal(dtm_cli_sweep_plot_titled(in_tmp(3, "labels_random.png"), "random.xml", r, n), 0);
+    const dtm_plot_panel *pl = &dtm_cli_sweep_plot_layout()->panel[0];
+    for (int i = 0; i < pl->nlabels; i++) {
+      const dtm_plot_box *b = &pl->label[i];
+      int bad = !(b->x0 >= pl->frame.x0 && b->x1 <= pl->frame.x1 && b->y0 >= pl->frame.y0 && b->y1 <= pl->frame.y1);
+      bad |= boxes_meet(b, &pl->legend);
+      for (int k = 0; k < pl->npoints; k++) bad |= boxes_meet(b, &pl->point[k]);
+      for (int k = 0; k < i; k++) bad |= boxes_meet(b, &pl->label[k]);
+      if (bad) fprintf(stderr, "trial %d (n %d, best %d): label %d '%s' hidden\n", trial, n, best, i, pl->text[i]);
+      failures += bad;
+    }
+  }
+  assert_int_equal(failures, 0);
+  (void)unused;
+}
+
 /* LeakSanitizer (the DTM_SANITIZE build): the plot goes through PLplot,
  * which loads its cairo driver with libltdl and keeps it, and pango, whose
  * fontconfig caches live for the process. Both are third-party
@@ -344,6 +379,7 @@ static int teardown(void **state) {
 int main(int argc, char **argv) {
   tu_init(argc, argv);
   const struct CMUnitTest tests[] = {cmocka_unit_test(sweep_square), cmocka_unit_test(bad_input),
-                                     cmocka_unit_test(no_duration), cmocka_unit_test(plot_labels)};
+                                     cmocka_unit_test(no_duration), cmocka_unit_test(plot_labels),
+                                     cmocka_unit_test(plot_labels_random)};
   return cmocka_run_group_tests(tests, setup, teardown);
 }

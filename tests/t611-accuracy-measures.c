@@ -63,7 +63,8 @@ static void bar_closed_form(void **state) {
   assert_int_equal(dtm_measures_compute(a, 0, NULL, &m), DTM_OK);
   const dtm_measure *p = phase_of(m);
   double exact = 2 * asin(r * sin(kh / 2)) / (r * kh) - 1;
-  assert_true(fabs(p->worst - exact) < 1e-9 && fabs(p->median - fabs(exact)) < 1e-9);
+  /* the median is signed as the worst is (a lag, negative: issue 37) */
+  assert_true(exact < 0 && fabs(p->worst - exact) < 1e-9 && fabs(p->median - exact) < 1e-9);
   assert_true(p->elements == N && !p->unresolved && !p->f_default && p->f == s.f_max);
   assert_int_equal(p->in_band, fabs(exact) <= DTM_BAND_PHASE);
   dtm_measures_destroy(&m);

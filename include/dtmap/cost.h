@@ -264,7 +264,7 @@ typedef struct {
   int group;             /* cohesive: mesh group index (-1: elements in no group); else -1 */
   double worst;          /* phase: the signed error of largest magnitude (NaN when any element is
                             unresolved or none applies); counts: the smallest */
-  double median;         /* phase: median |error|; counts: median count (NaN: none) */
+  double median;         /* phase: median signed error; counts: median count (NaN: none) */
   size_t worst_element;  /* global element index of the worst */
   size_t elements;       /* elements measured */
   size_t unresolved;     /* phase: elements with fewer than 2 lattice cells per wavelength */

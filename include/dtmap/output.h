@@ -18,7 +18,7 @@ typedef struct {
   const dtm_refine_result *refine; /* the refine rounds, or NULL (not owned) */
   double t_scene;                  /* reading the scene, s (the caller's stage) */
   double t_output;                 /* writing the mesh and views, s (the caller's stage) */
-  int top;                         /* elements listed as the smallest steps ("worst"); 0: 10 */
+  int top;                         /* elements listed as the smallest steps ("worst"); 0: 10, < 0: none */
 } dtm_results;
 
 /* The view of the elements whose step is below the scene's target, and the
@@ -96,7 +96,7 @@ DTM_EXPORT int dtm_report_write(const dtm_results *r, const char *path);
 DTM_EXPORT int dtm_report_write_deck(const dtm_results *r, const dtm_deck_info *d, const char *path);
 /* Print the terminal summary (counts, the recommended step and its basis
  * beside the element bound, accuracy, cost, the shape-limited elements,
- * damping, the smallest steps, a histogram by decade, warnings) to stream
+ * damping, the smallest steps, a histogram in octaves of the recommended step or the target, warnings) to stream
  * (a FILE *). */
 DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
 

@@ -34,7 +34,7 @@ typedef struct {
                          elements per part), DTM_MSH_ASCII or DTM_MSH_BINARY */
   int views_only;     /* 1: the parts' views only, for Gmsh to merge on top of the
                          input parts (or the input mesh) */
-  int top;            /* elements the report lists as the smallest steps; 0: 10 */
+  int top;            /* elements the report lists as the smallest steps; 0: 10, < 0: none */
 } dtm_parallel_opts;
 
 /* 1 when scene s is to be run distributed: this process is one of several

@@ -42,7 +42,7 @@ typedef struct {
   double phase_error;      /* worst phase-speed error at the recommended step, signed fraction
                               (dtm_measures; NaN when unresolved or no elastic effect) */
   int phase_wave;          /* the wave of that worst: 0 P, 1 S (-1: none) */
-  double phase_median;     /* median |phase-speed error| at the recommended step */
+  double phase_median;     /* median signed phase-speed error at the recommended step */
   size_t unresolved;       /* elements with fewer than 2 lattice cells per wavelength */
   double phase_subcycled;  /* worst with every element at its subcycling level's step */
   double phase_mass;       /* worst at the target step with the mass that reaches it (NaN
@@ -51,10 +51,17 @@ typedef struct {
   double per_wave_default; /* smallest shear wavelength / mean edge at the frequency used */
   int in_band;             /* 1: every measure inside its band (phase |error| <= 1 %, zone
                               >= 5, diffusion >= DTM_BAND_DIFFUSION) */
+  char failed[512];        /* why this size has no figures (Gmsh could not mesh it, or its
+                              mesh was refused): "" when it has them; then every figure is
+                              NaN or 0 */
 } dtm_sweep_row;
 
 /* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each
- * of the n sizes. rows[n] is filled in the order given. */
+ * of the n sizes. rows[n] is filled in the order given. A size that fails
+ * (Gmsh cannot mesh it, its mesh would not fit in memory, ...) keeps its
+ * row with the reason in failed and the sweep goes on; DTM_OK when at
+ * least one size gave figures, else the first size's error (the rows then
+ * say why each failed). Out of memory in dtmap itself stops the sweep. */
 DTM_EXPORT int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows);
 /* The row of the cheapest size (least hours with one global step, else
  * least element-steps) whose measures are all inside their bands; -1 when
@@ -69,8 +76,9 @@ DTM_EXPORT void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream);
  * frequency_hz, phase_error, phase_error_median, unresolved,
  * phase_error_subcycled, phase_error_mass_scaled, elements_per_diffusion_length,
  * cost_per_element_step_s, run_h, run_subcycled_h, run_mass_scaled_h,
- * in_band (units after the last underscore: _m metres, _s seconds, _h
- * hours, _hz hertz; phase errors are signed fractions). Counts are whole
+ * in_band, failed (units after the last underscore: _m metres, _s seconds,
+ * _h hours, _hz hertz; phase errors are signed fractions; failed is empty,
+ * or why that size has no figures, quoted). Counts are whole
  * numbers (the subcycled element-steps rounded up); empty cells for what
  * was not computed (no duration, no target, no such effect, unresolved). */
 DTM_EXPORT int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n);

@@ -3,9 +3,10 @@
  * and of the legend, inside the plot's box. Pure geometry in millimetres
  * on the page, so that it can be tested without drawing. Each label tries
  * eight places around its point (right, left, above, below, then the
- * corners) at growing distances: the nearest place that overlaps nothing
- * wins (one across a curve counts 1.5 rings further), else the one that
- * overlaps least. The caller places the most important label first. */
+ * corners) at growing distances, each also slid into the box when it
+ * sticks out: the nearest place that overlaps nothing wins (one across a
+ * curve counts 1.5 rings further, a slid one half a ring), else the one
+ * that overlaps least. The caller places the most important label first. */
 #include <math.h>
 
 #include "cli-impl.h"
@@ -67,14 +68,24 @@ static double score(const dtm_plot_box *b, const dtm_plot_scene *s, const dtm_pl
   return o > 0 ? 1000 + o : r + (cross ? 1.5 : 0) + 0.01 * k;
 }
 
+/* b moved the least into the frame (when it fits in it). */
+static dtm_plot_box into(dtm_plot_box b, const dtm_plot_box *frame) {
+  double dx = b.x0 < frame->x0 ? frame->x0 - b.x0 : b.x1 > frame->x1 ? frame->x1 - b.x1 : 0;
+  double dy = b.y0 < frame->y0 ? frame->y0 - b.y0 : b.y1 > frame->y1 ? frame->y1 - b.y1 : 0;
+  return (dtm_plot_box){b.x0 + dx, b.y0 + dy, b.x1 + dx, b.y1 + dy};
+}
+
 void dtm_cli_place_labels(const dtm_plot_scene *s, const dtm_plot_label *labels, int n, dtm_plot_box *out) {
   for (int i = 0; i < n; i++) {
     double best = INFINITY;
     out[i] = candidate(&labels[i], s->gap, 0, 0); /* when nothing fits the frame */
     for (int r = 0; r < RINGS && best >= 1; r++)
-      for (int k = 0; k < 8; k++) {
-        dtm_plot_box b = candidate(&labels[i], s->gap, k, r);
-        double v = inside(&b, &s->frame) ? score(&b, s, out, i, r, k) : INFINITY;
+      for (int k = 0; k < 16; k++) {
+        /* the eight places, then the same slid into the frame (a long label
+         * beside a point near the frame's edge: issue 37) */
+        dtm_plot_box b = candidate(&labels[i], s->gap, k % 8, r);
+        if (k >= 8) b = into(b, &s->frame);
+        double v = inside(&b, &s->frame) ? score(&b, s, out, i, r, k) + (k >= 8 ? 0.5 : 0) : INFINITY;
         if (v < best) best = v, out[i] = b;
       }
   }

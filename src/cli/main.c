@@ -25,7 +25,7 @@
 #define THREADS_OPTION                                                                                                 \
   { "-j", CLI_INT, OPT(threads), 0, 1, 4096, "N", "threads (default: all cores)" }
 #define TOP_OPTION                                                                                                     \
-  { "--top", CLI_INT, OPT(top), 0, 1, 1e6, "N", "list the N smallest element steps (default 10)" }
+  { "--top", CLI_INT, OPT(top), 0, 0, 1e6, "N", "list the N smallest element steps (default 10; 0: none)" }
 #define LANCZOS_OPTIONS                                                                                                \
   {"--tol", CLI_DOUBLE, OPT(tol), 0, DBL_MIN, 0.5, "T", "Lanczos relative residual (default 1e-4)"}, {                 \
     "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
@@ -170,7 +170,10 @@ const cli_command dtm_cli_commands[] = {
      "it fits); the peak of its projection on the plane-wave mode gives the measured\n"
      "phase-speed error, compared with the measures' prediction for the same frequency,\n"
      "direction and branch (docs/accuracy.md). Exit 1 beyond 20 % of it. run, sweep and\n"
-     "refine read its --report with --verified (and use it with --calibrate).",
+     "refine read its --report with --verified (and use it with --calibrate).\n"
+     "Its growth is the largest energy norm over the second half of the run over the\n"
+     "norm at the start: bounded (a few units) when stable; unstable above 1e6 or not\n"
+     "finite.",
      verify_options, dtm_cli_verify},
     {"refine",
      "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "
@@ -199,7 +202,11 @@ const cli_command dtm_cli_commands[] = {
      "scaling to the target, elements across the diffusion length, the run time of each\n"
      "(<time cost-per-element-step>, else dtmap's CalculiX calibration) and whether every\n"
      "measure is in its band; then the table as CSV (units in the header) and the plot\n"
-     "as PNG: error against hours, the band and the cheapest size inside it marked.",
+     "as PNG: error against hours, the band and the cheapest size inside it marked.\n"
+     "The band column (1stp) judges the one global step only; the subcycled and\n"
+     "mass-scaled errors are shown beside it, not judged. A size Gmsh cannot mesh (or\n"
+     "whose mesh is refused) is a row saying why, the other sizes are written, and the\n"
+     "exit code is 1.",
      sweep_options, dtm_cli_sweep},
     {"deck",
      "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "
@@ -273,6 +280,12 @@ int main(int argc, char **argv) {
     command_job j = {c, &o};
     cli_supervised s = {run_command, &j, o.verbosity, NULL, NULL, NULL};
     return dtm_cli_supervise(&s);
+  }
+  const char *near = dtm_cli_near_command(cmd);
+  if (argc > 1 && near) {
+    char what[256];
+    snprintf(what, sizeof what, "unknown command: %.64s (did you mean %s?)", cmd, near);
+    return usage_error(what, "");
   }
   return argc > 1 ? usage_error("unknown command: ", cmd) : usage_error("no command given", "");
 }

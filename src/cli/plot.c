@@ -196,7 +196,8 @@ static double row_value(const dtm_sweep_row *r, int p, int way) {
 }
 
 static void fill_curve(const dtm_sweep_row *rows, int n, int p, int way, curve *c) {
-  static const char *labels[3] = {"one global step", "ideal subcycling", "mass scaling to the target"};
+  /* the band judges the one global step only (issue 37): its legend says so */
+  static const char *labels[3] = {"one global step, judged", "ideal subcycling", "mass scaling to the target"};
   static const char *symbols[3] = {"#(840)", "#(841)", "#(842)"};
   static const int colors[3] = {2, 3, 7};
   c->n = 0, c->label = labels[way], c->color = colors[way], c->symbol = symbols[way];

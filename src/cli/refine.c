@@ -17,6 +17,8 @@
 #include <string.h>
 
 #include "cli-impl.h"
+#include "dtmap/cost.h"
+#include "dtmap/error.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/refine.h"
 #include "dtmap/scene.h"
@@ -46,17 +48,58 @@ static const char *applied_text(const dtm_refine_round *r, char *buf, size_t len
   return buf;
 }
 
-static void print_round(const dtm_refine_result *rr, int i) {
+/* x rounded to the one decimal printed, without a sign when that is 0. */
+static double no_negative_zero(double x) { return fabs(x) < 0.05 ? 0.0 : x; }
+
+/* How far short of the target a round is: "-" when it is not (never a
+ * negative or negative-zero shortfall), "<0.1%" below what one decimal
+ * shows. */
+static const char *short_text(const dtm_refine_round *r, char *buf, size_t len) {
+  if (!(r->gap > 0))
+    snprintf(buf, len, "-");
+  else if (r->gap < 5e-4)
+    snprintf(buf, len, "<0.1%%");
+  else
+    snprintf(buf, len, "%.1f%%", 100.0 * r->gap);
+  return buf;
+}
+
+/* Whether the scene has a measure other than the phase error (a cohesive
+ * zone, a diffusion length), from the kept mesh: every round has the same
+ * kinds, the scene's. */
+static int other_measures(const dtm_refine_result *rr) {
+  dtm_measures *m = NULL;
+  int other = 1, pending = dtm_error_code() != DTM_OK; /* unknown: "no" stays "no" */
+  if (rr->analysis && dtm_measures_compute(rr->analysis, rr->frequency, NULL, &m) == DTM_OK) {
+    other = 0;
+    for (int k = 0; k < m->n; k++) other |= m->m[k].kind != DTM_MEASURE_PHASE;
+  } else if (!pending) {
+    dtm_error_clear(); /* this figure's failure is no error of the command */
+  }
+  dtm_measures_destroy(&m);
+  return other;
+}
+
+/* Whether the round's measures are inside their bands: "-" when nothing
+ * was measured (no phase error, shells and beams having no dispersion
+ * model, and no other measure): nothing to judge. */
+static const char *band_text(const dtm_refine_round *r, int other) {
+  if (r->in_band) return "yes";
+  return isnan(r->phase_error) && !r->unresolved && !other ? "-" : "no";
+}
+
+static void print_round(const dtm_refine_result *rr, int i, int other) {
   const dtm_refine_round *r = &rr->rounds[i];
   double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
-  char ph[32], ap[64];
-  printf("%5d %-6s %10zu %12.4e %12.4e %+8.1f%% %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
+  char ph[32], ap[64], sh[16];
+  printf("%5d %-6s %10zu %12.4e %12.4e %9s %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
          r->basis && !strcmp(r->basis, "global estimate") ? "global"
          : r->basis && !strcmp(r->basis, "nodal bound")   ? "nodal"
                                                           : "elem.",
-         r->elements, r->dt_min, r->recommended, 100.0 * r->gap, c, 100.0 * (c / c0 - 1.0), r->below,
-         phase_text(r, ph, sizeof ph), r->in_band ? "yes" : "no", r->seconds, applied_text(r, ap, sizeof ap),
-         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
+         r->elements, r->dt_min, r->recommended, short_text(r, sh, sizeof sh), c,
+         no_negative_zero(100.0 * (c / c0 - 1.0)), r->below, phase_text(r, ph, sizeof ph), band_text(r, other),
+         r->seconds, applied_text(r, ap, sizeof ap), r->recommended >= rr->target ? "  target met" : "",
+         i == rr->best ? "  (kept)" : "");
 }
 
 /* What the kept mesh and its step do to the accuracy of the input: on
@@ -111,7 +154,8 @@ static void print_rounds(const dtm_refine_result *rr) {
   printf("\n%5s %-6s %10s %12s %12s %9s %12s %10s %9s %9s %5s %9s  %s\n", "round", "basis", "elements", "elem. bound",
          "recommended", "short by", rate ? "elem-steps/s" : "element-steps", "change", "below", "phase", "band",
          "time (s)", "applied");
-  for (int i = 0; i < rr->nrounds; i++) print_round(rr, i);
+  int other = other_measures(rr);
+  for (int i = 0; i < rr->nrounds; i++) print_round(rr, i, other);
   if (rr->nrounds == 1 && rr->stop == DTM_REFINE_MET)
     printf("met by the input mesh as it is (%s): no remesh; it is written unchanged with its views\n",
            rr->rounds[0].basis);
@@ -182,7 +226,7 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
-  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, o->top};
+  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o)};
   dtm_cli_warn_flagged(rr->analysis);
   if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
   print_accuracy_change(rr, o->verbosity);

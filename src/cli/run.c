@@ -53,9 +53,21 @@ int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffi
   return DTM_OK;
 }
 
+/* verify's own summary: the mesh and the step it checks against, not the
+ * whole of run's (run prints that). */
+static void print_brief(const dtm_analysis *a) {
+  const dtm_scene *s = dtm_analysis_scene(a);
+  printf("mesh         %zu elements, %zu nodes\n", dtm_analysis_nelements(a), dtm_analysis_mesh(a)->nnodes);
+  printf("recommended  %.4e s = safety %.2f x %.4e s (%s); dtmap run gives the whole summary\n",
+         dtm_analysis_recommended(a), s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+}
+
 static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_verify_effect *v) {
   printf("\nverify       %d steps of %.4e s (%.3fx the recommended step)\n", steps, dt,
          dt / dtm_analysis_recommended(a));
+  printf("  growth: the largest energy norm over the run's second half / the norm at the start\n"
+         "  (a few units when stable: the discrete energy is not exactly conserved; UNSTABLE above 1e6 or\n"
+         "  not finite)\n");
   printf("  %-10s %-12s %-25s %-12s %s\n", "effect", "growth", "global dt bracket (s)", "time (s)", "verdict");
   for (int k = 0; k < dtm_analysis_neffects(a); k++) {
     if (!v[k].simulated) continue;
@@ -182,8 +194,11 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, early.seconds, o->top};
-    if (o->verbosity) dtm_summary_print(&res, stdout);
+    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o)};
+    if (o->verbosity && verify)
+      print_brief(a);
+    else if (o->verbosity)
+      dtm_summary_print(&res, stdout);
     r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL, &early.file);
   }
   dtm_output_abort(&early.file); /* after a failure: no partial output */
@@ -209,7 +224,7 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
                           .verbosity = o->verbosity,
                           .t_scene = t_scene,
                           .views_only = o->views_only,
-                          .top = o->top};
+                          .top = dtm_cli_top(o)};
   dtm_cli_format(NULL, o->format, &po.format); /* checked before */
   return dtm_parallel_run(s, &po);
 }

@@ -3,8 +3,10 @@
  * it as CSV and draw it as a PNG (defaults SCENE_sweep.csv and
  * SCENE_sweep.png in the current directory; a dtmap built without PLplot
  * writes no PNG unless --plot asks for one, which is then an error before
- * the sweep starts). Exit 0 on success, 2 for bad input or usage (with a
- * message saying what), 3 for internal errors. */
+ * the sweep starts). A size Gmsh cannot mesh is a row with its reason; the
+ * other sizes are written. Exit 0 on success, 1 when some size gave no
+ * figures (the others written), 2 for bad input or usage (with a message
+ * saying what; also when no size gave figures), 3 for internal errors. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -57,12 +59,21 @@ static int check_outputs(const dtm_scene *s, const cli_opts *o, const char *csv,
   return DTM_ERR(DTM_ERR_INPUT, "--csv %s and --plot %s: two outputs with one name", csv, png);
 }
 
+/* The CSV (every row, the failed ones with their reason) and the plot (the
+ * rows with figures). */
 static int write_files(const cli_opts *o, const dtm_sweep_row *rows, int n) {
   char csv[4096], png[4096];
   const char *base = strrchr(o->scene, '/');
   output_paths(o, csv, png, sizeof csv);
   DTM_CHECK(dtm_sweep_write_csv(csv, rows, n));
-  if (png[0]) DTM_CHECK(dtm_cli_sweep_plot_titled(png, base ? base + 1 : o->scene, rows, n));
+  dtm_sweep_row *ok = malloc((size_t)n * sizeof *ok);
+  if (!ok) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int k = 0;
+  for (int i = 0; i < n; i++)
+    if (!rows[i].failed[0]) ok[k++] = rows[i];
+  int r = png[0] ? dtm_cli_sweep_plot_titled(png, base ? base + 1 : o->scene, ok, k) : DTM_OK;
+  free(ok);
+  DTM_CHECK(r);
   if (o->verbosity) printf("\nwrote        %s%s%s\n", csv, png[0] ? ", " : " (no plot: built without PLplot)", png);
   return DTM_OK;
 }
@@ -78,6 +89,22 @@ static void warn_flagged(const dtm_sweep_row *rows, int n) {
               rows[i].h, rows[i].flagged, rows[i].flagged == 1 ? " is" : "s are");
 }
 
+/* On stderr, even with -q: each size that gave no figures, and why
+ * (written: the others were written; else every size failed and the
+ * first is the command's error); returns how many. */
+static int warn_failed(const dtm_sweep_row *rows, int n, int written) {
+  int k = 0;
+  for (int i = 0; i < n; i++) {
+    if (!rows[i].failed[0]) continue;
+    if (written || k)
+      fprintf(stderr, "dtmap: error: sweep at size %g m: %s%s\n", rows[i].h, rows[i].failed,
+              written ? " (a row of the table and the CSV; the other sizes are written)" : "");
+    k++;
+  }
+  return k;
+}
+
+/* DTM_OK, or 1 (the exit code) when some size gave no figures. */
 static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   dtm_scene *s = NULL;
   dtm_sweep_row *rows = calloc((size_t)n, sizeof *rows);
@@ -90,12 +117,13 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");
-  if (r == DTM_OK) r = dtm_sweep_run(s, sizes, n, rows);
+  if (r == DTM_OK && (r = dtm_sweep_run(s, sizes, n, rows)) != DTM_OK) warn_failed(rows, n, 0);
   if (r == DTM_OK && o->verbosity) dtm_sweep_print(rows, n, stdout);
   if (r == DTM_OK) warn_flagged(rows, n);
   if (r == DTM_OK && o->verbosity && !(s->duration > 0))
     printf("(no <time duration>: steps and element-steps need one; the plot shows cost per simulated second)\n");
   if (r == DTM_OK) r = write_files(o, rows, n);
+  if (r == DTM_OK && warn_failed(rows, n, 1)) r = -1;
   if (started) dtm_gmsh_stop();
   dtm_scene_destroy(&s);
   free(rows);
@@ -109,5 +137,6 @@ int dtm_cli_sweep(const cli_opts *o) {
   int n = 0, r = parse_sizes(o->sizes, &sizes, &n);
   if (r == DTM_OK) r = sweep_scene(o, sizes, n);
   free(sizes);
+  if (r < 0) return 1; /* some sizes failed: their rows say why */
   return r ? dtm_cli_fail(r, o->verbosity) : 0;
 }

@@ -510,7 +510,9 @@ static int describe_worst(const dtm_analysis *a, phase_run *p, dtm_measure *m) {
   return DTM_OK;
 }
 
-/* Worst (largest magnitude, signed), median of |err| and counts. */
+/* Worst (largest magnitude, signed), median of the signed errors (so a
+ * mesh whose waves all lag shows a negative median, as its worst) and
+ * counts. */
 static void phase_summary(const double *err, size_t n, double *scratch, dtm_measure *m) {
   size_t k = 0;
   m->worst = 0;
@@ -521,7 +523,7 @@ static void phase_summary(const double *err, size_t n, double *scratch, dtm_meas
       m->unresolved++;
       continue;
     }
-    scratch[k++] = fabs(err[i]);
+    scratch[k++] = err[i];
     if (fabs(err[i]) >= fabs(m->worst)) m->worst = err[i], m->worst_element = i;
   }
   m->median = median(scratch, k);

@@ -221,14 +221,14 @@ int dtm_zone_rows(const dtm_analysis *a, dtm_zone_row **rows, int *n) {
   return DTM_OK;
 }
 
-int dtm_results_top(const dtm_results *r) { return r->top > 0 ? r->top : DTM_TOP_DEFAULT; }
+int dtm_results_top(const dtm_results *r) { return r->top > 0 ? r->top : r->top < 0 ? 0 : DTM_TOP_DEFAULT; }
 
 int dtm_worst(const dtm_analysis *a, int top, size_t **out) {
   const double *dt = dtm_analysis_dt(a);
   size_t *idx = malloc(((size_t)top + 1) * sizeof *idx);
   int k = 0;
   *out = idx;
-  for (size_t i = 0; idx && i < dtm_analysis_nelements(a); i++) {
+  for (size_t i = 0; idx && top > 0 && i < dtm_analysis_nelements(a); i++) {
     if (k == top && dt[i] >= dt[idx[k - 1]]) continue;
     int j = k < top ? k++ : top - 1;
     while (j > 0 && dt[idx[j - 1]] > dt[i]) idx[j] = idx[j - 1], j--;

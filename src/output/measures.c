@@ -66,7 +66,7 @@ static void print_measure(const dtm_analysis *a, const dtm_measure *m, FILE *f) 
     fprintf(f, " unresolved: %zu of %zu elements have fewer than 2 per wavelength at %.4g Hz\n", m->unresolved,
             m->elements, m->f);
   else if (m->kind == DTM_MEASURE_PHASE && isfinite(m->worst))
-    fprintf(f, " worst %+.3g%% (%s along (%.2g, %.2g, %.2g), %s), median %.3g%% at %.4g Hz (band +-%g%%): %s\n",
+    fprintf(f, " worst %+.3g%% (%s along (%.2g, %.2g, %.2g), %s), median %+.3g%% at %.4g Hz (band +-%g%%): %s\n",
             100 * m->worst, m->wave ? "S" : "P", m->direction[0], m->direction[1], m->direction[2],
             dtm_dispersion_model_name(m->model), 100 * m->median, m->f, 100 * m->band_hi,
             m->in_band ? "inside" : "OUTSIDE");

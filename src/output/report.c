@@ -213,6 +213,9 @@ cJSON *dtm_report_worst(const dtm_results *r) {
     cJSON_AddStringToObject(o, "type", dtm_elem_name(dtm_analysis_mesh(a)->blocks[b].type));
     cJSON_AddStringToObject(o, "group",
                             dtm_mesh_group_label(dtm_analysis_mesh(a), dtm_analysis_group(a, i), lbl, sizeof lbl));
+    double c[3];
+    dtm_analysis_centroid(a, i, c);
+    cJSON_AddItemToObject(o, "centroid", cJSON_CreateDoubleArray(c, 3));
     cJSON_AddNumberToObject(o, "dt", dtm_analysis_dt(a)[i]);
     cJSON_AddNumberToObject(o, "length", dtm_analysis_length(a)[i]);
     cJSON_AddStringToObject(o, "effect", dtm_analysis_effect(a, dtm_analysis_limiting(a)[i])->name);

@@ -2,7 +2,8 @@
  * starter listing: counts, the recommended step and its basis with the
  * element bound (the map's own minimum) labelled as such beside it,
  * accuracy, the cost from that one step, the shape-limited elements,
- * damping factors, the smallest elements, a histogram by decade and the
+ * damping factors, the smallest elements, a histogram in octaves of the
+ * recommended step (or the target) and the
  * warnings. */
 #include <math.h>
 #include <stdio.h>
@@ -152,6 +153,10 @@ static void print_smallest(const dtm_results *res, FILE *f) {
   size_t *idx = NULL;
   int k = dtm_worst(a, dtm_results_top(res), &idx);
   char lbl[64];
+  if (!k) {
+    free(idx);
+    return;
+  }
   fprintf(f, "\n%d smallest element steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type",
           "group", "dt (s)", "length (m)", "effect");
   for (int r = 0; r < k; r++) {
@@ -311,24 +316,40 @@ static void print_warnings(const dtm_results *r, FILE *f) {
   for (int j = 0; j < w.n; j++) fprintf(f, "WARNING: %s\n", w.text[j]);
 }
 
+#define HIST_BINS 16 /* octaves shown at most; the last takes every larger step */
+
+/* The histogram of the element steps in octaves of a reference step: the
+ * target when there is one, else the recommended step, so that its bins
+ * read as "how many times the step the run takes" (an element in [2, 4)
+ * could step at twice the reference). Bins run from the smallest element's
+ * octave up; the last gathers what lies above. */
 static void print_histogram(const dtm_analysis *a, FILE *f) {
+  const dtm_scene *s = dtm_analysis_scene(a);
   const double *dt = dtm_analysis_dt(a);
   size_t nel = dtm_analysis_nelements(a);
-  int lo = (int)floor(log10(dtm_analysis_dt_min(a, NULL))), hi = lo;
+  double ref = s->target > 0 ? s->target : dtm_analysis_recommended(a);
+  if (!(ref > 0) || !isfinite(ref)) return;
+  int lo = (int)floor(log2(dtm_analysis_dt_min(a, NULL) / ref)), hi = lo;
   for (size_t i = 0; i < nel; i++)
-    if (isfinite(dt[i]) && (int)floor(log10(dt[i])) > hi) hi = (int)floor(log10(dt[i]));
-  if (hi - lo > 15) hi = lo + 15;
-  size_t count[16] = {0}, most = 1;
+    if (isfinite(dt[i]) && (int)floor(log2(dt[i] / ref)) > hi) hi = (int)floor(log2(dt[i] / ref));
+  int last = hi - lo < HIST_BINS ? hi - lo : HIST_BINS - 1;
+  size_t count[HIST_BINS] = {0}, most = 1;
   for (size_t i = 0; i < nel; i++) {
     if (!isfinite(dt[i])) continue; /* no effect limits this element */
-    int d = (int)floor(log10(dt[i])) - lo;
-    count[d < 0 ? 0 : d > hi - lo ? hi - lo : d]++;
+    int d = (int)floor(log2(dt[i] / ref)) - lo;
+    count[d < 0 ? 0 : d > last ? last : d]++;
   }
-  for (int d = 0; d <= hi - lo; d++) most = count[d] > most ? count[d] : most;
-  fprintf(f, "\ndt by decade:\n");
-  for (int d = 0; d <= hi - lo; d++) {
+  for (int d = 0; d <= last; d++) most = count[d] > most ? count[d] : most;
+  fprintf(f, "\ndt in multiples of the %s %.4e s (each element's step / it):\n",
+          s->target > 0 ? "target" : "recommended step", ref);
+  for (int d = 0; d <= last; d++) {
     int bar = (int)(40.0 * (double)count[d] / (double)most + 0.5);
-    fprintf(f, "  [1e%+03d, 1e%+03d) %10zu %5.1f%% ", lo + d, lo + d + 1, count[d], 100.0 * count[d] / nel);
+    char bin[64];
+    if (d == last && last < hi - lo)
+      snprintf(bin, sizeof bin, "[%g, inf)", ldexp(1.0, lo + d));
+    else
+      snprintf(bin, sizeof bin, "[%g, %g)", ldexp(1.0, lo + d), ldexp(1.0, lo + d + 1));
+    fprintf(f, "  %-18s %10zu %5.1f%% ", bin, count[d], 100.0 * count[d] / nel);
     for (int c = 0; c < bar; c++) fputc('#', f);
     fputc('\n', f);
   }

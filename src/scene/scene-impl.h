@@ -18,6 +18,9 @@
 int dtm_scene_xml_read(const char *path, xmlDoc **doc);
 /* The same on len bytes at buf (not NUL-terminated), reported as name. */
 int dtm_scene_xml_parse(const char *name, const char *buf, size_t len, xmlDoc **doc);
+/* The order of <dtmap-scene>'s children from the embedded schema, as
+ * "(geometry | mesh | model), meshing?, ..." (order.c); -1 if unreadable. */
+int dtm_scene_child_order(char *buf, size_t len);
 
 /* Raise DTM_ERR_INPUT with "scene-path:line-of-n: " before the message. */
 int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file, int line, const char *func, const char *fmt,

@@ -28,6 +28,7 @@ typedef struct {
   int have;      /* an error was captured */
   int line;      /* its line, 0 if unknown */
   char msg[512]; /* its text, trailing white space removed */
+  int top;       /* it is about the order of <dtmap-scene>'s children */
 } xml_capture;
 
 /* libxml2's process-wide (per-thread) handlers, saved while we capture. */
@@ -57,6 +58,11 @@ static void on_error(void *data, xml_error_ptr e) {
   if (c->line <= 0 && e->node) c->line = (int)xmlGetLineNo((xmlNode *)e->node);
   snprintf(c->msg, sizeof c->msg, "%s", e->message ? e->message : "unknown error");
   trim_right(c->msg);
+  const xmlNode *n = e->domain == XML_FROM_SCHEMASV ? e->node : NULL;
+  int root = n && n->type == XML_ELEMENT_NODE && !strcmp((const char *)n->name, "dtmap-scene");
+  int child =
+      n && n->parent && n->parent->type == XML_ELEMENT_NODE && !strcmp((const char *)n->parent->name, "dtmap-scene");
+  c->top = (root || child) && strstr(c->msg, "xpected");
 }
 
 static void on_generic(void *ctx, const char *msg, ...) {
@@ -79,7 +85,10 @@ static void handlers_pop(const xml_handlers *saved) {
 }
 
 static int report(const char *path, const xml_capture *c, const char *what) {
-  const char *msg = c->have ? c->msg : "the document was rejected";
+  char order[512], msg[1100];
+  snprintf(msg, sizeof msg, "%s", c->have ? c->msg : "the document was rejected");
+  if (c->top && !dtm_scene_child_order(order, sizeof order))
+    snprintf(msg + strlen(msg), sizeof msg - strlen(msg), " (<dtmap-scene> holds, in this order: %s)", order);
   if (c->line > 0) return DTM_ERR(DTM_ERR_INPUT, "%s:%d: %s: %s", path, c->line, what, msg);
   return DTM_ERR(DTM_ERR_INPUT, "%s: %s: %s", path, what, msg);
 }

@@ -104,18 +104,28 @@ static int fill_row(const dtm_analysis *a, double h, dtm_sweep_row *row) {
   return r;
 }
 
-/* Re-raise the pending error with the size it happened at. */
-static int at_size(int r, double h) {
-  char msg[2048];
-  snprintf(msg, sizeof msg, "%s", dtm_error_message());
+/* A row for size h with no figures and the pending error as its reason
+ * (cleared). */
+static void failed_row(double h, double seconds, dtm_sweep_row *row) {
+  static const dtm_sweep_row none = {0};
+  *row = none;
+  row->h = h, row->seconds = seconds;
+  row->dt_min = row->recommended = row->steps = row->cost = row->cost_subcycled = NAN;
+  row->per_zone = row->per_wavelength = row->speedup = row->per_element_step = NAN;
+  row->hours = row->hours_subcycled = row->hours_mass = row->frequency = NAN;
+  row->phase_error = row->phase_median = row->phase_subcycled = row->phase_mass = NAN;
+  row->per_diffusion = row->per_wave_default = NAN;
+  row->phase_wave = -1;
+  snprintf(row->failed, sizeof row->failed, "%s", dtm_error_message());
+  if (!row->failed[0]) snprintf(row->failed, sizeof row->failed, "failed (no reason given)");
   dtm_error_clear();
-  return DTM_ERR(r, "sweep at size %g m: %s", h, msg);
 }
 
 /* row->frequency on entry: the phase error's frequency (0: the scene's
  * f-max, else this mesh's default). */
 static int sweep_one(const dtm_scene *s, double h, dtm_sweep_row *row) {
   dtm_scene sc = *s; /* shallow: the members stay owned by s */
+  row->failed[0] = '\0';
   sc.mesh_size = h;
   if (sc.mesh_min_size > 0) sc.mesh_min_size = fmin(sc.mesh_min_size, h);
   double t0 = dtm_wtime();
@@ -124,7 +134,8 @@ static int sweep_one(const dtm_scene *s, double h, dtm_sweep_row *row) {
   if (r == DTM_OK) r = fill_row(a, h, row);
   dtm_analysis_destroy(&a);
   row->seconds = dtm_wtime() - t0;
-  return r ? at_size(r, h) : DTM_OK;
+  if (r) failed_row(h, row->seconds, row);
+  return r;
 }
 
 int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows) {
@@ -133,19 +144,26 @@ int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row 
   for (int i = 0; i < n; i++)
     if (!(sizes[i] > 0) || !isfinite(sizes[i]))
       return DTM_ERR(DTM_ERR_INPUT, "sweep: size %d is %g; sizes must be positive and finite (m)", i + 1, sizes[i]);
-  /* one frequency for every size: the scene's, else the first mesh's default */
+  /* one frequency for every size: the scene's, else the default of the
+   * first mesh that gave figures */
+  int first = -1, code = DTM_OK;
   for (int i = 0; i < n; i++) {
-    rows[i].frequency = i && rows[0].frequency_default ? rows[0].frequency : 0;
-    DTM_CHECK(sweep_one(s, sizes[i], &rows[i]));
-    if (i && rows[0].frequency_default) rows[i].frequency_default = 1;
+    rows[i].frequency = first >= 0 && rows[first].frequency_default ? rows[first].frequency : 0;
+    int r = sweep_one(s, sizes[i], &rows[i]);
+    if (r == DTM_ERR_INTERNAL) return DTM_ERR(r, "sweep at size %g m: %s", sizes[i], rows[i].failed);
+    if (r && code == DTM_OK) code = r;
+    if (r) continue;
+    if (first >= 0 && rows[first].frequency_default) rows[i].frequency_default = 1;
+    if (first < 0) first = i;
   }
-  return DTM_OK;
+  if (first >= 0) return DTM_OK;
+  return DTM_ERR(code, "sweep: no size gave figures; at size %g m: %s", sizes[0], rows[0].failed);
 }
 
 int dtm_sweep_cheapest(const dtm_sweep_row *rows, int n) {
   int best = -1;
   for (int i = 0; i < n; i++) {
-    if (!rows[i].in_band) continue;
+    if (!rows[i].in_band || rows[i].failed[0]) continue;
     double c = isfinite(rows[i].hours) ? rows[i].hours : (double)rows[i].elements / rows[i].recommended;
     double b = best < 0                     ? INFINITY
                : isfinite(rows[best].hours) ? rows[best].hours
@@ -174,6 +192,10 @@ static const char *phase_cell(char *buf, size_t len, double v, size_t unresolved
 
 static void print_row(FILE *f, const dtm_sweep_row *r) {
   char c[14][32];
+  if (r->failed[0]) {
+    fprintf(f, "%10.4g  FAILED: %s\n", r->h, r->failed);
+    return;
+  }
   fprintf(f,
           "%10.4g %9zu %9zu %11.4e %11.4e %10s %12s %12s %8.3g %8s %9s %9s %8s %7zu %9s %9s %9s %9s %9s %8s %4s "
           "%8.3f\n",
@@ -181,7 +203,7 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
           cell(c[1], 32, "%.4e", r->cost), cell(c[2], 32, "%.4e", r->cost_subcycled), r->speedup,
           cell(c[3], 32, "%.3g", r->per_zone), cell(c[4], 32, "%.3g", r->per_wavelength),
           phase_cell(c[5], 32, r->phase_error, r->unresolved, r->phase_wave),
-          cell(c[12], 32, "%.3g", 100 * r->phase_median), r->unresolved,
+          cell(c[12], 32, "%+.3g", 100 * r->phase_median), r->unresolved,
           phase_cell(c[6], 32, r->phase_subcycled, r->unresolved, -1), cell(c[7], 32, "%+.3g", 100 * r->phase_mass),
           cell(c[8], 32, "%.4g", r->hours), cell(c[9], 32, "%.4g", r->hours_subcycled),
           cell(c[10], 32, "%.4g", r->hours_mass), cell(c[11], 32, "%.3g", r->per_diffusion), r->in_band ? "yes" : "no",
@@ -196,18 +218,29 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
           "per zone", "per wave", "phase", "ph.med.", "unres.", "ph.subc.", "ph.mass", "run", "run subc.", "run mass",
           "per diff", "band", "time");
   fprintf(f, fmt, "(m)", "", "", "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "", "(%)", "(%)", "(h)",
-          "(h)", "(h)", "(min)", "", "(s)");
+          "(h)", "(h)", "(min)", "1stp", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
-  if (n && isfinite(rows[0].frequency))
+  int fr = 0;
+  while (fr < n - 1 && rows[fr].failed[0]) fr++;
+  if (n && isfinite(rows[fr].frequency))
     fprintf(f,
             "\nphase-speed error at %.4g Hz%s, worst over the mesh and its wave (P or S), lumped mass, central "
             "differences\n",
-            rows[0].frequency,
-            rows[0].frequency_default ? " (no <time f-max>: the default of the first size's mesh, "
-                                        "at least 10 cells per shear wavelength in every element; 'per wave' is "
-                                        "at that frequency)"
-                                      : " (<time f-max>)");
-  if (n) fprintf(f, "run time at %.3g ns per element-step\n", 1e9 * rows[0].per_element_step);
+            rows[fr].frequency,
+            rows[fr].frequency_default ? " (no <time f-max>: the default of the first size's mesh, "
+                                         "at least 10 cells per shear wavelength in every element; 'per wave' is "
+                                         "at that frequency)"
+                                       : " (<time f-max>)");
+  int ok = -1, failed = 0;
+  for (int i = 0; i < n; i++) failed += rows[i].failed[0] != '\0', ok = ok < 0 && !rows[i].failed[0] ? i : ok;
+  if (ok >= 0)
+    fprintf(f,
+            "band (1stp): every measure's worst inside its band with one global step (phase, per zone, per diff); "
+            "the subcycled and mass-scaled errors (ph.subc., ph.mass) are shown, not judged\n"
+            "run time at %.3g ns per element-step\n",
+            1e9 * rows[ok].per_element_step);
+  if (failed)
+    fprintf(f, "%d of %d size%s FAILED: no figures (the reason is on its row)\n", failed, n, n > 1 ? "s" : "");
   int b = dtm_sweep_cheapest(rows, n);
   char hb[32];
   if (b >= 0)
@@ -227,7 +260,20 @@ static const char csv_header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,s
                                  "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
                                  "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
                                  "elements_per_diffusion_length,cost_per_element_step_s,run_h,run_subcycled_h,"
-                                 "run_mass_scaled_h,in_band\n";
+                                 "run_mass_scaled_h,in_band,failed\n";
+
+/* text as a CSV cell: nothing when empty, else quoted with its quotes
+ * doubled (and its line breaks as spaces). */
+static void csv_text(FILE *f, const char *text) {
+  if (!text[0]) return;
+  fputc('"', f);
+  for (const char *p = text; *p; p++)
+    if (*p == '"')
+      fputs("\"\"", f);
+    else
+      fputc(*p == '\n' || *p == '\r' ? ' ' : *p, f);
+  fputc('"', f);
+}
 
 /* One CSV row in the header's order: %.9g, counts as whole numbers
  * (rounded up), empty for NaN. */
@@ -236,8 +282,8 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
     double v;  /* the value */
     int whole; /* a count */
   } c[] = {{r->h, 0},
-           {(double)r->elements, 1},
-           {(double)r->nodes, 1},
+           {r->failed[0] ? NAN : (double)r->elements, 1},
+           {r->failed[0] ? NAN : (double)r->nodes, 1},
            {r->dt_min, 0},
            {r->recommended, 0},
            {r->steps, 1},
@@ -250,7 +296,7 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
            {r->frequency, 0},
            {r->unresolved ? NAN : r->phase_error, 0},
            {r->phase_median, 0},
-           {(double)r->unresolved, 1},
+           {r->failed[0] ? NAN : (double)r->unresolved, 1},
            {r->unresolved ? NAN : r->phase_subcycled, 0},
            {r->phase_mass, 0},
            {r->per_diffusion, 0},
@@ -258,7 +304,7 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
            {r->hours, 0},
            {r->hours_subcycled, 0},
            {r->hours_mass, 0},
-           {(double)r->in_band, 1}};
+           {r->failed[0] ? NAN : (double)r->in_band, 1}};
   const size_t nc = sizeof c / sizeof c[0];
   for (size_t k = 0; k < nc; k++) {
     if (isnan(c[k].v))
@@ -267,8 +313,10 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
       fprintf(f, "%.0f", ceil(c[k].v));
     else
       fprintf(f, "%.9g", c[k].v);
-    fputs(k + 1 < nc ? "," : "\n", f);
+    fputc(',', f);
   }
+  csv_text(f, r->failed);
+  fputc('\n', f);
 }
 
 int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n) {
