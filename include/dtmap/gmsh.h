@@ -309,7 +309,8 @@ typedef struct {
                        for "dt"), opaque, plus dtmap's text annotation; NULL: the
                        views as the .opt leaves them */
   int worst;        /* 1: a flat model framed on its worst elements (the view "below
-                       target [s]" or "smallest 1% [s]"); else the whole model */
+                       target [s]" or "smallest 1% [s]", shown opaque over a faint dt);
+                       else the whole model */
 } dtm_snapshot_shot;
 
 /* Pictures of a result through Gmsh's own renderer: open msh (Gmsh merges

@@ -2,7 +2,7 @@
  * result drawn by Gmsh's renderer (dtm_gmsh_snapshot), under a virtual
  * display when there is none: PREFIX_worst.png shows the views as the .opt
  * leaves them on opening (in 3D the faint model with the below-target
- * elements; in 2D the dt map framed on the worst elements), PREFIX_dt.png
+ * elements; in 2D the worst elements framed, opaque over a faint dt map), PREFIX_dt.png
  * the dt map alone, whole, with its colour bar; both with dtmap's figures.
  * Gmsh's window toolkit (FLTK) reports one X protocol error for a window
  * property the server refuses, "X_ChangeProperty: BadValue ...", which is

@@ -5,7 +5,8 @@
  * a temporary renamed into place. The camera (frame.c) frames the whole
  * model between the text and the colour scales, and turns a model that
  * spans 3D to an oblique view facing its worst elements; a shot of the
- * worst elements of a flat model frames them alone. dtmap's figures, which
+ * worst elements of a flat model frames them and shows them opaque over a
+ * faint dt. dtmap's figures, which
  * the .opt prints (Printf lines), are drawn at the top by a text view made
  * here: it lives only in this session, so no file holds a list-based view
  * (gmsh.view.getModelData aborts on one). A file without the dt view is not
@@ -54,6 +55,16 @@ static void show_only(const char *only) {
         text = dtm_gmsh_view_is(i, ANNOTATION);
     view_option(i, "Visible", keep || skin || text);
     if (keep) view_option(i, "ColormapAlpha", 1.0), view_option(i, "ShowScale", 1);
+  }
+}
+
+/* A flat model's worst picture: the worst elements' view opaque with its
+ * colour bar, over dt drawn faint (without its bar) for the context. */
+static void show_worst(void) {
+  for (int i = 0, n = nviews(); i < n; i++) {
+    int worst = dtm_gmsh_view_is(i, "below target [s]") || dtm_gmsh_view_is(i, "smallest 1% [s]");
+    if (worst) view_option(i, "Visible", 1), view_option(i, "ColormapAlpha", 1.0), view_option(i, "ShowScale", 1);
+    if (dtm_gmsh_view_is(i, "dt")) view_option(i, "ColormapAlpha", 0.2), view_option(i, "ShowScale", 0);
   }
 }
 
@@ -139,7 +150,10 @@ int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshot
   int ierr = 0, r = open_window(msh, width, height);
   for (int s = 0; s < nshots && r == DTM_OK; s++) {
     if (shots[s].only) show_only(shots[s].only);
-    if (!shots[s].worst || !dtm_gmsh_snapshot_camera_worst(width, height)) dtm_gmsh_snapshot_camera(width, height);
+    if (!shots[s].worst || !dtm_gmsh_snapshot_camera_worst(width, height))
+      dtm_gmsh_snapshot_camera(width, height);
+    else
+      show_worst();
     r = write_png(shots[s].png);
   }
   gmshFinalize(&ierr);
