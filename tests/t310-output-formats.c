@@ -6,13 +6,18 @@
  * - a views-only file has no mesh, and merged over the input .msh gives
  *   the same views on the unchanged input mesh;
  * - views-only without a <mesh> input, and an unknown --format, are bad
- *   input (exit 2). */
+ *   input (exit 2);
+ * - the .opt (merged as Gmsh opens the file) gives every step view a colour
+ *   range that holds its smallest and largest values even after Gmsh's
+ *   rounding of its log scale's interval bounds (an element outside every
+ *   interval is not drawn). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
 
 #include <gmshc.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,6 +90,40 @@ static void check_all(const dtm_analysis *a) {
   free(etags), free(ntags), free(nvals);
 }
 
+static double view_number(int i, const char *what) {
+  char name[96];
+  double v = NAN;
+  int ierr = 0;
+  snprintf(name, sizeof name, "View[%d].%s", i, what);
+  gmshOptionGetNumber(name, &v, &ierr);
+  return ierr ? NAN : v;
+}
+
+/* Every step view (its name "dt", "dt ...", "nodal dt" or "... [s]") is on
+ * a custom range: Gmsh's first and last interval bounds of its 12 discrete
+ * intervals on a log scale, 10^(log10 lo + k (log10 hi - log10 lo) / 12)
+ * for k = 0 and 12 (PViewOptions::getScaleValue), hold the view's smallest
+ * and largest values (View.Min, View.Max); the widening is at most 1e-5
+ * relative, below what the bar's three digits show. Returns the count. */
+static int check_ranges(void) {
+  int n = tu_view_count(), checked = 0, ierr = 0;
+  for (int i = 0; i < n; i++) {
+    char key[64], *name = NULL;
+    snprintf(key, sizeof key, "View[%d].Name", i);
+    gmshOptionGetString(key, &name, &ierr);
+    int step = !strcmp(name, "dt") || !strncmp(name, "dt ", 3) || !strcmp(name, "nodal dt") || strstr(name, "[s]");
+    gmshFree(name);
+    if (!step) continue;
+    double lo = view_number(i, "CustomMin"), hi = view_number(i, "CustomMax");
+    double vmin = view_number(i, "Min"), vmax = view_number(i, "Max");
+    assert_true(view_number(i, "RangeType") == 2);
+    assert_true(pow(10., log10(lo)) <= vmin && pow(10., log10(lo) + 12 * (log10(hi) - log10(lo)) / 12) >= vmax);
+    assert_true(lo >= vmin * (1 - 1e-5) && hi <= vmax * (1 + 1e-5));
+    checked++;
+  }
+  return checked;
+}
+
 static void round_trip(int format, const char *header) {
   dtm_scene *s = NULL;
   tu_steel_scene("cube", "<geometry file=\"cube.geo\"/>", MESHING, "");
@@ -104,6 +143,7 @@ static void round_trip(int format, const char *header) {
   gmshOpen(out, &ierr);
   assert_int_equal(ierr, 0);
   check_all(a);
+  assert_true(check_ranges() >= 3); /* dt, dt elastic, nodal dt, below target or smallest 1 % */
   gmshClear(&ierr);
   dtm_analysis_destroy(&a);
   dtm_scene_destroy(&s);

@@ -176,13 +176,12 @@ static void test_safety_parameter(void **state) {
   tu_gmsh_end();
 }
 
-static int intended(const char *name) {
-  return !strcmp(name, "dt") || !strcmp(name, "below target [s]") || !strcmp(name, "dtmap");
-}
+static int intended(const char *name) { return !strcmp(name, "dt") || !strcmp(name, "below target [s]"); }
 
 /* Two results merged one after the other: every dt view is on a log scale,
- * and the visible views are exactly the latest result's dt, below-target and
- * text views. */
+ * and the visible views are exactly the latest result's dt and below-target
+ * views (dtmap's figures are printed, not a view: a list-based view makes
+ * gmsh.view.getModelData abort). */
 static void test_two_results(void **state) {
   (void)state;
   session();
@@ -205,7 +204,7 @@ static void test_two_results(void **state) {
     gmshFree(name);
   }
   assert_int_equal(ndt, 2);
-  assert_int_equal(nvisible, 3);
+  assert_int_equal(nvisible, 2);
   tu_gmsh_end();
 }
 

@@ -334,10 +334,31 @@ static double view_number(int index, const char *what) {
   return v;
 }
 
+/* Whether every element of the view called name is a solid (3D) one: the
+ * view is model data (a script reads it with gmsh.view.getModelData). */
+static int solid_elements_only(const char *name) {
+  tu_view v;
+  int read = tu_view_read(name, &v) == 0, solid = read && v.n > 0;
+  for (size_t i = 0; solid && i < v.n; i++) {
+    int type = 0, ierr = 0, dim = 0, order = 0, nn = 0, npn = 0;
+    size_t *nodes = NULL, nnodes = 0;
+    double *local = NULL;
+    size_t nlocal = 0;
+    char *tname = NULL;
+    gmshModelMeshGetElement(v.tags[i], &type, &nodes, &nnodes, &ierr);
+    gmshModelMeshGetElementProperties(type, &tname, &dim, &order, &nn, &local, &nlocal, &npn, &ierr);
+    solid = !ierr && dim == 3;
+    gmshFree(nodes), gmshFree(tname), gmshFree(local);
+  }
+  if (read) tu_view_free(&v);
+  return solid;
+}
+
 /* The output opened as a user opens it (its .opt merged): one view called
  * dt, drawing the sections alone, opaque, with the colour bar, and one
- * called "dt skin" (a copy of its data), the faint skin of the solid
- * alone; lines as 4-pixel tubes in every view of the result. */
+ * called "dt skin" (dt over the solid elements, an ElementData view of the
+ * .msh), the faint skin of the solid alone; lines as 4-pixel tubes in
+ * every view of the result. */
 static void assert_opened_styling(void) {
   int ierr = 0, ndt = 0, nskin = 0, first = -1, second = -1;
   tu_gmsh_begin();
@@ -359,7 +380,7 @@ static void assert_opened_styling(void) {
   assert_true(view_number(first, "DrawLines") == 1 && view_number(first, "ShowScale") == 1);
   assert_true(fabs(view_number(second, "ColormapAlpha") - 0.2) < 1e-12);
   assert_true(view_number(second, "DrawSkinOnly") == 1 && view_number(second, "DrawTetrahedra") == 1);
-  assert_true(view_number(second, "DrawLines") == 0 && view_number(second, "DrawTriangles") == 0);
+  assert_true(solid_elements_only("dt skin"));
   assert_true(view_number(first, "Visible") == 1 && view_number(second, "Visible") == 1);
   tu_gmsh_end();
 }
@@ -374,7 +395,7 @@ static void test_truss(void **state) {
   char *text = read_text(opt);
   assert_non_null(strstr(text, ".LineType = 1; // trusses as tubes, seen inside the solid\n"));
   assert_non_null(strstr(text, ".LineWidth = 4;\n"));
-  assert_non_null(strstr(text, "Plugin(MathEval).View = dtmap_v0 + "));
+  assert_null(strstr(text, "Plugin(")); /* no view made by the .opt: a list-based one aborts getModelData */
   assert_non_null(strstr(text, "].DrawTetrahedra = 0;\n"));
   free(text);
   assert_opened_styling();

@@ -75,4 +75,25 @@ DTM_EXPORT int dtm_deck_adapt(dtm_scene *s, const char *solver, char *note, size
  * percent of the model's (nothing is written). */
 DTM_EXPORT int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info);
 
+/* Each element's step by one solver's own element rule (the rule whose
+ * smallest value a deck's header gives as the solver's estimate), for the
+ * views of `run --solver-rule`. */
+typedef struct {
+  char solver[16];    /* its name ("lsdyna") */
+  char title[48];     /* the solver as a deck names it ("LS-DYNA") */
+  char rule[200];     /* the rule, in words */
+  double *dt;         /* [nel] in the analysis' element order, s; NaN where the rule covers
+                         none (CalculiX's springs) (owned: dtm_deck_steps_free) */
+  double min;         /* the smallest, s (NaN when the rule covers no element) */
+  size_t element;     /* Gmsh tag of the element that has it */
+  double centroid[3]; /* that element's centroid (mean of its corners), m */
+} dtm_deck_steps;
+
+/* Fill *out for solver (a name of dtm_deck_solvers()) on analysis a: the
+ * same parts, elements and rule as dtm_deck_write, so out->min is the
+ * deck's estimate. DTM_ERR_INPUT for an unknown solver, a scene without
+ * the elastic effect or an element kind the solver lacks (as the deck). */
+DTM_EXPORT int dtm_deck_own_steps(const dtm_analysis *a, const char *solver, dtm_deck_steps *out);
+DTM_EXPORT void dtm_deck_steps_free(dtm_deck_steps *s);
+
 #endif

@@ -297,8 +297,9 @@ DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int
  * holds one copy of the mesh, not two. */
 DTM_EXPORT void dtm_gmsh_release(void);
 
-/* The name of the copy of dt that the .opt of a 3D result with trusses or
- * membranes adds to draw the solid elements' faint skin (src/output/mesh.c). */
+/* The view of a 3D result with trusses or membranes that draws the solid
+ * elements' faint skin: dt over its solid elements alone, an ElementData
+ * view of the .msh (src/output/mesh.c). */
 #define DTM_VIEW_DT_SKIN "dt skin"
 
 /* One picture of a result: which views it shows. */
@@ -307,13 +308,16 @@ typedef struct {
   const char *only; /* show only the view of this name (and its skin, DTM_VIEW_DT_SKIN,
                        for "dt"), opaque, plus dtmap's text annotation; NULL: the
                        views as the .opt leaves them */
+  int worst;        /* 1: a flat model framed on its worst elements (the view "below
+                       target [s]" or "smallest 1% [s]", shown opaque over a faint dt);
+                       else the whole model */
 } dtm_snapshot_shot;
 
 /* Pictures of a result through Gmsh's own renderer: open msh (Gmsh merges
  * msh.opt), then for each shot set the views, draw and write a PNG of width
- * x height pixels. Needs an X display (DISPLAY); the CLI starts a virtual one
- * when there is none. Leaves Gmsh finalized. DTM_ERR_INPUT naming the file
- * when Gmsh cannot open it or write a picture. */
+ * x height pixels, dtmap's figures (the .opt's Printf lines) at the top. Needs an X display (DISPLAY); the CLI starts a
+ * virtual one when there is none. Leaves Gmsh finalized. DTM_ERR_INPUT naming the file when Gmsh cannot open it, it has
+ * no dt view (not a result of dtmap) or a picture cannot be written. */
 DTM_EXPORT int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshots, int width, int height);
 
 /* Add the views to the current model of the open session, where they stay

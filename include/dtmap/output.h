@@ -83,6 +83,10 @@ DTM_EXPORT int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_
                                 dtm_output_file **out);
 DTM_EXPORT int dtm_output_finish(dtm_output_file **f, const dtm_results *r);
 DTM_EXPORT void dtm_output_abort(dtm_output_file **f);
+/* The solvers' own element steps (run --solver-rule) that finish writes as
+ * one ElementData view "dt <solver>" each (steps[n] not owned: they must
+ * live until finish). */
+DTM_EXPORT void dtm_output_solver_steps(dtm_output_file *f, const dtm_deck_steps *steps, int n);
 
 /* Add the same views to the current model of the open Gmsh session (a
  * script's), styled as X.msh.opt styles them (without its text view and its

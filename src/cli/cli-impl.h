@@ -13,38 +13,39 @@
 
 /* Every option of every command; a command reads the ones it declares. */
 typedef struct {
-  const char *scene;     /* SCENE.xml (the one positional argument) */
-  const char *out;       /* -o OUT.msh, or NULL */
-  const char *report;    /* --report R.json, or NULL */
-  const char *sizes;     /* sweep --sizes h1,h2,... */
-  const char *csv;       /* sweep --csv, or NULL */
-  const char *plot;      /* sweep --plot, or NULL */
-  const char *format;    /* --format ascii|binary|auto, or NULL (the scene's) */
-  int views_only;        /* run --views-only */
-  int threads;           /* -j N, 0 = all cores */
-  int verbosity;         /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
-  int posterior;         /* run/verify --posterior */
-  int top;               /* --top N: elements listed as the smallest steps (default 10; 0: none) */
-  double tol;            /* --tol: Lanczos relative residual */
-  int lanczos_max;       /* --lanczos-max: Lanczos steps */
-  int max_iter;          /* refine --max-iter: rounds */
-  double max_added_mass; /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
-  int keep_counts;       /* refine --keep-counts: the model's transfinite node counts stay */
-  const char *optimise;  /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
-  double target;         /* refine --target, s (0: the scene's <time target>) */
-  double factor;         /* verify --factor: multiple of the recommended step (0: not given, 1) */
-  double dt;             /* verify --dt, s (0: use factor x recommended) */
-  int steps;             /* verify --steps */
-  int accuracy;          /* verify --accuracy: the plane-wave phase check instead of the stability run */
-  const char *wave;      /* verify --wave P|S (NULL: P) */
-  const char *direction; /* verify --direction x,y,z (NULL: the x axis) */
-  double freq;           /* verify --freq, Hz (0: the report's frequency) */
-  double periods;        /* verify --periods (0: 30) */
-  const char *verified;  /* run/sweep/refine --verified: verify --accuracy reports, comma-separated */
-  int calibrate;         /* run/sweep/refine --calibrate: the measures use their measured errors */
-  const char *png;       /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
-  int width, height;     /* their size, pixels */
-  const char *solver;    /* deck --solver NAME */
+  const char *scene;       /* SCENE.xml (the one positional argument) */
+  const char *out;         /* -o OUT.msh, or NULL */
+  const char *report;      /* --report R.json, or NULL */
+  const char *sizes;       /* sweep --sizes h1,h2,... */
+  const char *csv;         /* sweep --csv, or NULL */
+  const char *plot;        /* sweep --plot, or NULL */
+  const char *format;      /* --format ascii|binary|auto, or NULL (the scene's) */
+  int views_only;          /* run --views-only */
+  int threads;             /* -j N, 0 = all cores */
+  int verbosity;           /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
+  int posterior;           /* run/verify --posterior */
+  int top;                 /* --top N: elements listed as the smallest steps (default 10; 0: none) */
+  double tol;              /* --tol: Lanczos relative residual */
+  int lanczos_max;         /* --lanczos-max: Lanczos steps */
+  int max_iter;            /* refine --max-iter: rounds */
+  double max_added_mass;   /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
+  int keep_counts;         /* refine --keep-counts: the model's transfinite node counts stay */
+  const char *optimise;    /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
+  double target;           /* refine --target, s (0: the scene's <time target>) */
+  double factor;           /* verify --factor: multiple of the recommended step (0: not given, 1) */
+  double dt;               /* verify --dt, s (0: use factor x recommended) */
+  int steps;               /* verify --steps */
+  int accuracy;            /* verify --accuracy: the plane-wave phase check instead of the stability run */
+  const char *wave;        /* verify --wave P|S (NULL: P) */
+  const char *direction;   /* verify --direction x,y,z (NULL: the x axis) */
+  double freq;             /* verify --freq, Hz (0: the report's frequency) */
+  double periods;          /* verify --periods (0: 30) */
+  const char *verified;    /* run/sweep/refine --verified: verify --accuracy reports, comma-separated */
+  int calibrate;           /* run/sweep/refine --calibrate: the measures use their measured errors */
+  const char *png;         /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
+  int width, height;       /* their size, pixels */
+  const char *solver;      /* deck --solver NAME */
+  const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;
@@ -76,9 +77,6 @@ extern const struct cli_command dtm_cli_commands[];
  * usage exit code 2 after printing what is wrong, or -1 when --help was
  * asked for and printed (the caller exits 0). */
 int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
-/* The command name (or "effects", "help") a misspelt name likely means (at
- * most 2 edits, a third of its letters), or NULL. */
-const char *dtm_cli_near_command(const char *name);
 /* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
 int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* The documentation (help.c), all from the command tables: the help of
@@ -93,8 +91,6 @@ int dtm_cli_print_overview(void);
 int dtm_cli_print_effects(void);
 void dtm_cli_print_effects_to(void *stream);
 int dtm_cli_generate(const char *what);
-/* --top as dtm_results.top counts it (there 0 is the default, < 0 none). */
-static inline int dtm_cli_top(const cli_opts *o) { return o->top > 0 ? o->top : -1; }
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
 /* --verified and --calibrate (src/cli/verified.c): read verify --accuracy's

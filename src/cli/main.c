@@ -67,6 +67,8 @@ static const cli_option run_options[] = {
     VERIFIED_OPTIONS,
     {"--views-only", CLI_FLAG, OPT(views_only), 1, 0, 0, NULL,
      "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
+    {"--solver-rule", CLI_STRING, OPT(solver_rule), 0, 0, 0, "LIST",
+     "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
     LANCZOS_OPTIONS,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
@@ -149,12 +151,15 @@ static const cli_option snapshot_options[] = {
 const cli_command dtm_cli_commands[] = {
     {"run",
      "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--top N] [--format F] [--views-only] "
-     "[--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
+     "[--solver-rule LIST] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
      "'dt <effect>', ... (open it in Gmsh), plus OUT.msh.opt. With --views-only (a <mesh>\n"
-     "scene) OUT.msh holds only the views: gmsh IN.msh OUT.msh shows them on the input.",
+     "scene) OUT.msh holds only the views: gmsh IN.msh OUT.msh shows them on the input.\n"
+     "--solver-rule lsdyna,abaqus,calculix adds one view per solver, 'dt lsdyna', ...: each\n"
+     "element's step by that solver's own rule (the one its deck's header estimates with),\n"
+     "and the summary gives each solver's smallest step, its element and centroid.",
      run_options, dtm_cli_run},
     {"verify",
      "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--report V.json] [--accuracy [--wave P|S] "

@@ -1,7 +1,9 @@
 /* `dtmap run` and `dtmap verify`: analyse a scene, optionally estimate the
  * global step, then write the mesh with its views and the report, or
  * simulate the scene's effects at a step and judge stability. Also the
- * output step `refine` shares. */
+ * output step `refine` shares. With --solver-rule, each named solver's own
+ * element steps (the rule its deck's header estimates with, src/deck/)
+ * become a view "dt <solver>" and a line of the summary. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -9,6 +11,7 @@
 #include <string.h>
 
 #include "cli-impl.h"
+#include "dtmap/deck.h"
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
 #include "dtmap/parallel.h"
@@ -162,6 +165,70 @@ static unsigned global_flags(const cli_opts *o, int verify) {
   return (verify ? DTM_GLOBAL_MODES : 0u) | (o->posterior ? DTM_GLOBAL_BASIS : 0u);
 }
 
+/* ---- --solver-rule ---- */
+
+#define MAX_RULES 8 /* solvers in one --solver-rule list (each once) */
+
+typedef struct {
+  int n;                           /* solvers */
+  char names[MAX_RULES][16];       /* their names, in the list's order */
+  dtm_deck_steps steps[MAX_RULES]; /* their element steps */
+} solver_rules;
+
+/* The solvers of LIST (comma-separated names, each once) into sr; 0, or
+ * a message into why[len]. */
+static int rule_names(const char *list, solver_rules *sr, char *why, size_t len) {
+  sr->n = 0;
+  for (const char *p = list;;) {
+    size_t k = strcspn(p, ",");
+    char name[16];
+    snprintf(name, sizeof name, "%.*s", (int)(k < sizeof name ? k : sizeof name - 1), p);
+    if (!k || k >= sizeof name || dtm_deck_solver(name, NULL)) {
+      dtm_error_clear();
+      return snprintf(why, len, "--solver-rule '%s': '%.*s' is not a solver; the solvers are: %s", list, (int)k, p,
+                      dtm_deck_solvers()),
+             1;
+    }
+    for (int i = 0; i < sr->n; i++)
+      if (!strcmp(sr->names[i], name))
+        return snprintf(why, len, "--solver-rule '%s': %s is named twice", list, name), 1;
+    if (sr->n == MAX_RULES) return snprintf(why, len, "--solver-rule '%s': more than %d solvers", list, MAX_RULES), 1;
+    memcpy(sr->names[sr->n++], name, sizeof name);
+    if (!p[k]) return 0;
+    p += k + 1;
+  }
+}
+
+/* Each solver's element steps on analysis a. */
+static int rule_steps(const dtm_analysis *a, const char *list, solver_rules *sr) {
+  char why[512];
+  if (!list) return DTM_OK;
+  if (rule_names(list, sr, why, sizeof why)) return DTM_ERR(DTM_ERR_INPUT, "%s", why);
+  for (int i = 0; i < sr->n; i++) DTM_CHECK(dtm_deck_own_steps(a, sr->names[i], &sr->steps[i]));
+  return DTM_OK;
+}
+
+static void rules_free(solver_rules *sr) {
+  for (int i = 0; i < sr->n; i++) dtm_deck_steps_free(&sr->steps[i]);
+}
+
+/* The summary's lines: each solver's smallest step, where it is, and how
+ * it compares with dtmap's smallest element step. */
+static void print_rules(const dtm_analysis *a, const solver_rules *sr) {
+  if (!sr->n) return;
+  double dmin = dtm_analysis_dt_min(a, NULL);
+  printf("\nsolver rules each solver's own element step (its deck's estimate), views 'dt <solver>'\n");
+  for (int i = 0; i < sr->n; i++) {
+    const dtm_deck_steps *st = &sr->steps[i];
+    if (isnan(st->min)) {
+      printf("  %-9s its rule covers none of these elements\n", st->solver);
+      continue;
+    }
+    printf("  %-9s smallest %.10g s (%.3fx dtmap's %.4g s): element %zu at (%.6g, %.6g, %.6g) m\n", st->solver, st->min,
+           st->min / dmin, dmin, st->element, st->centroid[0], st->centroid[1], st->centroid[2]);
+  }
+}
+
 /* The output of `run`, begun as soon as the mesh is extracted: Gmsh writes
  * the mesh on a thread of its own while the analysis computes (nothing
  * below calls Gmsh until the output is finished), then releases its copy of
@@ -186,6 +253,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   early_output early = {s, o, NULL, 0.0};
+  solver_rules rules = {0};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
@@ -193,15 +261,20 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
+  if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
+  if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {
     dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o)};
     if (o->verbosity && verify)
       print_brief(a);
     else if (o->verbosity)
       dtm_summary_print(&res, stdout);
+    if (o->verbosity) print_rules(a, &rules);
+    if (rules.n) dtm_output_solver_steps(early.file, rules.steps, rules.n);
     r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL, &early.file);
   }
   dtm_output_abort(&early.file); /* after a failure: no partial output */
+  rules_free(&rules);
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_gmsh_stop();
@@ -214,6 +287,9 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
   cli_outputs names;
   if (o->png)
     return DTM_ERR(DTM_ERR_INPUT, "%s: --png draws one output mesh; a distributed run writes one per part", s->path);
+  if (o->solver_rule)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --solver-rule runs on one whole mesh, without mpirun or partition files",
+                   s->path);
   dtm_cli_output_names(s, o, NULL, &names);
   dtm_parallel_opts po = {.out = names.mesh,
                           .report = names.report[0] ? names.report : NULL,
@@ -261,6 +337,10 @@ int dtm_cli_run(const cli_opts *o) {
   if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
   if (o->png && o->views_only)
     return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
+  solver_rules names;
+  char why[512];
+  if (o->solver_rule && rule_names(o->solver_rule, &names, why, sizeof why))
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "%s", why);
   return run_scene(o, 0);
 }
 int dtm_cli_verify(const cli_opts *o) {

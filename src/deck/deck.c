@@ -456,3 +456,51 @@ int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info 
   info->seconds = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
+
+/* ---- the solver's own steps as a map (run --solver-rule) ---- */
+
+/* Centroid of element e of block b: the mean of its corner nodes. */
+static void corner_centroid(const dtm_mesh *m, const dtm_block *b, size_t e, double c[3]) {
+  int nc = dtm_elem_is_simplex(b->type) ? b->dim + 1 : 1 << b->dim;
+  if (nc > b->nn) nc = b->nn;
+  c[0] = c[1] = c[2] = 0;
+  for (int k = 0; k < nc; k++)
+    for (int d = 0; d < 3; d++) c[d] += m->xyz[3 * b->conn[e * (size_t)b->nn + k] + d] / nc;
+}
+
+int dtm_deck_own_steps(const dtm_analysis *a, const char *solver, dtm_deck_steps *out) {
+  dtm_deck_info *info = calloc(1, sizeof *info);
+  deck_ctx c = {.a = a, .m = dtm_analysis_mesh(a), .s = dtm_analysis_scene(a), .w = find(solver), .info = info};
+  size_t nel = dtm_analysis_nelements(a), i = 0;
+  int k, r = info ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  memset(out, 0, sizeof *out);
+  if (r == DTM_OK && !c.w) r = dtm_deck_solver(solver, NULL);
+  if (r == DTM_OK) r = elastic_of(a, &k);
+  if (r == DTM_OK) c.form = formulation(a, k), c.elastic = k, r = deck_plan(&c);
+  out->dt = r ? NULL : malloc((nel + 1) * sizeof *out->dt);
+  if (r == DTM_OK && !out->dt) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  out->min = NAN;
+  for (int b = 0; r == DTM_OK && b < c.m->nblocks; b++)
+    for (size_t e = 0; e < c.m->blocks[b].n; e++, i++) {
+      double t = c.w->own(&c, &c.m->blocks[b], e, i, &c.parts[c.part[i]]);
+      out->dt[i] = isfinite(t) ? t : NAN; /* a rule that covers no such element (CalculiX's springs) */
+      if (t < out->min || (isnan(out->min) && isfinite(t))) {
+        out->min = t, out->element = c.m->blocks[b].tags[e];
+        corner_centroid(c.m, &c.m->blocks[b], e, out->centroid);
+      }
+    }
+  if (r == DTM_OK) {
+    snprintf(out->solver, sizeof out->solver, "%s", c.w->name);
+    snprintf(out->title, sizeof out->title, "%s", c.w->title);
+    snprintf(out->rule, sizeof out->rule, "%s", c.w->rule);
+  }
+  deck_plan_free(&c);
+  free(info);
+  if (r) dtm_deck_steps_free(out);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+void dtm_deck_steps_free(dtm_deck_steps *s) {
+  free(s->dt);
+  s->dt = NULL;
+}

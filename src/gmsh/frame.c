@@ -141,10 +141,10 @@ static size_t view_elements(int i, size_t **out) {
   return *out ? ne : 0;
 }
 
-/* The coordinates of the nodes of the elements the dt view draws (every
- * node of the model when it has none), xyz[3 n] (free). */
-static double *drawn_nodes(size_t *n) {
-  size_t *vt = NULL, nv = view_elements(view_index("dt"), &vt), *ntag = NULL, nn = 0, nc = 0, np = 0;
+/* The coordinates of the nodes of the elements view i draws (every node
+ * of the model when it has none), xyz[3 n] (free). */
+static double *drawn_nodes(int i, size_t *n) {
+  size_t *vt = NULL, nv = view_elements(i, &vt), *ntag = NULL, nn = 0, nc = 0, np = 0;
   double *xyz = NULL, *p = NULL, *out = NULL;
   int ierr = 0;
   gmshModelMeshGetNodes(&ntag, &nn, &xyz, &nc, &p, &np, -1, -1, 0, 0, &ierr);
@@ -229,7 +229,7 @@ void dtm_gmsh_snapshot_camera(int width, int height) {
   double rx = 0, rz = 0, m[3][3];
   size_t n = 0;
   model_box b;
-  double *xyz = drawn_nodes(&n);
+  double *xyz = drawn_nodes(view_index("dt"), &n);
   if (n) box_of(xyz, n, &b);
   if (!n) {
     free(xyz);
@@ -243,4 +243,33 @@ void dtm_gmsh_snapshot_camera(int width, int height) {
   rotation(rx, rz, m);
   fit(xyz, n, &b, m, width, height);
   free(xyz);
+}
+
+/* The worst elements framed: their box (the nodes of the view "below
+ * target [s]", else "smallest 1% [s]") grown by WORST_PAD of its largest
+ * side on every side, fitted as the whole model is. */
+#define WORST_PAD 0.2
+int dtm_gmsh_snapshot_camera_worst(int width, int height) {
+  double m[3][3], c[12];
+  size_t n = 0, all = 0;
+  model_box b, w;
+  int i = view_index("below target [s]");
+  if (i < 0) i = view_index("smallest 1% [s]");
+  double *xyz = drawn_nodes(view_index("dt"), &all), *worst = i < 0 ? NULL : drawn_nodes(i, &n);
+  if (all) box_of(xyz, all, &b);
+  int flat = all && n && !spans_3d(&b);
+  if (flat) {
+    box_of(worst, n, &w);
+    double side = fmax(w.hi[0] - w.lo[0], fmax(w.hi[1] - w.lo[1], w.hi[2] - w.lo[2]));
+    double pad = WORST_PAD * side;
+    for (int k = 0; k < 4; k++) { /* the grown box's corners in the model's plane */
+      c[3 * k] = k & 1 ? w.hi[0] + pad : w.lo[0] - pad;
+      c[3 * k + 1] = k & 2 ? w.hi[1] + pad : w.lo[1] - pad;
+      c[3 * k + 2] = 0.5 * (w.lo[2] + w.hi[2]);
+    }
+    rotation(0, 0, m);
+    fit(c, 4, &b, m, width, height);
+  }
+  free(xyz), free(worst);
+  return flat;
 }

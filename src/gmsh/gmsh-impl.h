@@ -104,5 +104,8 @@ int dtm_gmsh_unpartition(void);
  * the colour scales (frame.c). Set through Gmsh's options, before its
  * window is created. */
 void dtm_gmsh_snapshot_camera(int width, int height);
+/* For a flat model, frame the worst elements instead (frame.c); 0 (the
+ * camera unchanged) for a model that spans 3D or has no worst elements. */
+int dtm_gmsh_snapshot_camera_worst(int width, int height);
 
 #endif

@@ -2,7 +2,9 @@
  * characteristic length, limiting effect, size suggestion) plus one
  * "dt <effect>" view per limiting effect, "shape limited" (the feature
  * kind, 1 flat angle, 2 small angle, 3 short curve, 4 thin) where there
- * are such elements, write them (after the mesh, or alone in a views-only
+ * are such elements, one "dt <solver>" view per solver of run
+ * --solver-rule, and for a 3D mesh with trusses or membranes
+ * DTM_VIEW_DT_SKIN (dt over its solid elements, drawn last); write them (after the mesh, or alone in a views-only
  * file) to a temporary file, then rename into place. The encoding is the
  * caller's choice, else the scene's <output format>, else binary above
  * DTM_BINARY_ABOVE elements and ASCII below (small files stay readable).
@@ -14,6 +16,7 @@
  * the .opt is written before the .msh is renamed into place. */
 #include <math.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,23 +77,26 @@ static int any_finite(const double *src, size_t n) {
  * subset of an effect's values included: the writer converts and filters),
  * so writing copies no per-element value. */
 typedef struct {
-  size_t *etags, *ntags; /* element tags [nel], node tags [nnodes] */
-  double *nvals;         /* node values [nnodes] */
-  size_t *dtags;         /* node tags of the nodal-dt view [nnodes] */
-  double *dvals;         /* its values [nnodes] */
-  size_t *btags;         /* element tags of the "below target" view [nel] */
-  double *bvals;         /* their steps [nel] */
-  double below_at;       /* its threshold, s: the target, or the 1 % quantile */
-  char (*names)[96];     /* "dt <effect>" names [neffects] */
-  dtm_view *views;       /* [10 + 2 neffects] */
-  size_t *stags;         /* tags of the shape-limited elements */
-  double *svals;         /* their feature (dtm_feature_kind) */
-  size_t *ttags;         /* tags of the thickness-limited elements */
-  double *tvals;         /* the local thickness there, m */
-  size_t *itags;         /* tags of the flagged elements [nflagged] */
-  double *ivals;         /* their smallest scaled Jacobians [nflagged] */
-  size_t *mtags;         /* node tags of the point masses [nnodes] */
-  double *mvals;         /* the masses, kg [nnodes] */
+  size_t *etags, *ntags;    /* element tags [nel], node tags [nnodes] */
+  double *nvals;            /* node values [nnodes] */
+  size_t *dtags;            /* node tags of the nodal-dt view [nnodes] */
+  double *dvals;            /* its values [nnodes] */
+  size_t *btags;            /* element tags of the "below target" view [nel] */
+  double *bvals;            /* their steps [nel] */
+  double below_at;          /* its threshold, s: the target, or the 1 % quantile */
+  char (*names)[96];        /* "dt <effect>" names [neffects] */
+  dtm_view *views;          /* [10 + 2 neffects] */
+  size_t *stags;            /* tags of the shape-limited elements */
+  double *svals;            /* their feature (dtm_feature_kind) */
+  size_t *ttags;            /* tags of the thickness-limited elements */
+  double *tvals;            /* the local thickness there, m */
+  size_t *itags;            /* tags of the flagged elements [nflagged] */
+  double *ivals;            /* their smallest scaled Jacobians [nflagged] */
+  size_t *mtags;            /* node tags of the point masses [nnodes] */
+  double *mvals;            /* the masses, kg [nnodes] */
+  size_t *ktags;            /* tags of the solid elements of DTM_VIEW_DT_SKIN */
+  double *kvals;            /* their steps */
+  char (*solver_names)[32]; /* "dt <solver>" names [nsolvers] */
 } view_set;
 
 static void free_views(view_set *vs) {
@@ -110,6 +116,9 @@ static void free_views(view_set *vs) {
   free(vs->ivals);
   free(vs->mtags);
   free(vs->mvals);
+  free(vs->ktags);
+  free(vs->kvals);
+  free(vs->solver_names);
   free(vs->views);
 }
 
@@ -123,7 +132,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   vs->btags = malloc((nel + 1) * sizeof *vs->btags);
   vs->bvals = malloc((nel + 1) * sizeof *vs->bvals);
   vs->names = calloc(ne + 1, sizeof *vs->names);
-  vs->views = calloc(2 * ne + 14, sizeof *vs->views);
+  vs->views = calloc(2 * ne + 20, sizeof *vs->views);
   if (!vs->etags || !vs->ntags || !vs->nvals || !vs->names || !vs->views || !vs->dtags || !vs->dvals || !vs->btags ||
       !vs->bvals)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -285,7 +294,47 @@ static int thickness_view(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
-static int build_views(const dtm_results *r, const dtm_output_part *part, view_set *vs, int *nviews) {
+/* "dt <solver>" of each solver's own rule (run --solver-rule), over the
+ * elements the rule covers. */
+static int solver_views(const dtm_analysis *a, const dtm_deck_steps *st, int n, view_set *vs, int *k) {
+  if (n <= 0) return DTM_OK;
+  vs->solver_names = calloc((size_t)n, sizeof *vs->solver_names);
+  if (!vs->solver_names) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < n && i < 3; i++) {
+    snprintf(vs->solver_names[i], sizeof vs->solver_names[i], "dt %s", st[i].solver);
+    vs->views[(*k)++] = (dtm_view){vs->solver_names[i], 0, vs->etags, st[i].dt, dtm_analysis_nelements(a), NULL, 1};
+  }
+  return DTM_OK;
+}
+
+/* Whether a 3D mesh m has trusses or membranes, drawn inside its solid
+ * elements' faint skin (DTM_VIEW_DT_SKIN). */
+static int has_skin(const dtm_mesh *m);
+
+/* DTM_VIEW_DT_SKIN, last: dt over the solid elements alone, for a 3D mesh
+ * with trusses or membranes. Gmsh draws the views in their order and a
+ * translucent face hides what is drawn after it, so the faint skin of the
+ * solid elements comes last, and dt itself draws the sections alone,
+ * opaque, with the colour bar: they show inside the solid. A model-based
+ * view of its own (a script reads it as any other), not a copy the .opt
+ * makes. */
+static int skin_view(const dtm_analysis *a, view_set *vs, int *k) {
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  const double *dt = dtm_analysis_dt(a);
+  size_t n = 0, i = 0;
+  if (!has_skin(m)) return DTM_OK;
+  vs->ktags = malloc((dtm_analysis_nelements(a) + 1) * sizeof *vs->ktags);
+  vs->kvals = malloc((dtm_analysis_nelements(a) + 1) * sizeof *vs->kvals);
+  if (!vs->ktags || !vs->kvals) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int b = 0; b < m->nblocks; b++)
+    for (size_t e = 0; e < m->blocks[b].n; e++, i++)
+      if (m->blocks[b].dim == 3) vs->ktags[n] = vs->etags[i], vs->kvals[n++] = dt[i];
+  if (n) vs->views[(*k)++] = (dtm_view){DTM_VIEW_DT_SKIN, 0, vs->ktags, vs->kvals, n, NULL, 1};
+  return DTM_OK;
+}
+
+static int build_views(const dtm_results *r, const dtm_output_part *part, const dtm_deck_steps *solvers, int nsolvers,
+                       view_set *vs, int *nviews) {
   DTM_CHECK(alloc_views(r->analysis, vs));
   *nviews = mesh_views(r, vs);
   DTM_CHECK(point_mass_view(r->analysis, vs, nviews));
@@ -299,7 +348,8 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, view_s
    * straight-sided), only when the mesh has some (src/analysis/curvature.c) */
   if (curv)
     vs->views[(*nviews)++] = (dtm_view){"curvature", 0, vs->etags, curv, dtm_analysis_nelements(r->analysis), NULL, 1};
-  return DTM_OK;
+  DTM_CHECK(solver_views(r->analysis, solvers, nsolvers, vs, nviews));
+  return skin_view(r->analysis, vs, nviews);
 }
 
 /* How the .opt styles a view, from its name. */
@@ -319,7 +369,7 @@ typedef struct {
   dtm_view_option o; /* View[i].<name> = value */
   const char *why;   /* comment in the .opt, or NULL */
 } styled;
-#define MAX_STYLE 16
+#define MAX_STYLE 24
 
 static void add_style(styled *s, int *k, const char *name, double number, const char *text, const char *why) {
   s[(*k)++] = (styled){{name, number, text}, why};
@@ -334,25 +384,73 @@ static unsigned lower_dims(const dtm_mesh *m) {
   return bits;
 }
 
-/* The options of the view called name over mesh m: unlit; steps on a log
- * scale, viridis (dark is small); colour bars in s or m; dt visible (a faint
- * skin in 3D), the below-target view too in 3D, the others hidden until
- * ticked; where the mesh has line elements (trusses) below its dimension,
- * lines drawn as thick tubes. Returns the count written to s[MAX_STYLE]. */
-static int view_style(const char *name, const dtm_mesh *m, styled *s) {
-  const char *u = unit_of(name);
-  int primary = !strcmp(name, "dt"), below = is_below(name), k = 0, dim = m->dim;
+static int has_skin(const dtm_mesh *m) { return m->dim == 3 && lower_dims(m); }
+
+/* The smallest and largest finite values of view v into lo, hi; 1 when
+ * they are positive (a log scale can show them). */
+static int positive_range(const dtm_view *v, double *lo, double *hi) {
+  *lo = INFINITY, *hi = -INFINITY;
+  for (size_t i = 0; v->values && !v->ivalues && i < v->n; i++)
+    if (isfinite(v->values[i])) *lo = fmin(*lo, v->values[i]), *hi = fmax(*hi, v->values[i]);
+  return *lo > 0 && *hi >= *lo && isfinite(*hi);
+}
+
+/* A step view's colour range, widened by RANGE_MARGIN (relative) beyond its
+ * smallest and largest values: Gmsh puts the bounds of a log scale's
+ * discrete intervals at 10^(log10 min + k (log10 max - log10 min) / n),
+ * whose rounding may put the first bound above the smallest value and the
+ * last below the largest, and an element outside every interval is not
+ * drawn (the smallest and the largest steps were left white). The margin
+ * is far above that rounding (about 1e-15) and far below what the colour
+ * bar's three digits show. */
+#define RANGE_MARGIN 1e-6
+static void range_style(const dtm_view *of, styled *s, int *k) {
+  double lo, hi;
+  if (!positive_range(of, &lo, &hi)) return;
+  add_style(s, k, "RangeType", 2, NULL, "custom: every step inside the colour range");
+  add_style(s, k, "CustomMin", lo * (1 - RANGE_MARGIN), NULL, NULL);
+  add_style(s, k, "CustomMax", hi * (1 + RANGE_MARGIN), NULL, NULL);
+}
+
+/* The 3D dt view and its skin: dt faint (only its skin drawn) and without
+ * its colour bar, the below-target view showing the worst elements inside;
+ * with trusses or membranes, dt draws them alone, opaque, with the colour
+ * bar, and DTM_VIEW_DT_SKIN the faint skin of the solid elements. */
+static void solid_style(int primary, const dtm_mesh *m, styled *s, int *k) {
+  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
+  if (primary && has_skin(m)) {
+    add_style(s, k, "ColormapAlpha", 1, NULL, "dt: the trusses and membranes alone, opaque");
+    add_style(s, k, "ShowScale", 1, NULL, NULL);
+    for (int j = 0; j < 4; j++) add_style(s, k, solid[j], 0, NULL, NULL);
+    return;
+  }
+  add_style(s, k, "ColormapAlpha", 0.2, NULL, "a faint skin over the worst elements");
+  add_style(s, k, "DrawSkinOnly", 1, NULL, NULL);
+  add_style(s, k, "ShowScale", 0, NULL, NULL);
+}
+
+/* The options of view i of vs over mesh m: unlit; steps on a log scale,
+ * viridis (dark is small), over a range that holds every value (ranged: a
+ * whole mesh's output; a distributed run's part knows only its own
+ * values); colour bars in s or m; dt visible (a faint skin in 3D), the
+ * below-target view too in 3D, the others hidden until ticked; where the
+ * mesh has line elements (trusses) below its dimension, lines drawn as
+ * thick tubes. Returns the count written to s[MAX_STYLE]. */
+static int view_style(const view_set *vs, int nviews, int i, const dtm_mesh *m, int ranged, styled *s) {
+  const char *name = vs->views[i].name, *u = unit_of(name);
+  int primary = !strcmp(name, "dt"), skin = !strcmp(name, DTM_VIEW_DT_SKIN), below = is_below(name), k = 0;
   add_style(s, &k, "Light", 0, NULL, name);
   if (u[0] == 's') add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
   if (u[0] == 's') add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
   add_style(s, &k, "Format", 0, u[0] == 's' ? "%.3g s" : u[0] == 'm' ? "%.3g m" : "%.3g", NULL);
-  if (primary || below) add_style(s, &k, "IntervalsType", 3, NULL, NULL), add_style(s, &k, "NbIso", 12, NULL, NULL);
-  add_style(s, &k, "Visible", primary || (below && dim == 3), NULL, NULL);
-  if (primary && dim == 3) {
-    add_style(s, &k, "ColormapAlpha", 0.2, NULL, "a faint skin over the worst elements");
-    add_style(s, &k, "DrawSkinOnly", 1, NULL, NULL);
-    add_style(s, &k, "ShowScale", 0, NULL, NULL);
-  }
+  if (primary || below || skin)
+    add_style(s, &k, "IntervalsType", 3, NULL, NULL), add_style(s, &k, "NbIso", 12, NULL, NULL);
+  const dtm_view *of = &vs->views[i]; /* the skin takes dt's range, so its colours are dt's bar's */
+  for (int j = 0; skin && j < nviews; j++)
+    if (!strcmp(vs->views[j].name, "dt")) of = &vs->views[j];
+  if (u[0] == 's' && ranged) range_style(of, s, &k);
+  add_style(s, &k, "Visible", primary || skin || (below && m->dim == 3), NULL, NULL);
+  if ((primary || skin) && m->dim == 3) solid_style(primary, m, s, &k);
   if (lower_dims(m) & 2u) {
     add_style(s, &k, "LineType", 1, NULL, "trusses as tubes, seen inside the solid");
     add_style(s, &k, "LineWidth", 4, NULL, NULL);
@@ -360,49 +458,26 @@ static int view_style(const char *name, const dtm_mesh *m, styled *s) {
   return k;
 }
 
-/* The options of view name over m, each as "View[addr].option = value;". */
-static void write_style(FILE *f, const char *addr, const char *name, const dtm_mesh *m) {
+/* The options of view i, each as "View[dtmap_v0 + i].option = value;"
+ * (numbers with the fewest digits that read back the same). */
+static void write_style(FILE *f, const view_set *vs, int nviews, int i, const dtm_mesh *m, int ranged) {
   styled s[MAX_STYLE];
-  int n = view_style(name, m, s);
+  int n = view_style(vs, nviews, i, m, ranged, s);
   for (int k = 0; k < n; k++) {
-    fprintf(f, "View[%s].%s = ", addr, s[k].o.name);
+    fprintf(f, "View[dtmap_v0 + %d].%s = ", i, s[k].o.name);
     if (s[k].o.text)
       fprintf(f, "\"%s\";", s[k].o.text);
-    else
-      fprintf(f, "%g;", s[k].o.number);
+    else {
+      char num[40];
+      for (int p = 6; p <= 17; p++)
+        if (snprintf(num, sizeof num, "%.*g", p, s[k].o.number), strtod(num, NULL) == s[k].o.number) break;
+      fprintf(f, "%s;", num);
+    }
     if (s[k].why)
       fprintf(f, " // %s\n", s[k].why);
     else
       fputc('\n', f);
   }
-}
-
-/* In the .opt, a 3D dt view over trusses or membranes: Gmsh draws the views
- * in their order, and a translucent face hides what is drawn after it. So
- * a copy of dt's data (Gmsh's MathEval plugin; an alias would share dt's
- * data and so its name), last in the list, named DTM_VIEW_DT_SKIN and
- * styled as dt, keeps the faint skin of the solid elements, and dt itself
- * draws the sections alone, opaque, with the colour bar, before it: they
- * show inside the solid. */
-static void sections_on_top(FILE *f, int i, const dtm_mesh *m) {
-  static const char *const solid[] = {"DrawTetrahedra", "DrawHexahedra", "DrawPrisms", "DrawPyramids"};
-  static const char *const sections[] = {"DrawLines", "DrawTriangles", "DrawQuadrangles"};
-  fprintf(f, "Plugin(MathEval).Expression0 = \"v0\"; // the faint skin of dt's solid elements, drawn last\n");
-  fprintf(f, "Plugin(MathEval).View = dtmap_v0 + %d;\nPlugin(MathEval).OtherView = -1;\n", i);
-  fprintf(f, "Plugin(MathEval).TimeStep = -1;\nPlugin(MathEval).Run;\n");
-  fprintf(f, "View[PostProcessing.NbViews - 1].Name = \"%s\";\n", DTM_VIEW_DT_SKIN);
-  write_style(f, "PostProcessing.NbViews - 1", "dt", m);
-  for (int k = 0; k < 3; k++) fprintf(f, "View[PostProcessing.NbViews - 1].%s = 0;\n", sections[k]);
-  fprintf(f, "View[dtmap_v0 + %d].ColormapAlpha = 1; // dt: the trusses and membranes alone, opaque\n", i);
-  fprintf(f, "View[dtmap_v0 + %d].DrawSkinOnly = 0;\nView[dtmap_v0 + %d].ShowScale = 1;\n", i, i);
-  for (int k = 0; k < 4; k++) fprintf(f, "View[dtmap_v0 + %d].%s = 0;\n", i, solid[k]);
-}
-
-static void style_view(FILE *f, int i, const char *name, const dtm_mesh *m) {
-  char addr[32];
-  snprintf(addr, sizeof addr, "dtmap_v0 + %d", i);
-  write_style(f, addr, name, m);
-  if (!strcmp(name, "dt") && m->dim == 3 && lower_dims(m)) sections_on_top(f, i, m);
 }
 
 /* dtmap's text view: the recommended step, the target and the worst element. */
@@ -428,29 +503,49 @@ static void annotated_of(const dtm_analysis *a, const dtm_output_part *part, siz
     if (*c == '"') *c = '\'';
 }
 
+/* One line of dtmap's figures as Printf("..."); in the .opt: Gmsh prints
+ * it in its message console and status bar on opening; dtmap's snapshots
+ * draw the same lines at the top of the picture (src/gmsh/snapshot.c reads
+ * them back). Printf formats its string: '%' is written "%%". */
+static void figure_line(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void figure_line(FILE *f, const char *fmt, ...) {
+  char text[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(text, sizeof text, fmt, ap);
+  va_end(ap);
+  fputs("Printf(\"", f);
+  for (const char *c = text; *c; c++) fputs(*c == '%' ? "%%" : *c == '"' ? "'" : (char[2]){*c, 0}, f);
+  fputs("\");\n", f);
+}
+
+/* The recommended step, the smallest element step and where it is, and
+ * the target (or the 1 % view). Not a text view: a list-based view makes
+ * gmsh.view.getModelData abort a script that reads every view (Gmsh 4.8). */
 static void annotation(FILE *f, const dtm_results *r, const view_set *vs, const annotated *n) {
   const dtm_analysis *a = r->analysis;
   const dtm_scene *s = dtm_analysis_scene(a);
-  fprintf(f, "View \"dtmap\" {\n  T2(10, 22, 0){\"recommended step %.3g s (safety %g x %s)\"};\n",
-          dtm_analysis_recommended(a), s->safety, dtm_analysis_basis(a));
-  fprintf(f, "  T2(10, 42, 0){\"smallest element step %.3g s: element %zu, group %s\"};\n",
-          dtm_analysis_dt_min(a, NULL), n->element, n->group);
+  fprintf(f, "// dtmap's figures, in Gmsh's message console and status bar:\n");
+  figure_line(f, "recommended step %.3g s (safety %g x %s)", dtm_analysis_recommended(a), s->safety,
+              dtm_analysis_basis(a));
+  figure_line(f, "smallest element step %.3g s: element %zu, group %s", dtm_analysis_dt_min(a, NULL), n->element,
+              n->group);
   if (s->target > 0)
-    fprintf(f, "  T2(10, 62, 0){\"target %.3g s: %zu of %zu elements below (view '%s')\"};\n};\n", s->target, n->below,
-            n->elements, DTM_VIEW_BELOW_TARGET);
+    figure_line(f, "target %.3g s: %zu of %zu elements below (view '%s')", s->target, n->below, n->elements,
+                DTM_VIEW_BELOW_TARGET);
   else
-    fprintf(f, "  T2(10, 62, 0){\"no target: the 1 %% smallest steps, below %.3g s (view '%s')\"};\n};\n", vs->below_at,
-            DTM_VIEW_SMALLEST);
+    figure_line(f, "no target: the 1 %% smallest steps, below %.3g s (view '%s')", vs->below_at, DTM_VIEW_SMALLEST);
 }
 
 /* Options Gmsh merges when it opens or merges X.msh. Views are addressed
  * relative to PostProcessing.NbViews, so the right views are styled however
  * many were loaded before: scalar views unlit, steps on a log scale (viridis:
- * dark is small), colour bars in s or m, dt visible (faint in 3D, where the
- * below-target view shows the worst elements inside), the others hidden
- * until ticked, the mesh wireframe off; then a text view with the figures.
- * Written to the temporary w, opened here and flushed; the caller commits it
- * once X.msh is in place (a failure here removes it and leaves both). */
+ * dark is small) over a range that holds every step, colour bars in s or m,
+ * dt visible (faint in 3D, where the below-target view shows the worst
+ * elements inside), the others hidden until ticked, the mesh wireframe off;
+ * then dtmap's figures, printed. Written to the temporary w, opened here and
+ * flushed; the caller commits it once X.msh is in place (a failure here
+ * removes it and leaves both). */
 static int write_opt(const char *path, const dtm_results *r, const dtm_output_part *part, const view_set *vs,
                      int nviews, dtm_atomic *w) {
   char opt[DTM_PATH_MAX + 8];
@@ -468,11 +563,10 @@ static int write_opt(const char *path, const dtm_results *r, const dtm_output_pa
       f,
       "dtmap_v0 = PostProcessing.NbViews - %d;\nMesh.SurfaceEdges = 0;\nMesh.VolumeEdges = 0;\nGeometry.Points = 0;\n",
       nviews);
-  for (int i = 0; i < nviews; i++) style_view(f, i, vs->views[i].name, mesh);
+  for (int i = 0; i < nviews; i++) write_style(f, vs, nviews, i, mesh, !part);
   annotated n;
   annotated_of(r->analysis, part, nbelow, &n);
   annotation(f, r, vs, &n);
-  fprintf(f, "View[PostProcessing.NbViews - 1].Visible = 1;\n");
   if (fflush(f) || ferror(f)) return dtm_atomic_commit(w); /* fails: removes it, names it and the reason */
   return DTM_OK;
 }
@@ -496,14 +590,20 @@ static int check_views_only(const dtm_scene *s, const dtm_output_opts *o) {
  * views exist, possibly on a thread of its own while the analysis
  * computes), the views when the results are there. */
 struct dtm_output_file {
-  dtm_atomic w;                /* the temporary beside the target */
-  dtm_msh_format fmt;          /* its encoding; views_only: no mesh */
-  const dtm_output_part *part; /* a distributed run's part, or NULL */
-  pthread_t writer;            /* the thread writing the mesh (background) */
-  int writing;                 /* 1 until the writer is joined */
-  int written;                 /* the writer's result */
-  char msg[4096];              /* its error message (error records are per thread) */
+  dtm_atomic w;                  /* the temporary beside the target */
+  dtm_msh_format fmt;            /* its encoding; views_only: no mesh */
+  const dtm_output_part *part;   /* a distributed run's part, or NULL */
+  pthread_t writer;              /* the thread writing the mesh (background) */
+  int writing;                   /* 1 until the writer is joined */
+  int written;                   /* the writer's result */
+  char msg[4096];                /* its error message (error records are per thread) */
+  const dtm_deck_steps *solvers; /* run --solver-rule: the solvers' own steps (not owned) */
+  int nsolvers;                  /* their count */
 };
+
+void dtm_output_solver_steps(dtm_output_file *f, const dtm_deck_steps *steps, int n) {
+  f->solvers = steps, f->nsolvers = n;
+}
 
 static int write_mesh(dtm_output_file *f) {
   dtm_progress_begin("writing the mesh");
@@ -573,7 +673,7 @@ int dtm_output_finish(dtm_output_file **pf, const dtm_results *res) {
   view_set vs = {0};
   dtm_atomic opt = {.fd = -1};
   int nviews = 0, r = join_writer(f), with_opt = !f->part || f->part->part == 1;
-  if (r == DTM_OK) r = build_views(res, f->part, &vs, &nviews);
+  if (r == DTM_OK) r = build_views(res, f->part, f->solvers, f->nsolvers, &vs, &nviews);
   if (r == DTM_OK) {
     dtm_progress_begin("writing the views");
     r = name_target(dtm_gmsh_write_views(f->w.tmp, vs.views, nviews, &f->fmt), &f->w);
@@ -603,7 +703,7 @@ static int show_views(const dtm_results *r, const view_set *vs, const int *tags,
   const dtm_mesh *mesh = dtm_analysis_mesh(r->analysis);
   for (int i = 0; i < nviews; i++) {
     styled s[MAX_STYLE];
-    int n = view_style(vs->views[i].name, mesh, s);
+    int n = view_style(vs, nviews, i, mesh, 1, s);
     for (int k = 0; k < n; k++) DTM_CHECK(dtm_gmsh_view_option(tags[i], &s[k].o));
   }
   return DTM_OK;
@@ -611,7 +711,7 @@ static int show_views(const dtm_results *r, const view_set *vs, const int *tags,
 
 int dtm_output_add_views(const dtm_results *res, int *tags, int cap, int *n) {
   view_set vs = {0};
-  int nviews = 0, r = build_views(res, NULL, &vs, &nviews);
+  int nviews = 0, r = build_views(res, NULL, NULL, 0, &vs, &nviews);
   int *own = r ? NULL : malloc(((size_t)nviews + 1) * sizeof *own);
   if (r == DTM_OK && !own) r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = dtm_gmsh_add_views(vs.views, nviews, own);
