@@ -215,7 +215,7 @@ class Layers(unittest.TestCase):
         self.assertLess(abs(rep["deck"]["step"] / (0.9 * min(caps)) - 1), 1e-9)
         for elem in ("S3", "S4", "B31"):
             self.assertTrue(any("%s into a layer" % elem in w and "at %.2f x their element bound" % shares[elem] in w
-                                and "runs up to" in w and "bench/ccx_shell_caps.py" in w
+                                and "was measured at" in w and "bench/ccx_shell_caps.py" in w
                                 for w in rep["deck"]["warnings"]), elem)
 
 

@@ -131,8 +131,8 @@ static int element(deck_ctx *c, deck_part *p) {
   if (i >= 0)
     deck_warn(c,
               "%s: CalculiX expands %s into a layer of solids %.4g m across, whose thickness modes cap the "
-              "step at %.2f x their element bound; a fixed-increment CalculiX on %s alone runs up to %s x it "
-              "(bench/ccx_shell_caps.py, docs/deck.md)",
+              "step at %.2f x their element bound; the limit of a fixed-increment CalculiX on meshes of %s alone "
+              "was measured at %s of that bound (bench/ccx_shell_caps.py, docs/deck.md)",
               deck_part_label(c, p, lbl, sizeof lbl), p->elem, line ? fmin(a, b) : t, caps[i].share, p->elem,
               caps[i].seen);
   return DTM_OK;
