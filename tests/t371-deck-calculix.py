@@ -213,6 +213,26 @@ class Layers(unittest.TestCase):
         self.assertEqual(len(caps), 3)
         self.assertEqual(rep["deck"]["basis"], "capped by the solver's elements")
         self.assertLess(abs(rep["deck"]["step"] / (0.9 * min(caps)) - 1), 1e-9)
+        # plane stress: a 2 mm layer is capped (CPS3 0.94); the 1 m plate with a hole is left to the factor
+        tu.write("thin.geo", "Point(1) = {0, 0, 0}; Point(2) = {0.1, 0, 0}; Point(3) = {0.1, 0.05, 0};\n"
+                 "Point(4) = {0, 0.05, 0}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+                 "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+                 "Physical Surface(\"slab\") = {1};\n")
+        thin = tu.write("thin.xml", '<dtmap-scene version="1">\n  <geometry file="thin.geo"/>\n'
+                        '  <meshing size="0.01" dim="2"/>\n'
+                        '  <material name="steel" groups="slab" E="210e9" nu="0.3" rho="7850"/>\n'
+                        '  <section groups="slab" kind="plane-stress" thickness="0.002"/>\n'
+                        '  <effects><elastic formulation="plane-stress"/></effects>\n'
+                        '  <time safety="0.9"/>\n</dtmap-scene>\n')
+        tpath, trep = deck(thin, "thin")
+        layers = [line for line in header(tpath) if line.startswith("** layer ")]
+        self.assertEqual(len(layers), 1)
+        self.assertIn("(CPS3)", layers[0])
+        self.assertIn("cap 0.94 x it", layers[0])
+        bound = float(layers[0].split("solids ")[1].split(" s;")[0])
+        self.assertLess(abs(trep["deck"]["step"] / (0.9 * 0.94 * bound) - 1), 1e-9)
+        ppath, _ = deck(os.path.join(tu.SRC, "geometries", "plate_with_hole.xml"), "plate")
+        self.assertFalse([line for line in header(ppath) if line.startswith("** layer ")])
         for elem in ("S3", "S4", "B31"):
             self.assertTrue(any("%s into a layer" % elem in w and "at %.2f x their element bound" % shares[elem] in w
                                 and "was measured at" in w and "bench/ccx_shell_caps.py" in w

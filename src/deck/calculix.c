@@ -18,7 +18,9 @@
  * - a membrane, shell, beam or plane stress layer has thickness modes of
  *   its own, about t / c_d across the thickness t: the deck's step is
  *   capped at a share of the element bound of those solids measured per
- *   CalculiX element (caps[] below);
+ *   CalculiX element (caps[] below); a plane stress element thicker than
+ *   its longest side is left to the factor above (measured on the plate
+ *   with a hole, 1 m thick), the caps' runs reaching t / h = 0.6;
  * - the header's estimate builds shells and membranes along the normals
  *   CalculiX gives their corners (shell_normals below);
  * - beams on shell nodes get nodes of their own (beam_twins below).
@@ -289,6 +291,16 @@ static int brick(const double *x, const double *o, double a, double b, double *y
   return DTM_HEX8;
 }
 
+/* The longest side of the polygon x of nc corners, m. */
+static double longest(const double *x, int nc) {
+  double mx = 0;
+  for (int a = 0; a < nc; a++) {
+    const double *p = x + 3 * a, *q = x + 3 * ((a + 1) % nc);
+    mx = fmax(mx, sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2])));
+  }
+  return mx;
+}
+
 /* The element bound of the solid CalculiX builds from element e of a
  * layered part, by dtmap's prism6 and hex8 kernels (full integration, row
  * sums), s (INFINITY for the other parts). */
@@ -298,6 +310,7 @@ static double bound(const deck_ctx *c, const dtm_block *b, size_t e, const deck_
   if (cap_row(p) < 0) return INFINITY;
   dtm_mesh_gather_one(c->m, b, e, x);
   layer(c, p, &t, &sa, &sb);
+  if (p->kind == DTM_SECTION_PLANE_STRESS && t > longest(x, b->type == DTM_TRI3 ? 3 : 4)) return INFINITY;
   deck_elastic(c, p->mat, &E, &nu, &rho);
   if (p->kind == DTM_SECTION_BEAM) deck_beam_axis(&c->s->sections[p->section], x, v);
   int type = p->kind == DTM_SECTION_BEAM ? brick(x, v, sa, sb, y) : extrude(x, b->type == DTM_TRI3 ? 3 : 4, t, y);
@@ -328,6 +341,7 @@ static void layer_lines(deck_ctx *c) {
     const deck_part *p = &c->parts[k];
     if (cap_row(p) < 0) continue;
     double bd = part_bound(c, k);
+    if (!isfinite(bd)) continue; /* plane stress thicker than its elements: the factor alone */
     fprintf(c->f, "** layer %s (%s): element bound of its solids %.10g s; cap %.2f x it = %.10g s\n", p->set, p->elem,
             bd, measured(p), measured(p) * bd);
   }
