@@ -183,6 +183,9 @@ static void shell_corner(deck_ctx *c, int pass, const deck_part *p, size_t tag, 
  * takes their own normal there. */
 static int shell_normals(deck_ctx *c) {
   double x[3 * DTM_MAX_NODES], n[3];
+  int shells = 0;
+  for (int k = 0; k < c->nparts; k++) shells |= c->parts[k].kind == DTM_SECTION_SHELL;
+  if (!shells) return DTM_OK;
   if (!(c->node_data = calloc(NODE_DATA * (c->m->nnodes + 1), sizeof *c->node_data)))
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int pass = 0; pass < 2; pass++)
