@@ -1,17 +1,19 @@
 """The CalculiX deck's step for shells in a CalculiX that runs at the
 increment it is given (bench/ccx_fixed_inc.sh builds it from CalculiX
 2.20's sources; the test runs only when DTM_CCX_FIXED names that binary,
-and is skipped otherwise, exit 77 for ctest). On two small flat plates, h =
-20 mm, t = 4 mm, of S4 quadrangles (90) and of S3 triangles (156), the same
-meshes as bench/ccx_shell_caps.py's, from a seeded random force at every
-node (tests/common/deckutil.py), 400 increments:
+and is skipped otherwise, exit 77 for ctest). On three small flat plates,
+h = 20 mm, t = 4 mm, of S4 quadrangles (90), of S3 triangles (156) and of
+both (45 S4 beside 78 S3), the same meshes as bench/ccx_shell_caps.py's,
+from a seeded random force at every node (tests/common/deckutil.py), 400
+increments:
 - at the deck's step the run is bounded: its largest displacement is below
   1e3 x that of a run at half the step, scaled by the square of the step
   (a free plate under a constant force drifts as t^2);
 - at 1.05 x the upper end of the limit bench/ccx_shell_caps.py measured for
-  that mesh (S4: 0.3406 x the element bound of the layer's solids, S3:
-  0.8406) it diverges: the test can tell the two apart. Under the old cap
-  (0.8 x the bound for S4) the S4 deck's step was 2.1x its limit."""
+  that mesh (S4 and mixed: 0.3406 x the smallest element bound of the
+  layer's solids, S3: 0.8406) it diverges: the test can tell the two
+  apart. Under the old cap (0.8 x the bound, safety 0.9) the S4 deck's
+  step was 2.1x its limit."""
 
 import os
 import re
@@ -35,8 +37,8 @@ Physical Surface("part") = {1, 2};
 STEPS = 400
 
 
-def plate(name, quads):
-    tu.write(name + ".geo", PLATE + ("Mesh.RecombineAll = 1;\n" if quads else ""))
+def plate(name, mesh):
+    tu.write(name + ".geo", PLATE + mesh)
     scene = tu.write(name + ".xml", '<dtmap-scene version="1">\n  <geometry file="%s.geo"/>\n'
                      '  <meshing size="0.02" dim="2"/>\n'
                      '  <material name="steel" groups="part" E="200e9" nu="0.3" rho="7850"/>\n'
@@ -60,8 +62,8 @@ def displacement(path, dt):
 
 
 class Fixed(unittest.TestCase):
-    def check(self, name, quads, limit):
-        path, step, bound = plate(name, quads)
+    def check(self, name, mesh, limit):
+        path, step, bound = plate(name, mesh)
         ref = displacement(path, step / 2)
         self.assertTrue(0 < ref < float("inf"))
         at_step = displacement(path, step)
@@ -72,10 +74,13 @@ class Fixed(unittest.TestCase):
                          "%s: bounded at %g (%.3f x the deck's step)" % (name, above, above / step))
 
     def test_quads(self):
-        self.check("quads", True, 0.3406)
+        self.check("quads", "Mesh.RecombineAll = 1;\n", 0.3406)
 
     def test_triangles(self):
-        self.check("tris", False, 0.8406)
+        self.check("tris", "", 0.8406)
+
+    def test_mixed(self):  # 45 S4 beside 78 S3: the S4 cap governs
+        self.check("mixed", "Recombine Surface{1};\n", 0.3406)
 
 
 if __name__ == "__main__":
