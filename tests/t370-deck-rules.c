@@ -86,6 +86,50 @@ static void calculix_rules(void **unused) {
   (void)unused;
 }
 
+/* A regular polygon of nc corners about the origin in z = 0 (circumradius
+ * r) whose corner normals lean out by theta: n = cos(theta) z + sin(theta)
+ * x / r. Its layer's top face is the polygon scaled by 1 + s, s = t
+ * sin(theta) / (2 r); each side face is a planar isosceles trapezoid of
+ * parallel sides L (1 -+ s) and height sqrt((2 rho s)^2 + (t cos(theta))^2)
+ * (rho the inradius); the volume weight is A t cos(theta) / 2 (wedge: det
+ * J at the centroid / 2) or A t cos(theta) (brick: 8 det J at the centre),
+ * since the normals' mean is cos(theta) z. */
+static double leaning(int nc, double t, double theta, double *x, double *n) {
+  const double PI = 3.14159265358979323846;
+  double r = 0.03, L = 2 * r * sin(PI / nc), rho = r * cos(PI / nc), A = nc * r * rho * sin(PI / nc);
+  for (int a = 0; a < nc; a++) {
+    double c = cos(2 * PI * a / nc), d = sin(2 * PI * a / nc);
+    x[3 * a] = r * c, x[3 * a + 1] = r * d, x[3 * a + 2] = 0;
+    n[3 * a] = sin(theta) * c, n[3 * a + 1] = sin(theta) * d, n[3 * a + 2] = cos(theta);
+  }
+  double s = t * sin(theta) / (2 * r), hs = sqrt(4 * rho * rho * s * s + t * t * cos(theta) * cos(theta));
+  double w = A * t * cos(theta) / (nc == 3 ? 2 : 1);
+  return w / fmax(A * (1 + s) * (1 + s), L * hs);
+}
+
+/* The layers of shells and membranes along their corner normals
+ * (deck_ccx_layer_length): with every normal the face's, the flat
+ * extrusion of deck_ccx_length; with normals leaning out, the closed form
+ * of leaning() on a thin layer (the top face the largest) and a thick one
+ * (a side face). */
+static void calculix_layers(void **unused) {
+  const double tri[9] = {0, 0, 0, H, 0, 0, H / 2, H * sqrt(3.0) / 2, 0};
+  const double rect[12] = {0, 0, 0, 0.5, 0, 0, 0.5, 0.2, 0, 0, 0.2, 0};
+  const double up[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  near(deck_ccx_layer_length(DTM_TRI3, tri, up, 1.0), sqrt(3.0) / 8 * H, "flat thick wedge");
+  near(deck_ccx_layer_length(DTM_TRI3, tri, up, 0.01), 0.005, "flat thin wedge");
+  near(deck_ccx_layer_length(DTM_QUAD4, rect, up, 1.0), 0.2, "flat thick brick");
+  near(deck_ccx_layer_length(DTM_QUAD4, rect, up, 0.05), 0.05, "flat thin brick");
+  double x[12], n[12], want;
+  for (int nc = 3; nc <= 4; nc++)
+    for (double t = 0.002; t < 0.5; t *= 50) {
+      want = leaning(nc, t, 0.2, x, n);
+      near(deck_ccx_layer_length(nc == 3 ? DTM_TRI3 : DTM_QUAD4, x, n, t), want,
+           nc == 3 ? "leaning wedge" : "leaning brick");
+    }
+  (void)unused;
+}
+
 static void speeds(void **unused) {
   const double E = 60e9, rho = 2700;
   near(deck_speed_3d(E, 0.25, rho), sqrt(1.2 * E / rho), "c_d");
@@ -112,6 +156,7 @@ static void numbers(void **unused) {
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
   const struct CMUnitTest tests[] = {cmocka_unit_test(lsdyna_rules), cmocka_unit_test(calculix_rules),
-                                     cmocka_unit_test(speeds), cmocka_unit_test(numbers)};
+                                     cmocka_unit_test(calculix_layers), cmocka_unit_test(speeds),
+                                     cmocka_unit_test(numbers)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,9 +15,15 @@
  *   frequencies the layer cannot follow it: the elements stiffen towards
  *   plane strain, so the deck's step is dtmap's plane-stress step times
  *   sqrt(M_ps / M_pe) = sqrt(1 - 2 nu) / (1 - nu) (M the P-wave moduli);
- * - a membrane, shell or beam layer has thickness modes of its own, about
- *   t / c_d across the thickness t: the deck's step is capped at a
- *   measured share of the element bound of those solids (cap() below).
+ * - a membrane, shell, beam or plane stress layer has thickness modes of
+ *   its own, about t / c_d across the thickness t: the deck's step is
+ *   capped at a share of the element bound of those solids measured per
+ *   CalculiX element (caps[] below); a plane stress element thicker than
+ *   its longest side is left to the factor above (measured on the plate
+ *   with a hole, 1 m thick), the caps' runs reaching t / h = 0.6;
+ * - the header's estimate builds shells and membranes along the normals
+ *   CalculiX gives their corners (shell_normals below);
+ * - beams on shell nodes get nodes of their own (beam_twins below).
  * The step is the increment of *DYNAMIC, EXPLICIT (ALPHA=0: central
  * differences, as dtmap's step assumes) and its maximum. What CalculiX 2.20
  * does with it (nonlingeo.c): it takes the smaller of its own estimate and
@@ -68,19 +74,49 @@ static void layer(const deck_ctx *c, const deck_part *p, double *t, double *a, d
   if (p->kind == DTM_SECTION_BEAM) beam_sides(&c->s->sections[p->section], a, b);
 }
 
-/* Parts CalculiX extrudes into a layer with a thickness mode of its own. */
+/* Parts CalculiX extrudes into a layer with a thickness mode of its own
+ * (plane stress too: its layer's thickness strain is free). */
 static int layered(const deck_part *p) {
-  return p->kind == DTM_SECTION_MEMBRANE || p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_BEAM;
+  return p->kind == DTM_SECTION_MEMBRANE || p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_BEAM ||
+         p->kind == DTM_SECTION_PLANE_STRESS;
 }
 
-/* The share of the element bound of a layer's solids (below) at which
- * CalculiX's explicit run was measured to stay stable (bench/deck_ccx.py,
- * docs/deck.md): the M3D3 membrane of geometries/reinforced_block.xml
- * blows up above 0.916 - 0.919 of it, the S3 shell of stiffened_panel.xml
- * above 0.823 - 0.829; beams (not the governing layer there) take the
- * shells'. The ties of the layer to its midsurface are not the subspace
- * that would keep the element bound a bound. */
-static double measured(int kind) { return kind == DTM_SECTION_MEMBRANE ? 0.9 : 0.8; }
+/* The share of the element bound of a layer's solids (below) the deck's
+ * step takes before the safety factor, per CalculiX element, and the
+ * fixed-increment runs it rests on (bench/ccx_shell_caps.py, docs/deck.md:
+ * meshes of that element alone, flat and curved, triangles, quadrangles
+ * and both, h = 20 mm, t = 0.2 (shells, membranes), 1, 4 and 12 mm; beams
+ * straight and curved, two sections; 400 increments): CalculiX's limit as
+ * a share of that bound, its lowest bracket and the range. The ties of the layer to its midsurface are not a
+ * subspace of the solids' motion, so the element bound is no bound there;
+ * S4 and B31 become incompatible-mode bricks (C3D8I, whose internal modes
+ * CalculiX gives a mass of their own), far below it. */
+static const struct {
+  const char *elem;
+  double share;     /* 0.95 x the lowest limit measured, rounded down */
+  const char *seen; /* the limits measured, as a share of the element bound */
+} caps[] = {
+    {"S3", 0.76, "0.809 - 0.817 (t = 0.2 mm) to 1.19 (12 mm)"},
+    {"S4", 0.30, "0.317 - 0.325 (t = 0.2 and 1 mm) to 0.51 (12 mm)"},
+    {"M3D3", 0.76, "0.809 - 0.817 (t = 0.2 mm) to 1.19 (12 mm)"},
+    {"M3D4", 0.76, "0.809 - 0.817 (t = 0.2 mm) to 1.27 (12 mm)"},
+    {"B31", 0.31, "0.333 - 0.341 (10 x 30 mm) to 0.356 (20 x 20 mm)"},
+    {"CPS3", 0.94, "0.997 - 1.005 (t = 1 mm) to 1.39 (12 mm)"},
+    {"CPS4", 0.94, "0.997 - 1.005 (t = 1 mm) to 1.41 (12 mm)"},
+};
+
+/* The row of caps[] of part p's element (-1: not capped). */
+static int cap_row(const deck_part *p) {
+  for (int i = 0; layered(p) && i < (int)(sizeof caps / sizeof *caps); i++)
+    if (!strcmp(caps[i].elem, p->elem)) return i;
+  return -1;
+}
+
+/* The share the deck takes for part p (INFINITY: not capped). */
+static double measured(const deck_part *p) {
+  int i = cap_row(p);
+  return i < 0 ? INFINITY : caps[i].share;
+}
 
 static int element(deck_ctx *c, deck_part *p) {
   DTM_CHECK(deck_element_from(c, p, rows, sizeof rows / sizeof *rows));
@@ -93,11 +129,14 @@ static int element(deck_ctx *c, deck_part *p) {
               "%s: CalculiX's B31 takes no circular section; the deck gives them the square of the same area "
               "(bending stiffness x pi/3 = 1.047)",
               deck_part_label(c, p, lbl, sizeof lbl));
-  if (layered(p))
+  int i = cap_row(p);
+  if (i >= 0)
     deck_warn(c,
               "%s: CalculiX expands %s into a layer of solids %.4g m across, whose thickness modes cap the "
-              "step: at %.2f x their element bound, where CalculiX was measured stable (docs/deck.md)",
-              deck_part_label(c, p, lbl, sizeof lbl), p->elem, line ? fmin(a, b) : t, measured(p->kind));
+              "step at %.2f x their element bound; the limit of a fixed-increment CalculiX on meshes of %s alone "
+              "was measured at %s of that bound (bench/ccx_shell_caps.py, docs/deck.md)",
+              deck_part_label(c, p, lbl, sizeof lbl), p->elem, line ? fmin(a, b) : t, caps[i].share, p->elem,
+              caps[i].seen);
   return DTM_OK;
 }
 
@@ -108,17 +147,103 @@ static double speed(const deck_ctx *c, const deck_part *p) {
   return deck_speed_3d(E, nu, rho);
 }
 
-/* CalculiX's rule (rules.c); it passes over springs. */
+/* The unit normal of the 2D element x (nc corners) at corner a: the cross
+ * product of its two sides there (norshell3.f, norshell4.f), into n[3]. */
+static void corner_normal(const double *x, int nc, int a, double *n) {
+  const double *p = x + 3 * a, *q = x + 3 * ((a + 1) % nc), *r = x + 3 * ((a + nc - 1) % nc);
+  double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, v[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+  n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+  double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int k = 0; k < 3; k++) n[k] /= l;
+}
+
+#define SHELL_COS 0.939693 /* gen3dnor.f: shell normals within 20 degrees share a node's expansion */
+#define NODE_DATA 8        /* per node: reference normal, sum of normals, reference tag, thickness */
+
+/* Visit the corners of every shell element (part k, element e of block b,
+ * its coordinates x, its corner a at node v, normal n) in one of two
+ * passes: 0 keeps at each node the normal of its shell element of the
+ * lowest tag (gen3dnor.f's reference), 1 adds the normals within 20
+ * degrees of it and of the same thickness. */
+static void shell_corner(deck_ctx *c, int pass, const deck_part *p, size_t tag, size_t v, const double *n) {
+  double *d = c->node_data + NODE_DATA * v;
+  if (pass == 0 && (d[6] == 0 || (double)tag < d[6])) {
+    memcpy(d, n, 3 * sizeof *n);
+    d[6] = (double)tag, d[7] = p->thickness;
+  }
+  if (pass == 1 && n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > SHELL_COS && fabs(p->thickness - d[7]) < 1e-10)
+    for (int k = 0; k < 3; k++) d[3 + k] += n[k];
+}
+
+/* The normals along which CalculiX 2.20 expands each shell node
+ * (gen3dnor.f): the sum of the unit normals of the shell elements there
+ * within 20 degrees of the reference (the element of the lowest number),
+ * made unit. Membranes keep each element's own normal. Shells whose
+ * normals differ more get expansions of their own in CalculiX; the deck
+ * takes their own normal there. */
+static int shell_normals(deck_ctx *c) {
+  double x[3 * DTM_MAX_NODES], n[3];
+  int shells = 0;
+  for (int k = 0; k < c->nparts; k++) shells |= c->parts[k].kind == DTM_SECTION_SHELL;
+  if (!shells) return DTM_OK;
+  if (!(c->node_data = calloc(NODE_DATA * (c->m->nnodes + 1), sizeof *c->node_data)))
+    return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int pass = 0; pass < 2; pass++)
+    for (int k = 0; k < c->nparts; k++) {
+      const deck_part *p = &c->parts[k];
+      size_t off;
+      const dtm_block *b = deck_part_block(c, p, &off);
+      if (p->kind != DTM_SECTION_SHELL) continue;
+      for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
+        size_t e = c->order[j] - off;
+        dtm_mesh_gather_one(c->m, b, e, x);
+        for (int a = 0; a < b->nn; a++) {
+          corner_normal(x, b->nn, a, n);
+          shell_corner(c, pass, p, b->tags[e], b->conn[e * b->nn + a], n);
+        }
+      }
+    }
+  for (size_t v = 0; v < c->m->nnodes; v++) {
+    double *d = c->node_data + NODE_DATA * v, l = sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+    for (int k = 3; l > 0 && k < 6; k++) d[k] /= l;
+  }
+  return DTM_OK;
+}
+
+/* The corner normals n[nn][3] of the layer CalculiX builds from element e
+ * of block b (coordinates x) in part p. */
+static void layer_normals(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p, const double *x,
+                          double *n) {
+  for (int a = 0; a < b->nn; a++) {
+    const double *d = c->node_data ? c->node_data + NODE_DATA * b->conn[e * b->nn + a] : NULL;
+    corner_normal(x, b->nn, a, n + 3 * a);
+    if (p->kind == DTM_SECTION_SHELL && d && d[6] > 0 &&
+        n[3 * a] * d[0] + n[3 * a + 1] * d[1] + n[3 * a + 2] * d[2] > SHELL_COS && fabs(p->thickness - d[7]) < 1e-10)
+      memcpy(n + 3 * a, d + 3, 3 * sizeof *n);
+  }
+}
+
+/* CalculiX's rule (rules.c); it passes over springs. Shells and membranes
+ * on the layer CalculiX builds along its corner normals. */
 static double own(const deck_ctx *c, const dtm_block *b, size_t e, size_t i, const deck_part *p) {
-  double x[3 * DTM_MAX_NODES], t, sa, sb;
+  double x[3 * DTM_MAX_NODES], n[3 * DTM_MAX_NODES], t, sa, sb, h;
   if (p->kind == DTM_SECTION_TRUSS) return INFINITY;
   dtm_mesh_gather_one(c->m, b, e, x);
   layer(c, p, &t, &sa, &sb);
   (void)i;
-  return 0.8 * 0.98 * deck_ccx_length(b->type, x, t, sa, sb) * deck_ccx_elemfac(p->elem) / speed(c, p);
+  if (p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_MEMBRANE) {
+    layer_normals(c, b, e, p, x, n);
+    h = deck_ccx_layer_length(b->type, x, n, t);
+  } else {
+    h = deck_ccx_length(b->type, x, t, sa, sb);
+  }
+  return 0.8 * 0.98 * h * deck_ccx_elemfac(p->elem) / speed(c, p);
 }
 
+/* Called for every part once the plan is made, before the step and the
+ * own estimate: the shell normals are computed on the first call. */
 static double factor(deck_ctx *c, const deck_part *p) {
+  if (!c->node_data && shell_normals(c)) return dtm_error_clear(), 1.0; /* own() then takes each element's normal */
   if (p->kind != DTM_SECTION_PLANE_STRESS) return 1.0;
   double E, nu, rho, f;
   deck_elastic(c, p->mat, &E, &nu, &rho);
@@ -169,21 +294,60 @@ static int brick(const double *x, const double *o, double a, double b, double *y
   return DTM_HEX8;
 }
 
-/* The step the solid CalculiX builds from element e of a layered part
- * allows: the measured share of its element bound by dtmap's prism6 and
- * hex8 kernels (full integration, row sums), s. */
-static double cap(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
+/* The longest side of the polygon x of nc corners, m. */
+static double longest(const double *x, int nc) {
+  double mx = 0;
+  for (int a = 0; a < nc; a++) {
+    const double *p = x + 3 * a, *q = x + 3 * ((a + 1) % nc);
+    mx = fmax(mx, sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2])));
+  }
+  return mx;
+}
+
+/* The element bound of the solid CalculiX builds from element e of a
+ * layered part, by dtmap's prism6 and hex8 kernels (full integration, row
+ * sums), s (INFINITY for the other parts). */
+static double bound(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
   double x[3 * DTM_MAX_NODES], y[24], t, sa, sb, E, nu, rho, lambda, v[3];
   dtm_elastic_moduli mod;
-  if (!layered(p)) return INFINITY;
+  if (cap_row(p) < 0) return INFINITY;
   dtm_mesh_gather_one(c->m, b, e, x);
   layer(c, p, &t, &sa, &sb);
+  if (p->kind == DTM_SECTION_PLANE_STRESS && t > longest(x, b->type == DTM_TRI3 ? 3 : 4)) return INFINITY;
   deck_elastic(c, p->mat, &E, &nu, &rho);
   if (p->kind == DTM_SECTION_BEAM) deck_beam_axis(&c->s->sections[p->section], x, v);
   int type = p->kind == DTM_SECTION_BEAM ? brick(x, v, sa, sb, y) : extrude(x, b->type == DTM_TRI3 ? 3 : 4, t, y);
   if (dtm_elastic_moduli_init(DTM_FORM_3D, E, nu, rho, &mod) || dtm_kernel_elastic_lambda(type, &mod, y, &lambda))
     return dtm_error_clear(), INFINITY;
-  return measured(p->kind) * 2 / sqrt(lambda);
+  return 2 / sqrt(lambda);
+}
+
+/* The step that solid allows: the measured share of its element bound. */
+static double cap(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
+  return measured(p) * bound(c, b, e, p);
+}
+
+/* The smallest element bound of part k's solids, s. */
+static double part_bound(const deck_ctx *c, int k) {
+  size_t off;
+  const deck_part *p = &c->parts[k];
+  const dtm_block *b = deck_part_block(c, p, &off);
+  double mn = INFINITY;
+  for (size_t j = c->first[k]; j < c->first[k + 1]; j++) mn = fmin(mn, bound(c, b, c->order[j] - off, p));
+  return mn;
+}
+
+/* One line per layered part: the smallest element bound of its solids and
+ * the cap it gives (bench/ccx_shell_caps.py reads the bound). */
+static void layer_lines(deck_ctx *c) {
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    if (cap_row(p) < 0) continue;
+    double bd = part_bound(c, k);
+    if (!isfinite(bd)) continue; /* plane stress thicker than its elements: the factor alone */
+    fprintf(c->f, "** layer %s (%s): element bound of its solids %.10g s; cap %.2f x it = %.10g s\n", p->set, p->elem,
+            bd, measured(p), measured(p) * bd);
+  }
 }
 
 /* integration="calculix" on the elastic effect: CalculiX's C3D10. */
@@ -290,16 +454,80 @@ static void damping(deck_ctx *c) {
                  "CalculiX explicit equivalent: it takes one mass-proportional *DAMPING for the model; not written");
 }
 
+/* Beams on the nodes of shells or membranes get nodes of their own.
+ * CalculiX 2.20 joins the two expansions at a shared node by a KNOT (a
+ * rigid body with a rotation node, gen3dnor.f), and in explicit dynamics
+ * that model diverged: panel_quad_shell_beam (a curved quad/tri shell with
+ * a ring beam on its edge) goes to NaN in Debian's ccx at its own estimate
+ * and at 1e-8 s (1/13 of it, 400 increments), whatever the beam's
+ * orientation, the divergence starting at the model's highest-numbered
+ * nodes (it follows them when the nodes are renumbered), not at the beam;
+ * the same deck with the beams on nodes of their own tied by *EQUATION
+ * runs (docs/deck.md). twin[v]: the new tag of node v (above every tag),
+ * 0 for nodes no beam shares with a 2D part. */
+static int beam_twins(deck_ctx *c, size_t *count) {
+  char *flat = calloc(c->m->nnodes + 1, 1);
+  size_t top = 0;
+  *count = 0;
+  if (!flat || !(c->twin = calloc(c->m->nnodes + 1, sizeof *c->twin)))
+    return free(flat), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < c->m->nnodes; v++) top = c->m->node_tags[v] > top ? c->m->node_tags[v] : top;
+  for (int pass = 0; pass < 2; pass++)
+    for (int k = 0; k < c->nparts; k++) {
+      const deck_part *p = &c->parts[k];
+      size_t off;
+      const dtm_block *b = deck_part_block(c, p, &off);
+      int two = p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_MEMBRANE;
+      if (pass == 0 ? !two : p->kind != DTM_SECTION_BEAM) continue;
+      for (size_t j = c->first[k]; j < c->first[k + 1]; j++)
+        for (int a = 0; a < b->nn; a++) {
+          size_t v = b->conn[(c->order[j] - off) * b->nn + a];
+          if (pass == 0) flat[v] = 1;
+          if (pass == 1 && flat[v] && !c->twin[v]) c->twin[v] = top + ++*count;
+        }
+    }
+  free(flat);
+  if (!*count) free(c->twin), c->twin = NULL;
+  return DTM_OK;
+}
+
+/* The beams' own nodes (continuing the *NODE block). */
+static void twin_nodes(deck_ctx *c) {
+  for (size_t v = 0; c->twin && v < c->m->nnodes; v++)
+    if (c->twin[v]) {
+      fprintf(c->f, "%zu, ", c->twin[v]);
+      deck_inp_reals(c, 3, c->m->xyz + 3 * v);
+    }
+}
+
+/* Each beam node tied to its shell node: the three translations equal. */
+static void twin_equations(deck_ctx *c) {
+  for (size_t v = 0; c->twin && v < c->m->nnodes; v++)
+    for (int d = 1; c->twin[v] && d <= 3; d++)
+      fprintf(c->f, "*EQUATION\n2\n%zu, %d, 1., %zu, %d, -1.\n", c->twin[v], d, c->m->node_tags[v], d);
+}
+
 static int write(deck_ctx *c) {
   FILE *f = c->f;
+  size_t twins;
+  DTM_CHECK(beam_twins(c, &twins));
+  if (twins)
+    deck_warn(c,
+              "%zu beam nodes are shell or membrane nodes: the beams get nodes of their own (numbered above the "
+              "mesh's), each tied to its shell node by *EQUATION on the three translations, so their rotations are "
+              "free of the shell's (hinged); CalculiX 2.20's KNOT at a shared node diverged in explicit dynamics "
+              "(docs/deck.md). Loads go on the shell nodes (the node sets name them)",
+              twins);
   deck_header(c, "**");
   fprintf(f,
           "** CalculiX 2.20 takes the smaller of its own estimate and the maximum increment (this step); a\n"
           "** ccx built with bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC=%.10g. A minimum increment above\n"
           "** its estimate would switch on its selective mass scaling instead.\n",
           c->info->step);
+  layer_lines(c);
   fprintf(f, "*HEADING\ndtmap deck of %s\n", c->s->path);
   DTM_CHECK(deck_inp_nodes(c));
+  twin_nodes(c);
   DTM_CHECK(deck_inp_elements(c));
   DTM_CHECK(deck_inp_sets(c));
   DTM_CHECK(deck_inp_materials(c, 0));
@@ -310,6 +538,7 @@ static int write(deck_ctx *c) {
   free(tm);
   DTM_CHECK(r);
   damping(c);
+  twin_equations(c);
   deck_inp_slot(c, "model", "boundary and initial conditions, contact (model data)");
   fputs("*STEP, INC=1000000000\n*DYNAMIC, EXPLICIT, ALPHA=0\n", f);
   deck_inp_reals(c, 4, (double[]){c->info->step, c->info->duration, 1e-30, c->info->step});

@@ -62,6 +62,9 @@ typedef struct deck_ctx {
   const double *added;         /* [nnodes] mass added at each node, kg, or NULL */
   const double *carried;       /* [nnodes] point masses the mesh carries (a refined mesh), kg, or NULL */
   size_t max_tag;              /* largest element tag (mass elements are numbered above it) */
+  double *node_data;           /* a writer's data per node, or NULL (CalculiX: shell normals); freed with the plan */
+  size_t *twin;                /* [nnodes] the node tag beam elements use instead of node v's (0: its own), or
+                                  NULL (CalculiX: beams on shell nodes); freed with the plan */
   dtm_deck_info *info;         /* what is written */
   char proven[640];            /* the writer's lines on where the step was proven and what holds it ("": none) */
   int probe;                   /* 1 while deck_lacks asks the other writers: raise no error */
@@ -181,6 +184,10 @@ double deck_shell_length(const double *x, int nc);
  * integrates, 2D elements extruded by thickness t and 1D elements by a
  * section of sides a x b; see rules.c. type is the dtmap type. */
 double deck_ccx_length(int type, const double *x, double t, double a, double b);
+/* The same for a shell or membrane element x of nc = 3 or 4 corners
+ * (type tri3 or quad4) whose layer CalculiX builds along the corner
+ * normals n[nc][3] (unit): -t/2 and +t/2 from each corner. */
+double deck_ccx_layer_length(int type, const double *x, const double *n, double t);
 /* CalculiX's factor on that length for its solid of part p's element. */
 double deck_ccx_elemfac(const char *elem);
 

@@ -16,7 +16,10 @@
  *   thickness t (gen3delem.f), 1D ones into bricks of the section's sides;
  *   elemfac is 0.3 for second order, 0.5 for C3D8R, 0.125 for C3D8I
  *   (beams, trusses, S4 shells), else 1. Face areas are integrated at
- *   their centres, as CalculiX does. */
+ *   their centres, as CalculiX does. A shell's or membrane's layer is
+ *   built along the normals CalculiX gives its corners (gen3dnor.f; the
+ *   writer computes them), so on a curved shell its faces and volume are
+ *   not those of the flat extrusion. */
 #include <math.h>
 #include <string.h>
 
@@ -163,6 +166,39 @@ double deck_ccx_length(int type, const double *x, double t, double a, double b) 
   if (parent == DTM_TRI3) return fmin(t / 2, tri_area(x, x + 3, x + 6) / (2 * longest_side(x, 3)));
   if (parent == DTM_QUAD4) return fmin(t, quad_area(x, x + 3, x + 6, x + 9) / longest_side(x, 4));
   return NAN;
+}
+
+/* The layer CalculiX builds from the nc-corner 2D element x, each corner
+ * moved by -t/2 and +t/2 along its normal n[nc][3], into y[2 nc][3]. */
+static void expand(const double *x, const double *n, int nc, double t, double *y) {
+  for (int a = 0; a < nc; a++)
+    for (int k = 0; k < 3; k++)
+      y[3 * a + k] = x[3 * a + k] - t / 2 * n[3 * a + k], y[3 * (a + nc) + k] = x[3 * a + k] + t / 2 * n[3 * a + k];
+}
+
+/* The wedge y[6][3] (the first triangle at zeta = -1): its volume weight,
+ * det J at (1/3, 1/3, 0) / 2 (shape6w, weight 1), over its largest face,
+ * the triangles' areas and the quadrangles' at their centres. */
+static double wedge_length(const double *y) {
+  double xs[3], xe[3], xz[3] = {0, 0, 0}, c[3], amax;
+  for (int k = 0; k < 3; k++) {
+    xs[k] = (y[3 + k] + y[12 + k] - y[k] - y[9 + k]) / 2, xe[k] = (y[6 + k] + y[15 + k] - y[k] - y[9 + k]) / 2;
+    for (int a = 0; a < 3; a++) xz[k] += (y[3 * (a + 3) + k] - y[3 * a + k]) / 6;
+  }
+  cross(xs, xe, c);
+  amax = fmax(tri_area(y, y + 3, y + 6), tri_area(y + 9, y + 12, y + 15));
+  for (int i = 0; i < 3; i++) {
+    int j = (i + 1) % 3;
+    amax = fmax(amax, quad_area(y + 3 * i, y + 3 * j, y + 3 * (j + 3), y + 3 * (i + 3)));
+  }
+  return fabs(c[0] * xz[0] + c[1] * xz[1] + c[2] * xz[2]) / 2 / amax;
+}
+
+double deck_ccx_layer_length(int type, const double *x, const double *n, double t) {
+  double y[24];
+  int nc = dtm_elem_parent(type) == DTM_TRI3 ? 3 : 4;
+  expand(x, n, nc, t, y);
+  return nc == 3 ? wedge_length(y) : hex_centre_volume(y) / hex_max_face(y);
 }
 
 double deck_ccx_elemfac(const char *elem) {

@@ -17,7 +17,8 @@ dtmap's writers, for tests/t372-deck-read.py:
 Both return a Deck: nodes {id: xyz}, elements {id: (type, nodes, set or
 part)}, element sets {name: set of ids}, node sets {name: set of ids},
 materials {name: (E, nu, rho)}, sections per set or part, masses {element
-id: (node, mass)}, the step controls and (LS-DYNA) the curves."""
+id: (node, mass)}, *EQUATION constraints, the step controls and (LS-DYNA)
+the curves."""
 
 
 class Deck:
@@ -25,6 +26,7 @@ class Deck:
         self.nodes, self.elements, self.elsets, self.nsets = {}, {}, {}, {}
         self.materials, self.sections, self.masses, self.controls = {}, {}, {}, {}
         self.curves = {}  # LS-DYNA: {lcid: [(abscissa, ordinate)]}
+        self.equations = []  # Abaqus-style *EQUATION: [(node, dof, coefficient), ...] each
 
 
 # ---- Abaqus-style ----
@@ -105,6 +107,10 @@ def read_inp(path):
             d.sections[par["ELSET"].upper()] = (key, par, values)
         elif key == "MASS":
             pending_mass[par["ELSET"].upper()] = float(data[0].split(",")[0])
+        elif key == "EQUATION":  # a term count line, then node, dof, coefficient triples
+            terms = [x.strip() for x in ",".join(data[1:]).split(",") if x.strip()]
+            d.equations.append([(int(terms[k]), int(terms[k + 1]), float(terms[k + 2]))
+                                for k in range(0, len(terms), 3)])
         elif key == "DYNAMIC":
             d.controls["dynamic"] = (par, [float(x) for x in data[0].split(",") if x.strip()])
     for name, m in pending_mass.items():
