@@ -77,6 +77,9 @@ extern const struct cli_command dtm_cli_commands[];
  * usage exit code 2 after printing what is wrong, or -1 when --help was
  * asked for and printed (the caller exits 0). */
 int dtm_cli_parse(const struct cli_command *c, int argc, char **argv, cli_opts *o);
+/* The command name (or "effects", "help") a misspelt name likely means (at
+ * most 2 edits, a third of its letters), or NULL. */
+const char *dtm_cli_near_command(const char *name);
 /* Print "dtmap CMD: <message>" and how to get help to stderr; returns 2. */
 int dtm_cli_usage_error(const struct cli_command *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* The documentation (help.c), all from the command tables: the help of
@@ -91,6 +94,8 @@ int dtm_cli_print_overview(void);
 int dtm_cli_print_effects(void);
 void dtm_cli_print_effects_to(void *stream);
 int dtm_cli_generate(const char *what);
+/* --top as dtm_results.top counts it (there 0 is the default, < 0 none). */
+static inline int dtm_cli_top(const cli_opts *o) { return o->top > 0 ? o->top : -1; }
 /* Print the pending error (and traceback when verbose); returns code. */
 int dtm_cli_fail(int code, int verbosity);
 /* --verified and --calibrate (src/cli/verified.c): read verify --accuracy's
