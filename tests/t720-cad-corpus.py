@@ -169,7 +169,7 @@ class Verdict(unittest.TestCase):
         self.assertEqual(res["uniform_factor"], 1.5)
         self.assertEqual(res["input_elements"], 8000)
         self.assertAlmostEqual(res["uniform_cost_ratio"], (1 / 1.5) ** 3 / 1.5, delta=0.02)
-        self.assertIn("| 1.5-default | 1 | 0 | 0 | 1 | 0 | 0 |", table)
+        self.assertIn("| 1.5-default | 1 | 0 (0) | 0 | 1 | 0 | 0 |", table)
 
     def test_true_stop(self):
         # the step is capped at 1.2x the input's: no uniform size reaches 1.5x
@@ -177,7 +177,7 @@ class Verdict(unittest.TestCase):
         self.assertEqual(res["outcome"], "stop")
         self.assertFalse(res["wrong"])
         self.assertEqual(len(res["uniform"]), 6)
-        self.assertIn("| 1.5-default | 1 | 0 | 1 | 0 | 0 | 0 |", table)
+        self.assertIn("| 1.5-default | 1 | 0 (0) | 1 | 0 | 0 | 0 |", table)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """Tables of the real-CAD survey (bench/cad/survey.py's results) for
-docs/cad-corpus.md: counts per configuration (parts, met, true stops, wrong
-stops, crashes; the kept mesh's cost over the input's for the met, that of
-the uniform mesh that shows a stop wrong), then a row per part.
+docs/cad-corpus.md: counts per configuration (parts, met and of them met by
+the input, true stops, wrong stops, crashes; the kept mesh's cost over the
+input's for those met by a remesh, that of the uniform mesh that shows a
+stop wrong), then a row per part.
 
 A configuration's counts are over the parts it has a result for; a part
 whose input Gmsh or dtmap cannot mesh is counted apart ("no input").
@@ -72,18 +73,19 @@ def main():
     inputs = {p: load(os.path.join(out, p, "input.json")) for p in parts}
     no_input = [p for p in parts if inputs[p] and inputs[p]["rc"] != 0]
     run = [c for c in CONFIGS if any(res[(p, c)] for p in parts)]
-    print("| configuration | parts | met | true stops | wrong stops | crashes | exit 2 | met: kept cost / input |"
-          " wrong stops: uniform cost / input |")
+    print("| configuration | parts | met (by the input) | true stops | wrong stops | crashes | exit 2 |"
+          " met by a remesh: kept cost / input | wrong stops: uniform cost / input |")
     print("|---|---|---|---|---|---|---|---|---|")
     for c in run:
         rs = [res[(p, c)] for p in parts if res[(p, c)]]
         met = [r for r in rs if r["outcome"] == "met"]
         stops = [r for r in rs if r["outcome"] == "stop"]
         wrong = [r for r in stops if r.get("wrong")]
-        print("| %s | %d | %d | %d | %d | %d | %d | %s | %s |" % (
-            c, len(rs), len(met), len(stops) - len(wrong), len(wrong),
+        by_input = [r for r in met if r.get("met_by") == "input"]
+        print("| %s | %d | %d (%d) | %d | %d | %d | %d | %s | %s |" % (
+            c, len(rs), len(met), len(by_input), len(stops) - len(wrong), len(wrong),
             sum(1 for r in rs if r["outcome"] == "crash"), sum(1 for r in rs if r["outcome"] == "refused"),
-            spread([r["cost_ratio"] for r in met if "cost_ratio" in r]),
+            spread([r["cost_ratio"] for r in met if "cost_ratio" in r and r.get("met_by") != "input"]),
             spread([r["uniform_cost_ratio"] for r in wrong])))
     print()
     if no_input:
