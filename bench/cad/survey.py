@@ -164,12 +164,15 @@ class Part:
         j = load(rep) if rc in (0, 1) else None
         if j and "refine" in j:
             r = j["refine"]
-            rounds = r["rounds"]
             res.update(met=r.get("met"), met_by=r.get("met_by"), stopped=r.get("stopped"),
-                       causes=[c["kind"] for c in r.get("causes", [])],
-                       cause_text=(r.get("causes") or [{}])[0].get("message", "")[:300],
-                       remeshes=sum(1 for x in rounds if x.get("kind") == "mesh"),
-                       cost_ratio=rounds[r["best"]]["element_steps"] / rounds[0]["element_steps"])
+                       causes=[c.get("kind", "?") for c in r.get("causes") or []],
+                       cause_text=(r.get("causes") or [{}])[0].get("message", "")[:300])
+            try:  # a report of another dtmap may lack these: the outcome stands on the exit code
+                rounds = r["rounds"]
+                res.update(remeshes=sum(1 for x in rounds if x.get("kind") == "mesh"),
+                           cost_ratio=rounds[r["best"]]["element_steps"] / rounds[0]["element_steps"])
+            except (KeyError, IndexError, TypeError, ZeroDivisionError) as e:
+                res["report_error"] = "refine.rounds unreadable: %r" % e
         if rc not in (0, 1) or not j:
             res["error"] = tail
         if rc == 0:

@@ -53,6 +53,8 @@ def cell(r):
     if o == "met":
         if r.get("met_by") == "input":
             return "met by the input"
+        if "cost_ratio" not in r:
+            return "met (no cost in the report)"
         return "met x%.2f (%d remesh)" % (r["cost_ratio"], r.get("remeshes", 0))
     if o == "stop":
         if r.get("wrong"):
