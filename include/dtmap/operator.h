@@ -112,7 +112,7 @@ DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit,
  * costs at most budget flops, each converged bound is certified, and one
  * it refutes sends Lanczos on at a tolerance 100x stricter (up to three
  * times; then converged = 0). Where it is too dear or unavailable and the
- * top of T_k is clustered (theta2 within 1 % of theta) or suspect is set
+ * top of T_k is clustered (theta2 within 10 tol of theta) or suspect is set
  * (point masses), Lanczos goes on to tol * 1e-4 instead: a heuristic, not
  * a proof. On success residual includes the factorisation's rounding
  * margin. */

@@ -35,9 +35,9 @@
 #include "spectral.h"
 #include "dtmap/operator.h"
 
-#define SMALL_PART 48          /* nested dissection stops below this many nodes */
-#define ASSEMBLY_TOL 1e-10     /* the assembled product against the operator's, relative */
-#define CERT_MAX_DOFS 200000.0 /* above this, the certificate is not attempted */
+#define SMALL_PART 48         /* nested dissection stops below this many nodes */
+#define ASSEMBLY_TOL 1e-10    /* the assembled product against the operator's, relative */
+#define CERT_MAX_DOFS 30000.0 /* above this, the certificate is not attempted (its flops grow as n^2) */
 
 /* The assembled A (upper triangle, columns in the new order) and the
  * symbolic factorisation, kept across the values of sigma. */
@@ -226,9 +226,9 @@ static int permuted_upper(struct dtm_certifier *c, size_t nn, size_t nc, const s
   size_t *inv = malloc((nn + 1) * sizeof *inv), nnz = 0;
   if (!inv) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the certificate");
   for (size_t k = 0; k < nn; k++) inv[order[k]] = k;
-  c->ap = malloc((c->n + 1) * sizeof *c->ap);
-  c->ai = malloc((xa[nn] * nc * nc + c->n + 1) * sizeof *c->ai);
-  c->ax = malloc((xa[nn] * nc * nc + c->n + 1) * sizeof *c->ax);
+  if (!c->ap) c->ap = malloc((c->n + 1) * sizeof *c->ap);
+  if (!c->ai) c->ai = malloc((xa[nn] * nc * nc + c->n + 1) * sizeof *c->ai);
+  if (!c->ax) c->ax = malloc((xa[nn] * nc * nc + c->n + 1) * sizeof *c->ax);
   if (!c->ap || !c->ai || !c->ax) return free(inv), DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the certificate");
   for (size_t k = 0; k < nn; k++) {
     size_t v = order[k];
@@ -240,7 +240,7 @@ static int permuted_upper(struct dtm_certifier *c, size_t nn, size_t nc, const s
           size_t row = inv[ad[p]] * nc + i;
           if (row > col) continue;
           diag |= row == col;
-          c->ai[nnz] = row, c->ax[nnz++] = blk[(p * nc + i) * nc + j];
+          c->ai[nnz] = row, c->ax[nnz++] = blk ? blk[(p * nc + i) * nc + j] : 0;
         }
       if (!diag) c->ai[nnz] = col, c->ax[nnz++] = 0; /* a node of no element */
     }
@@ -372,36 +372,52 @@ static int certifier_alloc(dtm_certifier *c) {
                                                                       : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
 }
 
-/* Assembly, order and symbolic factorisation; *status as for
- * dtm_certifier_create. */
-static int build(const dtm_operator *op, double budget, dtm_certifier *c, int *status) {
-  size_t nn = 0, *xa = NULL, *ad = NULL, nc = (size_t)dtm_operator_ncomp(op);
-  if (dtm_operator_node_graph(op, &nn, &xa, &ad) != DTM_OK) return *status = DTM_CERT_UNAVAILABLE, DTM_OK;
-  double *blk = malloc((xa[nn] * nc * nc + 1) * sizeof *blk);
-  size_t *order = malloc((nn + 1) * sizeof *order);
-  int r = blk && order ? probe(op, nn, xa, ad, blk) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (r == DTM_OK) r = node_order(nn, xa, ad, order);
-  if (r == DTM_OK) r = permuted_upper(c, nn, nc, xa, ad, blk, order);
-  free(xa), free(ad), free(blk);
-  if (r == DTM_OK) r = certifier_alloc(c);
-  if (r == DTM_OK) *status = assembly_agrees(op, c, order, nc) ? DTM_CERT_PROVEN : DTM_CERT_UNAVAILABLE;
-  free(order);
-  if (r || *status != DTM_CERT_PROVEN) return r;
+/* The pattern of A in the new order and its symbolic factorisation;
+ * *status DTM_CERT_TOO_DEAR when over budget. */
+static int pattern(dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, const size_t *ad, const size_t *order,
+                   double budget, int *status) {
+  DTM_CHECK(permuted_upper(c, nn, nc, xa, ad, NULL, order));
+  DTM_CHECK(certifier_alloc(c));
   size_t *anc = malloc((c->n + 1) * sizeof *anc);
   if (!anc) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   etree(c, anc);
   free(anc);
   int s = symbolic(c, budget);
   if (s < 0) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (s == 0) return *status = DTM_CERT_TOO_DEAR, DTM_OK;
+  *status = s ? DTM_CERT_PROVEN : DTM_CERT_TOO_DEAR;
+  return DTM_OK;
+}
+
+/* The values of A by the coloured products, checked against one product. */
+static int values(const dtm_operator *op, dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, const size_t *ad,
+                  const size_t *order, int *status) {
+  double *blk = malloc((xa[nn] * nc * nc + 1) * sizeof *blk);
+  int r = blk ? probe(op, nn, xa, ad, blk) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = permuted_upper(c, nn, nc, xa, ad, blk, order);
+  free(blk);
+  if (r == DTM_OK) *status = assembly_agrees(op, c, order, nc) ? DTM_CERT_PROVEN : DTM_CERT_UNAVAILABLE;
+  if (r || *status != DTM_CERT_PROVEN) return r;
   c->li = malloc((c->lp[c->n] + 1) * sizeof *c->li), c->lx = malloc((c->lp[c->n] + 1) * sizeof *c->lx);
   return c->li && c->lx ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the factor");
+}
+
+/* Order and symbolic factorisation first (no product), then, within the
+ * budget, the assembly; *status as for dtm_certifier_create. */
+static int build(const dtm_operator *op, double budget, dtm_certifier *c, int *status) {
+  size_t nn = 0, *xa = NULL, *ad = NULL, nc = (size_t)dtm_operator_ncomp(op);
+  if (dtm_operator_node_graph(op, &nn, &xa, &ad) != DTM_OK) return *status = DTM_CERT_UNAVAILABLE, DTM_OK;
+  size_t *order = malloc((nn + 1) * sizeof *order);
+  int r = order ? node_order(nn, xa, ad, order) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = pattern(c, nn, nc, xa, ad, order, budget, status);
+  if (r == DTM_OK && *status == DTM_CERT_PROVEN) r = values(op, c, nn, nc, xa, ad, order, status);
+  free(xa), free(ad), free(order);
+  return r;
 }
 
 int dtm_certifier_create(const dtm_operator *op, double budget, dtm_certifier **out, int *status) {
   *out = NULL, *status = DTM_CERT_TOO_DEAR;
   size_t n = dtm_operator_ndof(op);
-  if ((double)n > CERT_MAX_DOFS || (double)n * (double)n > 4 * budget) return DTM_OK;
+  if ((double)n > CERT_MAX_DOFS) return DTM_OK;
   dtm_certifier *c = calloc(1, sizeof *c);
   if (!c) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   c->n = n;

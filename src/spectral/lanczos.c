@@ -13,7 +13,17 @@
  * running the recurrence a second time from the same start (k - 1 more
  * products, no stored basis, so the memory stays at four vectors whatever
  * k is), and one last product measures the true residual ||A y - theta y||,
- * which is what the result reports. */
+ * which is what the result reports.
+ * theta + residual bounds the eigenvalue nearest theta, not necessarily the
+ * largest: from a start that holds little of the top mode, with the top
+ * two eigenvalues closer than a few tol, Lanczos meets its tolerance on
+ * the second. dtm_lanczos_max_certified then checks the bound by the
+ * factorisation of certify.c and goes on from where it stopped (the
+ * recurrence's three vectors are kept) at a stricter tolerance while the
+ * bound is refuted; where the factorisation is too dear it goes on to tol
+ * * 1e-4 when the caller suspects a cluster (point masses) or T_k shows
+ * one (its second Ritz value within 10 tol of theta), which is a
+ * heuristic, not a proof. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -289,7 +299,7 @@ static int go_on(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, d
 
 #define CERT_TRIES 3      /* stricter passes after a refuted bound */
 #define CERT_TIGHTEN 1e-2 /* the tolerance of each */
-#define CLUSTER_GAP 1e-2  /* theta2 within this share of theta: a clustered top */
+#define CLUSTER_GAP 10    /* theta2 within this many tol of theta: a clustered top */
 #define STRICT 1e-4       /* the tolerance factor of the uncertified clustered case */
 
 /* The bound theta + residual checked by the certificate c; a refuted one
@@ -324,7 +334,7 @@ static int certified_run(lz_state *z, lz_tri *t, double tol, int maxit, int want
     return e;
   }
   r->certified = status;
-  int clustered = t->k > 1 && r->theta2 >= (1 - CLUSTER_GAP) * r->theta;
+  int clustered = t->k > 1 && r->theta2 >= (1 - CLUSTER_GAP * tol) * r->theta;
   if (suspect || clustered) DTM_CHECK(go_on(z, t, tol * STRICT, maxit, want_mode, r));
   return DTM_OK;
 }

@@ -41,7 +41,7 @@ int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_
 typedef struct dtm_certifier dtm_certifier;
 /* Assemble, order and count the factor; *status DTM_CERT_PROVEN (ready:
  * *out set), DTM_CERT_TOO_DEAR (more than budget flops, or more than
- * 200,000 dofs) or DTM_CERT_UNAVAILABLE (shells or beams, or an assembly
+ * 30,000 dofs) or DTM_CERT_UNAVAILABLE (shells or beams, or an assembly
  * that does not reproduce the product); *out NULL then. */
 int dtm_certifier_create(const struct dtm_operator *op, double budget, dtm_certifier **out, int *status);
 void dtm_certifier_destroy(dtm_certifier **c);
