@@ -21,7 +21,8 @@
  *
  * Rounding: when the factorisation succeeds in floating point, sigma I - A
  * + E is positive definite with |E| <= g |L| |L^T|, g = (c + 1) u / (1 -
- * (c + 1) u) for c the largest column count and u the unit round-off
+ * (c + 1) u) for c the most terms of an inner product (the largest count
+ * of a row or a column of L) and u the unit round-off
  * (Demmel's bound for Cholesky), so ||E||_2 <= g ||L||_F^2. That is the
  * margin returned: every eigenvalue of the assembled A is below sigma +
  * margin. */
@@ -47,7 +48,7 @@ struct dtm_certifier {
   double *ax;         /* [nnz] */
   size_t *parent;     /* [n] elimination tree (SIZE_MAX: root) */
   size_t *lp;         /* [n + 1] column pointers of L */
-  size_t cmax;        /* largest column count */
+  size_t terms;       /* largest count of a row or a column of L (the terms of an inner product) */
   double flops;       /* sum of the squared column counts */
   size_t *li, *stack; /* [nnz(L)], [n] */
   size_t *next, *mark;
@@ -311,15 +312,18 @@ static int symbolic(struct dtm_certifier *c, double budget) {
   double cap = sqrt(budget * (double)n) + (double)n;
   if (!cnt) return -1;
   for (size_t k = 0; k < n; k++) c->mark[k] = SIZE_MAX;
+  c->terms = 0;
   for (size_t k = 0; k < n && (double)tot <= cap; k++) {
+    size_t top = row_pattern(c, k, c->stack, c->mark);
     cnt[k]++;
-    for (size_t t = row_pattern(c, k, c->stack, c->mark); t < n; t++) cnt[c->stack[t]]++, tot++;
+    if (n - top + 1 > c->terms) c->terms = n - top + 1;
+    for (size_t t = top; t < n; t++) cnt[c->stack[t]]++, tot++;
   }
   if ((double)tot > cap) return free(cnt), 0;
-  c->lp[0] = 0, c->flops = 0, c->cmax = 0;
+  c->lp[0] = 0, c->flops = 0;
   for (size_t k = 0; k < n; k++) {
     c->lp[k + 1] = c->lp[k] + cnt[k], c->flops += (double)cnt[k] * (double)cnt[k];
-    if (cnt[k] > c->cmax) c->cmax = cnt[k];
+    if (cnt[k] > c->terms) c->terms = cnt[k];
   }
   free(cnt);
   return c->flops <= budget;
@@ -430,7 +434,7 @@ int dtm_certifier_create(const dtm_operator *op, double budget, dtm_certifier **
 double dtm_certifier_flops(const dtm_certifier *c) { return c ? c->flops : NAN; }
 
 int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin) {
-  double frob = 0, g = (double)(c->cmax + 1) * DBL_EPSILON / 2;
+  double frob = 0, g = (double)(c->terms + 1) * DBL_EPSILON / 2;
   if (!cholesky(c, sigma, &frob)) return *margin = NAN, 0;
   *margin = g / (1 - g) * frob;
   return 1;
