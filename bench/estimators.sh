@@ -4,6 +4,8 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 export BUILD_DIR=${BUILD_DIR:-$root/build}
 bash "$root/scripts/build.sh" >/dev/null
+# The section on what the global bound guarantees is written by hand: kept.
+keep=$(sed -n '/^## What the global bound guarantees/,$p' "$root/docs/estimators.md" 2>/dev/null || true)
 {
   echo "# What accuracy costs: the step estimators"
   echo
@@ -11,5 +13,7 @@ bash "$root/scripts/build.sh" >/dev/null
   echo "Times are wall seconds; 'step / global' above 1 would be unsafe."
   echo
   "$BUILD_DIR/bench/bench_estimators" "$@"
-} > "$root/docs/estimators.md"
+  if [ -n "$keep" ]; then printf '\n%s\n' "$keep"; fi
+} > "$root/docs/estimators.md.tmp"
+mv "$root/docs/estimators.md.tmp" "$root/docs/estimators.md"
 cat "$root/docs/estimators.md"

@@ -52,6 +52,8 @@ typedef struct {
   double dt_high;   /* step from theta: never safe to exceed, s */
   double omega_top; /* sqrt(theta + residual) (waves), for damping */
   double *mode;     /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
+  int certified;    /* DTM_CERT_* (dtmap/operator.h): DTM_CERT_PROVEN when theta + residual was shown to
+                       bound every eigenvalue by the factorisation of (theta + residual) I - A */
 } dtm_global_info;
 
 /* Accuracy bookkeeping: accuracy bounds (cohesive R/N, wavelength/N)

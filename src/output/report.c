@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "dtmap/operator.h"
 #include "dtmap/util.h"
 #include "output-impl.h"
 #include "report.h"
@@ -57,6 +58,9 @@ static cJSON *lanczos_json(const dtm_global_info *g) {
   cJSON_AddNumberToObject(o, "seconds", g->seconds);
   double br[2] = {g->dt_low, g->dt_high};
   cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
+  static const char *const cert[] = {"none", "proven", "too dear", "unavailable", "refuted"};
+  if (g->certified >= 0 && g->certified <= DTM_CERT_REFUTED)
+    cJSON_AddStringToObject(o, "certificate", cert[g->certified]);
   return o;
 }
 

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "output-impl.h"
+#include "dtmap/operator.h"
 #include "report.h"
 
 static const char *effect_name(const dtm_analysis *a, int k) { return dtm_analysis_effect(a, k)->name; }
@@ -114,9 +115,14 @@ static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   for (int k = 0; k < ne; k++) {
     const dtm_global_info *g = dtm_analysis_global(a, k);
     if (!g) continue;
-    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s\n", effect_name(a, k),
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s%s\n", effect_name(a, k),
             g->dt_low, g->dt_high, g->iterations, g->seconds,
-            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis");
+            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis",
+            !g->converged                          ? ""
+            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation)"
+            : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear)"
+            : g->certified == DTM_CERT_UNAVAILABLE ? ", bound not proven (shells or beams)"
+                                                   : "");
   }
 }
 

@@ -13,7 +13,17 @@
  * running the recurrence a second time from the same start (k - 1 more
  * products, no stored basis, so the memory stays at four vectors whatever
  * k is), and one last product measures the true residual ||A y - theta y||,
- * which is what the result reports. */
+ * which is what the result reports.
+ * theta + residual bounds the eigenvalue nearest theta, not necessarily the
+ * largest: from a start that holds little of the top mode, with the top
+ * two eigenvalues closer than a few tol, Lanczos meets its tolerance on
+ * the second. dtm_lanczos_max_certified then checks the bound by the
+ * factorisation of certify.c and goes on from where it stopped (the
+ * recurrence's three vectors are kept) at a stricter tolerance while the
+ * bound is refuted; where the factorisation is too dear it goes on to tol
+ * * 1e-4 when the caller suspects a cluster (point masses) or T_k shows
+ * one (its second Ritz value within 10 tol of theta), which is a
+ * heuristic, not a proof. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -21,6 +31,7 @@
 #include <string.h>
 
 #include "base.h"
+#include "spectral.h"
 #include "dtmap/operator.h"
 #include "dtmap/progress.h"
 
@@ -97,8 +108,9 @@ static int count_below(int k, const double *a, const double *b, double x, double
   return c;
 }
 
-/* Largest eigenvalue of T_k by bisection inside its Gershgorin interval. */
-static double top_eig(int k, const double *a, const double *b, double *norm) {
+/* The j-th largest eigenvalue of T_k (j = 1: the largest) by bisection
+ * inside its Gershgorin interval. */
+static double top_eig(int k, const double *a, const double *b, int j, double *norm) {
   double lo = INFINITY, hi = -INFINITY;
   for (int i = 0; i < k; i++) {
     double r = (i ? fabs(b[i - 1]) : 0) + (i < k - 1 ? fabs(b[i]) : 0);
@@ -109,7 +121,7 @@ static double top_eig(int k, const double *a, const double *b, double *norm) {
   while (hi - lo > 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi))) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
-    if (count_below(k, a, b, mid, piv) == k)
+    if (count_below(k, a, b, mid, piv) >= k - j + 1)
       hi = mid;
     else
       lo = mid;
@@ -164,7 +176,7 @@ static void unit(int k, double *x) {
 static void tri_update(lz_tri *t) {
   int k = t->k;
   double norm;
-  t->theta = top_eig(k, t->a, t->b, &norm);
+  t->theta = top_eig(k, t->a, t->b, 1, &norm);
   double piv = DBL_EPSILON * fmax(norm, DBL_MIN);
   uint64_t x = 12345;
   for (int i = 0; i < k; i++) t->s[i] = dtm_rng_uniform(&x, 0.5, 1.5);
@@ -189,7 +201,13 @@ static double fraction_done(const lz_tri *t, double tol) {
 }
 
 static void first_pass(lz_state *z, lz_tri *t, double tol, int maxit) {
-  for (t->k = 1;; t->k++) {
+  if (t->k > 0) { /* go on from where an earlier pass stopped */
+    if (t->invariant || t->k == maxit || t->est <= tol * t->theta) return;
+    lz_advance(z, t->b[t->k - 1]);
+    t->k++;
+  } else
+    t->k = 1;
+  for (;; t->k++) {
     lz_step(z, &t->a[t->k - 1], &t->b[t->k - 1]);
     tri_update(t);
     dtm_progress_update(fraction_done(t, tol));
@@ -239,24 +257,85 @@ static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Lanczos vectors");
 }
 
-static int run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
-  if (lz_start(z) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with mass");
-  first_pass(z, t, tol, maxit);
+/* The result of the steps taken so far: theta, the residual (Paige's
+ * estimate, or the true one of the Ritz vector rebuilt when want_mode) and
+ * whether it meets tol. */
+static int finish(lz_state *z, const lz_tri *t, double tol, int want_mode, dtm_lanczos_result *r) {
+  double norm;
+  r->theta = t->theta;
+  r->theta2 = t->k > 1 ? top_eig(t->k, t->a, t->b, 2, &norm) : NAN;
+  r->iterations = t->k;
+  r->tol_used = tol;
   if (!want_mode) { /* Paige: an eigenvalue lies within |beta_k s_k| (+ O(eps |A|)) of theta */
-    r->theta = t->theta;
     r->residual = t->est;
-    r->iterations = t->k;
     r->converged = t->invariant || t->est <= tol * t->theta;
     return DTM_OK;
   }
   double *y = malloc(z->n * sizeof *y);
   if (!y) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Ritz vector");
-  r->theta = t->theta;
   r->residual = ritz(z, t, y);
-  r->iterations = t->k;
   r->converged = t->invariant || r->residual <= tol * t->theta;
   to_field(z->op, z->n, y);
+  free(r->mode);
   r->mode = y;
+  return DTM_OK;
+}
+
+static int run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
+  if (lz_start(z) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with mass");
+  first_pass(z, t, tol, maxit);
+  return finish(z, t, tol, want_mode, r);
+}
+
+/* Go on from where the last pass stopped, to tol. The Ritz vector's pass
+ * replayed the recurrence up to v_k; one more step restores the next
+ * direction the first pass had. */
+static int go_on(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
+  double a, b;
+  if (want_mode) lz_step(z, &a, &b);
+  first_pass(z, t, tol, maxit);
+  return finish(z, t, tol, want_mode, r);
+}
+
+#define CERT_TRIES 3      /* stricter passes after a refuted bound */
+#define CERT_TIGHTEN 1e-2 /* the tolerance of each */
+#define CLUSTER_GAP 10    /* theta2 within this many tol of theta: a clustered top */
+#define STRICT 1e-4       /* the tolerance factor of the uncertified clustered case */
+
+/* The bound theta + residual checked by the certificate c; a refuted one
+ * sends Lanczos on at a stricter tolerance. */
+static int certify(lz_state *z, lz_tri *t, dtm_certifier *c, double tol, int maxit, int want_mode,
+                   dtm_lanczos_result *r) {
+  for (int tries = 0;; tries++) {
+    double margin, t0 = dtm_wtime();
+    int below = dtm_certifier_below(c, r->theta + r->residual, &margin);
+    r->cert_seconds += dtm_wtime() - t0;
+    if (below) return r->residual += margin, r->certified = DTM_CERT_PROVEN, DTM_OK;
+    r->certified = DTM_CERT_REFUTED;
+    if (tries == CERT_TRIES || t->invariant || t->k == maxit) return r->converged = 0, DTM_OK;
+    tol *= CERT_TIGHTEN;
+    DTM_CHECK(go_on(z, t, tol, maxit, want_mode, r));
+    if (!r->converged) return DTM_OK;
+  }
+}
+
+static int certified_run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, double budget, int suspect,
+                         dtm_lanczos_result *r) {
+  DTM_CHECK(run(z, t, tol, maxit, want_mode, r));
+  if (!r->converged) return DTM_OK;
+  dtm_certifier *c = NULL;
+  int status = DTM_CERT_TOO_DEAR;
+  double t0 = dtm_wtime();
+  if (budget > 0) DTM_CHECK(dtm_certifier_create(z->op, budget, &c, &status));
+  r->cert_seconds = dtm_wtime() - t0;
+  if (c) {
+    int e = certify(z, t, c, tol, maxit, want_mode, r);
+    dtm_certifier_destroy(&c);
+    return e;
+  }
+  r->certified = status;
+  int clustered = t->k > 1 && r->theta2 >= (1 - CLUSTER_GAP * tol) * r->theta;
+  if (suspect || clustered) DTM_CHECK(go_on(z, t, tol * STRICT, maxit, want_mode, r));
   return DTM_OK;
 }
 
@@ -264,10 +343,11 @@ int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed
   return dtm_lanczos_max_ex(op, tol, maxit, seed, 1, r);
 }
 
-int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
-                       dtm_lanczos_result *r) {
+static int lanczos(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode, double budget,
+                   int suspect, int certified, dtm_lanczos_result *r) {
   if (!r) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_lanczos_max: no result");
   memset(r, 0, sizeof *r);
+  r->theta2 = NAN;
   if (!op || maxit < 1 || !(tol >= 0))
     return DTM_ERR(DTM_ERR_INPUT,
                    "Lanczos needs an operator, maxit >= 1 (got %d) and "
@@ -278,9 +358,21 @@ int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned s
   lz_tri t = {0};
   DTM_CHECK(lz_alloc(&z, &t, maxit));
   dtm_progress_begin("Lanczos");
-  int e = run(&z, &t, tol, maxit, want_mode, r);
+  int e = certified ? certified_run(&z, &t, tol, maxit, want_mode, budget, suspect, r)
+                    : run(&z, &t, tol, maxit, want_mode, r);
   dtm_progress_end();
   lz_free(&z, &t);
   r->seconds = dtm_wtime() - t0;
+  if (e) free(r->mode), r->mode = NULL;
   return e ? dtm_error_trace(e, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
+                       dtm_lanczos_result *r) {
+  return lanczos(op, tol, maxit, seed, want_mode, 0, 0, 0, r);
+}
+
+int dtm_lanczos_max_certified(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
+                              double budget, int suspect, dtm_lanczos_result *r) {
+  return lanczos(op, tol, maxit, seed, want_mode, budget, suspect, 1, r);
 }

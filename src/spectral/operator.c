@@ -1093,3 +1093,59 @@ void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double 
     memset(y, 0, op->ndof * sizeof *y);
   for (size_t k = 0; op->mass_alpha && k < op->ndof; k++) y[k] += op->mass_alpha[k] * v[k];
 }
+
+/* ---- the node graph (certify.c) -------------------------------------- */
+
+/* Node lists of the elements incident to each node: eptr[nnodes + 1] into
+ * elist (block index << 40 | element), built by counting. */
+static int incidence(const dtm_operator *op, size_t nnodes, size_t **eptr, uint64_t **elist) {
+  size_t *p = calloc(nnodes + 2, sizeof *p), tot = 0;
+  if (!p) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int ib = 0; ib < op->nblocks; ib++)
+    for (size_t k = 0; k < op->blocks[ib].n * (size_t)op->blocks[ib].nn; k++) p[op->blocks[ib].conn[k] + 2]++, tot++;
+  for (size_t v = 0; v < nnodes; v++) p[v + 2] += p[v + 1];
+  uint64_t *l = malloc((tot + 1) * sizeof *l);
+  if (!l) return free(p), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    for (size_t e = 0; e < b->n; e++)
+      for (int a = 0; a < b->nn; a++) l[p[b->conn[e * (size_t)b->nn + a] + 1]++] = (uint64_t)ib << 40 | e;
+  }
+  *eptr = p, *elist = l;
+  return DTM_OK;
+}
+
+int dtm_operator_node_graph(const dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj) {
+  *xadj = NULL, *adj = NULL;
+  if (op->st.n || op->ndof % (size_t)op->ncomp)
+    return DTM_ERR(DTM_ERR_INPUT, "the node graph of an operator with shells or beams is not built");
+  size_t nn = op->ndof / (size_t)op->ncomp, *ep = NULL, cap = 0, cnt = 0;
+  uint64_t *el = NULL;
+  DTM_CHECK(incidence(op, nn, &ep, &el));
+  size_t *x = malloc((nn + 1) * sizeof *x), *mark = malloc((nn + 1) * sizeof *mark), *ad = NULL;
+  int r = x && mark ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) mark[v] = SIZE_MAX;
+  for (size_t v = 0; v < nn && r == DTM_OK; v++) {
+    x[v] = cnt;
+    for (size_t q = ep[v]; q < ep[v + 1] && r == DTM_OK; q++) {
+      const op_block *b = &op->blocks[el[q] >> 40];
+      const size_t *c = b->conn + (size_t)(el[q] & ((1ULL << 40) - 1)) * (size_t)b->nn;
+      for (int a = 0; a < b->nn && r == DTM_OK; a++) {
+        if (mark[c[a]] == v) continue;
+        if (cnt == cap) {
+          size_t *t = realloc(ad, (cap = 2 * cap + 1024) * sizeof *t);
+          if (!t)
+            r = DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+          else
+            ad = t;
+        }
+        if (r == DTM_OK) mark[c[a]] = v, ad[cnt++] = c[a];
+      }
+    }
+  }
+  if (x) x[nn] = cnt;
+  free(ep), free(el), free(mark);
+  if (r) return free(x), free(ad), r;
+  *nnodes = nn, *xadj = x, *adj = ad;
+  return DTM_OK;
+}

@@ -29,4 +29,28 @@ typedef struct {
 int dtm_rule_parts(const dtm_mesh *m, int model, const unsigned char *const *kept, dtm_rule_part **parts, int *nparts);
 void dtm_rule_parts_free(dtm_rule_part *parts, int n);
 
+struct dtm_operator;
+/* The nodes that share an element with each node (itself included):
+ * adj[xadj[v] .. xadj[v + 1]) for the *nnodes = ndof / ncomp nodes (owned:
+ * free). An error for shells and beams (their rotations are not nodes'
+ * translations). */
+int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj);
+
+/* The certificate of certify.c: sigma I - A = L L^T for A = M^-1/2 K M^-1/2
+ * assembled from the operator's product. */
+typedef struct dtm_certifier dtm_certifier;
+/* Assemble, order and count the factor; *status DTM_CERT_PROVEN (ready:
+ * *out set), DTM_CERT_TOO_DEAR (more than budget flops, or more than
+ * 30,000 dofs) or DTM_CERT_UNAVAILABLE (shells or beams, or an assembly
+ * that does not reproduce the product); *out NULL then. */
+int dtm_certifier_create(const struct dtm_operator *op, double budget, dtm_certifier **out, int *status);
+void dtm_certifier_destroy(dtm_certifier **c);
+/* The factorisation's flops (sum of squared column counts). */
+double dtm_certifier_flops(const dtm_certifier *c);
+/* 1 when sigma I - A factors with positive pivots, so that every
+ * eigenvalue of A is below sigma + *margin (the rounding of the
+ * factorisation); 0 when a pivot is not positive (an eigenvalue lies at or
+ * above sigma, up to that rounding). */
+int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin);
+
 #endif
