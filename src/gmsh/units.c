@@ -19,6 +19,7 @@
  * The options are set back after the import: a later .geo that merges a
  * STEP keeps Gmsh's default. What was found and applied is kept for the
  * summary and the report (dtm_gmsh_import_units). */
+#define _GNU_SOURCE /* memmem */
 #include <gmshc.h>
 #include <math.h>
 #include <stdio.h>
@@ -60,12 +61,12 @@ static const struct {
   const char *name; /* an SI prefix as STEP writes it, or a unit's name */
   double metres;    /* metres per unit */
   const char *shown;
-} step_prefixes[] = {{".MILLI.", 1e-3, "mm"},       {".CENTI.", 1e-2, "cm"},     {".DECI.", 0.1, "dm"},
-                     {".KILO.", 1e3, "km"},         {".MICRO.", 1e-6, "um"},     {".NANO.", 1e-9, "nm"}},
-  named_units[] = {{"INCH", 0.0254, "in"},          {"FOOT", 0.3048, "ft"},      {"MILLIMETRE", 1e-3, "mm"},
-                   {"MILLIMETER", 1e-3, "mm"},      {"CENTIMETRE", 1e-2, "cm"},  {"CENTIMETER", 1e-2, "cm"},
-                   {"METRE", 1.0, "m"},             {"METER", 1.0, "m"},         {"MIL", 2.54e-5, "mil"},
-                   {"MILE", 1609.344, "mi"},        {"MICROINCH", 2.54e-8, "uin"}};
+} step_prefixes[] = {{".MILLI.", 1e-3, "mm"}, {".CENTI.", 1e-2, "cm"}, {".DECI.", 0.1, "dm"},
+                     {".KILO.", 1e3, "km"},   {".MICRO.", 1e-6, "um"}, {".NANO.", 1e-9, "nm"}},
+  named_units[] = {{"INCH", 0.0254, "in"},     {"FOOT", 0.3048, "ft"},       {"MILLIMETRE", 1e-3, "mm"},
+                   {"MILLIMETER", 1e-3, "mm"}, {"CENTIMETRE", 1e-2, "cm"},   {"CENTIMETER", 1e-2, "cm"},
+                   {"METRE", 1.0, "m"},        {"METER", 1.0, "m"},          {"MIL", 2.54e-5, "mil"},
+                   {"MILE", 1609.344, "mi"},   {"MICROINCH", 2.54e-8, "uin"}};
 
 /* The unit of one STEP entity text [b, e) that holds LENGTH_UNIT. */
 static int step_entity_unit(const char *b, const char *e, dtm_import_units *u) {
@@ -90,15 +91,24 @@ static int step_entity_unit(const char *b, const char *e, dtm_import_units *u) {
 
 static int ident_char(char c) { return c == '_' || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
 
-/* The first LENGTH_UNIT entity of a STEP text that names a unit dtmap knows. */
+/* The unit of a STEP text: its LENGTH_UNIT entities, a named
+ * (CONVERSION_BASED_UNIT, 'INCH') one first, since it refers to an SI
+ * unit entity of its own (LENGTH_MEASURE_WITH_UNIT(25.4, mm)); else the
+ * first SI one. */
 static void step_unit(const char *text, size_t len, dtm_import_units *u) {
+  dtm_import_units first = *u;
+  int have = 0;
   for (const char *p = strstr(text, "LENGTH_UNIT"); p; p = strstr(p + 1, "LENGTH_UNIT")) {
     if ((p > text && ident_char(p[-1])) || ident_char(p[11])) continue;
     const char *b = p, *e = p;
     while (b > text && b[-1] != ';') b--;
     while (e < text + len && *e != ';') e++;
-    if (step_entity_unit(b, e, u)) return;
+    dtm_import_units one = *u;
+    if (!step_entity_unit(b, e, &one)) continue;
+    if (memmem(b, (size_t)(e - b), "CONVERSION_BASED_UNIT", 21)) return (void)(*u = one);
+    if (!have++) first = one;
   }
+  *u = first;
 }
 
 /* One parameter of an IGES global section at *p (Hollerith strings
@@ -126,8 +136,8 @@ static void iges_field(const char **p, char delim, char rec, char *out, size_t l
 static const struct {
   double metres;
   const char *shown;
-} iges_flags[12] = {{0, ""},       {0.0254, "in"},   {1e-3, "mm"}, {0, ""},     {0.3048, "ft"},  {1609.344, "mi"},
-                    {1.0, "m"},    {1e3, "km"},      {2.54e-5, "mil"}, {1e-6, "um"}, {1e-2, "cm"}, {2.54e-8, "uin"}};
+} iges_flags[12] = {{0, ""},    {0.0254, "in"}, {1e-3, "mm"},     {0, ""},      {0.3048, "ft"}, {1609.344, "mi"},
+                    {1.0, "m"}, {1e3, "km"},    {2.54e-5, "mil"}, {1e-6, "um"}, {1e-2, "cm"},   {2.54e-8, "uin"}};
 
 /* The unit of an IGES text: fields 14 and 15 of the global section (the
  * lines with 'G' in column 73). */

@@ -20,19 +20,20 @@
 #include "dtmap/kernel.h"
 #include "output-impl.h"
 
-#define RHO_LO 1.0      /* kg/m^3 */
-#define RHO_HI 25000.0  /* kg/m^3 */
-#define C_LO 10.0       /* m/s */
-#define C_HI 20000.0    /* m/s */
-#define SIZE_LO 1e-6    /* m */
-#define SIZE_HI 1000.0  /* m */
+#define RHO_LO 1.0     /* kg/m^3 */
+#define RHO_HI 25000.0 /* kg/m^3 */
+#define C_LO 10.0      /* m/s */
+#define C_HI 20000.0   /* m/s */
+#define SIZE_LO 1e-6   /* m */
+#define SIZE_HI 1000.0 /* m */
 
 static double unit_length(const dtm_scene *s) { return s->unit_length > 0 ? s->unit_length : 1.0; }
 static double unit_mass(const dtm_scene *s) { return s->unit_mass > 0 ? s->unit_mass : 1.0; }
 static int is_mm(const dtm_scene *s) { return unit_length(s) != 1.0; }
 
 const char *dtm_unit_label(const dtm_scene *s, int what) {
-  static const char *const si[] = {"m", "kg", "kg/m^3", "m/s", "Pa"}, *const mm[] = {"mm", "t", "t/mm^3", "mm/s", "MPa"};
+  static const char *const si[] = {"m", "kg", "kg/m^3", "m/s", "Pa"}, *const mm[] = {"mm", "t", "t/mm^3", "mm/s",
+                                                                                     "MPa"};
   return is_mm(s) ? mm[what] : si[what];
 }
 
@@ -62,7 +63,8 @@ int dtm_output_model(const dtm_analysis *a, dtm_model_extent *x) {
     }
   for (int c = 0; c < 3; c++) x->lo[c] = INFINITY, x->hi[c] = -INFINITY;
   for (size_t v = 0; v < m->nnodes; v++)
-    for (int c = 0; c < 3; c++) x->lo[c] = fmin(x->lo[c], m->xyz[3 * v + c]), x->hi[c] = fmax(x->hi[c], m->xyz[3 * v + c]);
+    for (int c = 0; c < 3; c++)
+      x->lo[c] = fmin(x->lo[c], m->xyz[3 * v + c]), x->hi[c] = fmax(x->hi[c], m->xyz[3 * v + c]);
   return DTM_OK;
 }
 
@@ -95,17 +97,30 @@ static double wave_speed(const dtm_material *m) {
   return sqrt(E * f / rho);
 }
 
+/* "v unit" in the scene's units, with the SI value beside under mm-t-s. */
+static const char *value_text(const dtm_scene *s, double v, double si, int what, const char *si_unit, char *buf,
+                              size_t len) {
+  if (is_mm(s))
+    snprintf(buf, len, "%.4g %s (%.4g %s)", v, dtm_unit_label(s, what), si, si_unit);
+  else
+    snprintf(buf, len, "%.4g %s", v, si_unit);
+  return buf;
+}
+
 static void material_warnings(const dtm_scene *s, const dtm_material *m, dtm_warnings *w) {
   double L = unit_length(s), M = unit_mass(s), rho = dtm_material_value(m, "rho"), c = wave_speed(m);
   double rho_si = rho * M / (L * L * L), c_si = c * L;
+  char v[96];
   const char *hint = is_mm(s) ? "in mm-t-s: E in MPa, rho in t/mm^3" : "in SI: E in Pa, rho in kg/m^3";
   if (rho > 0 && (rho_si < RHO_LO || rho_si > RHO_HI))
-    warn(w, "material '%s' (line %d): density rho = %.4g %s (%.4g kg/m^3) lies outside %g-%g kg/m^3, what solids have: "
-         "check its unit (%s)", m->name, m->line, rho, dtm_unit_label(s, 2), rho_si, RHO_LO, RHO_HI, hint);
+    warn(w,
+         "material '%s' (line %d): density rho = %s lies outside %g-%g kg/m^3, what solids have: check its unit (%s)",
+         m->name, m->line, value_text(s, rho, rho_si, 2, "kg/m^3", v, sizeof v), RHO_LO, RHO_HI, hint);
   if (isfinite(c) && (c_si < C_LO || c_si > C_HI))
-    warn(w, "material '%s' (line %d): dilatational wave speed %.4g %s (%.4g m/s) lies outside %g m/s-%g km/s, what "
-         "solids have: the step scales with 1/c; check the units of E and rho (%s)", m->name, m->line, c,
-         dtm_unit_label(s, 3), c_si, C_LO, C_HI / 1000, hint);
+    warn(w,
+         "material '%s' (line %d): dilatational wave speed %s lies outside %g m/s-%g km/s, what solids have: the "
+         "step scales with 1/c; check the units of E and rho (%s)",
+         m->name, m->line, value_text(s, c, c_si, 3, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
 }
 
 static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
@@ -114,10 +129,11 @@ static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
   if (dtm_output_model(a, &x)) return;
   double d = dtm_output_model_size(&x), d_si = d * unit_length(s);
   dtm_output_model_free(&x);
+  char v[96];
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
-    warn(w, "the model is %.4g %s across (%.4g m), %s than %s: check the unit of the %s (<%s unit=\"...\">)", d,
-         dtm_unit_label(s, 0), d_si, d_si > SIZE_HI ? "larger" : "smaller", d_si > SIZE_HI ? "1 km" : "1 um",
-         s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
+    warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
+         value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
+         d_si > SIZE_HI ? "1 km" : "1 um", s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
 }
 
 void dtm_output_plausibility_warnings(const dtm_analysis *a, dtm_warnings *w) {
@@ -167,7 +183,7 @@ void dtm_summary_model(const dtm_analysis *a, void *stream) {
     if (x.group_mass[g] > 0)
       fprintf(f, "%s'%s' %.4g", k++ ? ", " : " (", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl),
               x.group_mass[g]);
-  fprintf(f, "%s; extent %.4g x %.4g x %.4g %s from (%.4g, %.4g, %.4g)\n", x.ngroups > 2 ? ")" : "",
-          x.hi[0] - x.lo[0], x.hi[1] - x.lo[1], x.hi[2] - x.lo[2], L, x.lo[0], x.lo[1], x.lo[2]);
+  fprintf(f, "%s; extent %.4g x %.4g x %.4g %s from (%.4g, %.4g, %.4g)\n", x.ngroups > 2 ? ")" : "", x.hi[0] - x.lo[0],
+          x.hi[1] - x.lo[1], x.hi[2] - x.lo[2], L, x.lo[0], x.lo[1], x.lo[2]);
   dtm_output_model_free(&x);
 }
