@@ -19,8 +19,10 @@ dtmap or written in metres differ by one rounding per coordinate: steps
 agree to 1e-12. The mass of the 6 Kuhn tetrahedra (1/6 m^3 each) is exact
 but for rounding: 1e-12."""
 
+import gzip
 import itertools
 import os
+import shutil
 
 import testutil as tu
 
@@ -150,6 +152,9 @@ class Units(tu.unittest.TestCase):
         self.assertEqual(len(w), 1, r["warnings"])
         self.assertIn("6.001 m/s", w[0])  # sqrt(210e3 (0.7/(1.3 x 0.4)) / 7850)
         self.assertIn("WARNING: material 'steel'", log)
+        code, log = tu.run("run", "mpa.xml", "-q", "-o", "mpa_q.msh")  # quiet: on stderr all the same
+        self.assertEqual(code, 0, log)
+        self.assertIn("dtmap: warning: material 'steel' (line 4): dilatational wave speed 6.001 m/s", log)
         cube_scene("rho", cube_msh("c2", 1.0), rho="7.85e-3")  # g/mm^3 taken as kg/m^3: rho too low (and c high)
         _, _, r = run("rho")
         self.assertTrue(any("material 'steel' (line 4): density rho = 0.00785 kg/m^3" in x for x in r["warnings"]),
@@ -186,6 +191,31 @@ class Units(tu.unittest.TestCase):
         code, log = tu.run("run", "b3.xml", "-q")
         self.assertEqual(code, 2, log)
         self.assertIn("b3.xml:3: <geometry> unit=\"mm\" on the .geo file", log)
+
+    def test_size_in_another_unit(self):
+        step_scene("s4", "part_mm.step", size="4")  # 4 mm meant, 4 m read, on a 3 cm part
+        code, log, r = run("s4")
+        self.assertEqual(code, 0, log)
+        self.assertTrue(any('<meshing size="4"> (line 4) is 133 times the model\'s extent, 0.03 m' in w
+                            and 'size="0.004"' in w for w in r["warnings"]), r["warnings"])
+
+    def test_gmsh_component8(self):
+        """Gmsh's demos/boolean/component8.step (gmsh-doc), in mm: meshed at 3 mm."""
+        src = "/usr/share/doc/gmsh-doc/doc/gmsh/demos/boolean/component8.step"
+        if os.path.exists(src):
+            shutil.copy(src, tu.path("component8.step"))
+        else:
+            with gzip.open(src + ".gz", "rb") as z, open(tu.path("component8.step"), "wb") as out:
+                shutil.copyfileobj(z, out)
+        step_scene("c8", "", size="0.003")
+        with open(tu.path("c8.xml")) as f:
+            tu.write("c8.xml", f.read().replace(os.path.join(DATA, ""), tu.path("component8.step")))
+        code, log, r = run("c8")
+        self.assertEqual(code, 0, log)
+        self.assertEqual(r["model"]["import"], {"unit_found": "mm", "factor": 0.001})
+        for got, want in zip(r["model"]["bbox"]["extent"], (0.03695, 0.03263, 0.032)):
+            self.assertAlmostEqual(got, want, delta=1e-5)  # the part is 36.95 x 32.63 x 32 mm
+        self.assertEqual(r["warnings"], [])
 
     def test_memory_refusal_names_the_unit(self):
         step_scene("brep", "part_mm.brep")

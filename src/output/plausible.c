@@ -8,8 +8,10 @@
  *    osmium), or whose dilatational wave speed c = sqrt(E (1 - nu) /
  *    ((1 + nu)(1 - 2 nu)) / rho) (sqrt(E/rho) without nu) lies outside
  *    10 m/s to 20 km/s (soft gels to diamond): E in MPa beside rho in
- *    kg/m^3 gives about 5 m/s for a steel;
- *  - a model larger than 1 km or smaller than 1 um.
+ *    kg/m^3 gives about 6 m/s for a steel;
+ *  - a model larger than 1 km or smaller than 1 um;
+ *  - a <meshing size> more than 10 times the model's extent (a size in mm
+ *    on a model in metres: Gmsh then meshes with the geometry's own sizes).
  * Warnings, not refusals: foams and gels are real. */
 #include <math.h>
 #include <stdarg.h>
@@ -26,6 +28,7 @@
 #define C_HI 20000.0   /* m/s */
 #define SIZE_LO 1e-6   /* m */
 #define SIZE_HI 1000.0 /* m */
+#define SIZE_OVER 10.0 /* a <meshing size> above this many times the model's extent looks like another unit */
 
 static double unit_length(const dtm_scene *s) { return s->unit_length > 0 ? s->unit_length : 1.0; }
 static double unit_mass(const dtm_scene *s) { return s->unit_mass > 0 ? s->unit_mass : 1.0; }
@@ -130,10 +133,22 @@ static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
   double d = dtm_output_model_size(&x), d_si = d * unit_length(s);
   dtm_output_model_free(&x);
   char v[96];
+  if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0)
+    warn(w,
+         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g %s: the size is in %s, as the "
+         "model is; a size meant in %s would be size=\"%g\"",
+         s->mesh_size, s->meshing_line, s->mesh_size / d, d, dtm_unit_label(s, 0), dtm_unit_label(s, 0),
+         is_mm(s) ? "m" : "mm", is_mm(s) ? s->mesh_size * 1e3 : s->mesh_size * 1e-3);
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
     warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
          value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
          d_si > SIZE_HI ? "1 km" : "1 um", s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
+}
+
+void dtm_output_warn_plausibility(const dtm_analysis *a, void *stream) {
+  dtm_warnings w = {0, {{0}}};
+  dtm_output_plausibility_warnings(a, &w);
+  for (int i = 0; i < w.n; i++) fprintf(stream, "dtmap: warning: %s\n", w.text[i]);
 }
 
 void dtm_output_plausibility_warnings(const dtm_analysis *a, dtm_warnings *w) {
