@@ -71,7 +71,7 @@ DTM_EXPORT void dtm_gmsh_mesher(dtm_mesher_info *out);
 /* The length unit of the current model's file and the factor dtmap applied
  * to its coordinates (src/gmsh/units.c). */
 typedef struct {
-  int active;     /* 1: a STEP, IGES, BREP or .msh was imported (a .geo or a script's model: 0) */
+  int active;     /* 1: a STEP, IGES or BREP was imported, or a .msh with <mesh unit> (else 0) */
   char found[8];  /* the unit the file declares (STEP, IGES: "mm", "in", "m", ...), "" when none */
   double found_m; /* metres per that unit; 0 when none */
   char given[8];  /* the scene's <geometry unit> or <mesh unit>, "" when unset */

@@ -12,7 +12,10 @@
  *    of size h puts in h^d (measured on box.geo: 4.5 tetrahedra; 2.3
  *    triangles for an equilateral tiling; 1 segment), rounded down. The
  *    size is the largest Gmsh may use (Mesh.MeshSizeMax); smaller sizes
- *    from the geometry only add elements, so this is a lower bound.
+ *    from the geometry only add elements, so this is a lower bound. When
+ *    the size does not fit, the refusal names the unit that would make it
+ *    fit: the model drawn in mm, in or cm but read in metres (<geometry
+ *    unit>), or in a mm-t-s scene a size written in metres.
  *  - Tags: Gmsh's views index their data by node or element tag (a pointer
  *    per tag number up to the largest, for each view), so a mesh whose
  *    tags go up to 10^15 crashes Gmsh when dtmap writes its views, though
@@ -150,8 +153,9 @@ int dtm_gmsh_check_meshing(const dtm_scene *s, int dim) {
   double measure = model_measure(dim), per = MESH_PER_ELEMENT * (s->mesh_order > 1 ? 3 : 1);
   double n = per_hd[dim] * measure / pow(s->mesh_size, dim);
   snprintf(what, sizeof what,
-           "%s:%d: <meshing size=\"%g\"> on %s (measure %.3g m^%d in dimension %d) gives at least %.3g elements",
-           s->path, s->meshing_line, s->mesh_size, s->geometry, measure, dim, dim, n);
+           "%s:%d: <meshing size=\"%g\"> on %s (measure %.3g %s^%d in dimension %d) gives at least %.3g elements",
+           s->path, s->meshing_line, s->mesh_size, s->geometry, measure,
+           s->unit_length > 0 && s->unit_length != 1.0 ? "mm" : "m", dim, dim, n);
   hint[0] = '\0';
   if (n * per > dtm_memory_limit()) unit_hint(s, dim, n, per, hint, sizeof hint);
   return too_big_hint(what, n * per, hint);

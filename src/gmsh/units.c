@@ -16,6 +16,7 @@
  *  - A .msh carries none; <mesh unit> scales its node coordinates in the
  *    Gmsh model after reading, so that what dtmap extracts, remeshes and
  *    writes is in the scene's unit.
+ * A .msh without <mesh unit> is read as it is, and not mentioned.
  * The options are set back after the import: a later .geo that merges a
  * STEP keeps Gmsh's default. What was found and applied is kept for the
  * summary and the report (dtm_gmsh_import_units). */
@@ -194,7 +195,7 @@ int dtm_gmsh_units_before(const dtm_scene *s, const char *path) {
   if (s->source_unit) snprintf(last.given, sizeof last.given, "%s", s->source_unit);
   int cad = is_step(path) || is_iges(path);
   if (cad) file_unit(path, &last);
-  if (!cad && !is_brep(path) && !is_msh(path)) return DTM_OK;
+  if (!cad && !is_brep(path) && !(is_msh(path) && s->source_unit)) return DTM_OK; /* nothing to say */
   last.active = 1;
   double from = s->source_unit ? s->source_unit_m : cad && last.found_m > 0 ? last.found_m : L;
   last.factor = from / L;

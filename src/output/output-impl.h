@@ -39,7 +39,7 @@ const char *dtm_unit_label(const dtm_scene *s, int what);
  * have (plausible.c): each a warning naming the material and the value. */
 void dtm_output_plausibility_warnings(const dtm_analysis *a, dtm_warnings *w);
 /* The import's unit into u: 1 when the scene's source was a file dtmap
- * imported (STEP, IGES, BREP, .msh), else 0. */
+ * imported (STEP, IGES, BREP, a .msh with <mesh unit>), else 0. */
 int dtm_output_import(const dtm_analysis *a, dtm_import_units *u);
 /* The summary's lines on the units, the import, the mass and the extent
  * (stream is a FILE *). */
