@@ -110,6 +110,31 @@ class Units(tu.unittest.TestCase):
         self.assertEqual(r["model"]["import"]["unit_given"], "mm")
         self.assertAlmostEqual(r["model"]["bbox"]["extent"][2], 0.03, delta=1e-12)
 
+    def test_iges(self):
+        """A 10-unit line in IGES files whose global section says mm (flag
+        2) and inches (flag 1), a steel truss of 1 cm^2 meshed at 1 mm:
+        mass rho A L (closed form), and the same step, one segment's h/c
+        (the nodal bound of a uniform bar with lumped mass; Gmsh's
+        segments are equal to rounding, so 1e-6 is loose)."""
+        for part, length, unit in (("line_mm.igs", 0.01, "mm"), ("line_in.igs", 0.254, "in")):
+            tu.write(unit + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+  <geometry file="%s"/>
+  <meshing size="0.001"/>
+  <material name="steel" E="210e9" nu="0.3" rho="7850" default="true"/>
+  <section kind="truss" area="1e-4" default="true"/>
+  <effects><elastic/></effects>
+</dtmap-scene>
+""" % os.path.join(DATA, part))
+            code, log, r = run(unit)
+            self.assertEqual(code, 0, log)
+            self.assertEqual(r["model"]["import"]["unit_found"], unit)
+            self.assertAlmostEqual(r["model"]["bbox"]["extent"][0], length, delta=1e-12)
+            self.assertAlmostEqual(r["model"]["mass"], 7850 * 1e-4 * length, delta=1e-12)
+            self.assertEqual(r["mesh"]["elements"], round(length / 0.001))
+            c = (210e9 / 7850) ** 0.5  # the bar's wave speed
+            self.assertAlmostEqual(r["dt"]["basis_step"] / (0.001 / c), 1.0, delta=1e-6)
+
     def test_msh_unit_mm(self):
         cube_scene("cm_mm", cube_msh("cube_mm", 1000.0), ' unit="mm"')
         cube_scene("cm_m", cube_msh("cube_m", 1.0))

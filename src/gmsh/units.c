@@ -4,7 +4,9 @@
  *  - STEP and IGES carry their unit. OpenCASCADE converts it when Gmsh's
  *    Geometry.OCCTargetUnit names the unit wanted ("M" or "MM"; it sets
  *    OpenCASCADE's xstep.cascade.unit, whose default is millimetres, so
- *    without it a STEP in metres came in 1000x too large). Gmsh does not say
+ *    without it a STEP in metres came in 1000x too large). An IGES file
+ *    cannot be given a target unit in Gmsh 4.8.4 before a STEP was read:
+ *    it comes in the unit in force (mm) and Geometry.OCCScaling scales it. Gmsh does not say
  *    which unit the file had, so dtmap reads it itself for the summary and
  *    the report: in a STEP file the first LENGTH_UNIT entity, an SI_UNIT
  *    with its prefix (SI_UNIT(.MILLI.,.METRE.)) or a CONVERSION_BASED_UNIT
@@ -186,6 +188,37 @@ static double scene_length(const dtm_scene *s) { return s->unit_length > 0 ? s->
 
 static char saved_target[32]; /* Geometry.OCCTargetUnit before the import */
 
+/* Metres per unit of the unit OpenCASCADE converts to now (its
+ * xstep.cascade.unit through Gmsh's Geometry.OCCTargetUnit; "": its
+ * default, millimetres). */
+static double occ_unit_metres(void) {
+  static const struct {
+    const char *name;
+    double metres;
+  } occ[] = {{"M", 1.0}, {"MM", 1e-3}, {"CM", 1e-2}, {"KM", 1e3}, {"UM", 1e-6}, {"INCH", 0.0254}, {"FT", 0.3048}};
+  char *t = NULL;
+  int ierr = 0;
+  double m = 1e-3;
+  gmshOptionGetString("Geometry.OCCTargetUnit", &t, &ierr);
+  for (size_t i = 0; t && i < sizeof occ / sizeof *occ; i++)
+    if (!strcasecmp(t, occ[i].name)) m = occ[i].metres;
+  gmshFree(t);
+  return m;
+}
+
+/* A STEP: OpenCASCADE converts it to the scene's unit (the option set
+ * back after). The unit it held is kept. */
+static int step_target(double L) {
+  char *old = NULL;
+  int ierr = 0;
+  gmshOptionGetString("Geometry.OCCTargetUnit", &old, &ierr);
+  snprintf(saved_target, sizeof saved_target, "%s", old && old[0] ? old : "MM");
+  gmshFree(old);
+  gmshOptionSetString("Geometry.OCCTargetUnit", L == 1.0 ? "M" : "MM", &ierr);
+  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot set Geometry.OCCTargetUnit");
+  return DTM_OK;
+}
+
 int dtm_gmsh_units_before(const dtm_scene *s, const char *path) {
   int ierr = 0;
   double L = scene_length(s);
@@ -199,17 +232,22 @@ int dtm_gmsh_units_before(const dtm_scene *s, const char *path) {
   last.active = 1;
   double from = s->source_unit ? s->source_unit_m : cad && last.found_m > 0 ? last.found_m : L;
   last.factor = from / L;
-  if (cad) {
-    char *old = NULL;
-    gmshOptionGetString("Geometry.OCCTargetUnit", &old, &ierr);
-    snprintf(saved_target, sizeof saved_target, "%s", old && old[0] ? old : "MM");
-    gmshFree(old);
-    gmshOptionSetString("Geometry.OCCTargetUnit", L == 1.0 ? "M" : "MM", &ierr);
-    DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot set Geometry.OCCTargetUnit");
+  if (!cad) {
+    gmshOptionSetNumber("Geometry.OCCScaling", is_brep(path) ? last.factor : 1.0, &ierr);
+    return DTM_OK;
   }
-  /* OpenCASCADE converts the file's own unit; a given unit overrides it */
-  double scaling = cad ? (s->source_unit && last.found_m > 0 ? s->source_unit_m / last.found_m : 1.0)
-                       : (is_brep(path) ? last.factor : 1.0);
+  /* Gmsh 4.8.4 cannot set the target unit for an IGES file in a process
+   * that has read no STEP ("Could not set OpenCASCADE target unit"):
+   * OpenCASCADE converts it to the unit in force, and OCCScaling does the
+   * rest. A given unit overrides the file's. */
+  double occ = L;
+  if (is_step(path))
+    DTM_CHECK(step_target(L));
+  else
+    occ = occ_unit_metres();
+  double scaling = !s->source_unit    ? occ / L
+                   : last.found_m > 0 ? occ / L * s->source_unit_m / last.found_m
+                                      : s->source_unit_m / L;
   gmshOptionSetNumber("Geometry.OCCScaling", scaling, &ierr);
   return DTM_OK;
 }
@@ -231,7 +269,7 @@ static int scale_nodes(double f) {
 
 int dtm_gmsh_units_after(const char *path) {
   int ierr = 0;
-  if (is_step(path) || is_iges(path)) gmshOptionSetString("Geometry.OCCTargetUnit", saved_target, &ierr);
+  if (is_step(path)) gmshOptionSetString("Geometry.OCCTargetUnit", saved_target, &ierr);
   gmshOptionSetNumber("Geometry.OCCScaling", 1, &ierr);
   if (is_msh(path) && last.factor != 1.0) DTM_CHECK(scale_nodes(last.factor));
   return DTM_OK;
