@@ -221,7 +221,7 @@ class Units(tu.unittest.TestCase):
         step_scene("s4", "part_mm.step", size="4")  # 4 mm meant, 4 m read, on a 3 cm part
         code, log, r = run("s4")
         self.assertEqual(code, 0, log)
-        self.assertTrue(any('<meshing size="4"> (line 4) is 133 times the model\'s extent, 0.03 m' in w
+        self.assertTrue(any('<meshing size="4"> (line 4) is 133 times the model\'s extent, 0.03 m: sizes are in m' in w
                             and 'size="0.004"' in w for w in r["warnings"]), r["warnings"])
 
     def test_gmsh_component8(self):

@@ -108,7 +108,10 @@ static void step_unit(const char *text, size_t len, dtm_import_units *u) {
     while (e < text + len && *e != ';') e++;
     dtm_import_units one = *u;
     if (!step_entity_unit(b, e, &one)) continue;
-    if (memmem(b, (size_t)(e - b), "CONVERSION_BASED_UNIT", 21)) return (void)(*u = one);
+    if (memmem(b, (size_t)(e - b), "CONVERSION_BASED_UNIT", 21)) {
+      *u = one;
+      return;
+    }
     if (!have++) first = one;
   }
   *u = first;
@@ -153,7 +156,10 @@ static void iges_unit(const char *text, dtm_import_units *u) {
     if (ll >= 73 && l[72] == 'G' && n + 72 < cap) memcpy(g + n, l, 72), n += 72;
     l = nl ? nl + 1 : l + ll;
   }
-  if (!g || !n) return free(g);
+  if (!g || !n) {
+    free(g);
+    return;
+  }
   g[n] = '\0';
   const char *p = g;
   char delim = ',', rec = ';';

@@ -40,34 +40,45 @@ const char *dtm_unit_label(const dtm_scene *s, int what) {
   return is_mm(s) ? mm[what] : si[what];
 }
 
-/* rho V of element e of block b (0 without a density). */
-static double element_mass(const dtm_scene *s, const dtm_mesh *m, const dtm_block *b, size_t e, int irho) {
+/* rho V of element e of block b (0 without a density); its measure from
+ * the analysis (vol, may be NULL: computed here). */
+static double element_mass(const dtm_scene *s, const dtm_mesh *m, const dtm_block *b, size_t e, int irho,
+                           const double *vol) {
   int mi = b->mat[e];
   if (mi < 0 || irho < 0 || !dtm_material_has(&s->materials[mi].m, irho)) return 0.0;
-  double x[DTM_MAX_NODES * 3];
-  dtm_mesh_gather_one(m, b, e, x);
-  double v = fabs(dtm_elem_measure(b->type, x));
+  double x[DTM_MAX_NODES * 3], v;
+  if (vol)
+    v = *vol;
+  else
+    dtm_mesh_gather_one(m, b, e, x), v = fabs(dtm_elem_measure(b->type, x));
   double f = b->section && b->section[e] >= 0 ? dtm_section_factor(&s->sections[b->section[e]]) : 1.0;
   return isfinite(v) ? dtm_material_get(&s->materials[mi].m, irho) * v * f : 0.0;
+}
+
+/* The bounding box of the mesh's nodes into x. */
+static void bbox(const dtm_mesh *m, dtm_model_extent *x) {
+  for (int c = 0; c < 3; c++) x->lo[c] = INFINITY, x->hi[c] = -INFINITY;
+  for (size_t v = 0; v < m->nnodes; v++)
+    for (int c = 0; c < 3; c++)
+      x->lo[c] = fmin(x->lo[c], m->xyz[3 * v + c]), x->hi[c] = fmax(x->hi[c], m->xyz[3 * v + c]);
 }
 
 int dtm_output_model(const dtm_analysis *a, dtm_model_extent *x) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   const dtm_scene *s = dtm_analysis_scene(a);
+  const double *vol = dtm_analysis_measure(a);
   int irho = dtm_scene_property_index(s, "rho");
+  size_t i = 0;
   x->ngroups = m->ngroups + 1, x->mass = 0;
   x->group_mass = calloc((size_t)x->ngroups, sizeof *x->group_mass);
   if (!x->group_mass) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < m->nblocks; b++)
-    for (size_t e = 0; e < m->blocks[b].n; e++) {
-      double me = element_mass(s, m, &m->blocks[b], e, irho);
+    for (size_t e = 0; e < m->blocks[b].n; e++, i++) {
+      double me = element_mass(s, m, &m->blocks[b], e, irho, vol ? vol + i : NULL);
       int g = m->blocks[b].group[e];
       x->mass += me, x->group_mass[g >= 0 && g < m->ngroups ? g : m->ngroups] += me;
     }
-  for (int c = 0; c < 3; c++) x->lo[c] = INFINITY, x->hi[c] = -INFINITY;
-  for (size_t v = 0; v < m->nnodes; v++)
-    for (int c = 0; c < 3; c++)
-      x->lo[c] = fmin(x->lo[c], m->xyz[3 * v + c]), x->hi[c] = fmax(x->hi[c], m->xyz[3 * v + c]);
+  bbox(m, x);
   return DTM_OK;
 }
 
@@ -129,16 +140,19 @@ static void material_warnings(const dtm_scene *s, const dtm_material *m, dtm_war
 static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
   const dtm_scene *s = dtm_analysis_scene(a);
   dtm_model_extent x = {0};
-  if (dtm_output_model(a, &x)) return;
+  bbox(dtm_analysis_mesh(a), &x);
   double d = dtm_output_model_size(&x), d_si = d * unit_length(s);
-  dtm_output_model_free(&x);
   char v[96];
-  if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0)
+  if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0 && !is_mm(s))
     warn(w,
-         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g %s: the size is in %s, as the "
-         "model is; a size meant in %s would be size=\"%g\"",
-         s->mesh_size, s->meshing_line, s->mesh_size / d, d, dtm_unit_label(s, 0), dtm_unit_label(s, 0),
-         is_mm(s) ? "m" : "mm", is_mm(s) ? s->mesh_size * 1e3 : s->mesh_size * 1e-3);
+         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g m: sizes are in m, as the model "
+         "is; a size meant in mm would be size=\"%g\"",
+         s->mesh_size, s->meshing_line, s->mesh_size / d, d, s->mesh_size * 1e-3);
+  else if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0)
+    warn(w,
+         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g mm: a model drawn in metres "
+         "is read in mm in this mm-t-s scene unless <geometry unit=\"m\"> says so",
+         s->mesh_size, s->meshing_line, s->mesh_size / d, d);
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
     warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
          value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
