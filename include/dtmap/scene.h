@@ -36,28 +36,21 @@ typedef struct {
 enum { DTM_MSH_AUTO = 0, DTM_MSH_ASCII = 1, DTM_MSH_BINARY = 2 };
 
 typedef struct dtm_scene {
-  char *path;              /* scene file as given */
-  char *dir;               /* its directory ("." if none) */
-  char *geometry;          /* resolved <geometry file>, or NULL */
-  char *mesh;              /* resolved <mesh file>, or NULL */
-  int partitions;          /* <mesh partitions>: the mesh is that many part files
-                              (dtm_scene_part_path); 0: one file */
-  int model;               /* 1: <model/>, the current Gmsh model of the program (no file) */
-  int source_line;         /* line of <geometry>, <mesh> or <model/> */
-  const char *source_unit; /* <geometry unit> or <mesh unit> ("mm", "cm", "m", "in"; static), NULL when
-                              unset: the file's own unit (STEP, IGES), else the scene's length unit */
-  double source_unit_m;    /* metres per unit of source_unit; 0 when unset */
-  const char *units;       /* <dtmap-scene units>: "SI" (unset) or "mm-t-s" (static); every number of
-                              the scene and of what dtmap reports is in it, the step in s */
-  double unit_length;      /* metres per length unit of units: 1 (SI) or 1e-3 (mm-t-s) */
-  double unit_mass;        /* kilograms per mass unit of units: 1 (SI) or 1e3 (mm-t-s, tonnes) */
-  double mesh_size;        /* <meshing size>, m; 0 when unset */
-  double mesh_min_size;    /* <meshing min-size>, m; 0 when unset */
-  int mesh_order;          /* <meshing order>; 1 when unset */
-  int mesh_dim;            /* <meshing dim>; 0 when unset (highest dimension) */
-  int mesh_algorithm;      /* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code; 0 when unset (the geometry's) */
-  int mesh_threads;        /* <meshing threads>; 0 when unset (the geometry's General.NumThreads) */
-  int meshing_line;        /* line of <meshing>, 0 when there is none */
+  char *path;           /* scene file as given */
+  char *dir;            /* its directory ("." if none) */
+  char *geometry;       /* resolved <geometry file>, or NULL */
+  char *mesh;           /* resolved <mesh file>, or NULL */
+  int partitions;       /* <mesh partitions>: the mesh is that many part files
+                           (dtm_scene_part_path); 0: one file */
+  int model;            /* 1: <model/>, the current Gmsh model of the program (no file) */
+  int source_line;      /* line of <geometry>, <mesh> or <model/> */
+  double mesh_size;     /* <meshing size>, m; 0 when unset */
+  double mesh_min_size; /* <meshing min-size>, m; 0 when unset */
+  int mesh_order;       /* <meshing order>; 1 when unset */
+  int mesh_dim;         /* <meshing dim>; 0 when unset (highest dimension) */
+  int mesh_algorithm;   /* <meshing algorithm> as Gmsh's Mesh.Algorithm3D code; 0 when unset (the geometry's) */
+  int mesh_threads;     /* <meshing threads>; 0 when unset (the geometry's General.NumThreads) */
+  int meshing_line;     /* line of <meshing>, 0 when there is none */
   int nmaterials;
   dtm_scene_material *materials; /* [nmaterials] in file order */
   int nsections;
@@ -89,6 +82,15 @@ typedef struct dtm_scene {
                                      verify --accuracy's reports (--verified; 0: none) */
   int phase_calibrate;            /* 1: the measures multiply each branch's errors by phase_ratio
                                      (--calibrate) */
+
+  /* Units (docs/units.md). */
+  const char *units;       /* <dtmap-scene units>: "SI" (unset) or "mm-t-s" (static); every number of
+                              the scene and of what dtmap reports is in it, the step in s */
+  double unit_length;      /* metres per length unit of units: 1 (SI) or 1e-3 (mm-t-s) */
+  double unit_mass;        /* kilograms per mass unit of units: 1 (SI) or 1e3 (mm-t-s, tonnes) */
+  const char *source_unit; /* <geometry unit> or <mesh unit> ("mm", "cm", "m", "in"; static), NULL when
+                              unset: the file's own unit (STEP, IGES), else the scene's length unit */
+  double source_unit_m;    /* metres per unit of source_unit; 0 when unset */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and
