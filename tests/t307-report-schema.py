@@ -69,8 +69,10 @@ class Schema(tu.unittest.TestCase):
 
     def test_real_report_is_valid(self):
         self.assertEqual(report_schema.problems(self.v, self.report), [])
-        for key in ("subcycling", "mass_scaling"):
+        for key in ("subcycling", "mass_scaling", "model"):
             self.assertIn(key, self.report)
+        self.assertGreater(self.report["model"]["mass"], 0)
+        self.assertEqual(self.report["model"]["units"], "SI")
         self.assertIn("lanczos", self.report["effect_minima"][0])
         self.assertEqual(self.report["dt"]["basis"], "global estimate")
 
@@ -103,6 +105,9 @@ class Schema(tu.unittest.TestCase):
                                                           "length": 1e-3, "effect": "elastic", "remedy": "x"}),
             "warning not a sentence": lambda r: r["warnings"].append(""),
             "refine rounds as a list": lambda r: r.update(refine=[{"round": 0}]),
+            "model without its units": lambda r: r["model"].pop("units"),
+            "negative model mass": lambda r: r["model"].update(mass=-1.0),
+            "bounding box of 2 coordinates": lambda r: r["model"]["bbox"].update(min=[0, 0]),
         }
         for what, change in mistakes.items():
             self.assertNotEqual(self.mutated(change), [], what)

@@ -68,6 +68,25 @@ typedef struct {
 /* The mesher of the current model (after dtm_gmsh_load or dtm_gmsh_remesh). */
 DTM_EXPORT void dtm_gmsh_mesher(dtm_mesher_info *out);
 
+/* The length unit of the current model's file and the factor dtmap applied
+ * to its coordinates (src/gmsh/units.c). */
+typedef struct {
+  int active;     /* 1: a STEP, IGES or BREP was imported, or a .msh with <mesh unit> (else 0) */
+  char found[8];  /* the unit the file declares (STEP, IGES: "mm", "in", "m", ...), "" when none */
+  double found_m; /* metres per that unit; 0 when none */
+  char given[8];  /* the scene's <geometry unit> or <mesh unit>, "" when unset */
+  char system[4]; /* the scene's length unit, "m" or "mm" */
+  double factor;  /* the coordinates of the file were multiplied by it into the scene's unit */
+} dtm_import_units;
+DTM_EXPORT void dtm_gmsh_import_units(dtm_import_units *out);
+/* Before the scene's source at path is opened: read a STEP's or IGES's
+ * unit, set Gmsh's OpenCASCADE options that convert it (or apply
+ * <geometry unit>). After: set them back and scale a .msh's nodes by
+ * <mesh unit>. None: the current model is a script's (<model/>). */
+DTM_EXPORT int dtm_gmsh_units_before(const dtm_scene *s, const char *path);
+DTM_EXPORT int dtm_gmsh_units_after(const char *path);
+DTM_EXPORT void dtm_gmsh_units_none(void);
+
 /* Open the scene's source: mesh its geometry with the <meshing> options, or
  * open its .msh. *dim receives the dimension to analyse. Errors name the
  * file; a geometry that yields no element of that dimension is an error. */

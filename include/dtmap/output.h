@@ -103,6 +103,11 @@ DTM_EXPORT int dtm_report_write_deck(const dtm_results *r, const dtm_deck_info *
  * damping, the smallest steps, a histogram in octaves of the recommended step or the target, warnings) to stream
  * (a FILE *). */
 DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
+/* Print the plausibility warnings of the analysis (a density, wave speed or
+ * model size that looks like a unit error; docs/units.md), one
+ * "dtmap: warning: ..." line each, to stream (a FILE *); the summary and
+ * the report carry them too. */
+DTM_EXPORT void dtm_output_warn_plausibility(const dtm_analysis *a, void *stream);
 
 /* `dtmap verify`: the step checked and what the simulation found. */
 typedef struct {

@@ -82,6 +82,15 @@ typedef struct dtm_scene {
                                      verify --accuracy's reports (--verified; 0: none) */
   int phase_calibrate;            /* 1: the measures multiply each branch's errors by phase_ratio
                                      (--calibrate) */
+
+  /* Units (docs/units.md). */
+  const char *units;       /* <dtmap-scene units>: "SI" (unset) or "mm-t-s" (static); every number of
+                              the scene and of what dtmap reports is in it, the step in s */
+  double unit_length;      /* metres per length unit of units: 1 (SI) or 1e-3 (mm-t-s) */
+  double unit_mass;        /* kilograms per mass unit of units: 1 (SI) or 1e3 (mm-t-s, tonnes) */
+  const char *source_unit; /* <geometry unit> or <mesh unit> ("mm", "cm", "m", "in"; static), NULL when
+                              unset: the file's own unit (STEP, IGES), else the scene's length unit */
+  double source_unit_m;    /* metres per unit of source_unit; 0 when unset */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

@@ -183,6 +183,9 @@ void dtm_cli_catch_signals(void);
 void dtm_cli_warn_flagged(const dtm_analysis *a);
 /* The same for curved elements whose step depends on the rule (warn.c). */
 void dtm_cli_warn_curved(const dtm_analysis *a);
+/* A density, wave speed or model size that looks like a unit error
+ * (docs/units.md), on stderr. */
+void dtm_cli_warn_units(const dtm_analysis *a);
 
 /* The commands. */
 int dtm_cli_run(const cli_opts *o);

@@ -72,7 +72,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
-  if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a);
+  if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a), dtm_cli_warn_units(a);
   if (r == DTM_OK && (o->posterior || s->posterior))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);

@@ -2,11 +2,13 @@
  * elements dtmap analysed although they are inverted at a node (valid at
  * every integration point; see dtm_mesh_check), the first 20 by tag, group,
  * centroid and smallest scaled Jacobian, and how many in all; the curved
- * second-order elements whose step depends on the integration rule. */
+ * second-order elements whose step depends on the integration rule; the
+ * numbers that look like a unit error (src/output/plausible.c). */
 #include <stdio.h>
 
 #include "cli-impl.h"
 #include "dtmap/analysis.h"
+#include "dtmap/output.h"
 
 #define WARN_LISTED 20 /* flagged elements named on the terminal */
 
@@ -35,3 +37,5 @@ void dtm_cli_warn_curved(const dtm_analysis *a) {
           s->sensitive, s->sensitive == 1 ? " has" : "s have", s->max_dependence,
           s->model == DTM_INTEGRATION_FULL ? "full-rule" : dtm_integration_name(s->model));
 }
+
+void dtm_cli_warn_units(const dtm_analysis *a) { dtm_output_warn_plausibility(a, stderr); }

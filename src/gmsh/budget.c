@@ -12,7 +12,10 @@
  *    of size h puts in h^d (measured on box.geo: 4.5 tetrahedra; 2.3
  *    triangles for an equilateral tiling; 1 segment), rounded down. The
  *    size is the largest Gmsh may use (Mesh.MeshSizeMax); smaller sizes
- *    from the geometry only add elements, so this is a lower bound.
+ *    from the geometry only add elements, so this is a lower bound. When
+ *    the size does not fit, the refusal names the unit that would make it
+ *    fit: the model drawn in mm, in or cm but read in metres (<geometry
+ *    unit>), or in a mm-t-s scene a size written in metres.
  *  - Tags: Gmsh's views index their data by node or element tag (a pointer
  *    per tag number up to the largest, for each view), so a mesh whose
  *    tags go up to 10^15 crashes Gmsh when dtmap writes its views, though
@@ -24,6 +27,8 @@
 #include <gmshc.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
+#include <strings.h>
 
 #include "base.h"
 #include "gmsh-impl.h"
@@ -34,13 +39,16 @@
 
 static const double per_hd[4] = {0, 1.0, 2.0, 4.0}; /* elements per h^d, rounded down */
 
-static int too_big(const char *what, double need) {
+static int too_big_hint(const char *what, double need, const char *hint) {
   char a[32], b[32];
   double limit = dtm_memory_limit();
   if (!(need > limit)) return DTM_OK;
-  return DTM_ERR(DTM_ERR_INPUT, "%s, which need about %s of memory; this machine allows %s (memory, cgroup and ulimit)",
-                 what, dtm_bytes_text(need, a, sizeof a), dtm_bytes_text(limit, b, sizeof b));
+  return DTM_ERR(DTM_ERR_INPUT,
+                 "%s, which need about %s of memory; this machine allows %s (memory, cgroup and ulimit)%s%s", what,
+                 dtm_bytes_text(need, a, sizeof a), dtm_bytes_text(limit, b, sizeof b), hint[0] ? "; " : "", hint);
 }
+
+static int too_big(const char *what, double need) { return too_big_hint(what, need, ""); }
 
 int dtm_gmsh_check_msh(const char *path) {
   dtm_msh_head h;
@@ -102,13 +110,53 @@ static double model_measure(int dim) {
   return m;
 }
 
+/* When n elements do not fit, the unit that would make them fit: the
+ * geometry drawn in mm, in or cm but read in the scene's length unit, or
+ * (a mm-t-s scene) a size written in metres. Appended to what[len]. */
+static void unit_hint(const dtm_scene *s, int dim, double n, double per, char *hint, size_t len) {
+  static const struct {
+    const char *name;
+    double metres;
+  } units[] = {{"mm", 1e-3}, {"in", 0.0254}, {"cm", 1e-2}};
+  double L = s->unit_length > 0 ? s->unit_length : 1.0, b[6];
+  int ierr = 0, geo = !strcasecmp(strrchr(s->geometry, '.') ? strrchr(s->geometry, '.') : "", ".geo");
+  hint[0] = '\0';
+  gmshModelGetBoundingBox(-1, -1, &b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &ierr);
+  double span = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2]));
+  if (L != 1.0 && n * pow(1e-3, dim) * per <= dtm_memory_limit()) {
+    snprintf(hint, len,
+             "the size looks like metres: the scene's units are mm-t-s, so sizes are in mm: size=\"%g\" would give "
+             "about %.3g elements",
+             s->mesh_size * 1e3, n * pow(1e-3, dim));
+    return;
+  }
+  for (size_t i = 0; i < sizeof units / sizeof *units && L == 1.0; i++) {
+    double k = units[i].metres, nk = n * pow(k, dim);
+    if (nk * per > dtm_memory_limit()) continue;
+    if (geo)
+      snprintf(hint, len,
+               "the model spans %.4g m, which looks like %s taken as metres: a .geo is read in metres, and drawn in "
+               "metres it would be %.4g m across and give about %.3g elements",
+               span, units[i].name, span * k, nk);
+    else
+      snprintf(hint, len,
+               "the model spans %.4g m, which looks like %s taken as metres: with <geometry unit=\"%s\"> it would be "
+               "%.4g m across and give about %.3g elements",
+               span, units[i].name, units[i].name, span * k, nk);
+    return;
+  }
+}
+
 int dtm_gmsh_check_meshing(const dtm_scene *s, int dim) {
   if (!(s->mesh_size > 0) || dim < 1 || dim > 3) return DTM_OK;
-  char what[4400];
-  double measure = model_measure(dim);
+  char what[4400], hint[400];
+  double measure = model_measure(dim), per = MESH_PER_ELEMENT * (s->mesh_order > 1 ? 3 : 1);
   double n = per_hd[dim] * measure / pow(s->mesh_size, dim);
   snprintf(what, sizeof what,
-           "%s:%d: <meshing size=\"%g\"> on %s (measure %.3g m^%d in dimension %d) gives at least %.3g elements",
-           s->path, s->meshing_line, s->mesh_size, s->geometry, measure, dim, dim, n);
-  return too_big(what, n * MESH_PER_ELEMENT * (s->mesh_order > 1 ? 3 : 1));
+           "%s:%d: <meshing size=\"%g\"> on %s (measure %.3g %s^%d in dimension %d) gives at least %.3g elements",
+           s->path, s->meshing_line, s->mesh_size, s->geometry, measure,
+           s->unit_length > 0 && s->unit_length != 1.0 ? "mm" : "m", dim, dim, n);
+  hint[0] = '\0';
+  if (n * per > dtm_memory_limit()) unit_hint(s, dim, n, per, hint, sizeof hint);
+  return too_big_hint(what, n * per, hint);
 }

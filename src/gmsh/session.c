@@ -166,7 +166,9 @@ int dtm_gmsh_load(const dtm_scene *s, int *dim) {
                    s->path, s->source_line);
   const char *src = s->mesh ? s->mesh : s->geometry;
   int d;
-  DTM_CHECK(dtm_gmsh_open(src, &d));
+  DTM_CHECK(dtm_gmsh_units_before(s, src));
+  int r = dtm_gmsh_open(src, &d), ru = dtm_gmsh_units_after(src);
+  DTM_CHECK(r ? r : ru);
   if (s->mesh_dim > 0) d = s->mesh_dim;
   if (s->mesh) dtm_gmsh_mesher_read();
   if (!s->mesh) DTM_CHECK(dtm_gmsh_check_meshing(s, d));

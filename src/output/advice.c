@@ -92,6 +92,7 @@ static void curvature_warning(const dtm_analysis *a, dtm_warnings *w) {
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
   w->n = 0;
+  dtm_output_plausibility_warnings(r->analysis, w);
   if (r->cost && r->cost->mass) dtm_output_mass_warnings(r->analysis, r->cost->mass, "mass scaling to the target", w);
   if (r->cost && r->cost->shape_mass)
     dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);

@@ -21,6 +21,31 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+
+/* The model's mass and extent (plausible.c), in the scene's units. */
+typedef struct {
+  double mass;         /* rho V of the analysed elements (per unit thickness in 2D without a section) */
+  int ngroups;         /* slots of group_mass: the mesh's physical groups, then the elements in none */
+  double *group_mass;  /* [ngroups] (malloc'ed; dtm_output_model_free) */
+  double lo[3], hi[3]; /* bounding box of the mesh's nodes */
+} dtm_model_extent;
+int dtm_output_model(const dtm_analysis *a, dtm_model_extent *x);
+void dtm_output_model_free(dtm_model_extent *x);
+/* The largest extent of the bounding box. */
+double dtm_output_model_size(const dtm_model_extent *x);
+/* The scene's unit of what: 0 length, 1 mass, 2 density, 3 speed, 4 stress. */
+const char *dtm_unit_label(const dtm_scene *s, int what);
+/* Densities, wave speeds and a model size outside what solids and parts
+ * have (plausible.c): each a warning naming the material and the value. */
+void dtm_output_plausibility_warnings(const dtm_analysis *a, dtm_warnings *w);
+/* The import's unit into u: 1 when the scene's source was a file dtmap
+ * imported (STEP, IGES, BREP, a .msh with <mesh unit>), else 0. */
+int dtm_output_import(const dtm_analysis *a, dtm_import_units *u);
+/* The summary's lines on the units, the import, the mass and the extent
+ * (stream is a FILE *). */
+void dtm_summary_model(const dtm_analysis *a, void *stream);
+/* The report's "model" object (model_report.c). */
+struct cJSON *dtm_report_model(const dtm_analysis *a);
 /* Its part on sections (section_advice.c): groups left out, rotary-inertia
  * scales above DTM_ROTARY_WARN, a thickness, area or profile larger than the
  * model. */

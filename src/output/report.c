@@ -520,6 +520,7 @@ cJSON *dtm_report_json(const dtm_results *r) {
   cJSON_AddStringToObject(root, "dtmap", DTM_VERSION);
   cJSON_AddStringToObject(root, "scene", dtm_analysis_scene(a)->path);
   cJSON_AddItemToObject(root, "mesh", mesh_json(a));
+  cJSON_AddItemToObject(root, "model", dtm_report_model(a));
   cJSON *names = cJSON_AddArrayToObject(root, "effects");
   for (int k = 0; k < dtm_analysis_neffects(a); k++)
     cJSON_AddItemToArray(names, cJSON_CreateString(dtm_analysis_effect(a, k)->name));

@@ -364,6 +364,7 @@ static void print_histogram(const dtm_analysis *a, FILE *f) {
 void dtm_summary_print(const dtm_results *r, void *stream) {
   FILE *f = stream;
   print_counts(r->analysis, f);
+  dtm_summary_model(r->analysis, f);
   print_min(r->analysis, f);
   print_point_masses(r->analysis, f);
   print_damping(r->analysis, f);

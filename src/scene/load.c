@@ -23,7 +23,7 @@ static const char *extension(const char *file) {
 }
 
 static int is_geometry_ext(const char *ext) {
-  static const char *const ok[] = {".geo", ".step", ".stp", ".brep"};
+  static const char *const ok[] = {".geo", ".step", ".stp", ".brep", ".iges", ".igs"};
   for (size_t i = 0; i < sizeof ok / sizeof *ok; i++)
     if (!strcasecmp(ext, ok[i])) return 1;
   return 0;
@@ -37,7 +37,7 @@ static int check_extension(const dtm_scene *s, const xmlNode *n, const char *fil
   if (!is_mesh && !is_geometry_ext(ext))
     return DTM_SCENE_ERR(s, n,
                          "geometry file '%s' has an unsupported extension (use .geo, "
-                         ".step, .stp or .brep, or <mesh file=\"x.msh\"/>)",
+                         ".step, .stp, .iges, .igs or .brep, or <mesh file=\"x.msh\"/>)",
                          file);
   return DTM_OK;
 }
@@ -65,6 +65,33 @@ static int read_partitions(dtm_scene *s, const xmlNode *n, const char *file) {
   return DTM_OK;
 }
 
+/* The length units a file may be declared in (<geometry unit>, <mesh unit>). */
+static const struct {
+  const char *name; /* as written */
+  double metres;    /* metres per unit */
+} length_units[] = {{"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}, {"in", 0.0254}};
+
+/* <geometry unit> or <mesh unit>: a .geo draws with its own numbers and sets
+ * its own sizes, which dtmap cannot scale together, so it takes none. */
+static int read_unit(dtm_scene *s, const xmlNode *n, const char *file) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(n, "unit", &text));
+  if (!text) return DTM_OK;
+  for (size_t i = 0; i < sizeof length_units / sizeof *length_units; i++)
+    if (!strcmp(text, length_units[i].name))
+      s->source_unit = length_units[i].name, s->source_unit_m = length_units[i].metres;
+  int rc = !s->source_unit ? DTM_SCENE_ERR(s, n, "<%s> unit=\"%s\" is not mm, cm, m or in", (const char *)n->name, text)
+           : !strcasecmp(extension(file), ".geo")
+               ? DTM_SCENE_ERR(s, n,
+                               "<geometry> unit=\"%s\" on the .geo file '%s': a .geo sets its own sizes in its own "
+                               "numbers, which dtmap cannot scale with it; write the .geo in the scene's length unit "
+                               "(Geometry.OCCTargetUnit or Geometry.OCCScaling convert the files it merges)",
+                               text, file)
+               : DTM_OK;
+  free(text);
+  return rc;
+}
+
 static int read_source(dtm_scene *s, const xmlNode *n) {
   int is_mesh = dtm_scene_is(n, "mesh");
   const char *kind = is_mesh ? "mesh" : "geometry";
@@ -78,6 +105,7 @@ static int read_source(dtm_scene *s, const xmlNode *n) {
     return DTM_SCENE_ERR(s, n, "<%s> needs a file=\"...\"", kind);
   }
   int rc = check_extension(s, n, file, is_mesh);
+  if (!rc) rc = read_unit(s, n, file);
   if (!rc && is_mesh) rc = read_partitions(s, n, file);
   if (!rc) rc = dtm_scene_resolve(s, file, dst);
   if (!rc && !s->partitions) rc = check_exists(s, n, kind, file, *dst);
@@ -228,8 +256,22 @@ static int count_tag(const xmlNode *root, const char *tag) {
   return count;
 }
 
+/* <dtmap-scene units>: SI, or mm-t-s (mm, tonne, s; N, MPa, t/mm^3). */
+static int read_units(dtm_scene *s, const xmlNode *root) {
+  char *text;
+  DTM_CHECK(dtm_scene_attr(root, "units", &text));
+  int rc = DTM_OK;
+  if (text && !strcmp(text, "mm-t-s"))
+    s->units = "mm-t-s", s->unit_length = 1e-3, s->unit_mass = 1e3;
+  else if (text && strcmp(text, "SI"))
+    rc = DTM_SCENE_ERR(s, root, "<dtmap-scene> units=\"%s\" is not SI or mm-t-s", text);
+  free(text);
+  return rc;
+}
+
 static int read_document(dtm_scene *s, const xmlNode *root) {
   if (!root) return DTM_ERR(DTM_ERR_INPUT, "%s: the scene file has no root element", s->path);
+  DTM_CHECK(read_units(s, root));
   int nmat = count_tag(root, "material");
   DTM_CHECK(dtm_scene_build_catalogue(s, root));
   s->materials = nmat ? calloc((size_t)nmat, sizeof *s->materials) : NULL;
@@ -265,6 +307,7 @@ static int scene_new(const char *path, dtm_scene **out) {
   s->safety = 0.9;
   s->max_added_mass = NAN;
   s->elements_per_wavelength = DTM_SCENE_PER_WAVELENGTH;
+  s->units = "SI", s->unit_length = 1.0, s->unit_mass = 1.0;
   DTM_CHECK(dtm_scene_strdup(path, &s->path));
   return scene_dir(path, &s->dir);
 }
