@@ -12,8 +12,7 @@
 
 #include "output-impl.h"
 
-static void warn(dtm_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void warn(dtm_warnings *w, const char *fmt, ...) {
+void dtm_output_warn(dtm_warnings *w, const char *fmt, ...) {
   if (w->n >= DTM_WARN_MAX) return;
   va_list ap;
   va_start(ap, fmt);
@@ -26,12 +25,13 @@ void dtm_output_mass_warnings(const dtm_analysis *a, const dtm_mass_scaling *ms,
   const dtm_mesh *m = dtm_analysis_mesh(a);
   double total = 100.0 * ms->total_added / ms->total_mass;
   if (total > DTM_MASS_WARN)
-    warn(w, "%s adds %.3g %% to the model's mass (above %g %%: the dynamics change)", what, total, DTM_MASS_WARN);
+    dtm_output_warn(w, "%s adds %.3g %% to the model's mass (above %g %%: the dynamics change)", what, total,
+                    DTM_MASS_WARN);
   for (int g = 0; g < ms->ngroups; g++) {
     double p = ms->group_mass[g] > 0 ? 100.0 * ms->group_added[g] / ms->group_mass[g] : 0;
     if (p > DTM_MASS_WARN)
-      warn(w, "%s adds %.3g %% to the mass of group '%s' (above %g %%)", what, p,
-           dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl), DTM_MASS_WARN);
+      dtm_output_warn(w, "%s adds %.3g %% to the mass of group '%s' (above %g %%)", what, p,
+                      dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl), DTM_MASS_WARN);
   }
 }
 
@@ -39,18 +39,19 @@ static void refine_warning(const dtm_refine_result *rr, dtm_warnings *w) {
   double c0 = dtm_refine_cost(&rr->rounds[0]), c1 = dtm_refine_cost(&rr->rounds[rr->best]);
   if (!(c1 > c0)) return;
   if (rr->forced_by && rr->forced > 0)
-    warn(w,
-         "the refined mesh costs %.3g %% more than the input: the accuracy bound '%s' asks for about %.0f more "
-         "elements (%.3g element-steps at the refined step)",
-         100.0 * (c1 / c0 - 1.0), rr->forced_by, rr->forced,
-         rr->forced * rr->rounds[rr->best].element_steps / (double)rr->rounds[rr->best].elements);
+    dtm_output_warn(
+        w,
+        "the refined mesh costs %.3g %% more than the input: the accuracy bound '%s' asks for about %.0f more "
+        "elements (%.3g element-steps at the refined step)",
+        100.0 * (c1 / c0 - 1.0), rr->forced_by, rr->forced,
+        rr->forced * rr->rounds[rr->best].element_steps / (double)rr->rounds[rr->best].elements);
   else
-    warn(w, "the refined mesh costs %.3g %% more than the input", 100.0 * (c1 / c0 - 1.0));
+    dtm_output_warn(w, "the refined mesh costs %.3g %% more than the input", 100.0 * (c1 / c0 - 1.0));
 }
 
 void dtm_output_conflict_warning(dtm_warnings *w, double target, const char *bound, double hmax, double dt_cap,
                                  size_t n) {
-  warn(
+  dtm_output_warn(
       w,
       "the target %.4e s is forbidden by the accuracy bound '%s': h <= %.4g m caps the step at %.4e s (%zu element(s))",
       target, bound, hmax, dt_cap, n);
@@ -72,10 +73,11 @@ static void unresolved_warning(const dtm_cost *c, dtm_warnings *w) {
   for (int k = 0; c->measures && k < c->measures->n; k++) {
     const dtm_measure *m = &c->measures->m[k];
     if (m->kind == DTM_MEASURE_PHASE && m->unresolved)
-      warn(w,
-           "%zu of %zu elements have fewer than 2 cells per wavelength at %.4g Hz%s: the phase-speed error is "
-           "unresolved there (the mesh cannot carry that frequency; refine it or lower <time f-max>)",
-           m->unresolved, m->elements, m->f, m->f_default ? " (the mesh's default frequency)" : "");
+      dtm_output_warn(
+          w,
+          "%zu of %zu elements have fewer than 2 cells per wavelength at %.4g Hz%s: the phase-speed error is "
+          "unresolved there (the mesh cannot carry that frequency; refine it or lower <time f-max>)",
+          m->unresolved, m->elements, m->f, m->f_default ? " (the mesh's default frequency)" : "");
   }
 }
 

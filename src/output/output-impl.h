@@ -21,6 +21,8 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+/* Add one warning, printf-style, while there is room (advice.c). */
+void dtm_output_warn(dtm_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* The model's mass and extent (plausible.c), in the scene's units. */
 typedef struct {

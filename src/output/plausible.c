@@ -93,15 +93,6 @@ double dtm_output_model_size(const dtm_model_extent *x) {
   return d;
 }
 
-static void warn(dtm_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void warn(dtm_warnings *w, const char *fmt, ...) {
-  if (w->n >= DTM_WARN_MAX) return;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(w->text[w->n++], sizeof w->text[0], fmt, ap);
-  va_end(ap);
-}
-
 /* Dilatational wave speed of material m in the scene's units (NaN without
  * E and rho; the bar speed without nu). */
 static double wave_speed(const dtm_material *m) {
@@ -127,14 +118,15 @@ static void material_warnings(const dtm_scene *s, const dtm_material *m, dtm_war
   char v[96];
   const char *hint = is_mm(s) ? "in mm-t-s: E in MPa, rho in t/mm^3" : "in SI: E in Pa, rho in kg/m^3";
   if (rho > 0 && (rho_si < RHO_LO || rho_si > RHO_HI))
-    warn(w,
-         "material '%s' (line %d): density rho = %s lies outside %g-%g kg/m^3, what solids have: check its unit (%s)",
-         m->name, m->line, value_text(s, rho, rho_si, 2, "kg/m^3", v, sizeof v), RHO_LO, RHO_HI, hint);
+    dtm_output_warn(
+        w, "material '%s' (line %d): density rho = %s lies outside %g-%g kg/m^3, what solids have: check its unit (%s)",
+        m->name, m->line, value_text(s, rho, rho_si, 2, "kg/m^3", v, sizeof v), RHO_LO, RHO_HI, hint);
   if (isfinite(c) && (c_si < C_LO || c_si > C_HI))
-    warn(w,
-         "material '%s' (line %d): dilatational wave speed %s lies outside %g m/s-%g km/s, what solids have: the "
-         "step scales with 1/c; check the units of E and rho (%s)",
-         m->name, m->line, value_text(s, c, c_si, 3, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
+    dtm_output_warn(
+        w,
+        "material '%s' (line %d): dilatational wave speed %s lies outside %g m/s-%g km/s, what solids have: the "
+        "step scales with 1/c; check the units of E and rho (%s)",
+        m->name, m->line, value_text(s, c, c_si, 3, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
 }
 
 static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
@@ -144,19 +136,21 @@ static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
   double d = dtm_output_model_size(&x), d_si = d * unit_length(s);
   char v[96];
   if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0 && !is_mm(s))
-    warn(w,
-         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g m: sizes are in m, as the model "
-         "is; a size meant in mm would be size=\"%g\"",
-         s->mesh_size, s->meshing_line, s->mesh_size / d, d, s->mesh_size * 1e-3);
+    dtm_output_warn(
+        w,
+        "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g m: sizes are in m, as the model "
+        "is; a size meant in mm would be size=\"%g\"",
+        s->mesh_size, s->meshing_line, s->mesh_size / d, d, s->mesh_size * 1e-3);
   else if (!s->mesh && !s->model && s->mesh_size > SIZE_OVER * d && d > 0)
-    warn(w,
-         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g mm: a model drawn in metres "
-         "is read in mm in this mm-t-s scene unless <geometry unit=\"m\"> says so",
-         s->mesh_size, s->meshing_line, s->mesh_size / d, d);
+    dtm_output_warn(
+        w,
+        "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g mm: a model drawn in metres "
+        "is read in mm in this mm-t-s scene unless <geometry unit=\"m\"> says so",
+        s->mesh_size, s->meshing_line, s->mesh_size / d, d);
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
-    warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
-         value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
-         d_si > SIZE_HI ? "1 km" : "1 um", s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
+    dtm_output_warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
+                    value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
+                    d_si > SIZE_HI ? "1 km" : "1 um", s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
 }
 
 void dtm_output_warn_plausibility(const dtm_analysis *a, void *stream) {
