@@ -138,6 +138,16 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
  * crashes; the model's mesh is then cleared. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
                                unsigned optimise);
+/* Gmsh's own size options a remesh may keep beside the field (refine's
+ * strategies, src/study/refine.c): a floor on every size (Mesh.MeshSizeMin,
+ * m; 0: none) and sizes from the curvature (Mesh.MeshSizeFromCurvature,
+ * elements per 2 pi; 0: off). {0, 0} is dtm_gmsh_remesh. */
+typedef struct {
+  double min_size;
+  double curvature;
+} dtm_remesh_sizes;
+DTM_EXPORT int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
+                                     unsigned optimise, const dtm_remesh_sizes *sizes);
 /* Gmsh's optimiser passes a remesh can run (bits). */
 enum {
   DTM_OPTIMISE_GMSH = 1,      /* Gmsh's default tetrahedral optimiser (3D) */
