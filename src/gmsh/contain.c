@@ -125,7 +125,7 @@ static long find_text(FILE *f, long from, const char *pat) {
  * names nodes that no longer exist, and reading it back crashes Gmsh in the
  * parent (seen on a periodic square). The parent's model keeps its own
  * periodic entities; only the node pairs of the handed-back mesh are lost. */
-static int strip_periodic(const char *path) {
+int dtm_gmsh_strip_periodic(const char *path) {
   FILE *f = fopen(path, "r+b");
   if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "cannot open %s", path);
   long start = find_text(f, 0, "$Periodic\n"), end = start < 0 ? -1 : find_text(f, start, "$EndPeriodic\n");
@@ -227,7 +227,7 @@ static int hand_back(const job_spec *j, const job_files *f) {
   if (!j->job) return write_data(f->data, j->out, j->nout);
   DTM_CHECK(dtm_gmsh_save_mesh(f->mesh.tmp));
   if (!complete(f->mesh.tmp)) return DTM_ERR(DTM_ERR_INTERNAL, "%s was cut short", f->mesh.tmp);
-  return j->no_periodic ? strip_periodic(f->mesh.tmp) : DTM_OK;
+  return j->no_periodic ? dtm_gmsh_strip_periodic(f->mesh.tmp) : DTM_OK;
 }
 
 /* Curves and surfaces are meshed one at a time: each logs "Meshing ..."

@@ -161,8 +161,10 @@ static void layers_first(dtm_refine_result *rr) {
     size_t at = strlen(c.text);
     snprintf(c.text + at, sizeof c.text - at,
              "; every one of the %zu element(s) below the target lies in the entities these counts make, so no "
-             "remesh was run: fewer layers, thicker ones, lift their step",
-             rr->rounds[0].below);
+             "remesh was run: %s lift their step",
+             rr->rounds[0].below,
+             rr->options.keep_counts ? "fewer nodes on these curves (or refine without --keep-counts)"
+                                     : "fewer layers, thicker ones,");
     memmove(&rr->causes[1], &rr->causes[0], (size_t)i * sizeof c);
     rr->causes[0] = c;
     return;
