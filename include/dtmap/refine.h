@@ -86,7 +86,7 @@ enum {
 /* What the caller asks of refine. */
 typedef struct dtm_refine_options_s {
   double target;         /* the target recommended step, s */
-  int max_rounds;        /* remeshes of the size field at most (--max-iter); the other strategies add at most 6 */
+  int max_rounds;        /* remeshes of the size field at most (--max-iter); the other strategies add at most 9 */
   int global;            /* 1: on the global estimate (as run --posterior), 0: on the nodal bound */
   double tol;            /* the global estimate's relative residual (0: 1e-4) */
   int lanczos_max;       /* its Lanczos steps at most (0: 400) */
@@ -140,8 +140,8 @@ typedef struct dtm_refine_result {
 
 /* Round 0 is the scene's own mesh; then the strategies while the target
  * is not met: at most o->max_rounds remeshes of the size field, then at
- * most 3 of a uniform size and one of each variant of the field (at most
- * 6 remeshes beyond o->max_rounds), and a mass round when
+ * most 3 of the input's sizes scaled, 3 of a uniform size and one of each
+ * variant (at most 9 remeshes beyond o->max_rounds), and a mass round when
  * o->max_added_mass allows one. Returns DTM_OK even
  * when the target is not met: compare dtm_analysis_recommended((*out)->
  * analysis) with the target. The input scene must outlive *out. The best

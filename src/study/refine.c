@@ -25,27 +25,32 @@
  * by that scatter instead of creeping up to it, and never repeats a field.
  * The field is capped at the length of the model curves a node lies on and
  * graded (slope 0.3), so that the mesher can follow it.
- * The loop keeps the best mesh (saved to a .msh without a name while it
- * remeshes on, and read back at the end) and stops as soon as the target is met,
- * only shape-limited elements remain below the target (or cap
- * it, and a round around them did not beat the kept mesh), a remesh left
- * the step where it was, or the budget is spent. A round that costs more
- * than the input without meeting the target does not end the loop: it is
- * not kept, and the next aims from the best round and the miss seen (the
- * first remesh of a fresh mesh from the suggestion can come out worse;
- * extrude.geo and simple3.geo meet the target in their second or third
- * round). It stops before its
- * first remesh when no remesh can change what limits the step: every
- * element below the target limited by its shape or by the thickness of
- * its layer, or elements in extrusions whose layer count the model fixes.
- * A thin layer among other elements below the target is tried by one
- * remesh: the best step a fresh mesh reaches across it is an estimate
- * (src/analysis/shape.c), and on Gmsh's demos it proved short of what a
- * remesh reached on 2 of 17 such models on the nodal bound and 4 of 17 on
- * the global estimate (docs/refine-survey.md); the loop stops as soon as a
- * round does not beat the kept mesh. A remesh that Gmsh refuses or crashes in
- * (it runs in a child process, src/gmsh/contain.c) ends the loop too, and
- * the kept mesh is read back. When the mesh alone does not meet the target
+ * The search keeps the best mesh (saved to a .msh without a name while it
+ * remeshes on, and read back at the end): the one that meets the target
+ * at least cost, else the largest step no dearer than the input. It tries
+ * strategies from a table, in order, while the kept mesh falls short:
+ * "try, measure, keep the best". The size field above, --max-iter rounds
+ * at most; the input's own sizes scaled by the factor its shortfall
+ * implies (what Mesh.MeshSizeFactor does: its grading around small
+ * features and embedded entities kept); the uniform size the target
+ * implies (at each node the size at which its own step reaches the target,
+ * from the input's measured ratio of step to size, their median over the
+ * spread of a fresh mesh, at least the input's median size scaled by its
+ * shortfall); the last two climb to coarser sizes while they fall short
+ * (3 remeshes each at most) and stop when coarser does not raise the step;
+ * the scene's accuracy bounds clamp every size. Then the field floored at
+ * the best uniform size (Mesh.MeshSizeMin), the field without its caps at
+ * short curves, and, after a Gmsh refusal, the uniform size with Gmsh's
+ * sizes from the curvature: one remesh each. A field equal to one tried
+ * already is not remeshed again. A remesh Gmsh refuses or crashes in (it
+ * runs in a child process, src/gmsh/contain.c) ends its strategy, not the
+ * search. Before any remesh the search stops only when every element below
+ * the target lies where an extrusion's Layers{} fix the node counts. The
+ * stop is then decided from the meshes tried (decide_stop): shape-limited
+ * or thickness-limited elements only when the uniform mesh at the target's
+ * size still keeps them below the target, the accuracy bound when it
+ * clamped the sizes tried, the budget when the size field was still rising,
+ * else no mesh tried met it. When the mesh alone does not meet the target
  * and the caller allows it, point masses at the nodes that need them make
  * up the rest (refine_mass.c). The causes of a target not met come from
  * refine_causes.c. */
