@@ -131,6 +131,9 @@ typedef struct dtm_refine_result {
   double mass_needed;                             /* % of the mass a mass round needed when that
                                                      was beyond the limit (NaN: none needed or
                                                      none asked for) */
+  int mass_least;                                 /* 1: mass_needed is the least share a search found (the
+                                                     rule's masses scaled, the global estimate confirming
+                                                     it); 0: what dtmap's mass rule adds */
   double uniform;                                 /* the largest uniform size tried, m (0: none) */
   int uniform_rounds;                             /* uniform remeshes run */
   double element_bound;                           /* safety x the kept mesh's element bound, s: about

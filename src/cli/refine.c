@@ -165,8 +165,9 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
     printf("  mesh + mass:     round %d, +%.3g %% of the mass at %zu nodes, cost x%.3f of the input\n", mass,
            rr->rounds[mass].added_percent, rr->rounds[mass].mass_nodes, dtm_refine_cost(&rr->rounds[mass]) / c0);
   else if (isfinite(rr->mass_needed))
-    printf("  mesh + mass:     dtmap's mass rule adds %.3g %% of the mass, above the %.3g %% allowed\n",
-           rr->mass_needed, rr->options.max_added_mass);
+    printf("  mesh + mass:     %s %.3g %% of the mass, above the %.3g %% allowed\n",
+           rr->mass_least ? "needs at least (searched)" : "dtmap's mass rule adds", rr->mass_needed,
+           rr->options.max_added_mass);
   else if (!(rr->options.max_added_mass > 0) && mesh < 0 && rr->rounds[0].recommended < rr->target)
     printf("  mesh + mass:     not tried (--max-added-mass P allows P %% of the model's mass at the nodes)\n");
   if (cost && cost->subcycling.speedup > 1.0005)

@@ -149,6 +149,7 @@ cJSON *dtm_report_refine(const dtm_results *r) {
   cJSON_AddNumberToObject(o, "cost_change", c1 / c0 - 1.0);
   cJSON_AddNumberToObject(o, "element_bound", rr->element_bound);
   if (isfinite(rr->mass_needed)) cJSON_AddNumberToObject(o, "mass_needed_percent", rr->mass_needed);
+  if (isfinite(rr->mass_needed)) cJSON_AddStringToObject(o, "mass_needed_by", rr->mass_least ? "search" : "rule");
   if (rr->uniform > 0) cJSON_AddNumberToObject(o, "uniform_size", rr->uniform);
   if (rr->forced_by) cJSON_AddStringToObject(o, "accuracy_bound", rr->forced_by);
   if (rr->forced_by) cJSON_AddNumberToObject(o, "accuracy_elements", rr->forced);

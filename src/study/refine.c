@@ -573,9 +573,10 @@ static int try_field(dtm_refine_result *rr, loop_state *st, int dim, const char 
   return DTM_OK;
 }
 
-#define LADDER_TRIES 3   /* remeshes of a uniform or scaled strategy at most */
-#define LADDER_GROW 1.1  /* a size after one that fell short: at least this much coarser */
-#define LADDER_FLAT 1.02 /* a coarser try whose step rose less than this ends the ladder */
+#define LADDER_TRIES 3      /* remeshes of a uniform or scaled strategy at most */
+#define LADDER_GROW 1.1     /* a size after one that fell short: at least this much coarser */
+#define LADDER_FLAT 1.02    /* a coarser try whose step rose less than this ends the ladder */
+#define LADDER_MAX_GROW 2.0 /* ... and at most this much coarser (a try far short is a bad mesh, not a guide) */
 
 /* A ladder of sizes: x (a uniform size, or with scaled a factor on the
  * input's sizes), then, while it falls short, coarser by the shortfall and
@@ -606,7 +607,7 @@ static int ladder(dtm_refine_result *rr, loop_state *st, int dim, const char *na
     if (!refused) last = isnan(last) ? step : fmax(last, step);
     double shortfall = refused ? 1.0 : rr->target / step;
     st->uniform_capped |= capped; /* the accuracy bounds kept some nodes finer */
-    x *= fmax(LADDER_GROW, pow(shortfall * MIN_MARGIN, 1.0 / p));
+    x *= fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, pow(shortfall * MIN_MARGIN, 1.0 / p)));
   }
   free(size);
   return r;
@@ -865,10 +866,11 @@ const char *dtm_refine_stop_text(int stop) {
   switch (stop) {
   case DTM_REFINE_MET: return "the target is met";
   case DTM_REFINE_ONLY_SHAPE:
-    return "shape-limited elements stay below the target on a uniform mesh at the target's size";
+    return "shape-limited elements stay below the target on a uniform mesh at or above the size it implies";
   case DTM_REFINE_BUDGET: return "the size-field rounds (--max-iter) are spent, and no other strategy met the target";
   case DTM_REFINE_SHAPE_CAP: return "shape-limited elements cap the step";
-  case DTM_REFINE_THICKNESS: return "thin layers stay below the target on a uniform mesh at the target's size";
+  case DTM_REFINE_THICKNESS:
+    return "thin layers stay below the target on a uniform mesh at or above the size it implies";
   case DTM_REFINE_GMSH_REFUSED: return "Gmsh refused every remesh tried";
   case DTM_REFINE_GMSH_CRASH: return "Gmsh crashed in every remesh tried";
   case DTM_REFINE_LAYERS:

@@ -118,15 +118,16 @@ static void stop_cause(dtm_refine_result *rr) {
   case DTM_REFINE_ONLY_SHAPE:
     if ((c = dtm_refine_new_cause(rr, "shape-limited")))
       snprintf(c->text, sizeof c->text,
-               "on %s, coarser than the input where it falls short, the %zu element(s) below the target are all "
+               "on %s, at or above the size the target implies, the %zu element(s) below the target are all "
                "limited by their shape (a small angle or thin feature of the model), not by their size",
                ut, rr->rounds[u].below);
     break;
   case DTM_REFINE_THICKNESS:
     if ((c = dtm_refine_new_cause(rr, "thickness")))
       snprintf(c->text, sizeof c->text,
-               "on %s, the target's size, %zu layer(s) still cap the step of the elements below the target: no "
-               "mesh of those layers reaches it; the layers and their remedies are in the summary",
+               "on %s, at or above the size the target implies, %zu layer(s) still cap the step of the elements "
+               "below the target: no mesh of those layers reached it; the layers and their remedies are in the "
+               "summary",
                ut, rr->rounds[u].layers);
     break;
   case DTM_REFINE_ACCURACY:
@@ -175,7 +176,13 @@ static void layers_first(dtm_refine_result *rr) {
 
 void dtm_refine_mass_cause(dtm_refine_result *rr) {
   dtm_cause *c = dtm_refine_new_cause(rr, "mass-limit");
-  if (c)
+  if (c && rr->mass_least)
+    snprintf(c->text, sizeof c->text,
+             "point masses need %.3g %% of the model's mass to meet the target on the kept mesh, more than the "
+             "%.3g %% allowed (--max-added-mass): the least share a search found (dtmap's mass rule scaled down "
+             "until the global estimate with the masses just meets the target)",
+             rr->mass_needed, rr->options.max_added_mass);
+  else if (c)
     snprintf(c->text, sizeof c->text,
              "dtmap's mass rule (each node below the target given the least mass that lifts its own bound to it) "
              "adds %.3g %% of the model's mass to meet the target on the kept mesh, more than the %.3g %% allowed "
