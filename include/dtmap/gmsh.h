@@ -140,11 +140,15 @@ DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double sca
                                unsigned optimise);
 /* Gmsh's own size options a remesh may keep beside the field (refine's
  * strategies, src/study/refine.c): a floor on every size (Mesh.MeshSizeMin,
- * m; 0: none) and sizes from the curvature (Mesh.MeshSizeFromCurvature,
- * elements per 2 pi; 0: off). {0, 0} is dtm_gmsh_remesh. */
+ * m; 0: none), sizes from the curvature (Mesh.MeshSizeFromCurvature,
+ * elements per 2 pi; 0: off) and a cap on every size (Mesh.MeshSizeMax, m;
+ * 0: none: where the new mesh leaves the old one, on curved faces, the
+ * field has no value and the cap then sets the size). {0, 0, 0} is
+ * dtm_gmsh_remesh. */
 typedef struct {
   double min_size;
   double curvature;
+  double max_size;
 } dtm_remesh_sizes;
 DTM_EXPORT int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
                                      unsigned optimise, const dtm_remesh_sizes *sizes);

@@ -5,11 +5,13 @@
  * the background size field of a fresh mesh of the same geometry
  * (dtm_gmsh_remesh), with the node counts of transfinite curves set from
  * it and Gmsh's optimisers, and analyses again, on the basis the caller
- * chose: the nodal bound, or the global estimate (run --posterior). The
- * loop keeps the best mesh and stops as soon as the target is met (by the
- * input itself, without a remesh, when it already meets it), a round makes
- * the run more expensive than the input without meeting it, or nothing a
- * remesh changes limits the step any more. Where no mesh meets the target,
+ * chose: the nodal bound, or the global estimate (run --posterior). While
+ * the target is not met it tries strategies from a table (the size field,
+ * the input's sizes scaled, a uniform size, variants of the field: see
+ * src/study/refine.c), keeps the best mesh (the cheapest that meets the
+ * target), and decides why it stopped from the meshes it tried; it stops
+ * before any remesh only when extrusions' Layers{} hold every element
+ * below the target. Where no mesh meets the target,
  * point masses at the nodes that need them may make up the rest, up to a
  * share of the model's mass the caller allows. The result is an object of
  * its own: the rounds, the kept mesh's analysis and the masses. */
@@ -86,7 +88,7 @@ enum {
 /* What the caller asks of refine. */
 typedef struct dtm_refine_options_s {
   double target;         /* the target recommended step, s */
-  int max_rounds;        /* remeshes of the size field at most (--max-iter); the other strategies add at most 9 */
+  int max_rounds;        /* remeshes of the size field at most (--max-iter); the other strategies add at most 11 */
   int global;            /* 1: on the global estimate (as run --posterior), 0: on the nodal bound */
   double tol;            /* the global estimate's relative residual (0: 1e-4) */
   int lanczos_max;       /* its Lanczos steps at most (0: 400) */
@@ -143,8 +145,8 @@ typedef struct dtm_refine_result {
 
 /* Round 0 is the scene's own mesh; then the strategies while the target
  * is not met: at most o->max_rounds remeshes of the size field, then at
- * most 3 of the input's sizes scaled, 3 of a uniform size and one of each
- * variant (at most 9 remeshes beyond o->max_rounds), and a mass round when
+ * most 3 of the input's sizes scaled, 5 of uniform sizes and one of each
+ * variant (at most 11 remeshes beyond o->max_rounds), and a mass round when
  * o->max_added_mass allows one. Returns DTM_OK even
  * when the target is not met: compare dtm_analysis_recommended((*out)->
  * analysis) with the target. The input scene must outlive *out. The best

@@ -71,10 +71,11 @@ static const char *const size_keys[] = {"Mesh.MeshSizeExtendFromBoundary",
 #define NKEYS 6
 
 /* Set them for the remesh, keeping the old values in old[NKEYS]: the
- * field alone, or with the floor and curvature sizes asks for. */
+ * field alone, or with the floor, curvature sizes and cap sizes asks for. */
 static void size_options(double *old, const dtm_remesh_sizes *sizes) {
   double set[NKEYS] = {0, 0, 0, 0, 1e22, 1};
   set[2] = sizes ? sizes->curvature : 0, set[3] = sizes ? sizes->min_size : 0;
+  if (sizes && sizes->max_size > 0) set[4] = sizes->max_size;
   int ierr = 0;
   for (int i = 0; i < NKEYS; i++) {
     gmshOptionGetNumber(size_keys[i], &old[i], &ierr);

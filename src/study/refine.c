@@ -36,8 +36,9 @@
  * implies (at each node the size at which its own step reaches the target,
  * from the input's measured ratio of step to size, their median over the
  * spread of a fresh mesh, at least the input's median size scaled by its
- * shortfall); the last two climb to coarser sizes while they fall short
- * (3 remeshes each at most) and stop when coarser does not raise the step;
+ * shortfall); the scaled one climbs to coarser factors while it falls
+ * short (3 remeshes at most) and stops when coarser does not raise the
+ * step, the uniform one tries a list of sizes (uniform_factors, 5 at most);
  * the scene's accuracy bounds clamp every size. Then the field floored at
  * the best uniform size (Mesh.MeshSizeMin), the field without its caps at
  * short curves, and, after a Gmsh refusal, the uniform size with Gmsh's
@@ -505,7 +506,7 @@ static int field_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
  * the input's shortfall (on CAD parts the worst node sits far below the
  * median, and the median estimate then asks a finer mesh than the input).
  * The scene's accuracy bounds clamp it where they apply (uniform_field). */
-static int uniform_size(const dtm_refine_result *rr, const loop_state *st, double *h) {
+static int uniform_size(const dtm_refine_result *rr, const loop_state *st, double *h, double *med) {
   const dtm_analysis *a = st->input;
   const dtm_mesh *m = dtm_analysis_mesh(a);
   const double big = 1e6; /* the field at a calibration this large is c x need wherever no bound caps it */
@@ -519,10 +520,11 @@ static int uniform_size(const dtm_refine_result *rr, const loop_state *st, doubl
   }
   double p = basis_exponent(a);
   *h = n ? median(need, n) * first_calibration(a) : NAN;
-  if (nc) *h = fmax(*h, median(cur, nc) * pow(rr->target / rr->rounds[0].recommended * MIN_MARGIN, 1.0 / p));
+  *med = nc ? median(cur, nc) : NAN;
+  if (nc) *h = fmax(*h, *med * pow(rr->target / rr->rounds[0].recommended * MIN_MARGIN, 1.0 / p));
   free(need), free(cur);
   DTM_CHECK(r);
-  return isfinite(*h) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "no size reaches the target on the input");
+  return isfinite(*h) && isfinite(*med) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "no size reaches the target on the input");
 }
 
 #define BIG_CALIBRATION 1e6 /* the field at this calibration is the accuracy bound wherever there is one */
@@ -573,10 +575,36 @@ static int try_field(dtm_refine_result *rr, loop_state *st, int dim, const char 
   return DTM_OK;
 }
 
+/* The largest finite value of size[n] (0: none). */
+static double field_max(const double *size, size_t n) {
+  double m = 0;
+  for (size_t v = 0; v < n; v++)
+    if (isfinite(size[v])) m = fmax(m, size[v]);
+  return m;
+}
+
 #define LADDER_TRIES 3      /* remeshes of a uniform or scaled strategy at most */
 #define LADDER_GROW 1.1     /* a size after one that fell short: at least this much coarser */
 #define LADDER_FLAT 1.02    /* a coarser try whose step rose less than this ends the ladder */
 #define LADDER_MAX_GROW 2.0 /* ... and at most this much coarser (a try far short is a bad mesh, not a guide) */
+
+/* One remesh at size x (uniform, or with scaled a factor on the input's
+ * sizes), clamped by the accuracy bounds, with the largest size as Gmsh's
+ * cap (where the new mesh leaves the old one the field has no value);
+ * SAME_FIELD when the field was tried already. */
+static int one_size(dtm_refine_result *rr, loop_state *st, int dim, const char *name, double x, int scaled,
+                    double *size, int *refused) {
+  dtm_refine_round info = {0};
+  int capped = 0;
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  info.calibration = scaled ? x : NAN, info.uniform = scaled ? NAN : x;
+  DTM_CHECK(uniform_field(rr, st, x, scaled, size, &info.counts, &capped));
+  st->uniform_capped |= capped; /* the accuracy bounds kept some nodes finer */
+  dtm_remesh_sizes o = {0, 0, field_max(size, nn)};
+  int r = try_field(rr, st, dim, name, size, &o, &info, refused);
+  if (r == DTM_OK && !scaled) st->uniform = fmax(st->uniform, x), st->uniform_rounds += !*refused;
+  return r;
+}
 
 /* A ladder of sizes: x (a uniform size, or with scaled a factor on the
  * input's sizes), then, while it falls short, coarser by the shortfall and
@@ -590,34 +618,54 @@ static int ladder(dtm_refine_result *rr, loop_state *st, int dim, const char *na
   if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int r = DTM_OK;
   for (int t = 0; t < LADDER_TRIES && r == DTM_OK && room(rr) && !met(rr, rr->best); t++) {
-    dtm_refine_round info = {0};
-    int refused = 0, capped = 0;
-    info.calibration = scaled ? x : NAN, info.uniform = scaled ? NAN : x;
-    r = uniform_field(rr, st, x, scaled, size, &info.counts, &capped);
-    st->uniform_capped |= capped; /* the accuracy bounds kept some nodes finer */
-    if (r == DTM_OK) r = try_field(rr, st, dim, name, size, NULL, &info, &refused);
+    int refused = 0;
+    r = one_size(rr, st, dim, name, x, scaled, size, &refused);
     if (r == SAME_FIELD) {
       r = DTM_OK;
       break; /* clamped to a field tried already */
     }
     if (r) break;
-    if (!scaled) st->uniform = fmax(st->uniform, x), st->uniform_rounds += !refused;
     double step = refused ? NAN : rr->rounds[rr->nrounds - 1].recommended;
     if (!refused && !(step > LADDER_FLAT * last) && t > 0) break; /* coarser did not help */
     if (!refused) last = isnan(last) ? step : fmax(last, step);
     double shortfall = refused ? 1.0 : rr->target / step;
-    st->uniform_capped |= capped; /* the accuracy bounds kept some nodes finer */
     x *= fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, pow(shortfall * MIN_MARGIN, 1.0 / p)));
   }
   free(size);
   return r;
 }
 
-/* The uniform strategy: the size the target implies (uniform_size). */
+/* The uniform sizes tried: the input's median size times these, from the
+ * first at least the estimate over UNIFORM_BELOW (uniform_size), in turn
+ * until one meets the target. The worst element of a fresh mesh is a
+ * lottery from one size to the next (on real parts 1.25x met where 1.5x
+ * did not, and 2x where 1.25x and 1.5x did not): the search tries each
+ * size, from the finer (more accurate) side, rather than trusting a trend. */
+static const double uniform_factors[] = {1.25, 1.5, 2.0, 3.0, 4.0, 6.0};
+#define UNIFORM_TRIES 5    /* uniform remeshes at most */
+#define UNIFORM_BELOW 1.6  /* the first size tried may lie this far below the estimate */
+#define UNIFORM_REFUSED 2  /* refusals in a row that end the strategy */
+
+/* The uniform strategy (see uniform_factors). */
 static int uniform_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
-  double h;
-  DTM_CHECK(uniform_size(rr, st, &h));
-  return ladder(rr, st, dim, "uniform", h, 0);
+  double h, med;
+  DTM_CHECK(uniform_size(rr, st, &h, &med));
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  double *size = malloc((nn + 1) * sizeof *size);
+  if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = DTM_OK, tries = 0, refused_run = 0;
+  size_t nf = sizeof uniform_factors / sizeof uniform_factors[0];
+  for (size_t k = 0; k < nf && tries < UNIFORM_TRIES && r == DTM_OK && room(rr) && !met(rr, rr->best); k++) {
+    double x = med * uniform_factors[k];
+    if (x < h / UNIFORM_BELOW && k + 1 < nf) continue;
+    int refused = 0;
+    r = one_size(rr, st, dim, "uniform", x, 0, size, &refused);
+    if (r == SAME_FIELD) r = DTM_OK; /* clamped to a field tried already: the next size */
+    tries++, refused_run = refused ? refused_run + 1 : 0;
+    if (refused_run >= UNIFORM_REFUSED) break;
+  }
+  free(size);
+  return r;
 }
 
 /* The scaled strategy: the input's own sizes times the factor its
@@ -665,7 +713,7 @@ static int variant_strategy(dtm_refine_result *rr, loop_state *st, int dim, int 
     r = dtm_analysis_size_field(a, BIG_CALIBRATION, size); /* the accuracy bounds: the floor stays below */
   for (size_t v = 0; r == DTM_OK && v < nn; v++)
     if (isfinite(size[v])) h = fmin(h, size[v]);
-  dtm_remesh_sizes o = {floored ? h : 0, 0};
+  dtm_remesh_sizes o = {floored ? h : 0, 0, 0};
   info.calibration = c, info.uniform = floored ? h : NAN;
   if (r == DTM_OK) r = dtm_analysis_size_field(a, c, size);
   if (r == DTM_OK) r = dtm_analysis_size_field(a, 0.0, floor);
@@ -686,7 +734,7 @@ static int curvature_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
   double *size = malloc((nn + 1) * sizeof *size);
   if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   dtm_refine_round info = {0};
-  dtm_remesh_sizes o = {0.25 * st->uniform, CURVATURE_PER_2PI};
+  dtm_remesh_sizes o = {0.25 * st->uniform, CURVATURE_PER_2PI, st->uniform};
   int refused = 0, capped = 0;
   info.calibration = NAN, info.uniform = st->uniform;
   int r = uniform_field(rr, st, st->uniform, 0, size, &info.counts, &capped);
@@ -840,7 +888,7 @@ int dtm_refine_run(const dtm_scene *s, const dtm_refine_options *o, dtm_refine_r
   if (!(rr->options.tol > 0)) rr->options.tol = 1e-4;
   if (!(rr->options.lanczos_max > 0)) rr->options.lanczos_max = 400;
   if (!rr->options.optimise) rr->options.optimise = DTM_REFINE_OPTIMISE;
-  if (rr->options.max_rounds > DTM_REFINE_MAX_ROUNDS - 12) rr->options.max_rounds = DTM_REFINE_MAX_ROUNDS - 12;
+  if (rr->options.max_rounds > DTM_REFINE_MAX_ROUNDS - 14) rr->options.max_rounds = DTM_REFINE_MAX_ROUNDS - 14;
   rr->target = o->target, rr->mass_needed = NAN;
   rr->scene = *s;
   rr->scene.target = o->target;
