@@ -642,9 +642,9 @@ static int ladder(dtm_refine_result *rr, loop_state *st, int dim, const char *na
  * did not, and 2x where 1.25x and 1.5x did not): the search tries each
  * size, from the finer (more accurate) side, rather than trusting a trend. */
 static const double uniform_factors[] = {1.25, 1.5, 2.0, 3.0, 4.0, 6.0};
-#define UNIFORM_TRIES 5    /* uniform remeshes at most */
-#define UNIFORM_BELOW 1.6  /* the first size tried may lie this far below the estimate */
-#define UNIFORM_REFUSED 2  /* refusals in a row that end the strategy */
+#define UNIFORM_TRIES 5   /* uniform remeshes at most */
+#define UNIFORM_BELOW 1.6 /* the first size tried may lie this far below the estimate */
+#define UNIFORM_REFUSED 2 /* refusals in a row that end the strategy */
 
 /* The uniform strategy (see uniform_factors). */
 static int uniform_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
