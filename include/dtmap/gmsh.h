@@ -138,6 +138,10 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
  * crashes; the model's mesh is then cleared. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
                                unsigned optimise);
+/* A time limit on each remesh's child (seconds; 0: none, the default):
+ * past it the child ends and the remesh fails as refused (refine sets it
+ * while it searches: on a swept pipe one remesh ran for minutes). */
+DTM_EXPORT void dtm_gmsh_remesh_limit(unsigned seconds);
 /* Gmsh's own size options a remesh may keep beside the field (refine's
  * strategies, src/study/refine.c): a floor on every size (Mesh.MeshSizeMin,
  * m; 0: none), sizes from the curvature (Mesh.MeshSizeFromCurvature,

@@ -252,9 +252,14 @@ static void restore_surfaces(const double *old) {
 
 /* The child: dies with its parent, Gmsh's terminal to the log, the job,
  * its mesh or numbers back. */
+static unsigned remesh_limit; /* seconds a remesh may take (0: no limit): dtm_gmsh_remesh_limit */
+
+void dtm_gmsh_remesh_limit(unsigned seconds) { remesh_limit = seconds; }
+
 static void child(pid_t parent, const char *stage, const job_spec *j, const job_files *f) {
   int ierr = 0;
   if (prctl(PR_SET_PDEATHSIG, SIGKILL) || getppid() != parent) _exit(DTM_ERR_INTERNAL);
+  if (j->no_periodic && remesh_limit) alarm(remesh_limit); /* a remesh Gmsh does not finish ends by SIGALRM */
   dup2(f->log, STDOUT_FILENO), dup2(f->log, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
@@ -302,6 +307,8 @@ static int read_text(int fd, char *buf, size_t len) {
 /* What the parent makes of the child's end. */
 static int judge(const char *stage, int status, const job_files *f) {
   char text[2048];
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM && remesh_limit)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: Gmsh did not finish within %u s (the limit of one remesh)", stage, remesh_limit);
   if (WIFSIGNALED(status)) {
     int sig = WTERMSIG(status);
     tail(f->log, TAIL_LINES, text, sizeof text);

@@ -67,8 +67,10 @@
 #include "dtmap/util.h"
 #include "study-impl.h"
 
-#define GRADE 0.3      /* size slope of the field (m per m): a fresh mesh follows it */
-#define MAX_GROWTH 1.5 /* of the calibration from one round to the next */
+#define REMESH_LIMIT_MIN 120 /* s: a remesh may take at least this long, */
+#define REMESH_LIMIT_X 20    /* ... and this many times round 0 (the input's meshing and analysis) */
+#define GRADE 0.3            /* size slope of the field (m per m): a fresh mesh follows it */
+#define MAX_GROWTH 1.5       /* of the calibration from one round to the next */
 #define MIN_MARGIN                                                                                                     \
   1.05                 /* aim at least this far past the target once a round fell short: the worst node of a           \
                           fresh mesh scatters by about 5 % from one mesh to the next */
@@ -854,7 +856,9 @@ static int refine_loop(dtm_refine_result *rr) {
   DTM_CHECK(record(rr->analysis, DTM_ROUND_INPUT, dtm_wtime() - t0, rr, rr->nrounds++));
   input_accuracy(rr, rr->analysis);
   int r = met(rr, 0) ? DTM_OK : model_causes(rr, &st);
+  dtm_gmsh_remesh_limit((unsigned)fmax(REMESH_LIMIT_MIN, REMESH_LIMIT_X * rr->rounds[0].seconds));
   if (r == DTM_OK) r = search(rr, &st, dim);
+  dtm_gmsh_remesh_limit(0);
   if (r == DTM_OK) decide_stop(rr, &st);
   rr->uniform = st.uniform, rr->uniform_rounds = st.uniform_rounds;
   if (r == DTM_OK && !met(rr, 0)) r = record_counts(rr, &st);
