@@ -157,6 +157,24 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
  * crashes; the model's mesh is then cleared. */
 DTM_EXPORT int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
                                unsigned optimise);
+/* A time limit on each remesh's child (seconds; 0: none, the default):
+ * past it the child ends and the remesh fails as refused (refine sets it
+ * while it searches: on a swept pipe one remesh ran for minutes). */
+DTM_EXPORT void dtm_gmsh_remesh_limit(unsigned seconds);
+/* Gmsh's own size options a remesh may keep beside the field (refine's
+ * strategies, src/study/refine.c): a floor on every size (Mesh.MeshSizeMin,
+ * m; 0: none), sizes from the curvature (Mesh.MeshSizeFromCurvature,
+ * elements per 2 pi; 0: off) and a cap on every size (Mesh.MeshSizeMax, m;
+ * 0: none: where the new mesh leaves the old one, on curved faces, the
+ * field has no value and the cap then sets the size). {0, 0, 0} is
+ * dtm_gmsh_remesh. */
+typedef struct {
+  double min_size;
+  double curvature;
+  double max_size;
+} dtm_remesh_sizes;
+DTM_EXPORT int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
+                                     unsigned optimise, const dtm_remesh_sizes *sizes);
 /* Gmsh's optimiser passes a remesh can run (bits). */
 enum {
   DTM_OPTIMISE_GMSH = 1,      /* Gmsh's default tetrahedral optimiser (3D) */

@@ -5,11 +5,13 @@
  * the background size field of a fresh mesh of the same geometry
  * (dtm_gmsh_remesh), with the node counts of transfinite curves set from
  * it and Gmsh's optimisers, and analyses again, on the basis the caller
- * chose: the nodal bound, or the global estimate (run --posterior). The
- * loop keeps the best mesh and stops as soon as the target is met (by the
- * input itself, without a remesh, when it already meets it), a round makes
- * the run more expensive than the input without meeting it, or nothing a
- * remesh changes limits the step any more. Where no mesh meets the target,
+ * chose: the nodal bound, or the global estimate (run --posterior). While
+ * the target is not met it tries strategies from a table (the size field,
+ * the input's sizes scaled, a uniform size, variants of the field: see
+ * src/study/refine.c), keeps the best mesh (the cheapest that meets the
+ * target), and decides why it stopped from the meshes it tried; it stops
+ * before any remesh only when extrusions' Layers{} hold every element
+ * below the target. Where no mesh meets the target,
  * point masses at the nodes that need them may make up the rest, up to a
  * share of the model's mass the caller allows. The result is an object of
  * its own: the rounds, the kept mesh's analysis and the masses. */
@@ -31,9 +33,14 @@ enum {
 
 typedef struct dtm_refine_round_s {
   int kind;             /* DTM_ROUND_* */
+  const char *strategy; /* mesh rounds: the strategy that made it ("field", "scaled", "uniform", "field-floored",
+                           "field-uncapped", "uniform-curvature"); "input" for round 0; NULL for mass */
+  double uniform;       /* mesh rounds of a uniform strategy: its size, m; field-floored: the floor (NaN: none) */
+  size_t layers;        /* groups whose thin layers cap elements below the target */
   const char *basis;    /* what its recommended step rests on ("nodal bound", "global estimate", ...) */
   double gap;           /* target / recommended - 1: how far short (<= 0: met) */
-  double calibration;   /* the size field's calibration, the margin aimed past the target (NaN: none) */
+  double calibration;   /* the size field's calibration, the margin aimed past the target; scaled: the
+                           factor on the input's sizes (NaN: none) */
   int counts;           /* transfinite curves whose node count refine set for it */
   unsigned optimise;    /* DTM_OPTIMISE_* passes run */
   double added_mass;    /* kg at the nodes (a mass round; 0 otherwise; per unit thickness in 2D) */
@@ -56,34 +63,32 @@ typedef struct dtm_refine_round_s {
 
 #define DTM_REFINE_MAX_ROUNDS 32
 
-/* Why the loop stopped. */
+/* Why the search stopped. Each code is one case, shown by a mesh tried. */
 enum {
   DTM_REFINE_MET = 1,          /* the target is met */
-                               /* 2: unused (a round dearer than the input no longer ends
-                                  the loop: it is not kept, and the next aims from the best) */
-  DTM_REFINE_ONLY_SHAPE = 3,   /* only shape-limited elements remain below it */
-  DTM_REFINE_BUDGET = 4,       /* the round budget is spent */
-  DTM_REFINE_SHAPE_CAP = 5,    /* shape-limited elements cap the step, and a round
-                                  around them did not beat the kept mesh */
-  DTM_REFINE_THICKNESS = 6,    /* elements the thickness of their layer caps are below the
-                                  target: they are all that is below it, or a remesh did not
-                                  beat the kept mesh */
-  DTM_REFINE_GMSH_REFUSED = 7, /* Gmsh refused a remesh (its reason is the first cause) */
-  DTM_REFINE_GMSH_CRASH = 8,   /* Gmsh crashed in a remesh (signal and last messages in
-                                  the first cause) */
-  DTM_REFINE_LAYERS = 9,       /* elements below the target lie where the model fixes the
-                                  node counts (an extrusion's Layers{}, or transfinite curves
-                                  with keep_counts), which no remesh changes (checked before
-                                  any remesh) */
-  DTM_REFINE_STALLED = 10      /* a remesh left the step where it was, or two in a row did
-                                  not beat the kept mesh: the same elements limit it
-                                  whatever the size field */
+                               /* 2: unused */
+  DTM_REFINE_ONLY_SHAPE = 3,   /* a uniform mesh at the target's size still keeps shape-limited
+                                  elements below the target, and only them */
+  DTM_REFINE_BUDGET = 4,       /* the size-field rounds (--max-iter) are spent while still rising,
+                                  and no other strategy met the target */
+  DTM_REFINE_SHAPE_CAP = 5,    /* unused (shape-limited elements are judged on a coarser mesh) */
+  DTM_REFINE_THICKNESS = 6,    /* a uniform mesh at the target's size still keeps elements across
+                                  thin layers below the target, and only shape-limited ones */
+  DTM_REFINE_GMSH_REFUSED = 7, /* Gmsh refused every remesh tried (its reason is a cause) */
+  DTM_REFINE_GMSH_CRASH = 8,   /* Gmsh crashed in every remesh tried */
+  DTM_REFINE_LAYERS = 9,       /* every element below the target lies where an extrusion's
+                                  Layers{} fix the node counts (or transfinite curves with
+                                  keep_counts), which no remesh changes (checked before any remesh) */
+  DTM_REFINE_STALLED = 10,     /* no strategy met the target: the size field and uniform sizes
+                                  up to the one the target implies left elements below it */
+  DTM_REFINE_ACCURACY = 11     /* the uniform size that meets the target is above what the scene's
+                                  accuracy bounds allow, and no mesh within them met it */
 };
 
 /* What the caller asks of refine. */
 typedef struct dtm_refine_options_s {
   double target;         /* the target recommended step, s */
-  int max_rounds;        /* remeshes at most */
+  int max_rounds;        /* remeshes of the size field at most (--max-iter); the other strategies add at most 11 */
   int global;            /* 1: on the global estimate (as run --posterior), 0: on the nodal bound */
   double tol;            /* the global estimate's relative residual (0: 1e-4) */
   int lanczos_max;       /* its Lanczos steps at most (0: 400) */
@@ -128,13 +133,21 @@ typedef struct dtm_refine_result {
   double mass_needed;                             /* % of the mass a mass round needed when that
                                                      was beyond the limit (NaN: none needed or
                                                      none asked for) */
+  int mass_least;                                 /* 1: mass_needed is the least share a search found (the
+                                                     rule's masses scaled, the global estimate confirming
+                                                     it); 0: what dtmap's mass rule adds */
+  double uniform;                                 /* the largest uniform size tried, m (0: none) */
+  int uniform_rounds;                             /* uniform remeshes run */
   double element_bound;                           /* safety x the kept mesh's element bound, s: about
                                                      what an element-by-element solver estimate
                                                      gives it (the step must be fixed above it) */
 } dtm_refine_result;
 
-/* Round 0 is the scene's own mesh; then at most o->max_rounds remeshes,
- * and a mass round when o->max_added_mass allows one. Returns DTM_OK even
+/* Round 0 is the scene's own mesh; then the strategies while the target
+ * is not met: at most o->max_rounds remeshes of the size field, then at
+ * most 3 of the input's sizes scaled, 5 of uniform sizes and one of each
+ * variant (at most 11 remeshes beyond o->max_rounds), and a mass round when
+ * o->max_added_mass allows one. Returns DTM_OK even
  * when the target is not met: compare dtm_analysis_recommended((*out)->
  * analysis) with the target. The input scene must outlive *out. The best
  * mesh is the met round of least cost, else the round of the largest

@@ -41,7 +41,12 @@ static const char *applied_text(const dtm_refine_round *r, char *buf, size_t len
   if (r->kind == DTM_ROUND_INPUT) return snprintf(buf, len, "input"), buf;
   if (r->kind == DTM_ROUND_MASS)
     return snprintf(buf, len, "+%.3g%% mass at %zu nodes", r->added_percent, r->mass_nodes), buf;
-  snprintf(buf, len, "x%.3f", r->calibration);
+  if (r->strategy && strcmp(r->strategy, "field") && isfinite(r->uniform))
+    snprintf(buf, len, "%s %.3g m", r->strategy, r->uniform);
+  else if (r->strategy && strcmp(r->strategy, "field"))
+    snprintf(buf, len, "%s x%.3f", r->strategy, r->calibration);
+  else
+    snprintf(buf, len, "x%.3f", r->calibration);
   if (r->counts) snprintf(buf + strlen(buf), len - strlen(buf), ", %d counts", r->counts);
   if (r->optimise & DTM_OPTIMISE_RELOCATE) snprintf(buf + strlen(buf), len - strlen(buf), ", relocate");
   if (r->optimise & DTM_OPTIMISE_LAPLACE2D) snprintf(buf + strlen(buf), len - strlen(buf), ", laplace");
@@ -91,7 +96,7 @@ static const char *band_text(const dtm_refine_round *r, int other) {
 static void print_round(const dtm_refine_result *rr, int i, int other) {
   const dtm_refine_round *r = &rr->rounds[i];
   double c = dtm_refine_cost(r), c0 = i ? dtm_refine_cost(&rr->rounds[i - 1]) : c;
-  char ph[32], ap[64], sh[16];
+  char ph[32], ap[96], sh[16];
   printf("%5d %-6s %10zu %12.4e %12.4e %9s %12.4e %+9.1f%% %9zu %9s %5s %9.2f  %s%s%s\n", i,
          r->basis && !strcmp(r->basis, "global estimate") ? "global"
          : r->basis && !strcmp(r->basis, "nodal bound")   ? "nodal"
@@ -159,6 +164,8 @@ static void print_rounds(const dtm_refine_result *rr) {
   if (rr->nrounds == 1 && rr->stop == DTM_REFINE_MET)
     printf("met by the input mesh as it is (%s): no remesh; it is written unchanged with its views\n",
            rr->rounds[0].basis);
+  else if (rr->rounds[rr->best].recommended >= rr->target)
+    printf("met: kept round %d\n", rr->best);
   else
     printf("stopped: %s; kept round %d\n", dtm_refine_stop_text(rr->stop), rr->best);
   if (rr->forced_by && rr->forced >= 0.5)
@@ -166,17 +173,6 @@ static void print_rounds(const dtm_refine_result *rr) {
            "element-steps at the kept step)\n",
            rr->forced_by, rr->forced,
            rr->forced * dtm_refine_cost(&rr->rounds[rr->best]) / rr->rounds[rr->best].elements);
-  int remeshed = 0;
-  for (int i = 1; i < rr->nrounds; i++) remeshed += rr->rounds[i].kind == DTM_ROUND_MESH;
-  if (rr->stop == DTM_REFINE_THICKNESS && !remeshed)
-    printf("no round was run: elements below the target are limited by the thickness of their layer, which no\n"
-           "size suggestion changes; the layers and their remedies follow\n");
-  else if (rr->stop == DTM_REFINE_THICKNESS)
-    printf("a remesh did not lift the elements that the thickness of their layer limits; the layers and their\n"
-           "remedies follow\n");
-  if (rr->stop == DTM_REFINE_ONLY_SHAPE)
-    printf("only shape-limited elements remain below the target: no larger size lifts them; their remedies and\n"
-           "the mass-scaling alternative for exactly these elements follow\n");
   print_causes(rr);
 }
 
@@ -208,13 +204,13 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
     printf("  mesh only:       round %d, %zu elements, cost x%.3f of the input\n", mesh, rr->rounds[mesh].elements,
            dtm_refine_cost(&rr->rounds[mesh]) / c0);
   else
-    printf("  mesh only:       not found (%s)\n",
-           rr->rounds[0].recommended >= rr->target ? "the input meets it" : dtm_refine_stop_text(rr->stop));
+    printf("  mesh only:       %s\n", rr->rounds[0].recommended >= rr->target ? "the input meets it" : "not found");
   if (mass >= 0)
     printf("  mesh + mass:     round %d, +%.3g %% of the mass at %zu nodes, cost x%.3f of the input\n", mass,
            rr->rounds[mass].added_percent, rr->rounds[mass].mass_nodes, dtm_refine_cost(&rr->rounds[mass]) / c0);
   else if (isfinite(rr->mass_needed))
-    printf("  mesh + mass:     needs %.3g %% of the mass, above the %.3g %% allowed\n", rr->mass_needed,
+    printf("  mesh + mass:     %s %.3g %% of the mass, above the %.3g %% allowed\n",
+           rr->mass_least ? "needs at least (searched)" : "dtmap's mass rule adds", rr->mass_needed,
            rr->options.max_added_mass);
   else if (!(rr->options.max_added_mass > 0) && mesh < 0 && rr->rounds[0].recommended < rr->target)
     printf("  mesh + mass:     not tried (--max-added-mass P allows P %% of the model's mass at the nodes)\n");
@@ -237,18 +233,15 @@ static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   return r;
 }
 
-/* The exit message of a target not met. */
-static int not_met(const dtm_refine_result *rr) {
+/* The exit message of a target not met: the stop's cause (the causes'
+ * list printed it already unless quiet). */
+static int not_met(const dtm_refine_result *rr, int verbose) {
   double best = dtm_analysis_recommended(rr->analysis);
-  if (isfinite(rr->mass_needed))
-    return DTM_ERR(DTM_ERR_TARGET,
-                   "refine: the target %.4e s was not met by the mesh (best %.4e s, %s), and point masses would need "
-                   "%.3g %% of the model's mass, more than the %.3g %% allowed",
-                   rr->target, best, dtm_refine_stop_text(rr->stop), rr->mass_needed, rr->options.max_added_mass);
-  return DTM_ERR(DTM_ERR_TARGET,
-                 "refine: the target %.4e s was not met after %d round(s) (%s); best recommended step %.4e s%s%s",
-                 rr->target, rr->nrounds - 1, dtm_refine_stop_text(rr->stop), best, rr->ncauses ? "; cause: " : "",
-                 rr->ncauses ? rr->causes[0].text : "");
+  const char *why = verbose       ? "the causes are above"
+                    : rr->ncauses ? rr->causes[0].text
+                                  : dtm_refine_stop_text(rr->stop);
+  return DTM_ERR(DTM_ERR_TARGET, "refine: the target %.4e s was not met (best recommended step %.4e s): %s", rr->target,
+                 best, why);
 }
 
 /* The met line: by the mesh alone, or with point masses. */
@@ -263,7 +256,7 @@ static int refine_scene(const dtm_scene *s, const dtm_refine_options *ro, const 
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_refine_run(s, ro, &rr);
   if (r == DTM_OK) r = report_rounds(rr, o);
-  if (r == DTM_OK && dtm_analysis_recommended(rr->analysis) < ro->target) r = not_met(rr);
+  if (r == DTM_OK && dtm_analysis_recommended(rr->analysis) < ro->target) r = not_met(rr, o->verbosity);
   if (r == DTM_OK && o->verbosity) print_met(rr);
   dtm_refine_destroy(&rr);
   dtm_gmsh_stop();

@@ -233,7 +233,7 @@ int dtm_gmsh_save_mesh(const char *path) {
   gmshOptionSetNumber("Mesh.SaveAll", all, &ierr);
   gmshOptionSetNumber("Mesh.Binary", binary, &ierr);
   DTM_GMSH_CHECK(bad, DTM_ERR_INTERNAL, path);
-  return DTM_OK;
+  return dtm_gmsh_strip_periodic(path); /* its pairs may name nodes of a cleared mesh: refine's kept mesh */
 }
 
 int dtm_gmsh_restore_mesh(const char *path) {

@@ -125,7 +125,7 @@ static long find_text(FILE *f, long from, const char *pat) {
  * names nodes that no longer exist, and reading it back crashes Gmsh in the
  * parent (seen on a periodic square). The parent's model keeps its own
  * periodic entities; only the node pairs of the handed-back mesh are lost. */
-static int strip_periodic(const char *path) {
+int dtm_gmsh_strip_periodic(const char *path) {
   FILE *f = fopen(path, "r+b");
   if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "cannot open %s", path);
   long start = find_text(f, 0, "$Periodic\n"), end = start < 0 ? -1 : find_text(f, start, "$EndPeriodic\n");
@@ -227,7 +227,7 @@ static int hand_back(const job_spec *j, const job_files *f) {
   if (!j->job) return write_data(f->data, j->out, j->nout);
   DTM_CHECK(dtm_gmsh_save_mesh(f->mesh.tmp));
   if (!complete(f->mesh.tmp)) return DTM_ERR(DTM_ERR_INTERNAL, "%s was cut short", f->mesh.tmp);
-  return j->no_periodic ? strip_periodic(f->mesh.tmp) : DTM_OK;
+  return j->no_periodic ? dtm_gmsh_strip_periodic(f->mesh.tmp) : DTM_OK;
 }
 
 /* Curves and surfaces are meshed one at a time: each logs "Meshing ..."
@@ -252,9 +252,14 @@ static void restore_surfaces(const double *old) {
 
 /* The child: dies with its parent, Gmsh's terminal to the log, the job,
  * its mesh or numbers back. */
+static unsigned remesh_limit; /* seconds a remesh may take (0: no limit): dtm_gmsh_remesh_limit */
+
+void dtm_gmsh_remesh_limit(unsigned seconds) { remesh_limit = seconds; }
+
 static void child(pid_t parent, const char *stage, const job_spec *j, const job_files *f) {
   int ierr = 0;
   if (prctl(PR_SET_PDEATHSIG, SIGKILL) || getppid() != parent) _exit(DTM_ERR_INTERNAL);
+  if (j->no_periodic && remesh_limit) alarm(remesh_limit); /* a remesh Gmsh does not finish ends by SIGALRM */
   dup2(f->log, STDOUT_FILENO), dup2(f->log, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
@@ -302,6 +307,8 @@ static int read_text(int fd, char *buf, size_t len) {
 /* What the parent makes of the child's end. */
 static int judge(const char *stage, int status, const job_files *f) {
   char text[2048];
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM && remesh_limit)
+    return DTM_ERR(DTM_ERR_INPUT, "%s: Gmsh did not finish within %u s (the limit of one remesh)", stage, remesh_limit);
   if (WIFSIGNALED(status)) {
     int sig = WTERMSIG(status);
     tail(f->log, TAIL_LINES, text, sizeof text);

@@ -25,6 +25,10 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
 /* Number of models in the session: at least one once Gmsh is initialised,
  * none (silently) before gmshInitialize. */
 int dtm_gmsh_model_count(void);
+/* Cut the $Periodic section out of the .msh at path (src/gmsh/contain.c):
+ * after a remesh Gmsh 4.8 writes periodic node pairs of a cleared mesh,
+ * which crash it when the file is read back. */
+int dtm_gmsh_strip_periodic(const char *path);
 /* The .msh 4.1 format header ($MeshFormat ... $EndMeshFormat) of a file
  * that holds only views; 0, or -1 on a write error. */
 int dtm_msh_header(FILE *f, int binary);

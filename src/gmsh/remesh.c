@@ -70,9 +70,12 @@ static const char *const size_keys[] = {"Mesh.MeshSizeExtendFromBoundary",
                                         "Mesh.MeshSizeFactor"};
 #define NKEYS 6
 
-/* Set them for the remesh, keeping the old values in old[NKEYS]. */
-static void size_options(double *old) {
-  static const double set[NKEYS] = {0, 0, 0, 0, 1e22, 1};
+/* Set them for the remesh, keeping the old values in old[NKEYS]: the
+ * field alone, or with the floor, curvature sizes and cap sizes asks for. */
+static void size_options(double *old, const dtm_remesh_sizes *sizes) {
+  double set[NKEYS] = {0, 0, 0, 0, 1e22, 1};
+  set[2] = sizes ? sizes->curvature : 0, set[3] = sizes ? sizes->min_size : 0;
+  if (sizes && sizes->max_size > 0) set[4] = sizes->max_size;
   int ierr = 0;
   for (int i = 0; i < NKEYS; i++) {
     gmshOptionGetNumber(size_keys[i], &old[i], &ierr);
@@ -138,6 +141,11 @@ static int generate(void *arg) {
 
 int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
                     unsigned optimise) {
+  return dtm_gmsh_remesh_sized(m, size, scale, dim, order, round, optimise, NULL);
+}
+
+int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, int dim, int order, int round,
+                          unsigned optimise, const dtm_remesh_sizes *sizes) {
   int view, ierr = 0;
   remesh_job job = {dim, order, optimise};
   char stage[64];
@@ -149,7 +157,7 @@ int dtm_gmsh_remesh(const dtm_mesh *m, const double *size, double scale, int dim
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);
   gmshModelMeshFieldSetAsBackgroundMesh(field, &ierr);
   double old[NKEYS];
-  size_options(old);
+  size_options(old, sizes);
   dtm_gmsh_mesher_apply(NULL); /* the algorithm and threads of the scene's load */
   dtm_progress_begin("meshing");
   int r = dtm_gmsh_contained(stage, generate, &job, 1); /* a crash in Gmsh ends the round, not dtmap */

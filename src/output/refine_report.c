@@ -50,8 +50,10 @@ static cJSON *round_json(const dtm_refine_result *rr, int i) {
   cJSON_AddNumberToObject(o, "shape_limited", (double)r->shape_limited);
   cJSON_AddNumberToObject(o, "seconds", r->seconds);
   if (r->kind != DTM_ROUND_MESH) return o;
+  if (r->strategy) cJSON_AddStringToObject(o, "strategy", r->strategy);
+  if (isfinite(r->uniform)) cJSON_AddNumberToObject(o, "uniform_size", r->uniform);
   cJSON_AddNumberToObject(o, "mesh_seconds", r->mesh_seconds);
-  cJSON_AddNumberToObject(o, "calibration", r->calibration);
+  if (isfinite(r->calibration)) cJSON_AddNumberToObject(o, "calibration", r->calibration);
   cJSON_AddNumberToObject(o, "counts", r->counts);
   cJSON_AddItemToObject(o, "optimisers", optimisers_json(r->optimise));
   return o;
@@ -147,6 +149,8 @@ cJSON *dtm_report_refine(const dtm_results *r) {
   cJSON_AddNumberToObject(o, "cost_change", c1 / c0 - 1.0);
   cJSON_AddNumberToObject(o, "element_bound", rr->element_bound);
   if (isfinite(rr->mass_needed)) cJSON_AddNumberToObject(o, "mass_needed_percent", rr->mass_needed);
+  if (isfinite(rr->mass_needed)) cJSON_AddStringToObject(o, "mass_needed_by", rr->mass_least ? "search" : "rule");
+  if (rr->uniform > 0) cJSON_AddNumberToObject(o, "uniform_size", rr->uniform);
   if (rr->forced_by) cJSON_AddStringToObject(o, "accuracy_bound", rr->forced_by);
   if (rr->forced_by) cJSON_AddNumberToObject(o, "accuracy_elements", rr->forced);
   cJSON_AddItemToObject(o, "counts", counts_json(rr));

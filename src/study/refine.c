@@ -25,27 +25,33 @@
  * by that scatter instead of creeping up to it, and never repeats a field.
  * The field is capped at the length of the model curves a node lies on and
  * graded (slope 0.3), so that the mesher can follow it.
- * The loop keeps the best mesh (saved to a .msh without a name while it
- * remeshes on, and read back at the end) and stops as soon as the target is met,
- * only shape-limited elements remain below the target (or cap
- * it, and a round around them did not beat the kept mesh), a remesh left
- * the step where it was, or the budget is spent. A round that costs more
- * than the input without meeting the target does not end the loop: it is
- * not kept, and the next aims from the best round and the miss seen (the
- * first remesh of a fresh mesh from the suggestion can come out worse;
- * extrude.geo and simple3.geo meet the target in their second or third
- * round). It stops before its
- * first remesh when no remesh can change what limits the step: every
- * element below the target limited by its shape or by the thickness of
- * its layer, or elements in extrusions whose layer count the model fixes.
- * A thin layer among other elements below the target is tried by one
- * remesh: the best step a fresh mesh reaches across it is an estimate
- * (src/analysis/shape.c), and on Gmsh's demos it proved short of what a
- * remesh reached on 2 of 17 such models on the nodal bound and 4 of 17 on
- * the global estimate (docs/refine-survey.md); the loop stops as soon as a
- * round does not beat the kept mesh. A remesh that Gmsh refuses or crashes in
- * (it runs in a child process, src/gmsh/contain.c) ends the loop too, and
- * the kept mesh is read back. When the mesh alone does not meet the target
+ * The search keeps the best mesh (saved to a .msh without a name while it
+ * remeshes on, and read back at the end): the one that meets the target
+ * at least cost, else the largest step no dearer than the input. It tries
+ * strategies from a table, in order, while the kept mesh falls short:
+ * "try, measure, keep the best". The size field above, --max-iter rounds
+ * at most; the input's own sizes scaled by the factor its shortfall
+ * implies (what Mesh.MeshSizeFactor does: its grading around small
+ * features and embedded entities kept); the uniform size the target
+ * implies (at each node the size at which its own step reaches the target,
+ * from the input's measured ratio of step to size, their median over the
+ * spread of a fresh mesh, at least the input's median size scaled by its
+ * shortfall); the scaled one climbs to coarser factors while it falls
+ * short (3 remeshes at most) and stops when coarser does not raise the
+ * step, the uniform one tries a list of sizes (uniform_factors, 5 at most);
+ * the scene's accuracy bounds clamp every size. Then the field floored at
+ * the best uniform size (Mesh.MeshSizeMin), the field without its caps at
+ * short curves, and, after a Gmsh refusal, the uniform size with Gmsh's
+ * sizes from the curvature: one remesh each. A field equal to one tried
+ * already is not remeshed again. A remesh Gmsh refuses or crashes in (it
+ * runs in a child process, src/gmsh/contain.c) ends its strategy, not the
+ * search. Before any remesh the search stops only when every element below
+ * the target lies where an extrusion's Layers{} fix the node counts. The
+ * stop is then decided from the meshes tried (decide_stop): shape-limited
+ * or thickness-limited elements only when the uniform mesh at the target's
+ * size still keeps them below the target, the accuracy bound when it
+ * clamped the sizes tried, the budget when the size field was still rising,
+ * else no mesh tried met it. When the mesh alone does not meet the target
  * and the caller allows it, point masses at the nodes that need them make
  * up the rest (refine_mass.c). The causes of a target not met come from
  * refine_causes.c. */
@@ -61,8 +67,10 @@
 #include "dtmap/util.h"
 #include "study-impl.h"
 
-#define GRADE 0.3      /* size slope of the field (m per m): a fresh mesh follows it */
-#define MAX_GROWTH 1.5 /* of the calibration from one round to the next */
+#define REMESH_LIMIT_MIN 120 /* s: a remesh may take at least this long, */
+#define REMESH_LIMIT_X 20    /* ... and this many times round 0 (the input's meshing and analysis) */
+#define GRADE 0.3            /* size slope of the field (m per m): a fresh mesh follows it */
+#define MAX_GROWTH 1.5       /* of the calibration from one round to the next */
 #define MIN_MARGIN                                                                                                     \
   1.05                 /* aim at least this far past the target once a round fell short: the worst node of a           \
                           fresh mesh scatters by about 5 % from one mesh to the next */
@@ -85,6 +93,17 @@ static double first_calibration(const dtm_analysis *a) {
   int dim = dtm_analysis_mesh(a)->dim;
   double spread = dim == 3 ? 0.8 : dim == 2 ? 0.72 : 1.0;
   return pow(1.0 / spread, 1.0 / basis_exponent(a));
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The median of v[n] (n > 0; v is sorted). */
+static double median(double *v, size_t n) {
+  qsort(v, n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double dtm_refine_cost(const dtm_refine_round *r) { return isnan(r->element_steps) ? r->rate : r->element_steps; }
@@ -118,6 +137,8 @@ static int record(const dtm_analysis *a, int kind, double seconds, dtm_refine_re
   r->elements = n, r->dt_min = dtm_analysis_dt_min(a, NULL), r->recommended = rec;
   r->element_steps = d > 0 ? (double)n * ceil(d / rec) : NAN, r->rate = n / rec;
   r->below = dtm_analysis_below_target(a), r->shape_limited = ns, r->seconds = seconds;
+  r->strategy = kind == DTM_ROUND_INPUT ? "input" : NULL;
+  dtm_analysis_layers(a, &r->layers);
   return record_accuracy(a, rr, r);
 }
 
@@ -145,7 +166,24 @@ typedef struct {
   double miss;                            /* the largest miss so far: predicted over measured step, >= 1 */
   double *field;                          /* [nnodes] the last remesh's size field (NULL: none yet) */
   int field_counts;                       /* the transfinite counts set with it */
+  int field_end;                          /* FIELD_*: how the size-field strategy ended */
+  int failed, crashed;                    /* remeshes Gmsh refused, crashed in */
+  double uniform;                         /* the largest uniform size tried, m (0: none) */
+  int uniform_capped;                     /* 1: an accuracy bound capped it */
+  int uniform_rounds;                     /* uniform remeshes run */
+  int nprints;                            /* fields the other strategies tried */
+  double prints[DTM_REFINE_MAX_ROUNDS];   /* [nprints] a fingerprint of each */
 } loop_state;
+
+/* How the size-field strategy ended (the search then goes on). */
+enum {
+  FIELD_SPENT = 1, /* --max-iter remeshes run */
+  FIELD_FLAT,      /* a remesh aimed higher left the step where it was */
+  FIELD_NO_GAIN,   /* two remeshes in a row did not beat the kept mesh */
+  FIELD_SAME,      /* the short curves and the grading gave the last field again */
+  FIELD_SHAPE,     /* only shape-limited elements were below the target */
+  FIELD_GMSH       /* Gmsh refused or crashed in its remesh */
+};
 
 /* The size field of a round: the calibrated suggestion, capped at the
  * model's short curves, graded, never below the current size (the field
@@ -216,26 +254,55 @@ static void keep_field(loop_state *st, double **size, int counts) {
 
 #define SAME_FIELD (-1) /* remesh(): the field is the last one's; nothing was remeshed (not a DTM code) */
 
-/* One remesh of the current model from the input's field with calibration
- * c, and its analysis (a progress stage "refine round N"); SAME_FIELD, and
- * no remesh, when the field is the last remesh's. */
+/* One remesh of the current model with size[] at the input's nodes (and
+ * Gmsh's own sizes o, NULL: none), and its analysis (a progress stage
+ * "refine round N"). *gmsh_failed: Gmsh refused or crashed in it. */
+static int remesh_with(dtm_refine_result *rr, const loop_state *st, int dim, const double *size,
+                       const dtm_remesh_sizes *o, dtm_analysis **next, int *gmsh_failed, dtm_refine_round *info) {
+  const dtm_mesh *m = dtm_analysis_mesh(st->input);
+  char stage[64];
+  snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
+  dtm_progress_begin(stage);
+  double t0 = dtm_wtime();
+  int r = dtm_gmsh_remesh_sized(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise, o);
+  info->mesh_seconds = dtm_wtime() - t0;
+  info->optimise = dtm_gmsh_optimisers(dim, rr->options.optimise);
+  *gmsh_failed = r != DTM_OK;
+  if (r == DTM_OK) r = analyse_current(rr, dim, next);
+  dtm_progress_end();
+  DTM_CHECK(r);
+  return DTM_OK;
+}
+
+/* A fingerprint of a field and Gmsh's sizes: two fields with the same one
+ * are taken to be the same (the accuracy bounds clamp a uniform size and a
+ * scaled one to the same field, which gives the same mesh). */
+static double fingerprint(const double *size, size_t n, const dtm_remesh_sizes *o) {
+  double f = o ? 7.0 * o->min_size + 13.0 * o->curvature : 0.0;
+  for (size_t v = 0; v < n; v++)
+    if (isfinite(size[v])) f += size[v] * (1.0 + (double)(v % 97) / 97.0);
+  return f;
+}
+
+static int seen_field(loop_state *st, double f) {
+  for (int i = 0; i < st->nprints; i++)
+    if (st->prints[i] == f) return 1;
+  if (st->nprints < DTM_REFINE_MAX_ROUNDS) st->prints[st->nprints++] = f;
+  return 0;
+}
+
+/* One remesh of the size-field strategy: the input's field with
+ * calibration c; SAME_FIELD, and no remesh, when the field is the last
+ * remesh's. */
 static int remesh(dtm_refine_result *rr, loop_state *st, int dim, double c, dtm_analysis **next, int *gmsh_failed,
                   dtm_refine_round *info) {
   const dtm_mesh *m = dtm_analysis_mesh(st->input);
   double *size = malloc((m->nnodes + 1) * sizeof *size), *floor = malloc((m->nnodes + 1) * sizeof *floor);
-  char stage[64];
-  snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
   int r = size && floor ? round_field(st->input, c, size, floor) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = round_counts(rr, st, c, floor, &info->counts);
   if (r == DTM_OK && same_field(st, size, m->nnodes, info->counts)) return free(size), free(floor), SAME_FIELD;
-  dtm_progress_begin(stage);
-  double t0 = dtm_wtime();
-  if (r == DTM_OK) r = dtm_gmsh_remesh(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise);
-  info->mesh_seconds = dtm_wtime() - t0;
-  info->optimise = dtm_gmsh_optimisers(dim, rr->options.optimise);
-  *gmsh_failed = r != DTM_OK && size && floor;
-  if (r == DTM_OK) r = analyse_current(rr, dim, next);
-  dtm_progress_end();
+  if (r == DTM_OK) (void)seen_field(st, fingerprint(size, m->nnodes, NULL)); /* the other strategies skip it */
+  if (r == DTM_OK) r = remesh_with(rr, st, dim, size, NULL, next, gmsh_failed, info);
   if (r == DTM_OK) keep_field(st, &size, info->counts);
   free(size), free(floor);
   DTM_CHECK(r);
@@ -263,29 +330,39 @@ static size_t shape_count(const dtm_analysis *a) {
   return ns;
 }
 
-/* The stop for shape-limited elements that no remesh lifts: their layers'
- * thickness when thin layers are among them, else the given one. */
-static int shape_stop(const dtm_analysis *a, int otherwise) {
-  size_t nl = 0;
-  return dtm_analysis_layers(a, &nl) && nl ? DTM_REFINE_THICKNESS : otherwise;
-}
-
 /* Whether only shape-limited elements keep analysis a below the target. */
 static int only_shape(const dtm_analysis *a) {
   size_t below = dtm_analysis_below_target(a);
   return below && shape_count(a) == below;
 }
 
-/* Stop before another round: the kept mesh meets the target, or what
- * limits the step is beyond a remesh (fixed extrusions, elements below the
- * target all limited by their shape or their layer's thickness), or the
- * budget is spent. */
-static int should_stop(dtm_refine_result *rr, const loop_state *st) {
-  if (met(rr, rr->best)) return rr->stop = DTM_REFINE_MET;
-  if (rr->nrounds == 1 && dtm_gmsh_counts_cap(st->st, rr->options.keep_counts)) return rr->stop = DTM_REFINE_LAYERS;
-  if (only_shape(rr->analysis) || only_shape(st->cur)) return rr->stop = shape_stop(st->cur, DTM_REFINE_ONLY_SHAPE);
-  if (rr->nrounds - 1 >= rr->options.max_rounds) return rr->stop = DTM_REFINE_BUDGET;
-  return 0;
+/* The layer curves of extrusions (Layers{}) whose structured entities hold
+ * every element below the target on the input: no remesh changes their
+ * node counts across the layers. structured[] are the (dim, tag) of the
+ * entities the model meshes by extrusion or recombination (the model's
+ * "recombined" cause). */
+static int layers_hold(const dtm_refine_result *rr, const loop_state *st) {
+  if (dtm_gmsh_counts_cap(st->st, rr->options.keep_counts)) return 1;
+  if (!st->st || dtm_gmsh_fixed_curves(st->st, 0, NULL, 0) == 0) return 0;
+  const dtm_cause *rec = NULL;
+  for (int i = 0; i < st->nmodel; i++)
+    if (!strcmp(st->model[i].kind, "recombined")) rec = &st->model[i];
+  const dtm_analysis *a = st->input;
+  const dtm_geo *g = dtm_analysis_geo(a);
+  if (!rec || !g || !g->elem_entity) return 0;
+  const double *local = dtm_analysis_local_step(a);
+  double target = dtm_analysis_advice_target(a), safety = dtm_analysis_scene(a)->safety;
+  int dim = dtm_analysis_mesh(a)->dim;
+  size_t n = dtm_analysis_nelements(a), below = 0;
+  for (size_t i = 0; i < n; i++) {
+    if (!(safety * local[i] < target)) continue;
+    int in = 0;
+    for (int k = 0; k < rec->nent && k < DTM_CAUSE_ENTITIES; k++)
+      in |= rec->dim[k] == dim && rec->tag[k] == g->elem_entity[i];
+    if (!in) return 0;
+    below++;
+  }
+  return below > 0;
 }
 
 /* The last mesh round before round i (the input at least). */
@@ -294,44 +371,59 @@ static int previous_mesh(const dtm_refine_result *rr, int i) {
   return i > 0 ? i - 1 : 0;
 }
 
-/* After round i: keep it if better; stop when it did not beat the kept
- * mesh while shape-limited elements cap the step, when neither it nor the
- * remesh before it beat the kept mesh (the rounds scatter around a step
- * that what the model fixes holds: import2.geo and revolve2.geo spent
- * their third round so), or when it
- * left the step where the round before had it (to STALL, the scatter of a
- * fresh mesh's worst element being some per cent) although it aimed
- * clearly higher: the same elements limit it whatever the field. */
-static int judge_round(dtm_refine_result *rr, loop_state *st, dtm_analysis *next) {
+/* Remeshes of the size-field strategy so far. */
+static int field_rounds(const dtm_refine_result *rr) {
+  int n = 0;
+  for (int i = 1; i < rr->nrounds; i++) n += rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, "field");
+  return n;
+}
+
+/* Keep round i (analysis next) when it beats the kept one; the model now
+ * holds its mesh. */
+static void judge(dtm_refine_result *rr, loop_state *st, dtm_analysis *next) {
   int i = rr->nrounds - 1;
-  int j = previous_mesh(rr, i);
-  const dtm_refine_round *r = &rr->rounds[i], *p = &rr->rounds[j];
   release(&st->cur, st->input, rr->analysis);
   st->cur = next, st->model_round = i;
   if (better(rr, i)) {
     release(&rr->analysis, st->input, NULL);
     rr->analysis = next, rr->best = i;
-  } else if (shape_count(rr->analysis)) {
-    return rr->stop = shape_stop(rr->analysis, DTM_REFINE_SHAPE_CAP); /* remeshing around them did not help */
   }
+}
+
+/* After field round i: how the strategy ends, 0 while it goes on. It ends
+ * when it left the step where the round before had it (to STALL, the
+ * scatter of a fresh mesh's worst element being some per cent) although
+ * it aimed clearly higher, when neither it nor the remesh before it beat
+ * the kept mesh (import2.geo and revolve2.geo spent their third round so),
+ * or when it did not beat a kept mesh whose step shape-limited elements
+ * cap. */
+static int judge_field(const dtm_refine_result *rr, int kept_before) {
+  int i = rr->nrounds - 1;
+  int j = previous_mesh(rr, i);
+  const dtm_refine_round *r = &rr->rounds[i], *p = &rr->rounds[j];
   if (met(rr, i)) return 0;
-  if (i > 1 && fabs(r->recommended / p->recommended - 1) < STALL && r->calibration > STALL_AIM * p->calibration)
-    return rr->stop = DTM_REFINE_STALLED;
-  if (j > 0 && rr->best != i && rr->best != j) return rr->stop = DTM_REFINE_STALLED; /* two in a row beat nothing */
+  if (rr->best != i && rr->rounds[kept_before].shape_limited) return FIELD_SHAPE;
+  if (j > 0 && fabs(r->recommended / p->recommended - 1) < STALL && r->calibration > STALL_AIM * p->calibration)
+    return FIELD_FLAT;
+  if (j > 0 && rr->best != i && rr->best != j) return FIELD_NO_GAIN; /* two in a row beat nothing */
   return 0;
 }
 
-/* A remesh Gmsh refused or crashed in ends the loop, not the run: its
- * message becomes the first cause, and the kept mesh is read back. */
-static void gmsh_failed(dtm_refine_result *rr, loop_state *st) {
+/* A remesh Gmsh refused or crashed in ends its strategy, not the search:
+ * its message is kept as a cause (the first such), and the model holds no
+ * round's mesh until the next remesh. */
+static void gmsh_failed(dtm_refine_result *rr, loop_state *st, const char *strategy) {
   int crash = dtm_error_code() == DTM_ERR_INTERNAL;
-  dtm_cause *c = dtm_refine_new_cause(rr, crash ? "gmsh-crash" : "gmsh-refused");
-  if (c && crash)
-    snprintf(c->text, sizeof c->text, "%s", dtm_error_message());
-  else if (c)
-    snprintf(c->text, sizeof c->text, "remeshing round %d: %s", rr->nrounds, dtm_error_message());
+  if (!st->failed && !st->crashed) {
+    dtm_cause *c = dtm_refine_new_cause(rr, crash ? "gmsh-crash" : "gmsh-refused");
+    if (c && crash)
+      snprintf(c->text, sizeof c->text, "%s (strategy %s)", dtm_error_message(), strategy);
+    else if (c)
+      snprintf(c->text, sizeof c->text, "remeshing round %d (strategy %s): %s", rr->nrounds, strategy,
+               dtm_error_message());
+  }
   dtm_error_clear();
-  rr->stop = crash ? DTM_REFINE_GMSH_CRASH : DTM_REFINE_GMSH_REFUSED;
+  st->failed += !crash, st->crashed += crash;
   st->model_round = -1; /* the model holds no round's mesh */
 }
 
@@ -343,8 +435,11 @@ static void gmsh_failed(dtm_refine_result *rr, loop_state *st) {
  * tried so far (the same field gives the same mesh: a round must try a new
  * one). */
 static double next_calibration(const dtm_refine_result *rr, const loop_state *st) {
-  if (rr->nrounds == 1) return first_calibration(st->input);
-  const dtm_refine_round *b = &rr->rounds[rr->best], *l = &rr->rounds[rr->nrounds - 1];
+  int last = -1, nfield = 0;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (isfinite(rr->rounds[i].calibration)) last = i, nfield++;
+  if (!nfield) return first_calibration(st->input);
+  const dtm_refine_round *b = &rr->rounds[rr->best], *l = &rr->rounds[last];
   const dtm_refine_round *base = isfinite(b->calibration) ? b : l;
   double p = basis_exponent(st->cur), short_by = rr->target / base->recommended, tried = 0;
   double grow = pow(fmax(short_by, 1.0) * fmax(st->miss, MIN_MARGIN), 1.0 / p);
@@ -364,27 +459,356 @@ static void learn_miss(const dtm_refine_result *rr, loop_state *st) {
   if (predicted > r->recommended) st->miss = fmax(st->miss, predicted / r->recommended);
 }
 
-/* Each round remeshes from the input mesh's size field. */
-static int rounds(dtm_refine_result *rr, loop_state *st, int dim) {
-  while (!should_stop(rr, st)) {
+/* Record a remesh round of strategy name from analysis next. */
+static int add_round(dtm_refine_result *rr, dtm_analysis *next, double t0, const char *name,
+                     const dtm_refine_round *info) {
+  int i = rr->nrounds++;
+  int rc = record(next, DTM_ROUND_MESH, dtm_wtime() - t0, rr, i);
+  if (rc) return rc;
+  rr->rounds[i].strategy = name, rr->rounds[i].counts = info->counts, rr->rounds[i].optimise = info->optimise;
+  rr->rounds[i].mesh_seconds = info->mesh_seconds, rr->rounds[i].calibration = info->calibration;
+  rr->rounds[i].uniform = info->uniform;
+  return DTM_OK;
+}
+
+/* Whether the search has room for another remesh (the rounds array holds
+ * the mass round too). */
+static int room(const dtm_refine_result *rr) { return rr->nrounds < DTM_REFINE_MAX_ROUNDS - 1; }
+
+/* The size-field strategy: each round remeshes from the input mesh's
+ * size field, --max-iter rounds at most. */
+static int field_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
+  if (only_shape(st->input)) return st->field_end = FIELD_SHAPE, DTM_OK; /* the field grows nothing else */
+  for (;;) {
+    if (met(rr, rr->best)) return DTM_OK;
+    if (field_rounds(rr) >= rr->options.max_rounds || !room(rr)) return st->field_end = FIELD_SPENT, DTM_OK;
     double t0 = dtm_wtime(), c = next_calibration(rr, st);
     dtm_analysis *next = NULL;
     dtm_refine_round info = {0};
-    int failed = 0;
+    int failed = 0, kept = rr->best;
     DTM_CHECK(save_best(rr, st));
     int r = remesh(rr, st, dim, c, &next, &failed, &info);
-    if (r == SAME_FIELD) return rr->stop = DTM_REFINE_STALLED, DTM_OK; /* no remesh: it would repeat the last */
-    if (r && failed) return gmsh_failed(rr, st), DTM_OK;
+    if (r == SAME_FIELD) return st->field_end = FIELD_SAME, DTM_OK; /* no remesh: it would repeat the last */
+    if (r && failed) return gmsh_failed(rr, st, "field"), st->field_end = FIELD_GMSH, DTM_OK;
     DTM_CHECK(r);
-    int i = rr->nrounds++;
-    int rc = record(next, DTM_ROUND_MESH, dtm_wtime() - t0, rr, i);
+    info.calibration = c, info.uniform = NAN;
+    int rc = add_round(rr, next, t0, "field", &info);
     if (rc) return dtm_analysis_destroy(&next), rc;
-    rr->rounds[i].calibration = c, rr->rounds[i].counts = info.counts, rr->rounds[i].optimise = info.optimise;
-    rr->rounds[i].mesh_seconds = info.mesh_seconds;
     learn_miss(rr, st);
-    if (judge_round(rr, st, next)) break;
+    judge(rr, st, next);
+    if ((st->field_end = judge_field(rr, kept))) return DTM_OK;
+  }
+}
+
+/* The uniform size a target implies on the input, searched from the
+ * coarser (easier) side: at each node the size at which its own step
+ * reaches the target (the input's measured ratio of step to size), their
+ * median, scaled by the spread of a fresh mesh's worst node below its
+ * median (first_calibration); at least the input's median size scaled by
+ * the input's shortfall (on CAD parts the worst node sits far below the
+ * median, and the median estimate then asks a finer mesh than the input).
+ * The scene's accuracy bounds clamp it where they apply (uniform_field). */
+static int uniform_size(const dtm_refine_result *rr, const loop_state *st, double *h, double *med) {
+  const dtm_analysis *a = st->input;
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  const double big = 1e6; /* the field at a calibration this large is c x need wherever no bound caps it */
+  double *need = malloc((m->nnodes + 1) * sizeof *need), *cur = malloc((m->nnodes + 1) * sizeof *cur);
+  int r = need && cur ? dtm_analysis_size_field(a, big, need) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = dtm_analysis_size_field(a, 0.0, cur);
+  size_t n = 0, nc = 0;
+  for (size_t v = 0; r == DTM_OK && v < m->nnodes; v++) {
+    if (isfinite(need[v]) && need[v] > 0) need[n++] = need[v] / big;
+    if (isfinite(cur[v]) && cur[v] > 0) cur[nc++] = cur[v];
+  }
+  double p = basis_exponent(a);
+  *h = n ? median(need, n) * first_calibration(a) : NAN;
+  *med = nc ? median(cur, nc) : NAN;
+  if (nc) *h = fmax(*h, *med * pow(rr->target / rr->rounds[0].recommended * MIN_MARGIN, 1.0 / p));
+  free(need), free(cur);
+  DTM_CHECK(r);
+  return isfinite(*h) && isfinite(*med) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "no size reaches the target on the input");
+}
+
+#define BIG_CALIBRATION 1e6 /* the field at this calibration is the accuracy bound wherever there is one */
+
+/* A size field of h at every node of the input (NaN where its field has
+ * none), or with scaled, h times the input's own size there (its grading
+ * kept: what Mesh.MeshSizeFactor does), clamped by the scene's accuracy
+ * bounds (*capped: 1 when they clamped a node), with transfinite counts
+ * planned for it. */
+static int uniform_field(dtm_refine_result *rr, const loop_state *st, double h, int scaled, double *size, int *counts,
+                         int *capped) {
+  const dtm_analysis *a = st->input;
+  size_t nn = dtm_analysis_mesh(a)->nnodes;
+  double *cur = malloc((nn + 1) * sizeof *cur);
+  int r = cur ? dtm_analysis_size_field(a, BIG_CALIBRATION, size) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r == DTM_OK) r = dtm_analysis_size_field(a, 0.0, cur);
+  *capped = 0;
+  for (size_t v = 0; r == DTM_OK && v < nn; v++) {
+    double want = scaled ? h * cur[v] : h;
+    if (size[v] < want) *capped = 1;
+    size[v] = isnan(cur[v]) ? NAN : fmin(want, size[v]);
+  }
+  *counts = 0;
+  if (r == DTM_OK && st->st && !rr->options.keep_counts)
+    r = dtm_gmsh_counts_plan(st->st, dtm_analysis_geo(a), size, cur);
+  if (r == DTM_OK && st->st && !rr->options.keep_counts) r = dtm_gmsh_counts_apply(st->st, counts);
+  free(cur);
+  return r;
+}
+
+/* One remesh of an alternative strategy with field size[] and Gmsh's
+ * sizes o; 1 in *refused when Gmsh refused it. */
+static int try_field(dtm_refine_result *rr, loop_state *st, int dim, const char *name, const double *size,
+                     const dtm_remesh_sizes *o, dtm_refine_round *info, int *refused) {
+  double t0 = dtm_wtime();
+  *refused = 0;
+  if (seen_field(st, fingerprint(size, dtm_analysis_mesh(st->input)->nnodes, o))) return SAME_FIELD;
+  dtm_analysis *next = NULL;
+  int failed = 0;
+  DTM_CHECK(save_best(rr, st));
+  int r = remesh_with(rr, st, dim, size, o, &next, &failed, info);
+  *refused = r && failed;
+  if (*refused) return gmsh_failed(rr, st, name), DTM_OK;
+  DTM_CHECK(r);
+  int rc = add_round(rr, next, t0, name, info);
+  if (rc) return dtm_analysis_destroy(&next), rc;
+  judge(rr, st, next);
+  return DTM_OK;
+}
+
+/* The largest finite value of size[n] (0: none). */
+static double field_max(const double *size, size_t n) {
+  double m = 0;
+  for (size_t v = 0; v < n; v++)
+    if (isfinite(size[v])) m = fmax(m, size[v]);
+  return m;
+}
+
+#define LADDER_TRIES 3      /* remeshes of a uniform or scaled strategy at most */
+#define LADDER_GROW 1.1     /* a size after one that fell short: at least this much coarser */
+#define LADDER_FLAT 1.02    /* a coarser try whose step rose less than this ends the ladder */
+#define LADDER_MAX_GROW 2.0 /* ... and at most this much coarser (a try far short is a bad mesh, not a guide) */
+
+/* One remesh at size x (uniform, or with scaled a factor on the input's
+ * sizes), clamped by the accuracy bounds, with the largest size as Gmsh's
+ * cap (where the new mesh leaves the old one the field has no value);
+ * SAME_FIELD when the field was tried already. */
+static int one_size(dtm_refine_result *rr, loop_state *st, int dim, const char *name, double x, int scaled,
+                    double *size, int *refused) {
+  dtm_refine_round info = {0};
+  int capped = 0;
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  info.calibration = scaled ? x : NAN, info.uniform = scaled ? NAN : x;
+  DTM_CHECK(uniform_field(rr, st, x, scaled, size, &info.counts, &capped));
+  st->uniform_capped |= capped; /* the accuracy bounds kept some nodes finer */
+  dtm_remesh_sizes o = {0, 0, field_max(size, nn)};
+  int r = try_field(rr, st, dim, name, size, &o, &info, refused);
+  if (r == DTM_OK && !scaled) st->uniform = fmax(st->uniform, x), st->uniform_rounds += !*refused;
+  return r;
+}
+
+/* A ladder of sizes: x (a uniform size, or with scaled a factor on the
+ * input's sizes), then, while it falls short, coarser by the shortfall and
+ * the margin (the accuracy bounds clamping it where they apply); it ends when a
+ * coarser try did not raise the step (the geometry, not the size, holds
+ * it). A size Gmsh refuses is tried coarser. */
+static int ladder(dtm_refine_result *rr, loop_state *st, int dim, const char *name, double x, int scaled) {
+  double p = basis_exponent(st->input), last = NAN;
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  double *size = malloc((nn + 1) * sizeof *size);
+  if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = DTM_OK;
+  for (int t = 0; t < LADDER_TRIES && r == DTM_OK && room(rr) && !met(rr, rr->best); t++) {
+    int refused = 0;
+    r = one_size(rr, st, dim, name, x, scaled, size, &refused);
+    if (r == SAME_FIELD) {
+      r = DTM_OK;
+      break; /* clamped to a field tried already */
+    }
+    if (r) break;
+    double step = refused ? NAN : rr->rounds[rr->nrounds - 1].recommended;
+    if (!refused && !(step > LADDER_FLAT * last) && t > 0) break; /* coarser did not help */
+    if (!refused) last = isnan(last) ? step : fmax(last, step);
+    double shortfall = refused ? 1.0 : rr->target / step;
+    x *= fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, pow(shortfall * MIN_MARGIN, 1.0 / p)));
+  }
+  free(size);
+  return r;
+}
+
+/* The uniform sizes tried: the input's median size times these, from the
+ * first at least the estimate over UNIFORM_BELOW (uniform_size), in turn
+ * until one meets the target. The worst element of a fresh mesh is a
+ * lottery from one size to the next (on real parts 1.25x met where 1.5x
+ * did not, and 2x where 1.25x and 1.5x did not): the search tries each
+ * size, from the finer (more accurate) side, rather than trusting a trend. */
+static const double uniform_factors[] = {1.25, 1.5, 2.0, 3.0, 4.0, 6.0};
+#define UNIFORM_TRIES 5   /* uniform remeshes at most */
+#define UNIFORM_BELOW 1.6 /* the first size tried may lie this far below the estimate */
+#define UNIFORM_REFUSED 2 /* refusals in a row that end the strategy */
+
+/* The uniform strategy (see uniform_factors). */
+static int uniform_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
+  double h, med;
+  DTM_CHECK(uniform_size(rr, st, &h, &med));
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  double *size = malloc((nn + 1) * sizeof *size);
+  if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = DTM_OK, tries = 0, refused_run = 0;
+  size_t nf = sizeof uniform_factors / sizeof uniform_factors[0];
+  for (size_t k = 0; k < nf && tries < UNIFORM_TRIES && r == DTM_OK && room(rr) && !met(rr, rr->best); k++) {
+    double x = med * uniform_factors[k];
+    if (x < h / UNIFORM_BELOW && k + 1 < nf) continue;
+    int refused = 0;
+    r = one_size(rr, st, dim, "uniform", x, 0, size, &refused);
+    if (r == SAME_FIELD) r = DTM_OK; /* clamped to a field tried already: the next size */
+    tries++, refused_run = refused ? refused_run + 1 : 0;
+    if (refused_run >= UNIFORM_REFUSED) break;
+  }
+  free(size);
+  return r;
+}
+
+/* The scaled strategy: the input's own sizes times the factor its
+ * shortfall implies (with the margin), as Mesh.MeshSizeFactor would: its
+ * grading around small features and embedded entities is kept. */
+static int scaled_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
+  double f = pow(rr->target / rr->rounds[0].recommended * MIN_MARGIN, 1.0 / basis_exponent(st->input));
+  return ladder(rr, st, dim, "scaled", f, 1);
+}
+
+/* The field strategy's best calibration (the first one when it ran none). */
+static double best_calibration(const dtm_refine_result *rr, const loop_state *st) {
+  int b = -1;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, "field") &&
+        (b < 0 || rr->rounds[i].recommended > rr->rounds[b].recommended))
+      b = i;
+  return b > 0 ? rr->rounds[b].calibration : first_calibration(st->input);
+}
+
+/* The uniform size of the uniform round with the largest step (0: none). */
+static double best_uniform(const dtm_refine_result *rr) {
+  int b = -1;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, "uniform") &&
+        (b < 0 || rr->rounds[i].recommended > rr->rounds[b].recommended))
+      b = i;
+  return b > 0 ? rr->rounds[b].uniform : 0;
+}
+
+/* The size field capped differently: the field of the best calibration
+ * without the caps at short model curves (graded only), or floored at the
+ * largest uniform size tried (Mesh.MeshSizeMin): the small elements the
+ * caps or the curves keep are what either lifts; the floor stays within
+ * the scene's accuracy bounds. */
+static int variant_strategy(dtm_refine_result *rr, loop_state *st, int dim, int floored) {
+  const dtm_analysis *a = st->input;
+  size_t nn = dtm_analysis_mesh(a)->nnodes;
+  double c = best_calibration(rr, st) * MIN_MARGIN;
+  double *size = malloc((nn + 1) * sizeof *size), *floor = malloc((nn + 1) * sizeof *floor);
+  int r = size && floor ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), refused = 0;
+  dtm_refine_round info = {0};
+  double h = best_uniform(rr);
+  if (r == DTM_OK)
+    r = dtm_analysis_size_field(a, BIG_CALIBRATION, size); /* the accuracy bounds: the floor stays below */
+  for (size_t v = 0; r == DTM_OK && v < nn; v++)
+    if (isfinite(size[v])) h = fmin(h, size[v]);
+  dtm_remesh_sizes o = {floored ? h : 0, 0, 0};
+  info.calibration = c, info.uniform = floored ? h : NAN;
+  if (r == DTM_OK) r = dtm_analysis_size_field(a, c, size);
+  if (r == DTM_OK) r = dtm_analysis_size_field(a, 0.0, floor);
+  if (r == DTM_OK && floored) dtm_cap_at_features(dtm_analysis_geo(a), floor, size);
+  if (r == DTM_OK) r = dtm_grade_sizes(dtm_analysis_mesh(a), GRADE, floor, size);
+  if (r == DTM_OK) r = round_counts(rr, st, c, floor, &info.counts);
+  if (r == DTM_OK) r = try_field(rr, st, dim, floored ? "field-floored" : "field-uncapped", size, &o, &info, &refused);
+  free(size), free(floor);
+  return r == SAME_FIELD ? DTM_OK : r;
+}
+
+/* Sizes from the curvature beside the largest uniform size tried: a
+ * uniform mesh Gmsh refused on curved faces (a segment of a coarse facet
+ * crossing another) often meshes with the curvature followed. */
+#define CURVATURE_PER_2PI 12 /* elements per 2 pi of curvature */
+static int curvature_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
+  size_t nn = dtm_analysis_mesh(st->input)->nnodes;
+  double *size = malloc((nn + 1) * sizeof *size);
+  if (!size) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_refine_round info = {0};
+  dtm_remesh_sizes o = {0.25 * st->uniform, CURVATURE_PER_2PI, st->uniform};
+  int refused = 0, capped = 0;
+  info.calibration = NAN, info.uniform = st->uniform;
+  int r = uniform_field(rr, st, st->uniform, 0, size, &info.counts, &capped);
+  if (r == DTM_OK) r = try_field(rr, st, dim, "uniform-curvature", size, &o, &info, &refused);
+  free(size);
+  return r == SAME_FIELD ? DTM_OK : r;
+}
+
+/* The strategies refine tries, in order, while the kept mesh falls short
+ * of the target: try, measure, keep the best (the cheapest that meets it,
+ * else the largest step no dearer than the input). */
+typedef struct {
+  const char *name;
+  int (*run)(dtm_refine_result *rr, loop_state *st, int dim);
+  int (*wanted)(const loop_state *st); /* NULL: always */
+} strategy;
+
+static int uniform_tried(const loop_state *st) { return st->uniform_rounds > 0; }
+static int gmsh_refused_some(const loop_state *st) { return st->uniform > 0 && (st->failed || st->crashed); }
+static int floored_run(dtm_refine_result *rr, loop_state *st, int dim) { return variant_strategy(rr, st, dim, 1); }
+static int uncapped_run(dtm_refine_result *rr, loop_state *st, int dim) { return variant_strategy(rr, st, dim, 0); }
+
+static const strategy strategies[] = {
+    {"field", field_strategy, NULL},               /* the calibrated size suggestion, --max-iter rounds */
+    {"scaled", scaled_strategy, NULL},             /* the input's sizes times a factor */
+    {"uniform", uniform_strategy, NULL},           /* the size the target implies everywhere */
+    {"field-floored", floored_run, uniform_tried}, /* the field with Mesh.MeshSizeMin at that size */
+    {"field-uncapped", uncapped_run, NULL},        /* the field without the caps at short curves */
+    {"uniform-curvature", curvature_strategy, gmsh_refused_some}, /* after a refusal: curvature sizes too */
+};
+
+static int search(dtm_refine_result *rr, loop_state *st, int dim) {
+  if (met(rr, 0)) return rr->stop = DTM_REFINE_MET, DTM_OK;
+  if (layers_hold(rr, st)) return rr->stop = DTM_REFINE_LAYERS, DTM_OK;
+  for (size_t k = 0; k < sizeof strategies / sizeof strategies[0]; k++) {
+    if (met(rr, rr->best) || !room(rr)) break;
+    if (strategies[k].wanted && !strategies[k].wanted(st)) continue;
+    DTM_CHECK(strategies[k].run(rr, st, dim));
   }
   return DTM_OK;
+}
+
+/* The mesh round of strategy name with the largest step. */
+static int best_of(const dtm_refine_result *rr, const char *name) {
+  int b = -1;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, name) &&
+        (b < 0 || rr->rounds[i].recommended > rr->rounds[b].recommended))
+      b = i;
+  return b;
+}
+
+/* Why the search ended short, from what the meshes tried showed: every
+ * remesh refused; the budget of a field strategy still rising; the
+ * accuracy bound capping the uniform size; elements the uniform mesh (the
+ * coarser mesh at the target's size) still keeps below the target, all
+ * across thin layers or all shape-limited; else no mesh tried met it. */
+static void decide_stop(dtm_refine_result *rr, const loop_state *st) {
+  if (rr->stop) return;
+  if (met(rr, rr->best)) return (void)(rr->stop = DTM_REFINE_MET);
+  int meshes = rr->nrounds - 1, u = best_of(rr, "uniform");
+  if (!meshes && (st->failed || st->crashed))
+    return (void)(rr->stop = st->crashed ? DTM_REFINE_GMSH_CRASH : DTM_REFINE_GMSH_REFUSED);
+  if (st->uniform_capped && rr->forced_by && rr->forced >= 0.5) return (void)(rr->stop = DTM_REFINE_ACCURACY);
+  if (u < 0) return (void)(rr->stop = st->field_end == FIELD_SPENT ? DTM_REFINE_BUDGET : DTM_REFINE_STALLED);
+  const dtm_refine_round *r = &rr->rounds[u];
+  if (r->below && r->shape_limited == r->below)
+    return (void)(rr->stop = r->layers ? DTM_REFINE_THICKNESS : DTM_REFINE_ONLY_SHAPE);
+  int f = best_of(rr, "field");
+  if (st->field_end == FIELD_SPENT && f >= 0 && rr->rounds[f].recommended >= r->recommended)
+    return (void)(rr->stop = DTM_REFINE_BUDGET);
+  rr->stop = DTM_REFINE_STALLED;
 }
 
 static void input_accuracy(dtm_refine_result *rr, const dtm_analysis *a) {
@@ -432,13 +856,18 @@ static int refine_loop(dtm_refine_result *rr) {
   DTM_CHECK(record(rr->analysis, DTM_ROUND_INPUT, dtm_wtime() - t0, rr, rr->nrounds++));
   input_accuracy(rr, rr->analysis);
   int r = met(rr, 0) ? DTM_OK : model_causes(rr, &st);
-  if (r == DTM_OK) r = rounds(rr, &st, dim);
+  dtm_gmsh_remesh_limit((unsigned)fmax(REMESH_LIMIT_MIN, REMESH_LIMIT_X * rr->rounds[0].seconds));
+  if (r == DTM_OK) r = search(rr, &st, dim);
+  dtm_gmsh_remesh_limit(0);
+  if (r == DTM_OK) decide_stop(rr, &st);
+  rr->uniform = st.uniform, rr->uniform_rounds = st.uniform_rounds;
   if (r == DTM_OK && !met(rr, 0)) r = record_counts(rr, &st);
   if (r == DTM_OK) dtm_refine_collect_causes(rr, st.model, st.nmodel);
   release(&st.cur, st.input, rr->analysis);
   release(&st.input, rr->analysis, NULL);
   if (r == DTM_OK && rr->best != st.model_round) r = dtm_gmsh_restore_mesh(st.kept.tmp);
   if (r == DTM_OK && !met(rr, rr->best)) r = dtm_refine_mass_round(rr);
+  if (r == DTM_OK && met(rr, rr->best)) dtm_refine_met_causes(rr); /* nothing about a stop */
   dtm_atomic_abort(&st.kept);
   dtm_gmsh_structure_destroy(&st.st);
   free(st.field);
@@ -463,7 +892,7 @@ int dtm_refine_run(const dtm_scene *s, const dtm_refine_options *o, dtm_refine_r
   if (!(rr->options.tol > 0)) rr->options.tol = 1e-4;
   if (!(rr->options.lanczos_max > 0)) rr->options.lanczos_max = 400;
   if (!rr->options.optimise) rr->options.optimise = DTM_REFINE_OPTIMISE;
-  if (rr->options.max_rounds > DTM_REFINE_MAX_ROUNDS - 2) rr->options.max_rounds = DTM_REFINE_MAX_ROUNDS - 2;
+  if (rr->options.max_rounds > DTM_REFINE_MAX_ROUNDS - 14) rr->options.max_rounds = DTM_REFINE_MAX_ROUNDS - 14;
   rr->target = o->target, rr->mass_needed = NAN;
   rr->scene = *s;
   rr->scene.target = o->target;
@@ -488,21 +917,19 @@ void dtm_refine_destroy(dtm_refine_result **pr) {
 const char *dtm_refine_stop_text(int stop) {
   switch (stop) {
   case DTM_REFINE_MET: return "the target is met";
-  case DTM_REFINE_ONLY_SHAPE: return "only shape-limited elements remain below the target";
-  case DTM_REFINE_BUDGET: return "the round budget is spent";
-  case DTM_REFINE_SHAPE_CAP:
-    return "shape-limited elements cap the step: a round around them did not improve on the kept mesh";
+  case DTM_REFINE_ONLY_SHAPE:
+    return "shape-limited elements stay below the target on a uniform mesh at or above the size it implies";
+  case DTM_REFINE_BUDGET: return "the size-field rounds (--max-iter) are spent, and no other strategy met the target";
+  case DTM_REFINE_SHAPE_CAP: return "shape-limited elements cap the step";
   case DTM_REFINE_THICKNESS:
-    return "elements that the thickness of their layer caps are below the target: no mesh of that layer reaches it";
-  case DTM_REFINE_GMSH_REFUSED: return "Gmsh refused a remesh";
-  case DTM_REFINE_GMSH_CRASH: return "Gmsh crashed in a remesh";
+    return "thin layers stay below the target on a uniform mesh at or above the size it implies";
+  case DTM_REFINE_GMSH_REFUSED: return "Gmsh refused every remesh tried";
+  case DTM_REFINE_GMSH_CRASH: return "Gmsh crashed in every remesh tried";
   case DTM_REFINE_LAYERS:
-    return "elements below the target lie where the model fixes the node counts (extrusion layers, or transfinite "
-           "curves refine keeps): no remesh changes them";
-  case DTM_REFINE_STALLED:
-    return "a remesh aimed higher left the step where it was, or two remeshes in a row did not beat the kept mesh, "
-           "or the model's short curves and the grading cap the field where it would grow: the same elements limit "
-           "the step whatever the size field";
+    return "every element below the target lies where the model fixes the node counts (extrusion Layers{}, or "
+           "transfinite curves refine keeps): stopped before any remesh";
+  case DTM_REFINE_STALLED: return "no mesh tried met the target";
+  case DTM_REFINE_ACCURACY: return "the accuracy bounds forbid the uniform size that meets the target";
   default: return "not run";
   }
 }

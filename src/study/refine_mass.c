@@ -17,11 +17,18 @@
  * mode needs mass only where it lives, where the nodal rule also feeds
  * nodes whose bound is merely pessimistic). The analysis keeps the masses
  * only when their total is within the share of the model's mass the
- * caller allows; beyond it, the analysis is put back as it was and the
- * share needed is recorded. */
+ * caller allows; beyond it, on the global basis, the least share that
+ * works is searched for: the rule's masses (found with no limit) scaled by
+ * a factor bisected between 0 and 1, each try confirmed by the global
+ * estimate with the masses; the least scaled set that meets the target is
+ * kept when it is within the limit, else its share is recorded as needed
+ * (rr->mass_least). On the nodal basis the rule's share is already the
+ * least for the nodal bound (each node gets the least mass that lifts its
+ * own bound), and it is recorded as what the rule adds. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/cost.h"
 #include "dtmap/util.h"
@@ -53,6 +60,52 @@ static void not_kept_cause(dtm_refine_result *rr) {
              DTM_MASS_CAP);
 }
 
+#define LEAST_STEPS 8 /* bisections of the scale: the share to 0.4 % of the rule's */
+
+/* The global estimate of analysis a with masses s x m[nn] (none when s = 0);
+ * 1 in *ok when it meets the target. */
+static int try_scale(dtm_refine_result *rr, const double *m, size_t nn, double s, double *buf, int *ok) {
+  dtm_analysis *a = rr->analysis;
+  for (size_t v = 0; v < nn; v++) buf[v] = s * m[v];
+  DTM_CHECK(dtm_analysis_set_point_masses(a, s > 0 ? buf : NULL));
+  DTM_CHECK(dtm_analysis_estimate_global(a, rr->options.tol, rr->options.lanczos_max, DTM_GLOBAL_BASIS));
+  *ok = dtm_analysis_recommended(a) >= rr->target;
+  return DTM_OK;
+}
+
+/* On the global basis, when the rule's share is beyond the limit: the
+ * least scale of the rule's masses that the global estimate confirms (see
+ * above); kept when within the limit (*found updated), else recorded. */
+static int least_share(dtm_refine_result *rr, dtm_mass_found *found) {
+  dtm_analysis *a = rr->analysis;
+  size_t nn = dtm_analysis_mesh(a)->nnodes;
+  dtm_mass_aim aim = {rr->target, 1, rr->options.tol, rr->options.lanczos_max, DTM_MASS_CAP};
+  dtm_mass_found all;
+  DTM_CHECK(dtm_mass_points(a, &aim, &all));
+  if (!all.kept) return DTM_OK;
+  double *m = malloc((nn + 1) * sizeof *m), *buf = malloc((nn + 1) * sizeof *buf), lo = 0, hi = 1;
+  int r = m && buf ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory"), ok = 0;
+  if (r == DTM_OK) memcpy(m, dtm_analysis_point_masses(a), nn * sizeof *m);
+  for (int k = 0; k < LEAST_STEPS && r == DTM_OK; k++) {
+    double s = 0.5 * (lo + hi);
+    r = try_scale(rr, m, nn, s, buf, &ok);
+    if (ok)
+      hi = s;
+    else
+      lo = s;
+  }
+  double share = hi * all.percent;
+  int keep = share <= rr->options.max_added_mass;
+  if (r == DTM_OK) r = try_scale(rr, m, nn, keep ? hi : 0.0, buf, &ok);
+  if (r == DTM_OK && keep && ok) {
+    found->kept = found->met = 1, found->percent = share, found->added = hi * all.added, found->nodes = all.nodes;
+  } else if (r == DTM_OK) {
+    rr->mass_needed = share, rr->mass_least = 1;
+  }
+  free(m), free(buf);
+  return r;
+}
+
 int dtm_refine_mass_round(dtm_refine_result *rr) {
   dtm_analysis *a = rr->analysis;
   if (!(rr->options.max_added_mass > 0)) return DTM_OK;
@@ -61,9 +114,11 @@ int dtm_refine_mass_round(dtm_refine_result *rr) {
                       rr->options.max_added_mass};
   dtm_mass_found found;
   DTM_CHECK(dtm_mass_points(a, &aim, &found));
+  if (!found.kept && found.met && rr->options.global && !dtm_analysis_point_masses(a))
+    DTM_CHECK(least_share(rr, &found));
   if (found.kept) record_mass(rr, dtm_wtime() - t0, &found);
   if (!found.kept && isfinite(dtm_analysis_dt_nodal(a))) {
-    rr->mass_needed = found.met ? found.percent : NAN;
+    if (!rr->mass_least) rr->mass_needed = found.met ? found.percent : NAN;
     not_kept_cause(rr);
   }
   return DTM_OK;

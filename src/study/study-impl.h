@@ -25,6 +25,9 @@ dtm_cause *dtm_refine_new_cause(dtm_refine_result *rr, const char *kind);
  * stopped, the kept analysis and the nmodel causes the model holds (found
  * on the input mesh), then the size options refine lifted. */
 void dtm_refine_collect_causes(dtm_refine_result *rr, const dtm_cause *model, int nmodel);
+/* A target met (by the mesh or with point masses): only the size options
+ * refine lifted stay among the causes, and the stop is DTM_REFINE_MET. */
+void dtm_refine_met_causes(dtm_refine_result *rr);
 /* The cause "mass-limit": rr->mass_needed % of the mass would meet the
  * target, more than the options allow. */
 void dtm_refine_mass_cause(dtm_refine_result *rr);
