@@ -12,8 +12,15 @@ concrete lining in rock, 2D plane strain, real Gmsh meshing) with a target
   mass), the subcycling speed-up, and LS-DYNA's rule for the layer as a
   beam, size / sqrt(E/(rho(1 - nu^2))) with the concrete's moduli (1e-12:
   a few roundings).
-- `dtmap refine` stops before any remesh (one round: the input), exit 1,
-  saying why, and writes the kept mesh.
+- `dtmap refine` does not take `run`'s layer figure as a fact: it remeshes
+  before it names a cause (issue 35), and a remesh of the tunnel whose
+  lining has coarser elements meets the target (Gmsh meshes this 2D model
+  the same way each time: the scaled input sizes, x1.97, give a nodal step
+  of 5.55e-5 s against 5.2e-5). So exit 0, the kept round is a remesh whose
+  recommended step is at least the target, and nothing is said of a stop
+  or of the lining's thickness as a cause. (`run`'s reach figure for the
+  layer, below the target, is the element-step rule's estimate, which this
+  remesh beats.)
 - With a target 1.05 times the step, which a fresh mesh of the lining can
   reach, nothing is called thickness-limited.
 - Without a target, the smallest steps are said to lie across the lining
@@ -69,12 +76,17 @@ class TunnelLining(unittest.TestCase):
         want = l["size"] / math.sqrt(E / (RHO * (1 - NU * NU)))
         self.assertLessEqual(abs(r["shell_rule_step"] - want), 1e-12 * want)
 
-    def test_refine_stops_at_once(self):
+    def test_refine_remeshes_before_a_cause(self):
         code, out = tu.run("refine", "tunnel_lining.xml", "-o", "r.msh", "--report", "r.json")
-        self.assertEqual(code, 1, out)
-        rep = tu.report("r.json")
-        self.assertEqual(len(rep["refine"]["rounds"]), 1)
-        self.assertIn("thickness of their layer", rep["refine"]["stopped"])
+        self.assertEqual(code, 0, out)
+        ref = tu.report("r.json")["refine"]
+        self.assertGreater(len(ref["rounds"]), 1)
+        kept = ref["rounds"][ref["best"]]
+        self.assertEqual(kept["kind"], "mesh")
+        self.assertGreaterEqual(kept["recommended"], ref["target"])
+        self.assertTrue(ref["met"])
+        self.assertEqual(ref["causes"], [])
+        self.assertNotIn("stopped", out.split("met:")[0].lower())
         self.assertTrue(os.path.exists(tu.path("r.msh")))
 
     def test_reachable_target_is_not_thickness_limited(self):
