@@ -779,16 +779,6 @@ static int search(dtm_refine_result *rr, loop_state *st, int dim) {
   return DTM_OK;
 }
 
-/* The mesh round of strategy name with the largest step. */
-static int best_of(const dtm_refine_result *rr, const char *name) {
-  int b = -1;
-  for (int i = 1; i < rr->nrounds; i++)
-    if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, name) &&
-        (b < 0 || rr->rounds[i].recommended > rr->rounds[b].recommended))
-      b = i;
-  return b;
-}
-
 /* Why the search ended short, from what the meshes tried showed: every
  * remesh refused; the budget of a field strategy still rising; the
  * accuracy bound capping the uniform size; elements the uniform mesh (the
@@ -797,7 +787,7 @@ static int best_of(const dtm_refine_result *rr, const char *name) {
 static void decide_stop(dtm_refine_result *rr, const loop_state *st) {
   if (rr->stop) return;
   if (met(rr, rr->best)) return (void)(rr->stop = DTM_REFINE_MET);
-  int meshes = rr->nrounds - 1, u = best_of(rr, "uniform");
+  int meshes = rr->nrounds - 1, u = dtm_refine_best_of(rr, "uniform");
   if (!meshes && (st->failed || st->crashed))
     return (void)(rr->stop = st->crashed ? DTM_REFINE_GMSH_CRASH : DTM_REFINE_GMSH_REFUSED);
   if (st->uniform_capped && rr->forced_by && rr->forced >= 0.5) return (void)(rr->stop = DTM_REFINE_ACCURACY);
@@ -805,7 +795,7 @@ static void decide_stop(dtm_refine_result *rr, const loop_state *st) {
   const dtm_refine_round *r = &rr->rounds[u];
   if (r->below && r->shape_limited == r->below)
     return (void)(rr->stop = r->layers ? DTM_REFINE_THICKNESS : DTM_REFINE_ONLY_SHAPE);
-  int f = best_of(rr, "field");
+  int f = dtm_refine_best_of(rr, "field");
   if (st->field_end == FIELD_SPENT && f >= 0 && rr->rounds[f].recommended >= r->recommended)
     return (void)(rr->stop = DTM_REFINE_BUDGET);
   rr->stop = DTM_REFINE_STALLED;

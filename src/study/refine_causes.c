@@ -33,8 +33,7 @@ static void to_front(dtm_refine_result *rr) {
   rr->causes[0] = c;
 }
 
-/* The mesh round of strategy name with the largest step (-1: none). */
-static int best_of(const dtm_refine_result *rr, const char *name) {
+int dtm_refine_best_of(const dtm_refine_result *rr, const char *name) {
   int b = -1;
   for (int i = 1; i < rr->nrounds; i++)
     if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, name) &&
@@ -59,7 +58,7 @@ static void tried_text(const dtm_refine_result *rr, char *buf, size_t len) {
                                          {"uniform-curvature", "a uniform size with curvature sizes"}};
   buf[0] = '\0';
   for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-    int n = count_of(rr, names[k][0]), b = best_of(rr, names[k][0]);
+    int n = count_of(rr, names[k][0]), b = dtm_refine_best_of(rr, names[k][0]);
     if (!n) continue;
     size_t at = strlen(buf);
     snprintf(buf + at, len - at, "%s%s (%d remesh(es), best %.4g s)", at ? ", " : "", names[k][1], n,
@@ -109,7 +108,7 @@ static void budget_cause(dtm_refine_result *rr, const char *tried) {
  * refine.c), first in the list. */
 static void stop_cause(dtm_refine_result *rr) {
   char tried[400], ut[160];
-  int u = best_of(rr, "uniform");
+  int u = dtm_refine_best_of(rr, "uniform");
   const dtm_refine_round *b = &rr->rounds[rr->best];
   dtm_cause *c = NULL;
   tried_text(rr, tried, sizeof tried);

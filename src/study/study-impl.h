@@ -21,6 +21,8 @@ void dtm_cap_at_features(const dtm_geo *g, const double *floor, double *size);
 
 /* A new cause of kind (cleared) in rr, or NULL when the list is full. */
 dtm_cause *dtm_refine_new_cause(dtm_refine_result *rr, const char *kind);
+/* The mesh round of strategy name with the largest step (-1: none; refine_causes.c). */
+int dtm_refine_best_of(const dtm_refine_result *rr, const char *name);
 /* The causes of a target the kept mesh does not meet, from the way the loop
  * stopped, the kept analysis and the nmodel causes the model holds (found
  * on the input mesh), then the size options refine lifted. */
