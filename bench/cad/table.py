@@ -10,8 +10,9 @@ whose input Gmsh or dtmap cannot mesh is counted apart ("no input").
 Usage: table.py OUT_DIR   (bench/cad/survey.sh's CAD_OUT)
 """
 
-import json
 import os
+
+from survey import load  # the same reader of a result file (None when missing or torn)
 import statistics
 import sys
 
@@ -26,14 +27,6 @@ def kinds():
             c = line.split("\t")
             out[c[0]] = c[1]
     return out
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 def spread(xs):
