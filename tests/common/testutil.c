@@ -220,6 +220,13 @@ void tu_gmsh_begin(void) {
   gmshInitialize(0, NULL, 0, &ierr);
   gmshOptionSetNumber("General.Terminal", 0, &ierr);
   gmshOptionSetNumber("General.AbortOnError", 0, &ierr);
+  /* A solver socket of this process's own: Gmsh's default (~/.gmshsock)
+   * is shared by every Gmsh of the user, so two suites side by side (or
+   * another user's Gmsh on a shared machine) would connect dtmap to the
+   * wrong session. */
+  char sock[64];
+  snprintf(sock, sizeof sock, ".gmshsock-dtmtest-%ld-", (long)getpid());
+  gmshOptionSetString("Solver.SocketName", sock, &ierr);
 }
 
 void tu_gmsh_end(void) {
