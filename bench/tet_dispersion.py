@@ -126,7 +126,7 @@ def measure(algorithm, order, n, nus, raw, courant=(0.9,)):
 
 
 LONG = [4, 1, 1]  # the long box: the waves along x
-LONG_SIZES = (("delaunay", 18), ("hxt", 18), ("delaunay", 22))  # mesher, cells per unit
+LONG_SIZES = (("delaunay", 18), ("hxt", 18))  # mesher, cells per unit
 LONG_A = (4, 6, 8, 11, 14, 17, 20, 23, 26, 29, 32, 35)  # wavelengths along the box (those with kappa <= KAPPA_MAX)
 
 
