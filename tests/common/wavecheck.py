@@ -17,6 +17,7 @@ interpolates the error over (k h)^2 (smooth) between them.
 import json
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -32,16 +33,21 @@ CS = math.sqrt(MU / RHO)
 CP = 2 * CS  # nu = 1/3
 
 
-def scene(name, msh, f_max):
+def scene(name, msh, f_max, nu=NU):
     return tu.write(name + ".xml", '<dtmap-scene version="1">\n  <mesh file="%s"/>\n'
                     '  <material name="steel" groups="block" E="%r" nu="%r" rho="%r"/>\n'
                     '  <effects><elastic formulation="3d" length="eigen"/></effects>\n'
-                    '  <time safety="0.9" f-max="%r"/>\n</dtmap-scene>\n' % (msh, E, NU, RHO, f_max))
+                    '  <time safety="0.9" f-max="%r"/>\n</dtmap-scene>\n' % (msh, E, nu, RHO, f_max))
 
 
-def dtmap_phase(name):
-    """Run dtmap on scene name; its phase measure and recommended step."""
-    code, out = tu.run("run", name + ".xml", "-o", name + "_dt.msh", "--report", name + ".json", "-q")
+def dtmap_phase(name, cli=None):
+    """Run dtmap (or the program cli) on scene name; its phase measure and recommended step."""
+    if cli:
+        p = subprocess.run(cli + ["run", name + ".xml", "-o", name + "_dt.msh", "--report", name + ".json", "-q"],
+                           cwd=tu.tmpdir(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        code, out = p.returncode, p.stdout
+    else:
+        code, out = tu.run("run", name + ".xml", "-o", name + "_dt.msh", "--report", name + ".json", "-q")
     if code:
         raise RuntimeError(out)
     r = tu.report(name + ".json")
@@ -55,15 +61,23 @@ def transverse(d):
 
 
 class Box:
-    """A periodic box meshed by Gmsh and its reference operator."""
+    """A periodic box meshed by Gmsh and its reference operator (Poisson's
+    ratio nu; grading g > 1: the size grows from h at x = 0 to g h at the
+    middle of x and back, pw.periodic_box)."""
 
-    def __init__(self, name, box, h, algorithm="delaunay", order=1):
+    def __init__(self, name, box, h, algorithm="delaunay", order=1, nu=NU, grading=1.0, optimize=1):
         self.name, self.box = name, list(box)
-        self.xyz, self.tets = pw.periodic_box(box, h, algorithm=algorithm, order=order, path=tu.path(name + ".msh"))
+        self.xyz, self.tets = pw.periodic_box(box, h, algorithm=algorithm, order=order, path=tu.path(name + ".msh"),
+                                              grading=grading, optimize=optimize)
         _, V = pw._gradients(self.xyz[self.tets[:, :4]])
         self.h6 = float(np.median(np.cbrt(6 * V)))  # the issue's element size: median (6V)^(1/3)
+        cx = self.xyz[self.tets[:, :4]][:, :, 0].mean(axis=1)  # the coarse middle tenth along x (graded)
+        mid = np.abs(cx - box[0] / 2) < box[0] / 20
+        self.h6_coarse = float(np.median(np.cbrt(6 * V[mid])))
+        lam, mu = pw.lame(E, nu)
+        self.cs, self.cp = math.sqrt(mu / RHO), math.sqrt((lam + 2 * mu) / RHO)
         Kl, Km, m, self.pos = pw.assemble(self.xyz, self.tets, box)
-        self.K, self.m = (LAM * Kl + MU * Km).tocsr(), RHO * m
+        self.K, self.m = (lam * Kl + mu * Km).tocsr(), RHO * m
 
     def run(self, waves, dt, periods=12):
         """Fully discrete errors of waves [(k, pol, speed)] at step dt."""
@@ -93,6 +107,69 @@ def reference_worst(box, m, dt):
         g0, g1 = err[2 + 2 * i] / k0 ** 2, err[3 + 2 * i] / k1 ** 2
         res[label] = (g0 + (g1 - g0) * (kf - k0) / (k1 - k0)) * kf ** 2
     return res, max(res.values(), key=abs)
+
+
+def fitting_errors(box, f, dt):
+    """The reference's errors at frequency f (any nu) of P and S along x and
+    along the box's diagonal: each wave at the wave numbers that fit the box
+    around 2 pi f / c (one when it fits), the error over (k h)^2
+    interpolated linearly in k between them (smooth; below the first that
+    fits, that one's error over (k h)^2). Returns the errors and the worst
+    of them."""
+    ex = np.array([1.0, 0, 0])
+    unit = 2 * math.pi / np.array(box.box)
+    d = unit / np.linalg.norm(unit)
+    kx, kd = 2 * math.pi / box.box[0], np.linalg.norm(unit)
+    specs = [("P x", ex, kx, ex, box.cp), ("S x", ex, kx, np.array([0, 1.0, 0]), box.cs),
+             ("P diag", d, kd, d, box.cp), ("S diag", d, kd, transverse(d), box.cs)]
+    waves, plan = [], []
+    for label, n, step, pol, c in specs:
+        kf = 2 * math.pi * f / c
+        a = max(1, int(math.floor(kf / step + 1e-9)))
+        ks = [a] if abs(kf / step - a) < 1e-6 or kf < step else [a, a + 1]  # below the first: err / k^2 of it
+        plan.append((label, kf, step, ks, len(waves)))
+        waves += [(j * step * n, pol, c) for j in ks]
+    err = box.run(waves, dt)
+    res = {}
+    for label, kf, step, ks, i in plan:
+        if len(ks) == 1:
+            res[label] = err[i] * (kf / (ks[0] * step)) ** 2
+            continue
+        k0, k1 = ks[0] * step, ks[1] * step
+        g0, g1 = err[i] / k0 ** 2, err[i + 1] / k1 ** 2
+        res[label] = (g0 + (g1 - g0) * (kf - k0) / (k1 - k0)) * kf ** 2
+    return res, max(res.values(), key=abs)
+
+
+def long_case(name, box, h, per, order=1, nu=NU, grading=1.0, optimize=1, clis=(None,), cache=False):
+    """A periodic box long along x (the S lag along the axes comes from the
+    faces across the wave: a long box has few), Gmsh's Delaunay at size h
+    (graded: h at the ends, grading h in the middle), at the frequency whose
+    S wave has per elements per wavelength (the S wavelength over the median
+    (6V)^(1/3); graded: of the coarse middle tenth), moved to the nearest
+    whole number of S wavelengths along x. dtmap (each program of clis;
+    None: the one under test) at that f-max, and the reference's errors at
+    dtmap's step (fitting_errors). With cache, the mesh, scene and the
+    reference's figures of an earlier call are reused (NAME.ref).
+    Returns ([dtmap's phase measure per program], errors, worst, S elements
+    per wavelength)."""
+    ref = tu.path(name + ".ref")  # not .json: testutil checks those against the report's schema
+    if cache and os.path.exists(ref):
+        with open(ref) as fh:
+            r = json.load(fh)
+        phases = [dtmap_phase(name, cli)[0] for cli in clis]
+        return phases, r["res"], r["worst"], r["per"]
+    b = Box(name, box, h, order=order, nu=nu, grading=grading, optimize=optimize)
+    size = b.h6_coarse if grading > 1 else b.h6
+    m = max(1, round(box[0] / (per * size)))
+    f = b.cs * m / box[0]
+    scene(name, name + ".msh", f, nu)
+    phases, dts = zip(*[dtmap_phase(name, cli) for cli in clis])
+    res, worst = fitting_errors(b, f, dts[0])
+    if cache:
+        with open(ref, "w") as fh:
+            json.dump({"res": res, "worst": worst, "per": b.cs / f / size, "tets": len(b.tets)}, fh)
+    return list(phases), res, worst, b.cs / f / size
 
 
 def unstructured_case(name, box, n, m, algorithm="delaunay", order=1):

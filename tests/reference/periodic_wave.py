@@ -57,14 +57,17 @@ RULE4 = np.array([[_A, _B, _B, _B], [_B, _A, _B, _B], [_B, _B, _A, _B], [_B, _B,
 HRZ10 = np.array([1 / 36] * 4 + [4 / 27] * 6)
 
 
-def periodic_box(box, h, algorithm="delaunay", order=1, path=None, transfinite=0, optimize=1):
+def periodic_box(box, h, algorithm="delaunay", order=1, path=None, transfinite=0, optimize=1, grading=1.0):
     """Mesh the box [0, Lx] x [0, Ly] x [0, Lz] with opposite faces periodic;
     transfinite n > 0: n x n x n cells each cut into tetrahedra (Gmsh's
     structured mesh, whose faces match without periodic constraints: with
     them Gmsh numbers the nodes otherwise and cuts the cells differently
-    from place to place) instead of the unstructured mesher. Writes path (msh 4,
-    physical volume "block") when given. Returns nodes [N][3] and the
-    element nodes [E][4 or 10] (0-based)."""
+    from place to place) instead of the unstructured mesher. grading g > 1:
+    the size grows linearly along x from h at x = 0 to g h at x = Lx / 2 and
+    falls back to h at x = Lx (a size field that is itself periodic, so the
+    faces x = 0 and x = Lx still match). Writes path (msh 4, physical volume
+    "block") when given. Returns nodes [N][3] and the element nodes
+    [E][4 or 10] (0-based)."""
     algos = {"delaunay": 1, "hxt": 10, "mmg3d": 7}
     with _session() as gmsh:
         gmsh.model.add("box")
@@ -78,8 +81,15 @@ def periodic_box(box, h, algorithm="delaunay", order=1, path=None, transfinite=0
             for _, s in gmsh.model.getEntities(2):
                 gmsh.model.mesh.setTransfiniteSurface(s)
             gmsh.model.mesh.setTransfiniteVolume(vol)
-        gmsh.option.setNumber("Mesh.CharacteristicLengthMax", h)
+        gmsh.option.setNumber("Mesh.CharacteristicLengthMax", h * grading)
         gmsh.option.setNumber("Mesh.CharacteristicLengthMin", h)
+        if grading > 1:
+            f = gmsh.model.mesh.field.add("MathEval")
+            gmsh.model.mesh.field.setString(f, "F", "%r * (1 + %r * (1 - Fabs(2 * x / %r - 1)))" %
+                                            (h, grading - 1, box[0]))
+            gmsh.model.mesh.field.setAsBackgroundMesh(f)
+            for name in ("ExtendFromBoundary", "FromPoints", "FromCurvature"):
+                gmsh.option.setNumber("Mesh.CharacteristicLength" + name, 0)
         gmsh.option.setNumber("Mesh.Algorithm3D", algos[algorithm])
         gmsh.option.setNumber("Mesh.Optimize", optimize)
         gmsh.model.addPhysicalGroup(3, [vol], 1)
