@@ -354,4 +354,5 @@ def main():
     print("```\n" + quality.strip() + "\n```")
 
 
-main()
+if __name__ == "__main__":  # bench/perf_big.py imports the helpers above
+    main()
