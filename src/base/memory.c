@@ -57,7 +57,16 @@ const char *dtm_bytes_text(double bytes, char *buf, size_t len) {
  * touch, although Gmsh's copies of the element arrays, the locality
  * order's scratch, the measures' work arrays and, once written, Gmsh's
  * model had just been freed. With no mappings every allocation comes from
- * the heap and takes freed space first; the default trimming still gives
- * back free memory at the heap's top, so the peak stays what it was. At
- * 1e7 tets this removed a third of the page faults (docs/performance-big.md). */
-void dtm_memory_reuse(void) { mallopt(M_MMAP_MAX, 0); }
+ * the heap and takes freed space first; up to KEEP_TOP bytes free at the
+ * heap's top stay with the process for the next stage (glibc's default
+ * gives back all beyond 128 kB, which the next array then faults in
+ * again); when more is free there it is given back, so the peak stays near
+ * what it was. Measured
+ * in docs/performance-big.md (bench/perf_big.sh): a third fewer page
+ * faults at 1e7 tets, a quarter fewer from a geometry at 1e6. */
+#define KEEP_TOP (64 << 20)
+
+void dtm_memory_reuse(void) {
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, KEEP_TOP);
+}
