@@ -319,7 +319,11 @@ views written directly as $ElementData/$NodeData; `--views-only` writes no mesh 
 mesh is renumbered for locality; the global product takes linear tets four at a time in
 vector lanes, with the mass scaling applied once per unknown; shells and beams solve their
 rotary-scale eigenproblem once per element and keep it, and the global operator stores their
-stiffness as the upper triangle of each element's matrix."""
+stiffness as the upper triangle of each element's matrix.
+
+Large arrays come from the heap and reuse what earlier stages and Gmsh freed (`dtm_memory_reuse`,
+src/base/memory.c); the 1e7 and geometry rows before and after a change, with page faults and
+each stage's cost per element, are in docs/performance-big.md (`bench/perf_big.sh`)."""
 
 
 def main():
@@ -354,4 +358,5 @@ def main():
     print("```\n" + quality.strip() + "\n```")
 
 
-main()
+if __name__ == "__main__":  # bench/perf_big.py imports the helpers above
+    main()

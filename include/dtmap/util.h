@@ -15,6 +15,12 @@
 /* Monotonic wall clock, s. */
 DTM_EXPORT double dtm_wtime(void);
 
+/* Serve large allocations from the heap, not from fresh mappings, so that
+ * the per-element arrays of one stage reuse the memory earlier stages (and
+ * Gmsh) freed instead of faulting in new zeroed pages (src/base/memory.c).
+ * For a program's start, before anything large is allocated. */
+DTM_EXPORT void dtm_memory_reuse(void);
+
 #define DTM_PATH_MAX 4096
 
 /* One output file being written atomically. */

@@ -26,6 +26,7 @@ struct dtm_analysis {
   size_t nel;                 /* elements analysed */
   size_t *offset;             /* [nblocks + 1] first global index of each block */
   double *dt;                 /* [nel] min over limiting effects, s (before safety) */
+  int dt_shared;              /* dt is the one limiting effect's dt_effect row (not freed apart) */
   double *len;                /* [nel] characteristic length of the limiting effect, m */
   int *limiting;              /* [nel] index of the limiting effect, scene order */
   double **dt_effect;         /* [neffects][nel]; NULL rows for non-limiting effects */

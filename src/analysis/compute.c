@@ -23,9 +23,19 @@ static int has_modifiers(const dtm_analysis *a) {
   return 0;
 }
 
+/* The effect whose steps are every element's step when it is the only
+ * one that limits (reduce_chunk then takes its value as it is), else -1. */
+static int only_limiting(const dtm_analysis *a) {
+  int k1 = -1;
+  for (int k = 0; k < a->neffects; k++)
+    if (a->dt_effect[k]) k1 = k1 < 0 ? k : a->neffects;
+  return k1 < a->neffects ? k1 : -1;
+}
+
+/* The per-element results; with one limiting effect dt shares its row (a
+ * copy would be nel fresh doubles, 80 MB at 1e7 elements). */
 static int alloc_results(dtm_analysis *a) {
   size_t n = a->nel, ne = (size_t)a->neffects;
-  a->dt = malloc(n * sizeof *a->dt);
   a->len = malloc(n * sizeof *a->len);
   a->limiting = malloc(n * sizeof *a->limiting);
   a->h = malloc(n * sizeof *a->h);
@@ -35,14 +45,18 @@ static int alloc_results(dtm_analysis *a) {
   a->resolution = calloc(ne + 1, sizeof *a->resolution);
   a->dt_effect = calloc(ne + 1, sizeof *a->dt_effect);
   a->per_effect = calloc(ne + 1, sizeof *a->per_effect);
-  if (!a->dt || !a->len || !a->limiting || !a->h || !a->meas || !a->hmax || !a->hmax_by || !a->resolution ||
-      !a->dt_effect || !a->per_effect)
+  if (!a->len || !a->limiting || !a->h || !a->meas || !a->hmax || !a->hmax_by || !a->resolution || !a->dt_effect ||
+      !a->per_effect)
     return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for %zu elements", n);
   for (size_t k = 0; k < ne; k++) {
     if (!(a->effects[k].cls->role & DTM_ROLE_LIMITS)) continue;
     a->dt_effect[k] = malloc(n * sizeof **a->dt_effect);
     if (!a->dt_effect[k]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
+  int k1 = only_limiting(a);
+  a->dt_shared = k1 >= 0;
+  a->dt = a->dt_shared ? a->dt_effect[k1] : malloc(n * sizeof *a->dt);
+  if (!a->dt) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for %zu elements", n);
   a->dt_bare = calloc(ne + 1, sizeof *a->dt_bare);
   if (!a->dt_bare) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t k = 0; k < ne && has_modifiers(a); k++) {
@@ -378,7 +392,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->dt_effect);
   free(a->per_effect);
   free(a->offset);
-  free(a->dt);
+  if (!a->dt_shared) free(a->dt);
   free(a->len);
   free(a->limiting);
   free(a->h);

@@ -265,6 +265,7 @@ static int run_command(void *arg) {
 }
 
 int main(int argc, char **argv) {
+  dtm_memory_reuse(); /* large arrays reuse freed memory (src/base/memory.c) */
   dtm_cli_catch_signals();
   int onelab = dtm_cli_onelab(argc, argv);
   if (onelab >= 0) return onelab;

@@ -512,7 +512,8 @@ static int describe_worst(const dtm_analysis *a, phase_run *p, dtm_measure *m) {
 
 /* Worst (largest magnitude, signed), median of the signed errors (so a
  * mesh whose waves all lag shows a negative median, as its worst) and
- * counts. */
+ * counts. scratch may be err itself (the values are moved down, never
+ * ahead of where they are read): err is then reordered. */
 static void phase_summary(const double *err, size_t n, double *scratch, dtm_measure *m) {
   size_t k = 0;
   m->worst = 0;
@@ -591,20 +592,20 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
                    .model = -1};
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   size_t n = dtm_analysis_nelements(a), skipped, nw = 2 * mesh->nnodes;
-  int kept = dtm_analysis_measure(a) && dtm_analysis_size(a); /* else gathered after err and its scratch */
-  double *err = malloc(((kept ? 3 : 5) * n + nw + 1) * sizeof *err);
+  int kept = dtm_analysis_measure(a) && dtm_analysis_size(a); /* else gathered after err */
+  double *err = malloc(((kept ? 2 : 4) * n + nw + 1) * sizeof *err);
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
   phase_run p = {.f = dtm_acc_formulation(a, k), .sr = &sr, .sc = {branch_scale(a, 0), branch_scale(a, 1)}};
-  p.hs = err + 2 * n + nw;
-  element_sizes(a, err + 3 * n + nw, &p.meas, &p.edge);
+  p.hs = err + n + nw;
+  element_sizes(a, err + 2 * n + nw, &p.meas, &p.edge);
   int rc = DTM_OK;
   if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
   if (!(m.f > 0)) rc = default_frequency(a, p.f, p.meas, &m.f), m.f_default = 1;
   p.freq = m.f;
   m.per_wavelength = NAN;
-  if (!rc) rc = phase_errors(a, &p, err, err + 2 * n, &skipped, &m.per_wavelength);
-  if (!rc) phase_summary(err, n, err + n, &m);
+  if (!rc) rc = phase_errors(a, &p, err, err + n, &skipped, &m.per_wavelength);
+  if (!rc) phase_summary(err, n, err, &m); /* in place: err is not read again */
   if (!rc && isfinite(m.worst) && m.elements) rc = describe_worst(a, &p, &m);
   cache_free(&p.cache);
   free(err);

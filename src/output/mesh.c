@@ -78,6 +78,7 @@ static int any_finite(const double *src, size_t n) {
  * so writing copies no per-element value. */
 typedef struct {
   size_t *etags, *ntags;    /* element tags [nel], node tags [nnodes] */
+  int etags_own;            /* etags is a copy (several blocks), else the one block's own tags */
   double *nvals;            /* node values [nnodes] */
   size_t *dtags;            /* node tags of the nodal-dt view [nnodes] */
   double *dvals;            /* its values [nnodes] */
@@ -108,7 +109,7 @@ static void free_views(view_set *vs) {
   free(vs->tvals);
   free(vs->dtags);
   free(vs->dvals);
-  free(vs->etags);
+  if (vs->etags_own) free(vs->etags);
   free(vs->ntags);
   free(vs->nvals);
   free(vs->names);
@@ -123,8 +124,10 @@ static void free_views(view_set *vs) {
 }
 
 static int alloc_views(const dtm_analysis *a, view_set *vs) {
-  size_t nel = dtm_analysis_nelements(a), nn = dtm_analysis_mesh(a)->nnodes, ne = (size_t)dtm_analysis_neffects(a);
-  vs->etags = malloc(nel * sizeof *vs->etags);
+  const dtm_mesh *m = dtm_analysis_mesh(a);
+  size_t nel = dtm_analysis_nelements(a), nn = m->nnodes, ne = (size_t)dtm_analysis_neffects(a);
+  vs->etags_own = m->nblocks != 1; /* one block: its tags are the views' (no copy of nel tags) */
+  vs->etags = vs->etags_own ? malloc((nel + 1) * sizeof *vs->etags) : m->blocks[0].tags;
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
   vs->nvals = malloc((nn + 1) * sizeof *vs->nvals);
   vs->dtags = malloc((nn + 1) * sizeof *vs->dtags);
@@ -161,7 +164,7 @@ static int mesh_views(const dtm_results *r, view_set *vs) {
   const dtm_analysis *a = r->analysis;
   const dtm_mesh *m = dtm_analysis_mesh(a);
   size_t nel = dtm_analysis_nelements(a), first = 0;
-  for (int b = 0; b < m->nblocks; first += m->blocks[b].n, b++)
+  for (int b = 0; vs->etags_own && b < m->nblocks; first += m->blocks[b].n, b++)
     memcpy(vs->etags + first, m->blocks[b].tags, m->blocks[b].n * sizeof(size_t));
   size_t nnv = node_view(m, dtm_analysis_size_suggestion(a), vs->ntags, vs->nvals);
   size_t ndv = node_view(m, dtm_analysis_nodal(a), vs->dtags, vs->dvals);
