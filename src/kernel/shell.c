@@ -227,10 +227,11 @@ static double scale_certified(int nn, const double *K, const double *m, int nc, 
   return fmax(1, lumped_max(nr, S, mr, 1) / target);
 }
 
-void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
-                            const int *comp_tr, int need, double screen, double out[3]) {
-  double lref = out[0] = block_max(nn, K, m, nref, comp_ref, 1, 1);
+/* dtm_struct_bounds_fast from the reference eigenvalue lref. */
+static void bounds_from(int nn, const double *K, const double *m, double lref, int ntr, const int *comp_tr, int need,
+                        double screen, double out[3]) {
   int below = 0;
+  out[0] = lref;
   if (need & DTM_STRUCT_NEED_SCALE)
     out[1] = scale_certified(nn, K, m, ntr, comp_tr, lref, &below);
   else
@@ -243,6 +244,11 @@ void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, 
   if (!(need & DTM_STRUCT_NEED_PHYSICAL)) return;
   if (screen > lref && block_below(nn, K, m, ntr, comp_tr, screen)) return; /* below the screen: not wanted */
   out[2] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1, 1));
+}
+
+void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                            const int *comp_tr, int need, double screen, double out[3]) {
+  bounds_from(nn, K, m, block_max(nn, K, m, nref, comp_ref, 1, 1), ntr, comp_tr, need, screen, out);
 }
 
 /* ---- the shell ---- */
@@ -326,8 +332,9 @@ static void plane_stress(double E, double nu, double f, double D[9]) {
 }
 
 /* Membrane and bending at every point of the full rule; fast: a tri3's
- * constant strains at its centroid alone, with the rule's whole weight
- * (the same integral, to rounding). */
+ * constant bending strains at its centroid alone, with the rule's whole
+ * weight (the same integral, to rounding), and no membrane block (its
+ * eigenvalue comes from the plane-stress closed form). */
 static void add_membrane_bending(const shell_elem *e, double *K, int fast) {
   int n = ND * e->nn, one = fast && e->type == DTM_TRI3;
   double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, Dm[9], Db[9], c[3] = {1.0 / 3, 1.0 / 3, 0}, w = 0;
@@ -342,7 +349,7 @@ static void add_membrane_bending(const shell_elem *e, double *K, int fast) {
       Bm[u] = g[a][0], Bm[n + v] = g[a][1], Bm[2 * n + u] = g[a][1], Bm[2 * n + v] = g[a][0];
       Bb[ty] = g[a][0], Bb[n + tx] = -g[a][1], Bb[2 * n + ty] = g[a][1], Bb[2 * n + tx] = -g[a][0];
     }
-    add_btdb(n, 3, Bm, Dm, dv, K, membrane_dofs, 2);
+    if (!one) add_btdb(n, 3, Bm, Dm, dv, K, membrane_dofs, 2); /* fast tri3: the closed form's instead */
     add_btdb(n, 3, Bb, Db, dv, K, bending_dofs, 2);
   }
 }
@@ -447,7 +454,14 @@ int dtm_kernel_shell_bounds(int type, const dtm_shell_section *sec, const double
   shell_elem e;
   double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
   DTM_CHECK(shell_local_with(type, sec, x, &e, K, m, 1));
-  dtm_struct_bounds_fast(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, need, screen, out);
+  if (type == DTM_TRI3) { /* the membrane eigenvalue of the plane-stress kernel (t cancels; structural.h) */
+    dtm_elastic_moduli mod;
+    double lref;
+    DTM_CHECK(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRESS, sec->E, sec->nu, sec->rho, &mod));
+    DTM_CHECK(dtm_kernel_elastic_lambda(DTM_TRI3, &mod, (const double *)e.xl, &lref));
+    bounds_from(e.nn, K, m, lref, 3, transverse_comp, need, screen, out);
+  } else
+    dtm_struct_bounds_fast(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, need, screen, out);
   *nn = e.nn;
   return DTM_OK;
 }
