@@ -331,25 +331,21 @@ static void plane_stress(double E, double nu, double f, double D[9]) {
   memcpy(D, v, sizeof v);
 }
 
-/* Membrane and bending at every point of the full rule; fast: a tri3's
- * constant bending strains at its centroid alone, with the rule's whole
- * weight (the same integral, to rounding), and no membrane block (its
- * eigenvalue comes from the plane-stress closed form). */
-static void add_membrane_bending(const shell_elem *e, double *K, int fast) {
-  int n = ND * e->nn, one = fast && e->type == DTM_TRI3;
-  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, Dm[9], Db[9], c[3] = {1.0 / 3, 1.0 / 3, 0}, w = 0;
+/* Membrane and bending at every point of the full rule. */
+static void add_membrane_bending(const shell_elem *e, double *K) {
+  int n = ND * e->nn;
+  double N[DTM_K_NODES], g[DTM_K_NODES][3], dv, Dm[9], Db[9];
   plane_stress(e->E, e->nu, e->t, Dm);
   plane_stress(e->E, e->nu, e->t * e->t * e->t / 12, Db);
-  for (int k = 0; k < e->q.n; k++) w += e->q.w[k];
-  for (int k = 0; k < (one ? 1 : e->q.n); k++) {
+  for (int k = 0; k < e->q.n; k++) {
     double Bm[3 * DTM_STRUCT_DOF] = {0}, Bb[3 * DTM_STRUCT_DOF] = {0}; /* [3][n] */
-    dtm_map_eval(e->type, 2, e->nn, (const double(*)[3])e->xl, one ? c : e->q.p[k], one ? w : e->q.w[k], N, g, &dv);
+    dtm_map_eval(e->type, 2, e->nn, (const double(*)[3])e->xl, e->q.p[k], e->q.w[k], N, g, &dv);
     for (int a = 0; a < e->nn; a++) {
       int u = ND * a, v = u + 1, tx = u + 3, ty = u + 4;
       Bm[u] = g[a][0], Bm[n + v] = g[a][1], Bm[2 * n + u] = g[a][1], Bm[2 * n + v] = g[a][0];
       Bb[ty] = g[a][0], Bb[n + tx] = -g[a][1], Bb[2 * n + ty] = g[a][1], Bb[2 * n + tx] = -g[a][0];
     }
-    if (!one) add_btdb(n, 3, Bm, Dm, dv, K, membrane_dofs, 2); /* fast tri3: the closed form's instead */
+    add_btdb(n, 3, Bm, Dm, dv, K, membrane_dofs, 2);
     add_btdb(n, 3, Bb, Db, dv, K, bending_dofs, 2);
   }
 }
@@ -401,12 +397,40 @@ static void shell_mass(const shell_elem *e, double *m) {
     for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * ma[a] * (i < 3 ? 1 : t2);
 }
 
-/* Local K[ND nn][ND nn] and m[ND nn] (fast: see add_membrane_bending). */
+/* The fast tri3: bending (constant: one point with the whole area) and
+ * MITC3 shear, without the membrane block (its eigenvalue comes from the
+ * plane-stress closed form, dtm_kernel_shell_bounds), from the constant gradients of the linear shape
+ * functions, N at the rule's points in barycentric form, det J = 2 A, and
+ * the row-sum masses A/3 (what the generic evaluation gives, to
+ * rounding). */
+static void tri3_fast(const shell_elem *e, double *K, double *m) {
+  const double(*xl)[3] = (const double(*)[3])e->xl;
+  double dj = xl[1][0] * xl[2][1] - xl[2][0] * xl[1][1], g[3][3] = {{0}}, Db[9], Bb[3 * 18] = {0};
+  g[1][0] = xl[2][1] / dj, g[1][1] = -xl[2][0] / dj, g[2][0] = -xl[1][1] / dj, g[2][1] = xl[1][0] / dj;
+  g[0][0] = -g[1][0] - g[2][0], g[0][1] = -g[1][1] - g[2][1];
+  plane_stress(e->E, e->nu, e->t * e->t * e->t / 12, Db);
+  for (int a = 0; a < 3; a++) {
+    int tx = ND * a + 3, ty = tx + 1;
+    Bb[ty] = g[a][0], Bb[18 + tx] = -g[a][1], Bb[36 + ty] = g[a][1], Bb[36 + tx] = -g[a][0];
+  }
+  add_btdb(18, 3, Bb, Db, dj / 2, K, bending_dofs, 2);
+  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, Ds[4] = {kgt, 0, 0, kgt};
+  for (int k = 0; k < e->q.n; k++) {
+    double Bs[2 * 18] = {0}, N[3] = {1 - e->q.p[k][0] - e->q.p[k][1], e->q.p[k][0], e->q.p[k][1]};
+    mitc3_b(e, N, (const double(*)[3])g, Bs);
+    add_btdb(18, 2, Bs, Ds, e->q.w[k] * dj, K, shear_dofs, 3);
+  }
+  for (int a = 0; a < 3; a++)
+    for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * (dj / 6) * (i < 3 ? 1 : e->t * e->t / 12);
+}
+
+/* Local K[ND nn][ND nn] and m[ND nn] (fast: a tri3 by tri3_fast). */
 static int shell_local_with(int type, const dtm_shell_section *sec, const double *x, shell_elem *e, double *K,
                             double *m, int fast) {
   DTM_CHECK(shell_setup(type, sec, x, e));
   memset(K, 0, sizeof(double) * ND * e->nn * ND * e->nn);
-  add_membrane_bending(e, K, fast);
+  if (fast && type == DTM_TRI3) return tri3_fast(e, K, m), DTM_OK;
+  add_membrane_bending(e, K);
   if (type == DTM_QUAD4)
     add_shear_quad(e, K);
   else
