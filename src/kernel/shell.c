@@ -126,14 +126,17 @@ static void extract(int n, const double *K, int ns, const int *idx, double *Ks) 
 void dtm_struct_to_global(int nn, const double axes[3][3], const double *Kl, double *Kg) {
   int n = ND * nn;
   for (int A = 0; A < 2 * nn; A++)
-    for (int B = 0; B < 2 * nn; B++)
-      for (int i = 0; i < 3; i++)
+    for (int B = 0; B < 2 * nn; B++) {
+      double W[3][3]; /* Kl_AB R, R = axes: R^T Kl_AB R in two 3 x 3 products */
+      for (int p = 0; p < 3; p++)
         for (int j = 0; j < 3; j++) {
-          double s = 0; /* (R^T Kl_AB R)_ij, R = axes */
-          for (int p = 0; p < 3; p++)
-            for (int q = 0; q < 3; q++) s += axes[p][i] * Kl[(3 * A + p) * n + 3 * B + q] * axes[q][j];
-          Kg[(3 * A + i) * n + 3 * B + j] = s;
+          const double *row = Kl + (3 * A + p) * n + 3 * B;
+          W[p][j] = row[0] * axes[0][j] + row[1] * axes[1][j] + row[2] * axes[2][j];
         }
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+          Kg[(3 * A + i) * n + 3 * B + j] = axes[0][i] * W[0][j] + axes[1][i] * W[1][j] + axes[2][i] * W[2][j];
+    }
 }
 
 /* Largest eigenvalue of the block of per-node components comp[nc] (with

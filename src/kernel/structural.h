@@ -202,8 +202,9 @@ void dtm_struct_ref_scale(int nn, const double *K, const double *m, int nref, co
                           const int *comp_tr, double out[2]);
 
 /* The faster path of the bounds (issue 38), the same numbers to about
- * 1e-15 relative: the small eigenproblems by dtm_struct_eig_max, a tri3's
- * constant membrane and bending strains at one point, and certificates
+ * 1e-14 relative: the small eigenproblems by dtm_struct_eig_max, a tri3
+ * from its constant gradients without the membrane block (the
+ * plane-stress closed form gives its eigenvalue), and certificates
  * before eigenproblems: when one Cholesky factorisation proves T M_r - S
  * (the scale's Schur complement) or T M - K (the transverse block)
  * positive definite, no transverse eigenvalue exceeds T (Sylvester's law
