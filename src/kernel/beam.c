@@ -150,6 +150,11 @@ int dtm_kernel_beam_bounds(const dtm_beam_section *sec, const double *x, int nee
   return DTM_OK;
 }
 
+int dtm_kernel_beam_masses(const dtm_beam_section *sec, const double *x, double *m) {
+  double axes[3][3], K[NB * NB];
+  return beam_local(sec, x, axes, K, m);
+}
+
 int dtm_kernel_beam_scale(const dtm_beam_section *sec, const double *x, double out[2], double *m) {
   double axes[3][3], K[NB * NB];
   DTM_CHECK(beam_local(sec, x, axes, K, m));

@@ -109,6 +109,27 @@ int dtm_section_element(const dtm_section *s, int type, double E, double nu, dou
   return dtm_section_element_screened(s, type, E, nu, rho, x, 0, out);
 }
 
+int dtm_section_element_known(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                              double lambda, dtm_section_bounds *out) {
+  double m[DTM_STRUCT_DOF];
+  int nn = 2;
+  memset(out, 0, sizeof *out);
+  if (!takes(s, type)) return refuse(s, type);
+  if (s->rotary == DTM_ROTARY_SCALED_INERTIA) return dtm_section_element(s, type, E, nu, rho, x, out);
+  if (s->kind == DTM_SECTION_SHELL) {
+    dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
+    DTM_CHECK(dtm_kernel_shell_masses(type, &sh, x, m, &nn));
+  } else {
+    dtm_beam_section bm = beam_of(s, E, nu, rho);
+    DTM_CHECK(dtm_kernel_beam_masses(&bm, x, m));
+  }
+  out->lambda = out->lambda_physical = lambda;
+  out->lambda_reference = NAN;
+  out->scale = 1.0;
+  node_masses(nn, m, 1.0, out);
+  return DTM_OK;
+}
+
 /* The scaled convention from the reference eigenvalue and the scale
  * alone: lambda_scaled = lambda_reference whenever the scale is finite. */
 static int scaled_step(const dtm_section *s, int type, double E, double nu, double rho, const double *x,

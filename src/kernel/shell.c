@@ -493,6 +493,14 @@ int dtm_kernel_shell_bounds(int type, const dtm_shell_section *sec, const double
   return DTM_OK;
 }
 
+int dtm_kernel_shell_masses(int type, const dtm_shell_section *sec, const double *x, double *m, int *nn) {
+  shell_elem e;
+  DTM_CHECK(shell_setup(type, sec, x, &e));
+  shell_mass(&e, m);
+  *nn = e.nn;
+  return DTM_OK;
+}
+
 int dtm_kernel_shell_matrices(int type, const dtm_shell_section *sec, const double *x, dtm_rotary_convention conv,
                               dtm_struct_matrices *out) {
   shell_elem e;

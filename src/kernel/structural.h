@@ -236,5 +236,9 @@ int dtm_kernel_shell_bounds(int type, const dtm_shell_section *sec, const double
  * dtm_kernel_beam_lambda. */
 int dtm_kernel_beam_bounds(const dtm_beam_section *sec, const double *x, int need, double screen, double out[3],
                            double *m);
+/* Only the physical lumped mass's frame diagonal m[6 nn] (and *nn) of a
+ * shell, m[12] of a beam, with the same checks and errors. */
+int dtm_kernel_shell_masses(int type, const dtm_shell_section *sec, const double *x, double *m, int *nn);
+int dtm_kernel_beam_masses(const dtm_beam_section *sec, const double *x, double *m);
 
 #endif
