@@ -245,7 +245,11 @@ static void bounds_from(int nn, const double *K, const double *m, double lref, i
   }
   out[2] = NAN;
   if (!(need & DTM_STRUCT_NEED_PHYSICAL)) return;
-  if (screen > lref && block_below(nn, K, m, ntr, comp_tr, screen)) return; /* below the screen: not wanted */
+  /* below the screen: not wanted. s T bounds it for free: S(sigma), the
+   * Schur complement at sigma, decreases as sigma grows, so sigma M - K is
+   * positive semidefinite from sigma = s T up; else one factorisation */
+  if (screen > lref && isfinite(out[1]) && out[1] * lref < screen * (1 - 1e-12)) return;
+  if (screen > lref && block_below(nn, K, m, ntr, comp_tr, screen)) return;
   out[2] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1, 1));
 }
 
@@ -417,12 +421,24 @@ static void tri3_fast(const shell_elem *e, double *K, double *m) {
     Bb[ty] = g[a][0], Bb[18 + tx] = -g[a][1], Bb[36 + ty] = g[a][1], Bb[36 + tx] = -g[a][0];
   }
   add_btdb(18, 3, Bb, Db, dj / 2, K, bending_dofs, 2);
-  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, Ds[4] = {kgt, 0, 0, kgt};
+  /* MITC3 shear as C^T G C: the edge integrals c = C u (C[3][18], see
+   * mitc3_b) and G the Gram matrix of the three Whitney fields times k G t */
+  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, G[9] = {0}, C[3 * 18] = {0};
   for (int k = 0; k < e->q.n; k++) {
-    double Bs[2 * 18] = {0}, N[3] = {1 - e->q.p[k][0] - e->q.p[k][1], e->q.p[k][0], e->q.p[k][1]};
-    mitc3_b(e, N, (const double(*)[3])g, Bs);
-    add_btdb(18, 2, Bs, Ds, e->q.w[k] * dj, K, shear_dofs, 3);
+    double N[3] = {1 - e->q.p[k][0] - e->q.p[k][1], e->q.p[k][0], e->q.p[k][1]}, phi[2][3], w = e->q.w[k] * dj * kgt;
+    for (int ed = 0; ed < 3; ed++)
+      for (int r = 0; r < 2; r++) phi[r][ed] = N[ed] * g[(ed + 1) % 3][r] - N[(ed + 1) % 3] * g[ed][r];
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) G[3 * a + b] += w * (phi[0][a] * phi[0][b] + phi[1][a] * phi[1][b]);
   }
+  for (int ed = 0; ed < 3; ed++) {
+    int i = ed, j = (ed + 1) % 3;
+    double dx = xl[j][0] - xl[i][0], dy = xl[j][1] - xl[i][1], *c = C + 18 * ed;
+    c[ND * j + 2] = 1, c[ND * i + 2] = -1;
+    c[ND * i + 4] = c[ND * j + 4] = dx / 2;
+    c[ND * i + 3] = c[ND * j + 3] = -dy / 2;
+  }
+  add_btdb(18, 3, C, G, 1, K, shear_dofs, 3);
   for (int a = 0; a < 3; a++)
     for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * (dj / 6) * (i < 3 ? 1 : e->t * e->t / 12);
 }
