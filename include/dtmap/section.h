@@ -100,6 +100,18 @@ typedef struct {
  * element, or a scaled convention that no finite scale satisfies. */
 DTM_EXPORT int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
                                    dtm_section_bounds *out);
+/* The same, except that under the scaled convention lambda_physical is NaN
+ * (not computed) when one Cholesky factorisation proves it below screen
+ * (> 0; 0: always computed): what a section's smallest physical step
+ * needs, once screen is the largest lambda_physical found so far. */
+DTM_EXPORT int dtm_section_element_screened(const dtm_section *s, int type, double E, double nu, double rho,
+                                            const double *x, double screen, dtm_section_bounds *out);
+/* The same for an element whose lambda under the physical convention is
+ * known (the element map's, 4/dt^2): the masses alone are computed, with
+ * the kernel's checks; lambda_reference is NaN. Under the scaled
+ * convention, dtm_section_element. */
+DTM_EXPORT int dtm_section_element_known(const dtm_section *s, int type, double E, double nu, double rho,
+                                         const double *x, double lambda, dtm_section_bounds *out);
 /* The same without lambda_physical (NaN) under the scaled convention: the
  * step, the scale and the masses from two small eigenproblems (the
  * reference block and the rotary scale's Schur complement) instead of four,

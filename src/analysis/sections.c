@@ -145,24 +145,72 @@ static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, c
   return (tri ? 2 : 1) * area / longest_chord(x, nc) / sqrt(E / (rho * (1 - nu * nu)));
 }
 
-/* The bounds of every shell and beam element of block b under its
- * section's convention (dtm_section_element: the rotary scale's
- * eigenproblem solved once), for the nodal bound and the report; an element
- * the kernel refuses keeps nn = 0 (the nodal bound then raises the
- * kernel's error for it). */
-static void block_rotary(const dtm_analysis *a, const dtm_block *b, dtm_section_bounds *out) {
-#pragma omp parallel for schedule(dynamic, 256)
-  for (size_t e = 0; e < b->n; e++) {
-    const dtm_section *sec = dtm_analysis_section(a, b, e);
-    const dtm_material *m = &a->scene->materials[b->mat[e]].m;
-    double x[3 * DTM_MAX_NODES];
-    out[e].nn = 0;
-    if (!sec || !dtm_section_has_rotations(sec->kind)) continue;
-    dtm_mesh_gather_one(a->mesh, b, e, x);
-    if (dtm_section_element(sec, b->type, dtm_material_value(m, "E"), dtm_material_value(m, "nu"),
-                            dtm_material_value(m, "rho"), x, &out[e]))
-      out[e].nn = 0, dtm_error_clear();
+#define ROTARY_SEED 64 /* every 64th element is solved whole first: the screen of its section */
+
+/* The element map's undamped steps of the first elastic effect whose
+ * element step is the element bound, or NULL. */
+static const double *elastic_steps(const dtm_analysis *a) {
+  for (int k = 0; k < a->neffects; k++) {
+    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue;
+    for (int i = 0; i < dtm_analysis_nslots(a); i++) {
+      dtm_operator_coeffs c;
+      if (dtm_analysis_coefficients(a, k, i, &c)) { /* a slot no element uses may lack properties */
+        dtm_error_clear();
+        continue;
+      }
+      if (c.kind == DTM_OP_ELASTIC && c.dt_is_bound)
+        return a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+      break;
+    }
   }
+  return NULL;
+}
+
+/* The bounds of element e of block b under its section's convention
+ * (dtm_section_element_screened, the screen of its section from
+ * screen[]; NULL: none). Under the physical convention the element map
+ * has solved the element's eigenproblem already: its step dt (from dt[],
+ * NULL: none) gives lambda = 4/dt^2 and only the masses are computed. An
+ * element the kernel refuses keeps nn = 0 (the nodal bound then raises
+ * the kernel's error for it). */
+static void rotary_one(const dtm_analysis *a, const dtm_block *b, size_t e, const double *screen, const double *dt,
+                       dtm_section_bounds *out) {
+  const dtm_section *sec = dtm_analysis_section(a, b, e);
+  const dtm_material *m = &a->scene->materials[b->mat[e]].m;
+  double x[3 * DTM_MAX_NODES], E = dtm_material_value(m, "E"), nu = dtm_material_value(m, "nu");
+  double rho = dtm_material_value(m, "rho");
+  out->nn = 0;
+  if (!sec || !dtm_section_has_rotations(sec->kind)) return;
+  dtm_mesh_gather_one(a->mesh, b, e, x);
+  double lam = dt ? 4.0 / (dt[e] * dt[e]) : NAN;
+  int r = sec->rotary == DTM_ROTARY_PHYSICAL_INERTIA && lam > 0 && isfinite(lam)
+              ? dtm_section_element_known(sec, b->type, E, nu, rho, x, lam, out)
+              : dtm_section_element_screened(sec, b->type, E, nu, rho, x, screen ? screen[sec - a->scene->sections] : 0,
+                                             out);
+  if (r) out->nn = 0, dtm_error_clear();
+}
+
+/* The bounds of every shell and beam element of block b, the rotary
+ * scale's eigenproblem solved once (for the nodal bound and the report;
+ * dt: the block's element steps of the elastic effect, or NULL). The
+ * report wants only each section's largest lambda_physical: the seed
+ * elements (every ROTARY_SEED-th) are solved whole first and their
+ * largest per section, screen[], spares the others' physical eigenproblem
+ * wherever a factorisation proves it below (lambda_physical NaN there;
+ * the largest is still found exactly). */
+static void block_rotary(const dtm_analysis *a, const dtm_block *b, const double *dt, double *screen,
+                         dtm_section_bounds *out) {
+  size_t nseed = (b->n + ROTARY_SEED - 1) / ROTARY_SEED;
+#pragma omp parallel for schedule(dynamic, 16)
+  for (size_t k = 0; k < nseed; k++) rotary_one(a, b, k * ROTARY_SEED, NULL, dt, &out[k * ROTARY_SEED]);
+  for (size_t k = 0; k < nseed; k++) {
+    const dtm_section_bounds *sb = &out[k * ROTARY_SEED];
+    int i = sb->nn ? (int)(dtm_analysis_section(a, b, k * ROTARY_SEED) - a->scene->sections) : -1;
+    if (i >= 0 && sb->lambda_physical > screen[i]) screen[i] = sb->lambda_physical;
+  }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (size_t e = 0; e < b->n; e++)
+    if (e % ROTARY_SEED) rotary_one(a, b, e, screen, dt, &out[e]);
 }
 
 static int has_rotary(const dtm_analysis *a, const dtm_block *b) {
@@ -176,14 +224,17 @@ static int has_rotary(const dtm_analysis *a, const dtm_block *b) {
 int dtm_analysis_rotary(dtm_analysis *a) {
   if (!dtm_analysis_has_rotations(a)) return DTM_OK;
   a->rot = calloc((size_t)a->mesh->nblocks + 1, sizeof *a->rot);
-  if (!a->rot) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double *screen = calloc((size_t)a->scene->nsections + 1, sizeof *screen);
+  const double *steps = elastic_steps(a);
+  if (!a->rot || !screen) return free(screen), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < a->mesh->nblocks; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
     if (!has_rotary(a, blk)) continue;
     a->rot[b] = malloc(blk->n * sizeof **a->rot);
-    if (!a->rot[b]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-    block_rotary(a, blk, a->rot[b]);
+    if (!a->rot[b]) return free(screen), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    block_rotary(a, blk, steps ? steps + a->offset[b] : NULL, screen, a->rot[b]);
   }
+  free(screen);
   return DTM_OK;
 }
 
@@ -192,10 +243,11 @@ int dtm_analysis_rotary(dtm_analysis *a) {
 static void rotary_stats(const dtm_analysis *a, int b, size_t e, dtm_section_stats *st) {
   const dtm_section_bounds *sb = &a->rot[b][e];
   if (!sb->nn) return;
+  if (!(sb->scale <= st->scale_max)) st->scale_max = sb->scale;
+  if (isnan(sb->lambda_physical)) return; /* proved below the section's largest (block_rotary) */
   double dt = 2.0 / sqrt(sb->lambda_physical);
   if (!(dt >= st->dt_physical_min))
     st->dt_physical_min = dt, st->physical_element = a->mesh->blocks[b].tags ? a->mesh->blocks[b].tags[e] : e;
-  if (!(sb->scale <= st->scale_max)) st->scale_max = sb->scale;
 }
 
 static const char *anchor_rule(int k) {

@@ -142,6 +142,19 @@ int dtm_kernel_beam_lambda(const dtm_beam_section *sec, const double *x, dtm_bea
   return DTM_OK;
 }
 
+int dtm_kernel_beam_bounds(const dtm_beam_section *sec, const double *x, int need, double screen, double out[3],
+                           double *m) {
+  double axes[3][3], K[NB * NB];
+  DTM_CHECK(beam_local(sec, x, axes, K, m));
+  dtm_struct_bounds_fast(2, K, m, 1, axial_comp, 5, transverse_comp, need, screen, out);
+  return DTM_OK;
+}
+
+int dtm_kernel_beam_masses(const dtm_beam_section *sec, const double *x, double *m) {
+  double axes[3][3], K[NB * NB];
+  return beam_local(sec, x, axes, K, m);
+}
+
 int dtm_kernel_beam_scale(const dtm_beam_section *sec, const double *x, double out[2], double *m) {
   double axes[3][3], K[NB * NB];
   DTM_CHECK(beam_local(sec, x, axes, K, m));

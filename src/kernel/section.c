@@ -44,13 +44,13 @@ static void node_masses(int nn, const double *m, double scale, dtm_section_bound
   for (int a = 0; a < nn; a++) out->mt[a] = m[6 * a], out->mr[a] = m[6 * a + 3] * scale;
 }
 
-static int shell_bounds(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+static int shell_bounds(const dtm_section *s, int type, double E, double nu, double rho, const double *x, double screen,
                         dtm_section_bounds *out) {
   dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
   double l[3], m[DTM_STRUCT_DOF];
-  int nn;
-  DTM_CHECK(dtm_kernel_shell_physical(type, &sh, x, l, m, &nn));
-  int scaled = s->rotary == DTM_ROTARY_SCALED_INERTIA;
+  int nn, scaled = s->rotary == DTM_ROTARY_SCALED_INERTIA;
+  int need = DTM_STRUCT_NEED_PHYSICAL | (scaled ? DTM_STRUCT_NEED_SCALE : 0);
+  DTM_CHECK(dtm_kernel_shell_bounds(type, &sh, x, need, scaled ? screen : 0, l, m, &nn));
   if (scaled && !isfinite(l[1]))
     return DTM_ERR(DTM_ERR_INPUT, "shell: no finite rotary inertia scale brings the element to its membrane step");
   out->lambda = scaled ? l[0] : l[2]; /* scaled: the membrane eigenvalue (structural.h) */
@@ -67,21 +67,22 @@ static dtm_beam_section beam_of(const dtm_section *s, double E, double nu, doubl
   return b;
 }
 
-static int beam_bounds(const dtm_section *s, double E, double nu, double rho, const double *x,
+/* lambda under the scaled convention is the axial eigenvalue whenever the
+ * scale is finite (structural.h). */
+static int beam_bounds(const dtm_section *s, double E, double nu, double rho, const double *x, double screen,
                        dtm_section_bounds *out) {
   dtm_beam_section b = beam_of(s, E, nu, rho);
-  dtm_beam_lambda l;
-  dtm_struct_matrices mat;
-  DTM_CHECK(dtm_kernel_beam_lambda(&b, x, &l));
-  DTM_CHECK(dtm_kernel_beam_matrices(&b, x, DTM_ROTARY_PHYSICAL, &mat));
+  double l[3], m[DTM_STRUCT_DOF];
   int scaled = s->rotary == DTM_ROTARY_SCALED_INERTIA;
-  if (scaled && !isfinite(l.scale))
+  int need = DTM_STRUCT_NEED_PHYSICAL | (scaled ? DTM_STRUCT_NEED_SCALE : 0);
+  DTM_CHECK(dtm_kernel_beam_bounds(&b, x, need, scaled ? screen : 0, l, m));
+  if (scaled && !isfinite(l[1]))
     return DTM_ERR(DTM_ERR_INPUT, "beam: no finite rotary inertia scale brings the element to its axial step "
                                   "(k G >= E)");
-  out->lambda = scaled ? l.lambda_scaled : l.lambda_physical;
-  out->lambda_physical = l.lambda_physical, out->lambda_reference = l.lambda_axial;
-  out->scale = scaled ? l.scale : 1.0;
-  node_masses(2, mat.m, out->scale, out);
+  out->lambda = scaled ? l[0] : l[2];
+  out->lambda_physical = l[2], out->lambda_reference = l[0];
+  out->scale = scaled ? l[1] : 1.0;
+  node_masses(2, m, out->scale, out);
   return DTM_OK;
 }
 
@@ -95,11 +96,38 @@ static int takes(const dtm_section *s, int type) {
                (s->kind == DTM_SECTION_BEAM && type == DTM_LINE2));
 }
 
-int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
-                        dtm_section_bounds *out) {
+int dtm_section_element_screened(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                                 double screen, dtm_section_bounds *out) {
   memset(out, 0, sizeof *out);
   if (!takes(s, type)) return refuse(s, type);
-  return s->kind == DTM_SECTION_SHELL ? shell_bounds(s, type, E, nu, rho, x, out) : beam_bounds(s, E, nu, rho, x, out);
+  return s->kind == DTM_SECTION_SHELL ? shell_bounds(s, type, E, nu, rho, x, screen, out)
+                                      : beam_bounds(s, E, nu, rho, x, screen, out);
+}
+
+int dtm_section_element(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                        dtm_section_bounds *out) {
+  return dtm_section_element_screened(s, type, E, nu, rho, x, 0, out);
+}
+
+int dtm_section_element_known(const dtm_section *s, int type, double E, double nu, double rho, const double *x,
+                              double lambda, dtm_section_bounds *out) {
+  double m[DTM_STRUCT_DOF];
+  int nn = 2;
+  memset(out, 0, sizeof *out);
+  if (!takes(s, type)) return refuse(s, type);
+  if (s->rotary == DTM_ROTARY_SCALED_INERTIA) return dtm_section_element(s, type, E, nu, rho, x, out);
+  if (s->kind == DTM_SECTION_SHELL) {
+    dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
+    DTM_CHECK(dtm_kernel_shell_masses(type, &sh, x, m, &nn));
+  } else {
+    dtm_beam_section bm = beam_of(s, E, nu, rho);
+    DTM_CHECK(dtm_kernel_beam_masses(&bm, x, m));
+  }
+  out->lambda = out->lambda_physical = lambda;
+  out->lambda_reference = NAN;
+  out->scale = 1.0;
+  node_masses(nn, m, 1.0, out);
+  return DTM_OK;
 }
 
 /* The scaled convention from the reference eigenvalue and the scale
@@ -108,13 +136,15 @@ static int scaled_step(const dtm_section *s, int type, double E, double nu, doub
                        dtm_section_bounds *out) {
   double b[2], m[DTM_STRUCT_DOF];
   int nn = 2;
+  double l[3];
   if (s->kind == DTM_SECTION_SHELL) {
     dtm_shell_section sh = {E, nu, rho, s->thickness, s->shear};
-    DTM_CHECK(dtm_kernel_shell_scale(type, &sh, x, b, m, &nn));
+    DTM_CHECK(dtm_kernel_shell_bounds(type, &sh, x, DTM_STRUCT_NEED_SCALE, 0, l, m, &nn));
   } else {
     dtm_beam_section bm = beam_of(s, E, nu, rho);
-    DTM_CHECK(dtm_kernel_beam_scale(&bm, x, b, m));
+    DTM_CHECK(dtm_kernel_beam_bounds(&bm, x, DTM_STRUCT_NEED_SCALE, 0, l, m));
   }
+  b[0] = l[0], b[1] = l[1];
   if (!isfinite(b[1]))
     return DTM_ERR(DTM_ERR_INPUT, "%s: no finite rotary inertia scale brings the element to its %s step",
                    dtm_section_kind_name(s->kind), s->kind == DTM_SECTION_SHELL ? "membrane" : "axial");

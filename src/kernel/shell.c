@@ -36,7 +36,9 @@ typedef struct {
 
 /* ---- dense helpers shared with beam.c ---- */
 
-double dtm_struct_lumped_max(int n, const double *K, const double *m) {
+/* lambda_max(diag(m)^-1/2 K diag(m)^-1/2); fast: the eigenvalue by
+ * dtm_struct_eig_max instead of the bisection. */
+static double lumped_max(int n, const double *K, const double *m, int fast) {
   double a[DTM_STRUCT_DOF * DTM_STRUCT_DOF], r[DTM_STRUCT_DOF];
   for (int i = 0; i < n; i++) r[i] = 1 / sqrt(m[i]);
   for (int i = 0; i < n; i++)
@@ -44,8 +46,11 @@ double dtm_struct_lumped_max(int n, const double *K, const double *m) {
   /* Householder + bisection: 2 to 9 times faster than cyclic Jacobi from
    * 6 unknowns up (bench: 3.4 against 6.7 us at 6, 5.4 against 27 us at 9),
    * to the same digits */
-  return n < 6 ? dtm_eig_sym_max(n, a) : dtm_eig_sym_max_tridiag(n, a);
+  if (n < 6) return dtm_eig_sym_max(n, a);
+  return fast ? dtm_struct_eig_max(n, a) : dtm_eig_sym_max_tridiag(n, a);
 }
+
+double dtm_struct_lumped_max(int n, const double *K, const double *m) { return lumped_max(n, K, m, 0); }
 
 /* In-place Cholesky of the SPD a[n][n] (lower triangle); -1 if not SPD. */
 static int cholesky(int n, double *a) {
@@ -91,7 +96,7 @@ static void schur(int n, const double *K, int nt, const int *it, int nr, const i
     }
 }
 
-double dtm_struct_rotary_scale(int n, const double *K, const double *m, const int *rot, double target) {
+static double rotary_scale(int n, const double *K, const double *m, const int *rot, double target, int fast) {
   int it[DTM_STRUCT_DOF], ir[DTM_STRUCT_DOF], nt = 0, nr = 0;
   double A[DTM_STRUCT_DOF * DTM_STRUCT_DOF], S[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mr[DTM_STRUCT_DOF];
   for (int i = 0; i < n; i++) {
@@ -105,7 +110,11 @@ double dtm_struct_rotary_scale(int n, const double *K, const double *m, const in
   if (cholesky(nt, A)) return INFINITY;
   if (nr == 0) return 1;
   schur(n, K, nt, it, nr, ir, A, S);
-  return fmax(1, dtm_struct_lumped_max(nr, S, mr) / target);
+  return fmax(1, lumped_max(nr, S, mr, fast) / target);
+}
+
+double dtm_struct_rotary_scale(int n, const double *K, const double *m, const int *rot, double target) {
+  return rotary_scale(n, K, m, rot, target, 0);
 }
 
 /* Ks[ns][ns] = K[idx][idx] of the n x n K. */
@@ -117,36 +126,52 @@ static void extract(int n, const double *K, int ns, const int *idx, double *Ks) 
 void dtm_struct_to_global(int nn, const double axes[3][3], const double *Kl, double *Kg) {
   int n = ND * nn;
   for (int A = 0; A < 2 * nn; A++)
-    for (int B = 0; B < 2 * nn; B++)
-      for (int i = 0; i < 3; i++)
+    for (int B = 0; B < 2 * nn; B++) {
+      double W[3][3]; /* Kl_AB R, R = axes: R^T Kl_AB R in two 3 x 3 products */
+      for (int p = 0; p < 3; p++)
         for (int j = 0; j < 3; j++) {
-          double s = 0; /* (R^T Kl_AB R)_ij, R = axes */
-          for (int p = 0; p < 3; p++)
-            for (int q = 0; q < 3; q++) s += axes[p][i] * Kl[(3 * A + p) * n + 3 * B + q] * axes[q][j];
-          Kg[(3 * A + i) * n + 3 * B + j] = s;
+          const double *row = Kl + (3 * A + p) * n + 3 * B;
+          W[p][j] = row[0] * axes[0][j] + row[1] * axes[1][j] + row[2] * axes[2][j];
         }
+      for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+          Kg[(3 * A + i) * n + 3 * B + j] = axes[0][i] * W[0][j] + axes[1][i] * W[1][j] + axes[2][i] * W[2][j];
+    }
 }
 
 /* Largest eigenvalue of the block of per-node components comp[nc] (with
  * masses m, rotational ones times s) of the n = ND nn local problem;
  * idx/rot receive the block's unknowns. */
-static double block_max(int nn, const double *K, const double *m, int nc, const int *comp, double s) {
+static double block_max(int nn, const double *K, const double *m, int nc, const int *comp, double s, int fast) {
   int idx[DTM_STRUCT_DOF] = {0}, nb = nn * nc;
   double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mb[DTM_STRUCT_DOF];
   for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc];
   extract(ND * nn, K, nb, idx, Kb);
   for (int i = 0; i < nb; i++) mb[i] = m[idx[i]] * (idx[i] % ND >= 3 ? s : 1);
-  return dtm_struct_lumped_max(nb, Kb, mb);
+  return lumped_max(nb, Kb, mb, fast);
 }
 
 /* The scale s of the transverse block comp[nc] (rotations: comp >= 3). */
-static double block_scale(int nn, const double *K, const double *m, int nc, const int *comp, double target) {
+static double block_scale(int nn, const double *K, const double *m, int nc, const int *comp, double target, int fast) {
   int idx[DTM_STRUCT_DOF] = {0}, rot[DTM_STRUCT_DOF] = {0}, nb = nn * nc;
   double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF], mb[DTM_STRUCT_DOF];
   for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc], rot[i] = comp[i % nc] >= 3;
   extract(ND * nn, K, nb, idx, Kb);
   for (int i = 0; i < nb; i++) mb[i] = m[idx[i]];
-  return dtm_struct_rotary_scale(nb, Kb, mb, rot, target);
+  return rotary_scale(nb, Kb, mb, rot, target, fast);
+}
+
+/* Whether one Cholesky factorisation proves T M - K positive definite on
+ * the block comp[nc] (physical masses): then no eigenvalue of the block
+ * exceeds T (Sylvester's law of inertia). */
+static int block_below(int nn, const double *K, const double *m, int nc, const int *comp, double target) {
+  int idx[DTM_STRUCT_DOF] = {0}, nb = nn * nc;
+  double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc];
+  extract(ND * nn, K, nb, idx, Kb);
+  for (int i = 0; i < nb; i++)
+    for (int j = 0; j < nb; j++) Kb[i * nb + j] = (i == j ? target * m[idx[i]] : 0) - Kb[i * nb + j];
+  return cholesky(nb, Kb) == 0;
 }
 
 /* The three bounds and s from the local K and m of an element whose
@@ -154,26 +179,83 @@ static double block_scale(int nn, const double *K, const double *m, int nc, cons
  * transverse block comp_tr. */
 void dtm_struct_bounds(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
                        const int *comp_tr, double out[4]) {
-  double lref = block_max(nn, K, m, nref, comp_ref, 1);
-  double s = block_scale(nn, K, m, ntr, comp_tr, lref);
+  double lref = block_max(nn, K, m, nref, comp_ref, 1, 0);
+  double s = block_scale(nn, K, m, ntr, comp_tr, lref, 0);
   int ntt = 0;
   while (ntt < ntr && comp_tr[ntt] < 3) ntt++; /* translational components come first */
   out[0] = lref;
-  out[1] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1));
-  out[2] = fmax(lref, isfinite(s) ? block_max(nn, K, m, ntr, comp_tr, s) : block_max(nn, K, m, ntt, comp_tr, 1));
+  out[1] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1, 0));
+  out[2] = fmax(lref, isfinite(s) ? block_max(nn, K, m, ntr, comp_tr, s, 0) : block_max(nn, K, m, ntt, comp_tr, 1, 0));
   out[3] = s;
 }
 
 void dtm_struct_physical(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
                          const int *comp_tr, double out[3]) {
   dtm_struct_ref_scale(nn, K, m, nref, comp_ref, ntr, comp_tr, out);
-  out[2] = fmax(out[0], block_max(nn, K, m, ntr, comp_tr, 1));
+  out[2] = fmax(out[0], block_max(nn, K, m, ntr, comp_tr, 1, 0));
 }
 
 void dtm_struct_ref_scale(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
                           const int *comp_tr, double out[2]) {
-  out[0] = block_max(nn, K, m, nref, comp_ref, 1);
-  out[1] = block_scale(nn, K, m, ntr, comp_tr, out[0]);
+  out[0] = block_max(nn, K, m, nref, comp_ref, 1, 0);
+  out[1] = block_scale(nn, K, m, ntr, comp_tr, out[0], 0);
+}
+
+/* s of the block comp[nc] by the Schur complement as rotary_scale, and
+ * 1 without its eigenproblem when one Cholesky factorisation proves
+ * T M_r - S positive definite (then every eigenvalue of the block is
+ * below T, which *below records). */
+static double scale_certified(int nn, const double *K, const double *m, int nc, const int *comp, double target,
+                              int *below) {
+  int idx[DTM_STRUCT_DOF] = {0}, it[DTM_STRUCT_DOF], ir[DTM_STRUCT_DOF], nt = 0, nr = 0, nb = nn * nc;
+  double Kb[DTM_STRUCT_DOF * DTM_STRUCT_DOF], A[DTM_STRUCT_DOF * DTM_STRUCT_DOF], S[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  double mt[DTM_STRUCT_DOF], mr[DTM_STRUCT_DOF];
+  for (int i = 0; i < nb; i++) idx[i] = ND * (i / nc) + comp[i % nc];
+  extract(ND * nn, K, nb, idx, Kb);
+  for (int i = 0; i < nb; i++) {
+    if (idx[i] % ND >= 3)
+      mr[nr] = m[idx[i]], ir[nr++] = i;
+    else
+      mt[nt] = m[idx[i]], it[nt++] = i;
+  }
+  *below = 0;
+  for (int i = 0; i < nt; i++)
+    for (int j = 0; j < nt; j++) A[i * nt + j] = (i == j ? target * mt[i] : 0) - Kb[it[i] * nb + it[j]];
+  if (cholesky(nt, A)) return INFINITY;
+  schur(nb, Kb, nt, it, nr, ir, A, S);
+  double C[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  for (int i = 0; i < nr * nr; i++) C[i] = -S[i];
+  for (int i = 0; i < nr; i++) C[i * nr + i] += target * mr[i];
+  if (cholesky(nr, C) == 0) return *below = 1, 1.0;
+  return fmax(1, lumped_max(nr, S, mr, 1) / target);
+}
+
+/* dtm_struct_bounds_fast from the reference eigenvalue lref. */
+static void bounds_from(int nn, const double *K, const double *m, double lref, int ntr, const int *comp_tr, int need,
+                        double screen, double out[3]) {
+  int below = 0;
+  out[0] = lref;
+  if (need & DTM_STRUCT_NEED_SCALE)
+    out[1] = scale_certified(nn, K, m, ntr, comp_tr, lref, &below);
+  else
+    out[1] = NAN, below = block_below(nn, K, m, ntr, comp_tr, lref);
+  if (below) { /* no transverse eigenvalue above T */
+    out[1] = 1, out[2] = lref;
+    return;
+  }
+  out[2] = NAN;
+  if (!(need & DTM_STRUCT_NEED_PHYSICAL)) return;
+  /* below the screen: not wanted. s T bounds it for free: S(sigma), the
+   * Schur complement at sigma, decreases as sigma grows, so sigma M - K is
+   * positive semidefinite from sigma = s T up; else one factorisation */
+  if (screen > lref && isfinite(out[1]) && out[1] * lref < screen * (1 - 1e-12)) return;
+  if (screen > lref && block_below(nn, K, m, ntr, comp_tr, screen)) return;
+  out[2] = fmax(lref, block_max(nn, K, m, ntr, comp_tr, 1, 1));
+}
+
+void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                            const int *comp_tr, int need, double screen, double out[3]) {
+  bounds_from(nn, K, m, block_max(nn, K, m, nref, comp_ref, 1, 1), ntr, comp_tr, need, screen, out);
 }
 
 /* ---- the shell ---- */
@@ -322,10 +404,51 @@ static void shell_mass(const shell_elem *e, double *m) {
     for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * ma[a] * (i < 3 ? 1 : t2);
 }
 
-/* Local K[ND nn][ND nn] and m[ND nn]. */
-static int shell_local(int type, const dtm_shell_section *sec, const double *x, shell_elem *e, double *K, double *m) {
+/* The fast tri3: bending (constant: one point with the whole area) and
+ * MITC3 shear, without the membrane block (its eigenvalue comes from the
+ * plane-stress closed form, dtm_kernel_shell_bounds), from the constant gradients of the linear shape
+ * functions, N at the rule's points in barycentric form, det J = 2 A, and
+ * the row-sum masses A/3 (what the generic evaluation gives, to
+ * rounding). */
+static void tri3_fast(const shell_elem *e, double *K, double *m) {
+  const double(*xl)[3] = (const double(*)[3])e->xl;
+  double dj = xl[1][0] * xl[2][1] - xl[2][0] * xl[1][1], g[3][3] = {{0}}, Db[9], Bb[3 * 18] = {0};
+  g[1][0] = xl[2][1] / dj, g[1][1] = -xl[2][0] / dj, g[2][0] = -xl[1][1] / dj, g[2][1] = xl[1][0] / dj;
+  g[0][0] = -g[1][0] - g[2][0], g[0][1] = -g[1][1] - g[2][1];
+  plane_stress(e->E, e->nu, e->t * e->t * e->t / 12, Db);
+  for (int a = 0; a < 3; a++) {
+    int tx = ND * a + 3, ty = tx + 1;
+    Bb[ty] = g[a][0], Bb[18 + tx] = -g[a][1], Bb[36 + ty] = g[a][1], Bb[36 + tx] = -g[a][0];
+  }
+  add_btdb(18, 3, Bb, Db, dj / 2, K, bending_dofs, 2);
+  /* MITC3 shear as C^T G C: the edge integrals c = C u (C[3][18], see
+   * mitc3_b) and G the Gram matrix of the three Whitney fields times k G t */
+  double kgt = e->k * e->E / (2 * (1 + e->nu)) * e->t, G[9] = {0}, C[3 * 18] = {0};
+  for (int k = 0; k < e->q.n; k++) {
+    double N[3] = {1 - e->q.p[k][0] - e->q.p[k][1], e->q.p[k][0], e->q.p[k][1]}, phi[2][3], w = e->q.w[k] * dj * kgt;
+    for (int ed = 0; ed < 3; ed++)
+      for (int r = 0; r < 2; r++) phi[r][ed] = N[ed] * g[(ed + 1) % 3][r] - N[(ed + 1) % 3] * g[ed][r];
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) G[3 * a + b] += w * (phi[0][a] * phi[0][b] + phi[1][a] * phi[1][b]);
+  }
+  for (int ed = 0; ed < 3; ed++) {
+    int i = ed, j = (ed + 1) % 3;
+    double dx = xl[j][0] - xl[i][0], dy = xl[j][1] - xl[i][1], *c = C + 18 * ed;
+    c[ND * j + 2] = 1, c[ND * i + 2] = -1;
+    c[ND * i + 4] = c[ND * j + 4] = dx / 2;
+    c[ND * i + 3] = c[ND * j + 3] = -dy / 2;
+  }
+  add_btdb(18, 3, C, G, 1, K, shear_dofs, 3);
+  for (int a = 0; a < 3; a++)
+    for (int i = 0; i < ND; i++) m[ND * a + i] = e->rho * e->t * (dj / 6) * (i < 3 ? 1 : e->t * e->t / 12);
+}
+
+/* Local K[ND nn][ND nn] and m[ND nn] (fast: a tri3 by tri3_fast). */
+static int shell_local_with(int type, const dtm_shell_section *sec, const double *x, shell_elem *e, double *K,
+                            double *m, int fast) {
   DTM_CHECK(shell_setup(type, sec, x, e));
   memset(K, 0, sizeof(double) * ND * e->nn * ND * e->nn);
+  if (fast && type == DTM_TRI3) return tri3_fast(e, K, m), DTM_OK;
   add_membrane_bending(e, K);
   if (type == DTM_QUAD4)
     add_shear_quad(e, K);
@@ -333,6 +456,10 @@ static int shell_local(int type, const dtm_shell_section *sec, const double *x, 
     add_shear_tri(e, K);
   shell_mass(e, m);
   return DTM_OK;
+}
+
+static int shell_local(int type, const dtm_shell_section *sec, const double *x, shell_elem *e, double *K, double *m) {
+  return shell_local_with(type, sec, x, e, K, m, 0);
 }
 
 static const int membrane_comp[2] = {0, 1}, transverse_comp[3] = {2, 3, 4}; /* w first: see dtm_struct_bounds */
@@ -361,6 +488,31 @@ int dtm_kernel_shell_scale(int type, const dtm_shell_section *sec, const double 
   double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
   DTM_CHECK(shell_local(type, sec, x, &e, K, m));
   dtm_struct_ref_scale(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, out);
+  *nn = e.nn;
+  return DTM_OK;
+}
+
+int dtm_kernel_shell_bounds(int type, const dtm_shell_section *sec, const double *x, int need, double screen,
+                            double out[3], double *m, int *nn) {
+  shell_elem e;
+  double K[DTM_STRUCT_DOF * DTM_STRUCT_DOF];
+  DTM_CHECK(shell_local_with(type, sec, x, &e, K, m, 1));
+  if (type == DTM_TRI3) { /* the membrane eigenvalue of the plane-stress kernel (t cancels; structural.h) */
+    dtm_elastic_moduli mod;
+    double lref;
+    DTM_CHECK(dtm_elastic_moduli_init(DTM_FORM_PLANE_STRESS, sec->E, sec->nu, sec->rho, &mod));
+    DTM_CHECK(dtm_kernel_elastic_lambda(DTM_TRI3, &mod, (const double *)e.xl, &lref));
+    bounds_from(e.nn, K, m, lref, 3, transverse_comp, need, screen, out);
+  } else
+    dtm_struct_bounds_fast(e.nn, K, m, 2, membrane_comp, 3, transverse_comp, need, screen, out);
+  *nn = e.nn;
+  return DTM_OK;
+}
+
+int dtm_kernel_shell_masses(int type, const dtm_shell_section *sec, const double *x, double *m, int *nn) {
+  shell_elem e;
+  DTM_CHECK(shell_setup(type, sec, x, &e));
+  shell_mass(&e, m);
   *nn = e.nn;
   return DTM_OK;
 }

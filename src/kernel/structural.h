@@ -201,4 +201,44 @@ void dtm_struct_physical(int nn, const double *K, const double *m, int nref, con
 void dtm_struct_ref_scale(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
                           const int *comp_tr, double out[2]);
 
+/* The faster path of the bounds (issue 38), the same numbers to about
+ * 1e-14 relative: the small eigenproblems by dtm_struct_eig_max, a tri3
+ * from its constant gradients without the membrane block (the
+ * plane-stress closed form gives its eigenvalue), and certificates
+ * before eigenproblems: when one Cholesky factorisation proves T M_r - S
+ * (the scale's Schur complement) or T M - K (the transverse block)
+ * positive definite, no transverse eigenvalue exceeds T (Sylvester's law
+ * of inertia): s = 1 and lambda physical = T without either eigenproblem.
+ * need: which of s and lambda physical to compute (the other NaN unless a
+ * certificate gives it). screen > T: lambda physical is NaN, not computed,
+ * when a factorisation proves it below screen (the report's minimum over
+ * a section needs only the elements above the largest found so far). The
+ * functions above stay the reference path the tests compare this one
+ * with. */
+#define DTM_STRUCT_NEED_SCALE 1
+#define DTM_STRUCT_NEED_PHYSICAL 2
+/* out = {lambda of the reference block, s, lambda physical} as
+ * dtm_struct_physical, per need and screen (0: none). */
+void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, const int *comp_ref, int ntr,
+                            const int *comp_tr, int need, double screen, double out[3]);
+/* Largest eigenvalue of the symmetric a[n][n] (n <= DTM_STRUCT_DOF,
+ * destroyed): Householder tridiagonalisation and Laguerre / multiple-root
+ * Newton steps safeguarded by Sturm counts (shell_eig.c); within a few
+ * ulps of |A| of the bisection of dtm_eig_sym_max_tridiag. NaN if an entry
+ * is not finite. */
+double dtm_struct_eig_max(int n, double *a);
+/* dtm_kernel_shell_physical by the faster path: out = {lambda_membrane, s,
+ * lambda_physical} per need and screen, m and *nn as there. Same errors. */
+int dtm_kernel_shell_bounds(int type, const dtm_shell_section *sec, const double *x, int need, double screen,
+                            double out[3], double *m, int *nn);
+/* The same for a beam: out = {lambda_axial, s, lambda_physical}, m[12]
+ * the physical mass's frame diagonal. Same errors as
+ * dtm_kernel_beam_lambda. */
+int dtm_kernel_beam_bounds(const dtm_beam_section *sec, const double *x, int need, double screen, double out[3],
+                           double *m);
+/* Only the physical lumped mass's frame diagonal m[6 nn] (and *nn) of a
+ * shell, m[12] of a beam, with the same checks and errors. */
+int dtm_kernel_shell_masses(int type, const dtm_shell_section *sec, const double *x, double *m, int *nn);
+int dtm_kernel_beam_masses(const dtm_beam_section *sec, const double *x, double *m);
+
 #endif
