@@ -141,3 +141,28 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
   each_point(eg, add_elastic_sym, &c);
   mirror(eg->nn, eg->d, K);
 }
+
+int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
+                      const dtm_elastic_moduli *m, double *K, double *mass, double *dj) {
+  dtm_elem_geom eg; /* only type, d and nn: what the visitors read */
+  double g[DTM_K_NODES][3], dv, vol = 0;
+  int n = m ? nn * d : nn, hrz = dtm_elem_parent(type) != type;
+  elastic_ctx c = {0, 0, K};
+  void (*add)(void *, const dtm_elem_geom *, const double *, const double(*)[3], double) = add_laplace;
+  if (m) {
+    c.lam = d == 1 ? m->modulus : m->lam, c.mu = d == 1 ? 0 : m->mu;
+    add = hrz ? add_elastic_sym : add_elastic;
+  }
+  eg.type = type, eg.d = d, eg.nn = nn;
+  memset(K, 0, sizeof(double) * (size_t)(n * n));
+  for (int a = 0; a < nn; a++) mass[a] = 0;
+  for (int k = 0; k < t->q.n; k++) {
+    if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj)) return k;
+    add(m ? (void *)&c : (void *)K, &eg, t->N[k], (const double(*)[3])g, dv);
+    for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
+    vol += dv;
+  }
+  dtm_lumped_finish(type, nn, t->q.n, vol, mass);
+  if (m && hrz) mirror(nn, d, K);
+  return -1;
+}

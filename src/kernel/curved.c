@@ -147,22 +147,22 @@ int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int mod
   if (settled) *settled = 1;
   int s = 1;
   if (model == DTM_INTEGRATION_CALCULIX && type == DTM_TET10) { /* every C3D10, straight or curved */
-    dtm_ref_rule_c3d10(q);
+    if (q) dtm_ref_rule_c3d10(q);
     return DTM_K_RULE_C3D10;
   }
   if (model != DTM_INTEGRATION_CONVERGED || !mass_level(type) || dtm_elem_node_offset(type, xl) <= STRAIGHT_TOL) {
-    dtm_ref_rule(type, q);
+    if (q) dtm_ref_rule(type, q);
     return 0;
   }
   const dtm_ref_table *t;
   int n = converge(type, d, nn, xl, &t, &s);
   double dj;
   if (!n || dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0) { /* inverted near a node: no converged model */
-    dtm_ref_rule(type, q);
+    if (q) dtm_ref_rule(type, q);
     if (settled) *settled = 0;
     return 0;
   }
-  *q = t->q;
+  if (q) *q = t->q;
   if (settled) *settled = s;
   return n;
 }

@@ -40,7 +40,7 @@ static void lump_c3d10(double vol, double *m) {
  * there is one (else evaluated here). */
 static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, const dtm_ref_table *t,
                      double *m) {
-  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
+  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0;
   int hrz = dtm_elem_parent(type) != type;
   for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < q->n; k++) {
@@ -50,11 +50,19 @@ static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_q
     for (int a = 0; a < nn; a++) m[a] += (hrz ? N[a] * N[a] : N[a]) * dv;
     vol += dv;
   }
-  if (!hrz) return vol;
-  if (type == DTM_TET10 && q->n == 4) return lump_c3d10(vol, m), vol;
+  dtm_lumped_finish(type, nn, q->n, vol, m);
+  return vol;
+}
+
+void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m) {
+  double sum = 0;
+  if (dtm_elem_parent(type) == type) return;
+  if (type == DTM_TET10 && npoints == 4) {
+    lump_c3d10(vol, m);
+    return;
+  }
   for (int a = 0; a < nn; a++) sum += m[a];
   for (int a = 0; a < nn; a++) m[a] = sum != 0 ? m[a] * (vol / sum) : 0;
-  return vol;
 }
 
 double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {

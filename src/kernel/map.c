@@ -45,7 +45,7 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
   return dtm_map_eval_dn(d, nn, xl, (const double(*)[3])dN, wq, g, dv);
 }
 
-static double det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard) {
+double dtm_map_det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard) {
   double J[3][3];
   jacobian(d, nn, xl, dN, J);
   *hadamard = dtm_mat_hadamard(d, (const double(*)[3])J);
@@ -55,13 +55,13 @@ static double det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3]
 double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard) {
   double N[DTM_K_NODES], dN[DTM_K_NODES][3];
   dtm_ref_eval(type, p, N, dN);
-  return det_dn(d, nn, xl, (const double(*)[3])dN, hadamard);
+  return dtm_map_det_dn(d, nn, xl, (const double(*)[3])dN, hadamard);
 }
 
 /* 0 when det J with reference gradients dN is safely positive. */
 static int valid_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *dj) {
   double had;
-  *dj = det_dn(d, nn, xl, dN, &had);
+  *dj = dtm_map_det_dn(d, nn, xl, dN, &had);
   return *dj > 32 * DBL_EPSILON * had && isfinite(*dj) ? 0 : -1;
 }
 
@@ -78,4 +78,21 @@ int dtm_map_first_bad_table(int d, int nn, const double (*xl)[3], const dtm_ref_
   for (int k = 0; k < t->q.n; k++)
     if (valid_dn(d, nn, xl, (const double(*)[3])t->dN[k], dj)) return k;
   return -1;
+}
+
+int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
+                       double *dv, double *dj) {
+  double J[3][3], K[3][3];
+  jacobian(d, nn, xl, dN, J);
+  double had = dtm_mat_hadamard(d, (const double(*)[3])J);
+  *dj = dtm_mat_det(d, (const double(*)[3])J);
+  if (!(*dj > 32 * DBL_EPSILON * had && isfinite(*dj))) return -1;
+  dtm_mat_inverse(d, (const double(*)[3])J, *dj, K);
+  for (int a = 0; a < nn; a++)
+    for (int i = 0; i < 3; i++) {
+      g[a][i] = 0;
+      for (int j = 0; j < d && i < d; j++) g[a][i] += K[j][i] * dN[a][j];
+    }
+  *dv = *dj * wq;
+  return 0;
 }
