@@ -39,9 +39,12 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and
- * the lumped masses per unit density mass[nn], each bitwise what
- * dtm_elem_stiffness (dtm_elem_laplace) and dtm_elem_mass give on the same
- * rule. Returns -1, or the first point where det J (into *dj) is not
+ * the lumped masses per unit density mass[nn]: the masses, the Laplacian
+ * and the stiffness of linear types bitwise what dtm_elem_mass,
+ * dtm_elem_laplace and dtm_elem_stiffness give on the same rule; the
+ * stiffness of second-order types from the Gram tensor integral g_ai g_bj
+ * (half the products per point), which rounds differently in the last
+ * bits. Returns -1, or the first point where det J (into *dj) is not
  * safely positive, as dtm_elem_setup checks it. */
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj);

@@ -92,13 +92,16 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
 /* T at level n (see above) into T[nd][nd], nd = nn d, from the level's
  * table (its shape functions evaluated once: ref_table.c). Returns |T|_F. */
 static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T) {
-  int nd = nn * d;
-  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0;
-  dtm_lumped_mass_table(type, d, nn, xl, t, m);
+  int nd = nn * d, hrz = dtm_elem_parent(type) != type;
+  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
+  for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < t->q.n; k++) {
     double gl[DTM_K_DOF]; /* g flattened: gl[x] = g[x / d][x % d], the divisions once per point */
     dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv);
+    /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
+    for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
+    vol += dv;
     for (int a = 0; a < nn; a++)
       for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
     for (int x = 0; x < nd; x++) {
@@ -106,6 +109,7 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
       for (int y = x; y < nd; y++) row[y] += gx * gl[y];
     }
   }
+  dtm_lumped_finish(type, nn, t->q.n, vol, m);
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
   for (int x = 0; x < nd; x++)
     for (int y = x; y < nd; y++) {
