@@ -24,6 +24,12 @@
  * bound) by a factor 1000, so that no element the generic path would
  * refuse passes here. Anything else returns 0 and the caller takes the
  * generic path. */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include <float.h>
 #include <math.h>
 #include <pthread.h>

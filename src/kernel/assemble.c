@@ -6,6 +6,12 @@
  * mu delta_ij g_a . g_b). Used by every non-simplex element and, for
  * cross-checking, by the simplices. Matrices are dense, row-major, on the
  * caller's stack: n <= DTM_K_DOF (81 for hex27: a 52 kB stiffness). */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include <string.h>
 
 #include "dtmap/error.h"

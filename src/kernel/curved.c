@@ -36,6 +36,12 @@
  * DTM_K_RULE_C3D10, so that the operator puts those elements in a part of
  * their own) and lumped CalculiX's way (lump.c); the other types are
  * integrated as under "converged". */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include <math.h>
 #include <string.h>
 

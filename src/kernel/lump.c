@@ -22,6 +22,12 @@
  * the mid-edge nodes 1/(1 + ALP), with CalculiX's constant ALP = 0.1203.
  * On a straight-sided tet10: corners ALP/(4 (1 + ALP)) = 0.026846 V,
  * mid-edge nodes 1/(6 (1 + ALP)) = 0.148770 V (HRZ: 1/36 and 4/27). */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include "kernel-impl.h"
 
 #define C3D10_ALP 0.1203 /* corner / mid-edge mass ratio of CalculiX's C3D10 lumping */

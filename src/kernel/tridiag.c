@@ -10,6 +10,12 @@
  * first, so neither stage can overflow or underflow for any element size.
  * No allocation: the reduction works in place on the lower triangle, the
  * tridiagonal part lives on the stack (n <= DTM_K_DOF). */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include <float.h>
 #include <math.h>
 
