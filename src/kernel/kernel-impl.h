@@ -148,8 +148,8 @@ void dtm_eig3_top(const double s[6], dtm_top3 *top);
 void dtm_eig2_sym(double a, double b, double c, double e[2]);
 
 /* Largest eigenvalue of the symmetric n x n matrix a (row-major, 1 <= n <=
- * DTM_K_DOF, destroyed) by Householder tridiagonalization and bisection
- * (tridiag.c): within a small multiple of n eps |A|, like
+ * DTM_K_DOF, destroyed; its lower triangle is read) by Householder
+ * tridiagonalization and Laguerre's iteration (tridiag.c): within a small multiple of n eps |A|, like
  * dtm_eig_sym_max, and far faster for n > 24. NaN if an entry is not
  * finite. */
 double dtm_eig_sym_max_tridiag(int n, double *a);

@@ -158,8 +158,8 @@ static double tri_max_fast(int n, const double *d, const double *e) {
 }
 
 /* Reduce a (scaled by its largest entry s, returned) to the tridiagonal
- * (d, e); 0 for the zero matrix, NaN with a non-finite entry. divide: scale
- * by dividing by s, as before (bitwise the old reduction), else by
+ * (d, e); 0 for the zero matrix, NaN with a non-finite entry. divide:
+ * scale by dividing by s, as before (bitwise the old reduction), else by
  * multiplying by 1/s (faster; rounding differs by an ulp). */
 static double reduce(int n, double *a, double *d, double *e, int divide) {
   double s = 0;
