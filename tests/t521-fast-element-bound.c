@@ -211,6 +211,40 @@ static void kept_level(void **state) {
     fail_msg("effect: %.17g %.17g, kernel %.17g %.17g", dt[0], dt[1], 2 / sqrt(conv), 2 / sqrt(full));
 }
 
+/* The shape check and the curvature measure of straight-sided tri6 and
+ * tet10 take their one Jacobian (affine.c): valid, with the scaled
+ * Jacobian of the corner simplex (1e-12: the same determinant and column
+ * lengths summed in another order), ratio 1; an inverted one still goes
+ * the sampled way and is refused. */
+static void affine_shape(void **state) {
+  (void)state;
+  static const int simplex2[] = {DTM_TRI6, DTM_TET10}, parent[] = {DTM_TRI3, DTM_TET4};
+  for (int t = 0; t < 2; t++)
+    for (int r = 0; r < 100; r++) {
+      int type = simplex2[t], d, nn;
+      double x[3 * DTM_K_NODES];
+      dtm_shape sh, lin;
+      dtm_curvature c;
+      dtm_elem_info(type, &d, &nn);
+      shape(type, 0, x);
+      assert_int_equal(dtm_kernel_shape(type, x, &sh), DTM_OK);
+      assert_int_equal(dtm_kernel_shape(parent[t], x, &lin), DTM_OK);
+      assert_int_equal(sh.status, DTM_SHAPE_VALID);
+      near(sh.min_jacobian, lin.min_jacobian, TOL, "scaled Jacobian", type);
+      assert_int_equal(dtm_kernel_curvature(type, x, &c), DTM_OK);
+      assert_true(c.jac_ratio == 1 && c.level == 0);
+      if (d == 3) { /* swap two corners and their edges' nodes: inverted */
+        double y[3 * DTM_K_NODES];
+        static const int perm[10] = {1, 0, 2, 3, 4,
+                                     6, 5, 9, 8, 7}; /* corners 0 <-> 1: edges 1-2 <-> 0-2, 3-1 <-> 3-0 */
+        for (int a = 0; a < 10; a++)
+          for (int i = 0; i < 3; i++) y[3 * a + i] = x[3 * perm[a] + i];
+        assert_int_equal(dtm_kernel_shape(type, y, &sh), DTM_OK);
+        assert_int_equal(sh.status, DTM_SHAPE_FOLDED);
+      }
+    }
+}
+
 /* Random symmetric matrices A = Q diag(s) Q^T with a clustered or repeated
  * top, Q from Householder reflections. */
 static void tridiagonal_top(void **state) {
@@ -250,10 +284,8 @@ static void tridiagonal_top(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(fast_equals_reference),
-      cmocka_unit_test(affine_tolerance),
-      cmocka_unit_test(kept_level),
-      cmocka_unit_test(tridiagonal_top),
+      cmocka_unit_test(fast_equals_reference), cmocka_unit_test(affine_tolerance), cmocka_unit_test(kept_level),
+      cmocka_unit_test(affine_shape),          cmocka_unit_test(tridiagonal_top),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -136,3 +136,13 @@ int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dt
   }
   return 1;
 }
+
+int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled) {
+  if ((type != DTM_TET10 && type != DTM_TRI6) || !affine(type, nn, xl)) return 0;
+  double J[3][3] = {{0}};
+  for (int i = 0; i < d; i++)
+    for (int j = 0; j < d; j++) J[i][j] = xl[j + 1][i] - xl[0][i];
+  double had = dtm_mat_hadamard(d, (const double(*)[3])J), dj = dtm_mat_det(d, (const double(*)[3])J);
+  *scaled = had > 0 ? dj / had : 0.0;
+  return 1;
+}

@@ -54,6 +54,10 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
  * curved element or one near the validity threshold. */
 int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
                         double *mass);
+/* For a straight-sided tri6 or tet10 (affine.c's test): 1, with the
+ * scaled Jacobian det J / (product of J's column lengths) of its constant
+ * Jacobian in *scaled; else 0. */
+int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled);
 /* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n] of an
  * element of the given type, where unknown k belongs to node k / per (per
  * unknowns per node); K destroyed. Jacobi for linear types,

@@ -42,10 +42,12 @@
  * Lanes are independent, so every sum is rounded as before. */
 #pragma GCC optimize("vect-cost-model=dynamic")
 #endif
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "dtmap/error.h"
+#include "assemble-impl.h"
 #include "kernel-impl.h"
 
 #define STRAIGHT_TOL 1e-9 /* relative node offset below which an element is straight-sided */
@@ -211,7 +213,10 @@ static int curvature_shape(int type, int d, int nn, const double *x, double (*xl
   if (dtm_elem_parent(type) == type) return 0;
   c->offset = dtm_elem_node_offset(type, (const double(*)[3])x);
   if (dtm_elem_local(type, x, xl)) return c->jac_ratio = 0, c->bounded = 0, 0;
-  if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
+  double v;
+  if (dtm_affine_scaled(type, d, nn, (const double(*)[3])xl, &v) && v > 1000 * 32 * DBL_EPSILON)
+    c->jac_ratio = 1; /* straight-sided tri6 / tet10: det J constant (the bound finds 1 to rounding) */
+  else if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
     c->jac_ratio = fmin(r, 1);
   else
     c->jac_ratio = sampled_ratio(type, d, nn, (const double(*)[3])xl), c->bounded = 0;

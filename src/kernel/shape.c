@@ -16,6 +16,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
+#include "assemble-impl.h"
 #include "kernel-impl.h"
 
 #define SAFE (32 * DBL_EPSILON) /* safely positive scaled Jacobian (map.c) */
@@ -90,6 +91,14 @@ static void shape_generic(int type, const double *x, dtm_shape *s) {
   dtm_elem_info(type, &d, &nn);
   *s = (dtm_shape){DTM_SHAPE_FLAT, 0.0, -1, 0};
   if (dtm_elem_local(type, x, xl)) return;
+  double v;
+  if (dtm_affine_scaled(type, d, nn, (const double(*)[3])xl, &v) && v > 1000 * SAFE) {
+    /* straight-sided tri6 / tet10: one Jacobian, clearly valid at every
+     * sample and in between (what the samples and the Bernstein bound
+     * below find, to rounding) */
+    *s = (dtm_shape){DTM_SHAPE_VALID, v, -1, -1};
+    return;
+  }
   const dtm_ref_table *t = dtm_ref_rule_table(type, 0); /* the shape functions evaluated once */
   dtm_qrule q;
   if (!t) dtm_ref_rule(type, &q);
