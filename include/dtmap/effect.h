@@ -127,6 +127,9 @@ typedef struct {
   const dtm_material *const *mat;    /* [n] material of each element */
   const dtm_section *const *section; /* [n] section of each element (NULL where it has none: the
                                         effect's own formulation), or NULL: no element has one */
+  const unsigned char *level;        /* [n] each element's converged rule level, as the level search of
+                                        second-order elements found it once for the whole analysis (0:
+                                        the full rule), for dtm_kernel_elastic_lambda_at; or NULL */
 } dtm_batch;
 
 typedef struct dtm_effect_class {

@@ -223,8 +223,18 @@ DTM_EXPORT int dtm_kernel_curvature(int type, const double *x, dtm_curvature *c)
  * does not know the element's Gmsh tag: a caller that wants it in the
  * message clears the error and raises its own. No allocation (second-order
  * element matrices, up to 81 x 81, live on the stack); tet4 takes ~0.1 us,
- * tet10 ~35 us, hex20 ~0.2 ms, hex27 ~0.35 ms. */
+ * a straight-sided tet10 ~14-18 us of CPU (reference tensors,
+ * src/kernel/affine.c), hex20 ~0.13 ms, hex27 ~0.2 ms, a curved tet10 at
+ * level 6 ~0.1 ms with its level kept (dtm_kernel_elastic_lambda_at), 0.27
+ * ms searching it (measured at load 12 on 2 cores). */
 DTM_EXPORT int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+/* The same for an element whose converged rule level the caller kept
+ * (level: what the level search of the "converged" model returned for
+ * it, dtm_batch.level; 0 for a straight-sided element): the level search
+ * (tens of microseconds on a curved tet10) is skipped, the result is the
+ * same bitwise. level -1: searched, as dtm_kernel_elastic_lambda. */
+DTM_EXPORT int dtm_kernel_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x, int level,
+                                            double *lambda);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
  * diffusivity alpha (m^2/s) and lumped capacity (row sums for linear

@@ -136,7 +136,7 @@ static int one_element(const elastic_state *s, const dtm_batch *b, size_t e, con
     return DTM_OK;
   }
   double lambda;
-  if (dtm_kernel_elastic_lambda(b->type, mod, x, &lambda))
+  if (dtm_kernel_elastic_lambda_at(b->type, mod, x, b->level ? b->level[e] : -1, &lambda))
     return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e], dtm_elem_name(b->type), dtm_error_message());
   *dt = 2.0 / sqrt(lambda);
   return DTM_OK;

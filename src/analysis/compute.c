@@ -172,6 +172,7 @@ static int name_failure(const dtm_analysis *a, const dtm_effect *ef, const dtm_b
     one.n = 1, one.x = bt->x + 3 * (size_t)bt->nn * e, one.tags = bt->tags + e, one.group = bt->group + e;
     one.gmask = bt->gmask ? bt->gmask + e : NULL, one.mat = bt->mat + e;
     one.section = bt->section ? bt->section + e : NULL;
+    one.level = bt->level ? bt->level + e : NULL;
     dtm_error_clear();
     int r1 = ef->cls->element_dt(ef->state, &one, &dt, &len);
     if (!r1) continue;
@@ -202,7 +203,8 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
                   blk->group + e0,
                   blk->gmask ? blk->gmask + e0 : NULL,
                   w->mat,
-                  blk->section ? w->sec : NULL};
+                  blk->section ? w->sec : NULL,
+                  a->level && a->level[b] ? a->level[b] + e0 : NULL}; /* kept levels: no search in the kernel */
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];
     if (!(ef->cls->role & DTM_ROLE_LIMITS)) continue;

@@ -46,7 +46,7 @@ int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double
   const dtm_material *mat = &a->scene->materials[blk->mat[l]].m;
   const dtm_section *sec = dtm_analysis_section(a, blk, l);
   dtm_batch bt = {type, blk->dim, blk->nn, 1, x, blk->tags + l, blk->group + l, blk->gmask ? blk->gmask + l : NULL,
-                  &mat, &sec};
+                  &mat, &sec,     NULL};
   *dt = INFINITY;
   for (int k = 0; k < a->neffects; k++) {
     const dtm_effect *ef = &a->effects[k];

@@ -36,6 +36,28 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
+/* The element bound's matrices in one pass over the points of table t
+ * (dtm_ref_rule_table) for the element in its frame xl: the elastic
+ * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and
+ * the lumped masses per unit density mass[nn]: the masses, the Laplacian
+ * and the stiffness of linear types bitwise what dtm_elem_mass,
+ * dtm_elem_laplace and dtm_elem_stiffness give on the same rule; the
+ * stiffness of second-order types from the Gram tensor integral g_ai g_bj
+ * (half the products per point), which rounds differently in the last
+ * bits. Returns -1, or the first point where det J (into *dj) is not
+ * safely positive, as dtm_elem_setup checks it. */
+int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
+                      const dtm_elastic_moduli *m, double *K, double *mass, double *dj);
+/* The same matrices of a straight-sided tri6 or tet10 from the type's
+ * reference tensors (affine.c), to 1e-12 of dtm_elem_assemble's: returns
+ * 1 with K and mass filled, or 0 (nothing written) for another type, a
+ * curved element or one near the validity threshold. */
+int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
+                        double *mass);
+/* For a straight-sided tri6 or tet10 (affine.c's test): 1, with the
+ * scaled Jacobian det J / (product of J's column lengths) of its constant
+ * Jacobian in *scaled; else 0. */
+int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled);
 /* Largest eigenvalue of diag(m)^-1/2 K diag(m)^-1/2 for K[n][n] of an
  * element of the given type, where unknown k belongs to node k / per (per
  * unknowns per node); K destroyed. Jacobi for linear types,

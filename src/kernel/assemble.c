@@ -6,6 +6,12 @@
  * mu delta_ij g_a . g_b). Used by every non-simplex element and, for
  * cross-checking, by the simplices. Matrices are dense, row-major, on the
  * caller's stack: n <= DTM_K_DOF (81 for hex27: a 52 kB stiffness). */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include <string.h>
 
 #include "dtmap/error.h"
@@ -140,4 +146,67 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
   }
   each_point(eg, add_elastic_sym, &c);
   mirror(eg->nn, eg->d, K);
+}
+
+/* U += dv gl gl^T on the upper triangle (x <= y), gl the point's
+ * gradients flattened (gl[a d + i] = g[a][i]). */
+static void add_gram(int nd, const double *gl, double dv, double *U) {
+  for (int x = 0; x < nd; x++) {
+    double gx = gl[x] * dv, *row = U + x * nd;
+    for (int y = x; y < nd; y++) row[y] += gx * gl[y];
+  }
+}
+
+/* The elastic stiffness from the Gram tensor U (upper triangle of
+ * integral g_ai g_bj), in place: K_(ai)(bj) = lam U_(ai)(bj) +
+ * mu U_(aj)(bi) + delta_ij mu sum_r U_(ar)(br), mirrored. */
+static void stiffness_from_gram(int nn, int d, double lam, double mu, double *U, double *K) {
+  int nd = nn * d;
+#define UU(x, y) ((x) <= (y) ? U[(x)*nd + (y)] : U[(y)*nd + (x)])
+  for (int a = 0; a < nn; a++)
+    for (int b = a; b < nn; b++) {
+      double tr = 0;
+      for (int r = 0; r < d; r++) tr += UU(a * d + r, b * d + r);
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < d; j++) {
+          int x = a * d + i, y = b * d + j;
+          if (y < x) continue;
+          K[x * nd + y] = lam * UU(x, y) + mu * UU(a * d + j, b * d + i) + (i == j ? mu * tr : 0);
+        }
+    }
+#undef UU
+  mirror(nn, d, K);
+}
+
+int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
+                      const dtm_elastic_moduli *m, double *K, double *mass, double *dj) {
+  dtm_elem_geom eg; /* only type, d and nn: what the visitors read */
+  double g[DTM_K_NODES][3], dv, vol = 0;
+  int n = m ? nn * d : nn, hrz = dtm_elem_parent(type) != type;
+  elastic_ctx c = {0, 0, K};
+  void (*add)(void *, const dtm_elem_geom *, const double *, const double(*)[3], double) = add_laplace;
+  if (m) {
+    c.lam = d == 1 ? m->modulus : m->lam, c.mu = d == 1 ? 0 : m->mu;
+    add = hrz ? add_elastic_sym : add_elastic;
+  }
+  eg.type = type, eg.d = d, eg.nn = nn;
+  int gram = m && hrz;             /* second-order elastic: the Gram tensor, half the products of add_elastic_sym */
+  double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB on the stack at most, as K */
+  memset(gram ? U : K, 0, sizeof(double) * (size_t)(n * n));
+  for (int a = 0; a < nn; a++) mass[a] = 0;
+  for (int k = 0; k < t->q.n; k++) {
+    if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj)) return k;
+    if (gram) {
+      double gl[DTM_K_DOF];
+      for (int a = 0; a < nn; a++)
+        for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
+      add_gram(n, gl, dv, U);
+    } else
+      add(m ? (void *)&c : (void *)K, &eg, t->N[k], (const double(*)[3])g, dv);
+    for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
+    vol += dv;
+  }
+  dtm_lumped_finish(type, nn, t->q.n, vol, mass);
+  if (gram) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
+  return -1;
 }

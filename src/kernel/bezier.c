@@ -36,6 +36,10 @@ typedef struct {
 } basis;
 
 static basis bases[2]; /* [0] triangle degree 2, [1] tetrahedron degree 3 */
+/* The reference gradients of tri6 and tet10 at the lattice points of the
+ * whole element (depth 0, where every element starts and most end),
+ * evaluated once: the same values dtm_map_det evaluates on the spot. */
+static double root_dn[2][NB][DTM_K_NODES][3];
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 
 static double bernstein(int d, int p, const int *a, const double *l) {
@@ -84,9 +88,26 @@ static void basis_init(int d, int p, basis *b) {
   invert(b->n, A, b->inv);
 }
 
+/* root_dn of type at the lattice points of b on the reference simplex V
+ * (the points as bound computes them). */
+static void root_init(int type, const basis *b, const double V[4][3], double (*dn)[DTM_K_NODES][3]) {
+  double N[DTM_K_NODES];
+  for (int r = 0; r < b->n; r++) {
+    double p[3] = {0, 0, 0};
+    for (int k = 0; k <= b->d; k++)
+      for (int i = 0; i < 3; i++) p[i] += V[k][i] * b->idx[r][k] / b->p;
+    dtm_ref_eval(type, p, N, dn[r]);
+  }
+}
+
+static const double tri[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
+static const double tet[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+
 static void init_all(void) {
   basis_init(2, 2, &bases[0]);
   basis_init(3, 3, &bases[1]);
+  root_init(DTM_TRI6, &bases[0], tri, root_dn[0]);
+  root_init(DTM_TET10, &bases[1], tet, root_dn[1]);
 }
 
 typedef struct {
@@ -108,7 +129,8 @@ static int bound(bound_ctx *c, const double V[4][3], int depth) {
     double p[3] = {0, 0, 0}, had;
     for (int k = 0; k <= b->d; k++)
       for (int i = 0; i < 3; i++) p[i] += V[k][i] * b->idx[r][k] / b->p;
-    f[r] = dtm_map_det(c->type, c->d, c->nn, c->xl, p, &had);
+    f[r] = depth ? dtm_map_det(c->type, c->d, c->nn, c->xl, p, &had)
+                 : dtm_map_det_dn(c->d, c->nn, c->xl, (const double(*)[3])root_dn[b->d == 3][r], &had);
     if (!(f[r] > 32 * DBL_EPSILON * had)) return c->scaled = had > 0 ? f[r] / had : 0, -1;
   }
   for (int a = 0; a < b->n; a++) {
@@ -150,8 +172,6 @@ static int bound(bound_ctx *c, const double V[4][3], int depth) {
 }
 
 int dtm_elem_jacobian_bound(int type, int d, int nn, const double (*xl)[3], double *ratio, double *scaled) {
-  static const double tri[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
-  static const double tet[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   if (type != DTM_TRI6 && type != DTM_TET10) return -2;
   pthread_once(&once, init_all);
   bound_ctx c = {type, d, nn, xl, &bases[type == DTM_TET10], NAN, INFINITY, 0, type == DTM_TET10 ? 4 : 6};

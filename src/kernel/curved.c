@@ -36,10 +36,18 @@
  * DTM_K_RULE_C3D10, so that the operator puts those elements in a part of
  * their own) and lumped CalculiX's way (lump.c); the other types are
  * integrated as under "converged". */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "dtmap/error.h"
+#include "assemble-impl.h"
 #include "kernel-impl.h"
 
 #define STRAIGHT_TOL 1e-9 /* relative node offset below which an element is straight-sided */
@@ -92,13 +100,16 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
 /* T at level n (see above) into T[nd][nd], nd = nn d, from the level's
  * table (its shape functions evaluated once: ref_table.c). Returns |T|_F. */
 static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T) {
-  int nd = nn * d;
-  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0;
-  dtm_lumped_mass_table(type, d, nn, xl, t, m);
+  int nd = nn * d, hrz = dtm_elem_parent(type) != type;
+  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
+  for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < t->q.n; k++) {
     double gl[DTM_K_DOF]; /* g flattened: gl[x] = g[x / d][x % d], the divisions once per point */
     dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv);
+    /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
+    for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
+    vol += dv;
     for (int a = 0; a < nn; a++)
       for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
     for (int x = 0; x < nd; x++) {
@@ -106,6 +117,7 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
       for (int y = x; y < nd; y++) row[y] += gx * gl[y];
     }
   }
+  dtm_lumped_finish(type, nn, t->q.n, vol, m);
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
   for (int x = 0; x < nd; x++)
     for (int y = x; y < nd; y++) {
@@ -147,22 +159,22 @@ int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int mod
   if (settled) *settled = 1;
   int s = 1;
   if (model == DTM_INTEGRATION_CALCULIX && type == DTM_TET10) { /* every C3D10, straight or curved */
-    dtm_ref_rule_c3d10(q);
+    if (q) dtm_ref_rule_c3d10(q);
     return DTM_K_RULE_C3D10;
   }
   if (model != DTM_INTEGRATION_CONVERGED || !mass_level(type) || dtm_elem_node_offset(type, xl) <= STRAIGHT_TOL) {
-    dtm_ref_rule(type, q);
+    if (q) dtm_ref_rule(type, q);
     return 0;
   }
   const dtm_ref_table *t;
   int n = converge(type, d, nn, xl, &t, &s);
   double dj;
   if (!n || dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0) { /* inverted near a node: no converged model */
-    dtm_ref_rule(type, q);
+    if (q) dtm_ref_rule(type, q);
     if (settled) *settled = 0;
     return 0;
   }
-  *q = t->q;
+  if (q) *q = t->q;
   if (settled) *settled = s;
   return n;
 }
@@ -201,7 +213,10 @@ static int curvature_shape(int type, int d, int nn, const double *x, double (*xl
   if (dtm_elem_parent(type) == type) return 0;
   c->offset = dtm_elem_node_offset(type, (const double(*)[3])x);
   if (dtm_elem_local(type, x, xl)) return c->jac_ratio = 0, c->bounded = 0, 0;
-  if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
+  double v;
+  if (dtm_affine_scaled(type, d, nn, (const double(*)[3])xl, &v) && v > 1000 * 32 * DBL_EPSILON)
+    c->jac_ratio = 1; /* straight-sided tri6 / tet10: det J constant (the bound finds 1 to rounding) */
+  else if (dtm_elem_jacobian_bound(type, d, nn, (const double(*)[3])xl, &r, NULL) != -2)
     c->jac_ratio = fmin(r, 1);
   else
     c->jac_ratio = sampled_ratio(type, d, nn, (const double(*)[3])xl), c->bounded = 0;

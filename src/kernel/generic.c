@@ -6,14 +6,26 @@
  * of second-order types. Works for every supported type; non-simplices
  * and second-order simplices always come here, linear simplices only for
  * cross-checks. No allocation: the element matrix (up to 81 x 81, 52 kB)
- * is on the stack. */
+ * is on the stack.
+ *
+ * The fast path (dtm_elastic_lambda_at): the rule is the one the model
+ * gives the element (its kept level when the caller knows it, else the
+ * level search of curved.c), a straight-sided tri6 or tet10 takes its
+ * matrices from reference tensors (affine.c), any other element is
+ * integrated in one pass over the rule's table (dtm_elem_assemble: the
+ * shape functions evaluated once per process, the Jacobian once per
+ * point), and the top of the tridiagonal is found by Laguerre's iteration.
+ * The earlier path, which set the element up, checked every point, then
+ * summed the stiffness and the masses in separate passes and bisected, is
+ * kept as dtm_elastic_lambda_reference and dtm_diffusion_lambda_reference:
+ * tests/t521 checks that the two agree to 1e-12 relative. */
 #include <math.h>
 
 #include "dtmap/error.h"
 #include "assemble-impl.h"
 #include "kernel-impl.h"
 
-int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda) {
+static int lumped_eig_max(int n, int per, double *K, const double *m, double *lambda, int reference) {
   double r[DTM_K_DOF];
   for (int k = 0; k < n; k++) {
     if (!(m[k / per] > 0))
@@ -26,12 +38,68 @@ int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, dou
    * tridiagonalization for the rest (pyr5 15, prism6 18, hex8 24, and the
    * second-order types up to 81), where it is several times faster: hex8
    * went from about 230 us to tens of us; both are backward stable. */
-  (void)type;
-  *lambda = n <= 12 ? dtm_eig_sym_max(n, K) : dtm_eig_sym_max_tridiag(n, K);
+  *lambda = n <= 12     ? dtm_eig_sym_max(n, K)
+            : reference ? dtm_eig_sym_max_tridiag_bisect(n, K)
+                        : dtm_eig_sym_max_tridiag(n, K);
   return DTM_OK;
 }
 
+int dtm_lumped_eig_max(int type, int n, int per, double *K, const double *m, double *lambda) {
+  (void)type;
+  return lumped_eig_max(n, per, K, m, lambda, 0);
+}
+
+/* The rule id (dtm_ref_rule_id) of the element in its frame: from its
+ * kept level when level >= 0, else by the level search. */
+static int rule_of(int type, int d, int nn, const double (*xl)[3], int model, int level) {
+  if (level >= 0) return dtm_ref_rule_id(type, model, level);
+  return dtm_elem_rule_choose(type, d, nn, xl, model, NULL, NULL);
+}
+
+/* K and the masses per unit density of the element with coordinates x
+ * (moduli m, NULL: the Laplacian) in the model's rule; *d and *nn its
+ * dimension and node count. */
+static int matrices(int type, const double *x, int model, int level, const dtm_elastic_moduli *m, int *d, int *nn,
+                    double *K, double *mass) {
+  double xl[DTM_K_NODES][3], dj;
+  DTM_CHECK(dtm_elem_info(type, d, nn));
+  if (dtm_elem_local(type, x, xl))
+    return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: its nodes span no %s", dtm_elem_name(type),
+                   *d == 1 ? "line" : "plane");
+  int id = rule_of(type, *d, *nn, (const double(*)[3])xl, model, level);
+  if (id == 0 && dtm_affine_matrices(type, *d, *nn, (const double(*)[3])xl, m, K, mass)) return DTM_OK;
+  const dtm_ref_table *t = dtm_ref_rule_table(type, id);
+  if (!t) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int bad = dtm_elem_assemble(type, *d, *nn, (const double(*)[3])xl, t, m, K, mass, &dj);
+  if (bad >= 0)
+    return DTM_ERR(DTM_ERR_INPUT, "degenerate or inverted %s element: Jacobian determinant %g at integration point %d",
+                   dtm_elem_name(type), dj, bad);
+  return DTM_OK;
+}
+
+int dtm_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x, int level, double *lambda) {
+  int d, nn;
+  double K[DTM_K_DOF * DTM_K_DOF], mass[DTM_K_NODES];
+  DTM_CHECK(matrices(type, x, m->integration, level, m, &d, &nn, K, mass));
+  DTM_CHECK(dtm_form_check(type, d, m->form));
+  for (int a = 0; a < nn; a++) mass[a] *= m->rho;
+  return lumped_eig_max(nn * d, d, K, mass, lambda, 0);
+}
+
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
+  return dtm_elastic_lambda_at(type, m, x, -1, lambda);
+}
+
+int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda) {
+  int d, nn;
+  double K[DTM_K_NODES * DTM_K_NODES], cap[DTM_K_NODES];
+  DTM_CHECK(matrices(type, x, DTM_INTEGRATION_CONVERGED, -1, NULL, &d, &nn, K, cap));
+  DTM_CHECK(lumped_eig_max(nn, 1, K, cap, lambda, 0));
+  *lambda *= alpha;
+  return DTM_OK;
+}
+
+int dtm_elastic_lambda_reference(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_DOF * DTM_K_DOF], mass[DTM_K_NODES];
   DTM_CHECK(dtm_elem_prepare(type, x, m->integration, &eg));
@@ -39,17 +107,17 @@ int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const doub
   dtm_elem_stiffness(&eg, m, K);
   dtm_elem_mass(&eg, mass);
   for (int a = 0; a < eg.nn; a++) mass[a] *= m->rho;
-  DTM_CHECK(dtm_lumped_eig_max(type, eg.nn * eg.d, eg.d, K, mass, lambda));
+  DTM_CHECK(lumped_eig_max(eg.nn * eg.d, eg.d, K, mass, lambda, 1));
   return DTM_OK;
 }
 
-int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda) {
+int dtm_diffusion_lambda_reference(int type, double alpha, const double *x, double *lambda) {
   dtm_elem_geom eg;
   double K[DTM_K_NODES * DTM_K_NODES], cap[DTM_K_NODES];
   DTM_CHECK(dtm_elem_prepare(type, x, DTM_INTEGRATION_CONVERGED, &eg));
   dtm_elem_laplace(&eg, K);
   dtm_elem_mass(&eg, cap);
-  DTM_CHECK(dtm_lumped_eig_max(type, eg.nn, 1, K, cap, lambda));
+  DTM_CHECK(lumped_eig_max(eg.nn, 1, K, cap, lambda, 1));
   *lambda *= alpha;
   return DTM_OK;
 }

@@ -67,6 +67,13 @@ typedef struct {
  * on first use (thread-safe); NULL for a type without levelled rules or
  * another level. Read only; it lives until the process ends. */
 const dtm_ref_table *dtm_ref_level_table(int type, int level);
+/* The table of the rule id (dtm_ref_rule_id: 0 the full rule, a level, or
+ * DTM_K_RULE_C3D10 on tet10), same contract; NULL for an unsupported type
+ * or id, or without memory. */
+const dtm_ref_table *dtm_ref_rule_table(int type, int id);
+/* The same at the nodes of type (dtm_ref_node's rule coordinates, weights
+ * 0), for the node checks of shape.c. */
+const dtm_ref_table *dtm_ref_node_table(int type);
 
 /* The isoparametric map at one rule point, in the local frame of dimension
  * d: N[nn], physical gradients g[nn][3] (first d components) and the
@@ -77,6 +84,13 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
  * dtm_ref_level_table), without N. */
 double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
                        double *dv);
+/* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
+ * Jacobian: returns -1 (g and dv unset) when det J (into *dj) is not
+ * safely positive, else 0. Bitwise the values of the two calls. */
+int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
+                       double *dv, double *dj);
+/* dtm_map_det from the reference gradients dN[nn][3] at the point. */
+double dtm_map_det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard);
 /* det J of the map at rule coordinates p, and the product of the column
  * lengths of J in *hadamard (|det J| <= hadamard). */
 double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard);
@@ -97,7 +111,7 @@ void dtm_gauss_legendre(int n, double *x, double *w);
 double dtm_elem_node_offset(int type, const double (*x)[3]);
 /* The rule of the element in its frame (xl) for the model (see curved.c):
  * returns 0 with the full rule, or the level of the levelled rule put in
- * q; *settled (may be NULL) is 0 when the levels stopped at
+ * q (q may be NULL: the level only); *settled (may be NULL) is 0 when the levels stopped at
  * DTM_K_LEVEL_MAX before the element settled. */
 int dtm_elem_rule_choose(int type, int d, int nn, const double (*xl)[3], int model, dtm_qrule *q, int *settled);
 
@@ -134,17 +148,29 @@ void dtm_eig3_top(const double s[6], dtm_top3 *top);
 void dtm_eig2_sym(double a, double b, double c, double e[2]);
 
 /* Largest eigenvalue of the symmetric n x n matrix a (row-major, 1 <= n <=
- * DTM_K_DOF, destroyed) by Householder tridiagonalization and bisection
- * (tridiag.c): within a small multiple of n eps |A|, like
+ * DTM_K_DOF, destroyed; its lower triangle is read) by Householder
+ * tridiagonalization and Laguerre's iteration (tridiag.c): within a small multiple of n eps |A|, like
  * dtm_eig_sym_max, and far faster for n > 24. NaN if an entry is not
  * finite. */
 double dtm_eig_sym_max_tridiag(int n, double *a);
+/* The same with the tridiagonal's top found by plain bisection (what
+ * dtm_eig_sym_max_tridiag did before its Laguerre iteration): the
+ * reference of tests/t521. */
+double dtm_eig_sym_max_tridiag_bisect(int n, double *a);
 
 /* Generic (quadrature + eigenvalue) paths, any supported type; linear
  * simplices go through them too, which is how the closed forms are
  * cross-checked. */
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
 int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double *lambda);
+/* The same with the rule of the element's kept level (level >= 0: the
+ * level dtm_ref_rule_elem returns under DTM_INTEGRATION_CONVERGED; the
+ * model's rule follows from it, dtm_ref_rule_id), or searched (level -1). */
+int dtm_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x, int level, double *lambda);
+/* The generic path as it was before the fast one (generic.c): separate
+ * passes, the rule searched, bisection on the tridiagonal. For tests. */
+int dtm_elastic_lambda_reference(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
+int dtm_diffusion_lambda_reference(int type, double alpha, const double *x, double *lambda);
 /* Closed form on simplices (line2, tri3, tet4). */
 int dtm_elastic_lambda_simplex(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
 
@@ -156,6 +182,10 @@ double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm
 /* The same at the points of a levelled rule's table (its shape functions
  * evaluated once). */
 double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *m);
+/* The last step of both: m[nn] holds the integrals of N_a (linear types:
+ * left as they are) or N_a^2 (second-order types: scaled to the measure
+ * vol, or CalculiX's C3D10 lumping when a tet10's rule has 4 points). */
+void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m);
 
 /* Three-component vectors: difference, dot and cross products. */
 static inline void dtm_v3_sub(const double *a, const double *b, double *c) {

@@ -22,6 +22,12 @@
  * the mid-edge nodes 1/(1 + ALP), with CalculiX's constant ALP = 0.1203.
  * On a straight-sided tet10: corners ALP/(4 (1 + ALP)) = 0.026846 V,
  * mid-edge nodes 1/(6 (1 + ALP)) = 0.148770 V (HRZ: 1/36 and 4/27). */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
 #include "kernel-impl.h"
 
 #define C3D10_ALP 0.1203 /* corner / mid-edge mass ratio of CalculiX's C3D10 lumping */
@@ -40,7 +46,7 @@ static void lump_c3d10(double vol, double *m) {
  * there is one (else evaluated here). */
 static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, const dtm_ref_table *t,
                      double *m) {
-  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0, sum = 0;
+  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0;
   int hrz = dtm_elem_parent(type) != type;
   for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < q->n; k++) {
@@ -50,11 +56,19 @@ static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_q
     for (int a = 0; a < nn; a++) m[a] += (hrz ? N[a] * N[a] : N[a]) * dv;
     vol += dv;
   }
-  if (!hrz) return vol;
-  if (type == DTM_TET10 && q->n == 4) return lump_c3d10(vol, m), vol;
+  dtm_lumped_finish(type, nn, q->n, vol, m);
+  return vol;
+}
+
+void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m) {
+  double sum = 0;
+  if (dtm_elem_parent(type) == type) return;
+  if (type == DTM_TET10 && npoints == 4) {
+    lump_c3d10(vol, m);
+    return;
+  }
   for (int a = 0; a < nn; a++) sum += m[a];
   for (int a = 0; a < nn; a++) m[a] = sum != 0 ? m[a] * (vol / sum) : 0;
-  return vol;
 }
 
 double dtm_lumped_mass(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, double *m) {

@@ -14,12 +14,40 @@
 
 #include "kernel-impl.h"
 
-/* J[i][j] = d x_i / d xi_j, i, j < d. */
+/* J[i][j] = d x_i / d xi_j, i, j < d. The 3D case unrolled (the hot one:
+ * every point of every solid), summed in the same order. */
 static void jacobian(int d, int nn, const double (*xl)[3], const double (*dN)[3], double J[3][3]) {
+  if (d == 3) {
+    double s[3][3] = {{0}};
+    for (int a = 0; a < nn; a++)
+#pragma GCC unroll 3
+      for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
+        for (int j = 0; j < 3; j++) s[i][j] += xl[a][i] * dN[a][j];
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) J[i][j] = s[i][j];
+    return;
+  }
   for (int i = 0; i < d; i++)
     for (int j = 0; j < d; j++) {
       J[i][j] = 0;
       for (int a = 0; a < nn; a++) J[i][j] += xl[a][i] * dN[a][j];
+    }
+}
+
+/* g[a][i] = sum_j K[j][i] dN[a][j] (K = J^-1), 0 for i >= d; 3D unrolled,
+ * summed in the same order. */
+static void gradients(int d, int nn, const double (*K)[3], const double (*dN)[3], double (*g)[3]) {
+  if (d == 3) {
+    for (int a = 0; a < nn; a++)
+#pragma GCC unroll 3
+      for (int i = 0; i < 3; i++) g[a][i] = 0 + K[0][i] * dN[a][0] + K[1][i] * dN[a][1] + K[2][i] * dN[a][2];
+    return;
+  }
+  for (int a = 0; a < nn; a++)
+    for (int i = 0; i < 3; i++) {
+      g[a][i] = 0;
+      for (int j = 0; j < d && i < d; j++) g[a][i] += K[j][i] * dN[a][j];
     }
 }
 
@@ -29,11 +57,7 @@ double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[
   jacobian(d, nn, xl, dN, J);
   double dj = dtm_mat_det(d, (const double(*)[3])J);
   dtm_mat_inverse(d, (const double(*)[3])J, dj, K);
-  for (int a = 0; a < nn; a++)
-    for (int i = 0; i < 3; i++) {
-      g[a][i] = 0;
-      for (int j = 0; j < d && i < d; j++) g[a][i] += K[j][i] * dN[a][j];
-    }
+  gradients(d, nn, (const double(*)[3])K, dN, g);
   *dv = dj * wq;
   return dj;
 }
@@ -45,7 +69,7 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
   return dtm_map_eval_dn(d, nn, xl, (const double(*)[3])dN, wq, g, dv);
 }
 
-static double det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard) {
+double dtm_map_det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *hadamard) {
   double J[3][3];
   jacobian(d, nn, xl, dN, J);
   *hadamard = dtm_mat_hadamard(d, (const double(*)[3])J);
@@ -55,13 +79,13 @@ static double det_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3]
 double dtm_map_det(int type, int d, int nn, const double (*xl)[3], const double p[3], double *hadamard) {
   double N[DTM_K_NODES], dN[DTM_K_NODES][3];
   dtm_ref_eval(type, p, N, dN);
-  return det_dn(d, nn, xl, (const double(*)[3])dN, hadamard);
+  return dtm_map_det_dn(d, nn, xl, (const double(*)[3])dN, hadamard);
 }
 
 /* 0 when det J with reference gradients dN is safely positive. */
 static int valid_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double *dj) {
   double had;
-  *dj = det_dn(d, nn, xl, dN, &had);
+  *dj = dtm_map_det_dn(d, nn, xl, dN, &had);
   return *dj > 32 * DBL_EPSILON * had && isfinite(*dj) ? 0 : -1;
 }
 
@@ -78,4 +102,17 @@ int dtm_map_first_bad_table(int d, int nn, const double (*xl)[3], const dtm_ref_
   for (int k = 0; k < t->q.n; k++)
     if (valid_dn(d, nn, xl, (const double(*)[3])t->dN[k], dj)) return k;
   return -1;
+}
+
+int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
+                       double *dv, double *dj) {
+  double J[3][3], K[3][3];
+  jacobian(d, nn, xl, dN, J);
+  double had = dtm_mat_hadamard(d, (const double(*)[3])J);
+  *dj = dtm_mat_det(d, (const double(*)[3])J);
+  if (!(*dj > 32 * DBL_EPSILON * had && isfinite(*dj))) return -1;
+  dtm_mat_inverse(d, (const double(*)[3])J, *dj, K);
+  gradients(d, nn, (const double(*)[3])K, dN, g);
+  *dv = *dj * wq;
+  return 0;
 }

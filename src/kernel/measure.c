@@ -39,13 +39,12 @@ static double integrate(int type, const double *x, int model, int level, double 
   dtm_elem_info(type, &d, &nn);
   for (int a = 0; a < nn; a++) m[a] = 0;
   if (dtm_elem_local(type, x, xl)) return 0;
-  if (level < 0)
-    level = dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, &q, NULL);
-  else
-    level = dtm_ref_rule_at(type, model, level, &q);
-  const dtm_ref_table *t = dtm_ref_level_table(type, level);
-  return t ? dtm_lumped_mass_table(type, d, nn, (const double(*)[3])xl, t, m)
-           : dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
+  int id = level < 0 ? dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, NULL, NULL)
+                     : dtm_ref_rule_id(type, model, level);
+  const dtm_ref_table *t = dtm_ref_rule_table(type, id); /* full rules too: the shape functions evaluated once */
+  if (t) return dtm_lumped_mass_table(type, d, nn, (const double(*)[3])xl, t, m);
+  dtm_ref_rule_at(type, model, id, &q); /* no memory for the table */
+  return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
 }
 
 /* Closed forms of the linear simplices, the hot path of the nodal bound and

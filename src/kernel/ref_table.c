@@ -7,7 +7,9 @@
  * of dtm_ref_eval at the rule's points, so every result is bitwise the same
  * as when they were evaluated on the spot. A table is built on first use
  * under a lock (the element loops run on OpenMP threads) and then read
- * without one; it lives until the process ends. */
+ * without one; it lives until the process ends. The full rules (level 0)
+ * and CalculiX's C3D10 rule have tables too (dtm_ref_rule_table), for the
+ * element bound's single pass over its points (generic.c). */
 #include <pthread.h>
 #include <stdlib.h>
 
@@ -15,19 +17,28 @@
 
 #define NTYPES 20 /* element type numbers below this (include/dtmap/kernel.h) */
 
-static const dtm_ref_table *tables[NTYPES][DTM_K_LEVEL_MAX + 1];
+#define NODES (DTM_K_RULE_C3D10 + 1) /* the slot of the nodes' table */
+
+static const dtm_ref_table *tables[NTYPES][NODES + 1];
 static pthread_mutex_t building = PTHREAD_MUTEX_INITIALIZER;
 
 static dtm_ref_table *build(int type, int level) {
   dtm_ref_table *t = malloc(sizeof *t);
   if (!t) return NULL;
-  if (!dtm_ref_rule_level(type, level, &t->q)) return free(t), NULL;
+  if (level == NODES) {
+    dtm_elem_info(type, NULL, &t->q.n);
+    for (int a = 0; a < t->q.n; a++) dtm_ref_node(type, a, t->q.p[a]), t->q.w[a] = 0;
+  } else if (level == 0)
+    dtm_ref_rule(type, &t->q);
+  else if (level == DTM_K_RULE_C3D10)
+    dtm_ref_rule_c3d10(&t->q);
+  else if (!dtm_ref_rule_level(type, level, &t->q))
+    return free(t), NULL;
   for (int k = 0; k < t->q.n; k++) dtm_ref_eval(type, t->q.p[k], t->N[k], t->dN[k]);
   return t;
 }
 
-const dtm_ref_table *dtm_ref_level_table(int type, int level) {
-  if (type < 0 || type >= NTYPES || level < 1 || level > DTM_K_LEVEL_MAX || !dtm_ref_levelled(type)) return NULL;
+static const dtm_ref_table *table(int type, int level) {
   const dtm_ref_table *t = __atomic_load_n(&tables[type][level], __ATOMIC_ACQUIRE);
   if (t) return t;
   pthread_mutex_lock(&building);
@@ -35,4 +46,20 @@ const dtm_ref_table *dtm_ref_level_table(int type, int level) {
   if (!t) t = build(type, level), __atomic_store_n(&tables[type][level], t, __ATOMIC_RELEASE);
   pthread_mutex_unlock(&building);
   return t;
+}
+
+const dtm_ref_table *dtm_ref_level_table(int type, int level) {
+  if (type < 0 || type >= NTYPES || level < 1 || level > DTM_K_LEVEL_MAX || !dtm_ref_levelled(type)) return NULL;
+  return table(type, level);
+}
+
+const dtm_ref_table *dtm_ref_rule_table(int type, int id) {
+  if (type < 0 || type >= NTYPES || !dtm_elem_topology(type)) return NULL;
+  if (id == 0 || (id == DTM_K_RULE_C3D10 && type == DTM_TET10)) return table(type, id);
+  return dtm_ref_level_table(type, id);
+}
+
+const dtm_ref_table *dtm_ref_node_table(int type) {
+  if (type < 0 || type >= NTYPES || !dtm_elem_topology(type)) return NULL;
+  return table(type, NODES);
 }

@@ -16,6 +16,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
+#include "assemble-impl.h"
 #include "kernel-impl.h"
 
 #define SAFE (32 * DBL_EPSILON) /* safely positive scaled Jacobian (map.c) */
@@ -38,8 +39,11 @@ static double simplex_scaled(int type, const double *x) {
   return dtm_v3_dot(e[0], c) / (len3(e[0]) * len3(e[1]) * len3(e[2]));
 }
 
-static double scaled_at(int type, int d, int nn, const double (*xl)[3], const double p[3]) {
-  double had, dj = dtm_map_det(type, d, nn, xl, p, &had);
+/* At the point of table t's row k when there is a table, else at p. */
+static double scaled_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, int k,
+                        const double p[3]) {
+  double had,
+      dj = t ? dtm_map_det_dn(d, nn, xl, (const double(*)[3])t->dN[k], &had) : dtm_map_det(type, d, nn, xl, p, &had);
   return had > 0 ? dj / had : 0.0;
 }
 
@@ -61,9 +65,10 @@ static void shape_simplex(int type, const double *x, dtm_shape *s) {
 /* Smallest scaled Jacobian over the nodes, and the node where it is. */
 static double min_at_nodes(int type, int d, int nn, const double (*xl)[3], int *node) {
   double p[3], min = INFINITY;
+  const dtm_ref_table *t = dtm_ref_node_table(type);
   for (int a = 0; a < nn; a++) {
     dtm_ref_node(type, a, p);
-    double v = scaled_at(type, d, nn, xl, p);
+    double v = scaled_at(type, d, nn, xl, t, a, p);
     if (!(v >= min)) min = v, *node = a;
   }
   return min;
@@ -83,14 +88,24 @@ static void inside(int type, int d, int nn, const double (*xl)[3], dtm_shape *s)
 static void shape_generic(int type, const double *x, dtm_shape *s) {
   double xl[DTM_K_NODES][3], min_point = INFINITY;
   int d, nn, all_flat = 1, node = -1;
-  dtm_qrule q;
   dtm_elem_info(type, &d, &nn);
   *s = (dtm_shape){DTM_SHAPE_FLAT, 0.0, -1, 0};
   if (dtm_elem_local(type, x, xl)) return;
-  dtm_ref_rule(type, &q);
+  double v;
+  if (dtm_affine_scaled(type, d, nn, (const double(*)[3])xl, &v) && v > 1000 * SAFE) {
+    /* straight-sided tri6 / tet10: one Jacobian, clearly valid at every
+     * sample and in between (what the samples and the Bernstein bound
+     * below find, to rounding) */
+    *s = (dtm_shape){DTM_SHAPE_VALID, v, -1, -1};
+    return;
+  }
+  const dtm_ref_table *t = dtm_ref_rule_table(type, 0); /* the shape functions evaluated once */
+  dtm_qrule q;
+  if (!t) dtm_ref_rule(type, &q);
+  const dtm_qrule *r = t ? &t->q : &q;
   s->point = -1;
-  for (int k = 0; k < q.n; k++) {
-    double v = scaled_at(type, d, nn, (const double(*)[3])xl, q.p[k]);
+  for (int k = 0; k < r->n; k++) {
+    double v = scaled_at(type, d, nn, (const double(*)[3])xl, t, k, r->p[k]);
     if (!(v > SAFE) && s->point < 0) s->point = k;
     if (!(v > SAFE)) all_flat &= fabs(v) <= SAFE;
     if (!(v >= min_point)) min_point = v;

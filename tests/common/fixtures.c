@@ -79,7 +79,7 @@ dtm_batch tu_batch1(int type, const double *x, const dtm_material **m) {
   static const int group = 0;
   int dim = 0, nn = 0;
   dtm_elem_info(type, &dim, &nn);
-  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m, NULL};
+  return (dtm_batch){type, dim, nn, 1, x, &tag, &group, NULL, m, NULL, NULL};
 }
 
 dtm_mesh *tu_bar_mesh(int n, const double *len, const int *group, const int *mat) {

@@ -1,0 +1,148 @@
+/* The element matrices of straight-sided second-order simplices (tri6,
+ * tet10) from reference tensors, without quadrature per element. When
+ * every mid-edge node is at the middle of its edge, the isoparametric map
+ * is the affine map of the corners: J is constant, g_a = J^-T dN_a, and
+ * with the full rule's points and weights (w_k, xi_k) the stiffness the
+ * generic path sums point by point is a contraction of one reference
+ * tensor per type,
+ *   R_ab[p][q] = sum_k w_k dN_a/dxi_p(xi_k) dN_b/dxi_q(xi_k),
+ *   A_ab = J^-T R_ab J^-1,  integral g_ai g_bj = det J A_ab[i][j],
+ * so K_(ai)(bj) = det J (lam A_ij + mu A_ji + mu delta_ij tr A) and the
+ * Laplacian K_ab = det J tr A_ab. The HRZ masses are fixed fractions of
+ * the measure: m_a = det J (sum_k w_k) f_a with f_a = D_a / sum_b D_b,
+ * D_a = sum_k w_k N_a(xi_k)^2 (tri6: 3/57 and 16/57; tet10: 1/36 and
+ * 4/27). The tensors are built once per type from the rule's table
+ * (dtm_ref_rule_table), so they are the generic path's own sums; the
+ * per-element work drops from nq points x (nn d)^2 / 2 products to
+ * nn^2 / 2 small 3x3 contractions (tet10: 14 x 465 to 55 x 54).
+ *
+ * The shortcut applies only where it gives the generic path's numbers to
+ * 1e-12 relative (tests/t521 compares them on random shapes): every
+ * mid-edge node within AFFINE_TOL of its edge's length from the middle
+ * (rounding of Gmsh's midpoints is ~1e-16 of the coordinates), and det J
+ * clear of the validity threshold of map.c (32 eps times the Hadamard
+ * bound) by a factor 1000, so that no element the generic path would
+ * refuse passes here. Anything else returns 0 and the caller takes the
+ * generic path. */
+#if defined(__GNUC__) && !defined(__clang__)
+/* Let GCC vectorise the loops with a varying trip count (axpy updates of
+ * the element matrices): -O2's very-cheap cost model leaves them scalar.
+ * Lanes are independent, so every sum is rounded as before. */
+#pragma GCC optimize("vect-cost-model=dynamic")
+#endif
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+
+#include "kernel-impl.h"
+#include "assemble-impl.h"
+
+#define AFFINE_TOL 1e-14 /* relative mid-node offset below which the map is taken as affine */
+#define MAXN 10          /* nodes of the largest type served (tet10) */
+
+typedef struct {
+  double R[MAXN][MAXN][3][3]; /* reference tensor R_ab[p][q] */
+  double f[MAXN];             /* HRZ mass fractions */
+  double wsum;                /* sum of the rule's weights: the reference measure */
+} affine_ref;
+
+static const affine_ref *refs[2]; /* tri6, tet10 */
+static pthread_mutex_t building = PTHREAD_MUTEX_INITIALIZER;
+
+static affine_ref *build(int type, int nn) {
+  const dtm_ref_table *t = dtm_ref_rule_table(type, 0);
+  affine_ref *r = t ? calloc(1, sizeof *r) : NULL;
+  double D[MAXN] = {0}, sum = 0;
+  if (!r) return NULL;
+  for (int k = 0; k < t->q.n; k++) {
+    double w = t->q.w[k];
+    r->wsum += w;
+    for (int a = 0; a < nn; a++) {
+      D[a] += w * t->N[k][a] * t->N[k][a];
+      for (int b = 0; b < nn; b++)
+        for (int p = 0; p < 3; p++)
+          for (int q = 0; q < 3; q++) r->R[a][b][p][q] += w * t->dN[k][a][p] * t->dN[k][b][q];
+    }
+  }
+  for (int a = 0; a < nn; a++) sum += D[a];
+  for (int a = 0; a < nn; a++) r->f[a] = D[a] / sum;
+  return r;
+}
+
+static const affine_ref *reference(int type, int nn) {
+  int i = type == DTM_TET10;
+  const affine_ref *r = __atomic_load_n(&refs[i], __ATOMIC_ACQUIRE);
+  if (r) return r;
+  pthread_mutex_lock(&building);
+  r = refs[i];
+  if (!r) r = build(type, nn), __atomic_store_n(&refs[i], r, __ATOMIC_RELEASE);
+  pthread_mutex_unlock(&building);
+  return r;
+}
+
+static double dist(const double *a, const double *b) {
+  double s = 0;
+  for (int i = 0; i < 3; i++) s += (a[i] - b[i]) * (a[i] - b[i]);
+  return sqrt(s);
+}
+
+/* 1 when every mid-edge node is within AFFINE_TOL of its edge's middle. */
+static int affine(int type, int nn, const double (*xl)[3]) {
+  const dtm_topology *t = dtm_elem_topology(type);
+  int nc = nn - t->nedge;
+  for (int k = 0; k < t->nedge; k++) {
+    const double *p = xl[t->edge[k][0]], *q = xl[t->edge[k][1]];
+    double mid[3] = {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])};
+    if (!(dist(xl[nc + k], mid) <= AFFINE_TOL * dist(p, q))) return 0;
+  }
+  return 1;
+}
+
+int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
+                        double *mass) {
+  if ((type != DTM_TET10 && type != DTM_TRI6) || !affine(type, nn, xl)) return 0;
+  const affine_ref *r = reference(type, nn);
+  if (!r) return 0;
+  double J[3][3] = {{0}}, Ji[3][3];
+  for (int i = 0; i < d; i++)
+    for (int j = 0; j < d; j++) J[i][j] = xl[j + 1][i] - xl[0][i]; /* corner j + 1 at xi_j = 1 */
+  double dj = dtm_mat_det(d, (const double(*)[3])J);
+  if (!(dj > 1000 * 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J)) || !isfinite(dj)) return 0;
+  dtm_mat_inverse(d, (const double(*)[3])J, dj, Ji);
+  int n = m ? nn * d : nn;
+  double lam = m ? dj * (d == 1 ? m->modulus : m->lam) : 0, mu = m ? dj * (d == 1 ? 0 : m->mu) : 0;
+  for (int a = 0; a < nn; a++) {
+    mass[a] = dj * r->wsum * r->f[a];
+    for (int b = a; b < nn; b++) {
+      double T[3][3] = {{0}}, A[3][3] = {{0}}; /* T = R_ab J^-1, A = J^-T T */
+      for (int p = 0; p < d; p++)
+        for (int q = 0; q < d; q++)
+          for (int j = 0; j < d; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
+      for (int i = 0; i < d; i++)
+        for (int p = 0; p < d; p++)
+          for (int j = 0; j < d; j++) A[i][j] += Ji[p][i] * T[p][j];
+      double tr = A[0][0] + A[1][1] + A[2][2];
+      if (!m) {
+        K[a * n + b] = K[b * n + a] = dj * tr;
+        continue;
+      }
+      for (int i = 0; i < d; i++)
+        for (int j = 0; j < d; j++) {
+          double v = lam * A[i][j] + mu * A[j][i] + (i == j ? mu * tr : 0);
+          K[(a * d + i) * n + b * d + j] = K[(b * d + j) * n + a * d + i] = v;
+        }
+    }
+  }
+  return 1;
+}
+
+int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled) {
+  if ((type != DTM_TET10 && type != DTM_TRI6) || !affine(type, nn, xl)) return 0;
+  double J[3][3] = {{0}};
+  for (int i = 0; i < d; i++)
+    for (int j = 0; j < d; j++) J[i][j] = xl[j + 1][i] - xl[0][i];
+  double had = dtm_mat_hadamard(d, (const double(*)[3])J), dj = dtm_mat_det(d, (const double(*)[3])J);
+  *scaled = had > 0 ? dj / had : 0.0;
+  return 1;
+}
