@@ -323,7 +323,13 @@ stiffness as the upper triangle of each element's matrix.
 
 Large arrays come from the heap and reuse what earlier stages and Gmsh freed (`dtm_memory_reuse`,
 src/base/memory.c); the 1e7 and geometry rows before and after a change, with page faults and
-each stage's cost per element, are in docs/performance-big.md (`bench/perf_big.sh`)."""
+each stage's cost per element, are in docs/performance-big.md (`bench/perf_big.sh`).
+Second-order elements and shells take the straight-sided tet10's and tri6's matrices from
+reference tensors, tables of shape functions built once per process, and the top eigenvalue
+by Laguerre's iteration under Sturm counts; shells screen their physical eigenvalue. Their rows
+before and after that change, timed side by side with a build of the code before it, are in
+docs/performance-second-order.md (`bench/perf_second_order.sh`: tet10 from a .msh against
+`gmsh -0 -bin`, curved against straight) and docs/performance-shells.md (`bench/perf_shells.sh`)."""
 
 
 def main():
