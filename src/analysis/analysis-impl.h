@@ -139,6 +139,9 @@ int dtm_analysis_has_rotations(const dtm_analysis *a);
 int dtm_analysis_levels(dtm_analysis *a);
 /* The kept level of element e of block b, or -1 (search it). */
 int dtm_analysis_level(const dtm_analysis *a, int b, size_t e);
+/* The first elastic effect whose element step is the element bound (its
+ * operator's dt_is_bound), or -1 (curvature.c). */
+int dtm_analysis_elastic_bound_effect(const dtm_analysis *a);
 /* Compute a->rot (before the nodal bound, which reads the masses there)
  * and a->sec_stats (once, after the nodal bound; it reads a->rot). */
 int dtm_analysis_rotary(dtm_analysis *a);

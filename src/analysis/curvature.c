@@ -70,8 +70,7 @@ int dtm_analysis_levels(dtm_analysis *a) {
 
 int dtm_analysis_level(const dtm_analysis *a, int b, size_t e) { return a->level && a->level[b] ? a->level[b][e] : -1; }
 
-/* The first elastic effect whose element step is the bound, or -1. */
-static int elastic_effect(const dtm_analysis *a) {
+int dtm_analysis_elastic_bound_effect(const dtm_analysis *a) {
   for (int k = 0; k < a->neffects; k++) {
     if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue;
     for (int i = 0; i < dtm_analysis_nslots(a); i++) {
@@ -158,7 +157,7 @@ int dtm_analysis_curvature_pass(dtm_analysis *a) {
     dep = malloc((a->nel + 1) * sizeof *dep);
     r = a->curv_ratio && a->curv_offset && dep ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   }
-  int k = any && r == DTM_OK ? elastic_effect(a) : -1;
+  int k = any && r == DTM_OK ? dtm_analysis_elastic_bound_effect(a) : -1;
   dtm_operator_coeffs *coef = slot_coeffs(a, k);
   if (k >= 0) a->curv.model = coef[0].mod.integration;
   for (int b = 0; b < a->mesh->nblocks && any && r == DTM_OK; b++)

@@ -150,20 +150,9 @@ static double anchor_step(const dtm_analysis *a, const dtm_block *b, size_t e, c
 /* The element map's undamped steps of the first elastic effect whose
  * element step is the element bound, or NULL. */
 static const double *elastic_steps(const dtm_analysis *a) {
-  for (int k = 0; k < a->neffects; k++) {
-    if (!a->dt_effect[k] || !a->effects[k].cls->coefficients) continue;
-    for (int i = 0; i < dtm_analysis_nslots(a); i++) {
-      dtm_operator_coeffs c;
-      if (dtm_analysis_coefficients(a, k, i, &c)) { /* a slot no element uses may lack properties */
-        dtm_error_clear();
-        continue;
-      }
-      if (c.kind == DTM_OP_ELASTIC && c.dt_is_bound)
-        return a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
-      break;
-    }
-  }
-  return NULL;
+  int k = dtm_analysis_elastic_bound_effect(a);
+  if (k < 0) return NULL;
+  return a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
 }
 
 /* The bounds of element e of block b under its section's convention

@@ -157,6 +157,12 @@ double dtm_eig_sym_max_tridiag(int n, double *a);
  * dtm_eig_sym_max_tridiag did before its Laguerre iteration): the
  * reference of tests/t521. */
 double dtm_eig_sym_max_tridiag_bisect(int n, double *a);
+/* The Householder reduction both take (tridiag.c): a (n x n, lower
+ * triangle read, destroyed) divided by its largest entry s and reduced to
+ * the tridiagonal (d, e) (n and n - 1 entries); returns s, 0 for the zero
+ * matrix (d, e untouched), NaN with a non-finite entry. Shared with the
+ * shell and beam eigensolver (shell_eig.c). */
+double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e);
 
 /* Generic (quadrature + eigenvalue) paths, any supported type; linear
  * simplices go through them too, which is how the closed forms are

@@ -1,7 +1,7 @@
 /* Largest eigenvalue of a small dense symmetric matrix (the shell and beam
  * blocks of shell.c, 6 to 24 unknowns) in a few evaluations instead of a
- * bisection's fifty: Householder reduction to tridiagonal form (in place,
- * lower triangle, after scaling by the largest entry like tridiag.c), then
+ * bisection's fifty: tridiag.c's Householder reduction to tridiagonal form
+ * (dtm_eig_sym_tridiagonalize: in place, lower triangle, scaled), then
  * iterations from above on the characteristic polynomial of the
  * tridiagonal T. One pass of the LDL^T pivots q_i of T - x I gives at once
  * the Sturm count (how many eigenvalues lie below x), G = sum_j 1/(x -
@@ -27,37 +27,6 @@
 
 #include "kernel-impl.h"
 #include "structural.h"
-
-/* One Householder reflection of column k of the n x n lower triangle a,
- * zeroing a[k+2..][k]; returns the new subdiagonal entry. */
-static double householder(int n, double *a, int k) {
-  double v[DTM_STRUCT_DOF], p[DTM_STRUCT_DOF];
-  int m = n - k - 1; /* >= 2 */
-  v[0] = a[(k + 1) * n + k];
-  double nrm2 = v[0] * v[0];
-  for (int i = 1; i < m; i++) v[i] = a[(k + 1 + i) * n + k], nrm2 += v[i] * v[i];
-  double alpha = v[0] > 0 ? -sqrt(nrm2) : sqrt(nrm2);
-  double vv = nrm2 - v[0] * v[0] + (v[0] - alpha) * (v[0] - alpha);
-  v[0] -= alpha;
-  if (!(vv > 0)) return v[0] + alpha;
-  double beta = 2 / vv, c = 0;
-  double *b = a + (k + 1) * n + k + 1;
-  for (int i = 0; i < m; i++) p[i] = 0;
-  for (int i = 0; i < m; i++) {
-    const double *row = b + i * n;
-    double s = 0;
-    for (int j = 0; j < i; j++) s += row[j] * v[j], p[j] += row[j] * v[i];
-    p[i] += s + row[i] * v[i];
-  }
-  for (int i = 0; i < m; i++) p[i] *= beta, c += v[i] * p[i];
-  c *= beta / 2;
-  for (int i = 0; i < m; i++) p[i] -= c * v[i];
-  for (int i = 0; i < m; i++) {
-    double *row = b + i * n;
-    for (int j = 0; j <= i; j++) row[j] -= v[i] * p[j] + p[i] * v[j];
-  }
-  return alpha;
-}
 
 typedef struct {
   int below;   /* eigenvalues below x */
@@ -151,15 +120,6 @@ static double top(int n, const double *d, const double *e) {
 }
 
 double dtm_struct_eig_max(int n, double *a) {
-  double d[DTM_STRUCT_DOF], e[DTM_STRUCT_DOF], sc = 0;
-  for (int i = 0; i < n * n; i++) {
-    if (!isfinite(a[i])) return NAN;
-    sc = fabs(a[i]) > sc ? fabs(a[i]) : sc;
-  }
-  if (sc == 0) return 0;
-  for (int i = 0; i < n * n; i++) a[i] /= sc;
-  for (int k = 0; k + 2 < n; k++) e[k] = householder(n, a, k);
-  if (n >= 2) e[n - 2] = a[(n - 1) * n + n - 2];
-  for (int i = 0; i < n; i++) d[i] = a[i * n + i];
-  return sc * top(n, d, e);
+  double d[DTM_STRUCT_DOF], e[DTM_STRUCT_DOF], sc = dtm_eig_sym_tridiagonalize(n, a, d, e);
+  return sc == 0 || sc != sc ? sc : sc * top(n, d, e);
 }

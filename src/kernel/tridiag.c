@@ -184,6 +184,8 @@ double dtm_eig_sym_max_tridiag(int n, double *a) {
   return s == 0 || s != s ? s : s * tri_max_fast(n, d, e);
 }
 
+double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e) { return reduce(n, a, d, e, 1); }
+
 double dtm_eig_sym_max_tridiag_bisect(int n, double *a) {
   double d[DTM_K_DOF], e[DTM_K_DOF], s = reduce(n, a, d, e, 1);
   return s == 0 || s != s ? s : s * tri_max(n, d, e);
