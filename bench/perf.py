@@ -41,6 +41,12 @@ STEEL = 'E="210e9" nu="0.3" rho="7850"'
 
 def run(cmd, env=None, cwd=WORK):
     """Run cmd; return (wall s, peak RSS MB, CPU s) of the child and its children."""
+    return usage(cmd, env, cwd)[:3]
+
+
+def usage(cmd, env=None, cwd=WORK):
+    """Run cmd; return (wall s, peak RSS MB, CPU s, system s, minor page faults) of the
+    child and its children (bench/perf_big.py and bench/perf_second_order.py use it too)."""
     t0 = time.perf_counter()
     p = subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                          env=dict(os.environ, **(env or {})))
@@ -50,7 +56,7 @@ def run(cmd, env=None, cwd=WORK):
     p.stderr.close()
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit(f"failed: {' '.join(cmd)}\n{err}")
-    return t, ru.ru_maxrss / 1024.0, ru.ru_utime + ru.ru_stime
+    return t, ru.ru_maxrss / 1024.0, ru.ru_utime + ru.ru_stime, ru.ru_stime, ru.ru_minflt
 
 
 def best(rs):

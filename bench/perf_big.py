@@ -20,7 +20,6 @@ bench/perf.py's.
 """
 import os
 import statistics
-import subprocess
 import sys
 import time
 
@@ -37,15 +36,7 @@ STAGES = ("extract", "effects", "nodal", "advice", "cost", "measures", "output")
 
 def run(cmd):
     """(wall s, peak RSS MB, CPU s, system s, minor faults) of cmd and its children."""
-    t0 = time.perf_counter()
-    p = subprocess.Popen(cmd, cwd=WORK, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, ru = os.wait4(p.pid, 0)
-    t = time.perf_counter() - t0
-    err = p.stderr.read().decode()
-    p.stderr.close()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"failed: {' '.join(cmd)}\n{err}")
-    return t, ru.ru_maxrss / 1024.0, ru.ru_utime + ru.ru_stime, ru.ru_stime, ru.ru_minflt
+    return perf.usage(cmd)
 
 
 def make_meshes():

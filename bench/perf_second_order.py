@@ -25,7 +25,9 @@ import os
 import statistics
 import subprocess
 import sys
-import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import perf  # noqa: E402  (bench/perf.py: its main is guarded)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.environ.get("BUILD_DIR", os.path.join(ROOT, "build-bench"))
@@ -41,15 +43,8 @@ H_PER_TET = 0.045 / (55954 ** (-1 / 3))  # the box's Delaunay: 55,954 tet10 at s
 
 def run(cmd, cwd=None):
     """(wall s, CPU s of the child and its children)."""
-    t0 = time.perf_counter()
-    p = subprocess.Popen(cmd, cwd=cwd or WORK, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, ru = os.wait4(p.pid, 0)
-    t = time.perf_counter() - t0
-    err = p.stderr.read().decode()
-    p.stderr.close()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"failed: {' '.join(cmd)}\n{err}")
-    return t, ru.ru_utime + ru.ru_stime
+    t, _, cpu, _, _ = perf.usage(cmd, cwd=cwd or WORK)
+    return t, cpu
 
 
 def load():
