@@ -1,6 +1,6 @@
 """The CalculiX deck's step for shells in a CalculiX that runs at the
-increment it is given (bench/ccx_fixed_inc.sh builds it from CalculiX
-2.20's sources; the test runs only when DTM_CCX_FIXED names that binary,
+increment it is given (bench/ccx_fixed_inc.sh builds it from Debian's
+calculix-ccx 2.20 source package; the test runs only when DTM_CCX_FIXED names that binary,
 and is skipped otherwise, exit 77 for ctest). On three small flat plates,
 h = 20 mm, t = 4 mm, of S4 quadrangles (90), of S3 triangles (156) and of
 both (45 S4 beside 78 S3), the same meshes as bench/ccx_shell_caps.py's,
