@@ -23,11 +23,21 @@
 #include "analysis-impl.h"
 
 #define LANCZOS_SEED 20261121u
-/* The certificate of the bound (src/spectral/certify.c) is made when its
- * factorisation costs at most this many flops (0.1-1 s here): 3D meshes up
- * to about 1,000 nodes (a Gmsh box of 458 nodes: 7.8e7 flops, 0.26 s at
- * load 20; of 1,144 nodes: 7.2e8, refused). */
-#define CERT_BUDGET 5e8
+/* The certificate of the bound (src/spectral/certify.c, CHOLMOD) is made
+ * when CHOLMOD's analysis predicts a factorisation of at most
+ * CERT_TIMES x the element map's wall time at CERT_RATE flop/s (the rate
+ * one core reaches here with Debian's reference BLAS, docs/certificate.md),
+ * and never less than CERT_FLOOR flops (a small mesh whose element map
+ * takes microseconds), within certify.c's memory cap; above it, the
+ * certificate is "too dear" and the summary gives the predicted flops and
+ * bytes. */
+#define CERT_RATE 1e9
+#define CERT_TIMES 1e6
+#define CERT_FLOOR 5e8
+
+static double cert_budget(const dtm_analysis *a) {
+  return fmax(CERT_FLOOR, CERT_TIMES * CERT_RATE * a->timings[DTM_T_EFFECTS]);
+}
 
 /* Rayleigh coefficients of material i from the scene's damping effects. */
 static int material_rayleigh(const dtm_analysis *a, int i, double omega, double *al, double *be) {
@@ -125,7 +135,7 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   if (a->x) /* the whole mesh's operator, of which op is this part's share */
     r = a->x->eigen(a->x->ctx, r, op, tol, maxit, LANCZOS_SEED, &lr);
   else if (r == DTM_OK)
-    r = dtm_lanczos_max_certified(op, tol, maxit, LANCZOS_SEED, want_mode, CERT_BUDGET, has_point_masses(a), &lr);
+    r = dtm_lanczos_max_certified(op, tol, maxit, LANCZOS_SEED, want_mode, cert_budget(a), has_point_masses(a), &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
   *g = (dtm_global_info){1,
@@ -138,7 +148,9 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
                          NAN,
                          sqrt(lr.theta + lr.residual),
                          lr.mode,
-                         lr.certified};
+                         lr.certified,
+                         {lr.cert_predicted[0], lr.cert_predicted[1]},
+                         cert_budget(a)};
   DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
   DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
   a->per_effect[k].global = g->converged ? g->dt_low : NAN;
