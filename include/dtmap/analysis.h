@@ -56,6 +56,7 @@ typedef struct {
                                bound every eigenvalue by the factorisation of (theta + residual) I - A */
   double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted) */
   double cert_budget;       /* the flops it was allowed (the run's own cost, src/analysis/global.c) */
+  double cert_seconds;      /* wall time of the certificate: analysis, assembly, factorisations */
 } dtm_global_info;
 
 /* Accuracy bookkeeping: accuracy bounds (cohesive R/N, wavelength/N)

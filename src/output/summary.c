@@ -129,11 +129,13 @@ static void print_effect_minima(const dtm_analysis *a, FILE *f) {
             g->dt_low, g->dt_high, g->iterations, g->seconds,
             g->converged ? "converged" : "NOT converged: the nodal bound stays the basis",
             !g->converged                          ? ""
-            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation)"
+            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation"
             : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear"
             : g->certified == DTM_CERT_UNAVAILABLE ? ", bound not proven (shells or beams)"
                                                    : "");
     if (g->converged && g->certified == DTM_CERT_TOO_DEAR) print_too_dear(g, f);
+    if (g->converged && g->certified == DTM_CERT_PROVEN)
+      fprintf(f, " of %.3g flops, %.3g MB, %.2f s)", g->cert_predicted[0], g->cert_predicted[1] / 1e6, g->cert_seconds);
     fprintf(f, "\n");
   }
 }

@@ -20,7 +20,11 @@
  * use). Each sigma is then one cholmod_factorize_p of -A + sigma I with
  * the symbolic factor reused; CHOLMOD stops at the first column whose
  * pivot is not positive (status CHOLMOD_NOT_POSDEF, L->minor < n): an
- * eigenvalue lies at or above sigma, up to rounding.
+ * eigenvalue lies at or above sigma, up to rounding. The BLAS under
+ * CHOLMOD (OpenBLAS's OpenMP build, scripts/setup.sh) runs on one thread:
+ * its many small parallel regions, one per supernode's kernels, took 18x
+ * longer than one thread on a shared two-core machine (load 5: 14.1 s
+ * against 0.78 s for a box of 14,229 unknowns).
  *
  * Rounding: when the factorisation succeeds in floating point, P (sigma I
  * - A) P^T + E is positive definite with |E| <= g |L| |L^T|, g = (c + 1) u
@@ -42,6 +46,7 @@
 #include <string.h>
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include "base.h"
 #include "spectral.h"
@@ -312,9 +317,11 @@ static double frobenius(const cholmod_factor *L, size_t *terms, SuiteSparse_long
 int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin) {
   double beta[2] = {sigma, 0};
   *margin = NAN;
-  if (!cholmod_l_factorize_p(c->neg, beta, NULL, 0, c->L, &c->cm) || c->cm.status == CHOLMOD_NOT_POSDEF ||
-      c->L->minor < c->n)
-    return 0;
+  int threads = omp_get_max_threads(), done;
+  omp_set_num_threads(1); /* an OpenMP BLAS on one thread: see the purpose paragraph */
+  done = cholmod_l_factorize_p(c->neg, beta, NULL, 0, c->L, &c->cm);
+  omp_set_num_threads(threads);
+  if (!done || c->cm.status == CHOLMOD_NOT_POSDEF || c->L->minor < c->n) return 0;
   SuiteSparse_long *rows = malloc((c->n + 1) * sizeof *rows);
   if (!rows) return 0; /* no margin to vouch for: not proven */
   size_t terms = 0;
