@@ -10,7 +10,9 @@ allowed (the summary's line), the certificate's wall time (analysis,
 assembly, every factorisation), the whole run's wall time and the
 process's peak resident memory (wait4). Where dtmap refuses (too dear) up
 to FORCE_TO unknowns, a second run with DTMAP_BENCH_CERT_BUDGET=1e15
-measures what the factorisation would have cost (marked *).
+measures what the factorisation would have cost (the forced columns).
+The certificate's seconds are, where refused, the prediction's (CHOLMOD's
+ordering and analysis).
 
 Usage: certify_reach.py BUILD_DIR [UNKNOWNS ...]   (default 1e3 1e4 3e4 1e5 3e5)
 Prints a Markdown table and the load average before and after
@@ -69,7 +71,11 @@ def certify(dtmap, work, env=None):
     lz = rep["effect_minima"][0]["lanczos"]
     line = next(l for l in out.splitlines() if l.startswith("global"))
     proven = re.search(r"bound proven \(factorisation of ([0-9.e+]+) flops, ([0-9.e+]+) MB, ([0-9.]+) s\)", line)
-    dear = re.search(r"too dear: ([0-9.e+]+) flops and ([0-9.e+]+) MB predicted, ([0-9.e+]+) flops allowed", line)
+    dear = re.search(r"too dear: ([0-9.e+]+) flops and ([0-9.e+]+) MB predicted, ([0-9.e+]+) flops allowed; "
+                     r"([0-9.]+) s to predict", line)
+    huge = re.search(r"too dear: the mesh is too large to order, ([0-9.e+]+) flops allowed; ([0-9.]+) s", line)
+    if huge:  # refused before any ordering: nothing predicted
+        dear = huge
     tm = rep["timings"]
     return {
         "unknowns": 3 * rep["mesh"]["nodes"],
@@ -77,10 +83,10 @@ def certify(dtmap, work, env=None):
         "before": tm["mesh"] + tm["extract"] + tm["effects"] + tm["nodal"],
         "map": tm["effects"],
         "certificate": lz.get("certificate"),
-        "cert_s": float(proven.group(3)) if proven else None,
-        "predicted": (float(dear.group(1)), float(dear.group(2))) if dear else
+        "cert_s": float(proven.group(3)) if proven else float(dear.groups()[-1]) if dear else None,
+        "predicted": None if huge else (float(dear.group(1)), float(dear.group(2))) if dear else
                      (float(proven.group(1)), float(proven.group(2))) if proven else None,
-        "allowed": float(dear.group(3)) if dear else None,
+        "allowed": float(dear.groups()[-2]) if dear else None,
         "wall": wall,
         "rss": rss,
     }
@@ -108,19 +114,20 @@ def main():
     sizes = [float(s) for s in sys.argv[2:]] or [1e3, 1e4, 3e4, 1e5, 3e5]
     print("load before: %s" % open("/proc/loadavg").read().strip())
     print("| unknowns | tet4 | run before s | element map s | certificate | predicted flops | predicted MB |"
-          " allowed flops | certificate s | run s | peak RSS MB |")
-    print("|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|")
+          " allowed flops | certificate s | run s | peak RSS MB | forced: certificate s | forced: run s |"
+          " forced: peak RSS MB |")
+    print("|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as work:
         for n in sizes:
             own, f = one(dtmap, work, n, FORCE_TO)
             pred = own["predicted"] or (float("nan"), float("nan"))
-            mark = "" if f is own else " *"
-            print("| %d | %d | %.3f | %.3f | %s | %.3g | %.0f | %s | %s | %.2f%s | %.0f%s |" %
+            forced = "%.2f | %.2f | %.0f" % (f["cert_s"], f["wall"], f["rss"]) if f is not own else " | | "
+            print("| %d | %d | %.3f | %.3f | %s | %.3g | %.0f | %s | %.2f | %.2f | %.0f | %s |" %
                   (own["unknowns"], own["elements"], own["before"], own["map"], own["certificate"], pred[0], pred[1],
-                   "%.3g" % own["allowed"] if own["allowed"] else "", "%.2f%s" % (f["cert_s"], mark)
-                   if f["cert_s"] is not None else "", f["wall"], mark, f["rss"], mark), flush=True)
+                   "%.3g" % own["allowed"] if own["allowed"] else "", own["cert_s"] or 0, own["wall"], own["rss"],
+                   forced), flush=True)
     print("load after: %s" % open("/proc/loadavg").read().strip())
-    print("* a second run whose budget (DTMAP_BENCH_CERT_BUDGET) lets the refused factorisation run")
+    print("forced: a second run whose budget (DTMAP_BENCH_CERT_BUDGET=1e15) lets the refused factorisation run")
 
 
 if __name__ == "__main__":

@@ -105,7 +105,7 @@ static void print_too_dear(const dtm_global_info *g, FILE *f) {
     fprintf(f, ": %.3g flops and %.3g MB predicted", g->cert_predicted[0], g->cert_predicted[1] / 1e6);
   else
     fprintf(f, ": the mesh is too large to order");
-  fprintf(f, ", %.3g flops allowed)", g->cert_budget);
+  fprintf(f, ", %.3g flops allowed; %.2f s to predict)", g->cert_budget, g->cert_seconds);
 }
 
 static void print_effect_minima(const dtm_analysis *a, FILE *f) {

@@ -12,19 +12,26 @@
  * of the assembled matrix against the operator on a random vector checks
  * the assembly; shells and beams (rotations) are not assembled.
  *
- * The factorisation is SuiteSparse's CHOLMOD, supernodal: cholmod_analyze
- * chooses the fill-reducing ordering (AMD, and METIS where AMD's fill is
- * high) and predicts the factor's entries and flops once per certifier;
- * nothing is assembled when the prediction exceeds the caller's flop
- * budget or the memory cap (CERT_MEMORY of the memory this process may
- * use). Each sigma is then one cholmod_factorize_p of -A + sigma I with
- * the symbolic factor reused; CHOLMOD stops at the first column whose
- * pivot is not positive (status CHOLMOD_NOT_POSDEF, L->minor < n): an
- * eigenvalue lies at or above sigma, up to rounding. The BLAS under
- * CHOLMOD (OpenBLAS's OpenMP build, scripts/setup.sh) runs on one thread:
- * its many small parallel regions, one per supernode's kernels, took 18x
- * longer than one thread on a shared two-core machine (load 5: 14.1 s
- * against 0.78 s for a box of 14,229 unknowns).
+ * The factorisation is SuiteSparse's CHOLMOD, supernodal. The ordering
+ * is found on the node graph, nc times smaller than the dofs' (each
+ * node's dofs then follow one another): first AMD alone, whose predicted
+ * flops (times nc^3 for the dofs) refuse a mesh far too large at the cost
+ * of one AMD ordering, then, where AMD's prediction is within METIS_GAIN
+ * budgets, CHOLMOD's own choice (AMD, and METIS where AMD's fill is high).
+ * Within the caller's flop budget the dofs' pattern is analysed in that
+ * order, once per certifier, for the factor's predicted flops and entries.
+ * Nothing is assembled when a prediction exceeds the budget or the memory
+ * cap (CERT_MEMORY of the memory this process may use), and a node graph
+ * too large for its ordering to be a small share of the budget
+ * (ORDER_SHARE) is not even ordered. Each sigma is then one
+ * cholmod_factorize_p of -A + sigma I with the symbolic factor reused;
+ * CHOLMOD stops at the first column whose pivot is not positive (status
+ * CHOLMOD_NOT_POSDEF, L->minor < n): an eigenvalue lies at or above sigma,
+ * up to rounding. The BLAS under CHOLMOD (OpenBLAS's OpenMP build,
+ * scripts/setup.sh) runs on one thread: its many small parallel regions,
+ * one per supernode's kernels, took 18x longer than one thread on a shared
+ * two-core machine (load 5: 14.1 s against 0.78 s for a box of 14,229
+ * unknowns; Debian's reference BLAS took 2.4 s).
  *
  * Rounding: when the factorisation succeeds in floating point, P (sigma I
  * - A) P^T + E is positive definite with |E| <= g |L| |L^T|, g = (c + 1) u
@@ -34,7 +41,7 @@
  * the explicit zeros a supernode stores add nothing). The terms of an
  * inner product are bounded by the largest count of a row or a column of
  * the supernodal L, counted from its pattern, which holds every entry of
- * the exact L, so ||E||_2 <= || |L| |L^T| ||_F <= g ||L||_F^2, with
+ * the exact L, so ||E||_2 <= g || |L| ||_2^2 <= g ||L||_F^2, with
  * ||L||_F^2 summed over the factor's stored lower triangle. The diagonal
  * sigma - a_ii is itself rounded, by at most u (sigma + max |a_ii|). The
  * sum of the two is the margin returned: every eigenvalue of the
@@ -54,7 +61,8 @@
 
 #define ASSEMBLY_TOL 1e-10 /* the assembled product against the operator's, relative */
 #define CERT_MEMORY 0.125  /* the factor's predicted bytes at most this share of the memory limit */
-#define ORDER_SHARE 1e-3   /* the node graph is ordered when its entries are at most this share of the budget */
+#define ORDER_SHARE 3e-5   /* the node graph is ordered when its entries are at most this share of the budget */
+#define METIS_GAIN 8.0     /* METIS is tried when AMD's predicted flops are at most this many budgets */
 
 /* The assembled -A (upper triangle, dofs node-major as the operator's),
  * CHOLMOD's workspace and its symbolic (then numeric) factor. */
@@ -194,18 +202,43 @@ static cholmod_sparse *node_pattern(size_t nn, const size_t *xa, const size_t *a
   return g;
 }
 
-/* CHOLMOD's ordering of the node graph (its choice of AMD or METIS), in
- * perm[nn]; *fl its predicted flops of the node-level factor. */
-static int node_order(size_t nn, const size_t *xa, const size_t *ad, cholmod_common *cm, SuiteSparse_long *perm,
-                      double *fl) {
-  cholmod_sparse *g = node_pattern(nn, xa, ad, cm);
-  cholmod_factor *f = g ? cholmod_l_analyze(g, cm) : NULL;
-  cholmod_l_free_sparse(&g, cm);
+/* An ordering of the node graph g in perm[nn]: AMD alone (quick) or
+ * CHOLMOD's choice (AMD, and METIS where AMD's fill is high); *fl and *lnz
+ * its predicted flops and entries of the node-level factor. */
+static int node_order(cholmod_sparse *g, int quick, cholmod_common *cm, SuiteSparse_long *perm, double *fl,
+                      double *lnz) {
+  cm->nmethods = quick, cm->method[0].ordering = CHOLMOD_AMD;
+  cholmod_factor *f = cholmod_l_analyze(g, cm);
   if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "the certificate's ordering failed (CHOLMOD status %d)", cm->status);
-  memcpy(perm, f->Perm, nn * sizeof *perm);
-  *fl = cm->fl;
+  memcpy(perm, f->Perm, g->nrow * sizeof *perm);
+  *fl = cm->fl, *lnz = cm->lnz;
   cholmod_l_free_factor(&f, cm);
   return DTM_OK;
+}
+
+/* The dofs' predicted flops and bytes from the node level's: nc^3 and nc^2
+ * times, with the assembled matrix. */
+static void node_prediction(dtm_certifier *c, size_t nc, double fl, double lnz, double entries) {
+  c->flops = (double)(nc * nc * nc) * fl;
+  c->bytes = 8.0 * (double)(nc * nc) * lnz + 16.0 * entries;
+}
+
+/* The node graph ordered by CHOLMOD's choice in perm[nn], with the
+ * prediction in c; AMD alone first, and no more when even METIS_GAIN
+ * times fewer flops than AMD's would exceed the budget. */
+static int order(dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, const size_t *ad, double budget,
+                 SuiteSparse_long *perm) {
+  double fl, lnz, entries = (double)(xa[nn] * nc * nc);
+  cholmod_sparse *g = node_pattern(nn, xa, ad, &c->cm);
+  if (!g) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the certificate");
+  int r = node_order(g, 1, &c->cm, perm, &fl, &lnz);
+  if (r == DTM_OK) node_prediction(c, nc, fl, lnz, entries);
+  if (r == DTM_OK && c->flops <= METIS_GAIN * budget) {
+    r = node_order(g, 0, &c->cm, perm, &fl, &lnz);
+    if (r == DTM_OK) node_prediction(c, nc, fl, lnz, entries);
+  }
+  cholmod_l_free_sparse(&g, &c->cm);
+  return r;
 }
 
 static int too_dear(const dtm_certifier *c, double budget) {
@@ -220,14 +253,12 @@ static int too_dear(const dtm_certifier *c, double budget) {
  * ORDER_SHARE * budget entries is not even ordered. */
 static int analyse(dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, const size_t *ad, double budget,
                    int *status) {
-  double fl = NAN, nc3 = (double)(nc * nc * nc);
   *status = DTM_CERT_TOO_DEAR;
   c->flops = NAN, c->bytes = 16.0 * (double)(xa[nn] * nc * nc);                      /* the assembled matrix alone */
   if ((double)xa[nn] > ORDER_SHARE * budget || too_dear(c, INFINITY)) return DTM_OK; /* flops NaN: not compared */
   SuiteSparse_long *perm = malloc((c->n + 1) * sizeof *perm);
   if (!perm) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the certificate");
-  int r = node_order(nn, xa, ad, &c->cm, perm, &fl);
-  c->flops = nc3 * fl;
+  int r = order(c, nn, nc, xa, ad, budget, perm);
   if (r || too_dear(c, budget)) return free(perm), r;
   for (size_t k = nn; k-- > 0;) {
     SuiteSparse_long v = perm[k]; /* read before the dofs of k overwrite it */
