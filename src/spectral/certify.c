@@ -304,7 +304,7 @@ int dtm_certifier_create_costed(const dtm_operator *op, double budget, dtm_certi
   if (predicted) predicted[0] = predicted[1] = NAN;
   dtm_certifier *c = calloc(1, sizeof *c);
   if (!c) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  c->n = dtm_operator_ndof(op);
+  c->n = dtm_operator_ndof(op), c->flops = c->bytes = NAN;
   cholmod_l_start(&c->cm);
   c->cm.print = 0;                       /* a refused pivot is an answer, not a message */
   c->cm.supernodal = CHOLMOD_SUPERNODAL; /* one layout of L to read the margin from */
