@@ -42,18 +42,21 @@ typedef struct {
 
 /* The global (Lanczos) estimate of one spectral effect. */
 typedef struct {
-  int done;         /* 1 when computed */
-  double theta;     /* largest Ritz value of M^-1 K */
-  double residual;  /* an eigenvalue lies in theta +- residual */
-  int iterations;   /* Lanczos steps */
-  int converged;    /* invariant subspace, or residual <= tol theta */
-  double seconds;   /* wall time */
-  double dt_low;    /* step from theta + residual: the safe side, s */
-  double dt_high;   /* step from theta: never safe to exceed, s */
-  double omega_top; /* sqrt(theta + residual) (waves), for damping */
-  double *mode;     /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
-  int certified;    /* DTM_CERT_* (dtmap/operator.h): DTM_CERT_PROVEN when theta + residual was shown to
-                       bound every eigenvalue by the factorisation of (theta + residual) I - A */
+  int done;                 /* 1 when computed */
+  double theta;             /* largest Ritz value of M^-1 K */
+  double residual;          /* an eigenvalue lies in theta +- residual */
+  int iterations;           /* Lanczos steps */
+  int converged;            /* invariant subspace, or residual <= tol theta */
+  double seconds;           /* wall time */
+  double dt_low;            /* step from theta + residual: the safe side, s */
+  double dt_high;           /* step from theta: never safe to exceed, s */
+  double omega_top;         /* sqrt(theta + residual) (waves), for damping */
+  double *mode;             /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
+  int certified;            /* DTM_CERT_* (dtmap/operator.h): DTM_CERT_PROVEN when theta + residual was shown to
+                               bound every eigenvalue by the factorisation of (theta + residual) I - A */
+  double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted) */
+  double cert_budget;       /* the flops it was allowed (the run's own cost, src/analysis/global.c) */
+  double cert_seconds;      /* wall time of the certificate: analysis, assembly, factorisations */
 } dtm_global_info;
 
 /* Accuracy bookkeeping: accuracy bounds (cohesive R/N, wavelength/N)

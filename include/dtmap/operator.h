@@ -73,20 +73,21 @@ DTM_EXPORT void dtm_operator_apply_sym(const dtm_operator *op, const double *x, 
 DTM_EXPORT void dtm_operator_apply_damping(const dtm_operator *op, const double *v, double *y);
 
 typedef struct {
-  double theta;        /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
-  double residual;     /* ||A y - theta y|| measured on the returned unit Ritz
-                          vector y (one extra product): an eigenvalue lies in
-                          [theta - residual, theta + residual] */
-  int iterations;      /* Lanczos steps k; a call costs about 2k products, as
-                          the Ritz vector is rebuilt by a second pass */
-  int converged;       /* invariant subspace, or residual <= tol * theta */
-  double seconds;      /* wall time */
-  double *mode;        /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
-                          normalised so that u^T M u = 1 (owned, free()) */
-  double theta2;       /* the second Ritz value of the last T_k (NaN for k = 1) */
-  int certified;       /* dtm_lanczos_max_certified: DTM_CERT_* */
-  double tol_used;     /* the tolerance the last pass ran to */
-  double cert_seconds; /* wall time of the certificate (assembly and factorisations) */
+  double theta;             /* largest Ritz value of M^-1 K: a lower bound of lambda_max */
+  double residual;          /* ||A y - theta y|| measured on the returned unit Ritz
+                               vector y (one extra product): an eigenvalue lies in
+                               [theta - residual, theta + residual] */
+  int iterations;           /* Lanczos steps k; a call costs about 2k products, as
+                               the Ritz vector is rebuilt by a second pass */
+  int converged;            /* invariant subspace, or residual <= tol * theta */
+  double seconds;           /* wall time */
+  double *mode;             /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
+                               normalised so that u^T M u = 1 (owned, free()) */
+  double theta2;            /* the second Ritz value of the last T_k (NaN for k = 1) */
+  int certified;            /* dtm_lanczos_max_certified: DTM_CERT_* */
+  double tol_used;          /* the tolerance the last pass ran to */
+  double cert_seconds;      /* wall time of the certificate (assembly and factorisations) */
+  double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted; 0: not asked) */
 } dtm_lanczos_result;
 
 /* What dtm_lanczos_max_certified could say of theta + residual. */
@@ -94,7 +95,8 @@ enum {
   DTM_CERT_NONE = 0,        /* not asked for */
   DTM_CERT_PROVEN = 1,      /* sigma I - A factored positive definite at sigma = theta + residual: every
                                eigenvalue lies below it (Sylvester), whatever the gaps */
-  DTM_CERT_TOO_DEAR = 2,    /* the factorisation would cost more than the budget: not tried */
+  DTM_CERT_TOO_DEAR = 2,    /* the factorisation would cost more than the budget (flops) or the memory cap:
+                               not tried */
   DTM_CERT_UNAVAILABLE = 3, /* shells or beams (not assembled) */
   DTM_CERT_REFUTED = 4      /* a factorisation found an eigenvalue above every bound tried: not converged */
 };
@@ -108,10 +110,11 @@ DTM_EXPORT int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, un
 DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                                   dtm_lanczos_result *r);
 /* The same, with the bound theta + residual checked: when the certificate
- * (the Cholesky factorisation of sigma I - A, assembled from the product)
- * costs at most budget flops, each converged bound is certified, and one
- * it refutes sends Lanczos on at a tolerance 100x stricter (up to three
- * times; then converged = 0). Where it is too dear or unavailable and the
+ * (CHOLMOD's Cholesky factorisation of sigma I - A, assembled from the
+ * product) is predicted to cost at most budget flops and to fit the
+ * memory cap, each converged bound is certified, and one it refutes
+ * sends Lanczos on at a tolerance 100x stricter (up to three times; then
+ * converged = 0). Where it is too dear or unavailable and the
  * top of T_k is clustered (theta2 within 10 tol of theta) or suspect is set
  * (point masses), Lanczos goes on to tol * 1e-4 instead: a heuristic, not
  * a proof. On success residual includes the factorisation's rounding

@@ -23,11 +23,27 @@
 #include "analysis-impl.h"
 
 #define LANCZOS_SEED 20261121u
-/* The certificate of the bound (src/spectral/certify.c) is made when its
- * factorisation costs at most this many flops (0.1-1 s here): 3D meshes up
- * to about 1,000 nodes (a Gmsh box of 458 nodes: 7.8e7 flops, 0.26 s at
- * load 20; of 1,144 nodes: 7.2e8, refused). */
-#define CERT_BUDGET 5e8
+/* The certificate of the bound (src/spectral/certify.c, CHOLMOD) is made
+ * when CHOLMOD's analysis predicts a factorisation within the run's own
+ * cost: at most CERT_TIMES x the wall time of the run before it (reading
+ * the mesh, the element map, the nodal bound) at CERT_RATE flop/s (what
+ * CHOLMOD reaches on one core here, docs/certificate.md), and never less
+ * than CERT_FLOOR flops (a second or two: every mesh up to about 25,000
+ * unknowns in 3D, whatever its run took), within certify.c's memory cap.
+ * Above it the certificate is "too dear" and the summary gives CHOLMOD's
+ * predicted flops and bytes against the flops allowed. */
+#define CERT_RATE 5e9
+#define CERT_TIMES 1.0
+#define CERT_FLOOR 1e10
+
+/* DTMAP_BENCH_CERT_BUDGET (flops) replaces it, for bench/certify_reach.py's
+ * factorisations past the budget. */
+static double cert_budget(const dtm_analysis *a) {
+  const char *bench = getenv("DTMAP_BENCH_CERT_BUDGET");
+  if (bench && *bench) return atof(bench);
+  double t = a->timings[DTM_T_MESH] + a->timings[DTM_T_EXTRACT] + a->timings[DTM_T_EFFECTS] + a->timings[DTM_T_NODAL];
+  return fmax(CERT_FLOOR, CERT_TIMES * CERT_RATE * t);
+}
 
 /* Rayleigh coefficients of material i from the scene's damping effects. */
 static int material_rayleigh(const dtm_analysis *a, int i, double omega, double *al, double *be) {
@@ -125,7 +141,7 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   if (a->x) /* the whole mesh's operator, of which op is this part's share */
     r = a->x->eigen(a->x->ctx, r, op, tol, maxit, LANCZOS_SEED, &lr);
   else if (r == DTM_OK)
-    r = dtm_lanczos_max_certified(op, tol, maxit, LANCZOS_SEED, want_mode, CERT_BUDGET, has_point_masses(a), &lr);
+    r = dtm_lanczos_max_certified(op, tol, maxit, LANCZOS_SEED, want_mode, cert_budget(a), has_point_masses(a), &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
   *g = (dtm_global_info){1,
@@ -138,7 +154,10 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
                          NAN,
                          sqrt(lr.theta + lr.residual),
                          lr.mode,
-                         lr.certified};
+                         lr.certified,
+                         {lr.cert_predicted[0], lr.cert_predicted[1]},
+                         cert_budget(a),
+                         lr.cert_seconds};
   DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
   DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
   a->per_effect[k].global = g->converged ? g->dt_low : NAN;

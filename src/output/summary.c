@@ -98,6 +98,16 @@ static void print_where(const dtm_analysis *a, size_t i, FILE *f) {
           group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2]);
 }
 
+/* What the refused factorisation would have cost, against what it was
+ * allowed (src/analysis/global.c). */
+static void print_too_dear(const dtm_global_info *g, FILE *f) {
+  if (isfinite(g->cert_predicted[0]))
+    fprintf(f, ": %.3g flops and %.3g MB predicted", g->cert_predicted[0], g->cert_predicted[1] / 1e6);
+  else
+    fprintf(f, ": the mesh is too large to order");
+  fprintf(f, ", %.3g flops allowed; %.2f s to predict)", g->cert_budget, g->cert_seconds);
+}
+
 static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   int ne = dtm_analysis_neffects(a);
   for (int k = 0; k < ne && ne > 1; k++) {
@@ -115,14 +125,18 @@ static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   for (int k = 0; k < ne; k++) {
     const dtm_global_info *g = dtm_analysis_global(a, k);
     if (!g) continue;
-    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s%s\n", effect_name(a, k),
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s%s", effect_name(a, k),
             g->dt_low, g->dt_high, g->iterations, g->seconds,
             g->converged ? "converged" : "NOT converged: the nodal bound stays the basis",
             !g->converged                          ? ""
-            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation)"
-            : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear)"
+            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation"
+            : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear"
             : g->certified == DTM_CERT_UNAVAILABLE ? ", bound not proven (shells or beams)"
                                                    : "");
+    if (g->converged && g->certified == DTM_CERT_TOO_DEAR) print_too_dear(g, f);
+    if (g->converged && g->certified == DTM_CERT_PROVEN)
+      fprintf(f, " of %.3g flops, %.3g MB, %.2f s)", g->cert_predicted[0], g->cert_predicted[1] / 1e6, g->cert_seconds);
+    fprintf(f, "\n");
   }
 }
 

@@ -326,7 +326,7 @@ static int certified_run(lz_state *z, lz_tri *t, double tol, int maxit, int want
   dtm_certifier *c = NULL;
   int status = DTM_CERT_TOO_DEAR;
   double t0 = dtm_wtime();
-  if (budget > 0) DTM_CHECK(dtm_certifier_create(z->op, budget, &c, &status));
+  if (budget > 0) DTM_CHECK(dtm_certifier_create_costed(z->op, budget, &c, &status, r->cert_predicted));
   r->cert_seconds = dtm_wtime() - t0;
   if (c) {
     int e = certify(z, t, c, tol, maxit, want_mode, r);

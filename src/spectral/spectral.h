@@ -39,18 +39,26 @@ int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_
 /* The certificate of certify.c: sigma I - A = L L^T for A = M^-1/2 K M^-1/2
  * assembled from the operator's product. */
 typedef struct dtm_certifier dtm_certifier;
-/* Assemble, order and count the factor; *status DTM_CERT_PROVEN (ready:
- * *out set), DTM_CERT_TOO_DEAR (more than budget flops, or more than
- * 30,000 dofs) or DTM_CERT_UNAVAILABLE (shells or beams, or an assembly
- * that does not reproduce the product); *out NULL then. */
+/* Order (CHOLMOD's analysis), predict the factor's flops and bytes and,
+ * within budget flops and the memory cap, assemble; *status
+ * DTM_CERT_PROVEN (ready: *out set), DTM_CERT_TOO_DEAR (more than budget
+ * flops or more memory than the cap: not assembled) or
+ * DTM_CERT_UNAVAILABLE (shells or beams, or an assembly that does not
+ * reproduce the product); *out NULL then. */
 int dtm_certifier_create(const struct dtm_operator *op, double budget, dtm_certifier **out, int *status);
+/* The same, with predicted[0] the predicted flops and predicted[1] the
+ * predicted bytes of the factorisation (NaN where not predicted: a node
+ * graph too large to order within the budget, shells or beams). */
+int dtm_certifier_create_costed(const struct dtm_operator *op, double budget, dtm_certifier **out, int *status,
+                                double predicted[2]);
 void dtm_certifier_destroy(dtm_certifier **c);
-/* The factorisation's flops (sum of squared column counts). */
+/* The factorisation's flops (CHOLMOD's prediction). */
 double dtm_certifier_flops(const dtm_certifier *c);
 /* 1 when sigma I - A factors with positive pivots, so that every
  * eigenvalue of A is below sigma + *margin (the rounding of the
  * factorisation); 0 when a pivot is not positive (an eigenvalue lies at or
- * above sigma, up to that rounding). */
+ * above sigma, up to that rounding), or when CHOLMOD ran out of memory
+ * (nothing proven: the caller takes it as refuted, the safe side). */
 int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin);
 
 #endif
