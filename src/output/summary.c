@@ -98,6 +98,25 @@ static void print_where(const dtm_analysis *a, size_t i, FILE *f) {
           group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2]);
 }
 
+/* Which proof holds for the global estimate, in words. */
+static void print_certificate(const dtm_global_info *g, FILE *f) {
+  const char *why = g->deterministic == DTM_CERT_TOO_DEAR      ? "factorisation too dear"
+                    : g->deterministic == DTM_CERT_UNAVAILABLE ? "no factorisation for shells or beams"
+                                                               : "no factorisation in a distributed run";
+  if (g->certified == DTM_CERT_PROVEN)
+    fprintf(f, "             bound proven: the factorisation shows no eigenvalue above theta + residual\n");
+  else if (g->certified == DTM_CERT_PROBABLE)
+    fprintf(f,
+            "             bound probable (%s): the step %.4e s is at or below the exact step but with\n"
+            "             probability %.0e (Kuczynski-Wozniakowski, %d steps, eps %.3g, n %.0f)\n",
+            why, g->dt_certified, g->failure, g->iterations, g->eps, g->nbound);
+  else
+    fprintf(f, "             bound not proven (%s%s)\n", why,
+            g->deterministic == DTM_CERT_TOO_DEAR || g->deterministic == DTM_CERT_UNAVAILABLE
+                ? "; too few Lanczos steps for the probable bound"
+                : "");
+}
+
 static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   int ne = dtm_analysis_neffects(a);
   for (int k = 0; k < ne && ne > 1; k++) {
@@ -115,14 +134,11 @@ static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   for (int k = 0; k < ne; k++) {
     const dtm_global_info *g = dtm_analysis_global(a, k);
     if (!g) continue;
-    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s%s\n", effect_name(a, k),
-            g->dt_low, g->dt_high, g->iterations, g->seconds,
-            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis",
-            !g->converged                          ? ""
-            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation)"
-            : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear)"
-            : g->certified == DTM_CERT_UNAVAILABLE ? ", bound not proven (shells or beams)"
-                                                   : "");
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s, seed %u), %s\n",
+            effect_name(a, k), g->dt_low, g->dt_high, g->iterations, g->seconds, g->seed,
+            g->converged ? "converged (an estimate at its tolerance)"
+                         : "NOT converged: the nodal bound stays the basis");
+    if (g->converged) print_certificate(g, f);
   }
 }
 
@@ -130,8 +146,14 @@ static void print_min(const dtm_analysis *a, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
   size_t el;
   double rec = dtm_analysis_recommended(a);
-  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s): the step; cost, subcycling, mass scaling\n", rec,
-          s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  if (dtm_analysis_recommended_certified(a))
+    fprintf(f,
+            "recommended  %.4e s = the probable bound's certified step, below safety %.2f x %.4e s (%s):\n"
+            "             the step; cost, subcycling, mass scaling\n",
+            rec, s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  else
+    fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s): the step; cost, subcycling, mass scaling\n", rec,
+            s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
   fprintf(f, "             and verify all use it\n");
   fprintf(f, "elem. bound  %.4e s, the dt map's own minimum (a bound, not the step) at ", dtm_analysis_dt_min(a, &el));
   print_where(a, el, f);
