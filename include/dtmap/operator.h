@@ -159,7 +159,8 @@ DTM_EXPORT int dtm_lanczos_max_certified(const dtm_operator *op, double tol, int
  * tolerance until eps_k <= eps_target (1 - safety^2: then safety times
  * the step of theta + residual is at most the step of the probable
  * bound), or maxit steps, or an invariant subspace, and the result is
- * DTM_CERT_PROBABLE with eps, failure and bound (when eps_k < 1). A
+ * DTM_CERT_PROBABLE with eps, failure and bound (when eps_k < 1);
+ * converged is judged at tol, whatever the heuristic's stricter pass. A
  * negative eps_target asks for no probable layer (as
  * dtm_lanczos_max_certified). */
 DTM_EXPORT int dtm_lanczos_max_probable(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,

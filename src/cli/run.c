@@ -61,8 +61,10 @@ int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffi
 static void print_brief(const dtm_analysis *a) {
   const dtm_scene *s = dtm_analysis_scene(a);
   printf("mesh         %zu elements, %zu nodes\n", dtm_analysis_nelements(a), dtm_analysis_mesh(a)->nnodes);
-  printf("recommended  %.4e s = safety %.2f x %.4e s (%s); dtmap run gives the whole summary\n",
-         dtm_analysis_recommended(a), s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  printf("recommended  %.4e s = %s %.2f x %.4e s (%s); dtmap run gives the whole summary\n",
+         dtm_analysis_recommended(a),
+         dtm_analysis_recommended_certified(a) ? "the probable bound's certified step, below safety" : "safety",
+         s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
 }
 
 static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_verify_effect *v) {

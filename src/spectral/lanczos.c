@@ -37,7 +37,9 @@
  * <= DTM_LANCZOS_FAILURE, lambda_max <= theta_k / (1 - eps_k) but for that
  * probability; theta_k is raised by 10 k eps |T_k| first for the rounding
  * of the reorthogonalised recurrence. Lanczos goes on past its tolerance
- * until eps_k meets the caller's target. The seed is the caller's (the
+ * until eps_k meets the caller's target; converged is then judged at the
+ * caller's tolerance (the heuristic's stricter one may run out of steps,
+ * and the probable bound caps the step instead). The seed is the caller's (the
  * report gives it); the bound is over the draw of the start, so it holds
  * for a seed chosen without looking at the matrix. */
 #include <float.h>
@@ -418,7 +420,12 @@ static int certified_run(lz_state *z, lz_tri *t, double tol, int want_mode, doub
   r->certified = r->deterministic = status;
   int clustered = t->k > 1 && r->theta2 >= (1 - CLUSTER_GAP * tol) * r->theta;
   if (suspect || clustered) DTM_CHECK(go_on(z, t, tol * STRICT, INFINITY, want_mode, r));
-  return eps_target >= 0 ? probable(z, t, eps_target, want_mode, r) : DTM_OK;
+  if (eps_target < 0) return DTM_OK;
+  DTM_CHECK(probable(z, t, eps_target, want_mode, r));
+  /* the estimate meets the caller's tolerance even where the heuristic's
+     stricter one ran out of steps: the probable bound now caps the step */
+  r->converged = t->invariant || r->residual <= tol * r->theta;
+  return DTM_OK;
 }
 
 int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r) {
