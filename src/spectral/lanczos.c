@@ -4,7 +4,8 @@
  * dofs with mass: a standard normal value per dof, drawn by splitmix64 from
  * the seed and the node's Gmsh tag (Box-Muller), normalised.
  * Every new direction is reorthogonalised in full against the stored basis
- * V_k (classical Gram-Schmidt, twice), so V_k stays orthonormal to a small
+ * V_k (classical Gram-Schmidt, a second pass where the first took much
+ * off), so V_k stays orthonormal to a small
  * multiple of k eps and T_k = V_k^T A V_k to rounding: the top eigenvalue
  * theta of T_k is then the largest Rayleigh quotient of A over the Krylov
  * space K_k(A, v_0) up to O(k eps |A|), the quantity the
@@ -108,26 +109,42 @@ static double lz_start(lz_state *z) {
   return nv > 0 && keep(z, z->v) ? nv : 0;
 }
 
-/* One classical Gram-Schmidt pass of w against the basis; returns the
- * coefficient of the newest vector. */
+#define GS_CHUNK 4096 /* unknowns per block of the Gram-Schmidt update */
+
+/* One classical Gram-Schmidt pass of w against the basis, the update by
+ * blocks of w that stay in cache while the basis streams past; returns the
+ * coefficient of the newest vector. Serial: on a loaded machine OpenMP here
+ * cost more than it saved (docs/estimators.md). */
 static double orthogonalise(lz_state *z) {
-  size_t n = z->n;
-  for (int j = 0; j < z->nv; j++) z->c[j] = dot(n, z->w, z->V[j]);
-  for (int j = 0; j < z->nv; j++)
-    for (size_t i = 0; i < n; i++) z->w[i] -= z->c[j] * z->V[j][i];
-  return z->c[z->nv - 1];
+  size_t n = z->n, nb = (n + GS_CHUNK - 1) / GS_CHUNK;
+  int nv = z->nv;
+  double *c = z->c, *w = z->w, *const *V = z->V;
+  for (int j = 0; j < nv; j++) c[j] = dot(n, w, V[j]);
+  for (size_t b = 0; b < nb; b++) {
+    size_t lo = b * GS_CHUNK, hi = lo + GS_CHUNK < n ? lo + GS_CHUNK : n;
+    for (int j = 0; j < nv; j++)
+      for (size_t i = lo; i < hi; i++) w[i] -= c[j] * V[j][i];
+  }
+  return c[nv - 1];
 }
 
-/* w = A v_j - a v_j - beta_{j-1} v_{j-1}, then reorthogonalised twice
- * against v_0 .. v_j ("twice is enough"). */
+/* w = A v_j - a v_j - beta_{j-1} v_{j-1}, then reorthogonalised against
+ * v_0 .. v_j, a second time when the first pass left less than 1/sqrt(2)
+ * of w's length (Daniel, Gragg, Kaufman and Stewart's criterion: one pass
+ * that removes little leaves w orthogonal to working precision, and after
+ * one that removes much the second restores it). */
 static void lz_step(lz_state *z, double *a, double *b) {
   size_t n = z->n;
   dtm_operator_apply_sym(z->op, z->v, z->w);
   *a = dot(n, z->w, z->v);
   for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + z->bprev * z->vp[i];
-  *a += orthogonalise(z);
+  double before = sqrt(dot(n, z->w, z->w));
   *a += orthogonalise(z);
   *b = sqrt(dot(n, z->w, z->w));
+  if (*b < 0.7071067811865476 * before) { /* 1/sqrt(2) */
+    *a += orthogonalise(z);
+    *b = sqrt(dot(n, z->w, z->w));
+  }
 }
 
 /* v_{j+1} = w / b, kept in the basis; the old v_{j-1} becomes the next w.
