@@ -81,8 +81,8 @@ typedef struct {
   double residual;     /* ||A y - theta y|| measured on the returned unit Ritz
                           vector y (one extra product): an eigenvalue lies in
                           [theta - residual, theta + residual] */
-  int iterations;      /* Lanczos steps k; a call costs about 2k products, as
-                          the Ritz vector is rebuilt by a second pass */
+  int iterations;      /* Lanczos steps k; a call costs k products (k + 1 with
+                          the Ritz vector, V_k s from the stored basis) */
   int converged;       /* invariant subspace, or residual <= tol * theta */
   double seconds;      /* wall time */
   double *mode;        /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
@@ -138,8 +138,8 @@ enum {
  * full reorthogonalisation against the stored basis (k vectors of ndof),
  * at most maxit products, stopping when residual <= tol * theta. */
 DTM_EXPORT int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
-/* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, half
- * the products) and residual is Paige's estimate |beta_k s_k|, which bounds
+/* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, one
+ * product less) and residual is Paige's estimate |beta_k s_k|, which bounds
  * the distance from theta to an eigenvalue up to O(eps |A|). */
 DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                                   dtm_lanczos_result *r);
