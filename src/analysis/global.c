@@ -12,7 +12,8 @@
  * refuted bound sends Lanczos on, stricter); where it is not, a mesh with
  * point masses runs Lanczos to tol * 1e-4 instead (not a proof), and the
  * probable layer (dtm_lanczos_max_probable) goes on until the
- * Kuczynski-Wozniakowski bound's eps_k is at most 1 - safety^2: then
+ * Kuczynski-Wozniakowski bound's eps_k is at most 1 - safety^2 (waves;
+ * 1 - safety for diffusion, whose step goes as 1 / lambda): then
  * lambda_max <= theta / (1 - eps_k) with probability at least 1 - 1e-12
  * for any spectrum, and its step (dt_certified, mapped from lambda to dt
  * by step_of like every other estimate) is at least safety x the global
@@ -139,7 +140,9 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   dtm_lanczos_result lr;
   memset(&lr, 0, sizeof lr);
   unsigned seed = a->lanczos_seed ? a->lanczos_seed : LANCZOS_SEED;
-  double safety = a->scene->safety, eps_target = 1 - safety * safety;
+  /* the eps at which safety x the step of theta is the probable bound's step:
+     dt ~ lambda^-1/2 for waves, lambda^-1 for diffusion */
+  double safety = a->scene->safety, eps_target = dtm_analysis_is_wave(a, k) ? 1 - safety * safety : 1 - safety;
   int r = dtm_analysis_operator(a, k, 0.0, &op);
   if (a->x) /* the whole mesh's operator, of which op is this part's share */
     r = a->x->eigen(a->x->ctx, r, op, tol, maxit, seed, &lr);
