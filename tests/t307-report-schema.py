@@ -1,7 +1,11 @@
 """The report's JSON Schema (schema/dtmap-report.schema.json) is a valid
 draft 2020-12 schema that documents every field with its unit, accepts a
 real report (the bundled plate with --posterior: global estimate, Lanczos
-details, subcycling, mass scaling, the advice) and a real `verify
+details, subcycling, mass scaling, the advice), a real report whose global
+estimate rests on the probable bound (the bundled box, 2,293 nodes: its
+factorisation is too dear; the bound's eps is checked against its closed
+form (ln(1.648 sqrt(n) / 1e-12) / (2k - 1))^2 to 1e-12 relative and must
+meet 1 - safety^2) and a real `verify
 --report` (its own document in the same schema), and catches mistakes: a
 missing required field, a field nobody documented, a wrong type, a
 non-integer count, a negative or zero step, an unknown basis, an element
@@ -10,6 +14,7 @@ checked against it as each test program ends (testutil.c, testutil.py)."""
 
 import copy
 import json
+import math
 import os
 import re
 
@@ -54,6 +59,10 @@ class Schema(tu.unittest.TestCase):
         code, out = tu.run("verify", scene, "-q", "--steps", "200", "--report", "plate_verify.json")
         assert code == 0, out
         cls.verify = tu.report("plate_verify.json")
+        box = os.path.join(tu.SRC, "geometries", "box.xml")
+        code, out = tu.run("run", box, "-q", "--posterior", "-o", "box_dt.msh", "--report", "box.json")
+        assert code == 0, out
+        cls.box = tu.report("box.json")
 
     def test_every_field_documented_with_its_unit(self):
         schema = report_schema.load(SCHEMA)
@@ -75,6 +84,33 @@ class Schema(tu.unittest.TestCase):
         self.assertEqual(self.report["model"]["units"], "SI")
         self.assertIn("lanczos", self.report["effect_minima"][0])
         self.assertEqual(self.report["dt"]["basis"], "global estimate")
+
+    def test_probable_report(self):
+        self.assertEqual(report_schema.problems(self.v, self.box), [])
+        lz = self.box["effect_minima"][0]["lanczos"]
+        self.assertEqual(lz["certificate"], "probable")
+        self.assertEqual(lz["deterministic"], "too dear")
+        self.assertEqual(lz["seed"], 20261121)
+        pb, safety = lz["probable"], self.box["dt"]["safety"]
+        self.assertEqual(pb["failure"], 1e-12)
+        self.assertEqual(pb["steps"], lz["iterations"])
+        eps = (math.log(1.648 * math.sqrt(pb["n"]) / 1e-12) / (2 * pb["steps"] - 1)) ** 2
+        self.assertAlmostEqual(pb["eps"] / eps, 1, delta=1e-12)
+        self.assertLessEqual(pb["eps"], 1 - safety ** 2)
+        # the step of theta / (1 - eps): sqrt(1 - eps) x the step of theta (no damping here; 1e-9 for
+        # the rounding allowance 10 k eps |T| on theta)
+        self.assertAlmostEqual(pb["dt_certified"] / (lz["dt_bracket"][1] * math.sqrt(1 - pb["eps"])), 1, delta=1e-9)
+        dt = self.box["dt"]
+        self.assertEqual(dt["recommended"], min(safety * dt["basis_step"], pb["dt_certified"]))
+        self.assertEqual(dt["recommended_certified"], pb["dt_certified"] < safety * dt["basis_step"])
+        r = copy.deepcopy(self.box)
+        for what, change in {"eps of 1": lambda p: p.update(eps=1.0), "no certified step": lambda p: p.pop("dt_certified"),
+                             "undocumented field": lambda p: p.update(delta=1)}.items():
+            r = copy.deepcopy(self.box)
+            change(r["effect_minima"][0]["lanczos"]["probable"])
+            self.assertNotEqual(report_schema.problems(self.v, r), [], what)
+        r["effect_minima"][0]["lanczos"]["certificate"] = "likely"
+        self.assertNotEqual(report_schema.problems(self.v, r), [], "unknown certificate")
 
     def mutated(self, change):
         r = copy.deepcopy(self.report)

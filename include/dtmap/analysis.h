@@ -32,6 +32,8 @@ typedef struct {
   double nodal;         /* its nodal bound, s (NaN if not spectral) */
   size_t node;          /* node index where the nodal bound occurs */
   double global;        /* its global (Lanczos) estimate, s (NaN if not computed) */
+  double certified;     /* the step of the probable bound (dtm_global_info.dt_certified) when the global
+                           estimate is the basis without a deterministic proof, s; NaN otherwise */
   double safe;          /* the step dtmap vouches for, s: global (safe side of the
                            bracket) if converged and allowed as the basis, else
                            nodal, else element */
@@ -53,7 +55,15 @@ typedef struct {
   double omega_top;         /* sqrt(theta + residual) (waves), for damping */
   double *mode;             /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
   int certified;            /* DTM_CERT_* (dtmap/operator.h): DTM_CERT_PROVEN when theta + residual was shown to
-                               bound every eigenvalue by the factorisation of (theta + residual) I - A */
+                               bound every eigenvalue by the factorisation of (theta + residual) I - A;
+                               DTM_CERT_PROBABLE when the Kuczynski-Wozniakowski bound holds instead */
+  int deterministic;        /* DTM_CERT_* of the factorisation alone (why no proof, when probable) */
+  double eps;               /* probable: the bound's relative gap eps_k after iterations steps; NaN otherwise */
+  double failure;           /* probable: its failure probability (1e-12); NaN otherwise */
+  double nbound;            /* probable: the order n of the bound (dofs with mass) */
+  unsigned seed;            /* the start vector's seed */
+  double dt_certified;      /* probable: the step of theta / (1 - eps) (rounding allowance included), s; at
+                               most the exact step but with probability failure; NaN otherwise */
   double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted) */
   double cert_budget;       /* the flops it was allowed (the run's own cost, src/analysis/global.c) */
   double cert_seconds;      /* wall time of the certificate: analysis, assembly, factorisations */
@@ -276,6 +286,13 @@ DTM_EXPORT double dtm_analysis_recommended(const dtm_analysis *a);
 DTM_EXPORT const char *dtm_analysis_basis(const dtm_analysis *a);
 /* The basis estimate itself (recommended / safety), s. */
 DTM_EXPORT double dtm_analysis_basis_step(const dtm_analysis *a);
+/* 1 when the recommended step is the probable bound's certified step
+ * (below safety x the basis step: dtm_recommend), 0 otherwise. */
+DTM_EXPORT int dtm_analysis_recommended_certified(const dtm_analysis *a);
+/* The Lanczos start vector's seed of the global estimate (0: dtmap's
+ * default, 20261121): any seed chosen without looking at the mesh keeps the
+ * probable bound's failure probability. */
+DTM_EXPORT void dtm_analysis_set_lanczos_seed(dtm_analysis *a, unsigned seed);
 /* The factor the scene's damping applies to a wave step of material mat
  * (scene index) at undamped angular frequency omega (rad/s): the product
  * over the damping effects, 1 without any. */

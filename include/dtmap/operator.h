@@ -65,6 +65,10 @@ DTM_EXPORT const double *dtm_operator_mass(const dtm_operator *op);
  * and component: the same field whatever order the nodes are stored in
  * (dtm_mesh_reorder). */
 DTM_EXPORT void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double lo, double hi, double *x);
+/* x[ndof] standard normal, drawn per node tag and component like
+ * dtm_operator_draw: normalised over any set of dofs, uniform on that
+ * set's unit sphere. */
+DTM_EXPORT void dtm_operator_draw_normal(const dtm_operator *op, unsigned long long seed, double *x);
 /* y = K u ([ndof] each). */
 DTM_EXPORT void dtm_operator_apply(const dtm_operator *op, const double *u, double *y);
 /* y = M^-1/2 K M^-1/2 x; dofs with zero mass give 0. */
@@ -77,8 +81,8 @@ typedef struct {
   double residual;          /* ||A y - theta y|| measured on the returned unit Ritz
                                vector y (one extra product): an eigenvalue lies in
                                [theta - residual, theta + residual] */
-  int iterations;           /* Lanczos steps k; a call costs about 2k products, as
-                               the Ritz vector is rebuilt by a second pass */
+  int iterations;           /* Lanczos steps k; a call costs k products (k + 1 with
+                               the Ritz vector, V_k s from the stored basis) */
   int converged;            /* invariant subspace, or residual <= tol * theta */
   double seconds;           /* wall time */
   double *mode;             /* [ndof] the top Ritz vector as a field u = M^-1/2 y,
@@ -87,8 +91,36 @@ typedef struct {
   int certified;            /* dtm_lanczos_max_certified: DTM_CERT_* */
   double tol_used;          /* the tolerance the last pass ran to */
   double cert_seconds;      /* wall time of the certificate (assembly and factorisations) */
+  int deterministic;        /* DTM_CERT_* of the factorisation alone (PROVEN, TOO_DEAR, UNAVAILABLE, REFUTED;
+                               NONE when not asked) */
+  double eps;               /* DTM_CERT_PROBABLE: the relative gap eps_k of the Kuczynski-Wozniakowski bound
+                               after the k = iterations steps, so lambda_max <= bound with probability at least
+                               1 - failure; NaN otherwise */
+  double failure;           /* the failure probability the bound was asked at (DTM_LANCZOS_FAILURE), or NaN */
+  double bound;             /* DTM_CERT_PROBABLE: (theta + rounding) / (1 - eps), an upper bound of
+                               lambda_max with probability >= 1 - failure; NaN otherwise */
+  double nbound;            /* n of the bound: the dofs with mass (the start vector's sphere) */
+  unsigned seed;            /* the start vector's seed */
   double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted; 0: not asked) */
 } dtm_lanczos_result;
+
+/* The failure probability of the probable bound: Lanczos's top Ritz value
+ * from a start uniform on the sphere is below (1 - eps_k) lambda_max with
+ * at most this probability. */
+#define DTM_LANCZOS_FAILURE 1e-12
+
+/* The Kuczynski-Wozniakowski bound (SIAM J. Matrix Anal. Appl. 13(4),
+ * 1992) for Lanczos on a symmetric positive semi-definite matrix of order
+ * n from a start uniform on the unit sphere: after k steps,
+ * P((lambda_max - theta_k) / lambda_max >= eps) <= 1.648 sqrt(n)
+ * exp(-sqrt(eps) (2k - 1)). The smallest eps whose bound is <= p:
+ * eps_k = (ln(1.648 sqrt(n) / p) / (2k - 1))^2, 0 when the logarithm is
+ * not positive, 1 (no information) when it reaches 1 or k < 1. */
+DTM_EXPORT double dtm_lanczos_kw_eps(double n, int k, double p);
+/* The fewest steps k whose eps_k (dtm_lanczos_kw_eps) is <= eps (0 < eps):
+ * the smallest integer k >= (ln(1.648 sqrt(n) / p) / sqrt(eps) + 1) / 2,
+ * at least 1. */
+DTM_EXPORT int dtm_lanczos_kw_steps(double n, double eps, double p);
 
 /* What dtm_lanczos_max_certified could say of theta + residual. */
 enum {
@@ -98,14 +130,18 @@ enum {
   DTM_CERT_TOO_DEAR = 2,    /* the factorisation would cost more than the budget (flops) or the memory cap:
                                not tried */
   DTM_CERT_UNAVAILABLE = 3, /* shells or beams (not assembled) */
-  DTM_CERT_REFUTED = 4      /* a factorisation found an eigenvalue above every bound tried: not converged */
+  DTM_CERT_REFUTED = 4,     /* a factorisation found an eigenvalue above every bound tried: not converged */
+  DTM_CERT_PROBABLE = 5     /* no factorisation (deterministic says why): the Kuczynski-Wozniakowski bound
+                               holds lambda_max <= bound with probability >= 1 - failure */
 };
 
-/* Lanczos on M^-1/2 K M^-1/2 from a seeded random start, at most maxit
- * products, stopping when residual <= tol * theta. */
+/* Lanczos on M^-1/2 K M^-1/2 from a seeded random start (normal per dof
+ * with mass, normalised: uniform on the unit sphere of those dofs), with
+ * full reorthogonalisation against the stored basis (k vectors of ndof),
+ * at most maxit products, stopping when residual <= tol * theta. */
 DTM_EXPORT int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed, dtm_lanczos_result *r);
-/* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, half
- * the products) and residual is Paige's estimate |beta_k s_k|, which bounds
+/* The same; with want_mode = 0 no Ritz vector is built (mode = NULL, one
+ * product less) and residual is Paige's estimate |beta_k s_k|, which bounds
  * the distance from theta to an eigenvalue up to O(eps |A|). */
 DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                                   dtm_lanczos_result *r);
@@ -121,6 +157,17 @@ DTM_EXPORT int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit,
  * margin. */
 DTM_EXPORT int dtm_lanczos_max_certified(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                                          double budget, int suspect, dtm_lanczos_result *r);
+/* The same, with the probable layer where the factorisation does not
+ * prove the bound (too dear or unavailable): Lanczos goes on past its
+ * tolerance until eps_k <= eps_target (1 - safety^2: then safety times
+ * the step of theta + residual is at most the step of the probable
+ * bound), or maxit steps, or an invariant subspace, and the result is
+ * DTM_CERT_PROBABLE with eps, failure and bound (when eps_k < 1);
+ * converged is judged at tol, whatever the heuristic's stricter pass. A
+ * negative eps_target asks for no probable layer (as
+ * dtm_lanczos_max_certified). */
+DTM_EXPORT int dtm_lanczos_max_probable(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
+                                        double budget, int suspect, double eps_target, dtm_lanczos_result *r);
 
 typedef struct {
   int steps;     /* steps taken */

@@ -68,7 +68,9 @@ class Result:
       nodes of no analysed element)
     - ``dt_min`` s and ``dt_min_element`` (Gmsh tag): the element bound;
       ``dt_nodal``, ``dt_global`` s (NaN when not computed);
-      ``recommended`` s: safety x the best guaranteed-safe estimate;
+      ``recommended`` s: safety x the best guaranteed-safe estimate (on the
+      global estimate without a deterministic proof, at most the probable
+      bound's certified step: the report's lanczos.probable);
       ``basis``: "element bound", "nodal bound" or "global estimate"
     - ``effects``: effect names in scene order; ``views``: view name -> Gmsh
       view tag of the views added to the session (empty with views=False)

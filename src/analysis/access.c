@@ -57,6 +57,8 @@ double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element) {
 double dtm_analysis_dt_nodal(const dtm_analysis *a) { return a->dt_nodal; }
 double dtm_analysis_dt_global(const dtm_analysis *a) { return a->dt_global; }
 double dtm_analysis_recommended(const dtm_analysis *a) { return a->recommended; }
+int dtm_analysis_recommended_certified(const dtm_analysis *a) { return a->rec_certified; }
+void dtm_analysis_set_lanczos_seed(dtm_analysis *a, unsigned seed) { a->lanczos_seed = seed; }
 const char *dtm_analysis_basis(const dtm_analysis *a) { return a->basis; }
 double dtm_analysis_basis_step(const dtm_analysis *a) { return a->best; }
 const double *dtm_analysis_local_step(const dtm_analysis *a) { return a->local; }

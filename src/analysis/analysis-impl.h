@@ -58,6 +58,8 @@ struct dtm_analysis {
                                  the target's global step); 0 without a target */
   int global_basis;           /* 1 when a converged global estimate may be the
                                  basis (run --posterior), 0 otherwise */
+  int rec_certified;          /* 1 when recommended is the probable bound's step */
+  unsigned lanczos_seed;      /* the global estimate's start seed (0: the default) */
   double *local;              /* [nel] each element's own safe step before safety,
                                  s: per limiting effect the larger of its element
                                  step (when a bound) and the smallest nodal bound

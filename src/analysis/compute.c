@@ -289,7 +289,7 @@ static int summarize(dtm_analysis *a) {
   for (size_t i = 0; i < a->nel; i++)
     if (before(a, a->dt[i], i, a->dt_min, a->el_min)) a->dt_min = a->dt[i], a->el_min = i;
   for (int k = 0; k < a->neffects; k++) {
-    a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = NAN;
+    a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = a->per_effect[k].certified = NAN;
     a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */
     a->per_effect[k].omega = NAN;
     if (!a->dt_effect[k]) continue;

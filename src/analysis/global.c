@@ -10,7 +10,17 @@
  * certified where that is affordable (dtm_lanczos_max_certified: the
  * factorisation of sigma I - A proves every eigenvalue below sigma, and a
  * refuted bound sends Lanczos on, stricter); where it is not, a mesh with
- * point masses runs Lanczos to tol * 1e-4 instead (not a proof). The caller
+ * point masses runs Lanczos to tol * 1e-4 instead (not a proof), and the
+ * probable layer (dtm_lanczos_max_probable) goes on until the
+ * Kuczynski-Wozniakowski bound's eps_k is at most 1 - safety^2 (waves;
+ * 1 - safety for diffusion, whose step goes as 1 / lambda): then
+ * lambda_max <= theta / (1 - eps_k) with probability at least 1 - 1e-12
+ * for any spectrum, and its step (dt_certified, mapped from lambda to dt
+ * by step_of like every other estimate) is at least safety x the global
+ * step, so dtm_recommend can take the smaller of the two (at safety 1,
+ * eps_k cannot reach 0 and Lanczos runs its maxit steps: the recommended
+ * step is then the certified one). The global step itself (theta +
+ * residual) stays an estimate with its tolerance. The caller
  * decides whether a converged estimate may be the basis at all (run
  * --posterior), so that verify, which needs the modes, checks exactly the
  * step run reports, and refine's mass round estimates through here too.
@@ -132,35 +142,50 @@ static int has_point_masses(const dtm_analysis *a) {
   return 0;
 }
 
+/* The probable bound's step (NaN when there is none). */
+static int certified_step(dtm_analysis *a, int k, const dtm_lanczos_result *lr, dtm_global_info *g) {
+  g->deterministic = lr->deterministic, g->eps = lr->eps, g->failure = lr->failure;
+  g->nbound = lr->nbound, g->seed = lr->seed, g->dt_certified = NAN;
+  if (lr->certified != DTM_CERT_PROBABLE) return DTM_OK;
+  return step_of(a, k, lr->bound, &g->dt_certified);
+}
+
 static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int want_mode) {
   dtm_global_info *g = &a->global[k];
   dtm_operator *op = NULL;
   dtm_lanczos_result lr;
   memset(&lr, 0, sizeof lr);
+  unsigned seed = a->lanczos_seed ? a->lanczos_seed : LANCZOS_SEED;
+  /* the eps at which safety x the step of theta is the probable bound's step:
+     dt ~ lambda^-1/2 for waves, lambda^-1 for diffusion */
+  double safety = a->scene->safety, eps_target = dtm_analysis_is_wave(a, k) ? 1 - safety * safety : 1 - safety;
   int r = dtm_analysis_operator(a, k, 0.0, &op);
   if (a->x) /* the whole mesh's operator, of which op is this part's share */
-    r = a->x->eigen(a->x->ctx, r, op, tol, maxit, LANCZOS_SEED, &lr);
+    r = a->x->eigen(a->x->ctx, r, op, tol, maxit, seed, &lr);
   else if (r == DTM_OK)
-    r = dtm_lanczos_max_certified(op, tol, maxit, LANCZOS_SEED, want_mode, cert_budget(a), has_point_masses(a), &lr);
+    r = dtm_lanczos_max_probable(op, tol, maxit, seed, want_mode, cert_budget(a), has_point_masses(a), eps_target, &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
-  *g = (dtm_global_info){1,
-                         lr.theta,
-                         lr.residual,
-                         lr.iterations,
-                         lr.converged,
-                         lr.seconds,
-                         NAN,
-                         NAN,
-                         sqrt(lr.theta + lr.residual),
-                         lr.mode,
-                         lr.certified,
-                         {lr.cert_predicted[0], lr.cert_predicted[1]},
-                         cert_budget(a),
-                         lr.cert_seconds};
+  *g = (dtm_global_info){.done = 1,
+                         .theta = lr.theta,
+                         .residual = lr.residual,
+                         .iterations = lr.iterations,
+                         .converged = lr.converged,
+                         .seconds = lr.seconds,
+                         .dt_low = NAN,
+                         .dt_high = NAN,
+                         .omega_top = sqrt(lr.theta + lr.residual),
+                         .mode = lr.mode,
+                         .certified = lr.certified,
+                         .cert_predicted = {lr.cert_predicted[0], lr.cert_predicted[1]},
+                         .cert_budget = cert_budget(a),
+                         .cert_seconds = lr.cert_seconds};
   DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
   DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
+  DTM_CHECK(certified_step(a, k, &lr, g));
+  g->seed = seed; /* also for a distributed run */
   a->per_effect[k].global = g->converged ? g->dt_low : NAN;
+  a->per_effect[k].certified = g->converged ? g->dt_certified : NAN;
   return DTM_OK;
 }
 

@@ -19,7 +19,7 @@ static void drop_mass_dependent(dtm_analysis *a) {
   for (int k = 0; a->global && k < a->neffects; k++) free(a->global[k].mode);
   free(a->global);
   a->global = NULL, a->global_basis = 0;
-  for (int k = 0; k < a->neffects; k++) a->per_effect[k].global = NAN;
+  for (int k = 0; k < a->neffects; k++) a->per_effect[k].global = a->per_effect[k].certified = NAN;
 }
 
 int dtm_analysis_set_point_masses(dtm_analysis *a, const double *kg) {

@@ -4,7 +4,12 @@
  * bound, and never below the element bound when that is a bound; a length
  * rule such as min-edge is not, and then only the nodal and global
  * estimates count), then the smallest over the effects, times the scene's
- * safety factor.
+ * safety factor. Where an effect's basis is the global estimate with no
+ * deterministic proof (global.c: the probable layer), its step is the
+ * smaller of safety x the global step and the probable bound's certified
+ * step, and never below safety x its element or nodal bound (both proofs):
+ * the recommended step is then safe with probability at least 1 - 1e-12
+ * for any spectrum, at any safety (at safety 1, the certified step).
  * Also each element's own safe step, the same rule taken locally: per
  * effect the larger of the element's step (when a bound) and the smallest
  * nodal bound at its nodes. Its minimum over the elements is at least the
@@ -18,6 +23,7 @@
  * asks nothing of any element, and no element is reported below it. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "analysis-impl.h"
 
@@ -29,22 +35,38 @@ static double effect_safe(const dtm_effect_min *pe, int use_global, const char *
   return safe;
 }
 
+/* Effect pe's step, safety included: safety x its safe step, capped by
+ * the probable bound's certified step when the global estimate is its
+ * basis, but never below safety x its bound (element or nodal). */
+static double effect_step(const dtm_effect_min *pe, double safety, double bound, const char *basis, int *capped) {
+  double step = safety * pe->safe;
+  *capped = 0;
+  if (strcmp(basis, "global estimate") || !(pe->certified < step)) return step;
+  double floor = safety * bound;
+  *capped = pe->certified > floor;
+  return fmax(pe->certified, floor);
+}
+
 void dtm_recommend(dtm_analysis *a) {
-  double best = INFINITY, bound = INFINITY;
+  double best = INFINITY, bound = INFINITY, rec = INFINITY, safety = a->scene->safety;
   a->dt_nodal = a->dt_global = NAN;
   a->basis = "element bound";
+  a->rec_certified = 0;
   for (int k = 0; k < a->neffects; k++) {
     dtm_effect_min *pe = &a->per_effect[k];
     if (!a->dt_effect[k]) continue;
     const char *basis, *unused;
+    int capped;
     pe->safe = effect_safe(pe, a->global_basis, &basis);
-    bound = fmin(bound, effect_safe(pe, 0, &unused));
+    double own = effect_safe(pe, 0, &unused), step = effect_step(pe, safety, own, basis, &capped);
+    bound = fmin(bound, own);
     if (isfinite(pe->nodal) && !(pe->nodal >= a->dt_nodal)) a->dt_nodal = pe->nodal;
     if (isfinite(pe->global) && !(pe->global >= a->dt_global)) a->dt_global = pe->global;
     if (pe->safe < best) best = pe->safe, a->basis = basis;
+    if (step < rec) rec = step, a->rec_certified = capped;
   }
   a->best = best;
-  a->recommended = a->scene->safety * best;
+  a->recommended = isfinite(rec) ? rec : safety * best;
   double t = a->scene->target;
   a->advice_target = t > 0 && isfinite(best) && bound < best ? t * bound / best : t > 0 ? t : 0;
 }

@@ -20,6 +20,8 @@ double dtm_rng_uniform(uint64_t *state, double lo, double hi);
 /* Uniform in [lo, hi) for one key of a seeded field, independent of any
  * other draw (order-free: the same key always gives the same value). */
 double dtm_rng_uniform_at(uint64_t seed, uint64_t key, double lo, double hi);
+/* A standard normal value of key (Box-Muller), drawn like dtm_rng_uniform_at. */
+double dtm_rng_normal_at(uint64_t seed, uint64_t key);
 
 /* The first error raised inside an OpenMP parallel region. The error record
  * is thread-local, so a worker's message would otherwise be lost (and stay

@@ -27,6 +27,7 @@ typedef struct {
   int top;                 /* --top N: elements listed as the smallest steps (default 10; 0: none) */
   double tol;              /* --tol: Lanczos relative residual */
   int lanczos_max;         /* --lanczos-max: Lanczos steps */
+  int seed;                /* --seed: the Lanczos start vector's seed (0: the default) */
   int max_iter;            /* refine --max-iter: rounds */
   double max_added_mass;   /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
   int keep_counts;         /* refine --keep-counts: the model's transfinite node counts stay */

@@ -73,6 +73,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a), dtm_cli_warn_units(a);
+  if (r == DTM_OK) dtm_analysis_set_lanczos_seed(a, (unsigned)o->seed);
   if (r == DTM_OK && (o->posterior || s->posterior))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);

@@ -31,6 +31,12 @@
     "--lanczos-max", CLI_INT, OPT(lanczos_max), 0, 1, 100000, "K", "Lanczos steps at most (default 400)"               \
   }
 
+#define SEED_OPTION                                                                                                    \
+  {                                                                                                                    \
+    "--seed", CLI_INT, OPT(seed), 0, 1, 2147483647, "S",                                                               \
+        "seed of the Lanczos start vector (default 20261121; the report gives it)"                                     \
+  }
+
 #define PICTURE_OPTIONS                                                                                                \
   {"--width", CLI_INT, OPT(width), 0, 64, 3800, "W", "picture width, pixels (default 1024)"}, {                        \
     "--height", CLI_INT, OPT(height), 0, 64, 3800, "H", "picture height, pixels (default 768)"                         \
@@ -70,6 +76,7 @@ static const cli_option run_options[] = {
     {"--solver-rule", CLI_STRING, OPT(solver_rule), 0, 0, 0, "LIST",
      "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
     LANCZOS_OPTIONS,
+    SEED_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -91,6 +98,7 @@ static const cli_option verify_options[] = {
      "--accuracy: the whole plane wave for N periods (default: a packet until it meets the boundary)"},
     TOP_OPTION,
     LANCZOS_OPTIONS,
+    SEED_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
@@ -138,6 +146,7 @@ static const cli_option deck_options[] = {
      "with --target: exit 1 if the mass needed is above P % of the model's (default: <time max-added-mass>)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report, with the deck's step and estimates"},
     LANCZOS_OPTIONS,
+    SEED_OPTION,
     THREADS_OPTION,
     VERBOSITY_OPTIONS,
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};

@@ -61,8 +61,10 @@ int dtm_cli_write_outputs(dtm_results *res, const cli_opts *o, const char *suffi
 static void print_brief(const dtm_analysis *a) {
   const dtm_scene *s = dtm_analysis_scene(a);
   printf("mesh         %zu elements, %zu nodes\n", dtm_analysis_nelements(a), dtm_analysis_mesh(a)->nnodes);
-  printf("recommended  %.4e s = safety %.2f x %.4e s (%s); dtmap run gives the whole summary\n",
-         dtm_analysis_recommended(a), s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  printf("recommended  %.4e s = %s %.2f x %.4e s (%s); dtmap run gives the whole summary\n",
+         dtm_analysis_recommended(a),
+         dtm_analysis_recommended_certified(a) ? "the probable bound's certified step, below safety" : "safety",
+         s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
 }
 
 static void print_verify(const dtm_analysis *a, double dt, int steps, const dtm_verify_effect *v) {
@@ -259,6 +261,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
   if (r == DTM_OK) dtm_cli_warn_curved(a);
   if (r == DTM_OK && !o->verbosity) dtm_cli_warn_units(a); /* else in the summary */
+  if (r == DTM_OK) dtm_analysis_set_lanczos_seed(a, (unsigned)o->seed);
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);

@@ -267,8 +267,14 @@ void deck_header(const deck_ctx *c, const char *cm) {
   fprintf(f, "%s dtmap %s: %s input deck\n%s scene: %s\n", cm, dtm_version(), in->title, cm, c->s->path);
   fprintf(f, "%s %zu nodes, %zu elements, %d element sets and %d node sets (one per physical group)\n", cm, in->nodes,
           in->elements, in->element_sets, in->node_sets);
-  fprintf(f, "%s step: %.10g s, %s (dtmap's recommended step %.10g s: safety %g x the %s)\n", cm, in->step, in->basis,
-          in->recommended, c->s->safety, dtm_analysis_basis(c->a));
+  if (dtm_analysis_recommended_certified(c->a))
+    fprintf(f,
+            "%s step: %.10g s, %s (dtmap's recommended step %.10g s: the probable bound's certified step, below "
+            "safety %g x the %s)\n",
+            cm, in->step, in->basis, in->recommended, c->s->safety, dtm_analysis_basis(c->a));
+  else
+    fprintf(f, "%s step: %.10g s, %s (dtmap's recommended step %.10g s: safety %g x the %s)\n", cm, in->step, in->basis,
+            in->recommended, c->s->safety, dtm_analysis_basis(c->a));
   if (isnan(in->own))
     fprintf(f, "%s %s's own estimate (%s) covers none of these elements\n", cm, in->title, in->own_rule);
   else

@@ -38,6 +38,7 @@ void dtm_report_steps(cJSON *dt, const dtm_analysis *a, int effect) {
   cJSON_AddNumberToObject(dt, "basis_step", dtm_analysis_basis_step(a));
   if (isfinite(dtm_analysis_dt_nodal(a))) cJSON_AddNumberToObject(dt, "nodal", dtm_analysis_dt_nodal(a));
   if (isfinite(dtm_analysis_dt_global(a))) cJSON_AddNumberToObject(dt, "global", dtm_analysis_dt_global(a));
+  cJSON_AddBoolToObject(dt, "recommended_certified", dtm_analysis_recommended_certified(a));
   if (s->target > 0) cJSON_AddNumberToObject(dt, "target", s->target);
 }
 
@@ -58,9 +59,20 @@ static cJSON *lanczos_json(const dtm_global_info *g) {
   cJSON_AddNumberToObject(o, "seconds", g->seconds);
   double br[2] = {g->dt_low, g->dt_high};
   cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
-  static const char *const cert[] = {"none", "proven", "too dear", "unavailable", "refuted"};
-  if (g->certified >= 0 && g->certified <= DTM_CERT_REFUTED)
+  static const char *const cert[] = {"none", "proven", "too dear", "unavailable", "refuted", "probable"};
+  if (g->certified >= 0 && g->certified <= DTM_CERT_PROBABLE)
     cJSON_AddStringToObject(o, "certificate", cert[g->certified]);
+  if (g->deterministic >= 0 && g->deterministic <= DTM_CERT_REFUTED)
+    cJSON_AddStringToObject(o, "deterministic", cert[g->deterministic]);
+  cJSON_AddNumberToObject(o, "seed", g->seed);
+  if (g->certified == DTM_CERT_PROBABLE) {
+    cJSON *p = cJSON_AddObjectToObject(o, "probable");
+    cJSON_AddNumberToObject(p, "failure", g->failure);
+    cJSON_AddNumberToObject(p, "eps", g->eps);
+    cJSON_AddNumberToObject(p, "steps", g->iterations);
+    cJSON_AddNumberToObject(p, "n", g->nbound);
+    cJSON_AddNumberToObject(p, "dt_certified", g->dt_certified);
+  }
   return o;
 }
 

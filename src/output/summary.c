@@ -98,14 +98,39 @@ static void print_where(const dtm_analysis *a, size_t i, FILE *f) {
           group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2]);
 }
 
-/* What the refused factorisation would have cost, against what it was
- * allowed (src/analysis/global.c). */
-static void print_too_dear(const dtm_global_info *g, FILE *f) {
-  if (isfinite(g->cert_predicted[0]))
-    fprintf(f, ": %.3g flops and %.3g MB predicted", g->cert_predicted[0], g->cert_predicted[1] / 1e6);
+/* What the factorisation cost, or what the refused one would have cost
+ * against what it was allowed (src/analysis/global.c). */
+static void print_factorisation(const dtm_global_info *g, FILE *f) {
+  if (g->deterministic == DTM_CERT_PROVEN || g->certified == DTM_CERT_PROVEN)
+    fprintf(f, "             factorisation of %.3g flops, %.3g MB, %.2f s\n", g->cert_predicted[0],
+            g->cert_predicted[1] / 1e6, g->cert_seconds);
+  else if (g->deterministic == DTM_CERT_TOO_DEAR && isfinite(g->cert_predicted[0]))
+    fprintf(f,
+            "             factorisation too dear: %.3g flops and %.3g MB predicted, %.3g flops allowed (%.2f s to "
+            "predict)\n",
+            g->cert_predicted[0], g->cert_predicted[1] / 1e6, g->cert_budget, g->cert_seconds);
+  else if (g->deterministic == DTM_CERT_TOO_DEAR)
+    fprintf(f, "             factorisation too dear: the mesh is too large to order, %.3g flops allowed (%.2f s)\n",
+            g->cert_budget, g->cert_seconds);
+}
+
+/* Which proof holds for the global estimate, in words. */
+static void print_certificate(const dtm_global_info *g, FILE *f) {
+  const char *why = g->deterministic == DTM_CERT_TOO_DEAR      ? "factorisation too dear"
+                    : g->deterministic == DTM_CERT_UNAVAILABLE ? "no factorisation for shells or beams"
+                                                               : "no factorisation in a distributed run";
+  if (g->certified == DTM_CERT_PROVEN)
+    fprintf(f, "             bound proven: the factorisation shows no eigenvalue above theta + residual\n");
+  else if (g->certified == DTM_CERT_PROBABLE)
+    fprintf(f,
+            "             bound probable (%s): the step %.4e s is at or below the exact step but with\n"
+            "             probability %.0e (Kuczynski-Wozniakowski, %d steps, eps %.3g, n %.0f)\n",
+            why, g->dt_certified, g->failure, g->iterations, g->eps, g->nbound);
   else
-    fprintf(f, ": the mesh is too large to order");
-  fprintf(f, ", %.3g flops allowed; %.2f s to predict)", g->cert_budget, g->cert_seconds);
+    fprintf(f, "             bound not proven (%s%s)\n", why,
+            g->deterministic == DTM_CERT_TOO_DEAR || g->deterministic == DTM_CERT_UNAVAILABLE
+                ? "; too few Lanczos steps for the probable bound"
+                : "");
 }
 
 static void print_effect_minima(const dtm_analysis *a, FILE *f) {
@@ -125,18 +150,12 @@ static void print_effect_minima(const dtm_analysis *a, FILE *f) {
   for (int k = 0; k < ne; k++) {
     const dtm_global_info *g = dtm_analysis_global(a, k);
     if (!g) continue;
-    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s), %s%s", effect_name(a, k),
-            g->dt_low, g->dt_high, g->iterations, g->seconds,
-            g->converged ? "converged" : "NOT converged: the nodal bound stays the basis",
-            !g->converged                          ? ""
-            : g->certified == DTM_CERT_PROVEN      ? ", bound proven (factorisation"
-            : g->certified == DTM_CERT_TOO_DEAR    ? ", bound not proven (factorisation too dear"
-            : g->certified == DTM_CERT_UNAVAILABLE ? ", bound not proven (shells or beams)"
-                                                   : "");
-    if (g->converged && g->certified == DTM_CERT_TOO_DEAR) print_too_dear(g, f);
-    if (g->converged && g->certified == DTM_CERT_PROVEN)
-      fprintf(f, " of %.3g flops, %.3g MB, %.2f s)", g->cert_predicted[0], g->cert_predicted[1] / 1e6, g->cert_seconds);
-    fprintf(f, "\n");
+    fprintf(f, "global       %-10s dt in [%.4e, %.4e] s after %d Lanczos steps (%.2f s, seed %u), %s\n",
+            effect_name(a, k), g->dt_low, g->dt_high, g->iterations, g->seconds, g->seed,
+            g->converged ? "converged (an estimate at its tolerance)"
+                         : "NOT converged: the nodal bound stays the basis");
+    if (g->converged) print_certificate(g, f);
+    if (g->converged) print_factorisation(g, f);
   }
 }
 
@@ -144,8 +163,14 @@ static void print_min(const dtm_analysis *a, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
   size_t el;
   double rec = dtm_analysis_recommended(a);
-  fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s): the step; cost, subcycling, mass scaling\n", rec,
-          s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  if (dtm_analysis_recommended_certified(a))
+    fprintf(f,
+            "recommended  %.4e s = the probable bound's certified step, below safety %.2f x %.4e s (%s):\n"
+            "             the step; cost, subcycling, mass scaling\n",
+            rec, s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
+  else
+    fprintf(f, "recommended  %.4e s = safety %.2f x %.4e s (%s): the step; cost, subcycling, mass scaling\n", rec,
+            s->safety, dtm_analysis_basis_step(a), dtm_analysis_basis(a));
   fprintf(f, "             and verify all use it\n");
   fprintf(f, "elem. bound  %.4e s, the dt map's own minimum (a bound, not the step) at ", dtm_analysis_dt_min(a, &el));
   print_where(a, el, f);

@@ -1,29 +1,48 @@
 /* The global spectral estimate: the largest eigenvalue of M^-1 K by the
  * Lanczos recurrence on the symmetric A = M^-1/2 K M^-1/2 (dofs without
- * mass stay 0), started from a vector drawn by splitmix64 from the seed.
- * Only three vectors are kept and there is no reorthogonalisation beyond
- * a second local pass against the newest vector: for the extreme
- * eigenvalue from a random start that is enough (lost orthogonality only
- * adds spurious copies of converged Ritz values). After each step the top
- * eigenvalue theta of the tridiagonal T_k is found by Sturm bisection to
- * full precision and its unit eigenvector s by inverse iteration, which
- * gives the residual estimate |beta_k s_k|. The run stops when that is
- * <= tol * theta, at maxit steps, or when beta_k vanishes (an invariant
- * subspace: theta is then exact). The Ritz vector y = V s is built by
- * running the recurrence a second time from the same start (k - 1 more
- * products, no stored basis, so the memory stays at four vectors whatever
- * k is), and one last product measures the true residual ||A y - theta y||,
- * which is what the result reports.
+ * mass stay 0), started from a vector uniform on the unit sphere of the
+ * dofs with mass: a standard normal value per dof, drawn by splitmix64 from
+ * the seed and the node's Gmsh tag (Box-Muller), normalised.
+ * Every new direction is reorthogonalised in full against the stored basis
+ * V_k (classical Gram-Schmidt, a second pass where the first took much
+ * off), so V_k stays orthonormal to a small
+ * multiple of k eps and T_k = V_k^T A V_k to rounding: the top eigenvalue
+ * theta of T_k is then the largest Rayleigh quotient of A over the Krylov
+ * space K_k(A, v_0) up to O(k eps |A|), the quantity the
+ * Kuczynski-Wozniakowski bound is about, and it never exceeds lambda_max
+ * (beyond that rounding) whatever k is. Without reorthogonalisation lost
+ * orthogonality brings spurious copies of converged Ritz values and T_k is
+ * no longer a projection of A. The basis costs k ndof doubles, and gives
+ * the Ritz vector y = V_k s directly.
+ * After each step theta is found by Sturm bisection to full precision and
+ * its unit eigenvector s by inverse iteration, which gives the residual
+ * estimate |beta_k s_k|. The run stops when that is <= tol * theta, at
+ * maxit steps, or when beta_k vanishes (an invariant subspace: theta is
+ * then exact). One last product measures the true residual
+ * ||A y - theta y||, which is what the result reports.
  * theta + residual bounds the eigenvalue nearest theta, not necessarily the
  * largest: from a start that holds little of the top mode, with the top
  * two eigenvalues closer than a few tol, Lanczos meets its tolerance on
  * the second. dtm_lanczos_max_certified then checks the bound by the
- * factorisation of certify.c and goes on from where it stopped (the
- * recurrence's three vectors are kept) at a stricter tolerance while the
- * bound is refuted; where the factorisation is too dear it goes on to tol
- * * 1e-4 when the caller suspects a cluster (point masses) or T_k shows
- * one (its second Ritz value within 10 tol of theta), which is a
- * heuristic, not a proof. */
+ * factorisation of certify.c and goes on from where it stopped at a
+ * stricter tolerance while the bound is refuted; where the factorisation
+ * is too dear it goes on to tol * 1e-4 when the caller suspects a cluster
+ * (point masses) or T_k shows one (its second Ritz value within 10 tol of
+ * theta), which is a heuristic, not a proof.
+ * dtm_lanczos_max_probable adds the probable layer there: by Kuczynski and
+ * Wozniakowski (SIAM J. Matrix Anal. Appl. 13(4), 1992), for any symmetric
+ * positive semi-definite A of order n (here the dofs with mass) and a start
+ * uniform on the unit sphere, P((lambda_max - theta_k) / lambda_max >= eps)
+ * <= 1.648 sqrt(n) exp(-sqrt(eps) (2k - 1)) in exact arithmetic, whatever
+ * the spectrum and its gaps. With eps_k the smallest eps whose bound is
+ * <= DTM_LANCZOS_FAILURE, lambda_max <= theta_k / (1 - eps_k) but for that
+ * probability; theta_k is raised by 10 k eps |T_k| first for the rounding
+ * of the reorthogonalised recurrence. Lanczos goes on past its tolerance
+ * until eps_k meets the caller's target; converged is then judged at the
+ * caller's tolerance (the heuristic's stricter one may run out of steps,
+ * and the probable bound caps the step instead). The seed is the caller's (the
+ * report gives it); the bound is over the draw of the start, so it holds
+ * for a seed chosen without looking at the matrix. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -41,6 +60,10 @@ typedef struct {
   unsigned seed;
   double *vp, *v, *w; /* v_{j-1}, v_j, and the next direction */
   double bprev;       /* beta_{j-1} */
+  double **V;         /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
+  int nv;             /* vectors stored */
+  double *c;          /* [maxit] Gram-Schmidt coefficients */
+  double nmass;       /* dofs with mass: the order of the bound */
 } lz_state;
 
 typedef struct {
@@ -50,6 +73,7 @@ typedef struct {
   double *work;      /* [5 maxit] tridiagonal solver */
   double theta, est; /* top Ritz value, |beta_k s_k| */
   int invariant;     /* beta_k vanished */
+  int kmax;          /* maxit, or fewer when the basis could not grow */
 } lz_tri;
 
 static double dot(size_t n, const double *x, const double *y) {
@@ -58,40 +82,79 @@ static double dot(size_t n, const double *x, const double *y) {
   return s;
 }
 
-/* v_0: uniform in [-1, 1) on the dofs with mass (drawn per Gmsh node tag,
- * so the start does not depend on the node order), unit norm; 0 when there
- * are none. */
+/* Append a copy of v to the basis; 0 when it cannot grow (memory). */
+static int keep(lz_state *z, const double *v) {
+  double *q = malloc((z->n ? z->n : 1) * sizeof *q);
+  if (!q) return 0;
+  memcpy(q, v, z->n * sizeof *q);
+  z->V[z->nv++] = q;
+  return 1;
+}
+
+/* v_0: standard normal on the dofs with mass (drawn per Gmsh node tag, so
+ * the start does not depend on the node order), unit norm: uniform on the
+ * unit sphere of those dofs; 0 when there are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  dtm_operator_draw(z->op, z->seed, -1.0, 1.0, z->v);
+  dtm_operator_draw_normal(z->op, z->seed, z->v);
+  z->nmass = 0;
   for (size_t i = 0; i < z->n; i++) {
     z->v[i] = m[i] > 0 ? z->v[i] : 0;
+    z->nmass += m[i] > 0;
     z->vp[i] = 0;
   }
   double nv = sqrt(dot(z->n, z->v, z->v));
   for (size_t i = 0; i < z->n && nv > 0; i++) z->v[i] /= nv;
   z->bprev = 0;
-  return nv;
+  return nv > 0 && keep(z, z->v) ? nv : 0;
 }
 
-/* w = A v_j - a v_j - beta_{j-1} v_{j-1}, with a second pass against v_j. */
+#define GS_CHUNK 4096 /* unknowns per block of the Gram-Schmidt update */
+
+/* One classical Gram-Schmidt pass of w against the basis, the update by
+ * blocks of w that stay in cache while the basis streams past; returns the
+ * coefficient of the newest vector. Serial: on a loaded machine OpenMP here
+ * cost more than it saved (docs/estimators.md). */
+static double orthogonalise(lz_state *z) {
+  size_t n = z->n, nb = (n + GS_CHUNK - 1) / GS_CHUNK;
+  int nv = z->nv;
+  double *c = z->c, *w = z->w, *const *V = z->V;
+  for (int j = 0; j < nv; j++) c[j] = dot(n, w, V[j]);
+  for (size_t b = 0; b < nb; b++) {
+    size_t lo = b * GS_CHUNK, hi = lo + GS_CHUNK < n ? lo + GS_CHUNK : n;
+    for (int j = 0; j < nv; j++)
+      for (size_t i = lo; i < hi; i++) w[i] -= c[j] * V[j][i];
+  }
+  return c[nv - 1];
+}
+
+/* w = A v_j - a v_j - beta_{j-1} v_{j-1}, then reorthogonalised against
+ * v_0 .. v_j, a second time when the first pass left less than 1/sqrt(2)
+ * of w's length (Daniel, Gragg, Kaufman and Stewart's criterion: one pass
+ * that removes little leaves w orthogonal to working precision, and after
+ * one that removes much the second restores it). */
 static void lz_step(lz_state *z, double *a, double *b) {
   size_t n = z->n;
   dtm_operator_apply_sym(z->op, z->v, z->w);
   *a = dot(n, z->w, z->v);
   for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + z->bprev * z->vp[i];
-  double c = dot(n, z->w, z->v);
-  for (size_t i = 0; i < n; i++) z->w[i] -= c * z->v[i];
-  *a += c;
+  double before = sqrt(dot(n, z->w, z->w));
+  *a += orthogonalise(z);
   *b = sqrt(dot(n, z->w, z->w));
+  if (*b < 0.7071067811865476 * before) { /* 1/sqrt(2) */
+    *a += orthogonalise(z);
+    *b = sqrt(dot(n, z->w, z->w));
+  }
 }
 
-/* v_{j+1} = w / b; the old v_{j-1} becomes the next w. */
-static void lz_advance(lz_state *z, double b) {
+/* v_{j+1} = w / b, kept in the basis; the old v_{j-1} becomes the next w.
+ * 0 when the basis cannot grow. */
+static int lz_advance(lz_state *z, double b) {
   double *t = z->vp;
   z->vp = z->v, z->v = z->w, z->w = t;
   for (size_t i = 0; i < z->n; i++) z->v[i] /= b;
   z->bprev = b;
+  return keep(z, z->v);
 }
 
 /* ---- the tridiagonal T_k -------------------------------------------- */
@@ -190,8 +253,6 @@ static void tri_update(lz_tri *t) {
 
 /* ---- the two passes -------------------------------------------------- */
 
-/* First pass: steps until the estimate meets tol, T_k becomes invariant
- * or maxit steps are taken. */
 /* How far the residual estimate est has come down towards tol * theta,
  * on a log scale (for the progress hook). */
 static double fraction_done(const lz_tri *t, double tol) {
@@ -200,10 +261,21 @@ static double fraction_done(const lz_tri *t, double tol) {
   return f < 0 ? 0 : f > 1 ? 1 : f;
 }
 
-static void first_pass(lz_state *z, lz_tri *t, double tol, int maxit) {
-  if (t->k > 0) { /* go on from where an earlier pass stopped */
-    if (t->invariant || t->k == maxit || t->est <= tol * t->theta) return;
-    lz_advance(z, t->b[t->k - 1]);
+/* Done when the estimate meets tol and eps_k meets eps_target (INFINITY:
+ * no probable layer), T_k became invariant, or no step is left. */
+static int done(const lz_state *z, const lz_tri *t, double tol, double eps_target) {
+  if (t->invariant || t->k >= t->kmax) return 1;
+  return t->est <= tol * t->theta && dtm_lanczos_kw_eps(z->nmass, t->k, DTM_LANCZOS_FAILURE) <= eps_target;
+}
+
+/* Steps until done; goes on from where an earlier pass stopped. */
+static void first_pass(lz_state *z, lz_tri *t, double tol, double eps_target) {
+  if (t->k > 0) {
+    if (done(z, t, tol, eps_target)) return;
+    if (!lz_advance(z, t->b[t->k - 1])) {
+      t->kmax = t->k;
+      return;
+    }
     t->k++;
   } else
     t->k = 1;
@@ -211,27 +283,24 @@ static void first_pass(lz_state *z, lz_tri *t, double tol, int maxit) {
     lz_step(z, &t->a[t->k - 1], &t->b[t->k - 1]);
     tri_update(t);
     dtm_progress_update(fraction_done(t, tol));
-    if (t->est <= tol * t->theta || t->invariant || t->k == maxit) return;
-    lz_advance(z, t->b[t->k - 1]);
+    if (done(z, t, tol, eps_target)) return;
+    if (!lz_advance(z, t->b[t->k - 1])) {
+      t->kmax = t->k;
+      return;
+    }
   }
 }
 
-/* Second pass: y = V_k s (unit), then the true residual ||A y - theta y||,
- * with A y left in z->w. */
-static double ritz(lz_state *z, const lz_tri *t, double *y) {
-  double a, b;
-  lz_start(z);
+/* y = V_k s (unit), then the true residual ||A y - theta y|| (ay: [n]
+ * workspace). */
+static double ritz(lz_state *z, const lz_tri *t, double *y, double *ay) {
   memset(y, 0, z->n * sizeof *y);
-  for (int j = 0; j < t->k; j++) {
-    for (size_t i = 0; i < z->n; i++) y[i] += t->s[j] * z->v[i];
-    if (j == t->k - 1) break;
-    lz_step(z, &a, &b);
-    lz_advance(z, b);
-  }
+  for (int j = 0; j < t->k; j++)
+    for (size_t i = 0; i < z->n; i++) y[i] += t->s[j] * z->V[j][i];
   double ny = sqrt(dot(z->n, y, y)), r = 0;
   for (size_t i = 0; i < z->n; i++) y[i] /= ny;
-  dtm_operator_apply_sym(z->op, y, z->w);
-  for (size_t i = 0; i < z->n; i++) r += pow(z->w[i] - t->theta * y[i], 2);
+  dtm_operator_apply_sym(z->op, y, ay);
+  for (size_t i = 0; i < z->n; i++) r += pow(ay[i] - t->theta * y[i], 2);
   return sqrt(r);
 }
 
@@ -242,6 +311,8 @@ static void to_field(const dtm_operator *op, size_t n, double *y) {
 }
 
 static void lz_free(lz_state *z, lz_tri *t) {
+  for (int j = 0; z->V && j < z->nv; j++) free(z->V[j]);
+  free(z->V), free(z->c);
   free(z->vp), free(z->v), free(z->w);
   free(t->a), free(t->b), free(t->s), free(t->work);
 }
@@ -252,7 +323,9 @@ static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
   z->w = malloc(n * sizeof(double));
   t->a = malloc(k * sizeof(double)), t->b = malloc(k * sizeof(double));
   t->s = malloc(k * sizeof(double)), t->work = malloc(4 * k * sizeof(double));
-  if (z->vp && z->v && z->w && t->a && t->b && t->s && t->work) return DTM_OK;
+  z->V = calloc(k, sizeof *z->V), z->c = malloc(k * sizeof(double));
+  t->kmax = maxit;
+  if (z->vp && z->v && z->w && t->a && t->b && t->s && t->work && z->V && z->c) return DTM_OK;
   lz_free(z, t);
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Lanczos vectors");
 }
@@ -271,9 +344,10 @@ static int finish(lz_state *z, const lz_tri *t, double tol, int want_mode, dtm_l
     r->converged = t->invariant || t->est <= tol * t->theta;
     return DTM_OK;
   }
-  double *y = malloc(z->n * sizeof *y);
-  if (!y) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Ritz vector");
-  r->residual = ritz(z, t, y);
+  double *y = malloc(z->n * sizeof *y), *ay = malloc(z->n * sizeof *ay);
+  if (!y || !ay) return free(y), free(ay), DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Ritz vector");
+  r->residual = ritz(z, t, y, ay);
+  free(ay);
   r->converged = t->invariant || r->residual <= tol * t->theta;
   to_field(z->op, z->n, y);
   free(r->mode);
@@ -281,19 +355,15 @@ static int finish(lz_state *z, const lz_tri *t, double tol, int want_mode, dtm_l
   return DTM_OK;
 }
 
-static int run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
+static int run(lz_state *z, lz_tri *t, double tol, int want_mode, dtm_lanczos_result *r) {
   if (lz_start(z) == 0) return DTM_ERR(DTM_ERR_INPUT, "the global estimate needs a mesh with mass");
-  first_pass(z, t, tol, maxit);
+  first_pass(z, t, tol, INFINITY);
   return finish(z, t, tol, want_mode, r);
 }
 
-/* Go on from where the last pass stopped, to tol. The Ritz vector's pass
- * replayed the recurrence up to v_k; one more step restores the next
- * direction the first pass had. */
-static int go_on(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, dtm_lanczos_result *r) {
-  double a, b;
-  if (want_mode) lz_step(z, &a, &b);
-  first_pass(z, t, tol, maxit);
+/* Go on from where the last pass stopped, to tol and eps_target. */
+static int go_on(lz_state *z, lz_tri *t, double tol, double eps_target, int want_mode, dtm_lanczos_result *r) {
+  first_pass(z, t, tol, eps_target);
   return finish(z, t, tol, want_mode, r);
 }
 
@@ -301,27 +371,57 @@ static int go_on(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, d
 #define CERT_TIGHTEN 1e-2 /* the tolerance of each */
 #define CLUSTER_GAP 10    /* theta2 within this many tol of theta: a clustered top */
 #define STRICT 1e-4       /* the tolerance factor of the uncertified clustered case */
+#define KW_C 1.648        /* the constant of the Kuczynski-Wozniakowski bound */
+#define ROUND_K 10        /* theta's rounding allowance: ROUND_K k eps |T_k| */
+
+double dtm_lanczos_kw_eps(double n, int k, double p) {
+  if (k < 1 || !(n >= 1) || !(p > 0)) return 1;
+  double l = log(KW_C * sqrt(n) / p);
+  if (l <= 0) return 0;
+  double q = l / (2.0 * k - 1);
+  return q >= 1 ? 1 : q * q;
+}
+
+int dtm_lanczos_kw_steps(double n, double eps, double p) {
+  double l = n >= 1 && p > 0 ? log(KW_C * sqrt(n) / p) : INFINITY;
+  if (l <= 0) return 1;
+  double k = ceil(0.5 * (l / sqrt(eps) + 1));
+  return k < 1 ? 1 : k > INT32_MAX ? INT32_MAX : (int)k;
+}
 
 /* The bound theta + residual checked by the certificate c; a refuted one
  * sends Lanczos on at a stricter tolerance. */
-static int certify(lz_state *z, lz_tri *t, dtm_certifier *c, double tol, int maxit, int want_mode,
-                   dtm_lanczos_result *r) {
+static int certify(lz_state *z, lz_tri *t, dtm_certifier *c, double tol, int want_mode, dtm_lanczos_result *r) {
   for (int tries = 0;; tries++) {
     double margin, t0 = dtm_wtime();
     int below = dtm_certifier_below(c, r->theta + r->residual, &margin);
     r->cert_seconds += dtm_wtime() - t0;
     if (below) return r->residual += margin, r->certified = DTM_CERT_PROVEN, DTM_OK;
     r->certified = DTM_CERT_REFUTED;
-    if (tries == CERT_TRIES || t->invariant || t->k == maxit) return r->converged = 0, DTM_OK;
+    if (tries == CERT_TRIES || t->invariant || t->k >= t->kmax) return r->converged = 0, DTM_OK;
     tol *= CERT_TIGHTEN;
-    DTM_CHECK(go_on(z, t, tol, maxit, want_mode, r));
+    DTM_CHECK(go_on(z, t, tol, INFINITY, want_mode, r));
     if (!r->converged) return DTM_OK;
   }
 }
 
-static int certified_run(lz_state *z, lz_tri *t, double tol, int maxit, int want_mode, double budget, int suspect,
-                         dtm_lanczos_result *r) {
-  DTM_CHECK(run(z, t, tol, maxit, want_mode, r));
+/* The probable layer: on to eps_target, then the bound of the k steps
+ * taken (none when eps_k reaches 1: too few steps to say anything). */
+static int probable(lz_state *z, lz_tri *t, double eps_target, int want_mode, dtm_lanczos_result *r) {
+  DTM_CHECK(go_on(z, t, r->tol_used, eps_target, want_mode, r));
+  double eps = dtm_lanczos_kw_eps(z->nmass, t->k, DTM_LANCZOS_FAILURE), norm;
+  top_eig(t->k, t->a, t->b, 1, &norm);
+  r->nbound = z->nmass;
+  if (!(eps < 1)) return DTM_OK;
+  r->eps = eps, r->failure = DTM_LANCZOS_FAILURE;
+  r->bound = (t->theta + ROUND_K * t->k * DBL_EPSILON * norm) / (1 - eps);
+  r->certified = DTM_CERT_PROBABLE;
+  return DTM_OK;
+}
+
+static int certified_run(lz_state *z, lz_tri *t, double tol, int want_mode, double budget, int suspect,
+                         double eps_target, dtm_lanczos_result *r) {
+  DTM_CHECK(run(z, t, tol, want_mode, r));
   if (!r->converged) return DTM_OK;
   dtm_certifier *c = NULL;
   int status = DTM_CERT_TOO_DEAR;
@@ -329,13 +429,19 @@ static int certified_run(lz_state *z, lz_tri *t, double tol, int maxit, int want
   if (budget > 0) DTM_CHECK(dtm_certifier_create_costed(z->op, budget, &c, &status, r->cert_predicted));
   r->cert_seconds = dtm_wtime() - t0;
   if (c) {
-    int e = certify(z, t, c, tol, maxit, want_mode, r);
+    int e = certify(z, t, c, tol, want_mode, r);
     dtm_certifier_destroy(&c);
+    r->deterministic = r->certified;
     return e;
   }
-  r->certified = status;
+  r->certified = r->deterministic = status;
   int clustered = t->k > 1 && r->theta2 >= (1 - CLUSTER_GAP * tol) * r->theta;
-  if (suspect || clustered) DTM_CHECK(go_on(z, t, tol * STRICT, maxit, want_mode, r));
+  if (suspect || clustered) DTM_CHECK(go_on(z, t, tol * STRICT, INFINITY, want_mode, r));
+  if (eps_target < 0) return DTM_OK;
+  DTM_CHECK(probable(z, t, eps_target, want_mode, r));
+  /* the estimate meets the caller's tolerance even where the heuristic's
+     stricter one ran out of steps: the probable bound now caps the step */
+  r->converged = t->invariant || r->residual <= tol * r->theta;
   return DTM_OK;
 }
 
@@ -343,11 +449,19 @@ int dtm_lanczos_max(const dtm_operator *op, double tol, int maxit, unsigned seed
   return dtm_lanczos_max_ex(op, tol, maxit, seed, 1, r);
 }
 
-static int lanczos(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode, double budget,
-                   int suspect, int certified, dtm_lanczos_result *r) {
+typedef struct {
+  double budget;     /* the certificate's flops (0: none) */
+  int suspect;       /* the caller expects a clustered top */
+  int certified;     /* run the certified layers at all */
+  double eps_target; /* the probable layer's eps (negative: none) */
+} lz_layers;
+
+static int lanczos(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode, const lz_layers *l,
+                   dtm_lanczos_result *r) {
   if (!r) return DTM_ERR(DTM_ERR_INTERNAL, "dtm_lanczos_max: no result");
   memset(r, 0, sizeof *r);
-  r->theta2 = NAN;
+  r->theta2 = r->eps = r->failure = r->bound = NAN;
+  r->seed = seed;
   if (!op || maxit < 1 || !(tol >= 0))
     return DTM_ERR(DTM_ERR_INPUT,
                    "Lanczos needs an operator, maxit >= 1 (got %d) and "
@@ -358,8 +472,8 @@ static int lanczos(const dtm_operator *op, double tol, int maxit, unsigned seed,
   lz_tri t = {0};
   DTM_CHECK(lz_alloc(&z, &t, maxit));
   dtm_progress_begin("Lanczos");
-  int e = certified ? certified_run(&z, &t, tol, maxit, want_mode, budget, suspect, r)
-                    : run(&z, &t, tol, maxit, want_mode, r);
+  int e = l->certified ? certified_run(&z, &t, tol, want_mode, l->budget, l->suspect, l->eps_target, r)
+                       : run(&z, &t, tol, want_mode, r);
   dtm_progress_end();
   lz_free(&z, &t);
   r->seconds = dtm_wtime() - t0;
@@ -369,10 +483,18 @@ static int lanczos(const dtm_operator *op, double tol, int maxit, unsigned seed,
 
 int dtm_lanczos_max_ex(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                        dtm_lanczos_result *r) {
-  return lanczos(op, tol, maxit, seed, want_mode, 0, 0, 0, r);
+  lz_layers l = {0, 0, 0, -1};
+  return lanczos(op, tol, maxit, seed, want_mode, &l, r);
 }
 
 int dtm_lanczos_max_certified(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode,
                               double budget, int suspect, dtm_lanczos_result *r) {
-  return lanczos(op, tol, maxit, seed, want_mode, budget, suspect, 1, r);
+  lz_layers l = {budget, suspect, 1, -1};
+  return lanczos(op, tol, maxit, seed, want_mode, &l, r);
+}
+
+int dtm_lanczos_max_probable(const dtm_operator *op, double tol, int maxit, unsigned seed, int want_mode, double budget,
+                             int suspect, double eps_target, dtm_lanczos_result *r) {
+  lz_layers l = {budget, suspect, 1, eps_target};
+  return lanczos(op, tol, maxit, seed, want_mode, &l, r);
 }

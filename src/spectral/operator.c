@@ -584,6 +584,16 @@ void dtm_operator_draw(const dtm_operator *op, unsigned long long seed, double l
   }
 }
 
+void dtm_operator_draw_normal(const dtm_operator *op, unsigned long long seed, double *x) {
+  size_t nc = (size_t)op->ncomp, nt = op->ndof - 3 * op->st.nrot;
+  for (size_t k = 0; k < op->ndof; k++) {
+    size_t node = k < nt ? k / nc : op->st.rot_node[(k - nt) / 3];
+    uint64_t tag = op->node_tags ? op->node_tags[node] : node + 1;
+    x[k] = k < nt ? dtm_rng_normal_at(seed, tag * nc + k % nc)
+                  : dtm_rng_normal_at(seed ^ 0x9e3779b97f4a7c15ULL, tag * 3 + (k - nt) % 3);
+  }
+}
+
 /* ---- element kernels ------------------------------------------------- */
 
 /* The stress s = lam tr(F) I + mu (F + F^T) of the displacement gradient
