@@ -48,12 +48,15 @@ typedef struct {
   int iterations;   /* Lanczos steps */
   int converged;    /* invariant subspace, or residual <= tol theta */
   double seconds;   /* wall time */
-  double dt_low;    /* step from theta + residual: the safe side, s */
+  double dt_low;    /* step from theta + residual + quad_err: the safe side, s */
   double dt_high;   /* step from theta: never safe to exceed, s */
   double omega_top; /* sqrt(theta + residual) (waves), for damping */
   double *mode;     /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
   int certified;    /* DTM_CERT_* (dtmap/operator.h): DTM_CERT_PROVEN when theta + residual was shown to
                        bound every eigenvalue by the factorisation of (theta + residual) I - A */
+  double quad_err;  /* the most the top eigenvalue of the converged integration can lie above this
+                       model's, from the curved elements' remaining quadrature error (0 without
+                       any): dt_low is the step from theta + residual + quad_err */
 } dtm_global_info;
 
 /* Accuracy bookkeeping: accuracy bounds (cohesive R/N, wavelength/N)
