@@ -50,7 +50,7 @@ typedef struct {
   int iterations;           /* Lanczos steps */
   int converged;            /* invariant subspace, or residual <= tol theta */
   double seconds;           /* wall time */
-  double dt_low;            /* step from theta + residual: the safe side, s */
+  double dt_low;            /* step from theta + residual + quad_err: the safe side, s */
   double dt_high;           /* step from theta: never safe to exceed, s */
   double omega_top;         /* sqrt(theta + residual) (waves), for damping */
   double *mode;             /* [ndof] top Ritz vector (u^T M u = 1), or NULL; owned by the analysis */
@@ -67,6 +67,10 @@ typedef struct {
   double cert_predicted[2]; /* the factorisation's predicted flops and bytes (NaN: not predicted) */
   double cert_budget;       /* the flops it was allowed (the run's own cost, src/analysis/global.c) */
   double cert_seconds;      /* wall time of the certificate: analysis, assembly, factorisations */
+  double quad_err;          /* the most the top eigenvalue of the converged integration can lie above this
+                               model's, from the curved elements' remaining quadrature error (0 without
+                               any): dt_low is the step from theta + residual + quad_err, dt_certified
+                               from the probable bound + quad_err */
 } dtm_global_info;
 
 /* Accuracy bookkeeping: accuracy bounds (cohesive R/N, wavelength/N)

@@ -17,6 +17,8 @@ struct dtm_analysis {
   unsigned char **level;        /* [nblocks][n] each second-order element's converged rule level,
                                    found once (curvature.c; 0: straight-sided); NULL rows for
                                    linear blocks, NULL without any */
+  double **level_rem;           /* [nblocks][n] alongside level: the estimated remaining quadrature
+                                   error of each element at its level (dtm_ref_level_elem, 1/m^2) */
   dtm_section_bounds **rot;     /* [nblocks][n] each shell's and beam's bounds, its rotary scale's
                                    eigenproblem solved once (sections.c); nn = 0 where none or refused;
                                    NULL rows for blocks without them, NULL without any */
@@ -139,6 +141,11 @@ int dtm_analysis_has_rotations(const dtm_analysis *a);
 /* Compute a->level (before the element map: its measures, the nodal
  * bound's masses and the global operator read it). */
 int dtm_analysis_levels(dtm_analysis *a);
+/* The largest remaining quadrature error of effect k's operator over this
+ * part's curved elements at their kept levels, as a bound on the shift of
+ * its top eigenvalue (1/s^2 or 1/s; 0 without curved elements): see
+ * curvature.c. Not reduced over parts. */
+int dtm_analysis_quadrature_margin(const dtm_analysis *a, int k, double *margin);
 /* The kept level of element e of block b, or -1 (search it). */
 int dtm_analysis_level(const dtm_analysis *a, int b, size_t e);
 /* The first elastic effect whose element step is the element bound (its

@@ -381,6 +381,8 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->sec_stats);
   for (int b = 0; a->level && b < a->mesh->nblocks; b++) free(a->level[b]);
   free(a->level);
+  for (int b = 0; a->level_rem && b < a->mesh->nblocks; b++) free(a->level_rem[b]);
+  free(a->level_rem);
   for (int b = 0; a->rot && b < a->mesh->nblocks; b++) free(a->rot[b]);
   free(a->rot);
   dtm_gmsh_geo_destroy(&a->geo);

@@ -43,16 +43,16 @@ static int second_order(int type) {
 /* Each second-order element's converged rule level, once (the kernel's
  * level search: src/kernel/curved.c), for the element map's measures, the
  * nodal bound's masses and the global operator, which took it by searching
- * again each. Levelled blocks only; a straight-sided element costs its node
- * offset test. */
-static void block_levels(const dtm_analysis *a, const dtm_block *b, unsigned char *lev) {
+ * again each, and the remaining quadrature error the search estimates at
+ * that level (rem). Levelled blocks only; a straight-sided element costs
+ * its node offset test. */
+static void block_levels(const dtm_analysis *a, const dtm_block *b, unsigned char *lev, double *rem) {
   long n = (long)b->n;
 #pragma omp parallel for schedule(dynamic, 256)
   for (long e = 0; e < n; e++) {
     double x[DTM_MAX_NODES * 3];
-    dtm_qrule q;
     dtm_mesh_gather_one(a->mesh, b, (size_t)e, x);
-    lev[e] = (unsigned char)dtm_ref_rule_elem(b->type, x, DTM_INTEGRATION_CONVERGED, &q);
+    lev[e] = (unsigned char)dtm_ref_level_elem(b->type, x, &rem[e]);
   }
 }
 
@@ -61,11 +61,76 @@ int dtm_analysis_levels(dtm_analysis *a) {
     const dtm_block *blk = &a->mesh->blocks[b];
     if (!dtm_ref_levelled(blk->type)) continue;
     if (!a->level) a->level = calloc((size_t)a->mesh->nblocks + 1, sizeof *a->level);
+    if (!a->level_rem) a->level_rem = calloc((size_t)a->mesh->nblocks + 1, sizeof *a->level_rem);
     if (a->level) a->level[b] = malloc(blk->n + 1);
-    if (!a->level || !a->level[b]) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-    block_levels(a, blk, a->level[b]);
+    if (a->level_rem) a->level_rem[b] = malloc((blk->n + 1) * sizeof(double));
+    if (!a->level || !a->level[b] || !a->level_rem || !a->level_rem[b])
+      return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    block_levels(a, blk, a->level[b], a->level_rem[b]);
   }
   return DTM_OK;
+}
+
+/* How much a change dT of the mass-scaled tensor T (Frobenius norm) can
+ * move the largest eigenvalue of an element's M^-1/2 K M^-1/2 under the
+ * coefficients c, per unit of |dT|_F (curved.c's header): elastic
+ * (|lam| + mu (1 + sqrt d)) / rho, diffusion k sqrt(d) / capacity. */
+static double lipschitz(const dtm_operator_coeffs *c, int d) {
+  if (c->kind == DTM_OP_ELASTIC) return (fabs(c->mod.lam) + c->mod.mu * (1 + sqrt(d))) / c->capacity;
+  if (c->kind == DTM_OP_DIFFUSION) return c->conductivity * sqrt(d) / c->capacity;
+  return 0;
+}
+
+/* The bound behind dtm_analysis_quadrature_margin. With the lumped masses
+ * M = sum_e P_e^T m_e P_e (exact at every level, and equal in both models)
+ * and the change of the assembled operator dA = sum_e M^-1/2 P_e^T dK_e P_e
+ * M^-1/2, for any x: x^T dA x = sum_e y_e^T dB_e y_e with dB_e = m_e^-1/2
+ * dK_e m_e^-1/2 (the element's own scaling) and y_e = m_e^1/2 P_e M^-1/2 x,
+ * and sum_e |y_e|^2 = sum_a x_a^2 sum_e m_ea / M_a <= |x|^2 (point masses
+ * and added mass only make M larger). So lambda_max(A + dA) <= lambda_max(A)
+ * + max_e |dB_e|_2, and |dB_e|_2 <= lipschitz x |dT_e|_F. */
+/* 1 when the operator integrates type with the converged model's levels
+ * under c (the other models are their own fixed rules: nothing left to
+ * converge). */
+static int converged_model(const dtm_operator_coeffs *c, int type) {
+  if (c->kind != DTM_OP_ELASTIC) return 1; /* diffusion: always converged */
+  return c->mod.integration == DTM_INTEGRATION_CONVERGED ||
+         (c->mod.integration == DTM_INTEGRATION_CALCULIX && type != DTM_TET10);
+}
+
+/* The margin of block b into *margin (the larger of it and *margin); best
+ * [nslots] is scratch. */
+static int block_margin(const dtm_analysis *a, int k, int b, double *best, double *margin) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  int ns = dtm_analysis_nslots(a), d = 3;
+  dtm_elem_info(blk->type, &d, NULL);
+  for (int s = 0; s < ns; s++) best[s] = 0;
+  for (size_t e = 0; e < blk->n; e++) {
+    int s = dtm_analysis_slot(a, blk, e);
+    best[s] = fmax(best[s], a->level_rem[b][e]);
+  }
+  for (int s = 0; s < ns; s++) {
+    dtm_operator_coeffs c;
+    if (!(best[s] > 0)) continue;
+    DTM_CHECK(dtm_analysis_coefficients(a, k, s, &c));
+    if (!converged_model(&c, blk->type)) continue;
+    *margin = fmax(*margin, lipschitz(&c, d) * best[s]);
+  }
+  return DTM_OK;
+}
+
+int dtm_analysis_quadrature_margin(const dtm_analysis *a, int k, double *margin) {
+  double *best = NULL;
+  int r = DTM_OK;
+  *margin = 0;
+  for (int b = 0; a->level_rem && b < a->mesh->nblocks && r == DTM_OK; b++) {
+    if (!a->level_rem[b]) continue;
+    if (!best && !(best = calloc((size_t)dtm_analysis_nslots(a) + 1, sizeof *best)))
+      return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+    r = block_margin(a, k, b, best, margin);
+  }
+  free(best);
+  return r;
 }
 
 int dtm_analysis_level(const dtm_analysis *a, int b, size_t e) { return a->level && a->level[b] ? a->level[b][e] : -1; }

@@ -25,7 +25,21 @@
  * --posterior), so that verify, which needs the modes, checks exactly the
  * step run reports, and refine's mass round estimates through here too.
  * Damping enters through the smallest factor of the effect's materials at
- * the top frequency. */
+ * the top frequency.
+ * Curved second-order elements: the operator integrates each at the rule
+ * level its search kept (src/kernel/curved.c), and the model the step is
+ * for is the converged integration, which no level reaches exactly. The
+ * remaining quadrature error is bounded and taken off the step rather
+ * than driven below the Lanczos margin by more levels: the strongly
+ * curved elements that need it (Gmsh's cone demo at order 2: Jacobian
+ * ratio 0.09, levels 14-15 for 1e-8) would cost 3,375 points each in
+ * every operator product, and levels stop at 8. The safe side is
+ * theta + residual + quad, quad the largest element's remaining change of
+ * its mass-scaled stiffness (dtm_analysis_quadrature_margin, curvature.c:
+ * by the partition of the lumped masses the assembled top eigenvalue moves
+ * by at most that), itself estimated from the level search's last changes
+ * (curved.c): an estimate, not a proof, checked against an independent
+ * converged integration (t342). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,7 +161,7 @@ static int certified_step(dtm_analysis *a, int k, const dtm_lanczos_result *lr, 
   g->deterministic = lr->deterministic, g->eps = lr->eps, g->failure = lr->failure;
   g->nbound = lr->nbound, g->seed = lr->seed, g->dt_certified = NAN;
   if (lr->certified != DTM_CERT_PROBABLE) return DTM_OK;
-  return step_of(a, k, lr->bound, &g->dt_certified);
+  return step_of(a, k, lr->bound + g->quad_err, &g->dt_certified); /* the converged model's, as dt_low */
 }
 
 static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int want_mode) {
@@ -166,6 +180,8 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
     r = dtm_lanczos_max_probable(op, tol, maxit, seed, want_mode, cert_budget(a), has_point_masses(a), eps_target, &lr);
   dtm_operator_destroy(&op);
   DTM_CHECK(r);
+  double quad = 0; /* the converged integration's eigenvalue is at most theta + residual + quad */
+  DTM_CHECK(dtm_x_reduce(a, dtm_analysis_quadrature_margin(a, k, &quad), &quad, 1, DTM_X_MAX));
   *g = (dtm_global_info){.done = 1,
                          .theta = lr.theta,
                          .residual = lr.residual,
@@ -179,8 +195,9 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
                          .certified = lr.certified,
                          .cert_predicted = {lr.cert_predicted[0], lr.cert_predicted[1]},
                          .cert_budget = cert_budget(a),
-                         .cert_seconds = lr.cert_seconds};
-  DTM_CHECK(step_of(a, k, lr.theta + lr.residual, &g->dt_low));
+                         .cert_seconds = lr.cert_seconds,
+                         .quad_err = quad};
+  DTM_CHECK(step_of(a, k, lr.theta + lr.residual + quad, &g->dt_low));
   DTM_CHECK(step_of(a, k, lr.theta, &g->dt_high));
   DTM_CHECK(certified_step(a, k, &lr, g));
   g->seed = seed; /* also for a distributed run */

@@ -43,6 +43,14 @@ void dtm_ref_rule_c3d10(dtm_qrule *q);
  * level) or, under DTM_INTEGRATION_CALCULIX on tet10, CalculiX's rule
  * (returns DTM_K_RULE_C3D10). */
 int dtm_ref_rule_elem(int type, const double *x, int model, dtm_qrule *q);
+/* The level dtm_ref_rule_elem returns under DTM_INTEGRATION_CONVERGED,
+ * without the rule, and into *rem the estimated remaining quadrature error
+ * of the element at that level: the Frobenius norm of T_conv - T_level,
+ * T the geometric stiffness tensor scaled by the element's lumped masses
+ * per unit capacity (curved.c), 1/m^2, from the last changes of the level
+ * search; 0 for an element integrated exactly (straight-sided) or without a
+ * converged model (pyramids, inverted near a node). */
+int dtm_ref_level_elem(int type, const double *x, double *rem);
 /* 1 when curved elements of type get levelled rules (the second-order
  * types but pyramids), else 0. */
 int dtm_ref_levelled(int type);

@@ -59,6 +59,7 @@ static cJSON *lanczos_json(const dtm_global_info *g) {
   cJSON_AddNumberToObject(o, "seconds", g->seconds);
   double br[2] = {g->dt_low, g->dt_high};
   cJSON_AddItemToObject(o, "dt_bracket", cJSON_CreateDoubleArray(br, 2));
+  cJSON_AddNumberToObject(o, "quadrature_margin", g->quad_err);
   static const char *const cert[] = {"none", "proven", "too dear", "unavailable", "refuted", "probable"};
   if (g->certified >= 0 && g->certified <= DTM_CERT_PROBABLE)
     cJSON_AddStringToObject(o, "certificate", cert[g->certified]);
