@@ -259,26 +259,31 @@ typedef enum {
 #define DTM_BAND_DIFFUSION 5.0 /* elements across the diffusion length accepted (dtmap's choice) */
 
 typedef struct {
-  int kind;              /* dtm_measure_kind */
-  int effect;            /* scene index of the effect */
-  int group;             /* cohesive: mesh group index (-1: elements in no group); else -1 */
-  double worst;          /* phase: the signed error of largest magnitude (NaN when any element is
-                            unresolved or none applies); counts: the smallest */
-  double median;         /* phase: median signed error; counts: median count (NaN: none) */
-  size_t worst_element;  /* global element index of the worst */
-  size_t elements;       /* elements measured */
-  size_t unresolved;     /* phase: elements with fewer than 2 lattice cells per wavelength */
-  double band_lo;        /* the accepted band: phase [-band_hi, band_hi]; zone [5, 10]; */
-  double band_hi;        /* diffusion [DTM_BAND_DIFFUSION, inf) */
-  int in_band;           /* 1: worst inside (zone, diffusion: at or above band_lo) */
-  double f;              /* phase: the frequency, Hz */
-  int f_default;         /* phase: 1 when the scene names no f-max and f is the mesh's default */
-  double per_wavelength; /* phase: the smallest shear wavelength at f over the element's mean edge
-                            (the elastic effect's "elements per wavelength", also without f-max) */
-  int wave;              /* phase: the branch of the worst, 0 P, 1 S (-1: none) */
-  double direction[3];   /* phase: the direction of the worst (unit; the model's direction) */
-  int model;             /* phase: the model of the worst's elements (dtm_lattice; -1: none) */
-  char note[640];        /* one line when something is missing or assumed ("" when not) */
+  int kind;                   /* dtm_measure_kind */
+  int effect;                 /* scene index of the effect */
+  int group;                  /* cohesive: mesh group index (-1: elements in no group); else -1 */
+  double worst;               /* phase: the signed error of largest magnitude (NaN when any element is
+                                 unresolved or none applies); counts: the smallest */
+  double median;              /* phase: median signed error; counts: median count (NaN: none) */
+  size_t worst_element;       /* global element index of the worst */
+  double worst_alone;         /* phase: the same with every element at its own spacing, where worst takes the
+                                 measured table's elements at the mean over SMOOTH_PASSES (3) rings of
+                                 elements around them (src/cost/accuracy.c); equal elsewhere (NaN: unresolved) */
+  size_t worst_alone_element; /* phase: global element index of worst_alone */
+  int rings;                  /* phase: the rings of elements worst averages over (0: no element is averaged) */
+  size_t elements;            /* elements measured */
+  size_t unresolved;          /* phase: elements with fewer than 2 lattice cells per wavelength */
+  double band_lo;             /* the accepted band: phase [-band_hi, band_hi]; zone [5, 10]; */
+  double band_hi;             /* diffusion [DTM_BAND_DIFFUSION, inf) */
+  int in_band;                /* 1: worst inside (zone, diffusion: at or above band_lo) */
+  double f;                   /* phase: the frequency, Hz */
+  int f_default;              /* phase: 1 when the scene names no f-max and f is the mesh's default */
+  double per_wavelength;      /* phase: the smallest shear wavelength at f over the element's mean edge
+                                 (the elastic effect's "elements per wavelength", also without f-max) */
+  int wave;                   /* phase: the branch of the worst, 0 P, 1 S (-1: none) */
+  double direction[3];        /* phase: the direction of the worst (unit; the model's direction) */
+  int model;                  /* phase: the model of the worst's elements (dtm_lattice; -1: none) */
+  char note[640];             /* one line when something is missing or assumed ("" when not) */
 } dtm_measure;
 
 typedef struct dtm_measures {

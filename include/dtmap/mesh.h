@@ -122,7 +122,9 @@ DTM_EXPORT const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e
  * mesh's file) and, for the first 20, the element's tag, type, group and
  * centroid, how it fails and its scaled Jacobian, then how many there are
  * in all. Elements valid at every integration point but not at a node are
- * recorded in m->flagged (replacing an earlier list). */
+ * recorded in m->flagged (replacing an earlier list). Then two elements of
+ * one type on the same set of nodes (a file holding the mesh twice) are
+ * DTM_ERR_INPUT naming src, the first pair, the cause and the remedy. */
 DTM_EXPORT int dtm_mesh_check(dtm_mesh *m, const char *src);
 /* The dimension of the space the elements' nodes span, *d: m->space_dim
  * when set; else the mesh's

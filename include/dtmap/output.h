@@ -109,6 +109,12 @@ DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
  * the report carry them too. */
 DTM_EXPORT void dtm_output_warn_plausibility(const dtm_analysis *a, void *stream);
 
+/* The two worst figures of a phase-speed measure m (dtmap/cost.h), as
+ * `run` and `verify --accuracy` print them, into buf[len]: the worst with
+ * each element at the spacing averaged over its neighbourhood (m->worst),
+ * and with each element alone (m->worst_alone), each with its name. */
+DTM_EXPORT void dtm_summary_phase_worst(const dtm_measure *m, char *buf, size_t len);
+
 /* `dtmap verify`: the step checked and what the simulation found. */
 typedef struct {
   double step;                     /* the step verified, s */

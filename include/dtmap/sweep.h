@@ -58,10 +58,11 @@ typedef struct {
 
 /* Analyse scene s (Gmsh started; s->geometry required, not a .msh) at each
  * of the n sizes. rows[n] is filled in the order given. A size that fails
- * (Gmsh cannot mesh it, its mesh would not fit in memory, ...) keeps its
- * row with the reason in failed and the sweep goes on; DTM_OK when at
- * least one size gave figures, else the first size's error (the rows then
- * say why each failed). Out of memory in dtmap itself stops the sweep. */
+ * (Gmsh cannot mesh it or crashes in it, its mesh would not fit in memory,
+ * ...) keeps its row with the reason in failed and the sweep goes on (a
+ * crash is contained when Gmsh meshes in a child: dtm_gmsh_contain(1, ...),
+ * as `dtmap sweep` asks); DTM_OK when at least one size gave figures, else
+ * the first size's error (the rows then say why each failed). */
 DTM_EXPORT int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row *rows);
 /* The row of the cheapest size (least hours with one global step, else
  * least element-steps) whose measures are all inside their bands; -1 when

@@ -55,6 +55,9 @@ typedef struct {
   double duration;           /* time integrated, s */
   int steps;                 /* time steps run */
   double seconds;            /* wall time of the integration, s */
+  dtm_measure mesh;          /* the mesh's phase-speed measure as `run` gives it (dtm_measures_compute at
+                                the recommended step and the scene's frequency: its worst averaged over
+                                the element's neighbourhood and alone); kind 0 when there is none */
 } dtm_wave_result;
 
 /* Run the plane wave w at step dt (s) through the mesh of analysis a (its

@@ -121,9 +121,16 @@ static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w,
          "%.2f s\n",
          dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, 2 * 3.14159265358979323846 / r->k, r->sigma,
          r->duration * r->speed * r->k / (2 * 3.14159265358979323846), r->crossings, r->seconds);
-  printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (%s, mean over %zu elements; worst %+.4f %%)\n",
+  printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (%s, mean over %zu elements; this wave's worst "
+         "element alone %+.4f %%)\n",
          100 * r->measured, 100 * r->predicted.mean, dtm_dispersion_model_name(r->predicted.model),
          r->predicted.elements, 100 * r->predicted.worst);
+  if (r->mesh.kind == DTM_MEASURE_PHASE && !r->mesh.unresolved && isfinite(r->mesh.worst)) {
+    char line[256];
+    dtm_summary_phase_worst(&r->mesh, line, sizeof line);
+    printf("  the mesh as run gives it (P and S, every direction, at the recommended step and %.4g Hz): %s\n",
+           r->mesh.f, line);
+  }
   printf("  from the zero crossings: %+.4f %%\n", 100 * (r->omega_crossings / (r->speed * r->k) - 1));
   printf("  agreement: %+.1f %% of the prediction (band 20 %%): %s\n", 100 * r->agreement,
          fabs(r->agreement) <= 0.2 ? "agrees" : "DISAGREES");

@@ -3,7 +3,8 @@
  * it as CSV and draw it as a PNG (defaults SCENE_sweep.csv and
  * SCENE_sweep.png in the current directory; a dtmap built without PLplot
  * writes no PNG unless --plot asks for one, which is then an error before
- * the sweep starts). A size Gmsh cannot mesh is a row with its reason; the
+ * the sweep starts). A size Gmsh cannot mesh, or crashes in (each size is
+ * meshed in a child process, contained), is a row with its reason; the
  * other sizes are written. Exit 0 on success, 1 when some size gave no
  * figures (the others written), 2 for bad input or usage (with a message
  * saying what; also when no size gave figures), 3 for internal errors. */
@@ -116,6 +117,7 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
   if (r == DTM_OK) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && png[0] && !dtm_cli_can_plot()) r = dtm_cli_sweep_plot(png, rows, n);
   if (r == DTM_OK) r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0), started = r == DTM_OK;
+  dtm_gmsh_contain(1, -1); /* every size meshed in a child: a crash in Gmsh fails that size's row, not the sweep */
   if (r == DTM_OK && o->verbosity) printf("dtmap sweep: %s, %d size%s\n\n", s->path, n, n > 1 ? "s" : "");
   if (r == DTM_OK && (r = dtm_sweep_run(s, sizes, n, rows)) != DTM_OK) warn_failed(rows, n, 0);
   if (r == DTM_OK && o->verbosity) dtm_sweep_print(rows, n, stdout);

@@ -426,6 +426,8 @@ typedef struct {
   const double *meas;  /* [nel] element measures, m^d */
   const double *edge;  /* [nel] mean edges, m */
   double *hs;          /* [nel] the measured table's spacings (smooth_sizes), m */
+  int alone;           /* 1: the measured table's elements at their own mean edge, not hs */
+  int measured_any;    /* set when an element takes the measured table */
   double sc[2];        /* --calibrate's ratios of P and S (1: none) */
   table_cache cache;   /* the tables and curves met */
 } phase_run;
@@ -450,7 +452,7 @@ static void block_errors(const dtm_block *bl, size_t i0, const slot *s, phase_ru
     }
     const dtm_elastic_moduli *m = &s[mt].m;
     double dt, speed,
-        h = s[mt].t->shape == DTM_LATTICE_MEASURED ? p->hs[i]
+        h = s[mt].t->shape == DTM_LATTICE_MEASURED ? (p->alone ? p->edge[i] : p->hs[i])
                                                    : dtm_acc_spacing(s[mt].t, bl->dim, p->meas[i], p->edge[i]);
     pw = fmin(pw, (p->f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (p->freq * p->edge[i]));
     element_step(p->sr, i, m->rho * p->meas[i], &dt, &speed);
@@ -475,7 +477,9 @@ static int phase_errors(const dtm_analysis *a, phase_run *p, double *err, double
     const dtm_block *bl = &mesh->blocks[b];
     rc = prepare_block(a, p->f, p->freq, p->sr, bl, i0, &p->cache, s);
     if (rc) break;
-    if (any_measured(s, nmat)) smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
+    if (any_measured(s, nmat) && !p->alone)
+      smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
+    p->measured_any |= any_measured(s, nmat);
     block_errors(bl, i0, s, p, err, &skip, &pwmin);
   }
   *skipped = skip;
@@ -531,6 +535,37 @@ static void phase_summary(const double *err, size_t n, double *scratch, dtm_meas
   if (m->unresolved) m->worst = NAN;
   if (!k && !m->unresolved) m->worst = NAN;
   m->in_band = m->elements > 0 && !m->unresolved && fabs(m->worst) <= m->band_hi;
+}
+
+/* The worst of the errors err[n] each element at its own spacing into
+ * m->worst_alone (NaN when one is unresolved) and its element. */
+static void alone_summary(const double *err, size_t n, dtm_measure *m) {
+  m->worst_alone = 0, m->worst_alone_element = m->worst_element;
+  for (size_t i = 0; i < n; i++) {
+    if (isinf(err[i])) continue;
+    if (isnan(err[i])) {
+      m->worst_alone = NAN;
+      return;
+    }
+    if (fabs(err[i]) > fabs(m->worst_alone)) m->worst_alone = err[i], m->worst_alone_element = i;
+  }
+}
+
+/* The worst element alone (m->worst_alone): the elements of the measured
+ * table again, each at its own mean edge instead of the average over its
+ * rings; the other models' elements already are at their own spacing.
+ * err: [nel] of the errors (overwritten), work as phase_errors'. */
+static int alone_worst(const dtm_analysis *a, phase_run *p, double *err, double *work, dtm_measure *m) {
+  size_t skipped;
+  double pw;
+  m->worst_alone = m->worst, m->worst_alone_element = m->worst_element;
+  m->rings = p->measured_any ? SMOOTH_PASSES : 0;
+  if (!p->measured_any || !m->elements) return DTM_OK;
+  p->alone = 1;
+  int rc = phase_errors(a, p, err, work, &skipped, &pw);
+  p->alone = 0;
+  if (!rc) alone_summary(err, dtm_analysis_nelements(a), m);
+  return rc;
 }
 
 /* Why there is no default frequency (it is taken from the elements with a
@@ -607,6 +642,7 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   if (!rc) rc = phase_errors(a, &p, err, err + n, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err, &m); /* in place: err is not read again */
   if (!rc && isfinite(m.worst) && m.elements) rc = describe_worst(a, &p, &m);
+  if (!rc) rc = alone_worst(a, &p, err, err + n, &m);
   cache_free(&p.cache);
   free(err);
   if (rc) return rc;

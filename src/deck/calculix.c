@@ -463,48 +463,124 @@ static void damping(deck_ctx *c) {
  * orientation, the divergence starting at the model's highest-numbered
  * nodes (it follows them when the nodes are renumbered), not at the beam;
  * the same deck with the beams on nodes of their own tied by *EQUATION
- * runs (docs/deck.md). twin[v]: the new tag of node v (above every tag),
- * 0 for nodes no beam shares with a 2D part. */
+ * runs (docs/deck.md). Each beam through a shell node gets a node of its
+ * own there: two beams meeting at an angle on one node (a stiffener cross,
+ * an L-frame) would make CalculiX join them by a KNOT, a nonlinear MPC,
+ * on a node the linear *EQUATION ties to the shell, which ccx refuses at
+ * once ("nonlinear MPCs depend on each other"). A beam is the elements of
+ * one part at the node whose axes are parallel (a straight beam through
+ * the node keeps one node there). twin[2 i + a]: the tag of beam element
+ * i's node a (above every tag), 0 for its own; twin_node[t]: the mesh node
+ * twin tag top + 1 + t is tied to. */
+typedef struct {
+  size_t v;    /* the shell node */
+  size_t i;    /* the beam element (global index) */
+  int a, part; /* its local node there, its part */
+  double t[3]; /* its unit axis */
+} beam_end;
+
+static int by_node(const void *pa, const void *pb) {
+  const beam_end *x = pa, *y = pb;
+  if (x->v != y->v) return x->v < y->v ? -1 : 1;
+  if (x->i != y->i) return x->i < y->i ? -1 : 1;
+  return (x->a > y->a) - (x->a < y->a);
+}
+
+#define BEAM_PARALLEL 0.9998 /* |cos| of the angle between two elements of one beam (1.1 degrees) */
+
+/* The ends of beam elements on the nodes flat[] marks, into *out (*n of them). */
+static int beam_ends(deck_ctx *c, const char *flat, beam_end **out, size_t *n) {
+  size_t cap = 0;
+  *n = 0, *out = NULL;
+  for (int k = 0; k < c->nparts; k++)
+    if (c->parts[k].kind == DTM_SECTION_BEAM) cap += 2 * (c->first[k + 1] - c->first[k]);
+  if (!cap || !(*out = malloc(cap * sizeof **out))) return cap ? DTM_ERR(DTM_ERR_INTERNAL, "out of memory") : DTM_OK;
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    size_t off;
+    const dtm_block *b = deck_part_block(c, p, &off);
+    if (p->kind != DTM_SECTION_BEAM) continue;
+    for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
+      const size_t *conn = b->conn + (c->order[j] - off) * b->nn;
+      for (int a = 0; a < 2; a++) {
+        if (!flat[conn[a]]) continue;
+        beam_end *e = &(*out)[(*n)++];
+        const double *x = c->m->xyz + 3 * conn[a], *y = c->m->xyz + 3 * conn[1 - a];
+        double len =
+            sqrt((y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]) + (y[2] - x[2]) * (y[2] - x[2]));
+        *e = (beam_end){conn[a], c->order[j], a, k, {0, 0, 0}};
+        for (int d = 0; d < 3 && len > 0; d++) e->t[d] = (y[d] - x[d]) / len;
+      }
+    }
+  }
+  qsort(*out, *n, sizeof **out, by_node);
+  return DTM_OK;
+}
+
+/* The twin of end e among those of its node before it, ends[lo, e): one of
+ * the same part along the same axis, else 0. */
+static size_t same_beam(const deck_ctx *c, const beam_end *ends, size_t lo, size_t e) {
+  for (size_t f = lo; f < e; f++) {
+    const double *s = ends[f].t, *t = ends[e].t;
+    if (ends[f].part == ends[e].part && fabs(s[0] * t[0] + s[1] * t[1] + s[2] * t[2]) >= BEAM_PARALLEL)
+      return c->twin[2 * ends[f].i + (size_t)ends[f].a];
+  }
+  return 0;
+}
+
+/* The nodes the 2D parts use, into flat[nnodes]; the largest node tag. */
+static size_t flat_nodes(deck_ctx *c, char *flat) {
+  size_t top = 0;
+  for (size_t v = 0; v < c->m->nnodes; v++) top = c->m->node_tags[v] > top ? c->m->node_tags[v] : top;
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    size_t off;
+    const dtm_block *b = deck_part_block(c, p, &off);
+    if (p->kind != DTM_SECTION_SHELL && p->kind != DTM_SECTION_MEMBRANE) continue;
+    for (size_t j = c->first[k]; j < c->first[k + 1]; j++)
+      for (int a = 0; a < b->nn; a++) flat[b->conn[(c->order[j] - off) * b->nn + a]] = 1;
+  }
+  return top;
+}
+
 static int beam_twins(deck_ctx *c, size_t *count) {
   char *flat = calloc(c->m->nnodes + 1, 1);
-  size_t top = 0;
+  beam_end *ends = NULL;
+  size_t n = 0;
   *count = 0;
-  if (!flat || !(c->twin = calloc(c->m->nnodes + 1, sizeof *c->twin)))
-    return free(flat), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (size_t v = 0; v < c->m->nnodes; v++) top = c->m->node_tags[v] > top ? c->m->node_tags[v] : top;
-  for (int pass = 0; pass < 2; pass++)
-    for (int k = 0; k < c->nparts; k++) {
-      const deck_part *p = &c->parts[k];
-      size_t off;
-      const dtm_block *b = deck_part_block(c, p, &off);
-      int two = p->kind == DTM_SECTION_SHELL || p->kind == DTM_SECTION_MEMBRANE;
-      if (pass == 0 ? !two : p->kind != DTM_SECTION_BEAM) continue;
-      for (size_t j = c->first[k]; j < c->first[k + 1]; j++)
-        for (int a = 0; a < b->nn; a++) {
-          size_t v = b->conn[(c->order[j] - off) * b->nn + a];
-          if (pass == 0) flat[v] = 1;
-          if (pass == 1 && flat[v] && !c->twin[v]) c->twin[v] = top + ++*count;
-        }
-    }
+  if (!flat) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t top = flat_nodes(c, flat);
+  int r = beam_ends(c, flat, &ends, &n);
   free(flat);
-  if (!*count) free(c->twin), c->twin = NULL;
+  if (r || !n) return free(ends), r;
+  c->twin = calloc(2 * dtm_analysis_nelements(c->a) + 1, sizeof *c->twin);
+  c->twin_node = malloc(n * sizeof *c->twin_node);
+  if (!c->twin || !c->twin_node) return free(ends), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t lo = 0, e = 0; e < n; e++) {
+    if (ends[e].v != ends[lo].v) lo = e;
+    size_t tag = same_beam(c, ends, lo, e);
+    if (!tag) c->twin_node[*count] = ends[e].v, tag = top + ++*count;
+    c->twin[2 * ends[e].i + (size_t)ends[e].a] = tag;
+  }
+  c->top_tag = top, c->ntwins = *count;
+  free(ends);
   return DTM_OK;
 }
 
 /* The beams' own nodes (continuing the *NODE block). */
 static void twin_nodes(deck_ctx *c) {
-  for (size_t v = 0; c->twin && v < c->m->nnodes; v++)
-    if (c->twin[v]) {
-      fprintf(c->f, "%zu, ", c->twin[v]);
-      deck_inp_reals(c, 3, c->m->xyz + 3 * v);
-    }
+  for (size_t t = 0; t < c->ntwins; t++) {
+    fprintf(c->f, "%zu, ", c->top_tag + 1 + t);
+    deck_inp_reals(c, 3, c->m->xyz + 3 * c->twin_node[t]);
+  }
 }
 
 /* Each beam node tied to its shell node: the three translations equal. */
 static void twin_equations(deck_ctx *c) {
-  for (size_t v = 0; c->twin && v < c->m->nnodes; v++)
-    for (int d = 1; c->twin[v] && d <= 3; d++)
-      fprintf(c->f, "*EQUATION\n2\n%zu, %d, 1., %zu, %d, -1.\n", c->twin[v], d, c->m->node_tags[v], d);
+  for (size_t t = 0; t < c->ntwins; t++)
+    for (int d = 1; d <= 3; d++)
+      fprintf(c->f, "*EQUATION\n2\n%zu, %d, 1., %zu, %d, -1.\n", c->top_tag + 1 + t, d,
+              c->m->node_tags[c->twin_node[t]], d);
 }
 
 static int write(deck_ctx *c) {
@@ -514,7 +590,8 @@ static int write(deck_ctx *c) {
   if (twins)
     deck_warn(c,
               "%zu beam nodes are shell or membrane nodes: the beams get nodes of their own (numbered above the "
-              "mesh's), each tied to its shell node by *EQUATION on the three translations, so their rotations are "
+              "mesh's; two beams crossing or cornering on one node, one each), each tied to its shell node by "
+              "*EQUATION on the three translations, so their rotations are "
               "free of the shell's (hinged); CalculiX 2.20's KNOT at a shared node diverged in explicit dynamics "
               "(docs/deck.md). Loads go on the shell nodes (the node sets name them)",
               twins);

@@ -63,8 +63,12 @@ typedef struct deck_ctx {
   const double *carried;       /* [nnodes] point masses the mesh carries (a refined mesh), kg, or NULL */
   size_t max_tag;              /* largest element tag (mass elements are numbered above it) */
   double *node_data;           /* a writer's data per node, or NULL (CalculiX: shell normals); freed with the plan */
-  size_t *twin;                /* [nnodes] the node tag beam elements use instead of node v's (0: its own), or
-                                  NULL (CalculiX: beams on shell nodes); freed with the plan */
+  size_t *twin;                /* [2 nel] the node tag beam element i's node a uses instead of its own (0: its
+                                  own) at twin[2 i + a], or NULL (CalculiX: beams on shell nodes); freed with
+                                  the plan */
+  size_t *twin_node;           /* [ntwins] the mesh node twin tag top_tag + 1 + t stands beside; freed with
+                                  the plan */
+  size_t ntwins, top_tag;      /* beam nodes of their own; the largest mesh node tag */
   dtm_deck_info *info;         /* what is written */
   char proven[640];            /* the writer's lines on where the step was proven and what holds it ("": none) */
   int probe;                   /* 1 while deck_lacks asks the other writers: raise no error */

@@ -41,8 +41,8 @@ static void part_elements(deck_ctx *c, const deck_part *p) {
   for (size_t j = c->first[k]; j < c->first[k + 1]; j++) {
     size_t e = c->order[j] - off;
     int nn = deck_conn(c, b, e, p, tags);
-    for (int a = 0; c->twin && p->kind == DTM_SECTION_BEAM && a < nn; a++)
-      if (c->twin[b->conn[e * b->nn + a]]) tags[a] = c->twin[b->conn[e * b->nn + a]];
+    for (int a = 0; c->twin && p->kind == DTM_SECTION_BEAM && a < nn && a < 2; a++)
+      if (c->twin[2 * c->order[j] + (size_t)a]) tags[a] = c->twin[2 * c->order[j] + (size_t)a];
     char line[32 * (DTM_MAX_NODES + 1)], *q = deck_put_uint(line, b->tags[e], 0);
     for (int a = 0; a < nn; a++) *q++ = ',', *q++ = ' ', q = deck_put_uint(q, tags[a], 0);
     *q++ = '\n';

@@ -268,5 +268,5 @@ int deck_plan(deck_ctx *c) {
 void deck_plan_free(deck_ctx *c) {
   for (int g = 0; g < c->ngroups; g++) free(c->groups[g].nodes);
   free(c->groups), free(c->parts), free(c->part), free(c->order), free(c->first), free(c->used);
-  free(c->node_data), free(c->twin);
+  free(c->node_data), free(c->twin), free(c->twin_node);
 }

@@ -28,8 +28,9 @@
  * hand its mesh back (the file cannot be written whole: a full disk, a
  * file size limit), the job runs again in this process, uncontained. The
  * environment variable DTMAP_TEST_GMSH_CRASH makes the job raise SIGSEGV
- * after meshing when it names the stage ("meshing", "remeshing round 2"):
- * the tests prove both ways with it. */
+ * after meshing when it names the stage ("meshing", "remeshing round 2"),
+ * or the stage and the job's number in this process ("meshing#2": a
+ * sweep's second size): the tests prove both ways with it. */
 #define _GNU_SOURCE /* pread */
 #include <errno.h>
 #include <gmshc.h>
@@ -144,10 +145,14 @@ int dtm_gmsh_strip_periodic(const char *path) {
   return ok ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "cannot rewrite %s", path);
 }
 
+static int jobs; /* contained jobs started in this process (a child inherits the count) */
+
 /* The injected crash of the tests: a real SIGSEGV, default action. */
 static void maybe_crash(const char *stage) {
   const char *want = getenv("DTMAP_TEST_GMSH_CRASH");
-  if (!want || strcmp(want, stage)) return;
+  char numbered[160];
+  snprintf(numbered, sizeof numbered, "%s#%d", stage, jobs);
+  if (!want || (strcmp(want, stage) && strcmp(want, numbered))) return;
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = SIG_DFL;
@@ -416,6 +421,7 @@ static int in_process(const char *stage, const job_spec *j) {
 
 int dtm_gmsh_contained(const char *stage, dtm_gmsh_job job, void *arg, int remesh) {
   job_spec j = {job, NULL, arg, NULL, 0, omp_get_max_threads(), remesh};
+  jobs++;
   return supervised && !remesh ? in_process(stage, &j) : contained(stage, &j);
 }
 

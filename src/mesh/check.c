@@ -6,7 +6,8 @@
  * hex, a curved edge folding back at its end node); an element inverted,
  * folded or flat at an integration point has no meaningful element
  * matrices and stops the run, with every such element counted and the
- * first 20 named by tag, group and centroid. The shapes are classified in
+ * first 20 named by tag, group and centroid. A mesh whose elements appear
+ * twice (src/mesh/duplicates.c) is refused next. The shapes are classified in
  * parallel; the few bad or flagged elements are then revisited in order,
  * so the messages and the flagged list do not depend on the thread count. */
 #include <math.h>
@@ -18,6 +19,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/mesh.h"
+#include "mesh-impl.h"
 
 #define LIST_MAX 20 /* elements named in a refusal */
 
@@ -136,6 +138,7 @@ int dtm_mesh_check(dtm_mesh *m, const char *src) {
   int r = status && f ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < m->nblocks && r == DTM_OK; b++) r = check_block(m, b, status, f);
   if (r == DTM_OK && f->nbad) r = refuse(src, f);
+  if (r == DTM_OK) r = dtm_mesh_check_duplicates(m, src);
   if (r == DTM_OK) {
     free(m->flagged);
     m->flagged = f->flagged, m->nflagged = f->nflagged, f->flagged = NULL;

@@ -31,6 +31,12 @@ static cJSON *measure_json(const dtm_analysis *a, const dtm_measure *m) {
   put_number(o, "median", m->median);
   if (m->elements && isfinite(m->worst))
     cJSON_AddNumberToObject(o, "worst_element", (double)dtm_analysis_tag(a, m->worst_element));
+  if (m->kind == DTM_MEASURE_PHASE) {
+    put_number(o, "worst_alone", m->worst_alone);
+    if (m->elements && isfinite(m->worst_alone))
+      cJSON_AddNumberToObject(o, "worst_alone_element", (double)dtm_analysis_tag(a, m->worst_alone_element));
+    cJSON_AddNumberToObject(o, "worst_rings", m->rings);
+  }
   cJSON_AddNumberToObject(o, "elements", (double)m->elements);
   if (m->kind == DTM_MEASURE_PHASE) cJSON_AddNumberToObject(o, "unresolved", (double)m->unresolved);
   cJSON *band = cJSON_AddArrayToObject(o, "band");
@@ -50,13 +56,35 @@ static cJSON *measure_json(const dtm_analysis *a, const dtm_measure *m) {
   return o;
 }
 
+cJSON *dtm_report_measure(const dtm_analysis *a, const dtm_measure *m) { return measure_json(a, m); }
+
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms) {
   cJSON *arr = cJSON_CreateArray();
   for (int i = 0; ms && i < ms->n; i++) cJSON_AddItemToArray(arr, measure_json(a, &ms->m[i]));
   return arr;
 }
 
-/* One measure on one line: its value, its band and its verdict. */
+/* A phase error in per cent, or "unresolved". */
+static const char *percent(double v, char *buf, size_t len) {
+  if (isfinite(v))
+    snprintf(buf, len, "%+.3g %%", 100 * v);
+  else
+    snprintf(buf, len, "unresolved");
+  return buf;
+}
+
+void dtm_summary_phase_worst(const dtm_measure *m, char *buf, size_t len) {
+  char a[32], b[32];
+  if (m->rings)
+    snprintf(buf, len, "worst %s averaged over its neighbourhood (%d rings of elements), %s element alone",
+             percent(m->worst, a, sizeof a), m->rings, percent(m->worst_alone, b, sizeof b));
+  else
+    snprintf(buf, len, "worst %s element alone (the same averaged over its neighbourhood: no element's model averages)",
+             percent(m->worst_alone, b, sizeof b));
+}
+
+/* One measure on one line: its value, its band and its verdict (a phase
+ * error: its two worst figures on a second line). */
 static void print_measure(const dtm_analysis *a, const dtm_measure *m, FILE *f) {
   char lbl[64];
   fprintf(f, "  %-27s %-9s", dtm_measure_name(m->kind), dtm_analysis_effect(a, m->effect)->name);
@@ -78,6 +106,11 @@ static void print_measure(const dtm_analysis *a, const dtm_measure *m, FILE *f) 
             m->in_band ? "inside" : "BELOW");
   else
     fprintf(f, " not measured\n");
+  if (m->kind == DTM_MEASURE_PHASE && !m->unresolved && isfinite(m->worst)) {
+    char line[256];
+    dtm_summary_phase_worst(m, line, sizeof line);
+    fprintf(f, "  %-27s %s\n", "", line);
+  }
   if (m->note[0]) fprintf(f, "  %-27s %s\n", "", m->note);
 }
 

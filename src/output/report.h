@@ -52,6 +52,8 @@ cJSON *dtm_report_cost(const dtm_analysis *a, const dtm_cost *c);
 cJSON *dtm_report_zones(const dtm_analysis *a);
 /* The accuracy measures ms of a (src/output/measures.c), one object each. */
 cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
+/* One of them (a verify --accuracy report's "mesh_measure"). */
+cJSON *dtm_report_measure(const dtm_analysis *a, const dtm_measure *m);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
 /* The whole report of r (report.c). */

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "output-impl.h"
+#include "report.h"
 
 static cJSON *effect_json(const dtm_analysis *a, int k, const dtm_verify_effect *v) {
   cJSON *o = cJSON_CreateObject();
@@ -86,6 +87,7 @@ static cJSON *wave_json(const dtm_analysis *a, const dtm_wave_spec *w, const dtm
   add_number(o, "measured_crossings", r->omega_crossings / (r->speed * r->k) - 1);
   add_number(o, "predicted", r->predicted.mean);
   add_number(o, "predicted_worst_element", r->predicted.worst);
+  if (r->mesh.kind == DTM_MEASURE_PHASE) cJSON_AddItemToObject(o, "mesh_measure", dtm_report_measure(a, &r->mesh));
   cJSON_AddNumberToObject(o, "elements", (double)r->predicted.elements);
   cJSON_AddNumberToObject(o, "unresolved", (double)r->predicted.unresolved);
   add_number(o, "agreement", r->agreement);

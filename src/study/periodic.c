@@ -6,37 +6,88 @@
  * box then meets no boundary and runs for as many periods as asked: the
  * measurement a phase speed needs (the packet on a bounded mesh only runs
  * until its window meets the boundary).
- * The faces are matched, dimension by dimension, by sorting the nodes on
- * each face by their other coordinates; twins are joined by union-find, so
- * that edge and corner nodes end up in one class with all their images. */
+ * The faces are matched, dimension by dimension, on a grid of cells of the
+ * matching tolerance over the two other coordinates: the nodes of the far
+ * face are sorted by their cell (whole numbers: a total order whatever the
+ * nodes' order), and each node of the near face takes the nearest unmatched
+ * node within the tolerance among the far nodes of its cell and of the eight
+ * around it (a twin within the tolerance is at most one cell away on each
+ * axis). The result does not depend on the order of the nodes (a sort whose
+ * "equal within the tolerance" is not transitive did: issue 45). Twins are
+ * joined by union-find, so that edge and corner nodes end up in one class
+ * with all their images. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "dtmap/error.h"
 #include "wave-impl.h"
 
-/* The sort of a face's nodes: their coordinates other than c, within tol equal. */
+/* A node of a face and its cell over the two coordinates other than the normal. */
 typedef struct {
-  const double *xyz; /* [nnodes][3] */
-  int c;             /* the face's normal axis */
-  double tol;        /* m */
-} face_sort;
+  int64_t cell[2]; /* floor((x - box lo) / tol) on the two other axes */
+  size_t node;     /* the mesh node */
+} face_node;
 
-static int by_other(const face_sort *s, size_t na, size_t nb) {
-  const double *a = s->xyz + 3 * na, *b = s->xyz + 3 * nb;
-  for (int j = 0; j < 3; j++)
-    if (j != s->c && fabs(a[j] - b[j]) > s->tol) return a[j] < b[j] ? -1 : 1;
-  return 0;
+/* The matching of one pair of faces. */
+typedef struct {
+  const dtm_mesh *mesh;
+  int axis[2];      /* the coordinates other than the faces' normal */
+  const double *lo; /* [3] the box's lower corner, m */
+  double tol;       /* m: the cell's side and the largest gap between twins */
+  face_node *far;   /* [nfar] the far face's nodes, sorted by cell */
+  size_t nfar;      /* nodes on the far face */
+  char *taken;      /* [nfar] 1 once matched */
+} face_match;
+
+static int by_cell(const void *pa, const void *pb) {
+  const face_node *a = pa, *b = pb;
+  for (int j = 0; j < 2; j++)
+    if (a->cell[j] != b->cell[j]) return a->cell[j] < b->cell[j] ? -1 : 1;
+  return (a->node > b->node) - (a->node < b->node);
 }
 
-/* Merge sort of v[n] by by_other (tmp: n more). */
-static void sort_face(const face_sort *s, size_t *v, size_t n, size_t *tmp) {
-  if (n < 2) return;
-  size_t h = n / 2, i = 0, j = h, k = 0;
-  sort_face(s, v, h, tmp), sort_face(s, v + h, n - h, tmp);
-  while (i < h || j < n) tmp[k++] = j == n || (i < h && by_other(s, v[i], v[j]) <= 0) ? v[i++] : v[j++];
-  memcpy(v, tmp, n * sizeof *v);
+static face_node node_cell(const face_match *m, size_t node) {
+  face_node f = {{0, 0}, node};
+  for (int j = 0; j < 2; j++)
+    f.cell[j] = (int64_t)floor((m->mesh->xyz[3 * node + m->axis[j]] - m->lo[m->axis[j]]) / m->tol);
+  return f;
+}
+
+/* The first far node whose cell is not below (cu, cv). */
+static size_t first_in(const face_match *m, int64_t cu, int64_t cv) {
+  size_t lo = 0, hi = m->nfar;
+  face_node key = {{cu, cv}, 0};
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (by_cell(&m->far[mid], &key) < 0)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
+/* The largest gap (m) between node a and far node b on the other axes. */
+static double gap(const face_match *m, size_t a, size_t b) {
+  const double *x = m->mesh->xyz;
+  return fmax(fabs(x[3 * a + m->axis[0]] - x[3 * b + m->axis[0]]), fabs(x[3 * a + m->axis[1]] - x[3 * b + m->axis[1]]));
+}
+
+/* The index in m->far of the unmatched twin of near node a nearest within tol, or m->nfar. */
+static size_t twin_of(const face_match *m, size_t a) {
+  face_node c = node_cell(m, a);
+  size_t best = m->nfar;
+  double best_gap = INFINITY;
+  for (int du = -1; du <= 1; du++)
+    for (int dv = -1; dv <= 1; dv++)
+      for (size_t i = first_in(m, c.cell[0] + du, c.cell[1] + dv);
+           i < m->nfar && m->far[i].cell[0] == c.cell[0] + du && m->far[i].cell[1] == c.cell[1] + dv; i++) {
+        double g = gap(m, a, m->far[i].node);
+        if (!m->taken[i] && g <= m->tol && g < best_gap) best = i, best_gap = g;
+      }
+  return best;
 }
 
 static size_t root_of(size_t *parent, size_t a) {
@@ -52,19 +103,34 @@ static size_t face_nodes(const dtm_mesh *mesh, int c, double v, double tol, size
   return n;
 }
 
-/* Join the nodes of the faces x_c = lo and x_c = hi; 0 when they do not match. */
-static int match_faces(const dtm_mesh *mesh, int c, double lo, double hi, double tol, size_t *buf, size_t *parent) {
-  size_t *a = buf, *b = buf + mesh->nnodes, *tmp = buf + 2 * mesh->nnodes;
-  size_t na = face_nodes(mesh, c, lo, tol, a), nb = face_nodes(mesh, c, hi, tol, b);
-  face_sort s = {mesh->xyz, c, tol};
-  if (na != nb || !na) return 0;
-  sort_face(&s, a, na, tmp), sort_face(&s, b, nb, tmp);
-  for (size_t i = 0; i < na; i++) {
-    if (by_other(&s, a[i], b[i])) return 0;
-    size_t ra = root_of(parent, a[i]), rb = root_of(parent, b[i]);
+/* Join every node of near[n] to its twin among m's far nodes; 0 when one has none. */
+static int join_twins(face_match *m, const size_t *near, size_t n, size_t *parent) {
+  for (size_t i = 0; i < n; i++) {
+    size_t t = twin_of(m, near[i]);
+    if (t == m->nfar) return 0;
+    m->taken[t] = 1;
+    size_t ra = root_of(parent, near[i]), rb = root_of(parent, m->far[t].node);
     parent[ra > rb ? ra : rb] = ra > rb ? rb : ra;
   }
   return 1;
+}
+
+/* Join the nodes of the faces x_c = lo[c] and x_c = hi; 0 when they do not
+ * match (buf: 2 nnodes; -1 on running out of memory). */
+static int match_faces(const dtm_mesh *mesh, int c, const double *lo, double hi, double tol, size_t *buf,
+                       size_t *parent) {
+  size_t *a = buf, *b = buf + mesh->nnodes;
+  size_t na = face_nodes(mesh, c, lo[c], tol, a), nb = face_nodes(mesh, c, hi, tol, b);
+  if (na != nb || !na) return 0;
+  face_match m = {mesh, {(c + 1) % 3, (c + 2) % 3}, lo, tol, malloc(nb * sizeof(face_node)), nb, calloc(nb, 1)};
+  int ok = m.far && m.taken ? 1 : -1;
+  if (ok > 0) {
+    for (size_t i = 0; i < nb; i++) m.far[i] = node_cell(&m, b[i]);
+    qsort(m.far, nb, sizeof *m.far, by_cell);
+    ok = join_twins(&m, a, na, parent);
+  }
+  free(m.far), free(m.taken);
+  return ok;
 }
 
 int dtm_wave_periodic_find(const dtm_mesh *mesh, dtm_wave_periodic *p) {
@@ -73,16 +139,17 @@ int dtm_wave_periodic_find(const dtm_mesh *mesh, dtm_wave_periodic *p) {
   for (size_t a = 0; a < mesh->nnodes; a++)
     for (int c = 0; c < 3; c++) lo[c] = fmin(lo[c], mesh->xyz[3 * a + c]), hi[c] = fmax(hi[c], mesh->xyz[3 * a + c]);
   for (int c = 0; c < mesh->dim; c++) ext = fmax(ext, hi[c] - lo[c]);
-  size_t *buf = malloc((3 * mesh->nnodes + 1) * sizeof *buf);
+  size_t *buf = malloc((2 * mesh->nnodes + 1) * sizeof *buf);
   p->root = malloc((mesh->nnodes + 1) * sizeof *p->root);
   if (!buf || !p->root) return free(buf), dtm_wave_periodic_free(p), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (size_t a = 0; a < mesh->nnodes; a++) p->root[a] = a;
   int ok = ext > 0;
-  for (int c = 0; c < mesh->dim && ok; c++) {
+  for (int c = 0; c < mesh->dim && ok > 0; c++) {
     p->L[c] = hi[c] - lo[c];
-    ok = match_faces(mesh, c, lo[c], hi[c], 1e-6 * ext, buf, p->root);
+    ok = match_faces(mesh, c, lo, hi[c], 1e-6 * ext, buf, p->root);
   }
   free(buf);
+  if (ok < 0) return dtm_wave_periodic_free(p), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (!ok) return dtm_wave_periodic_free(p), DTM_OK;
   for (size_t a = 0; a < mesh->nnodes; a++) p->root[a] = root_of(p->root, a);
   p->periodic = 1;

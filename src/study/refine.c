@@ -267,12 +267,22 @@ static int remesh_with(dtm_refine_result *rr, const loop_state *st, int dim, con
   int r = dtm_gmsh_remesh_sized(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise, o);
   info->mesh_seconds = dtm_wtime() - t0;
   info->optimise = dtm_gmsh_optimisers(dim, rr->options.optimise);
-  *gmsh_failed = r != DTM_OK;
-  if (r == DTM_OK) r = analyse_current(rr, dim, next);
+  int analysed = r == DTM_OK ? analyse_current(rr, dim, next) : DTM_OK;
+  *gmsh_failed = dtm_refine_remesh_failed(r, analysed);
+  if (r == DTM_OK && analysed && *gmsh_failed) { /* the message names the scene's mesh: say whose it is */
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s", dtm_error_message());
+    dtm_error_clear();
+    analysed = DTM_ERR(DTM_ERR_INPUT,
+                       "Gmsh's mesh of this round cannot be analysed (a failed mesh, not the input's): %s", msg);
+  }
+  if (r == DTM_OK) r = analysed;
   dtm_progress_end();
   DTM_CHECK(r);
   return DTM_OK;
 }
+
+int dtm_refine_remesh_failed(int remeshed, int analysed) { return remeshed != DTM_OK || analysed == DTM_ERR_INPUT; }
 
 /* A fingerprint of a field and Gmsh's sizes: two fields with the same one
  * are taken to be the same (the accuracy bounds clamp a uniform size and a

@@ -19,6 +19,16 @@ int dtm_grade_sizes(const dtm_mesh *m, double slope, const double *floor, double
  * model point at its shortest curve's, never below floor. g may be NULL. */
 void dtm_cap_at_features(const dtm_geo *g, const double *floor, double *size);
 
+/* Whether a remesh ends as a failed mesh (its strategy ends, the refine
+ * goes on, a cause says why) rather than ending the refine: Gmsh refused or
+ * crashed in it (remeshed, the remesh's code, is not DTM_OK), or the mesh
+ * Gmsh made cannot be analysed (analysed, its analysis's code, is
+ * DTM_ERR_INPUT: flat or inverted elements, say). The scene and the input
+ * mesh went through the same analysis before any remesh, so an input error
+ * there is the remesh's, not the user's; any other code (DTM_ERR_INTERNAL:
+ * out of memory, interrupted) ends the refine. */
+int dtm_refine_remesh_failed(int remeshed, int analysed);
+
 /* A new cause of kind (cleared) in rr, or NULL when the list is full. */
 dtm_cause *dtm_refine_new_cause(dtm_refine_result *rr, const char *kind);
 /* The mesh round of strategy name with the largest step (-1: none; refine_causes.c). */

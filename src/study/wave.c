@@ -374,6 +374,17 @@ static int wave_measure(const dtm_analysis *a, const dtm_operator *op, const cha
   return rc;
 }
 
+/* The mesh's phase-speed measure as `run` reports it, into *m (kind 0: none). */
+static int mesh_measure(const dtm_analysis *a, dtm_measure *m) {
+  dtm_measures *ms = NULL;
+  memset(m, 0, sizeof *m);
+  DTM_CHECK(dtm_measures_compute(a, 0, NULL, &ms));
+  for (int k = 0; k < ms->n; k++)
+    if (ms->m[k].kind == DTM_MEASURE_PHASE) *m = ms->m[k];
+  dtm_measures_destroy(&ms);
+  return DTM_OK;
+}
+
 int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dtm_wave_result *r) {
   memset(r, 0, sizeof *r);
   DTM_CHECK(check_spec(a, w, dt));
@@ -391,6 +402,7 @@ int dtm_verify_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w, dt
   dtm_operator_destroy(&op);
   free(on);
   DTM_CHECK(rc);
+  DTM_CHECK(mesh_measure(a, &r->mesh));
   r->measured = r->omega / (r->speed * r->k) - 1;
   r->agreement = (r->measured - r->predicted.mean) / fabs(r->predicted.mean);
   return DTM_OK;
