@@ -28,6 +28,9 @@ typedef struct {
   const char *path;   /* the deck (written atomically; not owned) */
   double target;      /* > 0: the step to reach with mass added at the nodes, s; 0: none */
   double max_added;   /* the added mass may reach this percent of the model's mass; NaN: no limit */
+  int lsdyna_proven;  /* LS-DYNA: 1 writes dtmap's proven step as TSSFAC (above 1 where its estimate is
+                         lower) with dtmap's nodal masses for a target; 0 (default) keeps TSSFAC <= 0.9
+                         and reaches the step with LS-DYNA's own mass scaling (DT2MS < 0) */
 } dtm_deck_opts;
 
 /* What was written, for the terminal and the report. */
@@ -42,6 +45,11 @@ typedef struct dtm_deck_info {
   size_t own_element;                    /* Gmsh tag of the element that sets it */
   char own_rule[200];                    /* that rule, in words */
   double tssfac;                         /* LS-DYNA's TSSFAC (NaN for the others) */
+  double dt2ms;                          /* LS-DYNA's DT2MS, negative: its conventional mass scaling to
+                                            |DT2MS|, s (NaN: none) */
+  double solver_added;                   /* the mass LS-DYNA adds at its start by its DT2MS rule, kg (0: none) */
+  size_t solver_added_elements;          /* the elements it adds it to */
+  int lsdyna_proven;                     /* LS-DYNA: 1 when written with --lsdyna-step proven */
   double duration;                       /* the step's duration (<time duration>; else 1000 steps), s */
   size_t nodes;                          /* nodes written */
   size_t elements;                       /* elements written (mass elements not counted) */

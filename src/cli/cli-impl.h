@@ -45,6 +45,7 @@ typedef struct {
   const char *png;         /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;       /* their size, pixels */
   const char *solver;      /* deck --solver NAME */
+  const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
 } cli_opts;
 

@@ -28,6 +28,10 @@ static const cli_command *command(void) {
 static int check_usage(const cli_opts *o, const char **ext) {
   if (!o->solver) return dtm_cli_usage_error(command(), "needs --solver (%s)", dtm_deck_solvers());
   if (dtm_deck_solver(o->solver, ext)) return dtm_cli_usage_error(command(), "%s", dtm_error_message());
+  if (o->lsdyna_step && strcmp(o->lsdyna_step, "conventional") && strcmp(o->lsdyna_step, "proven"))
+    return dtm_cli_usage_error(command(), "--lsdyna-step '%s' is neither conventional nor proven", o->lsdyna_step);
+  if (o->lsdyna_step && strcmp(o->solver, "lsdyna"))
+    return dtm_cli_usage_error(command(), "--lsdyna-step is for --solver lsdyna, not %s", o->solver);
   if (!isnan(o->max_added_mass) && !(o->target > 0))
     return dtm_cli_usage_error(command(), "--max-added-mass limits the mass --target DT needs: give --target");
   return DTM_OK;
@@ -57,7 +61,14 @@ static void print_deck(const dtm_deck_info *d) {
   if (!isnan(d->own))
     printf("  %s's own estimate %.6e s (element %zu): the step is %.3fx it\n", d->title, d->own, d->own_element,
            d->step / d->own);
-  if (isfinite(d->tssfac)) printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)\n", d->tssfac);
+  if (isfinite(d->tssfac) && isfinite(d->dt2ms))
+    printf("  TSSFAC     %.6g, DT2MS %.6g s (TSSFAC x |DT2MS| = the step): LS-DYNA adds %.6g kg at %zu elements "
+           "(%.3g %% of the model's %.6g kg) by its rule\n",
+           d->tssfac, d->dt2ms, d->solver_added, d->solver_added_elements, 100 * d->solver_added / d->model_mass,
+           d->model_mass);
+  else if (isfinite(d->tssfac))
+    printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)%s\n", d->tssfac,
+           d->tssfac > 0.9 ? ": above 0.9 (--lsdyna-step proven)" : "");
   if (d->added > 0)
     printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,
            100 * d->added / d->model_mass, d->model_mass);
@@ -69,7 +80,8 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   dtm_deck_info info;
-  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass};
+  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass,
+                       o->lsdyna_step && !strcmp(o->lsdyna_step, "proven")};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a), dtm_cli_warn_units(a);

@@ -280,7 +280,14 @@ void deck_header(const deck_ctx *c, const char *cm) {
   if (in->added > 0)
     fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
             in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
-  if (isfinite(in->tssfac))
+  if (isfinite(in->tssfac) && isfinite(in->dt2ms))
+    fprintf(f,
+            "%s TSSFAC %.10g and DT2MS %.10g s: the step is TSSFAC x |DT2MS|; %s adds mass at its start to\n"
+            "%s each element whose own step is below |DT2MS|, bringing it to |DT2MS|: by its rule %.10g kg at\n"
+            "%s %zu elements, %.4g %% of the model's %.10g kg\n",
+            cm, in->tssfac, in->dt2ms, in->title, cm, in->solver_added, cm, in->solver_added_elements,
+            100 * in->solver_added / in->model_mass, in->model_mass);
+  else if (isfinite(in->tssfac))
     fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its first step is the deck's\n", cm,
             in->tssfac, in->title);
   for (const char *l = c->proven; *l;) {
@@ -354,12 +361,13 @@ static int target_mass(const dtm_analysis *a, double dt_t, dtm_mass_scaling *ms)
 
 static int mass_check(const deck_ctx *c, const dtm_deck_opts *o) {
   const dtm_deck_info *in = c->info;
-  double pc = 100 * in->added / in->model_mass;
+  double added = in->added + in->solver_added, pc = 100 * added / in->model_mass;
   if (!(pc > o->max_added)) return DTM_OK;
   return DTM_ERR(DTM_ERR_TARGET,
-                 "%s: the target %.4e s needs %.6g kg added at %zu nodes, %.4g %% of the model's %.6g kg: above "
+                 "%s: the target %.4e s needs %.6g kg added at %zu %s, %.4g %% of the model's %.6g kg: above "
                  "--max-added-mass %g %%; nothing written",
-                 c->s->path, o->target, in->added, in->added_nodes, pc, in->model_mass, o->max_added);
+                 c->s->path, o->target, added, in->added > 0 ? in->added_nodes : in->solver_added_elements,
+                 in->added > 0 ? "nodes" : "elements (LS-DYNA's DT2MS rule)", pc, in->model_mass, o->max_added);
 }
 
 /* The step and its basis; the masses when the target needs them. */
@@ -371,6 +379,11 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
   snprintf(in->basis, sizeof in->basis, "%s",
            in->step < in->recommended ? "capped by the solver's elements" : "the recommended step");
   if (!(o->target > in->step)) return DTM_OK;
+  if (c->own_scaling) { /* the solver's mass scaling reaches it; checked once predicted */
+    in->step = fmin(o->target, cap);
+    snprintf(in->basis, sizeof in->basis, "the target, with the solver's mass scaling");
+    return DTM_OK;
+  }
   DTM_CHECK(target_mass(c->a, o->target / factor, ms));
   in->added = ms->total_added, in->model_mass = ms->total_mass, in->added_nodes = ms->nodes;
   c->added = ms->node_added;
@@ -425,7 +438,7 @@ static void info_init(const deck_ctx *c, const dtm_deck_opts *o, dtm_deck_info *
   snprintf(in->solver, sizeof in->solver, "%s", c->w->name);
   snprintf(in->title, sizeof in->title, "%s", c->w->title);
   snprintf(in->path, sizeof in->path, "%s", o->path);
-  in->tssfac = in->model_mass = NAN;
+  in->tssfac = in->model_mass = in->dt2ms = NAN;
 }
 
 int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info) {
@@ -443,9 +456,13 @@ int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info 
   c.form = formulation(a, k), c.elastic = k;
   dtm_mass_scaling ms = {0};
   int r = deck_plan(&c);
+  c.own_scaling = !strcmp(c.w->name, "lsdyna") && !o->lsdyna_proven;
+  info->lsdyna_proven = !strcmp(c.w->name, "lsdyna") && o->lsdyna_proven;
   if (r == DTM_OK) r = choose_step(&c, o, &ms);
+  if (r == DTM_OK) own_estimate(&c);
+  if (r == DTM_OK && !strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
+  if (r == DTM_OK && c.own_scaling && o->target > 0) r = mass_check(&c, o);
   if (r == DTM_OK) {
-    own_estimate(&c);
     damping_ratio(&c);
     count(&c);
     info->duration = c.s->duration > 0 ? c.s->duration : DECK_STEPS_DEFAULT * info->step;
