@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "dtmap/deck.h"
 #include "dtmap/output.h"
 #include "dtmap/sweep.h"
 
@@ -248,5 +249,9 @@ typedef struct {
   dtm_plot_panel panel[2]; /* phase error, then counts */
 } dtm_plot_layout;
 const dtm_plot_layout *dtm_cli_sweep_plot_layout(void);
+
+/* The summary's line of one solver: the step it takes with dtmap's deck,
+ * why, and the hours the scene's duration takes (or why not known). */
+void dtm_cli_print_solver_run(const char *solver, const dtm_solver_run *r);
 
 #endif

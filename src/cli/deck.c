@@ -72,7 +72,19 @@ static void print_deck(const dtm_deck_info *d) {
   if (d->added > 0)
     printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,
            100 * d->added / d->model_mass, d->model_mass);
+  printf("  the run    the step %s takes with this deck, and the hours of the scene's duration:\n", d->title);
+  dtm_cli_print_solver_run(d->solver, &d->run);
   for (int i = 0; i < d->nwarnings; i++) fprintf(stderr, "dtmap: warning: %s\n", d->warnings[i]);
+}
+
+void dtm_cli_print_solver_run(const char *solver, const dtm_solver_run *r) {
+  printf("  %-9s step %.4e s (%s): ", solver, r->step, r->basis);
+  if (isnan(r->element_steps))
+    printf("no <time duration>, no hours\n");
+  else if (isnan(r->cost))
+    printf("%.4g element-steps; hours %s\n", r->element_steps, r->cost_source);
+  else
+    printf("%.4g element-steps x %.4g ns = %.4g h (%s)\n", r->element_steps, 1e9 * r->cost, r->hours, r->cost_source);
 }
 
 /* Analyse, write the deck, then the report. */
@@ -90,7 +102,8 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
   if (r == DTM_OK && o->verbosity) print_deck(&info);
-  dtm_results res = {a, cost, NULL, t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o)};
+  dtm_results res = {a, cost,          NULL,       t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o),
+                     1, {info.solver}, {&info.run}};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);
   if (r == DTM_OK && o->verbosity)
     printf("\nwrote        %s%s%s\n", path, o->report ? ", " : "", o->report ? o->report : "");

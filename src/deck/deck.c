@@ -397,6 +397,54 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
   return mass_check(c, o);
 }
 
+/* The cost per element-step of the solver's elements, s, and its source:
+ * the scene's <time cost-per-element-step>; else for CalculiX its
+ * elements' measured figures (ccx_cost.inc) weighted by their counts, an
+ * element not measured taking dtmap's figure for its type; else not
+ * known (NaN). */
+static double solver_cost(const deck_ctx *c, char *src, size_t len) {
+  if (c->s->cost_per_element_step > 0)
+    return snprintf(src, len, "%s:%d: <time cost-per-element-step>", c->s->path, c->s->time_line),
+           c->s->cost_per_element_step;
+  if (strcmp(c->w->name, "calculix"))
+    return snprintf(src, len, "not known: no %s here to measure, and the scene gives no <time cost-per-element-step>",
+                    c->w->title),
+           NAN;
+  double sum = 0.0, n = 0.0;
+  const char *lacks = NULL;
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    double ns = dtm_cost_ccx_ns(p->elem);
+    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type), lacks = p->elem;
+    sum += ns * (double)p->count, n += (double)p->count;
+  }
+  snprintf(src, len, "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py)%s%s%s",
+           lacks ? "; " : "", lacks ? lacks : "", lacks ? " not measured: its type's figure" : "");
+  return n > 0 ? sum / n * 1e-9 : NAN;
+}
+
+/* The step the solver takes with the deck c->info describes (after its
+ * own estimate) and the hours the scene's duration then takes. */
+static void solver_run(const deck_ctx *c, dtm_solver_run *r) {
+  const dtm_deck_info *in = c->info;
+  r->step = in->step;
+  if (!strcmp(c->w->name, "calculix") && in->own < in->step)
+    r->step = in->own,
+    snprintf(r->basis, sizeof r->basis, "ccx's own estimate: it takes the smaller of it and the deck's increment");
+  else if (!strcmp(c->w->name, "calculix"))
+    snprintf(r->basis, sizeof r->basis, "the deck's increment, below ccx's own estimate");
+  else if (isfinite(in->dt2ms))
+    snprintf(r->basis, sizeof r->basis, "TSSFAC x |DT2MS|, after LS-DYNA's mass scaling");
+  else if (isfinite(in->tssfac))
+    snprintf(r->basis, sizeof r->basis, "TSSFAC x LS-DYNA's own estimate");
+  else
+    snprintf(r->basis, sizeof r->basis, "the deck's increment (DIRECT USER CONTROL)");
+  double d = c->s->duration;
+  r->element_steps = d > 0 ? (double)dtm_mesh_nelements(c->m) * ceil(d / r->step) : NAN;
+  r->cost = solver_cost(c, r->cost_source, sizeof r->cost_source);
+  r->hours = r->element_steps * r->cost / 3600;
+}
+
 /* A constant damping ratio has no solver equivalent: say so. */
 static void damping_ratio(deck_ctx *c) {
   double alpha, beta, xi;
@@ -463,6 +511,7 @@ int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info 
   if (r == DTM_OK && !strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
   if (r == DTM_OK && c.own_scaling && o->target > 0) r = mass_check(&c, o);
   if (r == DTM_OK) {
+    solver_run(&c, &info->run);
     damping_ratio(&c);
     count(&c);
     info->duration = c.s->duration > 0 ? c.s->duration : DECK_STEPS_DEFAULT * info->step;
@@ -506,6 +555,16 @@ int dtm_deck_own_steps(const dtm_analysis *a, const char *solver, dtm_deck_steps
         corner_centroid(c.m, &c.m->blocks[b], e, out->centroid);
       }
     }
+  dtm_mass_scaling ms = {0};
+  dtm_deck_opts none = {.path = ""};
+  if (r == DTM_OK) info_init(&c, &none, info), c.own_scaling = !strcmp(c.w->name, "lsdyna");
+  if (r == DTM_OK) r = choose_step(&c, &none, &ms);
+  if (r == DTM_OK) {
+    own_estimate(&c);
+    if (!strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
+    solver_run(&c, &out->run);
+  }
+  dtm_mass_scaling_free(&ms);
   if (r == DTM_OK) {
     snprintf(out->solver, sizeof out->solver, "%s", c.w->name);
     snprintf(out->title, sizeof out->title, "%s", c.w->title);
