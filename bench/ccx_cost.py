@@ -138,10 +138,13 @@ def table(a, tmp):
     if a.inc:
         with open(a.inc, "w") as f:
             f.write("/* CalculiX 2.20 (Debian's ccx), explicit dynamics, one thread\n"
-                    " * (OMP_NUM_THREADS=1): wall time per element-step, ns, of dtmap's own\n"
-                    " * CalculiX decks, per CalculiX element. Regenerate with\n"
-                    " *   /usr/bin/python3 bench/ccx_cost.py build/dtmap --inc src/cost/ccx_cost.inc\n"
-                    " * (docs/accuracy.md, \"CalculiX's own runs\"). */\n")
+                    " * (OMP_NUM_THREADS=1): %s per element-step, ns, of dtmap's own\n"
+                    " * CalculiX decks, per CalculiX element (N1 = %d, N2 = %d increments).\n"
+                    " * Regenerate with\n"
+                    " *   /usr/bin/python3 bench/ccx_cost.py build/dtmap%s --inc src/cost/ccx_cost.inc\n"
+                    " * (docs/accuracy.md, \"CalculiX's own runs\"). */\n" % (
+                        "CPU time (user + system: the wall time of an idle machine)" if a.cpu else "wall time",
+                        a.n1, a.n2, " --cpu" if a.cpu else ""))
             for r in rows:
                 f.write('{"%s", %.0f},\n' % (r[0], r[7]))
 
