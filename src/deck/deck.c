@@ -411,15 +411,17 @@ static double solver_cost(const deck_ctx *c, char *src, size_t len) {
                     c->w->title),
            NAN;
   double sum = 0.0, n = 0.0;
-  const char *lacks = NULL;
+  char lacks[64] = "";
   for (int k = 0; k < c->nparts; k++) {
     const deck_part *p = &c->parts[k];
     double ns = dtm_cost_ccx_ns(p->elem);
-    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type), lacks = p->elem;
+    if (isnan(ns) && !strstr(lacks, p->elem) && strlen(lacks) + strlen(p->elem) + 3 < sizeof lacks)
+      strcat(strcat(lacks, lacks[0] ? ", " : ""), p->elem);
+    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type);
     sum += ns * (double)p->count, n += (double)p->count;
   }
   snprintf(src, len, "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py)%s%s%s",
-           lacks ? "; " : "", lacks ? lacks : "", lacks ? " not measured: its type's figure" : "");
+           lacks[0] ? "; " : "", lacks, lacks[0] ? " not measured: their dtmap type's figure" : "");
   return n > 0 ? sum / n * 1e-9 : NAN;
 }
 
