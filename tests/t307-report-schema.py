@@ -53,7 +53,8 @@ class Schema(tu.unittest.TestCase):
     def setUpClass(cls):
         cls.v = report_schema.validator(SCHEMA)
         scene = os.path.join(tu.SRC, "geometries", "plate_with_hole.xml")
-        code, out = tu.run("run", scene, "-q", "--posterior", "-o", "plate_dt.msh", "--report", "plate.json")
+        code, out = tu.run("run", scene, "-q", "--posterior", "--solver-rule", "calculix,lsdyna", "-o", "plate_dt.msh",
+                           "--report", "plate.json")
         assert code == 0, out
         cls.report = tu.report("plate.json")
         code, out = tu.run("verify", scene, "-q", "--steps", "200", "--report", "plate_verify.json")
@@ -84,6 +85,8 @@ class Schema(tu.unittest.TestCase):
         self.assertEqual(self.report["model"]["units"], "SI")
         self.assertIn("lanczos", self.report["effect_minima"][0])
         self.assertEqual(self.report["dt"]["basis"], "global estimate")
+        self.assertEqual([x["solver"] for x in self.report["solvers"]], ["calculix", "lsdyna"])
+        self.assertIsNone(self.report["solvers"][1]["hours"])  # LS-DYNA's cost is not known here
 
     def test_probable_report(self):
         self.assertEqual(report_schema.problems(self.v, self.box), [])
@@ -144,6 +147,9 @@ class Schema(tu.unittest.TestCase):
             "model without its units": lambda r: r["model"].pop("units"),
             "negative model mass": lambda r: r["model"].update(mass=-1.0),
             "bounding box of 2 coordinates": lambda r: r["model"]["bbox"].update(min=[0, 0]),
+            "solver run without its hours": lambda r: r["solvers"][0].pop("hours"),
+            "unknown solver": lambda r: r["solvers"][0].update(solver="nastran"),
+            "solver step zero": lambda r: r["solvers"][1].update(step=0),
         }
         for what, change in mistakes.items():
             self.assertNotEqual(self.mutated(change), [], what)

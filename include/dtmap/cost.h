@@ -145,6 +145,10 @@ DTM_EXPORT int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds,
 /* dtmap's calibration for one element type, ns per element-step (CalculiX
  * 2.20 explicit, one thread; a type not calibrated takes the nearest). */
 DTM_EXPORT double dtm_cost_calibrated_ns(int type);
+/* Wall time of one element-step of CalculiX's element elem ("C3D4",
+ * "S3") in Debian's ccx 2.20, one thread, measured on dtmap's decks by
+ * bench/ccx_cost.py (src/cost/ccx_cost.inc), ns; NaN when not measured. */
+DTM_EXPORT double dtm_cost_ccx_ns(const char *elem);
 
 /* Element-steps to cover the scene's duration (NaN without one): every
  * element takes ceil(duration / recommended) steps. Subcycled: the same

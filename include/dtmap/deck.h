@@ -28,7 +28,24 @@ typedef struct {
   const char *path;   /* the deck (written atomically; not owned) */
   double target;      /* > 0: the step to reach with mass added at the nodes, s; 0: none */
   double max_added;   /* the added mass may reach this percent of the model's mass; NaN: no limit */
+  int lsdyna_proven;  /* LS-DYNA: 1 writes dtmap's proven step as TSSFAC (above 1 where its estimate is
+                         lower) with dtmap's nodal masses for a target; 0 (default) keeps TSSFAC <= 0.9
+                         and reaches the step with LS-DYNA's own mass scaling (DT2MS < 0) */
 } dtm_deck_opts;
+
+/* The step a solver will take with dtmap's deck and the hours the scene's
+ * duration then takes: element-steps x that solver's cost per
+ * element-step (CalculiX: measured on its own runs, src/cost/ccx_cost.inc;
+ * LS-DYNA and Abaqus: the scene's <time cost-per-element-step> or not
+ * known; never CalculiX's figure for another solver). */
+typedef struct {
+  double step;           /* the step the solver takes, s */
+  char basis[160];       /* why ("ccx's own estimate: it takes the smaller of it and the deck's increment") */
+  double element_steps;  /* elements x ceil(duration / step) (NaN without <time duration>) */
+  double cost;           /* s per element-step (NaN: not known) */
+  char cost_source[200]; /* where that figure comes from, or why it is not known */
+  double hours;          /* element_steps x cost / 3600 (NaN: not known) */
+} dtm_solver_run;
 
 /* What was written, for the terminal and the report. */
 typedef struct dtm_deck_info {
@@ -42,6 +59,11 @@ typedef struct dtm_deck_info {
   size_t own_element;                    /* Gmsh tag of the element that sets it */
   char own_rule[200];                    /* that rule, in words */
   double tssfac;                         /* LS-DYNA's TSSFAC (NaN for the others) */
+  double dt2ms;                          /* LS-DYNA's DT2MS, negative: its conventional mass scaling to
+                                            |DT2MS|, s (NaN: none) */
+  double solver_added;                   /* the mass LS-DYNA adds at its start by its DT2MS rule, kg (0: none) */
+  size_t solver_added_elements;          /* the elements it adds it to */
+  int lsdyna_proven;                     /* LS-DYNA: 1 when written with --lsdyna-step proven */
   double duration;                       /* the step's duration (<time duration>; else 1000 steps), s */
   size_t nodes;                          /* nodes written */
   size_t elements;                       /* elements written (mass elements not counted) */
@@ -55,6 +77,7 @@ typedef struct dtm_deck_info {
   double seconds;                        /* writing the deck, s */
   int nwarnings;                         /* warnings kept */
   char warnings[DTM_DECK_WARN_MAX][480]; /* one sentence each */
+  dtm_solver_run run;                    /* the step the solver takes with this deck, and the hours */
 } dtm_deck_info;
 
 /* The solvers, "calculix, abaqus, lsdyna" (static). */
@@ -87,6 +110,7 @@ typedef struct {
   double min;         /* the smallest, s (NaN when the rule covers no element) */
   size_t element;     /* Gmsh tag of the element that has it */
   double centroid[3]; /* that element's centroid (mean of its corners), m */
+  dtm_solver_run run; /* the step it takes with dtmap's deck (no target), and the hours */
 } dtm_deck_steps;
 
 /* Fill *out for solver (a name of dtm_deck_solvers()) on analysis a: the

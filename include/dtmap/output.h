@@ -13,12 +13,15 @@
 #include "dtmap/verify.h"
 
 typedef struct {
-  const dtm_analysis *analysis;    /* required (not owned) */
-  const dtm_cost *cost;            /* or NULL (not owned) */
-  const dtm_refine_result *refine; /* the refine rounds, or NULL (not owned) */
-  double t_scene;                  /* reading the scene, s (the caller's stage) */
-  double t_output;                 /* writing the mesh and views, s (the caller's stage) */
-  int top;                         /* elements listed as the smallest steps ("worst"); 0: 10, < 0: none */
+  const dtm_analysis *analysis;         /* required (not owned) */
+  const dtm_cost *cost;                 /* or NULL (not owned) */
+  const dtm_refine_result *refine;      /* the refine rounds, or NULL (not owned) */
+  double t_scene;                       /* reading the scene, s (the caller's stage) */
+  double t_output;                      /* writing the mesh and views, s (the caller's stage) */
+  int top;                              /* elements listed as the smallest steps ("worst"); 0: 10, < 0: none */
+  int nsolvers;                         /* solvers named (run --solver-rule, deck --solver): the report's solvers[] */
+  const char *solver_names[8];          /* their names (not owned) */
+  const dtm_solver_run *solver_runs[8]; /* the step each takes with dtmap's deck and the hours (not owned) */
 } dtm_results;
 
 /* The view of the elements whose step is below the scene's target, and the

@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "dtmap/deck.h"
 #include "dtmap/output.h"
 #include "dtmap/sweep.h"
 
@@ -46,6 +47,7 @@ typedef struct {
   const char *png;         /* run/snapshot --png PREFIX: pictures PREFIX_worst.png, PREFIX_dt.png */
   int width, height;       /* their size, pixels */
   const char *solver;      /* deck --solver NAME */
+  const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
 } cli_opts;
 
@@ -248,5 +250,9 @@ typedef struct {
   dtm_plot_panel panel[2]; /* phase error, then counts */
 } dtm_plot_layout;
 const dtm_plot_layout *dtm_cli_sweep_plot_layout(void);
+
+/* The summary's line of one solver: the step it takes with dtmap's deck,
+ * why, and the hours the scene's duration takes (or why not known). */
+void dtm_cli_print_solver_run(const char *solver, const dtm_solver_run *r);
 
 #endif

@@ -28,6 +28,10 @@ static const cli_command *command(void) {
 static int check_usage(const cli_opts *o, const char **ext) {
   if (!o->solver) return dtm_cli_usage_error(command(), "needs --solver (%s)", dtm_deck_solvers());
   if (dtm_deck_solver(o->solver, ext)) return dtm_cli_usage_error(command(), "%s", dtm_error_message());
+  if (o->lsdyna_step && strcmp(o->lsdyna_step, "conventional") && strcmp(o->lsdyna_step, "proven"))
+    return dtm_cli_usage_error(command(), "--lsdyna-step '%s' is neither conventional nor proven", o->lsdyna_step);
+  if (o->lsdyna_step && strcmp(o->solver, "lsdyna"))
+    return dtm_cli_usage_error(command(), "--lsdyna-step is for --solver lsdyna, not %s", o->solver);
   if (!isnan(o->max_added_mass) && !(o->target > 0))
     return dtm_cli_usage_error(command(), "--max-added-mass limits the mass --target DT needs: give --target");
   return DTM_OK;
@@ -57,11 +61,30 @@ static void print_deck(const dtm_deck_info *d) {
   if (!isnan(d->own))
     printf("  %s's own estimate %.6e s (element %zu): the step is %.3fx it\n", d->title, d->own, d->own_element,
            d->step / d->own);
-  if (isfinite(d->tssfac)) printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)\n", d->tssfac);
+  if (isfinite(d->tssfac) && isfinite(d->dt2ms))
+    printf("  TSSFAC     %.6g, DT2MS %.6g s (TSSFAC x |DT2MS| = the step): LS-DYNA adds %.6g kg at %zu elements "
+           "(%.3g %% of the model's %.6g kg) by its rule\n",
+           d->tssfac, d->dt2ms, d->solver_added, d->solver_added_elements, 100 * d->solver_added / d->model_mass,
+           d->model_mass);
+  else if (isfinite(d->tssfac))
+    printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)%s\n", d->tssfac,
+           d->tssfac > 0.9 ? ": above 0.9 (--lsdyna-step proven)" : "");
   if (d->added > 0)
     printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,
            100 * d->added / d->model_mass, d->model_mass);
+  printf("  the run    the step %s takes with this deck, and the hours of the scene's duration:\n", d->title);
+  dtm_cli_print_solver_run(d->solver, &d->run);
   for (int i = 0; i < d->nwarnings; i++) fprintf(stderr, "dtmap: warning: %s\n", d->warnings[i]);
+}
+
+void dtm_cli_print_solver_run(const char *solver, const dtm_solver_run *r) {
+  printf("  %-9s step %.4e s (%s): ", solver, r->step, r->basis);
+  if (isnan(r->element_steps))
+    printf("no <time duration>, no hours\n");
+  else if (isnan(r->cost))
+    printf("%.4g element-steps; hours %s\n", r->element_steps, r->cost_source);
+  else
+    printf("%.4g element-steps x %.4g ns = %.4g h (%s)\n", r->element_steps, 1e9 * r->cost, r->hours, r->cost_source);
 }
 
 /* Analyse, write the deck, then the report. */
@@ -69,7 +92,8 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   dtm_deck_info info;
-  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass};
+  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass,
+                       o->lsdyna_step && !strcmp(o->lsdyna_step, "proven")};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a), dtm_cli_warn_units(a);
@@ -79,7 +103,8 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
   if (r == DTM_OK && o->verbosity) print_deck(&info);
-  dtm_results res = {a, cost, NULL, t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o)};
+  dtm_results res = {a, cost,          NULL,       t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o),
+                     1, {info.solver}, {&info.run}};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);
   if (r == DTM_OK && o->verbosity)
     printf("\nwrote        %s%s%s\n", path, o->report ? ", " : "", o->report ? o->report : "");

@@ -144,6 +144,9 @@ static const cli_option deck_options[] = {
     {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT", "reach this step, s, with mass added at the nodes"},
     {"--max-added-mass", CLI_DOUBLE, OPT(max_added_mass), 0, 0, 100, "P",
      "with --target: exit 1 if the mass needed is above P % of the model's (default: <time max-added-mass>)"},
+    {"--lsdyna-step", CLI_STRING, OPT(lsdyna_step), 0, 0, 0, "conventional|proven",
+     "LS-DYNA: TSSFAC <= 0.9 with its DT2MS mass scaling (conventional, the default), or dtmap's proven step as "
+     "TSSFAC, above 1 where its estimate is lower (proven)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report, with the deck's step and estimates"},
     LANCZOS_OPTIONS,
     SEED_OPTION,
@@ -224,12 +227,14 @@ const cli_command dtm_cli_commands[] = {
      sweep_options, dtm_cli_sweep},
     {"deck",
      "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "
-     "[--report R.json] [-j N] [-v|-q]",
+     "[--lsdyna-step conventional|proven] [--report R.json] [-j N] [-v|-q]",
      "Analyses the scene as run does and writes the explicit solver's input: the nodes,\n"
      "every analysed element in the solver's element type, one element and one node set\n"
      "per physical group, the materials and sections, dtmap's step fixed as the\n"
-     "increment (LS-DYNA: the TSSFAC that makes its own estimate the step), the scene's\n"
-     "duration, mass at the nodes for --target, and commented *INCLUDE slots for the\n"
+     "increment (LS-DYNA: TSSFAC <= 0.9 x its own estimate, with its DT2MS mass scaling\n"
+     "and the mass it will add predicted where the step is above that; --lsdyna-step\n"
+     "proven: the TSSFAC that makes its estimate the step, above 1 where it is lower),\n"
+     "the scene's duration, mass at the nodes for --target, and commented *INCLUDE slots for the\n"
      "loads, boundary conditions, contact and output requests. Prints the solver's own\n"
      "estimate for the mesh beside the step. An element the solver lacks is exit 2.",
      deck_options, dtm_cli_deck},

@@ -236,6 +236,8 @@ static void print_rules(const dtm_analysis *a, const solver_rules *sr) {
     printf("  %-9s smallest %.10g s (%.3fx dtmap's %.4g s): element %zu at (%.6g, %.6g, %.6g) m\n", st->solver, st->min,
            st->min / dmin, dmin, st->element, st->centroid[0], st->centroid[1], st->centroid[2]);
   }
+  printf("\nsolver runs  the step each solver takes with dtmap's deck, and the hours of the scene's duration\n");
+  for (int i = 0; i < sr->n; i++) dtm_cli_print_solver_run(sr->steps[i].solver, &sr->steps[i].run);
 }
 
 /* The output of `run`, begun as soon as the mesh is extracted: Gmsh writes
@@ -275,7 +277,8 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
   if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o)};
+    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o), rules.n, {NULL}, {NULL}};
+    for (int i = 0; i < rules.n; i++) res.solver_names[i] = rules.names[i], res.solver_runs[i] = &rules.steps[i].run;
     if (o->verbosity && verify)
       print_brief(a);
     else if (o->verbosity)

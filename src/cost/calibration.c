@@ -1,7 +1,8 @@
 /* What an element-step costs in time: the scene's own figure (<time
- * cost-per-element-step>, s) or dtmap's calibration against CalculiX 2.20
- * explicit dynamics on this project's bundled geometries, one thread
- * (bench/ccx_calibrate.py, table in docs/accuracy.md), per element type;
+ * cost-per-element-step>, s) or Debian's CalculiX 2.20 explicit dynamics
+ * measured on dtmap's own decks, one thread, per CalculiX element
+ * (bench/ccx_cost.py writes ccx_cost.inc; docs/accuracy.md), each dtmap
+ * type taking its CalculiX element's figure (2D: plane strain);
  * a mesh of several types takes the element-weighted mean. Types not
  * calibrated (bars, prisms, pyramids, serendipity types) take the figure of the
  * calibrated type of the same dimension with the closest node count (said
@@ -9,16 +10,33 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/cost.h"
 #include "dtmap/kernel.h"
 
-/* ns per element-step, CalculiX 2.20, one thread (docs/accuracy.md). */
+/* ns per element-step of CalculiX's own elements, measured on dtmap's decks
+ * (bench/ccx_cost.py writes the table). */
 static const struct {
-  int type;  /* element type */
-  double ns; /* ns per element-step */
-} calibrated[] = {{DTM_TET4, 1181}, {DTM_TET10, 3674}, {DTM_HEX8, 5577},
-                  {DTM_TRI3, 3125}, {DTM_TRI6, 10519}, {DTM_QUAD4, 7180}};
+  const char *elem; /* CalculiX's element */
+  double ns;        /* wall time per element-step, one thread, ns */
+} ccx_measured[] = {
+#include "ccx_cost.inc"
+};
+
+double dtm_cost_ccx_ns(const char *elem) {
+  for (size_t i = 0; i < sizeof ccx_measured / sizeof *ccx_measured; i++)
+    if (!strcmp(ccx_measured[i].elem, elem)) return ccx_measured[i].ns;
+  return NAN;
+}
+
+/* The CalculiX element whose measured figure (ccx_cost.inc) stands for
+ * each dtmap type: solids as themselves, 2D types as plane strain. */
+static const struct {
+  int type;         /* element type */
+  const char *elem; /* CalculiX's element */
+} calibrated[] = {{DTM_TET4, "C3D4"}, {DTM_TET10, "C3D10"}, {DTM_HEX8, "C3D8"},
+                  {DTM_TRI3, "CPE3"}, {DTM_TRI6, "CPE6"},   {DTM_QUAD4, "CPE4"}};
 #define NCAL (sizeof calibrated / sizeof calibrated[0])
 
 /* The calibrated figure for type (ns), and whether it is the type's own. */
@@ -26,7 +44,7 @@ static double figure(int type, int *own) {
   int d, nn, dc, nc;
   *own = 1;
   for (size_t i = 0; i < NCAL; i++)
-    if (calibrated[i].type == type) return calibrated[i].ns;
+    if (calibrated[i].type == type) return dtm_cost_ccx_ns(calibrated[i].elem);
   *own = 0;
   if (dtm_elem_info(type, &d, &nn)) return NAN;
   double best = NAN;
@@ -34,7 +52,7 @@ static double figure(int type, int *own) {
   for (size_t i = 0; i < NCAL; i++) {
     dtm_elem_info(calibrated[i].type, &dc, &nc);
     int g = dc == d ? abs(nc - nn) : 1000 + abs(nc - nn);
-    if (g < gap) gap = g, best = calibrated[i].ns;
+    if (g < gap) gap = g, best = dtm_cost_ccx_ns(calibrated[i].elem);
   }
   return best;
 }
@@ -60,7 +78,7 @@ int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *sour
     n += m->blocks[b].n, all_own &= own;
   }
   *seconds = n ? sum / (double)n * 1e-9 : NAN;
-  snprintf(source, len, "dtmap's CalculiX 2.20 explicit calibration, one thread (docs/accuracy.md)%s",
+  snprintf(source, len, "CalculiX 2.20 explicit, measured on dtmap's decks, one thread (bench/ccx_cost.py)%s",
            all_own ? "" : "; a type it lacks takes its nearest calibrated type");
   return DTM_OK;
 }

@@ -72,6 +72,8 @@ typedef struct deck_ctx {
   dtm_deck_info *info;         /* what is written */
   char proven[640];            /* the writer's lines on where the step was proven and what holds it ("": none) */
   int probe;                   /* 1 while deck_lacks asks the other writers: raise no error */
+  int own_scaling;             /* 1: a target is reached by the solver's own mass scaling (LS-DYNA's DT2MS),
+                                  not by masses at the nodes */
 } deck_ctx;
 
 /* One solver's format. */
@@ -194,6 +196,13 @@ double deck_ccx_length(int type, const double *x, double t, double a, double b);
 double deck_ccx_layer_length(int type, const double *x, const double *n, double t);
 /* CalculiX's factor on that length for its solid of part p's element. */
 double deck_ccx_elemfac(const char *elem);
+
+/* ---- lsdyna.c ---- */
+/* LS-DYNA's TSSFAC and (c->own_scaling) DT2MS for the step c->info holds,
+ * after the solver's own estimate: the step becomes TSSFAC x that estimate,
+ * or TSSFAC x |DT2MS| with the mass LS-DYNA adds by its rule predicted
+ * (info->solver_added, the model's mass info->model_mass). */
+void deck_lsdyna_step(deck_ctx *c);
 
 /* ---- inp.c: Abaqus-style input (CalculiX and Abaqus) ---- */
 int deck_inp_nodes(deck_ctx *c);

@@ -286,7 +286,14 @@ void deck_header(const deck_ctx *c, const char *cm) {
   if (in->added > 0)
     fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
             in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
-  if (isfinite(in->tssfac))
+  if (isfinite(in->tssfac) && isfinite(in->dt2ms))
+    fprintf(f,
+            "%s TSSFAC %.10g and DT2MS %.10g s: the step is TSSFAC x |DT2MS|; %s adds mass at its start to\n"
+            "%s each element whose own step is below |DT2MS|, bringing it to |DT2MS|: by its rule %.10g kg at\n"
+            "%s %zu elements, %.4g %% of the model's %.10g kg\n",
+            cm, in->tssfac, in->dt2ms, in->title, cm, in->solver_added, cm, in->solver_added_elements,
+            100 * in->solver_added / in->model_mass, in->model_mass);
+  else if (isfinite(in->tssfac))
     fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its first step is the deck's\n", cm,
             in->tssfac, in->title);
   for (const char *l = c->proven; *l;) {
@@ -360,12 +367,13 @@ static int target_mass(const dtm_analysis *a, double dt_t, dtm_mass_scaling *ms)
 
 static int mass_check(const deck_ctx *c, const dtm_deck_opts *o) {
   const dtm_deck_info *in = c->info;
-  double pc = 100 * in->added / in->model_mass;
+  double added = in->added + in->solver_added, pc = 100 * added / in->model_mass;
   if (!(pc > o->max_added)) return DTM_OK;
   return DTM_ERR(DTM_ERR_TARGET,
-                 "%s: the target %.4e s needs %.6g kg added at %zu nodes, %.4g %% of the model's %.6g kg: above "
+                 "%s: the target %.4e s needs %.6g kg added at %zu %s, %.4g %% of the model's %.6g kg: above "
                  "--max-added-mass %g %%; nothing written",
-                 c->s->path, o->target, in->added, in->added_nodes, pc, in->model_mass, o->max_added);
+                 c->s->path, o->target, added, in->added > 0 ? in->added_nodes : in->solver_added_elements,
+                 in->added > 0 ? "nodes" : "elements (LS-DYNA's DT2MS rule)", pc, in->model_mass, o->max_added);
 }
 
 /* The step and its basis; the masses when the target needs them. */
@@ -377,6 +385,11 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
   snprintf(in->basis, sizeof in->basis, "%s",
            in->step < in->recommended ? "capped by the solver's elements" : "the recommended step");
   if (!(o->target > in->step)) return DTM_OK;
+  if (c->own_scaling) { /* the solver's mass scaling reaches it; checked once predicted */
+    in->step = fmin(o->target, cap);
+    snprintf(in->basis, sizeof in->basis, "the target, with the solver's mass scaling");
+    return DTM_OK;
+  }
   DTM_CHECK(target_mass(c->a, o->target / factor, ms));
   in->added = ms->total_added, in->model_mass = ms->total_mass, in->added_nodes = ms->nodes;
   c->added = ms->node_added;
@@ -388,6 +401,56 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
               "that cap",
               in->title, cap, o->target);
   return mass_check(c, o);
+}
+
+/* The cost per element-step of the solver's elements, s, and its source:
+ * the scene's <time cost-per-element-step>; else for CalculiX its
+ * elements' measured figures (ccx_cost.inc) weighted by their counts, an
+ * element not measured taking dtmap's figure for its type; else not
+ * known (NaN). */
+static double solver_cost(const deck_ctx *c, char *src, size_t len) {
+  if (c->s->cost_per_element_step > 0)
+    return snprintf(src, len, "%s:%d: <time cost-per-element-step>", c->s->path, c->s->time_line),
+           c->s->cost_per_element_step;
+  if (strcmp(c->w->name, "calculix"))
+    return snprintf(src, len, "not known: no %s here to measure, and the scene gives no <time cost-per-element-step>",
+                    c->w->title),
+           NAN;
+  double sum = 0.0, n = 0.0;
+  char lacks[64] = "";
+  for (int k = 0; k < c->nparts; k++) {
+    const deck_part *p = &c->parts[k];
+    double ns = dtm_cost_ccx_ns(p->elem);
+    if (isnan(ns) && !strstr(lacks, p->elem) && strlen(lacks) + strlen(p->elem) + 3 < sizeof lacks)
+      strcat(strcat(lacks, lacks[0] ? ", " : ""), p->elem);
+    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type);
+    sum += ns * (double)p->count, n += (double)p->count;
+  }
+  snprintf(src, len, "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py)%s%s%s",
+           lacks[0] ? "; " : "", lacks, lacks[0] ? " not measured: their dtmap type's figure" : "");
+  return n > 0 ? sum / n * 1e-9 : NAN;
+}
+
+/* The step the solver takes with the deck c->info describes (after its
+ * own estimate) and the hours the scene's duration then takes. */
+static void solver_run(const deck_ctx *c, dtm_solver_run *r) {
+  const dtm_deck_info *in = c->info;
+  r->step = in->step;
+  if (!strcmp(c->w->name, "calculix") && in->own < in->step)
+    r->step = in->own,
+    snprintf(r->basis, sizeof r->basis, "ccx's own estimate: it takes the smaller of it and the deck's increment");
+  else if (!strcmp(c->w->name, "calculix"))
+    snprintf(r->basis, sizeof r->basis, "the deck's increment, below ccx's own estimate");
+  else if (isfinite(in->dt2ms))
+    snprintf(r->basis, sizeof r->basis, "TSSFAC x |DT2MS|, after LS-DYNA's mass scaling");
+  else if (isfinite(in->tssfac))
+    snprintf(r->basis, sizeof r->basis, "TSSFAC x LS-DYNA's own estimate");
+  else
+    snprintf(r->basis, sizeof r->basis, "the deck's increment (DIRECT USER CONTROL)");
+  double d = c->s->duration;
+  r->element_steps = d > 0 ? (double)dtm_mesh_nelements(c->m) * ceil(d / r->step) : NAN;
+  r->cost = solver_cost(c, r->cost_source, sizeof r->cost_source);
+  r->hours = r->element_steps * r->cost / 3600;
 }
 
 /* A constant damping ratio has no solver equivalent: say so. */
@@ -431,7 +494,7 @@ static void info_init(const deck_ctx *c, const dtm_deck_opts *o, dtm_deck_info *
   snprintf(in->solver, sizeof in->solver, "%s", c->w->name);
   snprintf(in->title, sizeof in->title, "%s", c->w->title);
   snprintf(in->path, sizeof in->path, "%s", o->path);
-  in->tssfac = in->model_mass = NAN;
+  in->tssfac = in->model_mass = in->dt2ms = NAN;
 }
 
 int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info *info) {
@@ -449,9 +512,14 @@ int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info 
   c.form = formulation(a, k), c.elastic = k;
   dtm_mass_scaling ms = {0};
   int r = deck_plan(&c);
+  c.own_scaling = !strcmp(c.w->name, "lsdyna") && !o->lsdyna_proven;
+  info->lsdyna_proven = !strcmp(c.w->name, "lsdyna") && o->lsdyna_proven;
   if (r == DTM_OK) r = choose_step(&c, o, &ms);
+  if (r == DTM_OK) own_estimate(&c);
+  if (r == DTM_OK && !strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
+  if (r == DTM_OK && c.own_scaling && o->target > 0) r = mass_check(&c, o);
   if (r == DTM_OK) {
-    own_estimate(&c);
+    solver_run(&c, &info->run);
     damping_ratio(&c);
     count(&c);
     info->duration = c.s->duration > 0 ? c.s->duration : DECK_STEPS_DEFAULT * info->step;
@@ -495,6 +563,16 @@ int dtm_deck_own_steps(const dtm_analysis *a, const char *solver, dtm_deck_steps
         corner_centroid(c.m, &c.m->blocks[b], e, out->centroid);
       }
     }
+  dtm_mass_scaling ms = {0};
+  dtm_deck_opts none = {.path = ""};
+  if (r == DTM_OK) info_init(&c, &none, info), c.own_scaling = !strcmp(c.w->name, "lsdyna");
+  if (r == DTM_OK) r = choose_step(&c, &none, &ms);
+  if (r == DTM_OK) {
+    own_estimate(&c);
+    if (!strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
+    solver_run(&c, &out->run);
+  }
+  dtm_mass_scaling_free(&ms);
   if (r == DTM_OK) {
     snprintf(out->solver, sizeof out->solver, "%s", c.w->name);
     snprintf(out->title, sizeof out->title, "%s", c.w->title);

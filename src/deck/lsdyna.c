@@ -18,8 +18,13 @@
  * axis along the section's y, given as the orientation vector). One *PART
  * per part.
  * The step: LS-DYNA takes TSSFAC x the smallest element step by its rule
- * (rules.c), recomputed every cycle; the deck's TSSFAC is dtmap's step over
- * that smallest step, so that LS-DYNA's first step is dtmap's, and LCTM
+ * (rules.c), recomputed every cycle. By default TSSFAC is at most 0.9 (its
+ * users' convention): where dtmap's step is below 0.9 x that smallest step,
+ * TSSFAC is their ratio; above it, TSSFAC is 0.9 and DT2MS = -step / 0.9,
+ * LS-DYNA's conventional mass scaling, whose added mass the deck predicts
+ * by LS-DYNA's rule (dt2ms_mass). With --lsdyna-step proven (and before
+ * issue 43 always) the deck's TSSFAC is dtmap's step over
+ * that smallest step, so that LS-DYNA's first step is dtmap's. LCTM
  * names a *DEFINE_CURVE flat at dtmap's step, the largest step LS-DYNA may
  * take, for the whole run: once the mesh deforms and TSSFAC scales another
  * estimate, the step still never exceeds the one proven (for the
@@ -33,6 +38,7 @@
 #include <string.h>
 
 #include "deck-impl.h"
+#include "dtmap/kernel.h"
 
 static const deck_elem_row rows[] = {
     {DTM_SECTION_SOLID, DTM_TET4, "SOLID", 10, NULL},        {DTM_SECTION_SOLID, DTM_HEX8, "SOLID", 2, NULL},
@@ -46,6 +52,7 @@ static const deck_elem_row rows[] = {
 #define CARD_MAX 256    /* a card's characters: 10 fields of 20 and their commas */
 #define LCTM 1          /* the ID of the curve that caps the step */
 #define LCTM_SPAN 1000  /* the curve runs flat to this many times ENDTIM */
+#define TSSFAC_MAX 0.9  /* the largest TSSFAC written unless --lsdyna-step proven: LS-DYNA's default */
 
 /* One card being built: fields separated by commas (LS-DYNA's free
  * format), each at most as long as its fixed columns. */
@@ -67,13 +74,17 @@ static void put_real(card *l, int w, double v) {
   put_text(l, deck_number(v, w, b));
 }
 
-/* v >= 0 with the most digits its w columns hold, rounded down: the cap
- * written is never above the step it caps. */
-static void put_real_down(card *l, int w, double v) {
-  char b[40];
+/* v >= 0 with the most digits its w columns hold, rounded down, into
+ * b[40]: the cap written is never above the step it caps. */
+static const char *number_down(double v, int w, char *b) {
   double x = v, d = v * DBL_EPSILON;
   while (strtod(deck_number(x, w, b), NULL) > v) x = v - d, d *= 2;
-  put_text(l, b);
+  return b;
+}
+
+static void put_real_down(card *l, int w, double v) {
+  char b[40];
+  put_text(l, number_down(v, w, b));
 }
 
 static void put_id(card *l, size_t v) {
@@ -135,7 +146,11 @@ static void control(deck_ctx *c) {
   fprintf(c->f, "*TITLE\ndtmap deck of %.70s\n*CONTROL_TERMINATION\n$#  endtim\n", c->s->path);
   real_alone(c->f, 10, in->duration);
   fputs("*CONTROL_TIMESTEP\n$# dtinit,tssfac,isdo,tslimt,dt2ms,lctm,erode,ms1st\n", c->f);
-  put_text(&l, "0.0"), put_real(&l, 10, in->tssfac), put_text(&l, "0"), put_text(&l, "0.0"), put_text(&l, "0.0");
+  put_text(&l, "0.0"), put_real(&l, 10, in->tssfac), put_text(&l, "0"), put_text(&l, "0.0");
+  if (isfinite(in->dt2ms))
+    put_real(&l, 10, in->dt2ms);
+  else
+    put_text(&l, "0.0");
   put_id(&l, LCTM), put_text(&l, "0"), put_text(&l, "0");
   card_end(&l, c->f);
 }
@@ -373,27 +388,107 @@ static void slot(deck_ctx *c, const char *what, const char *text) {
   fprintf(c->f, "$ ---- slot: %s\n$*INCLUDE\n$%s\n", text, deck_slot_name(c, what, name, sizeof name));
 }
 
-/* TSSFAC: dtmap's step over LS-DYNA's estimate, rounded down to what its
- * 10 columns hold, so that LS-DYNA's step, TSSFAC x its estimate, is the
- * deck's step and never above dtmap's. */
-static void tssfac(dtm_deck_info *in) {
-  double t = in->step / in->own, v = t;
+/* A ratio t > 0 rounded down to what TSSFAC's 10 columns hold. */
+static double ratio_down(double t) {
+  double v = t;
   char b[40];
   for (int d = 8; d > 0; d--) {
     v = floor(t * pow(10, d)) / pow(10, d);
     if (snprintf(b, sizeof b, "%.*f", d, v) <= 10) break;
   }
-  in->tssfac = strtod(b, NULL), in->step = in->tssfac * in->own;
+  return strtod(b, NULL);
+}
+
+/* TSSFAC: dtmap's step over LS-DYNA's estimate, rounded down to what its
+ * 10 columns hold, so that LS-DYNA's step, TSSFAC x its estimate, is the
+ * deck's step and never above dtmap's. */
+static void tssfac(dtm_deck_info *in) { in->tssfac = ratio_down(in->step / in->own), in->step = in->tssfac * in->own; }
+
+/* The mass of element e of block b in part p: rho x its measure x the
+ * part's thickness (plane, membrane, shell) or area (truss, beam), kg. */
+static double element_mass(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
+  double x[3 * DTM_MAX_NODES], E, nu, rho;
+  dtm_mesh_gather_one(c->m, b, e, x);
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  return rho * dtm_elem_measure(b->type, x) * (p->kind == DTM_SECTION_SOLID ? 1.0 : p->thickness);
+}
+
+/* The mass LS-DYNA adds at its start with DT2MS = -dt (its conventional
+ * mass scaling, docs/deck.md): an element whose step by its rule, dt_e,
+ * is below dt gets its density scaled so that its step is dt. Every rule
+ * is a length over a wave speed proportional to 1/sqrt(rho), so the
+ * element's mass m_e becomes m_e (dt / dt_e)^2: it adds m_e ((dt / dt_e)^2
+ * - 1). Also the model's mass when the target added none at the nodes. */
+static void dt2ms_mass(deck_ctx *c, double dt) {
+  dtm_deck_info *in = c->info;
+  double model = 0.0;
+  size_t i = 0;
+  in->solver_added = 0.0, in->solver_added_elements = 0;
+  for (int k = 0; k < c->m->nblocks; k++)
+    for (size_t e = 0; e < c->m->blocks[k].n; e++, i++) {
+      const dtm_block *b = &c->m->blocks[k];
+      const deck_part *p = &c->parts[c->part[i]];
+      double m = element_mass(c, b, e, p), t = own(c, b, e, i, p);
+      model += m;
+      if (t < dt) in->solver_added += m * ((dt / t) * (dt / t) - 1.0), in->solver_added_elements++;
+    }
+  if (isnan(in->model_mass)) in->model_mass = model;
+}
+
+void deck_lsdyna_step(deck_ctx *c) {
+  dtm_deck_info *in = c->info;
+  char b[40];
+  if (!c->own_scaling || in->step <= TSSFAC_MAX * in->own) {
+    tssfac(in);
+    return;
+  }
+  /* |DT2MS| = step / 0.9 rounded up to what its 10 columns hold with the
+   * minus sign, then TSSFAC = step / |DT2MS| (at most 0.9) rounded down:
+   * their product is dtmap's step to TSSFAC's 8 digits, never above it */
+  double v = in->step / TSSFAC_MAX, x = v, dx = v * DBL_EPSILON, d;
+  while ((d = -strtod(deck_number(-x, 10, b), NULL)) < v) x = v + dx, dx *= 2;
+  in->dt2ms = -d, in->tssfac = ratio_down(in->step / d);
+  in->step = in->tssfac * fmax(d, in->own);
+  dt2ms_mass(c, d);
+}
+
+/* The header's lines on what the step rests on and what holds LS-DYNA to it. */
+static void proven(deck_ctx *c) {
+  const dtm_deck_info *in = c->info;
+  char cap[200];
+  snprintf(cap, sizeof cap, "LCTM (*DEFINE_CURVE %d) caps its step at %.10g s for the whole run", LCTM, in->step);
+  if (!c->own_scaling)
+    snprintf(c->proven, sizeof c->proven,
+             "The step was proven for the undeformed mesh. LS-DYNA recomputes its estimate every cycle and\n"
+             "multiplies it by TSSFAC; %s,\n"
+             "so it never exceeds the proven step; once the mesh deforms, only LS-DYNA's own estimate\n"
+             "shortens it.%s",
+             cap,
+             in->tssfac > TSSFAC_MAX ? "\nWARNING: TSSFAC is above the 0.9 LS-DYNA's users keep to (--lsdyna-step "
+                                       "proven):\nthe deck rests on dtmap's proof alone."
+                                     : "");
+  else if (!isfinite(in->dt2ms))
+    snprintf(c->proven, sizeof c->proven,
+             "The step was proven for the undeformed mesh. TSSFAC is at most 0.9, LS-DYNA's convention;\n"
+             "LS-DYNA recomputes its estimate every cycle and multiplies it by TSSFAC; %s.",
+             cap);
+  else if (strncmp(in->basis, "the target", 10))
+    snprintf(c->proven, sizeof c->proven,
+             "The step was proven for the undeformed mesh. It holds with the mass LS-DYNA adds: added mass\n"
+             "can only lower the highest frequency. TSSFAC is at most 0.9, LS-DYNA's convention, and its\n"
+             "DT2MS mass scaling (above) lifts its estimate to the step over TSSFAC; %s.",
+             cap);
+  else
+    snprintf(c->proven, sizeof c->proven,
+             "The step is the target, reached by LS-DYNA's own DT2MS mass scaling, TSSFAC at most 0.9 (its\n"
+             "convention): dtmap proved %.10g s for the undeformed mesh without that mass, not the target\n"
+             "with the mass LS-DYNA adds (--lsdyna-step proven writes dtmap's nodal masses, proven, with\n"
+             "TSSFAC above 1); %s.",
+             in->recommended, cap);
 }
 
 static int write(deck_ctx *c) {
-  tssfac(c->info);
-  snprintf(c->proven, sizeof c->proven,
-           "The step was proven for the undeformed mesh. LS-DYNA recomputes its estimate every cycle and\n"
-           "multiplies it by TSSFAC; LCTM (*DEFINE_CURVE %d) caps its step at %.10g s for the whole run,\n"
-           "so it never exceeds the proven step; once the mesh deforms, only LS-DYNA's own estimate\n"
-           "shortens it.",
-           LCTM, c->info->step);
+  proven(c);
   fputs("*KEYWORD\n", c->f);
   deck_header(c, "$");
   control(c);

@@ -22,6 +22,10 @@ static cJSON *deck_json(const dtm_deck_info *d) {
   cJSON_AddStringToObject(o, "own_rule", d->own_rule);
   if (!isnan(d->own)) cJSON_AddNumberToObject(o, "ratio", d->step / d->own);
   if (isfinite(d->tssfac)) cJSON_AddNumberToObject(o, "tssfac", d->tssfac);
+  if (isfinite(d->tssfac)) cJSON_AddStringToObject(o, "lsdyna_step", d->lsdyna_proven ? "proven" : "conventional");
+  if (isfinite(d->dt2ms)) cJSON_AddNumberToObject(o, "dt2ms", d->dt2ms);
+  if (isfinite(d->dt2ms)) cJSON_AddNumberToObject(o, "solver_added_mass", d->solver_added);
+  if (isfinite(d->dt2ms)) cJSON_AddNumberToObject(o, "solver_added_elements", (double)d->solver_added_elements);
   cJSON_AddNumberToObject(o, "duration", d->duration);
   cJSON_AddNumberToObject(o, "nodes", (double)d->nodes);
   cJSON_AddNumberToObject(o, "elements", (double)d->elements);

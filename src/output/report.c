@@ -527,6 +527,26 @@ static cJSON *sections_json(const dtm_analysis *a) {
   return arr;
 }
 
+/* solvers[]: for each solver named, the step it takes with dtmap's deck,
+ * why, and the hours (element-steps x its cost per element-step; null
+ * where that cost is not known). */
+static cJSON *solvers_json(const dtm_results *r) {
+  cJSON *arr = cJSON_CreateArray();
+  for (int i = 0; i < r->nsolvers; i++) {
+    const dtm_solver_run *s = r->solver_runs[i];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "solver", r->solver_names[i]);
+    cJSON_AddNumberToObject(o, "step", s->step);
+    cJSON_AddStringToObject(o, "basis", s->basis);
+    dtm_report_number(o, "element_steps", s->element_steps);
+    dtm_report_number(o, "cost_per_element_step", s->cost);
+    cJSON_AddStringToObject(o, "cost_source", s->cost_source);
+    dtm_report_number(o, "hours", s->hours);
+    cJSON_AddItemToArray(arr, o);
+  }
+  return arr;
+}
+
 cJSON *dtm_report_json(const dtm_results *r) {
   const dtm_analysis *a = r->analysis;
   cJSON *root = cJSON_CreateObject();
@@ -546,6 +566,7 @@ cJSON *dtm_report_json(const dtm_results *r) {
   if (r->refine) cJSON_AddItemToObject(root, "refine", dtm_report_refine(r));
   if (dtm_analysis_point_masses(a)) cJSON_AddItemToObject(root, "point_masses", dtm_report_point_masses(a));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));
+  if (r->nsolvers) cJSON_AddItemToObject(root, "solvers", solvers_json(r));
   if (r->cost) cJSON_AddItemToObject(root, "accuracy_measures", dtm_report_measures(a, r->cost->measures));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));

@@ -1,0 +1,194 @@
+#!/usr/bin/python3
+"""What one element-step of Debian's CalculiX 2.20 (ccx) costs, measured on
+dtmap's own CalculiX decks, one thread (OMP_NUM_THREADS=1), wall time.
+
+Table mode (default): for each CalculiX element (C3D4, C3D10, C3D8, CPE3,
+CPE4, CPE6, S3, S4) a scene of that element alone is written, `dtmap deck
+--solver calculix` writes its deck, and the deck is run twice by ccx with
+its *DYNAMIC period set to N1 + 1/2 and N2 + 1/2 of the increment ccx takes
+(the solvers[] step of the deck's report: the smaller of ccx's own estimate
+and the deck's increment). The cost per element-step is the difference of
+the two wall times over elements x (N2 - N1), so reading the deck and
+setting up do not count; each run is the best of --repeat. With --inc FILE
+the figures are written as src/cost/ccx_cost.inc (the table dtmap reads).
+
+Check mode (--check): for each bundled example (geometries/*.xml) the deck
+of `dtmap deck --solver calculix` is run for N2 + 1/2 increments, whole (set
+up included), and its wall time is compared with what the deck's summary
+predicts for those increments: the report's solvers[0].hours x 3600 x
+N2 / (its element-steps / elements).
+
+Each run is the one t371 makes (tests/common/deckutil.py: a seeded random
+force at every node). Wall and CPU time (user + system) are both printed;
+--cpu makes the table from CPU time, which stands for the wall time of an
+idle machine when the machine is shared.
+
+Usage: /usr/bin/python3 bench/ccx_cost.py DTMAP [--inc src/cost/ccx_cost.inc] [--check] [--cpu]
+       [--n1 20] [--n2 220] [--repeat 2] [--only C3D4,S3]
+Needs ccx (Debian's calculix-ccx) and Debian's python3 for the scenes.
+"""
+import argparse
+import glob
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tests", "common"))
+import deckutil  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GEO = os.path.join(ROOT, "geometries")
+
+HEX = """SetFactory("OpenCASCADE");
+Box(1) = {0, 0, 0, 0.1, 0.1, 0.1};
+Physical Volume("block") = {1};
+Transfinite Curve{:} = %d; Transfinite Surface{:}; Recombine Surface{:}; Transfinite Volume{1};
+"""
+RECT = """SetFactory("OpenCASCADE");
+Rectangle(1) = {0, 0, 0, 0.2, 0.1};
+Physical Surface("slab") = {1};
+%s
+"""
+STEEL = '<material name="steel" groups="%s" E="210e9" nu="0.3" rho="7850"/>'
+SCENE = """<?xml version="1.0"?>
+<dtmap-scene version="1">
+  <geometry file="%s"/>
+  <meshing size="%g" order="%d" dim="%d"/>
+  %s
+  %s
+  <effects><elastic%s/></effects>
+  <time duration="1e-4"/>
+</dtmap-scene>
+"""
+QUADS = "Recombine Surface{1};"
+# (CalculiX element, geometry file or text, size m, order, dim, group, section, formulation)
+CASES = [
+    ("C3D4", os.path.join(GEO, "box.geo"), 6e-3, 1, 3, "block", "", ' formulation="3d"'),
+    ("C3D10", os.path.join(GEO, "box.geo"), 1.2e-2, 2, 3, "block", "", ' formulation="3d"'),
+    ("C3D8", HEX % 21, 1.0, 1, 3, "block", "", ' formulation="3d"'),
+    ("CPE3", RECT % "", 2.5e-3, 1, 2, "slab", "", ' formulation="plane-strain"'),
+    ("CPE4", RECT % QUADS, 2.5e-3, 1, 2, "slab", "", ' formulation="plane-strain"'),
+    ("CPE6", RECT % "", 5e-3, 2, 2, "slab", "", ' formulation="plane-strain"'),
+    ("S3", RECT % "", 5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
+    ("S4", RECT % QUADS, 5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
+]
+
+
+def deck(dtmap, scene, out):
+    rep = out[:-4] + ".json"
+    r = subprocess.run([dtmap, "deck", scene, "--solver", "calculix", "-o", out, "--report", rep, "-q"],
+                       capture_output=True, text=True)
+    if r.returncode:
+        sys.exit("dtmap deck %s: exit %d\n%s" % (scene, r.returncode, r.stdout + r.stderr))
+    with open(rep) as f:
+        return json.load(f)
+
+
+def with_period(path, period):
+    """The deck run as t371 runs it (tests/common/deckutil.py: slots opened,
+    a seeded random force at every node, the displacements printed at the
+    end), its *DYNAMIC time period set to period; returns the run's name."""
+    run, _ = deckutil.prepare(path, period)
+    return run
+
+
+def run_ccx(run, repeat):
+    """Best wall time and CPU time (user + system) of ccx on RUN.inp, one thread, s."""
+    best = (float("inf"), float("inf"))
+    for _ in range(repeat):
+        c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        code, log, u, _, _ = deckutil.run("ccx", run, timeout=3600)
+        w = time.perf_counter() - t0
+        c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if code or not (u < float("inf")):
+            sys.exit("ccx %s failed (exit %d, largest |u| %g):\n%s" % (run, code, u, log[-2000:]))
+        cpu = c1.ru_utime - c0.ru_utime + c1.ru_stime - c0.ru_stime
+        best = min(best, (w, cpu))
+    return best
+
+
+def table(a, tmp):
+    rows = []
+    for elem, geo, size, order, dim, group, section, form in CASES:
+        if a.only and elem not in a.only.split(","):
+            continue
+        gpath = geo if os.path.exists(geo) else os.path.join(tmp, elem + ".geo")
+        if gpath != geo:
+            with open(gpath, "w") as f:
+                f.write(geo)
+        scene = os.path.join(tmp, elem + ".xml")
+        with open(scene, "w") as f:
+            f.write(SCENE % (gpath, size, order, dim, STEEL % group, section, form))
+        base = os.path.join(tmp, elem + ".inp")
+        rep = deck(a.dtmap, scene, base)
+        n, step = rep["deck"]["elements"], rep["solvers"][0]["step"]
+        t = []
+        for k in (a.n1, a.n2):
+            t.append(run_ccx(with_period(base, (k + 0.5) * step), a.repeat))
+        i = 1 if a.cpu else 0
+        ns = 1e9 * (t[1][i] - t[0][i]) / (n * (a.n2 - a.n1))
+        rows.append((elem, n, rep["deck"]["nodes"], t[0][0], t[1][0], t[0][1], t[1][1], ns))
+        print("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | **%.0f** |" % rows[-1], flush=True)
+    if a.inc:
+        with open(a.inc, "w") as f:
+            f.write("/* CalculiX 2.20 (Debian's ccx), explicit dynamics, one thread\n"
+                    " * (OMP_NUM_THREADS=1): %s per element-step, ns, of dtmap's own\n"
+                    " * CalculiX decks, per CalculiX element (N1 = %d, N2 = %d increments).\n"
+                    " * Regenerate with\n"
+                    " *   /usr/bin/python3 bench/ccx_cost.py build/dtmap%s --inc src/cost/ccx_cost.inc\n"
+                    " * (docs/accuracy.md, \"CalculiX's own runs\"). */\n" % (
+                        "CPU time (user + system: the wall time of an idle machine)" if a.cpu else "wall time",
+                        a.n1, a.n2, " --cpu" if a.cpu else ""))
+            for r in rows:
+                f.write('{"%s", %.0f},\n' % (r[0], r[7]))
+
+
+def check(a, tmp):
+    for scene in sorted(glob.glob(os.path.join(GEO, "*.xml"))):
+        name = os.path.basename(scene)[:-4]
+        if a.only and name not in a.only.split(","):
+            continue
+        base = os.path.join(tmp, name + ".inp")
+        rep = deck(a.dtmap, scene, base)
+        s, n = rep["solvers"][0], rep["deck"]["elements"]
+        wall, cpu = run_ccx(with_period(base, (a.n2 + 0.5) * s["step"]), a.repeat)
+        predicted = s["hours"] * 3600 * (a.n2 + 1) / (s["element_steps"] / n)
+        print("| %s | %d | %.4e | %d | %.2f | %.2f | %.2f | %.2f | %.2f |" % (
+            name, n, s["step"], a.n2 + 1, predicted, wall, cpu, wall / predicted, cpu / predicted), flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("dtmap")
+    ap.add_argument("--inc")
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--n1", type=int, default=20)
+    ap.add_argument("--n2", type=int, default=220)
+    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--only")
+    ap.add_argument("--cpu", action="store_true", help="the table from CPU time (user + system), for a shared machine")
+    a = ap.parse_args()
+    a.dtmap = os.path.abspath(a.dtmap)
+    tmp = tempfile.mkdtemp(prefix="dtmap-ccx-cost-")
+    try:
+        if a.check:
+            print("| example | elements | ccx's step (s) | increments | predicted (s) | wall (s) | CPU (s) | "
+                  "wall / predicted | CPU / predicted |\n|---|---|---|---|---|---|---|---|---|", flush=True)
+            check(a, tmp)
+        else:
+            print("| CalculiX element | elements | nodes | wall, N1 (s) | wall, N2 (s) | CPU, N1 (s) | CPU, N2 (s) | "
+                  "ns per element-step (%s) |\n|---|---|---|---|---|---|---|---|" % ("CPU" if a.cpu else "wall"),
+                  flush=True)
+            table(a, tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
