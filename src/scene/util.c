@@ -138,3 +138,7 @@ void dtm_scene_free_strings(int n, char **v) {
   for (int i = 0; v && i < n; i++) free(v[i]);
   free(v);
 }
+
+const char *dtm_scene_units(const dtm_scene *s) {
+  return s && s->units && !strcmp(s->units, "mm-t-s") ? "mm-t-s" : "SI";
+}
