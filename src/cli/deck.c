@@ -16,6 +16,7 @@
 #include "cli-impl.h"
 #include "dtmap/deck.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/units.h"
 #include "dtmap/util.h"
 
 static const cli_command *command(void) {
@@ -50,7 +51,8 @@ static int outputs(const dtm_scene *s, const cli_opts *o, const char *ext, char 
   return DTM_OK;
 }
 
-static void print_deck(const dtm_deck_info *d) {
+static void print_deck(const dtm_deck_info *d, const char *units) {
+  const char *M = dtm_units_name(units, DTM_UNIT_MASS);
   printf("\ndeck         %s (%s): %zu nodes, %zu elements, %d element sets, %d node sets, %.2f s\n", d->path, d->title,
          d->nodes, d->elements, d->element_sets, d->node_sets, d->seconds);
   printf("  step       %.6e s, %s (dtmap's recommended step %.6e s)\n", d->step, d->basis, d->recommended);
@@ -59,8 +61,8 @@ static void print_deck(const dtm_deck_info *d) {
            d->step / d->own);
   if (isfinite(d->tssfac)) printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)\n", d->tssfac);
   if (d->added > 0)
-    printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,
-           100 * d->added / d->model_mass, d->model_mass);
+    printf("  added mass %.6g %s at %zu nodes (%.3g %% of the model's %.6g %s)\n", d->added, M, d->added_nodes,
+           100 * d->added / d->model_mass, d->model_mass, M);
   for (int i = 0; i < d->nwarnings; i++) fprintf(stderr, "dtmap: warning: %s\n", d->warnings[i]);
 }
 
@@ -77,7 +79,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
-  if (r == DTM_OK && o->verbosity) print_deck(&info);
+  if (r == DTM_OK && o->verbosity) print_deck(&info, s->units);
   dtm_results res = {a, cost, NULL, t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o)};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);
   if (r == DTM_OK && o->verbosity)
