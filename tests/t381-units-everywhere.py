@@ -107,7 +107,7 @@ class Compare:
     skeletons and collects every figure that does not agree."""
 
     def __init__(self, what):
-        self.what, self.bad = what, []
+        self.what, self.bad, self.model_mass = what, [], 1e-3
 
     def value(self, where, si, mm):
         (a, ua, da), (b, ub, db) = si, mm
@@ -166,7 +166,7 @@ class Compare:
         elif isinstance(si, (int, float)) and not isinstance(si, bool):
             f = 1.0
             if model and re.search(r"mass", where):
-                f = 1e-3
+                f = self.model_mass
             elif model and re.search(r"bbox", where):
                 f = 1e3
             a, b = si * f, mm
@@ -249,8 +249,10 @@ def run(name, *args):
 
 
 class Units(tu.unittest.TestCase):
-    def check(self, si, mm, what, views=True, log_si=None, log_mm=None, report_si=None, report_mm=None):
+    def check(self, si, mm, what, views=True, log_si=None, log_mm=None, report_si=None, report_mm=None,
+              model_mass=1e-3):
         c = Compare(what)
+        c.model_mass = model_mass  # t in kg (t/mm in kg/m in 2D without a section)
         c.lines(summary_lines(log_si), summary_lines(log_mm))
         c.json("", report_si, report_mm)
         for r, want in ((report_si, {"system": "SI", "report": "SI", "model": "SI"}),
@@ -300,6 +302,32 @@ class Units(tu.unittest.TestCase):
         self.assertIn("shell, t 8 mm", log_mm)
         self.check("panel_si_dt.msh", "panel_mm_dt.msh", "shell panel", log_si=log_si, log_mm=log_mm, report_si=r_si,
                    report_mm=r_mm)
+
+    def test_plane_2d(self):
+        """A plane-stress plate (2D, no section): its masses are per unit
+        thickness, kg/m in SI and t/mm in mm-t-s (1e6 apart, not 1e3)."""
+        import gmsh
+        gmsh.initialize(["t381", "-v", "0"])
+        gmsh.model.occ.addRectangle(0, 0, 0, 20, 10)  # mm
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 2.5)  # unstructured: no two smallest steps tie
+        gmsh.model.addPhysicalGroup(2, [1], 1)
+        gmsh.model.setPhysicalName(2, 1, "plate")
+        gmsh.model.mesh.generate(2)
+        gmsh.write(tu.path("plate.msh"))
+        gmsh.finalize()
+        for u in ("si", "mm"):
+            scene("plate_" + u, '<mesh file="%s"%s/>' % (tu.path("plate.msh"), ' unit="mm"' if u == "si" else ""), u,
+                  ("", ' target="1e-6"'))
+            with open(tu.path("plate_%s.xml" % u)) as f:
+                text = f.read().replace("<elastic/>", '<elastic formulation="plane-stress"/>')
+            tu.write("plate_%s.xml" % u, text)
+        log_si, r_si = run("plate_si")
+        log_mm, r_mm = run("plate_mm")
+        self.assertIn("t/mm (per unit thickness)", log_mm)
+        self.assertAlmostEqual(r_mm["mass_scaling"]["total_mass"], 7850 * 2e-4, delta=1e-12)  # rho A, kg/m
+        self.check("plate_si_dt.msh", "plate_mm_dt.msh", "2D plate", log_si=log_si, log_mm=log_mm, report_si=r_si,
+                   report_mm=r_mm, model_mass=1e-6)
 
     def flange(self, u):
         s = "1" if u == "mm" else "0.001"

@@ -16,7 +16,6 @@
 #include "cli-impl.h"
 #include "dtmap/deck.h"
 #include "dtmap/gmsh.h"
-#include "dtmap/units.h"
 #include "dtmap/util.h"
 
 static const cli_command *command(void) {
@@ -51,8 +50,7 @@ static int outputs(const dtm_scene *s, const cli_opts *o, const char *ext, char 
   return DTM_OK;
 }
 
-static void print_deck(const dtm_deck_info *d, const char *units) {
-  const char *M = dtm_units_name(units, DTM_UNIT_MASS);
+static void print_deck(const dtm_deck_info *d, const char *M) {
   printf("\ndeck         %s (%s): %zu nodes, %zu elements, %d element sets, %d node sets, %.2f s\n", d->path, d->title,
          d->nodes, d->elements, d->element_sets, d->node_sets, d->seconds);
   printf("  step       %.6e s, %s (dtmap's recommended step %.6e s)\n", d->step, d->basis, d->recommended);
@@ -79,7 +77,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
-  if (r == DTM_OK && o->verbosity) print_deck(&info, s->units);
+  if (r == DTM_OK && o->verbosity) print_deck(&info, dtm_scene_mass_unit(s, dtm_analysis_mesh(a)->dim));
   dtm_results res = {a, cost, NULL, t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o)};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);
   if (r == DTM_OK && o->verbosity)

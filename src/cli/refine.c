@@ -250,7 +250,7 @@ static void print_met(const dtm_refine_result *rr) {
   const dtm_refine_round *b = &rr->rounds[rr->best];
   if (b->kind == DTM_ROUND_MASS)
     printf("met: mesh + %.3g %% added mass at %zu nodes (%.4g %s)\n", b->added_percent, b->mass_nodes, b->added_mass,
-           dtm_units_name(rr->scene.units, DTM_UNIT_MASS));
+           dtm_scene_mass_unit(&rr->scene, dtm_analysis_mesh(rr->analysis)->dim));
 }
 
 static int refine_scene(const dtm_scene *s, const dtm_refine_options *ro, const cli_opts *o) {

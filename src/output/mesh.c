@@ -99,7 +99,8 @@ typedef struct {
   size_t *ktags;            /* tags of the solid elements of DTM_VIEW_DT_SKIN */
   double *kvals;            /* their steps */
   char (*solver_names)[32]; /* "dt <solver>" names [nsolvers] */
-  const char *units;        /* the scene's system of units (dtm_scene.units): the views' lengths and masses */
+  const char *units;        /* the scene's system of units (dtm_scene.units): the views' lengths */
+  const char *mass_unit;    /* the unit of the views' masses (dtm_scene_mass_unit) */
 } view_set;
 
 static void free_views(view_set *vs) {
@@ -129,6 +130,7 @@ static int alloc_views(const dtm_analysis *a, view_set *vs) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   size_t nel = dtm_analysis_nelements(a), nn = m->nnodes, ne = (size_t)dtm_analysis_neffects(a);
   vs->units = dtm_analysis_scene(a)->units;
+  vs->mass_unit = dtm_scene_mass_unit(dtm_analysis_scene(a), m->dim);
   vs->etags_own = m->nblocks != 1; /* one block: its tags are the views' (no copy of nel tags) */
   vs->etags = vs->etags_own ? malloc((nel + 1) * sizeof *vs->etags) : m->blocks[0].tags;
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
@@ -358,13 +360,13 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, const 
   return skin_view(r->analysis, vs, nviews);
 }
 
-/* The unit of a view's values, from its name: s, the scene's length or
- * mass unit (units: the scene's system), or "" (a count, a kind). */
-static const char *unit_of(const char *name, const char *units) {
+/* The unit of a view's values, from its name: s, the scene's length unit
+ * (units: the scene's system) or mass_unit, or "" (a count, a kind). */
+static const char *unit_of(const char *name, const char *units, const char *mass_unit) {
   if (!strcmp(name, "dt") || !strncmp(name, "dt ", 3) || !strcmp(name, "nodal dt") || strstr(name, "[s]")) return "s";
   if (!strcmp(name, "characteristic length") || !strcmp(name, "size suggestion") || !strcmp(name, "thickness limited"))
     return dtm_units_name(units, DTM_UNIT_LENGTH);
-  if (!strncmp(name, "added mass", 10)) return dtm_units_name(units, DTM_UNIT_MASS);
+  if (!strncmp(name, "added mass", 10)) return mass_unit;
   return "";
 }
 
@@ -446,7 +448,7 @@ static void solid_style(int primary, const dtm_mesh *m, styled *s, int *k) {
  * mesh has line elements (trusses) below its dimension, lines drawn as
  * thick tubes. Returns the count written to s[MAX_STYLE]. */
 static int view_style(const view_set *vs, int nviews, int i, const dtm_mesh *m, int ranged, styled *s) {
-  const char *name = vs->views[i].name, *u = unit_of(name, vs->units);
+  const char *name = vs->views[i].name, *u = unit_of(name, vs->units, vs->mass_unit);
   int primary = !strcmp(name, "dt"), skin = !strcmp(name, DTM_VIEW_DT_SKIN), below = is_below(name), k = 0;
   add_style(s, &k, "Light", 0, NULL, name);
   int step = !strcmp(u, "s");

@@ -38,7 +38,8 @@ void dtm_output_model_free(dtm_model_extent *x);
 double dtm_output_model_size(const dtm_model_extent *x);
 /* The name of the scene's unit of what (include/dtmap/units.h). */
 const char *dtm_unit_label(const dtm_scene *s, dtm_unit what);
-/* The name of the unit of what in the analysed scene's system ("mm", "t", ...; docs/units.md). */
+/* The name of the unit of what in the analysed scene's system ("mm", "t", ...; docs/units.md); a
+ * mass per unit thickness ("kg/m", "t/mm") in 2D without a section. */
 const char *dtm_output_unit(const dtm_analysis *a, dtm_unit what);
 /* Densities, wave speeds and a model size outside what solids and parts
  * have (plausible.c): each a warning naming the material and the value. */

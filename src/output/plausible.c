@@ -37,6 +37,7 @@ static int is_mm(const dtm_scene *s) { return unit_length(s) != 1.0; }
 const char *dtm_unit_label(const dtm_scene *s, dtm_unit what) { return dtm_units_name(s->units, what); }
 
 const char *dtm_output_unit(const dtm_analysis *a, dtm_unit what) {
+  if (what == DTM_UNIT_MASS) return dtm_scene_mass_unit(dtm_analysis_scene(a), dtm_analysis_mesh(a)->dim);
   return dtm_units_name(dtm_analysis_scene(a)->units, what);
 }
 
@@ -200,8 +201,8 @@ void dtm_summary_model(const dtm_analysis *a, void *stream) {
   }
   dtm_model_extent x = {0};
   if (dtm_output_model(a, &x)) return;
-  const char *L = dtm_unit_label(s, DTM_UNIT_LENGTH), *M = dtm_unit_label(s, DTM_UNIT_MASS);
-  fprintf(f, "model        mass %.6g %s%s", x.mass, M, m->dim < 3 && !s->nsections ? " per unit thickness" : "");
+  const char *L = dtm_unit_label(s, DTM_UNIT_LENGTH), *M = dtm_output_unit(a, DTM_UNIT_MASS);
+  fprintf(f, "model        mass %.6g %s%s", x.mass, M, m->dim < 3 && !s->nsections ? " (per unit thickness)" : "");
   for (int g = 0, k = 0; g < x.ngroups && x.ngroups > 2; g++)
     if (x.group_mass[g] > 0)
       fprintf(f, "%s'%s' %.4g %s", k++ ? ", " : " (", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl),
