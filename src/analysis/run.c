@@ -89,7 +89,7 @@ static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, dou
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   const char *src = s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model";
   if (r == DTM_OK) r = dtm_mesh_check(m, src);
-  if (r == DTM_OK) r = dtm_gmsh_node_masses(m, src);
+  if (r == DTM_OK) r = dtm_gmsh_node_masses(m, src, dtm_scene_mass_unit(s, m->dim));
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
