@@ -15,9 +15,9 @@ opened: the current model is analysed).  The result holds numpy arrays
 recommended step and what it rests on, and the tags of the views dtmap
 added to the open Gmsh session (styled as ``dtmap run``'s .opt styles
 them), which ``gmsh.fltk.run()`` shows.  Every dtmap error raises
-:class:`dtmap.Error` with dtmap's message.  Units are SI: steps in s,
-lengths and masses in the scene's system of units (``Result.units``: m and kg, or mm and t
-under ``<dtmap-scene units="mm-t-s">``).
+:class:`dtmap.Error` with dtmap's message.  Steps are in s; lengths and
+masses in the scene's system of units (``Result.units``: m and kg, or mm
+and t under ``<dtmap-scene units="mm-t-s">``).
 
 The module is ctypes over libdtmap (no compiled extension); it needs
 Gmsh's Python module on the same libgmsh (Debian: python3-gmsh) and numpy.
