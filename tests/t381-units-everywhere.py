@@ -10,11 +10,15 @@ compare figure by figure):
   STEP in mm by Gmsh; the mm-t-s scene meshes the STEP, the SI scene reads
   that mesh with <mesh unit="mm">; a target no mesh reaches gives mass
   scaling, shape- and thickness-limited elements, features and remedies;
+  verify --accuracy on that mesh gives its wave line and report;
 - a shell panel: /work/shared/cases' curved quad/tri panel (8 mm shell) with
   a 10 x 30 mm ring beam, a .msh in metres (<mesh unit="m"> in mm-t-s);
 - a refine with point masses: a block with a 0.6 mm flange, extruded (the
   same hexahedra at any scale), refined with --keep-counts and
-  --max-added-mass so that point masses meet the target.
+  --max-added-mass so that point masses meet the target;
+- a 2D plane-stress plate without a section, whose masses are per unit
+  thickness (kg/m against t/mm, 1e6 apart);
+- Python's dtmap.analyse on the flange in both systems.
 
 Every number of a summary line is parsed with the unit printed after it:
 a length, area, mass, density, modulus or speed must be printed in the
@@ -284,6 +288,20 @@ class Units(tu.unittest.TestCase):
         self.assertIn("model curve", log_mm)
         self.check("slot_si_dt.msh", "slot_mm_dt.msh", "STEP slot", log_si=log_si, log_mm=log_mm, report_si=r_si,
                    report_mm=r_mm)
+        # verify --accuracy on the same mesh: its wave line and its report (speed, wavelength, window in SI)
+        scene("slot_vmm", '<mesh file="%s"/>' % tu.path("slot_mm_dt.msh"), "mm")
+        scene("slot_vsi", '<mesh file="%s" unit="mm"/>' % tu.path("slot_mm_dt.msh"), "si")
+        out = {}
+        for u in ("vsi", "vmm"):
+            code, log = tu.run("verify", "slot_%s.xml" % u, "--accuracy", "--periods", "2", "--report",
+                               "slot_%s.json" % u)
+            self.assertIn(code, (0, 1), log)  # 1: the measured error disagrees with the prediction (a coarse mesh)
+            out[u] = ([x for x in log.splitlines() if "host material" in x], tu.report("slot_%s.json" % u))
+        c = Compare("verify")
+        c.lines(out["vsi"][0], out["vmm"][0])
+        c.json("", out["vsi"][1], out["vmm"][1])
+        self.assertEqual(out["vmm"][1]["units"], {"system": "mm-t-s", "report": "SI", "model": "mm-t-s"})
+        self.assertEqual(c.bad, [])
 
     def test_shell_panel(self):
         """Shell and beam sections: thickness, area, the sections' lines."""
