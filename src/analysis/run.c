@@ -8,6 +8,7 @@
 
 #include "analysis-impl.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/units.h"
 
 /* The dimension below m->dim of a physical group named ref, 0 if none. */
 static int lower_dim_of(const dtm_mesh *m, const char *ref) {
@@ -76,7 +77,7 @@ static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat,
 static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, double *t) {
   double t0 = dtm_wtime();
   int *gm = NULL, *gs = NULL, def = -1, defsec = -1;
-  m->dim = dim;
+  m->dim = dim, m->length_unit = dtm_units_name(s->units, DTM_UNIT_LENGTH);
   DTM_CHECK(dtm_gmsh_groups(dim, &m->groups, &m->ngroups));
   DTM_CHECK(dtm_gmsh_groups_sectioned(dim, s, &m->groups, &m->ngroups));
   DTM_CHECK(map_materials(s, m, &gm, &def));
