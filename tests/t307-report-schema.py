@@ -9,7 +9,8 @@ meet 1 - safety^2) and a real `verify
 --report` (its own document in the same schema), and catches mistakes: a
 missing required field, a field nobody documented, a wrong type, a
 non-integer count, a negative or zero step, an unknown basis, an element
-without its step, and NaN (which is not JSON). Every report the suite writes is also
+without its step, a report that does not say its units, and NaN (which
+is not JSON). Every report the suite writes is also
 checked against it as each test program ends (testutil.c, testutil.py)."""
 
 import copy
@@ -83,6 +84,7 @@ class Schema(tu.unittest.TestCase):
             self.assertIn(key, self.report)
         self.assertGreater(self.report["model"]["mass"], 0)
         self.assertEqual(self.report["model"]["units"], "SI")
+        self.assertEqual(self.report["units"], {"system": "SI", "report": "SI", "model": "SI"})
         self.assertIn("lanczos", self.report["effect_minima"][0])
         self.assertEqual(self.report["dt"]["basis"], "global estimate")
         self.assertEqual([x["solver"] for x in self.report["solvers"]], ["calculix", "lsdyna"])
@@ -145,6 +147,9 @@ class Schema(tu.unittest.TestCase):
             "warning not a sentence": lambda r: r["warnings"].append(""),
             "refine rounds as a list": lambda r: r.update(refine=[{"round": 0}]),
             "model without its units": lambda r: r["model"].pop("units"),
+            "report without its units": lambda r: r.pop("units"),
+            "report fields said to be in mm-t-s": lambda r: r["units"].update(report="mm-t-s"),
+            "unknown system of units": lambda r: r["units"].update(system="cgs"),
             "negative model mass": lambda r: r["model"].update(mass=-1.0),
             "bounding box of 2 coordinates": lambda r: r["model"]["bbox"].update(min=[0, 0]),
             "solver run without its hours": lambda r: r["solvers"][0].pop("hours"),
@@ -158,6 +163,7 @@ class Schema(tu.unittest.TestCase):
         self.assertEqual(report_schema.problems(self.v, self.verify), [])
         self.assertEqual(self.verify["step"], self.verify["recommended"])  # no --factor: exactly the recommended step
         self.assertEqual(self.verify["verdict"], "stable")
+        self.assertEqual(self.verify["units"]["report"], "SI")
         for change in (lambda r: r.pop("steps"), lambda r: r.update(verdict="fine"), lambda r: r.update(cost={}),
                        lambda r: r["effects"][0].pop("growth")):
             r = copy.deepcopy(self.verify)

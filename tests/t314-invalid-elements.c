@@ -99,7 +99,7 @@ static void test_corner_flagged(void **state) {
   assert_int_equal(code, 0);
   assert_non_null(strstr(log, "warning: 1 element is inverted at a node"));
   assert_non_null(
-      strstr(log, "element 11 (hex8) in group 'rock' at (0.55, 0.55, 0.55): smallest scaled Jacobian -0.357"));
+      strstr(log, "element 11 (hex8) in group 'rock' at (0.55, 0.55, 0.55) m: smallest scaled Jacobian -0.357"));
   free(log);
   check_report(rep, closed_form(0.4));
   check_views(out, closed_form(0.4));
@@ -116,7 +116,7 @@ static void test_gauss_refused(void **state) {
   int code = tu_run(&log, "%s run %s -q -o %s", tu_cli(), scene, out);
   assert_int_equal(code, 2);
   assert_non_null(strstr(log, "hexes.msh: 1 element cannot be analysed"));
-  assert_non_null(strstr(log, "element 11 (hex8) in group 'rock' at (0.575, 0.575, 0.575): inverted or folded"));
+  assert_non_null(strstr(log, "element 11 (hex8) in group 'rock' at (0.575, 0.575, 0.575) m: inverted or folded"));
   assert_false(tu_exists(out));
   free(log);
 }

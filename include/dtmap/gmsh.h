@@ -133,8 +133,9 @@ DTM_EXPORT int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm
 /* The point masses of the session's DTM_VIEW_NODE_MASS view (loaded with
  * the .msh src), by node tag, into m->node_mass; nothing when there is no
  * such view. DTM_ERR_INPUT for a negative or non-finite mass, or one on a
- * node of no analysed element (src/gmsh/node_mass.c). */
-DTM_EXPORT int dtm_gmsh_node_masses(dtm_mesh *m, const char *src);
+ * node of no analysed element, naming it in mass_unit (the scene's:
+ * dtm_scene_mass_unit) (src/gmsh/node_mass.c). */
+DTM_EXPORT int dtm_gmsh_node_masses(dtm_mesh *m, const char *src, const char *mass_unit);
 /* After extraction, from the current model: m->nodes_used, and in
  * m->left the groups of dimension below m->dim without a section whose
  * elements reach nodes no extracted element uses (parts of the model left

@@ -69,24 +69,26 @@ typedef struct dtm_mesh {
   int dim;           /* dimension of the analysed elements */
   size_t nnodes;     /* number of nodes */
   size_t *node_tags; /* [nnodes] Gmsh node tags */
-  double *xyz;       /* [nnodes][3] coordinates, m */
+  double *xyz;       /* [nnodes][3] coordinates, in length_unit (the scene's: m, or mm) */
   int nblocks;
   dtm_block *blocks; /* [nblocks], one per element type present */
   int ngroups;
-  dtm_group *groups;    /* [ngroups] physical groups of dimension dim, then
-                           the lower-dimensional groups sections name */
-  size_t nflagged;      /* elements analysed although inverted at a node */
-  dtm_flagged *flagged; /* [nflagged] in block order (owned; dtm_mesh_check) */
-  int space_dim;        /* the dimension of the space the nodes span, once known (a
-                           distributed run agrees on it over the parts); 0: not yet */
-  double *node_mass;    /* [nnodes] point masses added at the nodes, kg (per unit thickness
-                           in a plane model): in the lumped mass of every wave effect's
-                           nodal bound, global estimate and simulation, not in the element
-                           steps; NULL: none (owned) */
-  size_t nodes_used;    /* nodes of the extracted elements (0: not counted) */
-  size_t nleft_dim[3];  /* [d] elements of dimension d left out, each once (groups may share some) */
-  int nleft;            /* groups with elements left out */
-  dtm_left_out *left;   /* [nleft] those groups (owned; dtm_gmsh_left_out) */
+  dtm_group *groups;       /* [ngroups] physical groups of dimension dim, then
+                              the lower-dimensional groups sections name */
+  size_t nflagged;         /* elements analysed although inverted at a node */
+  dtm_flagged *flagged;    /* [nflagged] in block order (owned; dtm_mesh_check) */
+  int space_dim;           /* the dimension of the space the nodes span, once known (a
+                              distributed run agrees on it over the parts); 0: not yet */
+  double *node_mass;       /* [nnodes] point masses added at the nodes, kg (per unit thickness
+                              in a plane model): in the lumped mass of every wave effect's
+                              nodal bound, global estimate and simulation, not in the element
+                              steps; NULL: none (owned) */
+  size_t nodes_used;       /* nodes of the extracted elements (0: not counted) */
+  size_t nleft_dim[3];     /* [d] elements of dimension d left out, each once (groups may share some) */
+  int nleft;               /* groups with elements left out */
+  dtm_left_out *left;      /* [nleft] those groups (owned; dtm_gmsh_left_out) */
+  const char *length_unit; /* the unit of xyz ("m", "mm": the scene's; static), printed after
+                              the places of elements in messages; NULL: not printed */
 } dtm_mesh;
 
 /* Extent of the nodes the elements use along x, y and z, m, into ext[3];
@@ -111,9 +113,9 @@ DTM_EXPORT void dtm_mesh_gather_one(const dtm_mesh *m, const dtm_block *b, size_
  * array move with their element or node, so results reported by tag are
  * unchanged. O(n). */
 DTM_EXPORT int dtm_mesh_reorder(dtm_mesh *m);
-/* "element T (type) in group 'G' at (x, y, z)" for element e of block b
- * (the centroid of its nodes, m; "in no physical group" when it has none),
- * into buf; returns buf. */
+/* "element T (type) in group 'G' at (x, y, z) m" for element e of block b
+ * (the centroid of its nodes, followed by m->length_unit when it is set;
+ * "in no physical group" when it has none), into buf; returns buf. */
 DTM_EXPORT const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e, char *buf, size_t len);
 /* Check the mesh before anything is computed on it: every node's
  * coordinates are finite, every element's nodes exist, and every element

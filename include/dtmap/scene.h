@@ -108,6 +108,13 @@ DTM_EXPORT void dtm_scene_destroy(dtm_scene **s);
  * program that built or opened the model itself analyses a scene file). */
 DTM_EXPORT int dtm_scene_use_model(dtm_scene *s);
 
+/* The scene's system of units (<dtmap-scene units>): "SI" or "mm-t-s" (static; docs/units.md). Its
+ * units' names: dtm_units_name (include/dtmap/units.h). */
+DTM_EXPORT const char *dtm_scene_units(const dtm_scene *s);
+/* The name of the unit of the masses of a mesh of dimension dim analysed with scene s: the mass unit
+ * ("kg", "t"), or the mass per unit thickness ("kg/m", "t/mm") in 2D without a section. */
+DTM_EXPORT const char *dtm_scene_mass_unit(const dtm_scene *s, int dim);
+
 /* Index of property name in the scene's catalogue (dtm_material_get), or -1. */
 DTM_EXPORT int dtm_scene_property_index(const dtm_scene *s, const char *name);
 /* DTM_ERR_INPUT, naming the first material that gives it, for a property

@@ -12,7 +12,8 @@
 #include "dtmap/scene.h"
 
 typedef struct {
-  double h;                /* <meshing size> used, m */
+  double h;                /* <meshing size> used, in length_unit */
+  const char *length_unit; /* the scene's length unit: "m", or "mm" under mm-t-s (static) */
   size_t elements;         /* analysed elements */
   size_t nodes;            /* nodes of the mesh */
   double dt_min;           /* smallest element step, s */

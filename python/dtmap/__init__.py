@@ -15,8 +15,9 @@ opened: the current model is analysed).  The result holds numpy arrays
 recommended step and what it rests on, and the tags of the views dtmap
 added to the open Gmsh session (styled as ``dtmap run``'s .opt styles
 them), which ``gmsh.fltk.run()`` shows.  Every dtmap error raises
-:class:`dtmap.Error` with dtmap's message.  Units are SI: steps in s,
-lengths in m.
+:class:`dtmap.Error` with dtmap's message.  Steps are in s; lengths and
+masses in the scene's system of units (``Result.units``: m and kg, or mm
+and t under ``<dtmap-scene units="mm-t-s">``).
 
 The module is ctypes over libdtmap (no compiled extension); it needs
 Gmsh's Python module on the same libgmsh (Debian: python3-gmsh) and numpy.
@@ -33,6 +34,8 @@ from . import _scene
 __all__ = ["analyse", "Result", "Error", "version", "LIBRARY", "GMSH_LIBRARY"]
 __version__ = lib.dtm_version().decode()
 
+# dtm_unit (include/dtmap/units.h) of the quantities Result.units names
+_UNITS = {"length": 0, "area": 1, "mass": 3, "density": 4, "speed": 5, "modulus": 6}
 _VIEWS_MAX = 256  # more views than dtmap ever adds (a few, plus two per effect)
 
 
@@ -61,11 +64,16 @@ class Result:
 
     - ``element_tags`` [n] uint64, ``dt`` [n] s (each element's own step:
       the minimum over the effects, before the safety factor), ``length``
-      [n] m (characteristic length of the limiting effect), ``limiting``
+      [n] (characteristic length of the limiting effect, in ``units["length"]``), ``limiting``
       [n] int (index into ``effects``)
     - ``node_tags`` [m] uint64, ``nodal_dt`` [m] s (the nodal bound; +inf at
-      nodes no spectral effect reaches), ``size_suggestion`` [m] m (NaN at
-      nodes of no analysed element)
+      nodes no spectral effect reaches), ``size_suggestion`` [m] in
+      ``units["length"]`` (NaN at nodes of no analysed element)
+    - ``units``: the scene's system of units and the names of its units,
+      {"system": "SI" or "mm-t-s", "length": "m" or "mm", "mass": "kg" or
+      "t", "density", "modulus", "speed"}: the unit of every length, mass,
+      ... of the result and of the views; the step is in s in both; the
+      report of ``write_report`` is in SI (its "units" object says so)
     - ``dt_min`` s and ``dt_min_element`` (Gmsh tag): the element bound;
       ``dt_nodal``, ``dt_global`` s (NaN when not computed);
       ``recommended`` s: safety x the best guaranteed-safe estimate (on the
@@ -104,6 +112,10 @@ class Result:
         self.effects = [lib.dtm_analysis_effect(a, k).contents.name.decode()
                         for k in range(lib.dtm_analysis_neffects(a))]
         self.views = {}
+        system = lib.dtm_scene_units(scene)
+        self.units = {"system": system.decode()}
+        for name, q in _UNITS.items():
+            self.units[name] = lib.dtm_units_name(system, q).decode()
 
     def _results(self):
         if self._analysis is None:

@@ -106,6 +106,8 @@ _PROTOTYPES = {
     "dtm_scene_load_memory": (ctypes.c_int, [ctypes.c_char_p, _size, ctypes.c_char_p, ctypes.POINTER(_p)]),
     "dtm_scene_use_model": (ctypes.c_int, [_p]),
     "dtm_scene_destroy": (None, [ctypes.POINTER(_p)]),
+    "dtm_scene_units": (ctypes.c_char_p, [_p]),
+    "dtm_units_name": (ctypes.c_char_p, [ctypes.c_char_p, ctypes.c_int]),
     "dtm_analysis_current": (ctypes.c_int, [_p, ctypes.c_int, ctypes.POINTER(_p)]),
     "dtm_analysis_estimate_global": (ctypes.c_int, [_p, ctypes.c_double, ctypes.c_int, ctypes.c_uint]),
     "dtm_analysis_destroy": (None, [ctypes.POINTER(_p)]),

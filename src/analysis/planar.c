@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "dtmap/units.h"
 
 /* Whether element e of b is a plane-problem element: a surface of a 2D
  * model without a membrane or shell section. */
@@ -132,18 +133,20 @@ static int refuse(const dtm_analysis *a, const plane_fit *f, double size, int k)
   dtm_mesh_element_place(a->mesh, f->block, f->elem, place, sizeof place);
   const char *form = formulation(a, f, k);
   int strain = !strcmp(form, "plane-strain");
-  return DTM_ERR(DTM_ERR_INPUT,
-                 "%s: the surfaces are not plane and parallel: nodes lie up to %.4g m out of one plane (over a model "
-                 "of %.4g m), and %s is tilted from it (its nodes lie up to %.4g m off the plane through it normal to "
-                 "(%.3g, %.3g, %.3g), the largest element's normal), so this is no %s problem (plane surfaces that "
-                 "share one normal are analysed each in its own plane). %s",
-                 a->scene->path, f->spread, size, place, f->off, f->n[0], f->n[1], f->n[2], form,
-                 strain ? "Plane strain describes a thick body: mesh it as a volume (dim=\"3\"), or make the surfaces "
-                          "plane and parallel; a membrane section (kind=\"membrane\") would make it plane stress in "
-                          "each element's own plane, a shell (kind=\"shell\") adds bending and transverse shear"
-                        : "Keep plane stress in each element's own plane with <section groups=\"...\" "
-                          "kind=\"membrane\" thickness=\"...\"/>, or analyse them as shells (kind=\"shell\": membrane, "
-                          "bending and transverse shear)");
+  const char *L = dtm_units_name(a->scene->units, DTM_UNIT_LENGTH);
+  return DTM_ERR(
+      DTM_ERR_INPUT,
+      "%s: the surfaces are not plane and parallel: nodes lie up to %.4g %s out of one plane (over a model "
+      "of %.4g %s), and %s is tilted from it (its nodes lie up to %.4g %s off the plane through it normal to "
+      "(%.3g, %.3g, %.3g), the largest element's normal), so this is no %s problem (plane surfaces that "
+      "share one normal are analysed each in its own plane). %s",
+      a->scene->path, f->spread, L, size, L, place, f->off, L, f->n[0], f->n[1], f->n[2], form,
+      strain ? "Plane strain describes a thick body: mesh it as a volume (dim=\"3\"), or make the surfaces "
+               "plane and parallel; a membrane section (kind=\"membrane\") would make it plane stress in "
+               "each element's own plane, a shell (kind=\"shell\") adds bending and transverse shear"
+             : "Keep plane stress in each element's own plane with <section groups=\"...\" "
+               "kind=\"membrane\" thickness=\"...\"/>, or analyse them as shells (kind=\"shell\": membrane, "
+               "bending and transverse shear)");
 }
 
 int dtm_analysis_check_planar(dtm_analysis *a) {

@@ -8,6 +8,7 @@
 
 #include "analysis-impl.h"
 #include "dtmap/gmsh.h"
+#include "dtmap/units.h"
 
 /* The dimension below m->dim of a physical group named ref, 0 if none. */
 static int lower_dim_of(const dtm_mesh *m, const char *ref) {
@@ -76,7 +77,7 @@ static int map_materials(const dtm_scene *s, const dtm_mesh *m, int **group_mat,
 static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, double *t) {
   double t0 = dtm_wtime();
   int *gm = NULL, *gs = NULL, def = -1, defsec = -1;
-  m->dim = dim;
+  m->dim = dim, m->length_unit = dtm_units_name(s->units, DTM_UNIT_LENGTH);
   DTM_CHECK(dtm_gmsh_groups(dim, &m->groups, &m->ngroups));
   DTM_CHECK(dtm_gmsh_groups_sectioned(dim, s, &m->groups, &m->ngroups));
   DTM_CHECK(map_materials(s, m, &gm, &def));
@@ -89,7 +90,7 @@ static int extract_mesh(const dtm_scene *s, int dim, int whole, dtm_mesh *m, dou
   if (r == DTM_OK) r = dtm_mesh_reorder(m); /* locality for every loop below; reports stay by tag */
   const char *src = s->mesh ? s->mesh : s->geometry ? s->geometry : "the current Gmsh model";
   if (r == DTM_OK) r = dtm_mesh_check(m, src);
-  if (r == DTM_OK) r = dtm_gmsh_node_masses(m, src);
+  if (r == DTM_OK) r = dtm_gmsh_node_masses(m, src, dtm_scene_mass_unit(s, m->dim));
   t[DTM_T_EXTRACT] = dtm_wtime() - t0;
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

@@ -54,7 +54,7 @@ static int outputs(const dtm_scene *s, const cli_opts *o, const char *ext, char 
   return DTM_OK;
 }
 
-static void print_deck(const dtm_deck_info *d) {
+static void print_deck(const dtm_deck_info *d, const char *M) {
   printf("\ndeck         %s (%s): %zu nodes, %zu elements, %d element sets, %d node sets, %.2f s\n", d->path, d->title,
          d->nodes, d->elements, d->element_sets, d->node_sets, d->seconds);
   printf("  step       %.6e s, %s (dtmap's recommended step %.6e s)\n", d->step, d->basis, d->recommended);
@@ -62,16 +62,16 @@ static void print_deck(const dtm_deck_info *d) {
     printf("  %s's own estimate %.6e s (element %zu): the step is %.3fx it\n", d->title, d->own, d->own_element,
            d->step / d->own);
   if (isfinite(d->tssfac) && isfinite(d->dt2ms))
-    printf("  TSSFAC     %.6g, DT2MS %.6g s (TSSFAC x |DT2MS| = the step): LS-DYNA adds %.6g kg at %zu elements "
-           "(%.3g %% of the model's %.6g kg) by its rule\n",
-           d->tssfac, d->dt2ms, d->solver_added, d->solver_added_elements, 100 * d->solver_added / d->model_mass,
-           d->model_mass);
+    printf("  TSSFAC     %.6g, DT2MS %.6g s (TSSFAC x |DT2MS| = the step): LS-DYNA adds %.6g %s at %zu elements "
+           "(%.3g %% of the model's %.6g %s) by its rule\n",
+           d->tssfac, d->dt2ms, d->solver_added, M, d->solver_added_elements, 100 * d->solver_added / d->model_mass,
+           d->model_mass, M);
   else if (isfinite(d->tssfac))
     printf("  TSSFAC     %.6g (LS-DYNA's estimate x TSSFAC = the step)%s\n", d->tssfac,
            d->tssfac > 0.9 ? ": above 0.9 (--lsdyna-step proven)" : "");
   if (d->added > 0)
-    printf("  added mass %.6g kg at %zu nodes (%.3g %% of the model's %.6g kg)\n", d->added, d->added_nodes,
-           100 * d->added / d->model_mass, d->model_mass);
+    printf("  added mass %.6g %s at %zu nodes (%.3g %% of the model's %.6g %s)\n", d->added, M, d->added_nodes,
+           100 * d->added / d->model_mass, d->model_mass, M);
   printf("  the run    the step %s takes with this deck, and the hours of the scene's duration:\n", d->title);
   dtm_cli_print_solver_run(d->solver, &d->run);
   for (int i = 0; i < d->nwarnings; i++) fprintf(stderr, "dtmap: warning: %s\n", d->warnings[i]);
@@ -102,7 +102,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, DTM_GLOBAL_BASIS);
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
-  if (r == DTM_OK && o->verbosity) print_deck(&info);
+  if (r == DTM_OK && o->verbosity) print_deck(&info, dtm_scene_mass_unit(s, dtm_analysis_mesh(a)->dim));
   dtm_results res = {a, cost,          NULL,       t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o),
                      1, {info.solver}, {&info.run}};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);

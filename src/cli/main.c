@@ -127,7 +127,8 @@ static const cli_option refine_options[] = {
     {NULL, 0, 0, 0, 0, 0, NULL, NULL}};
 
 static const cli_option sweep_options[] = {
-    {"--sizes", CLI_STRING, OPT(sizes), 0, 0, 0, "h1,h2,...", "mesh sizes, m, comma-separated (required)"},
+    {"--sizes", CLI_STRING, OPT(sizes), 0, 0, 0, "h1,h2,...",
+     "mesh sizes in the scene's length unit (m, mm under mm-t-s), comma-separated (required)"},
     {"--csv", CLI_STRING, OPT(csv), 0, 0, 0, "F", "table as CSV (default SCENE_sweep.csv)"},
     {"--plot", CLI_STRING, OPT(plot), 0, 0, 0, "F.png", "cost against accuracy, log-log (default SCENE_sweep.png)"},
     VERIFIED_OPTIONS,

@@ -33,6 +33,7 @@ typedef struct {
   double *y;          /* [n] log10 element-steps, one global step */
   double *ys;         /* [n] log10 element-steps, ideal subcycling */
   const char *xlabel; /* x axis label, with units */
+  char xtext[64];     /* xlabel when it is made here (1/h in the scene's length unit) */
   const char *ylabel; /* y axis label, with units */
 } plot_data;
 
@@ -51,7 +52,9 @@ static int choose_x(const dtm_sweep_row *rows, int n, plot_data *d) {
     return d->xlabel = "smallest elements per wavelength", 0;
   if (all_positive(rows, n, offsetof(dtm_sweep_row, per_zone)))
     return d->xlabel = "smallest elements per cohesive process zone", 1;
-  return d->xlabel = "1/h (1/m), h the mesh size", 2;
+  snprintf(d->xtext, sizeof d->xtext, "1/h (1/%s), h the mesh size",
+           n && rows[0].length_unit ? rows[0].length_unit : "m");
+  return d->xlabel = d->xtext, 2;
 }
 
 static double x_value(const dtm_sweep_row *r, int kind) {
@@ -355,7 +358,9 @@ static void panel_labels(const curve *c, int nc, const dtm_sweep_row *rows, int 
       seg[ns][2] = to_mm_x(m, c[k].x[i]), seg[ns++][3] = to_mm_y(m, c[k].y[i]);
   for (int j = 0; j < n; j++) {
     int i = order[j], top = c[0].row[i] == best;
-    snprintf(pl->text[j], sizeof pl->text[j], "%s%g m", top ? "cheapest in band: h = " : "h = ", rows[c[0].row[i]].h);
+    const dtm_sweep_row *r = &rows[c[0].row[i]];
+    snprintf(pl->text[j], sizeof pl->text[j], "%s%g %s", top ? "cheapest in band: h = " : "h = ", r->h,
+             r->length_unit ? r->length_unit : "m");
     scale[j] = top ? 0.8 : 0.65;
     double ht = char_height(scale[j]);
     lab[j] = (dtm_plot_label){to_mm_x(m, c[0].x[i]), to_mm_y(m, c[0].y[i]), MARKER * char_height(1.0) / 2,

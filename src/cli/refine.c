@@ -22,6 +22,7 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/refine.h"
 #include "dtmap/scene.h"
+#include "dtmap/units.h"
 
 /* The worst phase error of a round in percent, or why there is none. */
 static const char *phase_text(const dtm_refine_round *r, char *buf, size_t len) {
@@ -36,13 +37,13 @@ static const char *phase_text(const dtm_refine_round *r, char *buf, size_t len) 
 
 /* What was applied in a round: the calibration (the margin aimed past the
  * target), the transfinite counts set, the optimisers, the masses. */
-static const char *applied_text(const dtm_refine_round *r, char *buf, size_t len) {
+static const char *applied_text(const dtm_refine_round *r, const char *units, char *buf, size_t len) {
   buf[0] = '\0';
   if (r->kind == DTM_ROUND_INPUT) return snprintf(buf, len, "input"), buf;
   if (r->kind == DTM_ROUND_MASS)
     return snprintf(buf, len, "+%.3g%% mass at %zu nodes", r->added_percent, r->mass_nodes), buf;
   if (r->strategy && strcmp(r->strategy, "field") && isfinite(r->uniform))
-    snprintf(buf, len, "%s %.3g m", r->strategy, r->uniform);
+    snprintf(buf, len, "%s %.3g %s", r->strategy, r->uniform, dtm_units_name(units, DTM_UNIT_LENGTH));
   else if (r->strategy && strcmp(r->strategy, "field"))
     snprintf(buf, len, "%s x%.3f", r->strategy, r->calibration);
   else
@@ -103,8 +104,8 @@ static void print_round(const dtm_refine_result *rr, int i, int other) {
                                                           : "elem.",
          r->elements, r->dt_min, r->recommended, short_text(r, sh, sizeof sh), c,
          no_negative_zero(100.0 * (c / c0 - 1.0)), r->below, phase_text(r, ph, sizeof ph), band_text(r, other),
-         r->seconds, applied_text(r, ap, sizeof ap), r->recommended >= rr->target ? "  target met" : "",
-         i == rr->best ? "  (kept)" : "");
+         r->seconds, applied_text(r, rr->scene.units, ap, sizeof ap),
+         r->recommended >= rr->target ? "  target met" : "", i == rr->best ? "  (kept)" : "");
 }
 
 /* What the kept mesh and its step do to the accuracy of the input: on
@@ -248,7 +249,8 @@ static int not_met(const dtm_refine_result *rr, int verbose) {
 static void print_met(const dtm_refine_result *rr) {
   const dtm_refine_round *b = &rr->rounds[rr->best];
   if (b->kind == DTM_ROUND_MASS)
-    printf("met: mesh + %.3g %% added mass at %zu nodes (%.4g kg)\n", b->added_percent, b->mass_nodes, b->added_mass);
+    printf("met: mesh + %.3g %% added mass at %zu nodes (%.4g %s)\n", b->added_percent, b->mass_nodes, b->added_mass,
+           dtm_scene_mass_unit(&rr->scene, dtm_analysis_mesh(rr->analysis)->dim));
 }
 
 static int refine_scene(const dtm_scene *s, const dtm_refine_options *ro, const cli_opts *o) {

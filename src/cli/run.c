@@ -15,6 +15,7 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
 #include "dtmap/parallel.h"
+#include "dtmap/units.h"
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
 
@@ -117,9 +118,11 @@ static void print_wave(const dtm_analysis *a, double dt, const dtm_wave_spec *w,
   else if (r->f != w->f)
     printf("  the default %.4g Hz raised to %.4g Hz: the lowest at which a packet runs 3 periods in the mesh\n", w->f,
            r->f);
-  printf("  host material %s: c = %.1f m/s, wavelength %.4g m, window %.3g m, %.2f periods, %d zero crossings, "
+  const char *units = dtm_analysis_scene(a)->units, *L = dtm_units_name(units, DTM_UNIT_LENGTH);
+  printf("  host material %s: c = %.1f %s, wavelength %.4g %s, window %.3g %s, %.2f periods, %d zero crossings, "
          "%.2f s\n",
-         dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, 2 * 3.14159265358979323846 / r->k, r->sigma,
+         dtm_analysis_scene(a)->materials[r->material].m.name, r->speed, dtm_units_name(units, DTM_UNIT_SPEED),
+         2 * 3.14159265358979323846 / r->k, L, r->sigma, L,
          r->duration * r->speed * r->k / (2 * 3.14159265358979323846), r->crossings, r->seconds);
   printf("  phase-speed error: measured %+.4f %%, predicted %+.4f %% (%s, mean over %zu elements; this wave's worst "
          "element alone %+.4f %%)\n",

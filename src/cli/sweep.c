@@ -34,7 +34,7 @@ static int parse_sizes(const char *text, double **sizes, int *n) {
     if (end == p || (*end && *end != ',') || !(v[i] > 0) || !isfinite(v[i])) {
       free(v);
       int len = (int)strcspn(p, ",");
-      return DTM_ERR(DTM_ERR_INPUT, "--sizes: '%.*s' is not a positive, finite size in m", len, p);
+      return DTM_ERR(DTM_ERR_INPUT, "--sizes: '%.*s' is not a positive, finite size (m, or mm under mm-t-s)", len, p);
     }
     p = *end ? end + 1 : end;
   }
@@ -85,9 +85,9 @@ static void warn_flagged(const dtm_sweep_row *rows, int n) {
   for (int i = 0; i < n; i++)
     if (rows[i].flagged)
       fprintf(stderr,
-              "dtmap: warning: at size %g m, %zu element%s inverted at a node but valid at every integration "
+              "dtmap: warning: at size %g %s, %zu element%s inverted at a node but valid at every integration "
               "point: analysed (dtmap run at that size names them)\n",
-              rows[i].h, rows[i].flagged, rows[i].flagged == 1 ? " is" : "s are");
+              rows[i].h, rows[i].length_unit, rows[i].flagged, rows[i].flagged == 1 ? " is" : "s are");
 }
 
 /* On stderr, even with -q: each size that gave no figures, and why
@@ -98,7 +98,7 @@ static int warn_failed(const dtm_sweep_row *rows, int n, int written) {
   for (int i = 0; i < n; i++) {
     if (!rows[i].failed[0]) continue;
     if (written || k)
-      fprintf(stderr, "dtmap: error: sweep at size %g m: %s%s\n", rows[i].h, rows[i].failed,
+      fprintf(stderr, "dtmap: error: sweep at size %g %s: %s%s\n", rows[i].h, rows[i].length_unit, rows[i].failed,
               written ? " (a row of the table and the CSV; the other sizes are written)" : "");
     k++;
   }
@@ -133,7 +133,9 @@ static int sweep_scene(const cli_opts *o, const double *sizes, int n) {
 }
 
 int dtm_cli_sweep(const cli_opts *o) {
-  if (!o->sizes) return dtm_cli_usage_error(&dtm_cli_commands[3], "needs --sizes h1,h2,... (mesh sizes in m)");
+  if (!o->sizes)
+    return dtm_cli_usage_error(
+        &dtm_cli_commands[3], "needs --sizes h1,h2,... (mesh sizes in the scene's length unit: m, or mm under mm-t-s)");
   if (o->threads > 0) omp_set_num_threads(o->threads);
   double *sizes = NULL;
   int n = 0, r = parse_sizes(o->sizes, &sizes, &n);

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "dtmap/gmsh.h"
+#include "dtmap/units.h"
 #include "gmsh-impl.h"
 
 static const char *const dim_name[] = {"Point", "Curve", "Surface", "Volume"};
@@ -67,8 +68,8 @@ static void size_options(const dtm_scene *s, const dtm_mesh *m, const double *si
   snprintf(c->text, sizeof c->text,
            "Gmsh's size options Mesh.MeshSizeMin = %g, Mesh.MeshSizeMax = %g, Mesh.MeshSizeFactor = %g (from the "
            "geometry file or the scene's <meshing>) clamp every size field; refine lifted them for its remeshes "
-           "(0, 1e22 and 1); the size suggestion spans %.4g to %.4g m",
-           mn, mx, f, lo, hi);
+           "(0, 1e22 and 1); the size suggestion spans %.4g to %.4g %s",
+           mn, mx, f, lo, hi, dtm_units_name(s ? s->units : NULL, DTM_UNIT_LENGTH));
   if (lo < mn * f || hi > mx * f)
     snprintf(c->fix, sizeof c->fix, "Mesh.MeshSizeMin = %.4g;\nMesh.MeshSizeMax = %.4g;\nMesh.MeshSizeFactor = 1;",
              fmin(mn, lo), fmax(mx, hi));

@@ -44,7 +44,7 @@ static size_t *tag_index(const dtm_mesh *m, size_t *max) {
 }
 
 /* The view's n values at node tags into m->node_mass. */
-static int assign(dtm_mesh *m, const size_t *tags, const double *data, size_t n, const char *src) {
+static int assign(dtm_mesh *m, const size_t *tags, const double *data, size_t n, const char *src, const char *unit) {
   size_t max, *index = tag_index(m, &max);
   m->node_mass = calloc(m->nnodes + 1, sizeof *m->node_mass);
   if (!index || !m->node_mass) return free(index), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
@@ -52,11 +52,11 @@ static int assign(dtm_mesh *m, const size_t *tags, const double *data, size_t n,
   for (size_t i = 0; i < n && r == DTM_OK; i++) {
     size_t at = tags[i] <= max ? index[tags[i]] : 0;
     if (!isfinite(data[i]) || data[i] < 0)
-      r = DTM_ERR(DTM_ERR_INPUT, "%s: view '%s': node %zu carries %g kg; a mass must be finite and not negative", src,
-                  DTM_VIEW_NODE_MASS, tags[i], data[i]);
+      r = DTM_ERR(DTM_ERR_INPUT, "%s: view '%s': node %zu carries %g %s; a mass must be finite and not negative", src,
+                  DTM_VIEW_NODE_MASS, tags[i], data[i], unit);
     else if (!at && data[i] > 0)
-      r = DTM_ERR(DTM_ERR_INPUT, "%s: view '%s': node %zu carries %g kg but no analysed element holds it", src,
-                  DTM_VIEW_NODE_MASS, tags[i], data[i]);
+      r = DTM_ERR(DTM_ERR_INPUT, "%s: view '%s': node %zu carries %g %s but no analysed element holds it", src,
+                  DTM_VIEW_NODE_MASS, tags[i], data[i], unit);
     else if (at)
       m->node_mass[at - 1] = data[i];
   }
@@ -64,7 +64,7 @@ static int assign(dtm_mesh *m, const size_t *tags, const double *data, size_t n,
   return r;
 }
 
-int dtm_gmsh_node_masses(dtm_mesh *m, const char *src) {
+int dtm_gmsh_node_masses(dtm_mesh *m, const char *src, const char *mass_unit) {
   int view = find_view(), ierr = 0, ncomp = 0;
   if (view < 0 || !m->node_tags) return DTM_OK;
   char *type = NULL;
@@ -74,7 +74,7 @@ int dtm_gmsh_node_masses(dtm_mesh *m, const char *src) {
   int r = DTM_OK;
   if (ierr || !type || strcmp(type, "NodeData") || ncomp != 1 || ndata != ntags)
     r = DTM_ERR(DTM_ERR_INPUT, "%s: view '%s' must be NodeData with one value per node (kg)", src, DTM_VIEW_NODE_MASS);
-  if (r == DTM_OK) r = assign(m, tags, data, ntags, src);
+  if (r == DTM_OK) r = assign(m, tags, data, ntags, src, mass_unit);
   gmshFree(type), gmshFree(tags), gmshFree(data);
   if (r) free(m->node_mass), m->node_mass = NULL;
   return r;

@@ -36,8 +36,8 @@ const char *dtm_mesh_element_place(const dtm_mesh *m, int b, size_t e, char *buf
     snprintf(grp, sizeof grp, "in group '%s'", dtm_mesh_group_label(m, g, lbl, sizeof lbl));
   else
     snprintf(grp, sizeof grp, "in no physical group");
-  snprintf(buf, len, "element %zu (%s) %s at (%.6g, %.6g, %.6g)", blk->tags[e], dtm_elem_name(blk->type), grp, c[0],
-           c[1], c[2]);
+  snprintf(buf, len, "element %zu (%s) %s at (%.6g, %.6g, %.6g)%s%s", blk->tags[e], dtm_elem_name(blk->type), grp, c[0],
+           c[1], c[2], m->length_unit ? " " : "", m->length_unit ? m->length_unit : "");
   return buf;
 }
 

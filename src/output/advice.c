@@ -49,12 +49,12 @@ static void refine_warning(const dtm_refine_result *rr, dtm_warnings *w) {
     dtm_output_warn(w, "the refined mesh costs %.3g %% more than the input", 100.0 * (c1 / c0 - 1.0));
 }
 
-void dtm_output_conflict_warning(dtm_warnings *w, double target, const char *bound, double hmax, double dt_cap,
+void dtm_output_conflict_warning(dtm_warnings *w, const dtm_scene *s, const char *bound, double hmax, double dt_cap,
                                  size_t n) {
-  dtm_output_warn(
-      w,
-      "the target %.4e s is forbidden by the accuracy bound '%s': h <= %.4g m caps the step at %.4e s (%zu element(s))",
-      target, bound, hmax, dt_cap, n);
+  dtm_output_warn(w,
+                  "the target %.4e s is forbidden by the accuracy bound '%s': h <= %.4g %s caps the step at %.4e s "
+                  "(%zu element(s))",
+                  s->target, bound, hmax, dtm_unit_label(s, DTM_UNIT_LENGTH), dt_cap, n);
 }
 
 static void conflict_warning(const dtm_analysis *a, dtm_warnings *w) {
@@ -62,7 +62,7 @@ static void conflict_warning(const dtm_analysis *a, dtm_warnings *w) {
   dtm_analysis_accuracy(a, &ac);
   if (!ac.conflicts) return;
   size_t i = ac.cap_element;
-  dtm_output_conflict_warning(w, dtm_analysis_scene(a)->target,
+  dtm_output_conflict_warning(w, dtm_analysis_scene(a),
                               dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i])->indicator.view,
                               dtm_analysis_hmax(a)[i], ac.dt_cap, ac.conflicts);
 }
@@ -125,10 +125,12 @@ const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, 
     snprintf(buf, len, "%.1f deg %s at model %s %d%s", s->angle, where, entity_name(s->entity_dim), s->entity_tag,
              s->feature == DTM_FEATURE_FLAT_ANGLE ? ", held by this one element" : "");
     break;
-  case DTM_FEATURE_SHORT_CURVE: snprintf(buf, len, "model curve %d is %.3g m long", s->entity_tag, s->size); break;
+  case DTM_FEATURE_SHORT_CURVE:
+    snprintf(buf, len, "model curve %d is %.3g %s long", s->entity_tag, s->size, dtm_output_unit(a, DTM_UNIT_LENGTH));
+    break;
   default:
-    snprintf(buf, len, "thin: boundaries %.3g m apart (model %s %d)", s->size, entity_name(s->entity_dim),
-             s->entity_tag);
+    snprintf(buf, len, "thin: boundaries %.3g %s apart (model %s %d)", s->size, dtm_output_unit(a, DTM_UNIT_LENGTH),
+             entity_name(s->entity_dim), s->entity_tag);
   }
   return buf;
 }
@@ -136,11 +138,13 @@ const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, 
 const char *dtm_remedy_text(const dtm_results *r, const dtm_shape_limited *s, char *buf, size_t len) {
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (s->remedy == DTM_REMEDY_SPLIT)
-    snprintf(buf, len, "split the angle: a local size of %.3g m at model point %d", s->split, s->entity_tag);
+    snprintf(buf, len, "split the angle: a local size of %.3g %s at model point %d", s->split,
+             dtm_output_unit(r->analysis, DTM_UNIT_LENGTH), s->entity_tag);
   else if (s->remedy == DTM_REMEDY_OPTIMISE)
     snprintf(buf, len, "an optimiser pass (swaps) at model %s %d", entity_name(s->entity_dim), s->entity_tag);
   else if (ms)
-    snprintf(buf, len, "mass scaling: +%.3g kg at its nodes", ms->added[s->element]);
+    snprintf(buf, len, "mass scaling: +%.3g %s at its nodes", ms->added[s->element],
+             dtm_output_unit(r->analysis, DTM_UNIT_MASS));
   else
     snprintf(buf, len, "mass scaling at its nodes");
   return buf;

@@ -44,6 +44,8 @@ static cJSON *deck_json(const dtm_deck_info *d) {
 
 int dtm_report_write_deck(const dtm_results *r, const dtm_deck_info *d, const char *path) {
   cJSON *root = dtm_report_json(r);
-  cJSON_AddItemToObject(root, "deck", deck_json(d));
+  cJSON *deck = deck_json(d);
+  dtm_report_units(deck, r->analysis, 0);
+  cJSON_AddItemToObject(root, "deck", deck);
   return dtm_json_write(root, path, "JSON report");
 }

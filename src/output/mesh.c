@@ -26,6 +26,7 @@
 #include "dtmap/output.h"
 #include "dtmap/progress.h"
 #include "dtmap/util.h"
+#include "dtmap/units.h"
 
 static int check_target(const dtm_scene *s, const char *path) { return dtm_output_path_check(s, path, ".msh", NULL); }
 
@@ -90,14 +91,16 @@ typedef struct {
   size_t *stags;            /* tags of the shape-limited elements */
   double *svals;            /* their feature (dtm_feature_kind) */
   size_t *ttags;            /* tags of the thickness-limited elements */
-  double *tvals;            /* the local thickness there, m */
+  double *tvals;            /* the local thickness there, in the scene's length unit */
   size_t *itags;            /* tags of the flagged elements [nflagged] */
   double *ivals;            /* their smallest scaled Jacobians [nflagged] */
   size_t *mtags;            /* node tags of the point masses [nnodes] */
-  double *mvals;            /* the masses, kg [nnodes] */
+  double *mvals;            /* the masses, in the scene's mass unit [nnodes] */
   size_t *ktags;            /* tags of the solid elements of DTM_VIEW_DT_SKIN */
   double *kvals;            /* their steps */
   char (*solver_names)[32]; /* "dt <solver>" names [nsolvers] */
+  const char *units;        /* the scene's system of units (dtm_scene.units): the views' lengths */
+  const char *mass_unit;    /* the unit of the views' masses (dtm_scene_mass_unit) */
 } view_set;
 
 static void free_views(view_set *vs) {
@@ -126,6 +129,8 @@ static void free_views(view_set *vs) {
 static int alloc_views(const dtm_analysis *a, view_set *vs) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   size_t nel = dtm_analysis_nelements(a), nn = m->nnodes, ne = (size_t)dtm_analysis_neffects(a);
+  vs->units = dtm_analysis_scene(a)->units;
+  vs->mass_unit = dtm_scene_mass_unit(dtm_analysis_scene(a), m->dim);
   vs->etags_own = m->nblocks != 1; /* one block: its tags are the views' (no copy of nel tags) */
   vs->etags = vs->etags_own ? malloc((nel + 1) * sizeof *vs->etags) : m->blocks[0].tags;
   vs->ntags = malloc((nn + 1) * sizeof *vs->ntags);
@@ -355,11 +360,13 @@ static int build_views(const dtm_results *r, const dtm_output_part *part, const 
   return skin_view(r->analysis, vs, nviews);
 }
 
-/* How the .opt styles a view, from its name. */
-static const char *unit_of(const char *name) {
+/* The unit of a view's values, from its name: s, the scene's length unit
+ * (units: the scene's system) or mass_unit, or "" (a count, a kind). */
+static const char *unit_of(const char *name, const char *units, const char *mass_unit) {
   if (!strcmp(name, "dt") || !strncmp(name, "dt ", 3) || !strcmp(name, "nodal dt") || strstr(name, "[s]")) return "s";
-  if (!strcmp(name, "characteristic length") || !strcmp(name, "size suggestion")) return "m";
-  if (!strncmp(name, "added mass", 10)) return "kg";
+  if (!strcmp(name, "characteristic length") || !strcmp(name, "size suggestion") || !strcmp(name, "thickness limited"))
+    return dtm_units_name(units, DTM_UNIT_LENGTH);
+  if (!strncmp(name, "added mass", 10)) return mass_unit;
   return "";
 }
 
@@ -371,11 +378,12 @@ static int is_below(const char *name) {
 typedef struct {
   dtm_view_option o; /* View[i].<name> = value */
   const char *why;   /* comment in the .opt, or NULL */
+  char text[24];     /* o.text when it is made here (the Format with its unit) */
 } styled;
 #define MAX_STYLE 24
 
 static void add_style(styled *s, int *k, const char *name, double number, const char *text, const char *why) {
-  s[(*k)++] = (styled){{name, number, text}, why};
+  s[(*k)++] = (styled){{name, number, text}, why, ""};
 }
 
 /* Bit d set when mesh m has elements of dimension d below its own: the
@@ -440,18 +448,21 @@ static void solid_style(int primary, const dtm_mesh *m, styled *s, int *k) {
  * mesh has line elements (trusses) below its dimension, lines drawn as
  * thick tubes. Returns the count written to s[MAX_STYLE]. */
 static int view_style(const view_set *vs, int nviews, int i, const dtm_mesh *m, int ranged, styled *s) {
-  const char *name = vs->views[i].name, *u = unit_of(name);
+  const char *name = vs->views[i].name, *u = unit_of(name, vs->units, vs->mass_unit);
   int primary = !strcmp(name, "dt"), skin = !strcmp(name, DTM_VIEW_DT_SKIN), below = is_below(name), k = 0;
   add_style(s, &k, "Light", 0, NULL, name);
-  if (u[0] == 's') add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
-  if (u[0] == 's') add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
-  add_style(s, &k, "Format", 0, u[0] == 's' ? "%.3g s" : u[0] == 'm' ? "%.3g m" : "%.3g", NULL);
+  int step = !strcmp(u, "s");
+  if (step) add_style(s, &k, "ScaleType", 2, NULL, "logarithmic");
+  if (step) add_style(s, &k, "ColormapNumber", 23, NULL, "viridis: dark = small");
+  add_style(s, &k, "Format", 0, NULL, NULL);
+  snprintf(s[k - 1].text, sizeof s[k - 1].text, "%%.3g%s%s", u[0] ? " " : "", u);
+  s[k - 1].o.text = s[k - 1].text;
   if (primary || below || skin)
     add_style(s, &k, "IntervalsType", 3, NULL, NULL), add_style(s, &k, "NbIso", 12, NULL, NULL);
   const dtm_view *of = &vs->views[i]; /* the skin takes dt's range, so its colours are dt's bar's */
   for (int j = 0; skin && j < nviews; j++)
     if (!strcmp(vs->views[j].name, "dt")) of = &vs->views[j];
-  if (u[0] == 's' && ranged) range_style(of, s, &k);
+  if (step && ranged) range_style(of, s, &k);
   add_style(s, &k, "Visible", primary || skin || (below && m->dim == 3), NULL, NULL);
   if ((primary || skin) && m->dim == 3) solid_style(primary, m, s, &k);
   if (lower_dims(m) & 2u) {

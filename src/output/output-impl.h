@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "dtmap/output.h"
+#include "dtmap/units.h"
 
 #define DTM_MASS_WARN 5.0 /* percent of added mass above which a warning is given */
 #define DTM_WARN_MAX 32
@@ -35,8 +36,11 @@ int dtm_output_model(const dtm_analysis *a, dtm_model_extent *x);
 void dtm_output_model_free(dtm_model_extent *x);
 /* The largest extent of the bounding box. */
 double dtm_output_model_size(const dtm_model_extent *x);
-/* The scene's unit of what: 0 length, 1 mass, 2 density, 3 speed, 4 stress. */
-const char *dtm_unit_label(const dtm_scene *s, int what);
+/* The name of the scene's unit of what (include/dtmap/units.h). */
+const char *dtm_unit_label(const dtm_scene *s, dtm_unit what);
+/* The name of the unit of what in the analysed scene's system ("mm", "t", ...; docs/units.md); a
+ * mass per unit thickness ("kg/m", "t/mm") in 2D without a section. */
+const char *dtm_output_unit(const dtm_analysis *a, dtm_unit what);
 /* Densities, wave speeds and a model size outside what solids and parts
  * have (plausible.c): each a warning naming the material and the value. */
 void dtm_output_plausibility_warnings(const dtm_analysis *a, dtm_warnings *w);
@@ -60,7 +64,7 @@ void dtm_summary_measures(const dtm_analysis *a, const dtm_cost *c, void *stream
  * DTM_MASS_WARN of the model or a group; a target the accuracy bound
  * forbids at n elements (the bound's view, its size, the step it allows). */
 void dtm_output_mass_warnings(const dtm_analysis *a, const dtm_mass_scaling *ms, const char *what, dtm_warnings *w);
-void dtm_output_conflict_warning(dtm_warnings *w, double target, const char *bound, double hmax, double dt_cap,
+void dtm_output_conflict_warning(dtm_warnings *w, const dtm_scene *s, const char *bound, double hmax, double dt_cap,
                                  size_t n);
 
 /* One line on the feature and one on the remedy of a shape-limited element. */

@@ -34,10 +34,11 @@ static double unit_length(const dtm_scene *s) { return s->unit_length > 0 ? s->u
 static double unit_mass(const dtm_scene *s) { return s->unit_mass > 0 ? s->unit_mass : 1.0; }
 static int is_mm(const dtm_scene *s) { return unit_length(s) != 1.0; }
 
-const char *dtm_unit_label(const dtm_scene *s, int what) {
-  static const char *const si[] = {"m", "kg", "kg/m^3", "m/s", "Pa"}, *const mm[] = {"mm", "t", "t/mm^3", "mm/s",
-                                                                                     "MPa"};
-  return is_mm(s) ? mm[what] : si[what];
+const char *dtm_unit_label(const dtm_scene *s, dtm_unit what) { return dtm_units_name(s->units, what); }
+
+const char *dtm_output_unit(const dtm_analysis *a, dtm_unit what) {
+  if (what == DTM_UNIT_MASS) return dtm_scene_mass_unit(dtm_analysis_scene(a), dtm_analysis_mesh(a)->dim);
+  return dtm_units_name(dtm_analysis_scene(a)->units, what);
 }
 
 /* rho V of element e of block b (0 without a density); its measure from
@@ -103,7 +104,7 @@ static double wave_speed(const dtm_material *m) {
 }
 
 /* "v unit" in the scene's units, with the SI value beside under mm-t-s. */
-static const char *value_text(const dtm_scene *s, double v, double si, int what, const char *si_unit, char *buf,
+static const char *value_text(const dtm_scene *s, double v, double si, dtm_unit what, const char *si_unit, char *buf,
                               size_t len) {
   if (is_mm(s))
     snprintf(buf, len, "%.4g %s (%.4g %s)", v, dtm_unit_label(s, what), si, si_unit);
@@ -120,13 +121,13 @@ static void material_warnings(const dtm_scene *s, const dtm_material *m, dtm_war
   if (rho > 0 && (rho_si < RHO_LO || rho_si > RHO_HI))
     dtm_output_warn(
         w, "material '%s' (line %d): density rho = %s lies outside %g-%g kg/m^3, what solids have: check its unit (%s)",
-        m->name, m->line, value_text(s, rho, rho_si, 2, "kg/m^3", v, sizeof v), RHO_LO, RHO_HI, hint);
+        m->name, m->line, value_text(s, rho, rho_si, DTM_UNIT_DENSITY, "kg/m^3", v, sizeof v), RHO_LO, RHO_HI, hint);
   if (isfinite(c) && (c_si < C_LO || c_si > C_HI))
     dtm_output_warn(
         w,
         "material '%s' (line %d): dilatational wave speed %s lies outside %g m/s-%g km/s, what solids have: the "
         "step scales with 1/c; check the units of E and rho (%s)",
-        m->name, m->line, value_text(s, c, c_si, 3, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
+        m->name, m->line, value_text(s, c, c_si, DTM_UNIT_SPEED, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
 }
 
 static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
@@ -149,7 +150,7 @@ static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
         s->mesh_size, s->meshing_line, s->mesh_size / d, d);
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
     dtm_output_warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
-                    value_text(s, d, d_si, 0, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
+                    value_text(s, d, d_si, DTM_UNIT_LENGTH, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
                     d_si > SIZE_HI ? "1 km" : "1 um", s->mesh ? "mesh" : "geometry", s->mesh ? "mesh" : "geometry");
 }
 
@@ -200,13 +201,13 @@ void dtm_summary_model(const dtm_analysis *a, void *stream) {
   }
   dtm_model_extent x = {0};
   if (dtm_output_model(a, &x)) return;
-  const char *L = dtm_unit_label(s, 0), *M = dtm_unit_label(s, 1);
-  fprintf(f, "model        mass %.6g %s%s", x.mass, M, m->dim < 3 && !s->nsections ? " per unit thickness" : "");
+  const char *L = dtm_unit_label(s, DTM_UNIT_LENGTH), *M = dtm_output_unit(a, DTM_UNIT_MASS);
+  fprintf(f, "model        mass %.6g %s%s", x.mass, M, m->dim < 3 && !s->nsections ? " (per unit thickness)" : "");
   for (int g = 0, k = 0; g < x.ngroups && x.ngroups > 2; g++)
     if (x.group_mass[g] > 0)
-      fprintf(f, "%s'%s' %.4g", k++ ? ", " : " (", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl),
-              x.group_mass[g]);
-  fprintf(f, "%s; extent %.4g x %.4g x %.4g %s from (%.4g, %.4g, %.4g)\n", x.ngroups > 2 ? ")" : "", x.hi[0] - x.lo[0],
-          x.hi[1] - x.lo[1], x.hi[2] - x.lo[2], L, x.lo[0], x.lo[1], x.lo[2]);
+      fprintf(f, "%s'%s' %.4g %s", k++ ? ", " : " (", dtm_mesh_group_label(m, g < m->ngroups ? g : -1, lbl, sizeof lbl),
+              x.group_mass[g], M);
+  fprintf(f, "%s; extent %.4g x %.4g x %.4g %s from (%.4g, %.4g, %.4g) %s\n", x.ngroups > 2 ? ")" : "",
+          x.hi[0] - x.lo[0], x.hi[1] - x.lo[1], x.hi[2] - x.lo[2], L, x.lo[0], x.lo[1], x.lo[2], L);
   dtm_output_model_free(&x);
 }

@@ -389,7 +389,7 @@ cJSON *dtm_report_warnings_of(const dtm_analysis *a, const dtm_mass_scaling *ms,
   dtm_warnings w = {0, {{0}}};
   if (ms) dtm_output_mass_warnings(a, ms, "mass scaling to the target", &w);
   if (c && c->conflicts)
-    dtm_output_conflict_warning(&w, dtm_analysis_scene(a)->target, c->bound, c->hmax, c->dt_cap, c->conflicts);
+    dtm_output_conflict_warning(&w, dtm_analysis_scene(a), c->bound, c->hmax, c->dt_cap, c->conflicts);
   if (note && w.n < DTM_WARN_MAX) snprintf(w.text[w.n++], sizeof w.text[0], "%s", note);
   return warnings_array(&w);
 }
@@ -576,6 +576,7 @@ cJSON *dtm_report_json(const dtm_results *r) {
   cJSON_AddItemToObject(root, "worst", dtm_report_worst(r));
   cJSON_AddItemToObject(root, "warnings", warnings_json(r));
   cJSON_AddItemToObject(root, "timings", timings_json(r));
+  dtm_report_units(root, a, 1);
   return root;
 }
 

@@ -56,6 +56,11 @@ cJSON *dtm_report_measures(const dtm_analysis *a, const dtm_measures *ms);
 cJSON *dtm_report_measure(const dtm_analysis *a, const dtm_measure *m);
 cJSON *dtm_report_damping(const dtm_analysis *a);
 cJSON *dtm_report_worst(const dtm_results *r);
+/* The report's unit rule (report_units.c): under mm-t-s, every field of
+ * root with a unit (a length, area, mass, ...) converted from the scene's
+ * units into SI, but for a top-level "model" (the scene's own units) when
+ * top is set; with top, the top-level "units" object that says so. */
+void dtm_report_units(cJSON *root, const dtm_analysis *a, int top);
 /* The whole report of r (report.c). */
 cJSON *dtm_report_json(const dtm_results *r);
 /* The report's "shape_limited" (at most 100 of them) and

@@ -89,42 +89,45 @@ static double gyration(const dtm_section *sec) {
   return sqrt(fmax(sec->iy, sec->iz) / sec->area);
 }
 
-static void rotary_warning(const dtm_section *sec, const dtm_section_stats *st, dtm_warnings *w) {
+static void rotary_warning(const dtm_section *sec, const dtm_section_stats *st, const char *units, dtm_warnings *w) {
   char name[200], text[400];
+  const char *L = dtm_units_name(units, DTM_UNIT_LENGTH);
   if (sec->rotary != DTM_ROTARY_SCALED_INERTIA || !(st->scale_max > DTM_ROTARY_WARN)) return;
   snprintf(text, sizeof text,
            "%s: rotary inertia scaled by up to %.3g (above %g): the step rests on it; with physical rotary inertia it "
-           "is %.4e s (element %zu). Bending waves shorter than %.3g m (2 pi r sqrt(scale), r = %.3g m the radius of "
+           "is %.4e s (element %zu). Bending waves shorter than %.3g %s (2 pi r sqrt(scale), r = %.3g %s the radius of "
            "gyration) travel below 0.71 of their speed; longer ones, membrane and axial waves keep it",
            section_name(sec, name, sizeof name), st->scale_max, DTM_ROTARY_WARN, st->dt_physical_min,
-           st->physical_element, 2 * PI * gyration(sec) * sqrt(st->scale_max), gyration(sec));
+           st->physical_element, 2 * PI * gyration(sec) * sqrt(st->scale_max), L, gyration(sec), L);
   add(w, text);
 }
 
 /* What of section sec exceeds the model's extent L ("" when nothing). */
-static void oversize(const dtm_section *sec, double L, char *what, size_t len) {
+static void oversize(const dtm_section *sec, double L, const char *units, char *what, size_t len) {
   int k = sec->kind;
+  const char *u = dtm_units_name(units, DTM_UNIT_LENGTH);
   double rg = sec->area > 0 ? sqrt(fmax(sec->iy, sec->iz) / sec->area) : 0;
   what[0] = '\0';
   if ((k == DTM_SECTION_MEMBRANE || k == DTM_SECTION_SHELL) && sec->thickness > L)
-    snprintf(what, len, "thickness %.4g m", sec->thickness);
+    snprintf(what, len, "thickness %.4g %s", sec->thickness, u);
   else if (sqrt(sec->area) > L)
-    snprintf(what, len, "area %.4g m^2 (a profile %.4g m across)", sec->area, sqrt(sec->area));
+    snprintf(what, len, "area %.4g %s (a profile %.4g %s across)", sec->area, dtm_units_name(units, DTM_UNIT_AREA),
+             sqrt(sec->area), u);
   else if (rg > L)
-    snprintf(what, len, "radius of gyration %.4g m (of its second moments of area over its area)", rg);
+    snprintf(what, len, "radius of gyration %.4g %s (of its second moments of area over its area)", rg, u);
 }
 
 /* A thickness, area (its square root) or radius of gyration above the
  * model's own extent L. */
-static void size_warning(const dtm_section *sec, double L, dtm_warnings *w) {
+static void size_warning(const dtm_section *sec, double L, const char *units, dtm_warnings *w) {
   char name[200], what[96], text[400];
-  oversize(sec, L, what, sizeof what);
+  oversize(sec, L, units, what, sizeof what);
   if (!what[0]) return;
   snprintf(
       text, sizeof text,
-      "%s: %s exceeds the model's own extent (%.4g m, the largest side of its bounding box): a typo? It weighs the "
+      "%s: %s exceeds the model's own extent (%.4g %s, the largest side of its bounding box): a typo? It weighs the "
       "mass and stiffness its elements bring to the nodes they share",
-      section_name(sec, name, sizeof name), what, L);
+      section_name(sec, name, sizeof name), what, L, dtm_units_name(units, DTM_UNIT_LENGTH));
   add(w, text);
 }
 
@@ -137,8 +140,8 @@ void dtm_output_section_warnings(const dtm_analysis *a, dtm_warnings *w) {
   if (st && dtm_mesh_extent(m, ext)) dtm_error_clear(), free(st), st = NULL;
   if (st) dtm_analysis_sections(a, st);
   for (int i = 0; st && i < s->nsections; i++) {
-    rotary_warning(&s->sections[i], &st[i], w);
-    size_warning(&s->sections[i], fmax(ext[0], fmax(ext[1], ext[2])), w);
+    rotary_warning(&s->sections[i], &st[i], s->units, w);
+    size_warning(&s->sections[i], fmax(ext[0], fmax(ext[1], ext[2])), s->units, w);
   }
   free(st);
 }

@@ -40,8 +40,9 @@ static void print_sections(const dtm_analysis *a, FILE *f) {
     for (int g = 0; g < sec->ngroups; g++) fprintf(f, "%s%s", g ? " " : "", sec->groups[g]);
     fprintf(f, "%s%s: %s", sec->ngroups ? "" : "(default)", sec->is_default && sec->ngroups ? " (default)" : "",
             dtm_section_kind_name(sec->kind));
-    if (sec->area > 0) fprintf(f, ", A %.4g m^2", sec->area);
-    if (sec->thickness > 0 && sec->kind != DTM_SECTION_SOLID) fprintf(f, ", t %.4g m", sec->thickness);
+    if (sec->area > 0) fprintf(f, ", A %.4g %s", sec->area, dtm_unit_label(s, DTM_UNIT_AREA));
+    if (sec->thickness > 0 && sec->kind != DTM_SECTION_SOLID)
+      fprintf(f, ", t %.4g %s", sec->thickness, dtm_unit_label(s, DTM_UNIT_LENGTH));
     fprintf(f, ", %zu elements", st[i].elements);
     if (isfinite(st[i].dt_min)) fprintf(f, ", element bound %.4e s", st[i].dt_min);
     if (isfinite(st[i].anchor_min)) fprintf(f, " (%s: %.4e s)", st[i].anchor, st[i].anchor_min);
@@ -94,8 +95,8 @@ static void print_where(const dtm_analysis *a, size_t i, FILE *f) {
   double c[3];
   char lbl[64];
   dtm_analysis_centroid(a, i, c);
-  fprintf(f, "element %zu (%s) in '%s' at (%.4g, %.4g, %.4g)", dtm_analysis_tag(a, i), type_name(a, i),
-          group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2]);
+  fprintf(f, "element %zu (%s) in '%s' at (%.4g, %.4g, %.4g) %s", dtm_analysis_tag(a, i), type_name(a, i),
+          group_name(a, i, lbl, sizeof lbl), c[0], c[1], c[2], dtm_output_unit(a, DTM_UNIT_LENGTH));
 }
 
 /* What the factorisation cost, or what the refused one would have cost
@@ -188,8 +189,8 @@ static void print_point_masses(const dtm_analysis *a, FILE *f) {
   double total = 0;
   for (size_t v = 0; pm && v < nn; v++) total += pm[v], nodes += pm[v] > 0;
   if (!pm) return;
-  fprintf(f, "point masses %.4g kg at %zu node(s) (view '%s'): in the nodal bound, the global estimate and verify,\n",
-          total, nodes, DTM_VIEW_NODE_MASS);
+  fprintf(f, "point masses %.4g %s at %zu node(s) (view '%s'): in the nodal bound, the global estimate and verify,\n",
+          total, dtm_output_unit(a, DTM_UNIT_MASS), nodes, DTM_VIEW_NODE_MASS);
   fprintf(f, "             not in the element steps of the dt map\n");
 }
 
@@ -197,13 +198,14 @@ static void print_smallest(const dtm_results *res, FILE *f) {
   const dtm_analysis *a = res->analysis;
   size_t *idx = NULL;
   int k = dtm_worst(a, dtm_results_top(res), &idx);
-  char lbl[64];
+  char lbl[64], len[32];
   if (!k) {
     free(idx);
     return;
   }
   fprintf(f, "\n%d smallest element steps:\n  %4s %10s %-7s %-16s %-12s %-12s %s\n", k, "rank", "element", "type",
-          "group", "dt (s)", "length (m)", "effect");
+          "group", "dt (s)", (snprintf(len, sizeof len, "length (%s)", dtm_output_unit(a, DTM_UNIT_LENGTH)), len),
+          "effect");
   for (int r = 0; r < k; r++) {
     size_t i = idx[r];
     fprintf(f, "  %4d %10zu %-7s %-16s %-12.4e %-12.4e %s\n", r + 1, dtm_analysis_tag(a, i), type_name(a, i),
@@ -218,9 +220,10 @@ static void print_conflict(const dtm_analysis *a, const dtm_accuracy *ac, FILE *
   size_t i = ac->cap_element;
   const dtm_effect_class *c = dtm_analysis_effect(a, dtm_analysis_hmax_by(a)[i]);
   fprintf(f,
-          "conflict     resolving '%s' needs h <= %.4g m (element %zu), which caps the step at %.4e s,\n"
+          "conflict     resolving '%s' needs h <= %.4g %s (element %zu), which caps the step at %.4e s,\n"
           "             below the target %.4e s at %zu element(s)",
-          c->indicator.view, dtm_analysis_hmax(a)[i], dtm_analysis_tag(a, i), ac->dt_cap, s->target, ac->conflicts);
+          c->indicator.view, dtm_analysis_hmax(a)[i], dtm_unit_label(s, DTM_UNIT_LENGTH), dtm_analysis_tag(a, i),
+          ac->dt_cap, s->target, ac->conflicts);
   if (s->duration > 0)
     fprintf(f, ";\n             the duration %.4g s then costs %.4g element-steps", s->duration,
             (double)dtm_analysis_nelements(a) * s->duration / ac->dt_cap);
@@ -254,9 +257,10 @@ static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
   const dtm_mass_scaling *ms = c->mass;
   if (ms)
     fprintf(f,
-            "mass scaling to reach the target%s: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
-            ms->nodal ? " at the nodes" : "", 100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass,
-            ms->scaled);
+            "mass scaling to reach the target%s: +%.3g%% mass (%.4g %s of %.4g %s) on %zu element(s) (view 'added "
+            "mass')\n",
+            ms->nodal ? " at the nodes" : "", 100.0 * ms->total_added / ms->total_mass, ms->total_added,
+            dtm_output_unit(a, DTM_UNIT_MASS), ms->total_mass, dtm_output_unit(a, DTM_UNIT_MASS), ms->scaled);
 }
 
 #define SHAPE_LISTED 20 /* shape-limited elements printed */
@@ -278,8 +282,8 @@ static void print_shape(const dtm_results *r, FILE *f) {
   if (n > SHAPE_LISTED) fprintf(f, "  ... and %zu more (the report lists them)\n", n - SHAPE_LISTED);
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (ms)
-    fprintf(f, "  mass alternative for exactly these: +%.4g kg (%.3g%% of the model) at their nodes\n", ms->total_added,
-            100.0 * ms->total_added / ms->total_mass);
+    fprintf(f, "  mass alternative for exactly these: +%.4g %s (%.3g%% of the model) at their nodes\n", ms->total_added,
+            dtm_output_unit(a, DTM_UNIT_MASS), 100.0 * ms->total_added / ms->total_mass);
 }
 
 /* Per group whose layer's thickness caps elements below the target: the
@@ -291,40 +295,42 @@ static void print_layers(const dtm_results *r, FILE *f) {
   const dtm_layer *ly = dtm_analysis_layers(a, &n);
   const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
   int dim = dtm_analysis_mesh(a)->dim;
+  const char *L = dtm_output_unit(a, DTM_UNIT_LENGTH), *M = dtm_output_unit(a, DTM_UNIT_MASS);
   for (size_t k = 0; k < n; k++) {
     char lbl[64];
     int g = ly[k].group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
     if (ly[k].at_minimum)
-      fprintf(f,
-              "thickness    the smallest steps lie where '%s' is %.4g m thin, between two boundaries that do not touch "
-              "(%zu of the elements within 10%% of the smallest step): a fresh mesh reaches about %.4e s there at "
-              "most\n",
-              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].thickness, ly[k].elements,
-              ly[k].reach);
+      fprintf(
+          f,
+          "thickness    the smallest steps lie where '%s' is %.4g %s thin, between two boundaries that do not touch "
+          "(%zu of the elements within 10%% of the smallest step): a fresh mesh reaches about %.4e s there at "
+          "most\n",
+          dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].thickness, L, ly[k].elements,
+          ly[k].reach);
     else
       fprintf(f,
-              "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g m (view 'thickness limited'): "
+              "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g %s (view 'thickness limited'): "
               "no mesh of it reaches the target; the best step there is %.4e s\n",
-              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness,
+              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness, L,
               ly[k].reach);
     if (ly[k].at_minimum) continue; /* no target: nothing to remedy */
     if (ms && ms->group_mass[slot] > 0)
-      fprintf(f, "             remedy: mass scaling at their nodes, +%.4g kg (+%.3g%% of the group's mass)\n",
-              ms->group_added[slot], 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
+      fprintf(f, "             remedy: mass scaling at their nodes, +%.4g %s (+%.3g%% of the group's mass)\n",
+              ms->group_added[slot], M, 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
     if (r->cost && r->cost->subcycling.speedup > 1)
       fprintf(f, "             remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
               r->cost->subcycling.speedup);
     if (isfinite(ly[k].shell_step) && dim == 3)
       fprintf(f,
               "             remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
-              "about %.4e s by LS-DYNA's rule at its present size %.3g m\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size);
+              "about %.4e s by LS-DYNA's rule at its present size %.3g %s\n",
+              ly[k].thickness, ly[k].shell_step, ly[k].size, L);
     else if (isfinite(ly[k].shell_step))
       fprintf(f,
               "             remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
               "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
-              "present size %.3g m\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size);
+              "present size %.3g %s\n",
+              ly[k].thickness, ly[k].shell_step, ly[k].size, L);
   }
 }
 
@@ -349,8 +355,9 @@ static void print_zones(const dtm_analysis *a, FILE *f) {
   int n = 0;
   if (dtm_zone_rows(a, &rows, &n) == DTM_OK)
     for (int j = 0; j < n; j++)
-      fprintf(f, "cohesive     '%s': process zone R = %.4g m, h_max = R/N = %.4g m\n",
-              dtm_analysis_scene(a)->materials[rows[j].mat].m.name, rows[j].R, rows[j].hmax);
+      fprintf(f, "cohesive     '%s': process zone R = %.4g %s, h_max = R/N = %.4g %s\n",
+              dtm_analysis_scene(a)->materials[rows[j].mat].m.name, rows[j].R, dtm_output_unit(a, DTM_UNIT_LENGTH),
+              rows[j].hmax, dtm_output_unit(a, DTM_UNIT_LENGTH));
   free(rows);
 }
 

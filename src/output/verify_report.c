@@ -52,7 +52,9 @@ static cJSON *verify_json(const dtm_analysis *a, const dtm_verify_report *v) {
 }
 
 int dtm_verify_report_write(const dtm_analysis *a, const dtm_verify_report *v, const char *path) {
-  return dtm_json_write(verify_json(a, v), path, "verify report");
+  cJSON *root = verify_json(a, v);
+  if (root) dtm_report_units(root, a, 1);
+  return dtm_json_write(root, path, "verify report");
 }
 
 /* A JSON number, or null when it is not finite (cJSON would write NaN). */
@@ -101,6 +103,7 @@ int dtm_verify_wave_report_write(const dtm_analysis *a, double dt, const dtm_wav
   cJSON *root = step_json(a, dt, dt / dtm_analysis_recommended(a), r->steps);
   cJSON_AddStringToObject(root, "verdict", fabs(r->agreement) <= 0.2 ? "agrees" : "disagrees");
   cJSON_AddItemToObject(root, "accuracy", wave_json(a, w, r));
+  dtm_report_units(root, a, 1);
   return dtm_json_write(root, path, "verify report");
 }
 

@@ -172,6 +172,7 @@ static cJSON *report_json(const dtm_par *p, const dtm_parallel_opts *o, const dt
   cJSON_AddItemToObject(root, "warnings", dtm_par_warnings(p, f));
   cJSON_AddItemToObject(root, "timings", timings_json(p, o, f));
   cJSON_AddItemToObject(root, "parallel", parallel_json(p, f));
+  dtm_report_units(root, a, 1);
   return root;
 }
 

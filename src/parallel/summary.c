@@ -46,9 +46,9 @@ static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
     printf("cost         %g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n", s->duration,
            steps, rec, steps * f->elements, steps * f->elements / f->sub.speedup);
   if (f->mass)
-    printf("mass scaling to %.4e s at the %s: %.4g kg added to %zu element(s), %.3g%% of %.4g kg\n", f->mass->target,
-           f->mass->nodal ? "nodes" : "elements", f->mass->total_added, f->mass->scaled,
-           100.0 * f->mass->total_added / f->mass->total_mass, f->mass->total_mass);
+    printf("mass scaling to %.4e s at the %s: %.4g %s added to %zu element(s), %.3g%% of %.4g %s\n", f->mass->target,
+           f->mass->nodal ? "nodes" : "elements", f->mass->total_added, dtm_scene_mass_unit(s, p->dim), f->mass->scaled,
+           100.0 * f->mass->total_added / f->mass->total_mass, f->mass->total_mass, dtm_scene_mass_unit(s, p->dim));
   if (s->target > 0 && !p->advice) printf("below target %.0f element(s)\n", f->below);
 }
 

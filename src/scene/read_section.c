@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/units.h"
 #include "scene-impl.h"
 #include "structural.h"
 
@@ -56,9 +57,11 @@ static int beam_profile(const dtm_scene *s, const xmlNode *n, dtm_section *sec, 
                          "<section kind=\"beam\"> needs one profile: area, iy, iz and j; or radius; "
                          "or width and height");
   if (general && !(sec->area > 0 && sec->iy > 0 && sec->iz > 0 && sec->jt > 0))
-    return DTM_SCENE_ERR(s, n, "<section kind=\"beam\">: area, iy, iz and j go together (m^2, m^4)");
+    return DTM_SCENE_ERR(s, n, "<section kind=\"beam\">: area, iy, iz and j go together (%s, %s)",
+                         dtm_units_name(s->units, DTM_UNIT_AREA), dtm_units_name(s->units, DTM_UNIT_MOMENT));
   if (rect && !(bh[0] > 0 && bh[1] > 0))
-    return DTM_SCENE_ERR(s, n, "<section kind=\"beam\">: width and height go together (m)");
+    return DTM_SCENE_ERR(s, n, "<section kind=\"beam\">: width and height go together (%s)",
+                         dtm_units_name(s->units, DTM_UNIT_LENGTH));
   dtm_beam_section b = {0};
   if (circle) dtm_beam_section_circle(*r, &b);
   if (rect) dtm_beam_section_rect(bh[0], bh[1], &b);
@@ -72,9 +75,11 @@ static int check_measures(const dtm_scene *s, const xmlNode *n, dtm_section *sec
   int truss = sec->kind == DTM_SECTION_TRUSS, solid = sec->kind == DTM_SECTION_SOLID;
   int beam = sec->kind == DTM_SECTION_BEAM, shell = sec->kind == DTM_SECTION_SHELL;
   if (truss && !(sec->area > 0))
-    return DTM_SCENE_ERR(s, n, "<section kind=\"truss\"> needs area=\"...\" (cross-section, m^2)");
+    return DTM_SCENE_ERR(s, n, "<section kind=\"truss\"> needs area=\"...\" (cross-section, %s)",
+                         dtm_units_name(s->units, DTM_UNIT_AREA));
   if ((sec->kind == DTM_SECTION_MEMBRANE || shell) && !(sec->thickness > 0))
-    return DTM_SCENE_ERR(s, n, "<section kind=\"%s\"> needs thickness=\"...\" (m)", kind);
+    return DTM_SCENE_ERR(s, n, "<section kind=\"%s\"> needs thickness=\"...\" (%s)", kind,
+                         dtm_units_name(s->units, DTM_UNIT_LENGTH));
   if ((truss || solid || beam) && sec->thickness > 0)
     return DTM_SCENE_ERR(s, n, "<section kind=\"%s\"> takes no thickness", kind);
   if (!truss && !beam && sec->area > 0) return DTM_SCENE_ERR(s, n, "<section kind=\"%s\"> takes no area", kind);

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dtmap/units.h"
 #include "scene-impl.h"
 
 int dtm_scene_fail(const dtm_scene *s, const xmlNode *n, const char *file, int line, const char *func, const char *fmt,
@@ -137,4 +138,12 @@ int dtm_scene_split(const char *text, int *n, char ***items) {
 void dtm_scene_free_strings(int n, char **v) {
   for (int i = 0; v && i < n; i++) free(v[i]);
   free(v);
+}
+
+const char *dtm_scene_units(const dtm_scene *s) {
+  return s && s->units && !strcmp(s->units, "mm-t-s") ? "mm-t-s" : "SI";
+}
+
+const char *dtm_scene_mass_unit(const dtm_scene *s, int dim) {
+  return dtm_units_name(s->units, dim < 3 && !s->nsections ? DTM_UNIT_LINE_MASS : DTM_UNIT_MASS);
 }

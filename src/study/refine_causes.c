@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "dtmap/units.h"
 #include "study-impl.h"
 
 dtm_cause *dtm_refine_new_cause(dtm_refine_result *rr, const char *kind) {
@@ -68,8 +69,8 @@ static void tried_text(const dtm_refine_result *rr, char *buf, size_t len) {
 
 /* The step of the uniform round u as a phrase. */
 static void uniform_text(const dtm_refine_result *rr, int u, char *buf, size_t len) {
-  snprintf(buf, len, "a uniform mesh of %.4g m (round %d, %zu elements, %.4g s)", rr->rounds[u].uniform, u,
-           rr->rounds[u].elements, rr->rounds[u].recommended);
+  snprintf(buf, len, "a uniform mesh of %.4g %s (round %d, %zu elements, %.4g s)", rr->rounds[u].uniform,
+           dtm_units_name(rr->scene.units, DTM_UNIT_LENGTH), u, rr->rounds[u].elements, rr->rounds[u].recommended);
 }
 
 /* How many more rounds the last two field rounds predict at their rate of

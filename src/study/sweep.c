@@ -14,6 +14,7 @@
 #include "dtmap/util.h"
 #include "dtmap/cost.h"
 #include "dtmap/sweep.h"
+#include "dtmap/units.h"
 
 /* Smallest finite value of the accuracy indicator an effect declares under
  * that name (dtm_indicator.name), NaN if none. */
@@ -135,6 +136,7 @@ static int sweep_one(const dtm_scene *s, double h, dtm_sweep_row *row) {
   dtm_analysis_destroy(&a);
   row->seconds = dtm_wtime() - t0;
   if (r) failed_row(h, row->seconds, row);
+  row->length_unit = dtm_units_name(s->units, DTM_UNIT_LENGTH);
   return r;
 }
 
@@ -143,7 +145,8 @@ int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row 
   if (n < 1) return DTM_ERR(DTM_ERR_INPUT, "sweep needs at least one size");
   for (int i = 0; i < n; i++)
     if (!(sizes[i] > 0) || !isfinite(sizes[i]))
-      return DTM_ERR(DTM_ERR_INPUT, "sweep: size %d is %g; sizes must be positive and finite (m)", i + 1, sizes[i]);
+      return DTM_ERR(DTM_ERR_INPUT, "sweep: size %d is %g; sizes must be positive and finite (%s)", i + 1, sizes[i],
+                     dtm_units_name(s->units, DTM_UNIT_LENGTH));
   /* one frequency for every size: the scene's, else the default of the
    * first mesh that gave figures */
   int first = -1, code = DTM_OK;
@@ -156,7 +159,7 @@ int dtm_sweep_run(const dtm_scene *s, const double *sizes, int n, dtm_sweep_row 
     if (first < 0) first = i;
   }
   if (first >= 0) return DTM_OK;
-  return DTM_ERR(code, "sweep: no size gave figures; at size %g m: %s", sizes[0], rows[0].failed);
+  return DTM_ERR(code, "sweep: no size gave figures; at size %g %s: %s", sizes[0], rows[0].length_unit, rows[0].failed);
 }
 
 int dtm_sweep_cheapest(const dtm_sweep_row *rows, int n) {
@@ -209,6 +212,9 @@ static void print_row(FILE *f, const dtm_sweep_row *r) {
           r->seconds);
 }
 
+/* The unit of a row's size (m when not set). */
+static const char *unit_of(const dtm_sweep_row *r) { return r->length_unit ? r->length_unit : "m"; }
+
 void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   FILE *f = stream;
   static const char fmt[] = "%10s %9s %9s %11s %11s %10s %12s %12s %8s %8s %9s %9s %8s %7s %9s %9s %9s %9s %9s %8s %4s "
@@ -216,7 +222,9 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   fprintf(f, fmt, "h", "elements", "nodes", "elem.bound", "dt rec.", "steps", "elem-steps", "subcycled", "speed-up",
           "per zone", "per wave", "phase", "ph.med.", "unres.", "ph.subc.", "ph.mass", "run", "run subc.", "run mass",
           "per diff", "band", "time");
-  fprintf(f, fmt, "(m)", "", "", "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "", "(%)", "(%)", "(h)",
+  char hu[16];
+  snprintf(hu, sizeof hu, "(%s)", n ? unit_of(&rows[0]) : "m");
+  fprintf(f, fmt, hu, "", "", "(s)", "(s)", "", "", "", "", "(min)", "(min)", "(%)", "(%)", "", "(%)", "(%)", "(h)",
           "(h)", "(h)", "(min)", "1stp", "(s)");
   for (int i = 0; i < n; i++) print_row(f, &rows[i]);
   int fr = 0;
@@ -243,7 +251,7 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
   int b = dtm_sweep_cheapest(rows, n);
   char hb[32];
   if (b >= 0)
-    fprintf(f, "cheapest size inside every band: h = %g m, %s h with one global step\n", rows[b].h,
+    fprintf(f, "cheapest size inside every band: h = %g %s, %s h with one global step\n", rows[b].h, unit_of(&rows[b]),
             cell(hb, sizeof hb, "%.4g", rows[b].hours));
   else if (n)
     fprintf(f,
@@ -252,9 +260,10 @@ void dtm_sweep_print(const dtm_sweep_row *rows, int n, void *stream) {
             100 * DTM_BAND_PHASE, DTM_BAND_DIFFUSION);
 }
 
-/* The CSV header: units after the last underscore (_m metres, _s
- * seconds); the other columns are counts or ratios. */
-static const char csv_header[] = "h_m,elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
+/* The CSV header: units after the last underscore (h_m metres, or h_mm
+ * under mm-t-s, written first; _s seconds); the other columns are counts
+ * or ratios. */
+static const char csv_header[] = "elements,nodes,dt_min_s,dt_recommended_s,steps,element_steps,"
                                  "element_steps_subcycled,subcycling_speedup,elements_per_zone,"
                                  "elements_per_wavelength,time_s,frequency_hz,phase_error,phase_error_median,"
                                  "unresolved,phase_error_subcycled,phase_error_mass_scaled,"
@@ -321,6 +330,7 @@ static void csv_row(FILE *f, const dtm_sweep_row *r) {
 int dtm_sweep_write_csv(const char *path, const dtm_sweep_row *rows, int n) {
   dtm_atomic w;
   DTM_CHECK(dtm_atomic_open(&w, path, "", 1));
+  fprintf(w.f, "h_%s,", n ? unit_of(&rows[0]) : "m");
   fputs(csv_header, w.f);
   for (int i = 0; i < n; i++) csv_row(w.f, &rows[i]);
   return dtm_atomic_commit(&w);
