@@ -184,9 +184,10 @@ static int rule_names(const char *list, solver_rules *sr, char *why, size_t len)
     char name[16];
     snprintf(name, sizeof name, "%.*s", (int)(k < sizeof name ? k : sizeof name - 1), p);
     if (!k || k >= sizeof name || dtm_deck_solver(name, NULL)) {
+      const char *near = k && k < sizeof name ? dtm_deck_solver_near(name) : NULL;
       dtm_error_clear();
-      return snprintf(why, len, "--solver-rule '%s': '%.*s' is not a solver; the solvers are: %s", list, (int)k, p,
-                      dtm_deck_solvers()),
+      return snprintf(why, len, "--solver-rule '%s': '%.*s' is not a solver%s%s%s; the solvers are: %s", list, (int)k,
+                      p, near ? " (did you mean " : "", near ? near : "", near ? "?)" : "", dtm_deck_solvers()),
              1;
     }
     for (int i = 0; i < sr->n; i++)
