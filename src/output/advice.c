@@ -100,6 +100,7 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
     dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
+  dtm_output_outlier_warning(r->analysis, w);
   if (r->cost) unresolved_warning(r->cost, w);
   curvature_warning(r->analysis, w);
   dtm_output_section_warnings(r->analysis, w);
