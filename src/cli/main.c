@@ -230,7 +230,8 @@ const cli_command dtm_cli_commands[] = {
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
      "(RESULT.msh.opt applied): PREFIX_worst.png (the below-target view over the faint\n"
-     "model in 3D, with the recommended step) and PREFIX_dt.png (the dt map alone).\n"
+     "model in 3D, with the recommended step; the worst element ringed in red and\n"
+     "tagged with its tag and step) and PREFIX_dt.png (the dt map alone).\n"
      "Without a display (DISPLAY unset) dtmap starts a virtual one (Xvfb).",
      snapshot_options, dtm_cli_snapshot},
     {NULL, NULL, NULL, NULL, NULL}};

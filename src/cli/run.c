@@ -259,7 +259,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
   if (r == DTM_OK) dtm_cli_warn_curved(a);
-  if (r == DTM_OK && !o->verbosity) dtm_cli_warn_units(a); /* else in the summary */
+  if (r == DTM_OK && (!o->verbosity || verify)) dtm_cli_warn_units(a); /* else in run's summary */
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
