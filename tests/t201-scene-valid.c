@@ -201,7 +201,7 @@ static void test_minimal_defaults(void **state) {
   (void)state;
   write_file("part.MSH", "");
   write_file("min.xml", "<dtmap-scene version=\"1\"><mesh file=\"part.MSH\"/>"
-                        "<material name=\"m\" default=\"1\" E=\"1\" nu=\"0\" rho=\"1\"/>"
+                        "<material name=\"m\" default=\"1\" E=\"1\" nu=\"0\" rho=\"1\" plausible=\"no-check\"/>"
                         "<effects><thermal/></effects></dtmap-scene>");
   dtm_scene *s = load("min.xml");
   assert_null(s->geometry);
@@ -219,6 +219,7 @@ static void test_minimal_defaults(void **state) {
   assert_null(s->out_mesh);
   assert_null(s->out_report);
   assert_int_equal(s->materials[0].is_default, 1);
+  assert_int_equal(s->materials[0].no_plausible_check, 1); /* E = rho = 1: meant, not refused */
   assert_int_equal(s->neffects, 1);
   assert_string_equal(s->effects[0].name, "thermal");
   dtm_scene_destroy(&s);
@@ -231,7 +232,7 @@ static void test_relative_scene_path(void **state) {
   dtm_scene *s = NULL;
   write_file("Disc.STEP", "");
   write_file("rel.xml", "<dtmap-scene version=\"1\"><geometry file=\"Disc.STEP\"/>"
-                        "<material name=\"m\" E=\"1\" nu=\"0\" rho=\"1\"/>"
+                        "<material name=\"m\" E=\"70e9\" nu=\"0\" rho=\"2700\"/>"
                         "<effects><elastic/></effects></dtmap-scene>");
   assert_non_null(getcwd(cwd, sizeof cwd));
   assert_int_equal(chdir(dir), 0);

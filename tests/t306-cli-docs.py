@@ -3,7 +3,11 @@ generated (doc/dtmap.1 beside the dtmap binary, rendered by man) contains
 every usage line, paragraph, option and section of `dtmap --help`,
 `dtmap CMD --help` and `dtmap effects`; the bash completion offers exactly
 each command's options and completes file values by their extension;
-`dtmap --version` names dtmap, the Gmsh it runs on and the effect API."""
+`dtmap --version` names dtmap, the Gmsh it runs on and the effect API;
+every option of a command's table (its `--help` option list, printed from
+src/cli/main.c) stands in its usage line of `dtmap CMD --help` and in the
+README's usage block (issue 43: the README's `run` lacked --png and
+refine's usage --optimise)."""
 
 import os
 import re
@@ -108,6 +112,28 @@ class Docs(tu.unittest.TestCase):
         self.assertEqual(complete(["dtmap", "sweep", "a.xml", "--csv", ""], d), sorted(os.listdir(d)))
         self.assertEqual(complete(["dtmap", "run", "a.xml", "-j", ""], d), [])
         self.assertEqual(complete(["dtmap", "snapshot", ""], d), ["d.msh", "sub"])
+
+    def test_usage_lines_name_every_option(self):
+        with open(os.path.join(tu.SRC, "README.md")) as f:
+            readme = f.read()
+        block = re.search(r"^## Usage\n+```\n(.*?)```", readme, re.M | re.S).group(1)
+        usage = {}  # command -> the README's usage text, continuation lines included
+        for line in block.splitlines():
+            m = re.match(r"^dtmap ([a-z]+) +(.*)", line)
+            if m:
+                current = m.group(1)
+                usage[current] = m.group(2)
+            elif line.startswith(" ") and current in usage:
+                usage[current] += " " + line.strip()
+        option = re.compile(r"(?<![\w-])(--?[a-z][-a-z]*)")
+        for c in commands():
+            text = cli(c, "--help")
+            table = set(re.findall(r"^  (-[-a-z]+)", text, re.M))
+            self.assertGreater(len(table), 1, c)
+            line = paragraphs(text)[0]
+            self.assertEqual(table - set(option.findall(line)), set(), "not in `dtmap %s --help`'s usage" % c)
+            self.assertIn(c, usage)
+            self.assertEqual(table - set(option.findall(usage[c])), set(), "not in README's usage of %s" % c)
 
     def test_version(self):
         lines = cli("--version").splitlines()

@@ -6,8 +6,9 @@
 - the summary's histogram is in octaves of the recommended step (of the
   target when the scene has one): its counts equal the counts of the 'dt'
   view's values / that step, binned here by floor(log2) from the view;
-- the report a scene's <output report> names goes beside -o's mesh, not into
-  the scene's folder, and without -o where the scene says;
+- the report a scene's <output report> asks for is named after -o's mesh
+  (X.msh -> X.json, issue 43), not put into the scene's folder, and without -o
+  goes where the scene says;
 - verify's summary is short (not run's: no histogram, no subcycling line) and
   defines its growth, as its --help does;
 - refine's table shows no negative (or negative-zero) shortfall and no
@@ -139,7 +140,7 @@ class Outputs(unittest.TestCase):
         code, log = tu.run("run", os.path.join(sdir, "plate_with_hole.xml"), "-q", "-o", "out/x.msh", cwd=work)
         self.assertEqual(code, 0, log)
         self.assertTrue(os.path.exists(os.path.join(work, "out", "x.msh")))
-        self.assertTrue(os.path.exists(os.path.join(work, "out", "plate_with_hole_dt.json")))
+        self.assertTrue(os.path.exists(os.path.join(work, "out", "x.json")))  # named after -o's mesh
         self.assertEqual(sorted(os.listdir(sdir)), ["plate_with_hole.geo", "plate_with_hole.xml"])
         # without -o the scene's <output> is where the scene says: its own folder
         code, log = tu.run("run", os.path.join(sdir, "plate_with_hole.xml"), "-q", cwd=work)

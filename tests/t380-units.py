@@ -4,8 +4,9 @@ part_in.step the mm file's numbers declared in inches) is converted to
 metres on import and gives the same step as the same part in metres; the
 summary and the report say which unit was found and the factor applied.
 unit="mm" on a .msh scales its nodes; units="mm-t-s" gives the same step as
-SI for steel; E in MPa beside rho in kg/m^3 is warned about, naming the
-material; the mass of a unit steel cube is 7850 kg (closed form, rho V)
+SI for steel; E in MPa beside rho in kg/m^3, said to be meant
+(plausible="no-check"), is warned about, naming the material (t381 has the
+refusal without it); a scene unit that contradicts a STEP's is exit 2; the mass of a unit steel cube is 7850 kg (closed form, rho V)
 with its bounding box; bad unit values are exit 2 naming the file and line;
 a BREP in mm with a size in metres is refused for memory with the unit
 that makes it sensible.
@@ -104,11 +105,16 @@ class Units(tu.unittest.TestCase):
         self.assertEqual(r["model"]["import"]["unit_found"], "in")
         for got, want in zip(r["model"]["bbox"]["extent"], (0.254, 0.508, 0.762)):
             self.assertAlmostEqual(got, want, delta=1e-12)
-        step_scene("over", "part_in.step", ' unit="mm"')  # the scene overrides the file's unit
-        code, log, r = run("over")
+        step_scene("over", "part_in.step", ' unit="mm"')  # a scene unit that contradicts the file's: refused
+        code, log = tu.run("run", "over.xml", "-q", "-o", "over_dt.msh")
+        self.assertEqual(code, 2, log)
+        self.assertIn('over.xml:3: <geometry unit="mm"> contradicts the unit the file declares, in', log)
+        self.assertIn('remove unit="mm"', log)
+        self.assertFalse(os.path.exists(tu.path("over_dt.msh")))
+        step_scene("same", "part_in.step", ' unit="in"', size="0.05")  # the same unit: allowed
+        code, log, r = run("same")
         self.assertEqual(code, 0, log)
-        self.assertEqual(r["model"]["import"]["unit_given"], "mm")
-        self.assertAlmostEqual(r["model"]["bbox"]["extent"][2], 0.03, delta=1e-12)
+        self.assertEqual(r["model"]["import"]["unit_given"], "in")
 
     def test_iges(self):
         """A 10-unit line in IGES files whose global section says mm (flag
@@ -170,9 +176,9 @@ class Units(tu.unittest.TestCase):
         self.assertAlmostEqual(mm["dt"]["recommended"] / si["dt"]["recommended"], 1.0, delta=1e-12)
 
     def test_modulus_in_mpa_is_flagged(self):
-        cube_scene("mpa", cube_msh("c1", 1.0), E="210e3")
+        cube_scene("mpa", cube_msh("c1", 1.0), E='210e3" plausible="no-check')  # meant: a warning, not a refusal
         code, log, r = run("mpa")
-        self.assertEqual(code, 0, log)  # a warning, not a refusal
+        self.assertEqual(code, 0, log)
         w = [x for x in r["warnings"] if "material 'steel'" in x and "wave speed" in x]
         self.assertEqual(len(w), 1, r["warnings"])
         self.assertIn("6.001 m/s", w[0])  # sqrt(210e3 (0.7/(1.3 x 0.4)) / 7850)

@@ -85,6 +85,9 @@ DTM_EXPORT const char *dtm_deck_solvers(void);
 /* 0 when name is a solver (and *ext, when not NULL, its file extension:
  * ".inp", ".k"); DTM_ERR_INPUT naming it and listing the solvers. */
 DTM_EXPORT int dtm_deck_solver(const char *name, const char **ext);
+/* The solver name likely meant by a name that is none ("ls-dyna",
+ * "CalculiX" -> "lsdyna", "calculix"; static), NULL when none is near. */
+DTM_EXPORT const char *dtm_deck_solver_near(const char *name);
 /* Prepare scene s for the solver's elements before it is analysed: for
  * CalculiX the elastic effect takes integration="calculix" (its C3D10), so
  * that the step is the one of the solver's element. note[len] receives one

@@ -184,7 +184,8 @@ enum {
   DTM_OPTIMISE_LAPLACE2D = 8, /* Laplace smoothing of surface meshes (2D) */
   DTM_OPTIMISE_NONE = 16      /* none (a set of its own, so that 0 can mean the default) */
 };
-/* The passes of asked that apply to a mesh of dimension dim. */
+/* The passes of asked that apply to a mesh of dimension dim and that this
+ * Gmsh has (Netgen is not in every build: General.BuildOptions). */
 DTM_EXPORT unsigned dtm_gmsh_optimisers(int dim, unsigned asked);
 
 /* Where the mesh sits on the model, for the advice on shape-limited

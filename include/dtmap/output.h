@@ -111,6 +111,10 @@ DTM_EXPORT void dtm_summary_print(const dtm_results *r, void *stream);
  * "dtmap: warning: ..." line each, to stream (a FILE *); the summary and
  * the report carry them too. */
 DTM_EXPORT void dtm_output_warn_plausibility(const dtm_analysis *a, void *stream);
+/* The warnings of the summary and of the report's warnings[] (the
+ * plausibility ones first), one a line, into buf[len] (cut at len); returns
+ * how many there are. */
+DTM_EXPORT int dtm_output_warning_lines(const dtm_results *r, char *buf, size_t len);
 
 /* The two worst figures of a phase-speed measure m (dtmap/cost.h), as
  * `run` and `verify --accuracy` print them, into buf[len]: the worst with

@@ -13,10 +13,11 @@
 #include "dtmap/section.h"
 
 typedef struct {
-  dtm_material m; /* name, line, properties */
-  int is_default; /* default="true": for elements in no mapped group */
-  int ngroups;    /* number of group references */
-  char **groups;  /* [ngroups] physical group names or numbers, as written */
+  dtm_material m;         /* name, line, properties */
+  int is_default;         /* default="true": for elements in no mapped group */
+  int no_plausible_check; /* plausible="no-check": its values are meant, not refused (src/scene/plausible.c) */
+  int ngroups;            /* number of group references */
+  char **groups;          /* [ngroups] physical group names or numbers, as written */
 } dtm_scene_material;
 
 typedef struct {
@@ -91,6 +92,7 @@ typedef struct dtm_scene {
   const char *source_unit; /* <geometry unit> or <mesh unit> ("mm", "cm", "m", "in"; static), NULL when
                               unset: the file's own unit (STEP, IGES), else the scene's length unit */
   double source_unit_m;    /* metres per unit of source_unit; 0 when unset */
+  int no_plausible_check;  /* <dtmap-scene plausible="no-check">: no material's values are refused */
 } dtm_scene;
 
 /* Read and validate the scene at path. On success *out owns everything and

@@ -82,6 +82,10 @@ class Result:
       ``basis``: "element bound", "nodal bound" or "global estimate"
     - ``effects``: effect names in scene order; ``views``: view name -> Gmsh
       view tag of the views added to the session (empty with views=False)
+    - ``warnings``: the warnings of ``dtmap run``'s summary and report, one
+      sentence each, the plausibility ones (a density, wave speed or model
+      size that looks like a unit error) first; values no solid has raise
+      :class:`dtmap.Error` when the scene is read, as the CLI exits 2
 
     ``write(path)`` writes the .msh with its views (+ .opt) and
     ``write_report(path)`` the JSON report, as ``dtmap run`` does; both use
@@ -116,6 +120,13 @@ class Result:
         self.units = {"system": system.decode()}
         for name, q in _UNITS.items():
             self.units[name] = lib.dtm_units_name(system, q).decode()
+        self.warnings = self._warnings()
+
+    def _warnings(self):
+        res = self._results()
+        buf = ctypes.create_string_buffer(1 << 16)
+        lib.dtm_output_warning_lines(ctypes.byref(res), buf, len(buf))
+        return [w for w in buf.value.decode(errors="replace").split("\n") if w]
 
     def _results(self):
         if self._analysis is None:

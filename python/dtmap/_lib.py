@@ -133,6 +133,7 @@ _PROTOTYPES = {
                                             ctypes.POINTER(ctypes.c_int)]),
     "dtm_output_write": (ctypes.c_int, [ctypes.POINTER(Results), ctypes.c_char_p]),
     "dtm_report_write": (ctypes.c_int, [ctypes.POINTER(Results), ctypes.c_char_p]),
+    "dtm_output_warning_lines": (ctypes.c_int, [ctypes.POINTER(Results), ctypes.c_char_p, _size]),
 }
 
 for _name, (_res, _args) in _PROTOTYPES.items():

@@ -63,7 +63,8 @@
 
 static const cli_option run_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh", "output mesh (default: <output mesh>, else SCENE_dt.msh)"},
-    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report (default: <output report>, if any)"},
+    {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json",
+     "JSON report (default: <output report>, if any; with -o X.msh: X.json)"},
     {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
      "also estimate the global step (Lanczos); a converged one becomes the basis"},
     {"--png", CLI_STRING, OPT(png), 0, 0, 0, "PREFIX", "pictures PREFIX_worst.png and PREFIX_dt.png (Gmsh's renderer)"},
@@ -108,7 +109,7 @@ static const cli_option refine_options[] = {
     {"-o", CLI_STRING, OPT(out), 0, 0, 0, "OUT.msh",
      "output mesh (default: <output mesh> as X_refined.msh, else SCENE_refined.msh)"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json",
-     "JSON report (default: <output report> as X_refined.json, if any)"},
+     "JSON report (default: <output report> as X_refined.json, if any; with -o X.msh: X.json)"},
     {"--max-iter", CLI_INT, OPT(max_iter), 0, 1, 30, "K", "remeshing rounds at most (default 3)"},
     {"--posterior", CLI_FLAG, OPT(posterior), 1, 0, 0, NULL,
      "refine on the global estimate (Lanczos), the step a solver then runs at fixed"},
@@ -163,8 +164,10 @@ static const cli_option snapshot_options[] = {
 
 const cli_command dtm_cli_commands[] = {
     {"run",
-     "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior] [--png PREFIX] [--top N] [--format F] [--views-only] "
-     "[--solver-rule LIST] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
+     "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior [--tol T] [--lanczos-max K] [--seed S]] [--png PREFIX "
+     "[--width W] "
+     "[--height H]] [--top N] [--format F] [--views-only] [--solver-rule LIST] [--verified V.json,... [--calibrate]] "
+     "[-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
@@ -175,8 +178,9 @@ const cli_command dtm_cli_commands[] = {
      "and the summary gives each solver's smallest step, its element and centroid.",
      run_options, dtm_cli_run},
     {"verify",
-     "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--report V.json] [--accuracy [--wave P|S] "
-     "[--direction X,Y,Z] [--freq F] [--periods N]] [--top N] [-j N] [-v|-q]",
+     "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--tol T] [--lanczos-max K] [--seed S] [--report "
+     "V.json] "
+     "[--accuracy [--wave P|S] [--direction X,Y,Z] [--freq F] [--periods N]] [--top N] [-j N] [-v|-q]",
      "Simulates the scene's spectral effects on its mesh (central differences with the\n"
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
      "mode of the global estimate plus a random part, at F x the recommended step (by\n"
@@ -194,8 +198,9 @@ const cli_command dtm_cli_commands[] = {
      "finite.",
      verify_options, dtm_cli_verify},
     {"refine",
-     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior] [--max-added-mass P] "
-     "[--keep-counts] [--top N] [--format F] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
+     "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior [--tol T] [--lanczos-max K]] "
+     "[--max-added-mass P] [--keep-counts] [--optimise LIST] [--top N] [--format F] [--verified V.json,... "
+     "[--calibrate]] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
      "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
      "the background size field, with the node counts of transfinite curves set from it,\n"
@@ -227,8 +232,9 @@ const cli_command dtm_cli_commands[] = {
      "exit code is 1.",
      sweep_options, dtm_cli_sweep},
     {"deck",
-     "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior] [--target DT [--max-added-mass P]] "
-     "[--lsdyna-step conventional|proven] [--report R.json] [-j N] [-v|-q]",
+     "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior [--tol T] [--lanczos-max K] [--seed S]] "
+     "[--target DT "
+     "[--max-added-mass P]] [--lsdyna-step conventional|proven] [--report R.json] [-j N] [-v|-q]",
      "Analyses the scene as run does and writes the explicit solver's input: the nodes,\n"
      "every analysed element in the solver's element type, one element and one node set\n"
      "per physical group, the materials and sections, dtmap's step fixed as the\n"
@@ -242,7 +248,8 @@ const cli_command dtm_cli_commands[] = {
     {"snapshot", "RESULT.msh [--png PREFIX] [--width W] [--height H] [-v|-q]",
      "Draws a result of dtmap run with Gmsh's own renderer, as Gmsh shows it on opening\n"
      "(RESULT.msh.opt applied): PREFIX_worst.png (the below-target view over the faint\n"
-     "model in 3D, with the recommended step) and PREFIX_dt.png (the dt map alone).\n"
+     "model in 3D, with the recommended step; the worst element ringed in red and\n"
+     "tagged with its tag and step) and PREFIX_dt.png (the dt map alone).\n"
      "Without a display (DISPLAY unset) dtmap starts a virtual one (Xvfb).",
      snapshot_options, dtm_cli_snapshot},
     {NULL, NULL, NULL, NULL, NULL}};
@@ -282,6 +289,10 @@ static int run_command(void *arg) {
 int main(int argc, char **argv) {
   dtm_memory_reuse(); /* large arrays reuse freed memory (src/base/memory.c) */
   dtm_cli_catch_signals();
+  /* Whole lines on stdout even when it is a file: a warning or an error on
+   * stderr then lands between two lines of the summary, never mid-word, in
+   * `> log 2>&1`. */
+  setvbuf(stdout, NULL, _IOLBF, 0);
   int onelab = dtm_cli_onelab(argc, argv);
   if (onelab >= 0) return onelab;
   const char *cmd = argc > 1 ? argv[1] : "";

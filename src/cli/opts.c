@@ -32,6 +32,7 @@ static cli_opts defaults(void) {
 int dtm_cli_usage_error(const cli_command *c, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
+  fflush(stdout);
   fprintf(stderr, "dtmap %s: ", c->name);
   vfprintf(stderr, fmt, ap);
   va_end(ap);
@@ -210,6 +211,7 @@ int dtm_cli_parse(const cli_command *c, int argc, char **argv, cli_opts *o) {
 }
 
 int dtm_cli_fail(int code, int verbosity) {
+  fflush(stdout); /* the summary so far first, then the error after it */
   fprintf(stderr, "dtmap: error: %s\n", dtm_error_message());
   if (verbosity > 1) fprintf(stderr, "traceback:\n%s", dtm_error_traceback());
   return code;

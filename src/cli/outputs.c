@@ -3,7 +3,7 @@
  * <output mesh>, else SCENE_dt.msh here; refine's defaults carry _refined)
  * with its .opt, their report
  * (--report, else <output report>, if any; with -o, the report the scene
- * names goes beside -o's mesh), and sweep's CSV and PNG. A
+ * asks for is named after -o's mesh: X.msh -> X.json), and sweep's CSV and PNG. A
  * message says where a bad path came from: the option, the scene's
  * <output> line, or the default. Two outputs may not be one file. */
 #include <stdio.h>
@@ -41,34 +41,32 @@ static void mesh_name(const dtm_scene *s, const cli_opts *o, const char *suffix,
   }
 }
 
-/* The file named as path's last component, in the directory of mesh
- * ("d/x.msh" and "s/r.json" -> "d/r.json"; no directory: the current one). */
-static void beside(const char *mesh, const char *path, char *buf, size_t len) {
-  const char *slash = strrchr(mesh, '/'), *base = strrchr(path, '/');
-  base = base ? base + 1 : path;
-  if (snprintf(buf, len, "%.*s%s", slash ? (int)(slash - mesh + 1) : 0, mesh, base) >= (int)len)
+/* -o's mesh with the extension .json ("d/x.msh" -> "d/x.json"): the report
+ * of that mesh, never another mesh's. */
+static void named_after(const char *mesh, char *buf, size_t len) {
+  const char *slash = strrchr(mesh, '/'), *dot = strrchr(mesh, '.');
+  if (!dot || (slash && dot < slash)) dot = mesh + strlen(mesh);
+  if (snprintf(buf, len, "%.*s.json", (int)(dot - mesh), mesh) >= (int)len)
     buf[0] = '\0'; /* too long: the check before any work names no file */
 }
 
-/* The report: --report, else the scene's <output report> (with the
- * suffix; with -o, its name beside -o's mesh rather than in the scene's
- * folder), else none. */
+/* The report: --report, else, when the scene's <output report> asks for
+ * one, that name (with the suffix), or with -o the name of -o's mesh
+ * (X.msh -> X.json), so that two meshes written with -o keep a report
+ * each; else none. */
 static void report_name(const dtm_scene *s, const cli_opts *o, const char *suffix, cli_outputs *out) {
   if (o->report) {
     snprintf(out->report, sizeof out->report, "%s", o->report);
     snprintf(out->report_from, sizeof out->report_from, "--report");
   } else if (s->out_report) {
-    char name[4096];
-    if (suffix)
-      with_suffix(s->out_report, suffix, name, sizeof name);
-    else
-      snprintf(name, sizeof name, "%s", s->out_report);
     if (o->out)
-      beside(o->out, name, out->report, sizeof out->report);
+      named_after(o->out, out->report, sizeof out->report);
+    else if (suffix)
+      with_suffix(s->out_report, suffix, out->report, sizeof out->report);
     else
-      snprintf(out->report, sizeof out->report, "%s", name);
+      snprintf(out->report, sizeof out->report, "%s", s->out_report);
     snprintf(out->report_from, sizeof out->report_from, "%s:%d: <output report>%s", s->path, s->out_line,
-             o->out ? ", beside -o's mesh" : "");
+             o->out ? ", named after -o's mesh" : "");
   }
 }
 

@@ -35,6 +35,17 @@ static const char *phase_text(const dtm_refine_round *r, char *buf, size_t len) 
   return buf;
 }
 
+/* Gmsh's optimiser passes by name, in the order they run, and why one may
+ * not run. */
+static const struct {
+  unsigned bit;
+  const char *name, *why;
+} optimisers[] = {
+    {DTM_OPTIMISE_GMSH, "gmsh", "it optimises tetrahedra: 3D meshes only"},
+    {DTM_OPTIMISE_NETGEN, "netgen", "Netgen is not built into this Gmsh (General.BuildOptions), or the mesh is not 3D"},
+    {DTM_OPTIMISE_RELOCATE, "relocate", "2D and 3D meshes only"},
+    {DTM_OPTIMISE_LAPLACE2D, "laplace", "it smooths 2D meshes only"}};
+
 /* What was applied in a round: the calibration (the margin aimed past the
  * target), the transfinite counts set, the optimisers, the masses. */
 static const char *applied_text(const dtm_refine_round *r, const char *units, char *buf, size_t len) {
@@ -49,9 +60,21 @@ static const char *applied_text(const dtm_refine_round *r, const char *units, ch
   else
     snprintf(buf, len, "x%.3f", r->calibration);
   if (r->counts) snprintf(buf + strlen(buf), len - strlen(buf), ", %d counts", r->counts);
-  if (r->optimise & DTM_OPTIMISE_RELOCATE) snprintf(buf + strlen(buf), len - strlen(buf), ", relocate");
-  if (r->optimise & DTM_OPTIMISE_LAPLACE2D) snprintf(buf + strlen(buf), len - strlen(buf), ", laplace");
+  for (size_t k = 0; k < sizeof optimisers / sizeof optimisers[0]; k++)
+    if (r->optimise & optimisers[k].bit) snprintf(buf + strlen(buf), len - strlen(buf), ", %s", optimisers[k].name);
   return buf;
+}
+
+/* --optimise passes asked for that ran in no remesh: said under the table
+ * (a pass of another dimension, or one this Gmsh lacks, changes nothing). */
+static void print_unused_optimisers(const dtm_refine_result *rr) {
+  unsigned ran = 0, asked = rr->options.optimise & ~(unsigned)DTM_OPTIMISE_NONE;
+  int remeshes = 0;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (rr->rounds[i].kind == DTM_ROUND_MESH) ran |= rr->rounds[i].optimise, remeshes++;
+  for (size_t k = 0; remeshes && k < sizeof optimisers / sizeof optimisers[0]; k++)
+    if ((asked & optimisers[k].bit) && !(ran & optimisers[k].bit))
+      printf("--optimise %s: changed nothing, it ran in no remesh (%s)\n", optimisers[k].name, optimisers[k].why);
 }
 
 /* x rounded to the one decimal printed, without a sign when that is 0. */
@@ -162,6 +185,7 @@ static void print_rounds(const dtm_refine_result *rr) {
          "time (s)", "applied");
   int other = other_measures(rr);
   for (int i = 0; i < rr->nrounds; i++) print_round(rr, i, other);
+  print_unused_optimisers(rr);
   if (rr->nrounds == 1 && rr->stop == DTM_REFINE_MET)
     printf("met by the input mesh as it is (%s): no remesh; it is written unchanged with its views\n",
            rr->rounds[0].basis);

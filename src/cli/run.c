@@ -196,9 +196,10 @@ static int rule_names(const char *list, solver_rules *sr, char *why, size_t len)
     char name[16];
     snprintf(name, sizeof name, "%.*s", (int)(k < sizeof name ? k : sizeof name - 1), p);
     if (!k || k >= sizeof name || dtm_deck_solver(name, NULL)) {
+      const char *near = k && k < sizeof name ? dtm_deck_solver_near(name) : NULL;
       dtm_error_clear();
-      return snprintf(why, len, "--solver-rule '%s': '%.*s' is not a solver; the solvers are: %s", list, (int)k, p,
-                      dtm_deck_solvers()),
+      return snprintf(why, len, "--solver-rule '%s': '%.*s' is not a solver%s%s%s; the solvers are: %s", list, (int)k,
+                      p, near ? " (did you mean " : "", near ? near : "", near ? "?)" : "", dtm_deck_solvers()),
              1;
     }
     for (int i = 0; i < sr->n; i++)
@@ -272,7 +273,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
   if (r == DTM_OK) dtm_cli_warn_curved(a);
-  if (r == DTM_OK && !o->verbosity) dtm_cli_warn_units(a); /* else in the summary */
+  if (r == DTM_OK && (!o->verbosity || verify)) dtm_cli_warn_units(a); /* else in run's summary */
   if (r == DTM_OK) dtm_analysis_set_lanczos_seed(a, (unsigned)o->seed);
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));

@@ -108,6 +108,12 @@ int dtm_cli_snapshot(const cli_opts *o) {
   size_t n = strlen(o->scene);
   if (n < 5 || strcmp(o->scene + n - 4, ".msh"))
     return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: not a .msh result of dtmap run", o->scene), o->verbosity);
+  if (access(o->scene, F_OK))
+    return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT,
+                                "%s: no such file (the .msh dtmap run wrote: run it first, or check the "
+                                "path)",
+                                o->scene),
+                        o->verbosity);
   if (access(o->scene, R_OK)) return dtm_cli_fail(DTM_ERR(DTM_ERR_INPUT, "%s: cannot read it", o->scene), o->verbosity);
   snprintf(prefix, sizeof prefix, "%.*s", (int)(n - 4), o->scene);
   int r = check_pictures(o->png ? o->png : prefix, o->png ? "--png" : "default picture");

@@ -42,8 +42,39 @@ static const deck_writer *find(const char *name) {
   return NULL;
 }
 
+/* name's letters and digits, lower case ("LS-Dyna" -> "lsdyna"). */
+static void letters(const char *name, char *buf, size_t len) {
+  size_t k = 0;
+  for (const char *p = name; *p && k + 1 < len; p++)
+    if ((*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9'))
+      buf[k++] = *p;
+    else if (*p >= 'A' && *p <= 'Z')
+      buf[k++] = (char)(*p - 'A' + 'a');
+  buf[k] = '\0';
+}
+
+/* The writer likely meant: the same letters and digits in any case
+ * ("ls-dyna", "CalculiX"), else one that starts alike (at least 4 letters in
+ * common: "abaqus-explicit"; "ccx" none). */
+const char *dtm_deck_solver_near(const char *name) {
+  char a[64], b[64];
+  letters(name, a, sizeof a);
+  for (int i = 0; writers[i]; i++)
+    if (letters(writers[i]->name, b, sizeof b), !strcmp(a, b)) return writers[i]->name;
+  for (int i = 0; writers[i]; i++) {
+    letters(writers[i]->name, b, sizeof b);
+    size_t n = strlen(a) < strlen(b) ? strlen(a) : strlen(b);
+    if (n >= 4 && !strncmp(a, b, n)) return writers[i]->name;
+  }
+  return NULL;
+}
+
 int dtm_deck_solver(const char *name, const char **ext) {
   const deck_writer *w = find(name);
+  const char *near = w || !name ? NULL : dtm_deck_solver_near(name);
+  if (near)
+    return DTM_ERR(DTM_ERR_INPUT, "unknown solver '%s': did you mean %s? (the solvers are: %s)", name, near,
+                   dtm_deck_solvers());
   if (!w)
     return DTM_ERR(DTM_ERR_INPUT, "unknown solver '%s'; the solvers are: %s", name ? name : "", dtm_deck_solvers());
   if (ext) *ext = w->ext;

@@ -273,3 +273,75 @@ int dtm_gmsh_snapshot_camera_worst(int width, int height) {
   free(xyz), free(worst);
   return flat;
 }
+
+/* The worst element marked in the picture of the worst elements: a ring
+ * RING_PX pixels across in the plane of the screen around its centroid and
+ * a tag beside it with its tag and step, "element 264: 1.3608e-05 s", in a
+ * list-based view of this session only ("worst element", red). The worst
+ * is the element of the smallest value of the dt view. */
+#define RING_PX 16.0 /* the ring's radius, pixels */
+#define RING_SEGMENTS 36
+
+static const char *const box_lo[3] = {"General.MinX", "General.MinY", "General.MinZ"};
+static const char *const box_hi[3] = {"General.MaxX", "General.MaxY", "General.MaxZ"};
+
+/* The ring and the tag of element worst (centroid c, step v) in a view of
+ * their own; 1 when drawn. Both are moved towards the eye to the front of
+ * the model's box: drawn over the model, at the same place on the screen
+ * (the projection is orthographic). The tag stands on the side of the
+ * window's centre, so that it is not cut off. */
+static int mark(const double c[3], size_t worst, double v, int width, int height) {
+  double m[3][3], scale = option("General.ScaleX"), depth = 0, diag = 0, across = option("General.TranslationX");
+  rotation(option("General.RotationX"), option("General.RotationZ"), m);
+  for (int d = 0; d < 3; d++) {
+    double mid = 0.5 * (option(box_lo[d]) + option(box_hi[d]));
+    depth += m[2][d] * (c[d] - mid), across += m[0][d] * (c[d] - mid);
+    diag += pow(option(box_hi[d]) - option(box_lo[d]), 2);
+  }
+  double front[3], r = RING_PX * world_per_pixel(width, height) / (scale > 0 ? scale : 1.0), ring[8 * RING_SEGMENTS];
+  for (int d = 0; d < 3; d++) front[d] = c[d] + (0.5 * sqrt(diag) - depth) * m[2][d];
+  for (int k = 0; k < RING_SEGMENTS; k++) /* SL: x1 x2 y1 y2 z1 z2 v1 v2, in the screen's plane */
+    for (int end = 0; end < 2; end++) {
+      double t = 2 * PI * (k + end) / RING_SEGMENTS;
+      for (int d = 0; d < 3; d++) ring[8 * k + 2 * d + end] = front[d] + r * (cos(t) * m[0][d] + sin(t) * m[1][d]);
+      ring[8 * k + 6 + end] = 1.0; /* 0.8 of the range: red in Gmsh's default colour map */
+    }
+  char text[96], *strings[1] = {text}, align[] = "Align", right[] = "Right", *style[2] = {align, right};
+  int left = across > 0, ierr = 0;
+  double at[3];
+  snprintf(text, sizeof text, "element %zu: %.4e s", worst, v);
+  for (int d = 0; d < 3; d++) at[d] = front[d] + (left ? -1.4 : 1.4) * r * m[0][d] + 0.3 * r * m[1][d];
+  int view = gmshViewAdd("worst element", -1, &ierr);
+  if (!ierr) gmshViewAddListData(view, "SL", RING_SEGMENTS, ring, 8 * RING_SEGMENTS, &ierr);
+  if (!ierr) gmshViewAddListDataString(view, at, 3, strings, 1, left ? style : NULL, left ? 2 : 0, &ierr);
+  int k = view_index("worst element");
+  if (ierr || k < 0) return 0;
+  char key[64];
+  static const struct {
+    const char *opt;
+    double value;
+  } look[] = {{"LineWidth", 4}, {"Light", 0},     {"ShowScale", 0},
+              {"RangeType", 2}, {"CustomMin", 0}, {"CustomMax", 1.25}};
+  for (size_t j = 0; j < sizeof look / sizeof *look; j++)
+    snprintf(key, sizeof key, "View[%d].%s", k, look[j].opt), set_option(key, look[j].value);
+  snprintf(key, sizeof key, "View[%d].Color.Text3D", k);
+  gmshOptionSetColor(key, 220, 0, 0, 255, &ierr);
+  return 1;
+}
+
+int dtm_gmsh_snapshot_mark_worst(int width, int height) {
+  int i = view_index("dt"), *tags = NULL, ierr = 0, ncomp = 0;
+  size_t nt = 0, *et = NULL, ne = 0, *dn = NULL, dnn = 0, worst = 0;
+  double **data = NULL, time = 0, vmin = INFINITY, c[3] = {0, 0, 0};
+  char *type = NULL;
+  gmshViewGetTags(&tags, &nt, &ierr);
+  if (i >= 0 && !ierr && (size_t)i < nt)
+    gmshViewGetModelData(tags[i], 0, &type, &et, &ne, &data, &dn, &dnn, &time, &ncomp, &ierr);
+  for (size_t e = 0; !ierr && e < ne && e < dnn; e++)
+    for (size_t k = 0; k < dn[e]; k++)
+      if (data[e][k] < vmin) vmin = data[e][k], worst = et[e];
+  for (size_t k = 0; k < dnn; k++) gmshFree(data[k]);
+  gmshFree(data), gmshFree(dn), gmshFree(et), gmshFree(type), gmshFree(tags);
+  if (!isfinite(vmin) || !add_centroid(worst, c)) return 0;
+  return mark(c, worst, vmin, width, height);
+}

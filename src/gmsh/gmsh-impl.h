@@ -111,5 +111,9 @@ void dtm_gmsh_snapshot_camera(int width, int height);
 /* For a flat model, frame the worst elements instead (frame.c); 0 (the
  * camera unchanged) for a model that spans 3D or has no worst elements. */
 int dtm_gmsh_snapshot_camera_worst(int width, int height);
+/* Mark the worst element (the smallest value of the dt view) in the
+ * current camera: a red ring around it and a tag with its element tag and
+ * step, in a list-based view "worst element"; 1 when drawn. */
+int dtm_gmsh_snapshot_mark_worst(int width, int height);
 
 #endif

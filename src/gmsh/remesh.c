@@ -13,6 +13,7 @@
 #include <gmshc.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dtmap/gmsh.h"
 #include "dtmap/kernel.h"
@@ -119,10 +120,23 @@ static void optimise(const remesh_job *j) {
   }
 }
 
+/* Whether this Gmsh has the optimiser method (Netgen is an optional part
+ * of Gmsh's build, absent from Debian's: asked for, it logs an error and
+ * leaves the mesh as it was). */
+static int built_in(const char *method) {
+  if (strcmp(method, "Netgen")) return 1;
+  char *opts = NULL;
+  int ierr = 0;
+  gmshOptionGetString("General.BuildOptions", &opts, &ierr);
+  int has = !ierr && opts && strstr(opts, "Netgen") != NULL;
+  gmshFree(opts);
+  return has;
+}
+
 unsigned dtm_gmsh_optimisers(int dim, unsigned asked) {
   unsigned ran = 0;
   for (size_t k = 0; k < sizeof passes / sizeof passes[0]; k++)
-    if ((asked & passes[k].bit) && passes[k].dim == dim) ran |= passes[k].bit;
+    if ((asked & passes[k].bit) && passes[k].dim == dim && built_in(passes[k].method)) ran |= passes[k].bit;
   return ran;
 }
 

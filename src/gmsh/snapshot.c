@@ -6,7 +6,8 @@
  * model between the text and the colour scales, and turns a model that
  * spans 3D to an oblique view facing its worst elements; a shot of the
  * worst elements of a flat model frames them and shows them opaque over a
- * faint dt. dtmap's figures, which
+ * faint dt; the worst element is ringed and tagged with its tag and step
+ * (frame.c). dtmap's figures, which
  * the .opt prints (Printf lines), are drawn at the top by a text view made
  * here: it lives only in this session, so no file holds a list-based view
  * (gmsh.view.getModelData aborts on one). A file without the dt view is not
@@ -154,6 +155,7 @@ int dtm_gmsh_snapshot(const char *msh, const dtm_snapshot_shot *shots, int nshot
       dtm_gmsh_snapshot_camera(width, height);
     else
       show_worst();
+    if (shots[s].worst) dtm_gmsh_snapshot_mark_worst(width, height);
     r = write_png(shots[s].png);
   }
   gmshFinalize(&ierr);

@@ -13,8 +13,11 @@
  *    by name ('INCH'); in an IGES file the global section's unit flag
  *    (field 14) and unit name (field 15).
  *  - A BREP carries none; <geometry unit> scales it on import with
- *    Geometry.OCCScaling (applied after OpenCASCADE's conversion, so it
- *    also overrides a STEP's unit: factor = given / found).
+ *    Geometry.OCCScaling. On a STEP or IGES, a <geometry unit> other than
+ *    the one the file declares is an error naming both (a scene that
+ *    silently overrode the file gave a model 1000x off); the same unit is
+ *    allowed. A named unit dtmap does not know (a CONVERSION_BASED_UNIT
+ *    'TEN MM') is read from its LENGTH_MEASURE_WITH_UNIT: "10 mm".
  *  - A .msh carries none; <mesh unit> scales its node coordinates in the
  *    Gmsh model after reading, so that what dtmap extracts, remeshes and
  *    writes is in the scene's unit.
@@ -71,8 +74,50 @@ static const struct {
                    {"METRE", 1.0, "m"},        {"METER", 1.0, "m"},          {"MIL", 2.54e-5, "mil"},
                    {"MILE", 1609.344, "mi"},   {"MICROINCH", 2.54e-8, "uin"}};
 
-/* The unit of one STEP entity text [b, e) that holds LENGTH_UNIT. */
-static int step_entity_unit(const char *b, const char *e, dtm_import_units *u) {
+/* The text [*b, *e) of STEP entity #id in text[len]; 0 when there is none. */
+static int step_entity(const char *text, size_t len, long id, const char **b, const char **e) {
+  char key[32];
+  int k = snprintf(key, sizeof key, "#%ld", id);
+  for (const char *p = memmem(text, len, key, (size_t)k); p;
+       p = memmem(p + 1, len - (size_t)(p + 1 - text), key, (size_t)k)) {
+    const char *q = p + k;
+    while (q < text + len && (*q == ' ' || *q == '\t')) q++;
+    if (q >= text + len || *q != '=' || (p[k] >= '0' && p[k] <= '9')) continue;
+    *b = p, *e = q;
+    while (*e < text + len && **e != ';') (*e)++;
+    return 1;
+  }
+  return 0;
+}
+
+static int step_entity_unit(const char *text, size_t len, const char *b, const char *e, dtm_import_units *u, int depth);
+
+/* A CONVERSION_BASED_UNIT of a name dtmap does not know ('TEN MM'): its
+ * LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(v), #ref) times the unit #ref,
+ * shown as "v unit" ("10 mm"). */
+static int step_conversion(const char *text, size_t len, const char *cb, dtm_import_units *u, int depth) {
+  const char *q = strchr(cb, '\''), *q2 = q ? strchr(q + 1, '\'') : NULL, *h = q2 ? strchr(q2, '#') : NULL, *b, *e;
+  if (!h || depth > 2 || !step_entity(text, len, strtol(h + 1, NULL, 10), &b, &e)) return 0;
+  char ent[512];
+  snprintf(ent, sizeof ent, "%.*s", (int)(e - b < 511 ? e - b : 511), b);
+  const char *lm = strstr(ent, "LENGTH_MEASURE("), *r = lm ? strchr(lm + 15, ')') : NULL;
+  const char *ref = r ? strchr(r, '#') : NULL;
+  double v = lm ? strtod(lm + 15, NULL) : NAN;
+  dtm_import_units base = *u;
+  if (!ref || !(v > 0) || !step_entity(text, len, strtol(ref + 1, NULL, 10), &b, &e) ||
+      !step_entity_unit(text, len, b, e, &base, depth + 1) || !(base.found_m > 0))
+    return 0;
+  char shown[64];
+  snprintf(shown, sizeof shown, "%.4g %s", v, base.found);
+  snprintf(u->found, sizeof u->found, "%.*s", (int)sizeof u->found - 1, shown); /* "10 mm"; cut past 7 */
+  u->found_m = v * base.found_m;
+  return 1;
+}
+
+/* The unit of one STEP entity text [b, e) of text[len] that holds
+ * LENGTH_UNIT. */
+static int step_entity_unit(const char *text, size_t len, const char *b, const char *e, dtm_import_units *u,
+                            int depth) {
   char ent[512];
   snprintf(ent, sizeof ent, "%.*s", (int)(e - b < 511 ? e - b : 511), b);
   const char *si = strstr(ent, "SI_UNIT("), *cb = strstr(ent, "CONVERSION_BASED_UNIT(");
@@ -89,7 +134,7 @@ static int step_entity_unit(const char *b, const char *e, dtm_import_units *u) {
       snprintf(u->found, sizeof u->found, "%s", named_units[i].shown), u->found_m = named_units[i].metres;
       return 1;
     }
-  return 0;
+  return cb ? step_conversion(text, len, cb, u, depth) : 0;
 }
 
 static int ident_char(char c) { return c == '_' || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'); }
@@ -107,7 +152,7 @@ static void step_unit(const char *text, size_t len, dtm_import_units *u) {
     while (b > text && b[-1] != ';') b--;
     while (e < text + len && *e != ';') e++;
     dtm_import_units one = *u;
-    if (!step_entity_unit(b, e, &one)) continue;
+    if (!step_entity_unit(text, len, b, e, &one, 0)) continue;
     if (memmem(b, (size_t)(e - b), "CONVERSION_BASED_UNIT", 21)) {
       *u = one;
       return;
@@ -234,6 +279,12 @@ int dtm_gmsh_units_before(const dtm_scene *s, const char *path) {
   if (s->source_unit) snprintf(last.given, sizeof last.given, "%s", s->source_unit);
   int cad = is_step(path) || is_iges(path);
   if (cad) file_unit(path, &last);
+  if (cad && s->source_unit && last.found_m > 0 && fabs(s->source_unit_m / last.found_m - 1.0) > 1e-9)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s:%d: <geometry unit=\"%s\"> contradicts the unit the file declares, %s: %s holds its "
+                   "lengths in %s, and dtmap converts them itself; remove unit=\"%s\" (or, if the file's own "
+                   "declaration is wrong, correct it in the file)",
+                   s->path, s->source_line, s->source_unit, last.found, path, last.found, s->source_unit);
   if (!cad && !is_brep(path) && !(is_msh(path) && s->source_unit)) return DTM_OK; /* nothing to say */
   last.active = 1;
   double from = s->source_unit ? s->source_unit_m : cad && last.found_m > 0 ? last.found_m : L;

@@ -100,9 +100,25 @@ void dtm_output_warnings(const dtm_results *r, dtm_warnings *w) {
     dtm_output_mass_warnings(r->analysis, r->cost->shape_mass, "mass for the shape-limited elements", w);
   if (r->refine) refine_warning(r->refine, w);
   conflict_warning(r->analysis, w);
+  dtm_output_outlier_warning(r->analysis, w);
   if (r->cost) unresolved_warning(r->cost, w);
   curvature_warning(r->analysis, w);
   dtm_output_section_warnings(r->analysis, w);
+}
+
+int dtm_output_warning_lines(const dtm_results *r, char *buf, size_t len) {
+  dtm_warnings *w = malloc(sizeof *w);
+  if (!w) return 0;
+  dtm_output_warnings(r, w);
+  size_t k = 0;
+  if (len) buf[0] = '\0';
+  for (int j = 0; j < w->n && k < len; j++) {
+    int n = snprintf(buf + k, len - k, "%s\n", w->text[j]);
+    k = n > 0 ? k + (size_t)n : k;
+  }
+  int n = w->n;
+  free(w);
+  return n;
 }
 
 const char *dtm_feature_name(int kind) {

@@ -22,6 +22,9 @@ typedef struct {
 } dtm_warnings;
 
 void dtm_output_warnings(const dtm_results *r, dtm_warnings *w);
+/* A step capped by a few elements 10x or more below the 1 % quantile of the
+ * element steps, naming the worst and its model entities (outlier.c). */
+void dtm_output_outlier_warning(const dtm_analysis *a, dtm_warnings *w);
 /* Add one warning, printf-style, while there is room (advice.c). */
 void dtm_output_warn(dtm_warnings *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

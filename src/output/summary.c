@@ -1,7 +1,9 @@
 /* The terminal summary of an analysis, in the manner of an explicit solver's
  * starter listing: counts, the recommended step and its basis with the
  * element bound (the map's own minimum) labelled as such beside it,
- * accuracy, the cost from that one step, the shape-limited elements,
+ * the plausibility warnings right under the model line (before any figure
+ * a unit error would make wrong), accuracy, the cost from that one step,
+ * the shape-limited elements,
  * damping factors, the smallest elements, a histogram in octaves of the
  * recommended step (or the target) and the
  * warnings. */
@@ -361,11 +363,23 @@ static void print_zones(const dtm_analysis *a, FILE *f) {
   free(rows);
 }
 
-static void print_warnings(const dtm_results *r, FILE *f) {
+/* The plausibility warnings (a density, a wave speed, a model's size that
+ * look like a unit error), right under the model line: before any figure
+ * they would make wrong. Returns how many. */
+static int print_plausibility(const dtm_analysis *a, FILE *f) {
+  dtm_warnings w = {0, {{0}}};
+  dtm_output_plausibility_warnings(a, &w);
+  for (int j = 0; j < w.n; j++) fprintf(f, "WARNING: %s\n", w.text[j]);
+  return w.n;
+}
+
+/* The other warnings, at the end (dtm_output_warnings gives the
+ * plausibility ones first: the first `shown` are printed already). */
+static void print_warnings(const dtm_results *r, int shown, FILE *f) {
   dtm_warnings w;
   dtm_output_warnings(r, &w);
-  if (w.n) fputc('\n', f);
-  for (int j = 0; j < w.n; j++) fprintf(f, "WARNING: %s\n", w.text[j]);
+  if (w.n > shown) fputc('\n', f);
+  for (int j = shown; j < w.n; j++) fprintf(f, "WARNING: %s\n", w.text[j]);
 }
 
 #define HIST_BINS 16 /* octaves shown at most; the last takes every larger step */
@@ -411,6 +425,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   FILE *f = stream;
   print_counts(r->analysis, f);
   dtm_summary_model(r->analysis, f);
+  int shown = print_plausibility(r->analysis, f);
   print_min(r->analysis, f);
   print_point_masses(r->analysis, f);
   print_damping(r->analysis, f);
@@ -422,5 +437,5 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   print_layers(r, f);
   print_smallest(r, f);
   print_histogram(r->analysis, f);
-  print_warnings(r, f);
+  print_warnings(r, shown, f);
 }

@@ -272,6 +272,7 @@ static int read_units(dtm_scene *s, const xmlNode *root) {
 static int read_document(dtm_scene *s, const xmlNode *root) {
   if (!root) return DTM_ERR(DTM_ERR_INPUT, "%s: the scene file has no root element", s->path);
   DTM_CHECK(read_units(s, root));
+  DTM_CHECK(dtm_scene_read_plausible(s, root, &s->no_plausible_check));
   int nmat = count_tag(root, "material");
   DTM_CHECK(dtm_scene_build_catalogue(s, root));
   s->materials = nmat ? calloc((size_t)nmat, sizeof *s->materials) : NULL;
@@ -289,7 +290,8 @@ static int read_document(dtm_scene *s, const xmlNode *root) {
     return DTM_SCENE_ERR(s, root, "the scene needs <geometry file=...> or <mesh file=...>");
   if (!nmat) return DTM_SCENE_ERR(s, root, "the scene defines no <material>");
   if (!s->effects) return DTM_SCENE_ERR(s, root, "the scene has no <effects>");
-  return dtm_scene_check_properties(s, NULL, 0);
+  DTM_CHECK(dtm_scene_check_properties(s, NULL, 0));
+  return dtm_scene_check_plausible(s);
 }
 
 static int scene_dir(const char *path, char **dir) {

@@ -55,7 +55,15 @@ static int read_groups(const dtm_scene *s, const xmlNode *n, dtm_scene_material 
 
 /* The material attributes that are not properties. */
 int dtm_scene_material_keyword(const char *attr) {
-  return !strcmp(attr, "name") || !strcmp(attr, "groups") || !strcmp(attr, "default");
+  return !strcmp(attr, "name") || !strcmp(attr, "groups") || !strcmp(attr, "default") || !strcmp(attr, "plausible");
+}
+
+/* An attribute that reads as a unit ("unit", "units", "E-unit"): dtmap
+ * takes units once, for the whole scene. */
+static int is_unit_word(const char *attr) {
+  size_t n = strlen(attr);
+  return !strcmp(attr, "unit") || !strcmp(attr, "units") || (n > 5 && !strcmp(attr + n - 5, "-unit")) ||
+         (n > 5 && !strcmp(attr + n - 5, "_unit"));
 }
 
 /* One property attribute: a strict number, admissible for the effect that
@@ -68,7 +76,13 @@ static int read_prop(const dtm_scene *s, const xmlNode *n, dtm_material *m, cons
   DTM_CHECK(dtm_scene_attr(n, attr, &raw));
   if (i < 0 || !raw) return free(raw), DTM_ERR(DTM_ERR_INTERNAL, "property '%s' is not in the catalogue", attr);
   const dtm_property *decl = dtm_registry_property(attr, NULL);
-  int rc = dtm_scene_parse_double(raw, &v)
+  int rc = dtm_scene_parse_double(raw, &v) && is_unit_word(attr)
+               ? DTM_SCENE_ERR(s, n,
+                               "material '%s': %s=\"%s\" is no attribute of <material>: a material's values are in the "
+                               "scene's unit system, SI (E in Pa, rho in kg/m^3) unless <dtmap-scene units=\"mm-t-s\"> "
+                               "says mm-t-s (E in MPa, rho in t/mm^3); write the values in it",
+                               m->name, attr, raw)
+           : dtm_scene_parse_double(raw, &v)
                ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a number", m->name, attr, raw)
            : decl         ? dtm_property_check(decl, m, v)
            : !isfinite(v) ? DTM_SCENE_ERR(s, n, "material '%s': %s = '%s' is not a finite number", m->name, attr, raw)
@@ -131,6 +145,7 @@ int dtm_scene_read_material(dtm_scene *s, const xmlNode *n) {
   DTM_CHECK(read_name(s, n, &sm->m));
   DTM_CHECK(read_default(s, n, sm));
   DTM_CHECK(read_groups(s, n, sm));
+  DTM_CHECK(dtm_scene_read_plausible(s, n, &sm->no_plausible_check));
   DTM_CHECK(read_props(s, n, &sm->m));
   return check_unique(s, n);
 }

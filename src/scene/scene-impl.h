@@ -57,7 +57,7 @@ void dtm_scene_free_strings(int n, char **v);
 int dtm_scene_strdup(const char *s, char **out);
 
 /* 1 for the <material> attributes that are not properties (name, groups,
- * default). */
+ * default, plausible). */
 int dtm_scene_material_keyword(const char *attr);
 /* s->prop_names: the built-in effects' properties, then the other property
  * attributes of the <material> children of root. */
@@ -69,5 +69,11 @@ int dtm_scene_read_material(dtm_scene *s, const xmlNode *n);
 int dtm_scene_read_section(dtm_scene *s, const xmlNode *n);
 /* Read <effects> and its children into s->effects. */
 int dtm_scene_read_effects(dtm_scene *s, const xmlNode *n);
+/* The material values no solid has (plausible.c): DTM_ERR_INPUT naming the
+ * material's line, the likely unit slip and the remedy. */
+int dtm_scene_check_plausible(const dtm_scene *s);
+/* A plausible="..." attribute of n: 1 for "no-check", 0 for "check" or
+ * none, an error for another word. */
+int dtm_scene_read_plausible(const dtm_scene *s, const xmlNode *n, int *no_check);
 
 #endif
