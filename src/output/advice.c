@@ -133,6 +133,26 @@ const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, 
   return buf;
 }
 
+const char *dtm_layer_faces_text(const dtm_layer *l, char *buf, size_t len) {
+  if (l->faces[0][0] == l->faces[1][0])
+    snprintf(buf, len, "between model %ss %d and %d", entity_name(l->faces[0][0]), l->faces[0][1], l->faces[1][1]);
+  else
+    snprintf(buf, len, "between model %s %d and model %s %d", entity_name(l->faces[0][0]), l->faces[0][1],
+             entity_name(l->faces[1][0]), l->faces[1][1]);
+  return buf;
+}
+
+double dtm_layer_added_mass(const dtm_results *r, size_t k) {
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  size_t n;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(r->analysis, &n);
+  double m = 0;
+  if (!ms || !ms->added) return NAN;
+  for (size_t j = 0; j < n; j++)
+    if (sl[j].layer == (int)k) m += ms->added[sl[j].element];
+  return m;
+}
+
 const char *dtm_remedy_text(const dtm_results *r, const dtm_shape_limited *s, char *buf, size_t len) {
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (s->remedy == DTM_REMEDY_SPLIT)

@@ -233,8 +233,8 @@ static void print_shape(const dtm_results *r, FILE *f) {
     char ft[200], rt[200];
     fprintf(f, "  ");
     print_where(a, sl[j].element, f);
-    fprintf(f, ":\n    %s; reaches %.4e s at most; remedy: %s\n", dtm_feature_text(a, &sl[j], ft, sizeof ft),
-            sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
+    fprintf(f, ":\n    %s; a fresh mesh reaches about %.4e s there (an estimate); remedy: %s\n",
+            dtm_feature_text(a, &sl[j], ft, sizeof ft), sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
   }
   if (n > SHAPE_LISTED) fprintf(f, "  ... and %zu more (the report lists them)\n", n - SHAPE_LISTED);
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
@@ -243,50 +243,62 @@ static void print_shape(const dtm_results *r, FILE *f) {
             100.0 * ms->total_added / ms->total_mass);
 }
 
-/* Per group whose layer's thickness caps elements below the target: the
- * thickness, how many, the best step any mesh of it reaches, and the
- * remedies with their costs. */
+#define LAYERS_LISTED 4 /* layers printed (the report lists all) */
+
+/* The remedies of layer k: the mass its elements need, and the layer as
+ * its mid-surface (mid-line in 2D) at its own thickness. */
+static void print_layer_remedies(const dtm_results *r, size_t k, const dtm_layer *l, FILE *f) {
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  int g = l->group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
+  double added = dtm_layer_added_mass(r, k);
+  if (ms && ms->group_mass[slot] > 0 && isfinite(added))
+    fprintf(f, "               remedy: mass scaling at their nodes, +%.4g kg (+%.3g%% of the group's mass)\n", added,
+            100.0 * added / ms->group_mass[slot]);
+  if (isfinite(l->shell_step) && dtm_analysis_mesh(r->analysis)->dim == 3)
+    fprintf(f,
+            "               remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
+            "about %.4e s by LS-DYNA's rule at its present size %.3g m\n",
+            l->thickness, l->shell_step, l->size);
+  else if (isfinite(l->shell_step))
+    fprintf(f,
+            "               remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
+            "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
+            "present size %.3g m\n",
+            l->thickness, l->shell_step, l->size);
+}
+
+/* Each layer whose thickness caps elements below the target (smallest
+ * reach first, at most LAYERS_LISTED): its own thickness, how many, the
+ * best step any mesh of it reaches, and its remedies with their costs;
+ * subcycling once for all. */
 static void print_layers(const dtm_results *r, FILE *f) {
   const dtm_analysis *a = r->analysis;
   size_t n;
   const dtm_layer *ly = dtm_analysis_layers(a, &n);
-  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
-  int dim = dtm_analysis_mesh(a)->dim;
-  for (size_t k = 0; k < n; k++) {
-    char lbl[64];
-    int g = ly[k].group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
-    if (ly[k].at_minimum)
+  if (n && !ly[0].at_minimum)
+    fprintf(f,
+            "thickness    %zu layer(s) cap elements below the target at their own thickness (view 'thickness "
+            "limited'); no mesh of them reaches the target:\n",
+            n);
+  for (size_t k = 0; k < n && k < LAYERS_LISTED; k++) {
+    char lbl[64], fc[96];
+    const char *gl = dtm_mesh_group_label(dtm_analysis_mesh(a), ly[k].group, lbl, sizeof lbl);
+    dtm_layer_faces_text(&ly[k], fc, sizeof fc);
+    if (ly[k].at_minimum) {
       fprintf(f,
-              "thickness    the smallest steps lie where '%s' is %.4g m thin, between two boundaries that do not touch "
-              "(%zu of the elements within 10%% of the smallest step): a fresh mesh reaches about %.4e s there at "
-              "most\n",
-              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].thickness, ly[k].elements,
-              ly[k].reach);
-    else
-      fprintf(f,
-              "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g m (view 'thickness limited'): "
-              "no mesh of it reaches the target; the best step there is %.4e s\n",
-              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness,
-              ly[k].reach);
-    if (ly[k].at_minimum) continue; /* no target: nothing to remedy */
-    if (ms && ms->group_mass[slot] > 0)
-      fprintf(f, "             remedy: mass scaling at their nodes, +%.4g kg (+%.3g%% of the group's mass)\n",
-              ms->group_added[slot], 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
-    if (r->cost && r->cost->subcycling.speedup > 1)
-      fprintf(f, "             remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
-              r->cost->subcycling.speedup);
-    if (isfinite(ly[k].shell_step) && dim == 3)
-      fprintf(f,
-              "             remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
-              "about %.4e s by LS-DYNA's rule at its present size %.3g m\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size);
-    else if (isfinite(ly[k].shell_step))
-      fprintf(f,
-              "             remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
-              "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
-              "present size %.3g m\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size);
+              "thickness    the smallest steps lie where '%s' is %.4g m thin, %s (%zu of the elements within 10%% of "
+              "the smallest step): a fresh mesh of that thickness reaches about %.4e s there (an estimate)\n",
+              gl, ly[k].thickness, fc, ly[k].elements, ly[k].reach);
+      continue; /* no target: nothing to remedy */
+    }
+    fprintf(f, "  layer %zu   '%s' %s: %zu element(s), %.4g m thick; the best step there is %.4e s\n", k + 1, gl, fc,
+            ly[k].elements, ly[k].thickness, ly[k].reach);
+    print_layer_remedies(r, k, &ly[k], f);
   }
+  if (n > LAYERS_LISTED) fprintf(f, "  ... and %zu more layer(s) (the report lists them)\n", n - LAYERS_LISTED);
+  if (n && !ly[0].at_minimum && r->cost && r->cost->subcycling.speedup > 1)
+    fprintf(f, "  remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
+            r->cost->subcycling.speedup);
 }
 
 void dtm_summary_advice(const dtm_results *r, FILE *f) {
