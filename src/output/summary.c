@@ -203,6 +203,13 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
   if (ac.conflicts) print_conflict(a, &ac, f);
 }
 
+/* What "below the target" counts, said where a count is printed: an
+ * element's own safe step (dtm_analysis_local_step x safety) below the
+ * advice target (dtm_analysis_below_target, refine's "below" column and the
+ * histogram's bins under 1 count the same elements). */
+#define BELOW_DEFINITION                                                                                               \
+  "own safe step below the target: safety x the larger of its element step and the smallest nodal bound at its nodes"
+
 static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
   const dtm_subcycling *sc = &c->subcycling;
   double rec = dtm_analysis_recommended(a);
@@ -213,11 +220,15 @@ static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
     fprintf(f, "cost         %.4g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n",
             c->duration, ceil(c->duration / rec), rec, c->element_steps, c->element_steps_subcycled);
   const dtm_mass_scaling *ms = c->mass;
-  if (ms)
+  if (ms && ms->nodal)
     fprintf(f,
-            "mass scaling to reach the target%s: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
-            ms->nodal ? " at the nodes" : "", 100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass,
-            ms->scaled);
+            "mass scaling to reach the target at the nodes: +%.3g%% mass (%.4g of %.4g); %zu element(s) have a node "
+            "that receives mass, the %zu below the target among them (view 'added mass')\n",
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass, ms->scaled,
+            dtm_analysis_below_target(a));
+  else if (ms)
+    fprintf(f, "mass scaling to reach the target: +%.3g%% mass (%.4g of %.4g) on %zu element(s) (view 'added mass')\n",
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, ms->total_mass, ms->scaled);
 }
 
 #define SHAPE_LISTED 20 /* shape-limited elements printed */
@@ -227,8 +238,11 @@ static void print_shape(const dtm_results *r, FILE *f) {
   size_t n, below = dtm_analysis_below_target(a);
   const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
   if (!below) return;
-  fprintf(f, "below target %zu element(s); %zu of them shape-limited (no larger size lifts their step)%s\n", below, n,
-          n ? " (view 'shape limited'):" : "");
+  fprintf(f,
+          "below target %zu element(s) (" BELOW_DEFINITION
+          "; view 'below target [s]'); %zu of them shape-limited (no larger size lifts "
+          "their step)%s\n",
+          below, n, n ? " (view 'shape limited'):" : "");
   for (size_t j = 0; j < n && j < SHAPE_LISTED; j++) {
     char ft[200], rt[200];
     fprintf(f, "  ");
@@ -336,30 +350,55 @@ static void print_warnings(const dtm_results *r, FILE *f) {
 
 #define HIST_BINS 16 /* octaves shown at most; the last takes every larger step */
 
-/* The histogram of the element steps in octaves of a reference step: the
- * target when there is one, else the recommended step, so that its bins
- * read as "how many times the step the run takes" (an element in [2, 4)
- * could step at twice the reference). Bins run from the smallest element's
- * octave up; the last gathers what lies above. */
-static void print_histogram(const dtm_analysis *a, FILE *f) {
+/* The quantity the histogram bins and its reference: with a target, each
+ * element's own safe step (safety x local step) over the advice target, so
+ * that its bins under 1 hold exactly the elements below the target; else
+ * each element's step (the dt map) over the recommended step, so that its
+ * bins read as "how many times the step the run takes". */
+static double hist_value(const dtm_analysis *a, size_t i, int aimed) {
+  return aimed ? dtm_analysis_scene(a)->safety * dtm_analysis_local_step(a)[i] : dtm_analysis_dt(a)[i];
+}
+
+static void print_hist_title(const dtm_analysis *a, int aimed, double ref, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
-  const double *dt = dtm_analysis_dt(a);
+  if (!aimed) {
+    fprintf(f, "\ndt in multiples of the recommended step %.4e s (each element's step / it):\n", ref);
+    return;
+  }
+  fprintf(f,
+          "\ndt in multiples of the target %.4e s (each element's own safe step / it: safety x the larger of its "
+          "element step and the smallest nodal bound at its nodes; below 1: the %zu element(s) below the target)",
+          ref, dtm_analysis_below_target(a));
+  if (fabs(ref / s->target - 1) > 1e-12) fprintf(f, " (the scene's %.4e s carried to the nodal bound)", s->target);
+  fputs(":\n", f);
+}
+
+/* The histogram in octaves of a reference step (hist_value). Bins run
+ * from the smallest element's octave up; the last gathers what lies
+ * above. */
+static void print_histogram(const dtm_analysis *a, FILE *f) {
   size_t nel = dtm_analysis_nelements(a);
-  double ref = s->target > 0 ? s->target : dtm_analysis_recommended(a);
+  int aimed = dtm_analysis_advice_target(a) > 0;
+  double ref = aimed ? dtm_analysis_advice_target(a) : dtm_analysis_recommended(a), small = INFINITY;
   if (!(ref > 0) || !isfinite(ref)) return;
-  int lo = (int)floor(log2(dtm_analysis_dt_min(a, NULL) / ref)), hi = lo;
-  for (size_t i = 0; i < nel; i++)
-    if (isfinite(dt[i]) && (int)floor(log2(dt[i] / ref)) > hi) hi = (int)floor(log2(dt[i] / ref));
+  for (size_t i = 0; i < nel; i++) small = fmin(small, hist_value(a, i, aimed));
+  if (!isfinite(small)) return;
+  int lo = (int)floor(log2(small / ref)), hi = lo;
+  for (size_t i = 0; i < nel; i++) {
+    double v = hist_value(a, i, aimed);
+    if (isfinite(v) && (int)floor(log2(v / ref)) > hi) hi = (int)floor(log2(v / ref));
+  }
   int last = hi - lo < HIST_BINS ? hi - lo : HIST_BINS - 1;
   size_t count[HIST_BINS] = {0}, most = 1;
   for (size_t i = 0; i < nel; i++) {
-    if (!isfinite(dt[i])) continue; /* no effect limits this element */
-    int d = (int)floor(log2(dt[i] / ref)) - lo;
+    double v = hist_value(a, i, aimed);
+    if (!isfinite(v)) continue; /* no effect limits this element */
+    int d = (int)floor(log2(v / ref)) - lo;
+    if (aimed && v < ref && lo + d >= 0) d = -1 - lo; /* below the target by a rounding: the bin under 1 */
     count[d < 0 ? 0 : d > last ? last : d]++;
   }
   for (int d = 0; d <= last; d++) most = count[d] > most ? count[d] : most;
-  fprintf(f, "\ndt in multiples of the %s %.4e s (each element's step / it):\n",
-          s->target > 0 ? "target" : "recommended step", ref);
+  print_hist_title(a, aimed, ref, f);
   for (int d = 0; d <= last; d++) {
     int bar = (int)(40.0 * (double)count[d] / (double)most + 0.5);
     char bin[64];
