@@ -70,7 +70,7 @@ const char *dtm_feature_name(int kind);
 const char *dtm_remedy_name(int remedy);
 /* Layer k of dtm_analysis_layers: "between model surfaces 3 and 8"; the
  * mass its thickness-limited elements need at their nodes (the cost's
- * layer_mass, NAN without it). */
+ * layer_mass at the layer's nodes, each once; NAN without it). */
 const char *dtm_layer_faces_text(const dtm_layer *l, char *buf, size_t len);
 double dtm_layer_added_mass(const dtm_results *r, size_t k);
 
