@@ -12,6 +12,13 @@ thickness of the part it sits in.
   boundaries is exact to rounding, the 5 % leaves room for the mesh's own
   node distance on another mesh). Before, every element fell into one
   layer 2.57 mm thick, the wall's remedy a shell 4x too thin.
+- Where both boundaries of a layer are curves or surfaces, its thickness is
+  one of the CAD's gaps (10 mm walls; 2.5 mm from the two holes by the
+  edge x = 55 mm; 5 mm from the base's hole to the upright's inner face
+  x = 15 mm), measured here by sampling the holes' faces with Gmsh's
+  getValue (400 x 5 points: their extreme x is exact at the sampled seam),
+  within 1e-6 relative: dtmap projects onto the CAD (src/gmsh/gap.c), so
+  only OpenCASCADE's projection tolerance remains.
 - No layer is thinner than the thinnest place of the part (the ligament,
   2.5 mm, less 5 %), and each layer's shell remedy is its own thickness:
   never thinner than the layer it replaces.
@@ -38,6 +45,30 @@ DEMOS = "/usr/share/doc/gmsh-doc/doc/gmsh/demos/boolean"
 WALL, LIGAMENT, TOL = 10e-3, 2.5e-3, 0.05
 
 
+def cad_gaps(brep):
+    """The bracket's gaps in m from its geometry: the walls' thickness (the
+    base's two planes z = 20, 30 mm) and the base's holes' distances to the
+    planes they face (the edge x = 55 mm, the upright's inner face x = 15 mm)."""
+    import gmsh
+    import numpy
+    gmsh.initialize(["t721", "-v", "0"])
+    try:
+        gmsh.model.occ.importShapes(brep)
+        gmsh.model.occ.synchronize()
+        lo_x, hi_x = [], []
+        for _, t in gmsh.model.getEntities(2):
+            box = gmsh.model.getBoundingBox(2, t)
+            if gmsh.model.getType(2, t) == "Plane" or box[2] < 20 - 1e-6 or box[5] > 30 + 1e-6:
+                continue  # a plane, or a hole of the upright (the base is 20 <= z <= 30 mm)
+            lo, hi = gmsh.model.getParametrizationBounds(2, t)
+            uv = [x for u in numpy.linspace(lo[0], hi[0], 400) for v in numpy.linspace(lo[1], hi[1], 5) for x in (u, v)]
+            p = numpy.array(gmsh.model.getValue(2, t, uv)).reshape(-1, 3)
+            lo_x.append(p[:, 0].min()), hi_x.append(p[:, 0].max())
+    finally:
+        gmsh.finalize()
+    return {"wall": 10e-3, "edge": (55 - max(hi_x)) * 1e-3, "upright": (min(lo_x) - 15) * 1e-3}
+
+
 class Bracket(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -57,6 +88,7 @@ class Bracket(unittest.TestCase):
 <time safety="0.9" duration="1e-3"/>
 </dtmap-scene>
 """ % geo)
+        cls.gaps = cad_gaps(brep)
         code, cls.out, rep = tu.refine("bracket", 1e-6)
         assert code == 1, cls.out  # the target is out of reach
         cls.rep = rep
@@ -67,6 +99,15 @@ class Bracket(unittest.TestCase):
         most = max(self.layers, key=lambda l: l["elements"])
         self.assertAlmostEqual(most["thickness"] / WALL, 1, delta=TOL)
         self.assertTrue(any(abs(l["thickness"] / LIGAMENT - 1) <= TOL for l in self.layers), self.layers)
+
+    def test_thickness_from_the_cad(self):
+        self.assertAlmostEqual(self.gaps["edge"] / LIGAMENT, 1, delta=1e-9)
+        gaps = sorted(self.gaps.values())
+        for l in self.layers:
+            if min(d for d, _ in l["boundaries"]) < 1:
+                continue  # a model point: nothing to project onto
+            near = min(gaps, key=lambda g: abs(l["thickness"] / g - 1))
+            self.assertAlmostEqual(l["thickness"] / near, 1, delta=1e-6, msg=(l, gaps))
 
     def test_never_thinner_than_the_layer(self):
         for l in self.layers:

@@ -108,9 +108,9 @@ typedef struct {
 /* Elements limited by the thickness of the part they are in (shape-limited
  * with the thin feature: two boundaries closer than the size the target
  * needs), gathered per layer: per physical group, the pair of model
- * boundaries the elements' thickness spans, joined with the pairs next to
- * it of the same thickness (within 10 %). No mesh of that layer reaches the
- * target there (src/analysis/layers.c). */
+ * boundaries the elements' thickness spans, joined with the pairs of its
+ * group of the same thickness (within 10 % of the thinnest). No mesh of
+ * that layer reaches the target there (src/analysis/layers.c). */
 typedef struct {
   int group;         /* mesh group index (-1: in no group) */
   int faces[2][2];   /* two model boundaries it spans, {dim, tag} each, the smaller first

@@ -33,7 +33,7 @@ static int same_pair(const int f[2][2], const int g[2][2]) {
   return f[0][0] == g[0][0] && f[0][1] == g[0][1] && f[1][0] == g[1][0] && f[1][1] == g[1][1];
 }
 
-#define JOIN 1.1 /* neighbouring pairs whose thicknesses are within this factor are one layer */
+#define JOIN 1.1 /* pairs of one group within this factor of the thinnest of them are one layer */
 
 static size_t layer_of(dtm_analysis *a, int g, const int f[2][2], int at_minimum) {
   for (size_t k = 0; k < a->nlayers; k++)
