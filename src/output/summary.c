@@ -299,10 +299,12 @@ static void print_layers(const dtm_results *r, FILE *f) {
     const char *gl = dtm_mesh_group_label(dtm_analysis_mesh(a), ly[k].group, lbl, sizeof lbl);
     dtm_layer_faces_text(&ly[k], fc, sizeof fc);
     if (ly[k].at_minimum) {
+      double rec = dtm_analysis_recommended(a);
       fprintf(f,
               "thickness    the smallest steps lie where '%s' is %.4g m thin, %s (%zu of the elements within 10%% of "
-              "the smallest step): a fresh mesh of that thickness reaches about %.4e s there (an estimate)\n",
-              gl, ly[k].thickness, fc, ly[k].elements, ly[k].reach);
+              "the smallest step): a fresh mesh of that thickness reaches about %.4e s there (an estimate%s)\n",
+              gl, ly[k].thickness, fc, ly[k].elements, ly[k].reach,
+              ly[k].reach < rec ? ", which this mesh's recommended step already beats: not a bound" : "");
       continue; /* no target: nothing to remedy */
     }
     fprintf(f, "  layer %zu   '%s' %s: %zu element(s), %.4g m thick; the best step there is %.4e s\n", k + 1, gl, fc,
