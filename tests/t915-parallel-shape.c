@@ -172,7 +172,7 @@ static void test_tunnel(void **state) {
   same_shape(s, p);
   same_layers(s, p);
   no_note(p);
-  assert_non_null(strstr(par_out[0], "'lining': 24 element(s) limited by the layer's thickness, 0.3 m"));
+  assert_non_null(strstr(par_out[0], "24 element(s), 0.3 m thick"));
   same_view("tl", "thickness limited");
   same_view("tl", "shape limited");
   cJSON_Delete(s), cJSON_Delete(p);

@@ -117,14 +117,21 @@ typedef struct {
   int remedy;     /* dtm_remedy */
   double split;   /* DTM_REMEDY_SPLIT: local size at the feature that splits the
                      angle into well-shaped elements meeting the target, m */
+  int other_dim;  /* thin: the other of the two boundaries (its dimension, -1 otherwise) */
+  int other_tag;  /* thin: its Gmsh tag (-1 otherwise) */
+  int layer;      /* thin: its layer's index in dtm_analysis_layers (-1 otherwise) */
 } dtm_shape_limited;
 
 /* Elements limited by the thickness of the part they are in (shape-limited
  * with the thin feature: two boundaries closer than the size the target
- * needs), gathered per physical group: no mesh of that layer reaches the
- * target there (src/analysis/layers.c). */
+ * needs), gathered per layer: per physical group, the pair of model
+ * boundaries the elements' thickness spans, joined with the pairs of its
+ * group of the same thickness (within 10 % of the thinnest). No mesh of
+ * that layer reaches the target there (src/analysis/layers.c). */
 typedef struct {
   int group;         /* mesh group index (-1: in no group) */
+  int faces[2][2];   /* two model boundaries it spans, {dim, tag} each, the smaller first
+                        (of its thinnest pair when it joins several) */
   size_t elements;   /* its thickness-limited elements */
   double thickness;  /* the smallest local thickness among them (the gap between the two
                         boundaries at their corners), m */

@@ -188,6 +188,13 @@ enum {
  * Gmsh has (Netgen is not in every build: General.BuildOptions). */
 DTM_EXPORT unsigned dtm_gmsh_optimisers(int dim, unsigned asked);
 
+/* The gap between model entities a and b ({dim, tag}, curves or surfaces)
+ * of the current Gmsh model near x0: the distance of their closest points
+ * pa, pb (alternating projections from x0, on the untrimmed geometry), m;
+ * NaN when Gmsh cannot project (no model, a point, a discrete entity it
+ * cannot project onto). src/gmsh/gap.c */
+DTM_EXPORT double dtm_gmsh_gap(const int a[2], const int b[2], const double x0[3], double pa[3], double pb[3]);
+
 /* Where the mesh sits on the model, for the advice on shape-limited
  * elements. Filled from the current Gmsh model after dtm_gmsh_extract. */
 typedef struct {

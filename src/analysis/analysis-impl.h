@@ -116,7 +116,7 @@ int dtm_shape_classify(dtm_analysis *a);
 /* The thickness-limited elements per group, from a->shape (layers.c). */
 int dtm_layers_gather(dtm_analysis *a);
 /* The same from the n entries sl (thin ones only), flagged at_minimum. */
-int dtm_layers_gather_from(dtm_analysis *a, const dtm_shape_limited *sl, size_t n, int at_minimum);
+int dtm_layers_gather_from(dtm_analysis *a, dtm_shape_limited *sl, size_t n, int at_minimum);
 /* The step of element i's limiting effects (damping applied, before
  * safety) if its nodes were at x instead, s (shape.c). */
 int dtm_analysis_step_at(const dtm_analysis *a, size_t i, int type, const double *x, double *dt);

@@ -208,11 +208,12 @@ static int corner_of(const corners *c, size_t v) {
 
 /* What one element sits on. */
 typedef struct {
-  int kind;     /* dtm_feature_kind, 0: none */
-  double angle; /* model angle, degrees */
-  double own;   /* the element's own angle there, degrees */
-  int dim, tag; /* entity of the feature */
-  double size;  /* the largest size the feature allows, m */
+  int kind;       /* dtm_feature_kind, 0: none */
+  double angle;   /* model angle, degrees */
+  double own;     /* the element's own angle there, degrees */
+  int dim, tag;   /* entity of the feature */
+  double size;    /* the largest size the feature allows, m */
+  int odim, otag; /* thin: the other of the two boundaries (-1 otherwise) */
 } feature;
 
 /* Shortest model curve through model point p (2D), +inf if none. */
@@ -250,7 +251,7 @@ static double model_angle(const dtm_analysis *a, const incidence *inc, size_t i,
 static void set_angle(feature *f, double model, double own, int dim, int tag, double size) {
   int kind = own >= FLAT_DEG ? DTM_FEATURE_FLAT_ANGLE : model < SMALL_DEG ? DTM_FEATURE_SMALL_ANGLE : 0;
   if (!kind || f->kind == DTM_FEATURE_FLAT_ANGLE) return;
-  *f = (feature){kind, model, own, dim, tag, size};
+  *f = (feature){kind, model, own, dim, tag, size, -1, -1};
 }
 
 /* Angles at the model points among the corners of a 2D element. */
@@ -289,7 +290,7 @@ static void short_curves(const dtm_geo *g, const corners *c, double need, double
     int on = 0;
     if (en->dim != 1 || !(en->size > 0) || !(spread * en->size < need) || en->size >= f->size) continue;
     for (int k = 0; k < c->nc; k++) on += dtm_geo_node_on(g, c->v[k], en);
-    if (on) *f = (feature){DTM_FEATURE_SHORT_CURVE, NAN, NAN, 1, en->tag, en->size};
+    if (on) *f = (feature){DTM_FEATURE_SHORT_CURVE, NAN, NAN, 1, en->tag, en->size, -1, -1};
   }
 }
 
@@ -303,7 +304,8 @@ static void thin_parts(const dtm_analysis *a, const corners *c, double need, fea
       double t = 0;
       for (int d = 0; d < 3; d++) t += (c->x[j][d] - c->x[k][d]) * (c->x[j][d] - c->x[k][d]);
       t = sqrt(t);
-      if (t < need && t < f->size) *f = (feature){DTM_FEATURE_THIN, NAN, NAN, g->node_dim[v], g->node_tag[v], t};
+      if (t < need && t < f->size)
+        *f = (feature){DTM_FEATURE_THIN, NAN, NAN, g->node_dim[v], g->node_tag[v], t, g->node_dim[w], g->node_tag[w]};
     }
 }
 
@@ -475,7 +477,7 @@ static int near_boundary(const dtm_analysis *a, const judge_ctx *jc, size_t i) {
  * boundary nodes of its patch on boundaries that do not touch, through its
  * material (a layer one or two elements across shows both of its faces
  * there), +inf when none; *dim, *tag get one of the two boundaries. */
-static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *dim, int *tag) {
+static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *dim, int *tag, int *odim, int *otag) {
   const dtm_geo *g = a->geo;
   patch p;
   if (jc->near && !near_boundary(a, jc, i)) return INFINITY; /* its patch has no boundary node */
@@ -487,7 +489,8 @@ static double across(const dtm_analysis *a, const judge_ctx *jc, size_t i, int *
       const double *x = a->mesh->xyz + 3 * p.v[j], *y = a->mesh->xyz + 3 * p.v[k];
       double t = sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) + (x[2] - y[2]) * (x[2] - y[2]));
       if (t < best && through_material(a, &p, p.v[j], p.v[k]))
-        best = t, *dim = g->node_dim[p.v[j]], *tag = g->node_tag[p.v[j]];
+        best = t, *dim = g->node_dim[p.v[j]], *tag = g->node_tag[p.v[j]], *odim = g->node_dim[p.v[k]],
+        *otag = g->node_tag[p.v[k]];
     }
   return best;
 }
@@ -515,13 +518,13 @@ static int layer_reach(const dtm_analysis *a, const judge_ctx *jc, size_t i, dou
  * step there. */
 static int layer_limited(const dtm_analysis *a, const judge_ctx *jc, size_t i, double target, feature *f, double *reach,
                          int *limited) {
-  int dim = -1, tag = -1;
+  int dim = -1, tag = -1, odim = -1, otag = -1;
   *limited = 0;
-  double t = across(a, jc, i, &dim, &tag);
+  double t = across(a, jc, i, &dim, &tag, &odim, &otag);
   if (!isfinite(t)) return DTM_OK;
   DTM_CHECK(layer_reach(a, jc, i, t, reach));
   if (!(*reach < target)) return DTM_OK;
-  *f = (feature){DTM_FEATURE_THIN, NAN, NAN, dim, tag, t};
+  *f = (feature){DTM_FEATURE_THIN, NAN, NAN, dim, tag, t, odim, otag};
   *limited = 1;
   return DTM_OK;
 }
@@ -541,7 +544,7 @@ static void find_feature(const dtm_analysis *a, const judge_ctx *jc, size_t i, d
  * thickness is judged first, by the best element that fits across it;
  * then the features of the element's own shape and size. */
 static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F, int *limited, dtm_shape_limited *s) {
-  feature f = {0, NAN, NAN, -1, -1, INFINITY};
+  feature f = {0, NAN, NAN, -1, -1, INFINITY, -1, -1};
   double q = 1.0, rq = 1.0, p = exponent_of(a, i), reach = NAN;
   int b;
   size_t l;
@@ -551,7 +554,7 @@ static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F,
   DTM_CHECK(quality(a, i, &q, &rq));
   DTM_CHECK(layer_limited(a, jc, i, F * a->scene->safety * a->local[i], &f, &reach, limited));
   if (*limited) {
-    *s = (dtm_shape_limited){i, f.kind, NAN, f.dim, f.tag, f.size, q, reach, 0, NAN};
+    *s = (dtm_shape_limited){i, f.kind, NAN, f.dim, f.tag, f.size, q, reach, 0, NAN, f.odim, f.otag, -1};
     remedy(a, i, &f, rq / jc->q_typ, F, s);
     return DTM_OK;
   }
@@ -564,8 +567,19 @@ static int judge(const dtm_analysis *a, const judge_ctx *jc, size_t i, double F,
   if (f.kind == DTM_FEATURE_THIN) grow *= fmax(1.0, 1.0 / qr); /* across a gap the shape can improve */
   if (!(grow < F)) return DTM_OK;
   *limited = 1;
-  *s = (dtm_shape_limited){
-      i, f.kind, angle ? f.angle : NAN, f.dim, f.tag, f.size, q, a->scene->safety * a->local[i] * grow, 0, NAN};
+  *s = (dtm_shape_limited){i,
+                           f.kind,
+                           angle ? f.angle : NAN,
+                           f.dim,
+                           f.tag,
+                           f.size,
+                           q,
+                           a->scene->safety * a->local[i] * grow,
+                           0,
+                           NAN,
+                           f.odim,
+                           f.otag,
+                           -1};
   remedy(a, i, &f, qr, F, s);
   return DTM_OK;
 }
@@ -651,13 +665,14 @@ static int classify_minimum(dtm_analysis *a) {
   if (r == DTM_OK && n) r = build_incidence_of(a, &jc.inc, only);
   if (r == DTM_OK && n) r = typical_quality(a, &jc.q_typ);
   for (int j = 0; j < n && r == DTM_OK; j++) {
-    int dim = -1, tag = -1, b;
+    int dim = -1, tag = -1, odim = -1, otag = -1, b;
     size_t l;
     dtm_analysis_locate(a, c[j], &b, &l);
-    double t = a->mesh->blocks[b].dim < a->mesh->dim ? INFINITY : across(a, &jc, c[j], &dim, &tag), reach = NAN;
+    double t = a->mesh->blocks[b].dim < a->mesh->dim ? INFINITY : across(a, &jc, c[j], &dim, &tag, &odim, &otag),
+           reach = NAN;
     if (isfinite(t)) r = layer_reach(a, &jc, c[j], t, &reach);
     if (isfinite(t) && r == DTM_OK)
-      found[k++] = (dtm_shape_limited){c[j], DTM_FEATURE_THIN, NAN, dim, tag, t, NAN, reach, 0, NAN};
+      found[k++] = (dtm_shape_limited){c[j], DTM_FEATURE_THIN, NAN, dim, tag, t, NAN, reach, 0, NAN, odim, otag, -1};
   }
   free(only), free(jc.inc.start), free(jc.inc.list);
   return r == DTM_OK ? dtm_layers_gather_from(a, found, (size_t)k, 1) : r;

@@ -155,15 +155,17 @@ int dtm_analysis_classify_whole(const dtm_analysis *part, dtm_mesh **whole, dtm_
   return part->x->reduce(part->x->ctx, r, NULL, 0, DTM_X_MAX);
 }
 
-#define SHARED 10 /* per shape-limited element: tag, then its fields after the element */
+#define SHARED 13 /* per shape-limited element: tag, then its fields after the element */
 
 static void pack_one(const dtm_analysis *w, const dtm_shape_limited *e, double *r) {
   r[0] = (double)dtm_analysis_tag(w, e->element), r[1] = e->feature, r[2] = e->angle, r[3] = e->entity_dim;
   r[4] = e->entity_tag, r[5] = e->size, r[6] = e->quality, r[7] = e->reach, r[8] = e->remedy, r[9] = e->split;
+  r[10] = e->other_dim, r[11] = e->other_tag, r[12] = e->layer;
 }
 
 static dtm_shape_limited unpack_one(size_t i, const double *r) {
-  return (dtm_shape_limited){i, (int)r[1], r[2], (int)r[3], (int)r[4], r[5], r[6], r[7], (int)r[8], r[9]};
+  return (dtm_shape_limited){i,    (int)r[1], r[2], (int)r[3],  (int)r[4],  r[5],      r[6],
+                             r[7], (int)r[8], r[9], (int)r[10], (int)r[11], (int)r[12]};
 }
 
 /* Part 0: the whole mesh's shape-limited elements, SHARED values each. */

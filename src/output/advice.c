@@ -151,6 +151,45 @@ const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, 
   return buf;
 }
 
+const char *dtm_layer_faces_text(const dtm_layer *l, char *buf, size_t len) {
+  if (l->faces[0][0] == l->faces[1][0])
+    snprintf(buf, len, "between model %ss %d and %d", entity_name(l->faces[0][0]), l->faces[0][1], l->faces[1][1]);
+  else
+    snprintf(buf, len, "between model %s %d and model %s %d", entity_name(l->faces[0][0]), l->faces[0][1],
+             entity_name(l->faces[1][0]), l->faces[1][1]);
+  return buf;
+}
+
+/* The mass added at the nodes of layer k's elements, each node once (the
+ * nodal form), else the mass of its elements (element by element). */
+double dtm_layer_added_mass(const dtm_results *r, size_t k) {
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  const dtm_mesh *m = dtm_analysis_mesh(r->analysis);
+  size_t n;
+  const dtm_shape_limited *sl = dtm_analysis_shape_limited(r->analysis, &n);
+  double sum = 0;
+  if (!ms || !ms->added) return NAN;
+  unsigned char *seen = ms->node_added ? calloc(m->nnodes + 1, 1) : NULL;
+  if (ms->node_added && !seen) return NAN;
+  for (size_t j = 0; j < n; j++) {
+    int b;
+    size_t e;
+    if (sl[j].layer != (int)k) continue;
+    if (!seen) {
+      sum += ms->added[sl[j].element];
+      continue;
+    }
+    dtm_analysis_locate(r->analysis, sl[j].element, &b, &e);
+    const dtm_block *blk = &m->blocks[b];
+    for (int q = 0; q < blk->nn; q++) {
+      size_t v = blk->conn[e * blk->nn + q];
+      if (!seen[v]) seen[v] = 1, sum += ms->node_added[v];
+    }
+  }
+  free(seen);
+  return sum;
+}
+
 const char *dtm_remedy_text(const dtm_results *r, const dtm_shape_limited *s, char *buf, size_t len) {
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
   if (s->remedy == DTM_REMEDY_SPLIT)

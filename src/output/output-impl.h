@@ -75,6 +75,11 @@ const char *dtm_feature_text(const dtm_analysis *a, const dtm_shape_limited *s, 
 const char *dtm_remedy_text(const dtm_results *r, const dtm_shape_limited *s, char *buf, size_t len);
 const char *dtm_feature_name(int kind);
 const char *dtm_remedy_name(int remedy);
+/* Layer k of dtm_analysis_layers: "between model surfaces 3 and 8"; the
+ * mass its thickness-limited elements need at their nodes (the cost's
+ * layer_mass at the layer's nodes, each once; NAN without it). */
+const char *dtm_layer_faces_text(const dtm_layer *l, char *buf, size_t len);
+double dtm_layer_added_mass(const dtm_results *r, size_t k);
 
 /* The damping factor of one wave effect on one material: at the undamped
  * top frequency where the effect's basis sits, and its range over the

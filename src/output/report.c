@@ -272,21 +272,25 @@ cJSON *dtm_report_shape(const dtm_results *r) {
   return arr;
 }
 
-/* The remedies of layer l (mass from the cost's layer_mass, per group). */
-static cJSON *layer_remedies(const dtm_results *r, const dtm_layer *l) {
+/* The remedies of layer k (the mass its elements need: the cost's
+ * layer_mass over them). */
+static cJSON *layer_remedies(const dtm_results *r, size_t k, const dtm_layer *l) {
   cJSON *o = cJSON_CreateObject();
   const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
   int slot = l->group >= 0 ? l->group : (ms ? ms->ngroups - 1 : 0);
-  if (ms && ms->group_mass[slot] > 0) {
-    cJSON_AddNumberToObject(o, "mass_added", ms->group_added[slot]);
-    cJSON_AddNumberToObject(o, "mass_percent", 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
+  double added = dtm_layer_added_mass(r, k);
+  if (ms && ms->group_mass[slot] > 0 && isfinite(added)) {
+    cJSON_AddNumberToObject(o, "mass_added", added);
+    cJSON_AddNumberToObject(o, "mass_percent", 100.0 * added / ms->group_mass[slot]);
   }
   if (r->cost) cJSON_AddNumberToObject(o, "subcycling_speedup", r->cost->subcycling.speedup);
-  if (isfinite(l->shell_step)) cJSON_AddNumberToObject(o, "shell_rule_step", l->shell_step);
+  if (isfinite(l->shell_step)) {
+    cJSON_AddNumberToObject(o, "shell_rule_step", l->shell_step);
+    cJSON_AddNumberToObject(o, "shell_thickness", l->thickness);
+  }
   return o;
 }
 
-/* The groups whose layer's thickness caps elements below the target. */
 cJSON *dtm_report_layers(const dtm_results *r) {
   size_t n;
   const dtm_layer *ly = dtm_analysis_layers(r->analysis, &n);
@@ -298,11 +302,17 @@ cJSON *dtm_report_layers(const dtm_results *r) {
                             dtm_mesh_group_label(dtm_analysis_mesh(r->analysis), ly[k].group, lbl, sizeof lbl));
     cJSON_AddNumberToObject(o, "elements", (double)ly[k].elements);
     cJSON_AddNumberToObject(o, "thickness", ly[k].thickness);
+    cJSON *fc = cJSON_CreateArray();
+    for (int q = 0; q < 2; q++) {
+      int pair[2] = {ly[k].faces[q][0], ly[k].faces[q][1]};
+      cJSON_AddItemToArray(fc, cJSON_CreateIntArray(pair, 2));
+    }
+    cJSON_AddItemToObject(o, "boundaries", fc);
     cJSON_AddNumberToObject(o, "reach", ly[k].reach);
     cJSON_AddNumberToObject(o, "element", (double)dtm_analysis_tag(r->analysis, ly[k].worst));
     cJSON_AddNumberToObject(o, "size", ly[k].size);
     cJSON_AddBoolToObject(o, "at_minimum", ly[k].at_minimum);
-    cJSON_AddItemToObject(o, "remedies", ly[k].at_minimum ? cJSON_CreateObject() : layer_remedies(r, &ly[k]));
+    cJSON_AddItemToObject(o, "remedies", ly[k].at_minimum ? cJSON_CreateObject() : layer_remedies(r, k, &ly[k]));
     cJSON_AddItemToArray(arr, o);
   }
   return arr;

@@ -247,6 +247,13 @@ static void print_accuracy(const dtm_analysis *a, FILE *f) {
   if (ac.conflicts) print_conflict(a, &ac, f);
 }
 
+/* What "below the target" counts, said where a count is printed: an
+ * element's own safe step (dtm_analysis_local_step x safety) below the
+ * advice target (dtm_analysis_below_target, refine's "below" column and the
+ * histogram's bins under 1 count the same elements). */
+#define BELOW_DEFINITION                                                                                               \
+  "own safe step below the target: safety x the larger of its element step and the smallest nodal bound at its nodes"
+
 static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
   const dtm_subcycling *sc = &c->subcycling;
   double rec = dtm_analysis_recommended(a);
@@ -257,12 +264,18 @@ static void print_cost(const dtm_analysis *a, const dtm_cost *c, FILE *f) {
     fprintf(f, "cost         %.4g s needs %.0f steps of %.4e s: %.4g element-steps (%.4g with subcycling)\n",
             c->duration, ceil(c->duration / rec), rec, c->element_steps, c->element_steps_subcycled);
   const dtm_mass_scaling *ms = c->mass;
-  if (ms)
+  if (ms && ms->nodal)
     fprintf(f,
-            "mass scaling to reach the target%s: +%.3g%% mass (%.4g %s of %.4g %s) on %zu element(s) (view 'added "
+            "mass scaling to reach the target at the nodes: +%.3g%% mass (%.4g %s of %.4g %s); %zu element(s) have a "
+            "node that receives mass, the %zu below the target among them (view 'added mass')\n",
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, dtm_output_unit(a, DTM_UNIT_MASS),
+            ms->total_mass, dtm_output_unit(a, DTM_UNIT_MASS), ms->scaled, dtm_analysis_below_target(a));
+  else if (ms)
+    fprintf(f,
+            "mass scaling to reach the target: +%.3g%% mass (%.4g %s of %.4g %s) on %zu element(s) (view 'added "
             "mass')\n",
-            ms->nodal ? " at the nodes" : "", 100.0 * ms->total_added / ms->total_mass, ms->total_added,
-            dtm_output_unit(a, DTM_UNIT_MASS), ms->total_mass, dtm_output_unit(a, DTM_UNIT_MASS), ms->scaled);
+            100.0 * ms->total_added / ms->total_mass, ms->total_added, dtm_output_unit(a, DTM_UNIT_MASS),
+            ms->total_mass, dtm_output_unit(a, DTM_UNIT_MASS), ms->scaled);
 }
 
 #define SHAPE_LISTED 20 /* shape-limited elements printed */
@@ -272,14 +285,17 @@ static void print_shape(const dtm_results *r, FILE *f) {
   size_t n, below = dtm_analysis_below_target(a);
   const dtm_shape_limited *sl = dtm_analysis_shape_limited(a, &n);
   if (!below) return;
-  fprintf(f, "below target %zu element(s); %zu of them shape-limited (no larger size lifts their step)%s\n", below, n,
-          n ? " (view 'shape limited'):" : "");
+  fprintf(f,
+          "below target %zu element(s) (" BELOW_DEFINITION
+          "; view 'below target [s]'); %zu of them shape-limited (no larger size lifts "
+          "their step)%s\n",
+          below, n, n ? " (view 'shape limited'):" : "");
   for (size_t j = 0; j < n && j < SHAPE_LISTED; j++) {
     char ft[200], rt[200];
     fprintf(f, "  ");
     print_where(a, sl[j].element, f);
-    fprintf(f, ":\n    %s; reaches %.4e s at most; remedy: %s\n", dtm_feature_text(a, &sl[j], ft, sizeof ft),
-            sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
+    fprintf(f, ":\n    %s; a fresh mesh reaches about %.4e s there (an estimate); remedy: %s\n",
+            dtm_feature_text(a, &sl[j], ft, sizeof ft), sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
   }
   if (n > SHAPE_LISTED) fprintf(f, "  ... and %zu more (the report lists them)\n", n - SHAPE_LISTED);
   const dtm_mass_scaling *ms = r->cost ? r->cost->shape_mass : NULL;
@@ -288,52 +304,65 @@ static void print_shape(const dtm_results *r, FILE *f) {
             dtm_output_unit(a, DTM_UNIT_MASS), 100.0 * ms->total_added / ms->total_mass);
 }
 
-/* Per group whose layer's thickness caps elements below the target: the
- * thickness, how many, the best step any mesh of it reaches, and the
- * remedies with their costs. */
+#define LAYERS_LISTED 4 /* layers printed (the report lists all) */
+
+/* The remedies of layer k: the mass its elements need, and the layer as
+ * its mid-surface (mid-line in 2D) at its own thickness. */
+static void print_layer_remedies(const dtm_results *r, size_t k, const dtm_layer *l, FILE *f) {
+  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
+  int g = l->group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
+  double added = dtm_layer_added_mass(r, k);
+  if (ms && ms->group_mass[slot] > 0 && isfinite(added))
+    fprintf(f, "               remedy: mass scaling at their nodes, +%.4g %s (+%.3g%% of the group's mass)\n", added,
+            dtm_output_unit(r->analysis, DTM_UNIT_MASS), 100.0 * added / ms->group_mass[slot]);
+  if (isfinite(l->shell_step) && dtm_analysis_mesh(r->analysis)->dim == 3)
+    fprintf(f,
+            "               remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
+            "about %.4e s by LS-DYNA's rule at its present size %.3g %s\n",
+            l->thickness, l->shell_step, l->size, dtm_output_unit(r->analysis, DTM_UNIT_LENGTH));
+  else if (isfinite(l->shell_step))
+    fprintf(f,
+            "               remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
+            "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
+            "present size %.3g %s\n",
+            l->thickness, l->shell_step, l->size, dtm_output_unit(r->analysis, DTM_UNIT_LENGTH));
+}
+
+/* Each layer whose thickness caps elements below the target (smallest
+ * reach first, at most LAYERS_LISTED): its own thickness, how many, the
+ * best step any mesh of it reaches, and its remedies with their costs;
+ * subcycling once for all. */
 static void print_layers(const dtm_results *r, FILE *f) {
   const dtm_analysis *a = r->analysis;
   size_t n;
   const dtm_layer *ly = dtm_analysis_layers(a, &n);
-  const dtm_mass_scaling *ms = r->cost ? r->cost->layer_mass : NULL;
-  int dim = dtm_analysis_mesh(a)->dim;
-  const char *L = dtm_output_unit(a, DTM_UNIT_LENGTH), *M = dtm_output_unit(a, DTM_UNIT_MASS);
-  for (size_t k = 0; k < n; k++) {
-    char lbl[64];
-    int g = ly[k].group, slot = g >= 0 ? g : (ms ? ms->ngroups - 1 : 0);
-    if (ly[k].at_minimum)
-      fprintf(
-          f,
-          "thickness    the smallest steps lie where '%s' is %.4g %s thin, between two boundaries that do not touch "
-          "(%zu of the elements within 10%% of the smallest step): a fresh mesh reaches about %.4e s there at "
-          "most\n",
-          dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].thickness, L, ly[k].elements,
-          ly[k].reach);
-    else
+  const char *L = dtm_output_unit(a, DTM_UNIT_LENGTH);
+  if (n && !ly[0].at_minimum)
+    fprintf(f,
+            "thickness    %zu layer(s) cap elements below the target at their own thickness (view 'thickness "
+            "limited'); no mesh of them reaches the target:\n",
+            n);
+  for (size_t k = 0; k < n && k < LAYERS_LISTED; k++) {
+    char lbl[64], fc[96];
+    const char *gl = dtm_mesh_group_label(dtm_analysis_mesh(a), ly[k].group, lbl, sizeof lbl);
+    dtm_layer_faces_text(&ly[k], fc, sizeof fc);
+    if (ly[k].at_minimum) {
+      double rec = dtm_analysis_recommended(a);
       fprintf(f,
-              "thickness    '%s': %zu element(s) limited by the layer's thickness, %.4g %s (view 'thickness limited'): "
-              "no mesh of it reaches the target; the best step there is %.4e s\n",
-              dtm_mesh_group_label(dtm_analysis_mesh(a), g, lbl, sizeof lbl), ly[k].elements, ly[k].thickness, L,
-              ly[k].reach);
-    if (ly[k].at_minimum) continue; /* no target: nothing to remedy */
-    if (ms && ms->group_mass[slot] > 0)
-      fprintf(f, "             remedy: mass scaling at their nodes, +%.4g %s (+%.3g%% of the group's mass)\n",
-              ms->group_added[slot], M, 100.0 * ms->group_added[slot] / ms->group_mass[slot]);
-    if (r->cost && r->cost->subcycling.speedup > 1)
-      fprintf(f, "             remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
-              r->cost->subcycling.speedup);
-    if (isfinite(ly[k].shell_step) && dim == 3)
-      fprintf(f,
-              "             remedy: model the layer as its mid-surface, <section kind=\"shell\" thickness=\"%.3g\"/>: "
-              "about %.4e s by LS-DYNA's rule at its present size %.3g %s\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size, L);
-    else if (isfinite(ly[k].shell_step))
-      fprintf(f,
-              "             remedy: model the layer as its mid-line, <section kind=\"beam\" width=\"1\" "
-              "height=\"%.3g\"/> (per unit thickness, as the plane elements): about %.4e s by LS-DYNA's rule at its "
-              "present size %.3g %s\n",
-              ly[k].thickness, ly[k].shell_step, ly[k].size, L);
+              "thickness    the smallest steps lie where '%s' is %.4g %s thin, %s (%zu of the elements within 10%% of "
+              "the smallest step): a fresh mesh of that thickness reaches about %.4e s there (an estimate%s)\n",
+              gl, ly[k].thickness, L, fc, ly[k].elements, ly[k].reach,
+              ly[k].reach < rec ? ", which this mesh's recommended step already beats: not a bound" : "");
+      continue; /* no target: nothing to remedy */
+    }
+    fprintf(f, "  layer %zu   '%s' %s: %zu element(s), %.4g %s thick; the best step there is %.4e s\n", k + 1, gl, fc,
+            ly[k].elements, ly[k].thickness, L, ly[k].reach);
+    print_layer_remedies(r, k, &ly[k], f);
   }
+  if (n > LAYERS_LISTED) fprintf(f, "  ... and %zu more layer(s) (the report lists them)\n", n - LAYERS_LISTED);
+  if (n && !ly[0].at_minimum && r->cost && r->cost->subcycling.speedup > 1)
+    fprintf(f, "  remedy: subcycling, the rest of the mesh on larger steps (ideal speed-up %.2fx)\n",
+            r->cost->subcycling.speedup);
 }
 
 void dtm_summary_advice(const dtm_results *r, FILE *f) {
@@ -384,30 +413,55 @@ static void print_warnings(const dtm_results *r, int shown, FILE *f) {
 
 #define HIST_BINS 16 /* octaves shown at most; the last takes every larger step */
 
-/* The histogram of the element steps in octaves of a reference step: the
- * target when there is one, else the recommended step, so that its bins
- * read as "how many times the step the run takes" (an element in [2, 4)
- * could step at twice the reference). Bins run from the smallest element's
- * octave up; the last gathers what lies above. */
-static void print_histogram(const dtm_analysis *a, FILE *f) {
+/* The quantity the histogram bins and its reference: with a target, each
+ * element's own safe step (safety x local step) over the advice target, so
+ * that its bins under 1 hold exactly the elements below the target; else
+ * each element's step (the dt map) over the recommended step, so that its
+ * bins read as "how many times the step the run takes". */
+static double hist_value(const dtm_analysis *a, size_t i, int aimed) {
+  return aimed ? dtm_analysis_scene(a)->safety * dtm_analysis_local_step(a)[i] : dtm_analysis_dt(a)[i];
+}
+
+static void print_hist_title(const dtm_analysis *a, int aimed, double ref, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
-  const double *dt = dtm_analysis_dt(a);
+  if (!aimed) {
+    fprintf(f, "\ndt in multiples of the recommended step %.4e s (each element's step / it):\n", ref);
+    return;
+  }
+  fprintf(f,
+          "\ndt in multiples of the target %.4e s (each element's own safe step / it: safety x the larger of its "
+          "element step and the smallest nodal bound at its nodes; below 1: the %zu element(s) below the target)",
+          ref, dtm_analysis_below_target(a));
+  if (fabs(ref / s->target - 1) > 1e-12) fprintf(f, " (the scene's %.4e s carried to the nodal bound)", s->target);
+  fputs(":\n", f);
+}
+
+/* The histogram in octaves of a reference step (hist_value). Bins run
+ * from the smallest element's octave up; the last gathers what lies
+ * above. */
+static void print_histogram(const dtm_analysis *a, FILE *f) {
   size_t nel = dtm_analysis_nelements(a);
-  double ref = s->target > 0 ? s->target : dtm_analysis_recommended(a);
+  int aimed = dtm_analysis_advice_target(a) > 0;
+  double ref = aimed ? dtm_analysis_advice_target(a) : dtm_analysis_recommended(a), small = INFINITY;
   if (!(ref > 0) || !isfinite(ref)) return;
-  int lo = (int)floor(log2(dtm_analysis_dt_min(a, NULL) / ref)), hi = lo;
-  for (size_t i = 0; i < nel; i++)
-    if (isfinite(dt[i]) && (int)floor(log2(dt[i] / ref)) > hi) hi = (int)floor(log2(dt[i] / ref));
+  for (size_t i = 0; i < nel; i++) small = fmin(small, hist_value(a, i, aimed));
+  if (!isfinite(small)) return;
+  int lo = (int)floor(log2(small / ref)), hi = lo;
+  for (size_t i = 0; i < nel; i++) {
+    double v = hist_value(a, i, aimed);
+    if (isfinite(v) && (int)floor(log2(v / ref)) > hi) hi = (int)floor(log2(v / ref));
+  }
   int last = hi - lo < HIST_BINS ? hi - lo : HIST_BINS - 1;
   size_t count[HIST_BINS] = {0}, most = 1;
   for (size_t i = 0; i < nel; i++) {
-    if (!isfinite(dt[i])) continue; /* no effect limits this element */
-    int d = (int)floor(log2(dt[i] / ref)) - lo;
+    double v = hist_value(a, i, aimed);
+    if (!isfinite(v)) continue; /* no effect limits this element */
+    int d = (int)floor(log2(v / ref)) - lo;
+    if (aimed && v < ref && lo + d >= 0) d = -1 - lo; /* below the target by a rounding: the bin under 1 */
     count[d < 0 ? 0 : d > last ? last : d]++;
   }
   for (int d = 0; d <= last; d++) most = count[d] > most ? count[d] : most;
-  fprintf(f, "\ndt in multiples of the %s %.4e s (each element's step / it):\n",
-          s->target > 0 ? "target" : "recommended step", ref);
+  print_hist_title(a, aimed, ref, f);
   for (int d = 0; d <= last; d++) {
     int bar = (int)(40.0 * (double)count[d] / (double)most + 0.5);
     char bin[64];

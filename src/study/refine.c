@@ -38,7 +38,9 @@
  * spread of a fresh mesh, at least the input's median size scaled by its
  * shortfall); the scaled one climbs to coarser factors while it falls
  * short (3 remeshes at most) and stops when coarser does not raise the
- * step, the uniform one tries a list of sizes (uniform_factors, 5 at most);
+ * step, the uniform one tries a list of sizes (uniform_factors, 5 at most)
+ * and then, while its largest size falls short on refine's basis, coarser
+ * by the shortfall (2 more at most, until coarser does not raise the step);
  * the scene's accuracy bounds clamp every size. Then the field floored at
  * the best uniform size (Mesh.MeshSizeMin), the field without its caps at
  * short curves, and, after a Gmsh refusal, the uniform size with Gmsh's
@@ -658,7 +660,44 @@ static const double uniform_factors[] = {1.25, 1.5, 2.0, 3.0, 4.0, 6.0};
 #define UNIFORM_BELOW 1.6 /* the first size tried may lie this far below the estimate */
 #define UNIFORM_REFUSED 2 /* refusals in a row that end the strategy */
 
-/* The uniform strategy (see uniform_factors). */
+#define UNIFORM_MORE 2 /* coarser sizes past the list at most, while the largest falls short */
+
+/* The uniform round of the largest size (-1: none). */
+static int largest_uniform(const dtm_refine_result *rr) {
+  int b = -1;
+  for (int i = 1; i < rr->nrounds; i++)
+    if (rr->rounds[i].strategy && !strcmp(rr->rounds[i].strategy, "uniform") &&
+        (b < 0 || rr->rounds[i].uniform > rr->rounds[b].uniform))
+      b = i;
+  return b;
+}
+
+/* Past the list: while the largest uniform size tried falls short on the
+ * basis refine judges by (the recommended step of its round: the global
+ * estimate with --posterior) and has the largest step of the uniform
+ * rounds, coarser by that shortfall and the margin (as the ladder does),
+ * until a coarser size does not raise the step. A mesh
+ * the list stopped just short of (a fresh mesh's worst element scatters by
+ * a few per cent from one size to the next) is then found before a layer
+ * or a shape is named as the cause. */
+static int uniform_coarser(dtm_refine_result *rr, loop_state *st, int dim, double *size) {
+  int r = DTM_OK;
+  for (int t = 0; t < UNIFORM_MORE && r == DTM_OK && room(rr) && !met(rr, rr->best); t++) {
+    int u = largest_uniform(rr), refused = 0;
+    if (u < 0 || u != dtm_refine_best_of(rr, "uniform")) break; /* a coarser size already did not help */
+    double step = rr->rounds[u].recommended;
+    int before = rr->nrounds;
+    double grow = pow(rr->target / step * MIN_MARGIN, 1.0 / basis_exponent(st->input));
+    r = one_size(rr, st, dim, "uniform", rr->rounds[u].uniform * fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, grow)), 0,
+                 size, &refused);
+    if (r == SAME_FIELD) return DTM_OK; /* the accuracy bounds clamp it: nothing coarser to try */
+    if (r || refused || rr->nrounds == before) break;
+    if (!(rr->rounds[rr->nrounds - 1].recommended > LADDER_FLAT * step)) break; /* coarser did not help */
+  }
+  return r;
+}
+
+/* The uniform strategy (see uniform_factors, then uniform_coarser). */
 static int uniform_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
   double h, med;
   DTM_CHECK(uniform_size(rr, st, &h, &med));
@@ -676,6 +715,7 @@ static int uniform_strategy(dtm_refine_result *rr, loop_state *st, int dim) {
     tries++, refused_run = refused ? refused_run + 1 : 0;
     if (refused_run >= UNIFORM_REFUSED) break;
   }
+  if (r == DTM_OK && refused_run < UNIFORM_REFUSED) r = uniform_coarser(rr, st, dim, size);
   free(size);
   return r;
 }
