@@ -14,7 +14,6 @@ packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh l
                                          # fixed font without spaces)
           python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
           libsuitesparse-dev  # CHOLMOD: the factorisation that proves the global bound (src/spectral/certify.c)
-          libopenblas0-openmp  # the BLAS under CHOLMOD: 3x Debian's reference BLAS on one core (docs/certificate.md)
           calculix-ccx  # ccx 2.20 runs the decks of dtmap deck (tests/t371)
           gmsh-doc  # Gmsh's tutorials and demos: tests/t318 reruns bench/surface_models.py on one
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)

@@ -62,7 +62,13 @@ class Schema(tu.unittest.TestCase):
         assert code == 0, out
         cls.verify = tu.report("plate_verify.json")
         box = os.path.join(tu.SRC, "geometries", "box.xml")
-        code, out = tu.run("run", box, "-q", "--posterior", "-o", "box_dt.msh", "--report", "box.json")
+        # a budget of one flop makes the factorisation too dear (src/analysis/global.c), so that the
+        # box's step rests on the probable bound, whose fields are checked below
+        os.environ["DTMAP_BENCH_CERT_BUDGET"] = "1"
+        try:
+            code, out = tu.run("run", box, "-q", "--posterior", "-o", "box_dt.msh", "--report", "box.json")
+        finally:
+            del os.environ["DTMAP_BENCH_CERT_BUDGET"]
         assert code == 0, out
         cls.box = tu.report("box.json")
 

@@ -30,6 +30,7 @@ EXAMPLES = "/usr/share/doc/gmsh-doc/doc/gmsh"
 # (document, the header's start): why the table carries no measured figure
 NOT_MEASURED = {
     ("accuracy.md", "| effect | measure | band | where |"): "the measures' definitions",
+    ("accuracy.md", "| solver | its step with dtmap's deck |"): "what each solver's line is made of",
     ("curved.md", "| value | what is integrated | source |"): "the choices of <elastic integration>",
     ("effects.md", "| field | meaning |"): "the effect API's fields",
     ("effects.md", "| function | when |"): "the effect API's functions",

@@ -59,7 +59,8 @@ TUPLE = re.compile(r"\(((?:\s*%s\s*,)+\s*%s\s*)\) %s(?![\w^/])" % (NUM, NUM, UNI
 # (checked apart), how the mesh was made (Gmsh in one system, read in the
 # other), and Gmsh tags, which ties between equal values may swap.
 SKIP_FIELDS = ("scene", "timings", "seconds", "units", "import", "file", "algorithm", "threads", "reproducible",
-               "node", "nodal_node", "element", "worst_element", "physical_element", "own_element", "binding_element")
+               "node", "nodal_node", "element", "worst_element", "physical_element", "own_element", "binding_element",
+               "worst_alone_element")
 SKIP = ("dtmap 0.", "wrote ", "units        ", "import       ", "real", "user", "sys")
 
 
@@ -88,6 +89,10 @@ def summary_lines(log):
     unit; refine's rounds without their time column."""
     lines, length_unit = [], None
     for line in log.splitlines():
+        if "<section " in line:  # a proposed section's attributes are lengths in the scene's unit, the line's own
+            unit = re.findall(r"\d (mm|m)\b", line)
+            if unit:
+                line = re.sub(r'(thickness|width|height)="(%s)"' % NUM, r'\1="\2 %s"' % unit[-1], line)
         if not line.strip() or line.startswith(SKIP):
             length_unit = None if not line.strip() else length_unit
             continue

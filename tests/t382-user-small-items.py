@@ -178,7 +178,7 @@ Physical Volume("block") = {3};
         self.assertEqual(code, 0, log)
         w = [x for x in tu.report("sliver_dt.json")["warnings"] if "caps the step" in x]
         self.assertEqual(len(w), 1, log)
-        self.assertRegex(w[0], r"^element \d+ \(tet4\) in group 'block' at \(.*\) caps the step: ")
+        self.assertRegex(w[0], r"^element \d+ \(tet4\) in group 'block' at \(.*\) m caps the step: ")
         ratio = float(re.search(r"s, ([0-9.e+]+)x below the 1 % quantile", w[0]).group(1))
         self.assertGreater(ratio, 100)  # the sliver's tets are micrometres thick, the bulk's millimetres
         self.assertIn("in model volume 3", w[0])

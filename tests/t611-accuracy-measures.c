@@ -118,7 +118,7 @@ static void hours(void **state) {
   s.cost_per_element_step = 0;
   assert_int_equal(dtm_cost_create(a, &c), DTM_OK);
   assert_true(c->per_element_step > 0 && isfinite(c->hours));
-  assert_non_null(strstr(c->per_element_step_source, "calibration"));
+  assert_non_null(strstr(c->per_element_step_source, "bench/ccx_cost.py")); /* the measured CalculiX table */
   dtm_cost_destroy(&c);
   dtm_analysis_destroy(&a);
 }

@@ -61,7 +61,7 @@
 #define CERT_FLOOR 1e10
 
 /* DTMAP_BENCH_CERT_BUDGET (flops) replaces it, for bench/certify_reach.py's
- * factorisations past the budget. */
+ * factorisations past the budget and for tests/t307 (a probable report). */
 static double cert_budget(const dtm_analysis *a) {
   const char *bench = getenv("DTMAP_BENCH_CERT_BUDGET");
   if (bench && *bench) return atof(bench);

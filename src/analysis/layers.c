@@ -87,9 +87,27 @@ static void geometric_thickness(dtm_analysis *a, dtm_layer *l, size_t thinnest) 
   l->thickness = g;
 }
 
+#define SAME_GAP 1e-9 /* thicknesses this close (relative) are one: rounding, not geometry */
+
+/* The order of two layers' pairs: the thinner first; at one thickness up
+ * to rounding, the pair of higher dimension (a layer lies between
+ * surfaces; nodes on their curves are on them too), then the smaller
+ * {dim, tag}. The last bits of the coordinates (which the unit system
+ * changes, tests/t381) never decide which pair names a layer. */
+static int pair_order(const dtm_layer *x, const dtm_layer *y) {
+  double tx = x->thickness, ty = y->thickness;
+  if (fabs(tx - ty) > SAME_GAP * fmax(tx, ty)) return tx < ty ? -1 : 1;
+  int dx = x->faces[0][0] + x->faces[1][0], dy = y->faces[0][0] + y->faces[1][0];
+  if (dx != dy) return dx > dy ? -1 : 1;
+  for (int k = 0; k < 4; k++)
+    if (x->faces[k / 2][k % 2] != y->faces[k / 2][k % 2])
+      return x->faces[k / 2][k % 2] < y->faces[k / 2][k % 2] ? -1 : 1;
+  return 0;
+}
+
 /* Layer into layer: its elements, thinnest pair and worst element. */
 static void absorb(const dtm_analysis *a, dtm_layer *into, const dtm_layer *from) {
-  if (from->thickness < into->thickness)
+  if (pair_order(from, into) < 0)
     for (int k = 0; k < 4; k++) into->faces[k / 2][k % 2] = from->faces[k / 2][k % 2];
   if (a->local[from->worst] < a->local[into->worst]) into->worst = from->worst;
   into->elements += from->elements;
@@ -101,14 +119,14 @@ static void absorb(const dtm_analysis *a, dtm_layer *into, const dtm_layer *from
 static size_t root(const size_t *up, size_t k) { return up[k]; /* one step: a layer's pairs point at its root */ }
 
 typedef struct {
-  double thickness;
+  const dtm_layer *l;
   size_t k;
 } thick_key;
 
 static int by_thickness(const void *p, const void *q) {
   const thick_key *x = p, *y = q;
-  if (x->thickness != y->thickness) return x->thickness < y->thickness ? -1 : 1;
-  return (x->k > y->k) - (x->k < y->k);
+  int c = pair_order(x->l, y->l);
+  return c ? c : (x->k > y->k) - (x->k < y->k);
 }
 
 /* Pairs of one group whose thicknesses lie within JOIN of the thinnest of
@@ -120,7 +138,7 @@ static int join_thickness(const dtm_analysis *a, size_t *up) {
   size_t L = a->nlayers;
   thick_key *o = malloc((L + 1) * sizeof *o);
   if (!o) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (size_t k = 0; k < L; k++) o[k] = (thick_key){a->layers[k].thickness, k};
+  for (size_t k = 0; k < L; k++) o[k] = (thick_key){&a->layers[k], k};
   qsort(o, L, sizeof *o, by_thickness);
   for (size_t j = 0; j < L; j++) {
     const dtm_layer *lk = &a->layers[o[j].k];

@@ -294,6 +294,22 @@ static void short_curves(const dtm_geo *g, const corners *c, double need, double
   }
 }
 
+#define THIN_TIE 1e-9 /* two gaps this close (relative) are one: rounding, not geometry */
+
+/* Whether the gap t between boundaries (dv, tv) and (dw, tw) replaces f's:
+ * a smaller one, or, at the same gap up to rounding, the pair of higher
+ * dimension (a layer is the pair of surfaces it lies between; a node on
+ * their curves is on them too), then the smaller tags. So the pair chosen
+ * does not hang on the last bit of the coordinates, which the unit system
+ * changes (tests/t381). */
+static int thin_better(double t, int dv, int tv, int dw, int tw, const feature *f) {
+  if (f->kind != DTM_FEATURE_THIN || t < f->size * (1 - THIN_TIE)) return t < f->size;
+  if (t > f->size * (1 + THIN_TIE)) return 0;
+  if (dv + dw != f->dim + f->odim) return dv + dw > f->dim + f->odim;
+  int lo = tv < tw ? tv : tw, flo = f->tag < f->otag ? f->tag : f->otag;
+  return lo != flo ? lo < flo : (tv > tw ? tv : tw) < (f->tag > f->otag ? f->tag : f->otag);
+}
+
 /* Two corners on boundaries that do not touch, closer than need. */
 static void thin_parts(const dtm_analysis *a, const corners *c, double need, feature *f) {
   const dtm_geo *g = a->geo;
@@ -304,7 +320,7 @@ static void thin_parts(const dtm_analysis *a, const corners *c, double need, fea
       double t = 0;
       for (int d = 0; d < 3; d++) t += (c->x[j][d] - c->x[k][d]) * (c->x[j][d] - c->x[k][d]);
       t = sqrt(t);
-      if (t < need && t < f->size)
+      if (t < need && thin_better(t, g->node_dim[v], g->node_tag[v], g->node_dim[w], g->node_tag[w], f))
         *f = (feature){DTM_FEATURE_THIN, NAN, NAN, g->node_dim[v], g->node_tag[v], t, g->node_dim[w], g->node_tag[w]};
     }
 }

@@ -15,6 +15,7 @@
 #include "base.h"
 #include "deck-impl.h"
 #include "dtmap/cost.h"
+#include "dtmap/units.h"
 #include "dtmap/util.h"
 #include "dtmap/version.h"
 
@@ -292,12 +293,24 @@ const char *deck_slot_name(const deck_ctx *c, const char *what, char *buf, size_
   return buf;
 }
 
+/* The deck's system of units, stated once: the scene's, in which the
+ * nodes, materials, sections and masses are written (docs/units.md). */
+static void deck_units_line(const deck_ctx *c, const char *cm) {
+  const char *u = dtm_scene_units(c->s);
+  int dim = dtm_analysis_mesh(c->a)->dim;
+  fprintf(c->f, "%s units: %s (lengths %s, masses %s, densities %s, moduli and stresses %s, time s)\n", cm,
+          dtm_units_mm(u) ? "mm-t-s" : "SI", dtm_units_name(u, DTM_UNIT_LENGTH), dtm_scene_mass_unit(c->s, dim),
+          dtm_units_name(u, DTM_UNIT_DENSITY), dtm_units_name(u, DTM_UNIT_MODULUS));
+}
+
 void deck_header(const deck_ctx *c, const char *cm) {
   const dtm_deck_info *in = c->info;
   FILE *f = c->f;
+  const char *M = dtm_scene_mass_unit(c->s, dtm_analysis_mesh(c->a)->dim);
   fprintf(f, "%s dtmap %s: %s input deck\n%s scene: %s\n", cm, dtm_version(), in->title, cm, c->s->path);
   fprintf(f, "%s %zu nodes, %zu elements, %d element sets and %d node sets (one per physical group)\n", cm, in->nodes,
           in->elements, in->element_sets, in->node_sets);
+  deck_units_line(c, cm);
   if (dtm_analysis_recommended_certified(c->a))
     fprintf(f,
             "%s step: %.10g s, %s (dtmap's recommended step %.10g s: the probable bound's certified step, below "
@@ -312,18 +325,18 @@ void deck_header(const deck_ctx *c, const char *cm) {
     fprintf(f, "%s %s's own estimate for this mesh: %.10g s (element %zu; %s): the step is %.4fx it\n", cm, in->title,
             in->own, in->own_element, in->own_rule, in->step / in->own);
   if (in->carried > 0)
-    fprintf(f, "%s point masses the mesh carries: %.10g kg at %zu nodes (mass elements below)\n", cm, in->carried,
+    fprintf(f, "%s point masses the mesh carries: %.10g %s at %zu nodes (mass elements below)\n", cm, in->carried, M,
             in->carried_nodes);
   if (in->added > 0)
-    fprintf(f, "%s added mass: %.10g kg at %zu nodes, %.4g %% of the model's %.10g kg (mass elements below)\n", cm,
-            in->added, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass);
+    fprintf(f, "%s added mass: %.10g %s at %zu nodes, %.4g %% of the model's %.10g %s (mass elements below)\n", cm,
+            in->added, M, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass, M);
   if (isfinite(in->tssfac) && isfinite(in->dt2ms))
     fprintf(f,
             "%s TSSFAC %.10g and DT2MS %.10g s: the step is TSSFAC x |DT2MS|; %s adds mass at its start to\n"
-            "%s each element whose own step is below |DT2MS|, bringing it to |DT2MS|: by its rule %.10g kg at\n"
-            "%s %zu elements, %.4g %% of the model's %.10g kg\n",
-            cm, in->tssfac, in->dt2ms, in->title, cm, in->solver_added, cm, in->solver_added_elements,
-            100 * in->solver_added / in->model_mass, in->model_mass);
+            "%s each element whose own step is below |DT2MS|, bringing it to |DT2MS|: by its rule %.10g %s at\n"
+            "%s %zu elements, %.4g %% of the model's %.10g %s\n",
+            cm, in->tssfac, in->dt2ms, in->title, cm, in->solver_added, M, cm, in->solver_added_elements,
+            100 * in->solver_added / in->model_mass, in->model_mass, M);
   else if (isfinite(in->tssfac))
     fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its first step is the deck's\n", cm,
             in->tssfac, in->title);
@@ -398,13 +411,14 @@ static int target_mass(const dtm_analysis *a, double dt_t, dtm_mass_scaling *ms)
 
 static int mass_check(const deck_ctx *c, const dtm_deck_opts *o) {
   const dtm_deck_info *in = c->info;
+  const char *M = dtm_scene_mass_unit(c->s, dtm_analysis_mesh(c->a)->dim);
   double added = in->added + in->solver_added, pc = 100 * added / in->model_mass;
   if (!(pc > o->max_added)) return DTM_OK;
   return DTM_ERR(DTM_ERR_TARGET,
-                 "%s: the target %.4e s needs %.6g kg added at %zu %s, %.4g %% of the model's %.6g kg: above "
+                 "%s: the target %.4e s needs %.6g %s added at %zu %s, %.4g %% of the model's %.6g %s: above "
                  "--max-added-mass %g %%; nothing written",
-                 c->s->path, o->target, added, in->added > 0 ? in->added_nodes : in->solver_added_elements,
-                 in->added > 0 ? "nodes" : "elements (LS-DYNA's DT2MS rule)", pc, in->model_mass, o->max_added);
+                 c->s->path, o->target, added, M, in->added > 0 ? in->added_nodes : in->solver_added_elements,
+                 in->added > 0 ? "nodes" : "elements (LS-DYNA's DT2MS rule)", pc, in->model_mass, M, o->max_added);
 }
 
 /* The step and its basis; the masses when the target needs them. */
