@@ -237,6 +237,53 @@ def compare_views(c, si_path, mm_path):
                          % (name, fa, fb, worst))
 
 
+# The ratio SI / mm-t-s of each number of a deck's data line, by card (a
+# length 1e-3, a modulus 1e6, a density 1e12, a mass 1e3; ids, counts,
+# Poisson's ratio and steps 1): the decks of one mesh in the two systems.
+DECK_FACTORS = {"*NODE": lambda n: [1] + [1e-3] * (n - 1), "*ELASTIC": lambda n: [1e6, 1][:n],
+                "*DENSITY": lambda n: [1e12], "*MASS": lambda n: [1e3] * n,
+                "*MAT_ELASTIC_TITLE": lambda n: [1, 1e12, 1e6, 1][:n], "*ELEMENT_MASS": lambda n: [1, 1, 1e3, 1][:n]}
+NUMBER = re.compile(r"^[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
+
+
+def deck_parts(text, comment):
+    """(header lines without the comment mark, [(card, [numbers])] of the data lines)."""
+    head, data, card = [], [], ""
+    for line in text.splitlines():
+        if line.startswith(comment):
+            if not line.startswith("$#"):
+                head.append(line[len(comment):].strip())
+        elif line.startswith("*"):
+            card = line.split(",")[0].strip().upper()
+        else:
+            toks = [t for t in re.split(r"[,\s]+", line.strip()) if t]
+            nums = [float(t) for t in toks if NUMBER.match(t)]
+            if nums:
+                data.append((card, nums))
+    return head, data
+
+
+def compare_decks(c, solver, si, mm):
+    comment = "$" if solver == "lsdyna" else "**"
+    (hs, ds), (hm, dm) = deck_parts(si, comment), deck_parts(mm, comment)
+    skip = ("dtmap ", "scene:", "units:")
+    c.what = solver + " deck header"
+    c.lines([h for h in hs if not h.startswith(skip)], [h for h in hm if not h.startswith(skip)])
+    for h, want in ((hs, "units: SI (lengths m, masses kg"), (hm, "units: mm-t-s (lengths mm, masses t")):
+        if not any(x.startswith(want) for x in h):
+            c.bad.append("%s deck: no header line %r" % (solver, want))
+    if len(ds) != len(dm):
+        return c.bad.append("%s deck: %d data lines in SI, %d in mm-t-s" % (solver, len(ds), len(dm)))
+    for k, ((card, a), (card_m, b)) in enumerate(zip(ds, dm)):
+        f = DECK_FACTORS.get(card, lambda n: [1] * n)(len(a))
+        if card != card_m or len(a) != len(b) or len(f) != len(a):
+            c.bad.append("%s deck line %d: %s %r against %s %r" % (solver, k, card, a, card_m, b))
+            continue
+        for x, y, g in zip(a, b, f):
+            if abs(x - y * g) > 1e-9 * max(abs(x), abs(y * g)):
+                c.bad.append("%s deck %s: %r in SI, %r in mm-t-s (want %r)" % (solver, card, x, y, y * g))
+
+
 def scene(name, source, units, extra=""):
     mm = units == "mm"
     mat = 'E="%s" nu="0.3" rho="%s"' % (("210000", "7.85e-9") if mm else ("210e9", "7850"))
@@ -392,6 +439,36 @@ Physical Volume("flange") = {b[1]};
         self.assertRegex(log_mm, r"'flange' is 0\.6 mm thin")
         self.check("flange_si_dt.msh", "flange_mm_dt.msh", "flange run", log_si=log_si, log_mm=log_mm,
                    report_si=r_si, report_mm=r_mm)
+
+    def test_decks(self):
+        """The three decks of one mesh (a 60 x 40 x 20 mm block; a target that needs mass: CalculiX's and
+        Abaqus's point masses, LS-DYNA's DT2MS prediction) written in SI and in mm-t-s: every header line's
+        figures agree with their units, each header states its system, and every number of the data
+        lines is the other's in its own unit (nodes, E, rho, masses; ids and steps the same)."""
+        import gmsh
+        gmsh.initialize(["t381", "-v", "0"])
+        gmsh.model.occ.addBox(0, 0, 0, 60, 40, 20)
+        gmsh.model.occ.synchronize()
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [1]), "block")
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 8)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(tu.path("deckblock.msh"))
+        gmsh.finalize()
+        scene("deck_mm", '<mesh file="%s"/>' % tu.path("deckblock.msh"), "mm")
+        scene("deck_si", '<mesh file="%s" unit="mm"/>' % tu.path("deckblock.msh"), "si")
+        c = Compare("decks")
+        for solver in ("calculix", "abaqus", "lsdyna"):
+            text = {}
+            for u in ("si", "mm"):
+                out = "deck_%s_%s.inp" % (u, solver)
+                code, log = tu.run("deck", "deck_%s.xml" % u, "--solver", solver, "-o", out, "-q", "--target",
+                                   "4e-7", "--max-added-mass", "50")
+                self.assertEqual(code, 0, log)
+                with open(tu.path(out)) as f:
+                    text[u] = f.read().replace("deck_%s_" % u, "deck_")  # the include slots are named after it
+            self.assertRegex(text["mm"], r"added mass: [\d.e+-]+ t at|by its rule [\d.e+-]+ t at")
+            compare_decks(c, solver, text["si"], text["mm"])
+        self.assertEqual(c.bad, [], "\n".join(c.bad[:40]))
 
     def test_no_metres_in_mm_t_s(self):
         """refine's remeshes, sweep and deck in mm-t-s (uniform sizes,

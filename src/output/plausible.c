@@ -14,6 +14,7 @@
  *    on a model in metres: Gmsh then meshes with the geometry's own sizes).
  * Warnings, not refusals: foams and gels are real. */
 #include <math.h>
+#include <string.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -130,6 +131,12 @@ static void material_warnings(const dtm_scene *s, const dtm_material *m, dtm_war
         m->name, m->line, value_text(s, c, c_si, DTM_UNIT_SPEED, "m/s", v, sizeof v), C_LO, C_HI / 1000, hint);
 }
 
+/* Whether the scene's geometry is a .geo, whose numbers are the scene's. */
+static int is_geo(const dtm_scene *s) {
+  size_t n = s->geometry ? strlen(s->geometry) : 0;
+  return n > 4 && !strcmp(s->geometry + n - 4, ".geo");
+}
+
 static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
   const dtm_scene *s = dtm_analysis_scene(a);
   dtm_model_extent x = {0};
@@ -146,8 +153,9 @@ static void size_warning(const dtm_analysis *a, dtm_warnings *w) {
     dtm_output_warn(
         w,
         "<meshing size=\"%g\"> (line %d) is %.3g times the model's extent, %.4g mm: a model drawn in metres "
-        "is read in mm in this mm-t-s scene unless <geometry unit=\"m\"> says so",
-        s->mesh_size, s->meshing_line, s->mesh_size / d, d);
+        "is read in mm in this mm-t-s scene unless %s",
+        s->mesh_size, s->meshing_line, s->mesh_size / d, d,
+        is_geo(s) ? "its .geo is drawn in mm (a .geo has no unit of its own)" : "<geometry unit=\"m\"> says so");
   if (d_si > SIZE_HI || (d_si < SIZE_LO && d_si >= 0))
     dtm_output_warn(w, "the model is %s across, %s than %s: check the unit of the %s (<%s unit=\"...\">)",
                     value_text(s, d, d_si, DTM_UNIT_LENGTH, "m", v, sizeof v), d_si > SIZE_HI ? "larger" : "smaller",
