@@ -5,12 +5,12 @@ process, and refine's remeshes run in a child of the worker
 after meshing at the stage it names, so both paths are proved without
 relying on a Gmsh bug.
 
-- `dtmap refine` with the crash in remeshing round 2: a crash ends the
-  strategy that remeshed, not the search (every later remesh is round 2
-  again, so each crashes too): exit 1, the kept mesh (round 0 or 1) and the
+- `dtmap refine` with the crash in the remesh after round 1: a crash ends
+  the strategy that remeshed, not the search (a crashed remesh makes no
+  round, so every later remesh follows round 1 again and crashes too): exit 1, the kept mesh (round 0 or 1) and the
   report are written, the report's causes hold "gmsh-crash", naming the
   stage, the signal and Gmsh's last messages, and the terminal prints it.
-- With the crash in round 1, every remesh tried crashes: that is the stop
+- With the crash after round 0, every remesh tried crashes: that is the stop
   and the first cause, and the kept mesh is round 0's (the input's).
 - `dtmap run` with the crash in the first meshing (the worker dies; the
   supervisor reports): exit 3, the same kind of message with Gmsh's last
@@ -77,12 +77,12 @@ class Contained(unittest.TestCase):
         return ref
 
     def test_refine_round2(self):
-        ref = self.refine_crash("r2", "remeshing round 2", 6.0)  # round 1 falls short (measured: 3 rounds run without the crash)
+        ref = self.refine_crash("r2", "remeshing after round 1", 6.0)  # round 1 falls short (measured: 3 rounds run without the crash)
         self.assertEqual(len(ref["rounds"]), 2)  # round 0 and round 1; round 2 crashed
         self.assertIn(ref["best"], (0, 1))
 
     def test_refine_round1(self):
-        ref = self.refine_crash("r1", "remeshing round 1", 3.0)
+        ref = self.refine_crash("r1", "remeshing after round 0", 3.0)
         self.assertEqual(ref["causes"][0]["kind"], "gmsh-crash")
         self.assertEqual(ref["stopped"], "Gmsh crashed in every remesh tried")
         self.assertEqual(len(ref["rounds"]), 1)

@@ -152,7 +152,8 @@ DTM_EXPORT int dtm_gmsh_groups_sectioned(int dim, const dtm_scene *s, dtm_group 
  * source; then Gmsh's optimiser passes optimise asks for (DTM_OPTIMISE_*
  * bits, those of the mesh's dimension: dtm_gmsh_optimisers). Meshes with
  * the mesher of the scene's load (dtm_gmsh_mesher_apply), in a child
- * process (round names it in messages: "remeshing round <round>").
+ * process (round, the last round made before it, names it in messages:
+ * "remeshing after round <round>"; a remesh Gmsh refuses makes no round).
  * DTM_ERR_INPUT with Gmsh's reason when Gmsh refuses the remesh,
  * DTM_ERR_INTERNAL with the signal and Gmsh's last messages when it
  * crashes; the model's mesh is then cleared. */

@@ -28,7 +28,7 @@
  * hand its mesh back (the file cannot be written whole: a full disk, a
  * file size limit), the job runs again in this process, uncontained. The
  * environment variable DTMAP_TEST_GMSH_CRASH makes the job raise SIGSEGV
- * after meshing when it names the stage ("meshing", "remeshing round 2"),
+ * after meshing when it names the stage ("meshing", "remeshing after round 1"),
  * or the stage and the job's number in this process ("meshing#2": a
  * sweep's second size): the tests prove both ways with it. */
 #define _GNU_SOURCE /* pread */

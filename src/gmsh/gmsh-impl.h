@@ -81,8 +81,8 @@ int dtm_gmsh_check_log(int ierr, int code, const char *file, int line, const cha
  * dtm_gmsh_contained: a dtmap code (its error message is carried back). */
 typedef int (*dtm_gmsh_job)(void *arg);
 /* Run job in a forked child (contain.c) and give the current model the
- * mesh it made. stage names it in messages ("meshing", "remeshing round
- * 2"). A crash of the child is DTM_ERR_INTERNAL "<stage>: Gmsh crashed
+ * mesh it made. stage names it in messages ("meshing", "remeshing after
+ * round 1"). A crash of the child is DTM_ERR_INTERNAL "<stage>: Gmsh crashed
  * (signal N, name); its last messages: ..."; an error the job raised comes
  * back with its message, DTM_ERR_INPUT or DTM_ERR_INTERNAL. remesh: the
  * model had a mesh before (its periodic node pairs are not handed back).

@@ -163,7 +163,7 @@ int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, i
   int view, ierr = 0;
   remesh_job job = {dim, order, optimise};
   char stage[64];
-  snprintf(stage, sizeof stage, "remeshing round %d", round);
+  snprintf(stage, sizeof stage, "remeshing after round %d", round);
   DTM_CHECK(size_view(m, size, scale, &view));
   DTM_CHECK(dtm_gmsh_unpartition());
   gmshModelMeshClear(NULL, 0, &ierr);

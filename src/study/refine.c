@@ -266,7 +266,7 @@ static int remesh_with(dtm_refine_result *rr, const loop_state *st, int dim, con
   snprintf(stage, sizeof stage, "refine round %d", rr->nrounds);
   dtm_progress_begin(stage);
   double t0 = dtm_wtime();
-  int r = dtm_gmsh_remesh_sized(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds, rr->options.optimise, o);
+  int r = dtm_gmsh_remesh_sized(m, size, 1.0, dim, rr->scene.mesh_order, rr->nrounds - 1, rr->options.optimise, o);
   info->mesh_seconds = dtm_wtime() - t0;
   info->optimise = dtm_gmsh_optimisers(dim, rr->options.optimise);
   int analysed = r == DTM_OK ? analyse_current(rr, dim, next) : DTM_OK;
@@ -421,18 +421,23 @@ static int judge_field(const dtm_refine_result *rr, int kept_before) {
   return 0;
 }
 
+#define NO_ROW "Gmsh gave no mesh, so this remesh has no round of its own"
+
 /* A remesh Gmsh refused or crashed in ends its strategy, not the search:
  * its message is kept as a cause (the first such), and the model holds no
- * round's mesh until the next remesh. */
+ * round's mesh until the next remesh. Such a remesh makes no round (no
+ * row in the table), so the cause names it by the last round made before
+ * it, the number the table shows (the next round made takes the number
+ * after that one). */
 static void gmsh_failed(dtm_refine_result *rr, loop_state *st, const char *strategy) {
   int crash = dtm_error_code() == DTM_ERR_INTERNAL;
   if (!st->failed && !st->crashed) {
     dtm_cause *c = dtm_refine_new_cause(rr, crash ? "gmsh-crash" : "gmsh-refused");
     if (c && crash)
-      snprintf(c->text, sizeof c->text, "%s (strategy %s)", dtm_error_message(), strategy);
+      snprintf(c->text, sizeof c->text, "%s (strategy %s; %s)", dtm_error_message(), strategy, NO_ROW);
     else if (c)
-      snprintf(c->text, sizeof c->text, "remeshing round %d (strategy %s): %s", rr->nrounds, strategy,
-               dtm_error_message());
+      snprintf(c->text, sizeof c->text, "remeshing after round %d (strategy %s; %s): %s", rr->nrounds - 1, strategy,
+               NO_ROW, dtm_error_message());
   }
   dtm_error_clear();
   st->failed += !crash, st->crashed += crash;
