@@ -1,9 +1,12 @@
 /* The named materials the ONELAB panel offers for each physical group, in SI
- * units, with the source of their values (docs/materials.md explains each
- * entry). NaN marks a property the library does not give: a material chosen
- * for an effect that needs it is an error naming the group, as in a scene. */
+ * units (the panel shows them converted into the scene's system of units:
+ * dtm_ol_prop_si), with the source of their values (docs/materials.md
+ * explains each entry). NaN marks a property the library does not give: a
+ * material chosen for an effect that needs it is an error naming the group,
+ * as in a scene. */
 #include <math.h>
 
+#include "dtmap/units.h"
 #include "onelab-impl.h"
 
 /* Columns: E (Pa), nu, rho (kg/m^3), conductivity (W/(m K)), heat capacity
@@ -16,8 +19,25 @@
 const char *const dtm_ol_prop_names[OL_NPROPS] = {
     "E",       "nu", "rho", "conductivity", "heat-capacity", "permeability", "viscosity", "storage", "fracture-energy",
     "strength"};
-const char *const dtm_ol_prop_units[OL_NPROPS] = {"Pa",  "",     "kg/m^3", "W/(m K)", "J/(kg K)",
-                                                  "m^2", "Pa s", "1/Pa",   "J/m^2",   "Pa"};
+/* The unit of each property in SI and in mm-t-s (docs/units.md: the system's
+ * derived units, energy in mJ = N mm), and the SI value of one mm-t-s unit:
+ * MPa (1e6 Pa), t/mm^3 (1e12 kg/m^3), mW/(mm K) (= W/(m K)), mJ/(t K)
+ * (1e-6 J/(kg K)), mm^2, MPa s, 1/MPa (1e-6 /Pa), N/mm (1e3 J/m^2). */
+static const char *const si_unit[OL_NPROPS] = {"Pa",  "",     "kg/m^3", "W/(m K)", "J/(kg K)",
+                                               "m^2", "Pa s", "1/Pa",   "J/m^2",   "Pa"};
+static const char *const mm_unit[OL_NPROPS] = {"MPa",  "",      "t/mm^3", "mW/(mm K)", "mJ/(t K)",
+                                               "mm^2", "MPa s", "1/MPa",  "N/mm",      "MPa"};
+static const double mm_si[OL_NPROPS] = {1e6, 1, 1e12, 1, 1e-6, 1e-6, 1e6, 1e-6, 1e3, 1e6};
+
+const char *dtm_ol_prop_unit(const char *system, int p) {
+  if (p < 0 || p >= OL_NPROPS) return "";
+  return dtm_units_mm(system) ? mm_unit[p] : si_unit[p];
+}
+
+double dtm_ol_prop_si(const char *system, int p) {
+  if (p < 0 || p >= OL_NPROPS) return 1;
+  return dtm_units_mm(system) ? mm_si[p] : 1;
+}
 
 const ol_material dtm_ol_materials[] = {
     {"steel", ROW(210e9, 0.30, 7850, 53.3, 440, NAN, NAN, NAN, NAN, NAN),

@@ -102,10 +102,13 @@ int dtm_ol_sync(ol_conn *c);
 int dtm_ol_action(ol_conn *c, char *action, size_t n);
 
 /* The material properties the panel offers (attribute names of
- * <material>), with their SI units. */
+ * <material>), the name of property p's unit in a system of units (the
+ * scene's units string: NULL or "SI", "mm-t-s"; "" for nu) and the SI value
+ * of one such unit (1 in SI). */
 #define OL_NPROPS 10
 extern const char *const dtm_ol_prop_names[OL_NPROPS];
-extern const char *const dtm_ol_prop_units[OL_NPROPS];
+const char *dtm_ol_prop_unit(const char *system, int p);
+double dtm_ol_prop_si(const char *system, int p);
 
 /* One material of the built-in library. */
 typedef struct {
@@ -133,14 +136,14 @@ typedef struct {
                                    (curves), DTM_SECTION_MEMBRANE or DTM_SECTION_SHELL (surfaces) when
                                    chosen, -1: none (not analysed); -1 at the analysed dimension (the
                                    effects' formulation) */
-  double measure;               /* the section's area (m^2, truss), thickness (m, membrane, shell) or
-                                   radius (m, a beam of circular profile) */
+  double measure;               /* the section's area (truss), thickness (membrane, shell) or radius (a
+                                   beam of circular profile), in the scene's units (m^2 | mm^2, m | mm) */
   const dtm_section *scene_sec; /* the base scene's section of the group, or NULL: a shell or beam
                                    chosen in the panel keeps its convention, shear factor and (beam)
                                    profile and orientation */
   int choice;                   /* 0: custom; 1..n: library entry choice-1; n+1: the scene's own */
   char scene_name[128];         /* the scene's material for this group, or "" */
-  double prop[OL_NPROPS];       /* the values in force (NaN: not given) */
+  double prop[OL_NPROPS];       /* the values in force, in the scene's units (NaN: not given) */
 } ol_group;
 
 /* What the panel holds, read back from the server. */
@@ -152,7 +155,9 @@ typedef struct {
   double target;              /* s; 0: none */
   double duration;            /* s; 0: none */
   int posterior;              /* also the global estimate */
-  double mesh_size;           /* m; 0: the geometry's own sizes */
+  const char *units;          /* the base scene's system of units (dtm_scene_units; "SI" without one):
+                                 every length and material value below is in it, the times in s */
+  double mesh_size;           /* the scene's length unit; 0: the geometry's own sizes */
   int save_scene;             /* write the panel as a scene after the run */
   char scene_out[4096];       /* where */
   int ngroups;                /* groups of the analysed dimension (+1 for "no group"), then those below */

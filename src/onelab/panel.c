@@ -2,7 +2,7 @@
  * (switches, the elastic formulation, the damping ratio), the time options
  * (safety, target, duration, the global estimate), the mesh size of a
  * geometry, and for every physical group of the analysed dimension its
- * material: a named material of the library (its SI values shown read-only),
+ * material: a named material of the library (its values shown read-only),
  * the scene's own, or custom values. Every group of curves or surfaces below
  * that dimension gets a section menu: none (the default: not analysed),
  * truss or beam for curves, membrane or shell for surfaces, with the
@@ -10,8 +10,12 @@
  * scene gives keeps the scene's profile) or the thickness; with a section
  * it gets a material menu too. (The plane
  * kinds of a 2D model's surfaces are the elastic formulation's choices.)
- * Defaults come from the scene beside the model; a value the user changed in
- * the panel stays in force (the server keeps it) until the panel is reset. */
+ * Every length and material value is in the base scene's system of units
+ * (SI, or mm-t-s: mm, MPa, t/mm^3), with that unit shown beside it: the
+ * library's SI values are converted into it, and what the user types is
+ * read in it. Defaults come from the scene beside the model; a value the
+ * user changed in the panel stays in force (the server keeps it) until the
+ * panel is reset. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +23,7 @@
 
 #include "dtmap/error.h"
 #include "dtmap/registry.h"
+#include "dtmap/units.h"
 #include "onelab-impl.h"
 
 const char *const dtm_ol_effect_names[OL_NEFFECTS] = {"elastic", "damping", "thermal", "hydraulic", "cohesive"};
@@ -103,7 +108,8 @@ static int times(ol_conn *c, const ol_model *m, ol_panel *pn) {
 static int meshing(ol_conn *c, const ol_model *m, ol_panel *pn) {
   pn->mesh_size = m->base ? m->base->mesh_size : 0;
   if (m->source_is_mesh) return DTM_OK;
-  return number(c, "3Mesh/0size", "mesh size (0: the geometry's)", "m", &pn->mesh_size);
+  return number(c, "3Mesh/0size", "mesh size (0: the geometry's)", dtm_units_name(pn->units, DTM_UNIT_LENGTH),
+                &pn->mesh_size);
 }
 
 static int save_options(ol_conn *c, const ol_model *m, ol_panel *pn) {
@@ -150,10 +156,11 @@ static const dtm_scene_material *scene_material(const dtm_scene *s, const char *
   return def;
 }
 
-static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib) {
+/* The values of g's material in the scene's units (a library entry's SI values converted). */
+static void fill_values(ol_group *g, const dtm_scene_material *sm, int nlib, const char *units) {
   for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = NAN;
   if (g->choice >= 1 && g->choice <= nlib)
-    for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_ol_materials[g->choice - 1].prop[p];
+    for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_ol_materials[g->choice - 1].prop[p] / dtm_ol_prop_si(units, p);
   if (g->choice == nlib + 1 && sm)
     for (int p = 0; p < OL_NPROPS; p++) g->prop[p] = dtm_material_value(&sm->m, dtm_ol_prop_names[p]);
 }
@@ -192,17 +199,20 @@ static int measure_field(ol_conn *c, const char *dir, const char *key, const cha
 /* The measures of a curve's (area; radius) or a surface's (thickness)
  * sections; the one of the chosen kind goes to g->measure. A beam the base
  * scene gives keeps the scene's profile: no radius field. */
-static int measures(ol_conn *c, const char *dir, const dtm_section *sec, ol_group *g) {
+static int measures(ol_conn *c, const char *dir, const dtm_section *sec, const char *units, ol_group *g) {
+  const char *length = dtm_units_name(units, DTM_UNIT_LENGTH);
   if (g->dim == 2) {
     double t = sec && sec->thickness > 0 ? sec->thickness : 0;
-    DTM_CHECK(measure_field(c, dir, "thickness", "thickness", "m", g->kind >= 0, &t));
+    DTM_CHECK(measure_field(c, dir, "thickness", "thickness", length, g->kind >= 0, &t));
     g->measure = t;
     return DTM_OK;
   }
   double area = sec && sec->kind == DTM_SECTION_TRUSS ? sec->area : 0, radius = 0;
-  DTM_CHECK(measure_field(c, dir, "area", "cross-section area", "m^2", g->kind == DTM_SECTION_TRUSS, &area));
+  DTM_CHECK(measure_field(c, dir, "area", "cross-section area", dtm_units_name(units, DTM_UNIT_AREA),
+                          g->kind == DTM_SECTION_TRUSS, &area));
   if (!(g->scene_sec && g->scene_sec->kind == DTM_SECTION_BEAM))
-    DTM_CHECK(measure_field(c, dir, "radius", "radius (circular profile)", "m", g->kind == DTM_SECTION_BEAM, &radius));
+    DTM_CHECK(
+        measure_field(c, dir, "radius", "radius (circular profile)", length, g->kind == DTM_SECTION_BEAM, &radius));
   g->measure = g->kind == DTM_SECTION_BEAM ? radius : area;
   return DTM_OK;
 }
@@ -223,7 +233,7 @@ static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, ol_g
   DTM_CHECK(dtm_ol_define(c, &p));
   g->kind = p.value == 1 || p.value == 2 ? lower_kind(g->dim, (int)p.value) : -1;
   g->scene_sec = sec;
-  return measures(c, dir, given ? sec : NULL, g);
+  return measures(c, dir, given ? sec : NULL, dtm_scene_units(base), g);
 }
 
 /* The material menu of one group; g->choice receives the choice in force. */
@@ -246,12 +256,12 @@ static int material_menu(ol_conn *c, const char *dir, const dtm_scene_material *
 
 /* One property field: read-only with the material's value, or editable for
  * a custom material (then the user's value stays in force). */
-static int property(ol_conn *c, const char *dir, int p, int shown, ol_group *g) {
+static int property(ol_conn *c, const char *dir, int p, int shown, const char *units, ol_group *g) {
   char name[512];
   ol_param q;
   snprintf(name, sizeof name, "%s/%d%s", dir, p + 1, dtm_ol_prop_names[p]);
   dtm_ol_number(&q, name, isfinite(g->prop[p]) ? g->prop[p] : 0, dtm_ol_prop_names[p]);
-  if (dtm_ol_prop_units[p][0]) dtm_ol_attr(&q, "Units", dtm_ol_prop_units[p]);
+  if (dtm_ol_prop_unit(units, p)[0]) dtm_ol_attr(&q, "Units", dtm_ol_prop_unit(units, p));
   q.visible = shown;
   if (g->choice != 0) {
     if (!isfinite(g->prop[p])) return DTM_OK; /* the run names what is missing */
@@ -263,7 +273,7 @@ static int property(ol_conn *c, const char *dir, int p, int shown, ol_group *g) 
   return DTM_OK;
 }
 
-static int group_panel(ol_conn *c, const ol_model *m, unsigned needs, ol_group *g) {
+static int group_panel(ol_conn *c, const ol_model *m, const ol_panel *pn, unsigned needs, ol_group *g) {
   char dir[512], clean[128];
   snprintf(clean, sizeof clean, "%s", g->ref[0] ? g->ref : "elements in no group");
   for (char *s = clean; *s; s++)
@@ -273,9 +283,9 @@ static int group_panel(ol_conn *c, const ol_model *m, unsigned needs, ol_group *
   int shown = g->dim == m->dim || g->kind >= 0; /* a group below it needs a material only with a section */
   const dtm_scene_material *sm = scene_material(m->base, g->ref);
   DTM_CHECK(material_menu(c, dir, sm, shown, g));
-  fill_values(g, sm, dtm_ol_material_count());
+  fill_values(g, sm, dtm_ol_material_count(), pn->units);
   for (int p = 0; p < OL_NPROPS; p++)
-    if (needs & (1u << p)) DTM_CHECK(property(c, dir, p, shown, g));
+    if (needs & (1u << p)) DTM_CHECK(property(c, dir, p, shown, pn->units, g));
   return DTM_OK;
 }
 
@@ -301,7 +311,7 @@ static int list_groups(const ol_model *m, ol_panel *pn) {
 static int materials(ol_conn *c, const ol_model *m, ol_panel *pn) {
   DTM_CHECK(list_groups(m, pn));
   unsigned needs = needed(pn);
-  for (int i = 0; i < pn->ngroups; i++) DTM_CHECK(group_panel(c, m, needs, &pn->groups[i]));
+  for (int i = 0; i < pn->ngroups; i++) DTM_CHECK(group_panel(c, m, pn, needs, &pn->groups[i]));
   return DTM_OK;
 }
 
@@ -316,6 +326,7 @@ static int source(ol_conn *c, const ol_model *m) {
 
 int dtm_ol_panel_declare(ol_conn *c, const ol_model *m, ol_panel *pn) {
   memset(pn, 0, sizeof *pn);
+  pn->units = dtm_scene_units(m->base);
   DTM_CHECK(source(c, m));
   DTM_CHECK(effects(c, m, pn));
   DTM_CHECK(times(c, m, pn));

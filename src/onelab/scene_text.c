@@ -1,5 +1,7 @@
-/* The scene the panel describes, written as scene XML: the source (the
- * model, or the base scene's), its meshing options with the panel's size,
+/* The scene the panel describes, written as scene XML in the base scene's
+ * system of units (units="mm-t-s" when it has it: the panel's lengths and
+ * material values are in it): the source (the model, or the base scene's,
+ * with its declared unit), its meshing options with the panel's size,
  * one <material> per distinct material chosen for the groups it analyses,
  * one <section> per curve or surface group given a truss or membrane section
  * in the panel (and the base scene's sections of the other groups, as they
@@ -14,6 +16,7 @@
 #include <string.h>
 
 #include "dtmap/error.h"
+#include "dtmap/units.h"
 #include "onelab-impl.h"
 
 static void esc(FILE *f, const char *s) {
@@ -40,8 +43,9 @@ static void attr_num(FILE *f, const char *key, double v) { fprintf(f, " %s=\"%.1
 static void source(FILE *f, const ol_model *m, const ol_panel *pn) {
   fprintf(f, "  <%s", m->source_is_mesh ? "mesh" : "geometry");
   attr(f, "file", m->source);
-  fprintf(f, "/>\n  <meshing");
   const dtm_scene *b = m->base;
+  if (b && b->source_unit && (m->source == b->mesh || m->source == b->geometry)) attr(f, "unit", b->source_unit);
+  fprintf(f, "/>\n  <meshing");
   if (!m->source_is_mesh && pn->mesh_size > 0) attr_num(f, "size", pn->mesh_size);
   if (!m->source_is_mesh && b && b->mesh_min_size > 0)
     attr_num(f, "min-size", pn->mesh_size > 0 ? fmin(b->mesh_min_size, pn->mesh_size) : b->mesh_min_size);
@@ -220,7 +224,10 @@ int dtm_ol_scene_text(const ol_model *m, const ol_panel *pn, char **xml) {
   if (!f) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int nlib = dtm_ol_material_count();
   fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-  fprintf(f, "<!-- Written by dtmap from Gmsh's ONELAB panel. -->\n<dtmap-scene version=\"1\">\n");
+  fprintf(f, "<!-- Written by dtmap from Gmsh's ONELAB panel. -->\n<dtmap-scene version=\"1\"");
+  if (dtm_units_mm(pn->units)) attr(f, "units", "mm-t-s");
+  if (m->base && m->base->no_plausible_check) attr(f, "plausible", "no-check");
+  fprintf(f, ">\n");
   source(f, m, pn);
   for (int i = 0; i < pn->ngroups; i++) material(f, pn, i, nlib);
   sections(f, m, pn);
