@@ -69,11 +69,14 @@ def certify(dtmap, work, env=None):
     with open(os.path.join(work, "rep.json")) as f:
         rep = json.load(f)
     lz = rep["effect_minima"][0]["lanczos"]
-    line = next(l for l in out.splitlines() if l.startswith("global"))
-    proven = re.search(r"bound proven \(factorisation of ([0-9.e+]+) flops, ([0-9.e+]+) MB, ([0-9.]+) s\)", line)
-    dear = re.search(r"too dear: ([0-9.e+]+) flops and ([0-9.e+]+) MB predicted, ([0-9.e+]+) flops allowed; "
-                     r"([0-9.]+) s to predict", line)
-    huge = re.search(r"too dear: the mesh is too large to order, ([0-9.e+]+) flops allowed; ([0-9.]+) s", line)
+    # the global line and the three under it (the proof in words, the factorisation's figures)
+    lines = out.splitlines()
+    at = next(i for i, l in enumerate(lines) if l.startswith("global"))
+    line = " ".join(lines[at:at + 4])
+    proven = re.search(r"factorisation of ([0-9.e+]+) flops, ([0-9.e+]+) MB, ([0-9.]+) s", line)
+    dear = re.search(r"too dear: ([0-9.e+]+) flops and ([0-9.e+]+) MB predicted, ([0-9.e+]+) flops allowed "
+                     r"\(([0-9.]+) s to predict", line)
+    huge = re.search(r"too dear: the mesh is too large to order, ([0-9.e+]+) flops allowed \(([0-9.]+) s", line)
     if huge:  # refused before any ordering: nothing predicted
         dear = huge
     tm = rep["timings"]
@@ -82,7 +85,7 @@ def certify(dtmap, work, env=None):
         "elements": rep["mesh"]["elements"],
         "before": tm["mesh"] + tm["extract"] + tm["effects"] + tm["nodal"],
         "map": tm["effects"],
-        "certificate": lz.get("certificate"),
+        "certificate": lz.get("deterministic", lz.get("certificate")),
         "cert_s": float(proven.group(3)) if proven else float(dear.groups()[-1]) if dear else None,
         "predicted": None if huge else (float(dear.group(1)), float(dear.group(2))) if dear else
                      (float(proven.group(1)), float(proven.group(2))) if proven else None,
