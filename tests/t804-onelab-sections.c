@@ -34,6 +34,7 @@
 #include <unistd.h>
 
 #include "dtmap/scene.h"
+#include "onelab.h"
 #include "testutil.h"
 
 static char dir[512], geo[600], out[600], opt[610];
@@ -80,45 +81,6 @@ static int setup(void **state) {
   return r;
 }
 
-/* A fresh Gmsh session with an empty ONELAB database and model open. Its
- * solver socket is this program's own (Gmsh's default, ~/.gmshsock<id>, is
- * the one t802 listens on when ctest runs them side by side). */
-static void session(const char *model) {
-  int ierr = 0;
-  char sock[64];
-  tu_gmsh_begin();
-  snprintf(sock, sizeof sock, ".gmshsock-t804-%ld-", (long)getpid());
-  gmshOptionSetString("Solver.SocketName", sock, &ierr);
-  gmshOnelabClear("", &ierr);
-  gmshOpen(model, &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-/* Run dtmap for one action ("check": declare the panel; "compute"). */
-static void run_dtmap(const char *action) {
-  int ierr = 0;
-  char *a[] = {(char *)action};
-  gmshOnelabSetString("dtmap/Action", a, 1, &ierr);
-  gmshOnelabRun("dtmap", tu_cli(), &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-static void set_number(const char *name, double v) {
-  int ierr = 0;
-  gmshOnelabSetNumber(name, &v, 1, &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-static double get_number(const char *name) {
-  double *v = NULL, r = NAN;
-  size_t n = 0;
-  int ierr = 0;
-  gmshOnelabGetNumber(name, &v, &n, &ierr);
-  if (n == 1) r = v[0];
-  gmshFree(v);
-  return r;
-}
-
 /* The ONELAB parameter called name, as the server writes it in JSON; NULL
  * when the server has none. */
 static cJSON *parameter(const char *name) {
@@ -150,7 +112,7 @@ static void assert_section_menu(const char *name, const char *kind, double value
   assert_true(is_visible(p));
   assert_true(choice_value(p, "none (not analysed)") == 0);
   assert_true(choice_value(p, kind) == 1);
-  assert_true(get_number(name) == value);
+  assert_true(tu_onelab_get_number(name) == value);
   cJSON_Delete(p);
 }
 
@@ -168,8 +130,8 @@ static void assert_parameter(const char *name, int visible, const char *unit) {
  * measure, the material and its properties are hidden. */
 static void test_panel_names(void **state) {
   (void)state;
-  session(geo);
-  run_dtmap("check");
+  tu_onelab_session(geo, "t804");
+  tu_onelab_run("check");
   assert_section_menu("dtmap/4Materials/bar/00section", "truss", 0);
   assert_section_menu("dtmap/4Materials/sheet/00section", "membrane", 0);
   assert_parameter("dtmap/4Materials/bar/01area", 0, "m^2");
@@ -179,8 +141,8 @@ static void test_panel_names(void **state) {
   assert_parameter("dtmap/4Materials/block/0material", 1, NULL);
   assert_null(parameter("dtmap/4Materials/block/00section"));
   /* a truss chosen: its area, material and properties appear */
-  set_number("dtmap/4Materials/bar/00section", 1);
-  run_dtmap("check");
+  tu_onelab_set_number("dtmap/4Materials/bar/00section", 1);
+  tu_onelab_run("check");
   assert_parameter("dtmap/4Materials/bar/01area", 1, "m^2");
   assert_parameter("dtmap/4Materials/bar/0material", 1, NULL);
   assert_parameter("dtmap/4Materials/bar/1E", 1, "Pa");
@@ -194,14 +156,14 @@ static void test_panel_2d(void **state) {
   (void)state;
   char wall[700];
   snprintf(wall, sizeof wall, "%s/wall/wall.geo", dir);
-  session(wall);
-  run_dtmap("check");
+  tu_onelab_session(wall, "t804");
+  tu_onelab_run("check");
   assert_section_menu("dtmap/4Materials/tie/00section", "truss", 0);
   assert_null(parameter("dtmap/4Materials/wall/00section"));
   cJSON *f = parameter("dtmap/1Effects/1elastic formulation");
   assert_non_null(f);
   assert_true(choice_value(f, "plane-strain") == 1 && choice_value(f, "plane-stress") == 2);
-  assert_true(get_number("dtmap/1Effects/1elastic formulation") == 1);
+  assert_true(tu_onelab_get_number("dtmap/1Effects/1elastic formulation") == 1);
   cJSON_Delete(f);
   tu_gmsh_end();
 }
@@ -212,15 +174,15 @@ static void test_scene_defaults(void **state) {
   (void)state;
   char model[700];
   snprintf(model, sizeof model, "%s/block/reinforced_block.geo", dir);
-  session(model);
-  run_dtmap("check");
+  tu_onelab_session(model, "t804");
+  tu_onelab_run("check");
   assert_section_menu("dtmap/4Materials/rebar/00section", "truss", 1);
   assert_section_menu("dtmap/4Materials/plate/00section", "membrane", 1);
-  assert_true(get_number("dtmap/4Materials/rebar/01area") == 3.1e-4);
-  assert_true(get_number("dtmap/4Materials/plate/01thickness") == 0.01);
+  assert_true(tu_onelab_get_number("dtmap/4Materials/rebar/01area") == 3.1e-4);
+  assert_true(tu_onelab_get_number("dtmap/4Materials/plate/01thickness") == 0.01);
   cJSON *m = parameter("dtmap/4Materials/rebar/0material");
   assert_non_null(m);
-  assert_true(choice_value(m, "steel (scene)") == get_number("dtmap/4Materials/rebar/0material"));
+  assert_true(choice_value(m, "steel (scene)") == tu_onelab_get_number("dtmap/4Materials/rebar/0material"));
   cJSON_Delete(m);
   tu_gmsh_end();
 }
@@ -304,16 +266,16 @@ static char *read_text(const char *path) {
  * the sheet's triangles exactly when it is a membrane, and nothing else. */
 static void run_sections(int membrane, groups *g) {
   unlink(out);
-  session(geo);
-  run_dtmap("check");
-  set_number("dtmap/4Materials/bar/00section", 1);
-  set_number("dtmap/4Materials/bar/01area", 3.1e-4);
-  if (membrane) set_number("dtmap/4Materials/sheet/00section", 1);
-  if (membrane) set_number("dtmap/4Materials/sheet/01thickness", 0.002);
-  run_dtmap("compute");
+  tu_onelab_session(geo, "t804");
+  tu_onelab_run("check");
+  tu_onelab_set_number("dtmap/4Materials/bar/00section", 1);
+  tu_onelab_set_number("dtmap/4Materials/bar/01area", 3.1e-4);
+  if (membrane) tu_onelab_set_number("dtmap/4Materials/sheet/00section", 1);
+  if (membrane) tu_onelab_set_number("dtmap/4Materials/sheet/01thickness", 0.002);
+  tu_onelab_run("compute");
   tu_view dt;
   assert_int_equal(tu_view_read_last("dt", &dt), 0);
-  double published = get_number("dtmap/9Results/6elements");
+  double published = tu_onelab_get_number("dtmap/9Results/6elements");
   tu_gmsh_end();
   read_groups(g);
   assert_int_equal(covered(&dt, g->tags[0], g->n[0]), g->n[0]);
@@ -407,11 +369,11 @@ static void saving_session(const char *model, const char *saved) {
   char *file[] = {(char *)saved};
   int ierr = 0;
   unlink(saved);
-  session(model);
+  tu_onelab_session(model, "t804");
   gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
   assert_int_equal(ierr, 0);
-  set_number("dtmap/5Scene/0save", 1);
-  run_dtmap("check");
+  tu_onelab_set_number("dtmap/5Scene/0save", 1);
+  tu_onelab_run("check");
 }
 
 /* Both sections, and the panel saved as a scene: the triangles of the
@@ -423,11 +385,11 @@ static void test_truss_and_membrane(void **state) {
   snprintf(saved, sizeof saved, "%s/saved.xml", dir);
   unlink(out);
   saving_session(geo, saved);
-  set_number("dtmap/4Materials/bar/00section", 1);
-  set_number("dtmap/4Materials/bar/01area", 3.1e-4);
-  set_number("dtmap/4Materials/sheet/00section", 1);
-  set_number("dtmap/4Materials/sheet/01thickness", 0.002);
-  run_dtmap("compute");
+  tu_onelab_set_number("dtmap/4Materials/bar/00section", 1);
+  tu_onelab_set_number("dtmap/4Materials/bar/01area", 3.1e-4);
+  tu_onelab_set_number("dtmap/4Materials/sheet/00section", 1);
+  tu_onelab_set_number("dtmap/4Materials/sheet/01thickness", 0.002);
+  tu_onelab_run("compute");
   tu_view dt;
   assert_int_equal(tu_view_read_last("dt", &dt), 0);
   tu_gmsh_end();
@@ -474,14 +436,14 @@ static void test_shell_and_beam(void **state) {
   p = parameter("dtmap/4Materials/sheet/00section");
   assert_true(choice_value(p, "shell") == 2);
   cJSON_Delete(p);
-  set_number("dtmap/4Materials/bar/00section", 2);
-  set_number("dtmap/4Materials/bar/01radius", 0.01);
-  set_number("dtmap/4Materials/sheet/00section", 2);
-  set_number("dtmap/4Materials/sheet/01thickness", 0.002);
-  run_dtmap("check");
+  tu_onelab_set_number("dtmap/4Materials/bar/00section", 2);
+  tu_onelab_set_number("dtmap/4Materials/bar/01radius", 0.01);
+  tu_onelab_set_number("dtmap/4Materials/sheet/00section", 2);
+  tu_onelab_set_number("dtmap/4Materials/sheet/01thickness", 0.002);
+  tu_onelab_run("check");
   assert_parameter("dtmap/4Materials/bar/01radius", 1, "m");
   assert_parameter("dtmap/4Materials/bar/01area", 0, "m^2");
-  run_dtmap("compute");
+  tu_onelab_run("compute");
   tu_view dt;
   assert_int_equal(tu_view_read_last("dt", &dt), 0);
   tu_gmsh_end();
@@ -515,10 +477,10 @@ static void test_scene_beam_kept(void **state) {
   snprintf(saved, sizeof saved, "%s/panel/saved.xml", dir);
   snprintf(orig, sizeof orig, "%s/panel/stiffened_panel.xml", dir);
   saving_session(model, saved);
-  assert_true(get_number("dtmap/4Materials/stiffener/00section") == 2);
+  assert_true(tu_onelab_get_number("dtmap/4Materials/stiffener/00section") == 2);
   assert_null(parameter("dtmap/4Materials/skin/00section"));
   assert_null(parameter("dtmap/4Materials/stiffener/01radius"));
-  run_dtmap("compute");
+  tu_onelab_run("compute");
   tu_gmsh_end();
   dtm_scene *s = NULL, *o = NULL;
   assert_int_equal(dtm_scene_load(saved, &s), 0);
@@ -539,8 +501,8 @@ static void test_scene_beam_kept(void **state) {
 static void test_no_section(void **state) {
   (void)state;
   unlink(out);
-  session(geo);
-  run_dtmap("compute");
+  tu_onelab_session(geo, "t804");
+  tu_onelab_run("compute");
   tu_view dt;
   assert_int_equal(tu_view_read_last("dt", &dt), 0);
   tu_gmsh_end();
@@ -591,12 +553,12 @@ static void test_bad_area(void **state) {
     snprintf(quote, sizeof quote, "of the panel's scene: <section groups=\"bar\" kind=\"truss\" area=\"%s\"/>",
              texts[k]);
     unlink(out);
-    session(geo);
-    run_dtmap("check");
-    set_number("dtmap/4Materials/bar/00section", 1);
-    set_number("dtmap/4Materials/bar/01area", areas[k]);
+    tu_onelab_session(geo, "t804");
+    tu_onelab_run("check");
+    tu_onelab_set_number("dtmap/4Materials/bar/00section", 1);
+    tu_onelab_set_number("dtmap/4Materials/bar/01area", areas[k]);
     gmshLoggerStart(&ierr);
-    run_dtmap("compute");
+    tu_onelab_run("compute");
     gmshLoggerGet(&log, &nlog, &ierr);
     for (size_t i = 0; i < nlog; i++) {
       said |= strstr(log[i], expect) != NULL;

@@ -34,6 +34,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "onelab.h"
 #include "testutil.h"
 
 static char dir[512], geo[600], saved[600], report[600], msh_m[600], report_m[600], sheet_geo[600], report_sheet[600];
@@ -136,43 +137,6 @@ static int setup(void **state) {
   return r;
 }
 
-/* A fresh Gmsh session with an empty ONELAB database and the box open, on a
- * solver socket of this program's own. */
-static void session(const char *model) {
-  int ierr = 0;
-  char sock[64];
-  tu_gmsh_begin();
-  snprintf(sock, sizeof sock, ".gmshsock-t805-%ld-", (long)getpid());
-  gmshOptionSetString("Solver.SocketName", sock, &ierr);
-  gmshOnelabClear("", &ierr);
-  gmshOpen(model, &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-static void run_dtmap(const char *action) {
-  int ierr = 0;
-  char *a[] = {(char *)action};
-  gmshOnelabSetString("dtmap/Action", a, 1, &ierr);
-  gmshOnelabRun("dtmap", tu_cli(), &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-static void set_number(const char *name, double v) {
-  int ierr = 0;
-  gmshOnelabSetNumber(name, &v, 1, &ierr);
-  assert_int_equal(ierr, 0);
-}
-
-static double get_number(const char *name) {
-  double *v = NULL, r = NAN;
-  size_t n = 0;
-  int ierr = 0;
-  gmshOnelabGetNumber(name, &v, &n, &ierr);
-  if (n == 1) r = v[0];
-  gmshFree(v);
-  return r;
-}
-
 /* The Units attribute of the ONELAB parameter name ("" when none). */
 static void assert_units(const char *name, const char *unit) {
   char *json = NULL;
@@ -194,15 +158,16 @@ static int close_to(double a, double b, double rel) { return fabs(a - b) <= rel 
  * of dtmap run (report rep) to 1e-12 relative; the panel's saved scene (at
  * saved) holds want. */
 static void assert_run_matches(const char *model, const char *rep, const char *want) {
-  session(model);
-  run_dtmap("check");
-  set_number("dtmap/5Scene/0save", 1);
+  tu_onelab_session(model, "t805");
+  tu_onelab_run("check");
+  tu_onelab_set_number("dtmap/5Scene/0save", 1);
   int ierr = 0;
   char *file[] = {saved};
   gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
   unlink(saved);
-  run_dtmap("compute");
-  double rec = get_number("dtmap/9Results/0recommended"), dmin = get_number("dtmap/9Results/2dt min");
+  tu_onelab_run("compute");
+  double rec = tu_onelab_get_number("dtmap/9Results/0recommended"),
+         dmin = tu_onelab_get_number("dtmap/9Results/2dt min");
   tu_gmsh_end();
   char *text = NULL;
   assert_int_equal(tu_run(&text, "cat %s", saved), 0);
@@ -221,18 +186,18 @@ static void assert_run_matches(const char *model, const char *rep, const char *w
  * steel is shown in MPa and t/mm^3. */
 static void test_panel_units(void **state) {
   (void)state;
-  session(geo);
-  run_dtmap("check");
+  tu_onelab_session(geo, "t805");
+  tu_onelab_run("check");
   assert_units("dtmap/3Mesh/0size", "mm");
-  assert_true(get_number("dtmap/3Mesh/0size") == 8);
+  assert_true(tu_onelab_get_number("dtmap/3Mesh/0size") == 8);
   assert_units("dtmap/4Materials/block/1E", "MPa");
   assert_units("dtmap/4Materials/block/3rho", "t/mm^3");
-  assert_true(get_number("dtmap/4Materials/block/1E") == 210000);
-  assert_true(get_number("dtmap/4Materials/block/3rho") == 7.85e-9);
-  set_number("dtmap/4Materials/block/0material", 1); /* the library's first entry: steel */
-  run_dtmap("check");
-  assert_true(close_to(get_number("dtmap/4Materials/block/1E"), 210000, 1e-15));
-  assert_true(close_to(get_number("dtmap/4Materials/block/3rho"), 7.85e-9, 1e-15));
+  assert_true(tu_onelab_get_number("dtmap/4Materials/block/1E") == 210000);
+  assert_true(tu_onelab_get_number("dtmap/4Materials/block/3rho") == 7.85e-9);
+  tu_onelab_set_number("dtmap/4Materials/block/0material", 1); /* the library's first entry: steel */
+  tu_onelab_run("check");
+  assert_true(close_to(tu_onelab_get_number("dtmap/4Materials/block/1E"), 210000, 1e-15));
+  assert_true(close_to(tu_onelab_get_number("dtmap/4Materials/block/3rho"), 7.85e-9, 1e-15));
   tu_gmsh_end();
 }
 
@@ -247,15 +212,15 @@ static void test_same_step(void **state) {
 /* E typed in the panel is read in MPa: 4x E halves the element step. */
 static void test_typed_value(void **state) {
   (void)state;
-  session(geo);
-  run_dtmap("check");
-  set_number("dtmap/4Materials/block/0material", 0); /* custom */
-  run_dtmap("check");
-  set_number("dtmap/4Materials/block/1E", 4 * 210000.0);
-  set_number("dtmap/4Materials/block/2nu", 0.3);
-  set_number("dtmap/4Materials/block/3rho", 7.85e-9);
-  run_dtmap("compute");
-  double dmin = get_number("dtmap/9Results/2dt min");
+  tu_onelab_session(geo, "t805");
+  tu_onelab_run("check");
+  tu_onelab_set_number("dtmap/4Materials/block/0material", 0); /* custom */
+  tu_onelab_run("check");
+  tu_onelab_set_number("dtmap/4Materials/block/1E", 4 * 210000.0);
+  tu_onelab_set_number("dtmap/4Materials/block/2nu", 0.3);
+  tu_onelab_set_number("dtmap/4Materials/block/3rho", 7.85e-9);
+  tu_onelab_run("compute");
+  double dmin = tu_onelab_get_number("dtmap/9Results/2dt min");
   tu_gmsh_end();
   cJSON *rep = tu_json_load(report);
   double base = tu_json_number(rep, "dt.min");
@@ -275,10 +240,10 @@ static void test_mesh_unit(void **state) {
  * steps those of dtmap run. */
 static void test_section_units(void **state) {
   (void)state;
-  session(sheet_geo);
-  run_dtmap("check");
+  tu_onelab_session(sheet_geo, "t805");
+  tu_onelab_run("check");
   assert_units("dtmap/4Materials/sheet/01thickness", "mm");
-  assert_true(get_number("dtmap/4Materials/sheet/01thickness") == 2);
+  assert_true(tu_onelab_get_number("dtmap/4Materials/sheet/01thickness") == 2);
   tu_gmsh_end();
   assert_run_matches(sheet_geo, report_sheet, "kind=\"membrane\" thickness=\"2\"");
 }

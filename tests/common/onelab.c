@@ -1,0 +1,50 @@
+/* The ONELAB session helpers of onelab.h: Gmsh's C API calls the ONELAB
+ * tests (t804, t805) make around each panel action, with cmocka's checks
+ * of every error code. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <gmshc.h>
+#include <math.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include "onelab.h"
+#include "testutil.h"
+
+void tu_onelab_session(const char *model, const char *test) {
+  int ierr = 0;
+  char sock[96];
+  tu_gmsh_begin();
+  snprintf(sock, sizeof sock, ".gmshsock-%s-%ld-", test, (long)getpid());
+  gmshOptionSetString("Solver.SocketName", sock, &ierr);
+  gmshOnelabClear("", &ierr);
+  gmshOpen(model, &ierr);
+  assert_int_equal(ierr, 0);
+}
+
+void tu_onelab_run(const char *action) {
+  int ierr = 0;
+  char *a[] = {(char *)action};
+  gmshOnelabSetString("dtmap/Action", a, 1, &ierr);
+  gmshOnelabRun("dtmap", tu_cli(), &ierr);
+  assert_int_equal(ierr, 0);
+}
+
+void tu_onelab_set_number(const char *name, double v) {
+  int ierr = 0;
+  gmshOnelabSetNumber(name, &v, 1, &ierr);
+  assert_int_equal(ierr, 0);
+}
+
+double tu_onelab_get_number(const char *name) {
+  double *v = NULL, r = NAN;
+  size_t n = 0;
+  int ierr = 0;
+  gmshOnelabGetNumber(name, &v, &n, &ierr);
+  if (n == 1) r = v[0];
+  gmshFree(v);
+  return r;
+}
