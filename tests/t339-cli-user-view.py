@@ -65,19 +65,6 @@ def mesh_centroids(msh, tags):
         gmsh.finalize()
 
 
-def histogram(log):
-    """[(lo, hi, count)] of the summary's histogram, and its title line."""
-    lines = log.splitlines()
-    i = next(k for k, l in enumerate(lines) if l.startswith("dt in multiples of the"))
-    rows = []
-    for l in lines[i + 1:]:
-        m = re.match(r"\s+\[([0-9.e+-]+), ([0-9.e+-]+|inf)\)\s+(\d+)", l)
-        if not m:
-            break
-        rows.append((float(m.group(1)), float(m.group(2)), int(m.group(3))))
-    return lines[i], rows
-
-
 class Worst(unittest.TestCase):
     def test_centroids_and_top_zero(self):
         scene("w")
@@ -102,7 +89,7 @@ class Histogram(unittest.TestCase):
     def check(self, name, ref_word, ref_of):
         code, log = tu.run("run", name + ".xml", "-o", name + ".msh", "--report", name + ".json")
         self.assertEqual(code, 0, log)
-        title, rows = histogram(log)
+        title, rows = tu.histogram(log)
         self.assertIn("dt in multiples of the " + ref_word, title)
         ref = ref_of(tu.report(name + ".json"))
         self.assertIn("%.4e s" % ref, title)

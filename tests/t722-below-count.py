@@ -29,18 +29,6 @@ from ownstep import own_safe_steps
 TARGET = 8e-8
 
 
-def bins(log):
-    lines = log.splitlines()
-    i = next(k for k, l in enumerate(lines) if l.startswith("dt in multiples of the target"))
-    rows = []
-    for l in lines[i + 1:]:
-        m = re.match(r"\s+\[([0-9.e+-]+), ([0-9.e+-]+|inf)\)\s+(\d+)", l)
-        if not m:
-            break
-        rows.append((float(m.group(1)), float(m.group(2)), int(m.group(3))))
-    return lines[i], rows
-
-
 class Disc(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -58,7 +46,7 @@ class Disc(unittest.TestCase):
                       self.out, re.M)
         self.assertTrue(m, self.out)
         self.assertEqual(int(m.group(1)), n)
-        title, rows = bins(self.out)
+        title, rows = tu.histogram(self.out)
         self.assertIn("each element's own safe step / it", title)
         self.assertIn("below 1: the %d element(s) below the target" % n, title)
         self.assertEqual(sum(c for lo, hi, c in rows if hi <= 1), n)
@@ -76,7 +64,7 @@ class Disc(unittest.TestCase):
         for v in own.values():
             k = min(math.floor(math.log2(v / TARGET)), -1) if v < TARGET else math.floor(math.log2(v / TARGET))
             want[k] = want.get(k, 0) + 1
-        _, rows = bins(self.out)
+        _, rows = tu.histogram(self.out)
         got = {round(math.log2(lo)): c for lo, hi, c in rows if c}
         self.assertEqual(got, want)
 
@@ -85,7 +73,7 @@ class Disc(unittest.TestCase):
         self.assertEqual(code, 0, log)
         self.assertTrue(rep["refine"]["met"], log)
         self.assertEqual(rep["below_target"], 0)
-        _, rows = bins(log)
+        _, rows = tu.histogram(log)
         self.assertEqual(sum(c for lo, hi, c in rows if hi <= 1), 0, rows)
 
 

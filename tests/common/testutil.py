@@ -131,3 +131,18 @@ def main():
     if _tmp is not None:
         shutil.rmtree(_tmp, ignore_errors=True)
     sys.exit(0 if result.wasSuccessful() and not bad else 1)
+
+
+def histogram(log):
+    """([(lo, hi, count)] of the summary's histogram of element steps, its
+    title line): the rows under the line "dt in multiples of the ..."."""
+    lines = log.splitlines()
+    i = next(k for k, l in enumerate(lines) if l.startswith("dt in multiples of the"))
+    rows = []
+    for l in lines[i + 1:]:
+        m = re.match(r"\s+\[([0-9.e+-]+), ([0-9.e+-]+|inf)\)\s+(\d+)", l)
+        if not m:
+            break
+        rows.append((float(m.group(1)), float(m.group(2)), int(m.group(3))))
+    return lines[i], rows
+
