@@ -19,7 +19,6 @@ Each check fails on the dtmap before issue 37."""
 
 import math
 import os
-import re
 import shutil
 import unittest
 
