@@ -62,7 +62,7 @@
 
 #define ASSEMBLY_TOL 1e-10 /* the assembled product against the operator's, relative */
 #define CERT_MEMORY 0.125  /* the factor's predicted bytes at most this share of the memory limit */
-#define ORDER_SHARE 3e-5   /* the node graph is ordered when its entries are at most this share of the budget */
+#define ORDER_SHARE 1e-4   /* the node graph is ordered when its entries are at most this share of the budget */
 #define METIS_GAIN 8.0     /* METIS is tried when AMD's predicted flops are at most this many budgets */
 
 /* The assembled -A (upper triangle, dofs node-major as the operator's),
