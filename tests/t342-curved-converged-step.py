@@ -103,6 +103,9 @@ class Converged(unittest.TestCase):
         self.assertLessEqual(g, ref["exact_step"])
         self.assertGreaterEqual(g, ref["exact_step"] * (1 - 1e-4))
 
+    # 119 s under the sanitizers (47 s optimised), most of it the sanitized run --posterior; the curved
+    # margin's code runs under them in the straight case here and in t340/t341
+    @unittest.skipIf(tu.SANITIZED, "the cone runs in the optimised build")
     def test_cone_below_converged(self):
         self.assertTrue(os.path.exists(CONE), "%s: install gmsh-doc (scripts/setup.sh does)" % CONE)
         shutil.copy(CONE, tu.path("cone.geo"))
