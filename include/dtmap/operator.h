@@ -54,6 +54,21 @@ DTM_EXPORT int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dt
                                         const dtm_operator_kept *kept, dtm_operator **out);
 DTM_EXPORT void dtm_operator_destroy(dtm_operator **op);
 
+/* A sparse symmetric matrix over an operator's unknowns in compressed
+ * rows, both triangles stored, the columns of each row ascending (the
+ * unknowns numbered as dtm_operator_apply's fields: node-major, then
+ * shells' and beams' rotations). Masses in kg (2D: per unit thickness). */
+typedef struct {
+  size_t n;       /* rows = columns */
+  size_t *rowptr; /* [n + 1] */
+  size_t *col;    /* [rowptr[n]] */
+  double *val;    /* [rowptr[n]] */
+} dtm_csr;
+/* Free m's arrays and zero it (NULL and a zeroed m are fine). */
+DTM_EXPORT void dtm_csr_free(dtm_csr *m);
+/* y = m x (x, y of m->n). */
+DTM_EXPORT void dtm_csr_apply(const dtm_csr *m, const double *x, double *y);
+
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);
 DTM_EXPORT int dtm_operator_ncomp(const dtm_operator *op);
 /* DTM_OP_ELASTIC or DTM_OP_DIFFUSION, as created. */
