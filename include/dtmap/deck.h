@@ -31,6 +31,9 @@ typedef struct {
   int lsdyna_proven;  /* LS-DYNA: 1 writes dtmap's proven step as TSSFAC (above 1 where its estimate is
                          lower) with dtmap's nodal masses for a target; 0 (default) keeps TSSFAC <= 0.9
                          and reaches the step with LS-DYNA's own mass scaling (DT2MS < 0) */
+  int selective_mass; /* 1: reach the target with the solver's own selective mass scaling (needs target > 0):
+                         CalculiX's (its minimum increment at the target), LS-DYNA's (IMSCL with DT2MS < 0);
+                         Abaqus/Explicit has none: mass at the nodes instead, as without it */
 } dtm_deck_opts;
 
 /* The step a solver will take with dtmap's deck and the hours the scene's
@@ -78,6 +81,18 @@ typedef struct dtm_deck_info {
   int nwarnings;                         /* warnings kept */
   char warnings[DTM_DECK_WARN_MAX][480]; /* one sentence each */
   dtm_solver_run run;                    /* the step the solver takes with this deck, and the hours */
+  int selective;                         /* 1: written with selective_mass */
+  int sms_solver;                        /* 1: the solver scales selectively (CalculiX, LS-DYNA); 0: it cannot
+                                            (Abaqus: the target's mass at the nodes instead) */
+  double sms_added;                      /* the mass the solver's selective scaling adds by its rule, as dtmap
+                                            predicts it, kg: CalculiX sum of beta_e m_e (the trace of its added
+                                            matrix per direction), LS-DYNA its DT2MS rule's figure; the model's
+                                            translational mass is unchanged (NaN: none) */
+  size_t sms_elements;                   /* the elements it scales */
+  double sms_beta_max;                   /* CalculiX: the largest beta_e, as ccx prints it (NaN otherwise) */
+  size_t sms_counted;                    /* CalculiX: the elements ccx counts as scaled (its rule covers none
+                                            of them: springs, mass elements) beside sms_elements */
+  char sms_note[480];                    /* what the solver does with the deck, one sentence */
 } dtm_deck_info;
 
 /* The solvers, "calculix, abaqus, lsdyna" (static). */

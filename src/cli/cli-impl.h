@@ -48,6 +48,7 @@ typedef struct {
   int width, height;       /* their size, pixels */
   const char *solver;      /* deck --solver NAME */
   const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
+  int selective_mass;      /* deck --selective-mass: the solver's own selective mass scaling for --target */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
 } cli_opts;
 

@@ -32,6 +32,12 @@ static int check_usage(const cli_opts *o, const char **ext) {
     return dtm_cli_usage_error(command(), "--lsdyna-step '%s' is neither conventional nor proven", o->lsdyna_step);
   if (o->lsdyna_step && strcmp(o->solver, "lsdyna"))
     return dtm_cli_usage_error(command(), "--lsdyna-step is for --solver lsdyna, not %s", o->solver);
+  if (o->selective_mass && !(o->target > 0))
+    return dtm_cli_usage_error(command(), "--selective-mass scales the mass to reach a step: give --target DT");
+  if (o->selective_mass && o->lsdyna_step && !strcmp(o->lsdyna_step, "proven"))
+    return dtm_cli_usage_error(command(),
+                               "--selective-mass takes LS-DYNA's own scaling (DT2MS < 0 with IMSCL); --lsdyna-step "
+                               "proven writes dtmap's masses at the nodes instead: choose one");
   if (!isnan(o->max_added_mass) && !(o->target > 0))
     return dtm_cli_usage_error(command(), "--max-added-mass limits the mass --target DT needs: give --target");
   return DTM_OK;
@@ -54,6 +60,17 @@ static int outputs(const dtm_scene *s, const cli_opts *o, const char *ext, char 
   return DTM_OK;
 }
 
+/* The summary's lines on --selective-mass. */
+static void print_selective(const dtm_deck_info *d, const char *M) {
+  char beta[64] = "";
+  printf("  selective  %s\n", d->sms_note);
+  if (!d->sms_solver || !(d->sms_elements > 0)) return;
+  if (!isnan(d->sms_beta_max)) snprintf(beta, sizeof beta, ", beta up to %.6g", d->sms_beta_max);
+  printf("             predicted by its rule: %.6g %s at %zu elements%s (%.3g %% of the model's %.6g %s; its "
+         "translational mass unchanged)\n",
+         d->sms_added, M, d->sms_elements, beta, 100 * d->sms_added / d->model_mass, d->model_mass, M);
+}
+
 static void print_deck(const dtm_deck_info *d, const char *M) {
   printf("\ndeck         %s (%s): %zu nodes, %zu elements, %d element sets, %d node sets, %.2f s\n", d->path, d->title,
          d->nodes, d->elements, d->element_sets, d->node_sets, d->seconds);
@@ -72,6 +89,7 @@ static void print_deck(const dtm_deck_info *d, const char *M) {
   if (d->added > 0)
     printf("  added mass %.6g %s at %zu nodes (%.3g %% of the model's %.6g %s)\n", d->added, M, d->added_nodes,
            100 * d->added / d->model_mass, d->model_mass, M);
+  if (d->selective) print_selective(d, M);
   printf("  the run    the step %s takes with this deck, and the hours of the scene's duration:\n", d->title);
   dtm_cli_print_solver_run(d->solver, &d->run);
   for (int i = 0; i < d->nwarnings; i++) fprintf(stderr, "dtmap: warning: %s\n", d->warnings[i]);
@@ -92,8 +110,12 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   dtm_deck_info info;
-  dtm_deck_opts dop = {o->solver, path, o->target, isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass,
-                       o->lsdyna_step && !strcmp(o->lsdyna_step, "proven")};
+  dtm_deck_opts dop = {o->solver,
+                       path,
+                       o->target,
+                       isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass,
+                       o->lsdyna_step && !strcmp(o->lsdyna_step, "proven"),
+                       o->selective_mass};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run(s, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a), dtm_cli_warn_curved(a), dtm_cli_warn_units(a);

@@ -149,6 +149,9 @@ static const cli_option deck_options[] = {
     {"--lsdyna-step", CLI_STRING, OPT(lsdyna_step), 0, 0, 0, "conventional|proven",
      "LS-DYNA: TSSFAC <= 0.9 with its DT2MS mass scaling (conventional, the default), or dtmap's proven step as "
      "TSSFAC, above 1 where its estimate is lower (proven)"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "with --target: reach it by the solver's own selective mass scaling (CalculiX, LS-DYNA IMSCL); Abaqus has "
+     "none: mass at the nodes"},
     {"--report", CLI_STRING, OPT(report), 0, 0, 0, "R.json", "JSON report, with the deck's step and estimates"},
     LANCZOS_OPTIONS,
     SEED_OPTION,
@@ -234,7 +237,8 @@ const cli_command dtm_cli_commands[] = {
     {"deck",
      "SCENE.xml --solver calculix|abaqus|lsdyna [-o FILE] [--posterior [--tol T] [--lanczos-max K] [--seed S]] "
      "[--target DT "
-     "[--max-added-mass P]] [--lsdyna-step conventional|proven] [--report R.json] [-j N] [-v|-q]",
+     "[--max-added-mass P] [--selective-mass]] [--lsdyna-step conventional|proven] [--report R.json] [-j N] "
+     "[-v|-q]",
      "Analyses the scene as run does and writes the explicit solver's input: the nodes,\n"
      "every analysed element in the solver's element type, one element and one node set\n"
      "per physical group, the materials and sections, dtmap's step fixed as the\n"

@@ -30,7 +30,8 @@
  * the maximum increment, so a packaged ccx runs at its own estimate; a
  * minimum increment above its estimate would switch on selective mass
  * scaling instead (the deck leaves it at 1e-30). A ccx built with
- * bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC. */
+ * bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC. With --selective-mass the
+ * minimum increment is the target, and ccx scales selectively (sms.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -596,17 +597,19 @@ static int write(deck_ctx *c) {
               "(docs/deck.md). Loads go on the shell nodes (the node sets name them)",
               twins);
   deck_header(c, "**");
-  fprintf(f,
-          "** CalculiX 2.20 takes the smaller of its own estimate and the maximum increment (this step); a\n"
-          "** ccx built with bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC=%.10g. A minimum increment above\n"
-          "** its estimate would switch on its selective mass scaling instead.\n",
-          c->info->step);
+  if (!c->info->selective)
+    fprintf(f,
+            "** CalculiX 2.20 takes the smaller of its own estimate and the maximum increment (this step); a\n"
+            "** ccx built with bench/ccx_fixed_inc.sh runs at CCX_FIXED_INC=%.10g. A minimum increment above\n"
+            "** its estimate would switch on its selective mass scaling instead.\n",
+            c->info->step);
   layer_lines(c);
   fprintf(f, "*HEADING\ndtmap deck of %s\n", c->s->path);
   DTM_CHECK(deck_inp_nodes(c));
   twin_nodes(c);
   DTM_CHECK(deck_inp_elements(c));
   DTM_CHECK(deck_inp_sets(c));
+  if (c->info->selective) deck_sms_elset(c);
   DTM_CHECK(deck_inp_materials(c, 0));
   DTM_CHECK(deck_inp_sections(c, own_card));
   int r;
@@ -618,7 +621,9 @@ static int write(deck_ctx *c) {
   twin_equations(c);
   deck_inp_slot(c, "model", "boundary and initial conditions, contact (model data)");
   fputs("*STEP, INC=1000000000\n*DYNAMIC, EXPLICIT, ALPHA=0\n", f);
-  deck_inp_reals(c, 4, (double[]){c->info->step, c->info->duration, 1e-30, c->info->step});
+  /* with --selective-mass the minimum increment is the target: ccx scales to reach it */
+  double least = c->info->selective ? c->info->step : 1e-30;
+  deck_inp_reals(c, 4, (double[]){c->info->step, c->info->duration, least, c->info->step});
   deck_inp_slot(c, "step", "loads and output requests (step data)");
   fputs("*END STEP\n", f);
   return DTM_OK;

@@ -144,6 +144,9 @@ int deck_conn(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *
 /* The mass the deck puts at node v (mesh index): what the mesh carries and
  * what the target adds, kg. */
 double deck_node_mass(const deck_ctx *c, size_t v);
+/* The mass of element e of block b in part p: rho x its measure x the
+ * part's thickness (plane, membrane, shell) or area (truss, beam), kg. */
+double deck_element_mass(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p);
 /* E (Pa), nu, rho (kg/m^3) of scene material mat. */
 void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho);
 /* The material's Rayleigh coefficients (alpha 1/s, beta s) and constant
@@ -203,6 +206,22 @@ double deck_ccx_elemfac(const char *elem);
  * or TSSFAC x |DT2MS| with the mass LS-DYNA adds by its rule predicted
  * (info->solver_added, the model's mass info->model_mass). */
 void deck_lsdyna_step(deck_ctx *c);
+
+/* ---- sms.c: decks with selective mass scaling (--selective-mass) ---- */
+/* The solver's selective scaling at the step c->info holds (the target):
+ * CalculiX's by its rule (calcstabletimeincvol.f: each element whose own
+ * step is below the target gets beta_e = (target / own_e)^2 - 1 and a
+ * matrix of trace beta_e m_e per direction that leaves its translational
+ * mass unchanged), LS-DYNA's the DT2MS prediction it already holds,
+ * Abaqus none; into c->info (sms_*). */
+void deck_sms_predict(deck_ctx *c);
+/* CalculiX: element e of block b (global index i) is one its selective
+ * scaling reaches (its own step below the target). */
+int deck_sms_scaled(const deck_ctx *c, const dtm_block *b, size_t e, size_t i);
+/* The header's lines on the selective scaling, each after cm. */
+void deck_sms_header(const deck_ctx *c, const char *cm);
+/* CalculiX: *ELSET DTMAP_SMS_SCALED of the elements its scaling reaches. */
+void deck_sms_elset(deck_ctx *c);
 
 /* ---- inp.c: Abaqus-style input (CalculiX and Abaqus) ---- */
 int deck_inp_nodes(deck_ctx *c);

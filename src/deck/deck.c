@@ -15,6 +15,7 @@
 #include "base.h"
 #include "deck-impl.h"
 #include "dtmap/cost.h"
+#include "dtmap/kernel.h"
 #include "dtmap/units.h"
 #include "dtmap/util.h"
 #include "dtmap/version.h"
@@ -208,6 +209,13 @@ double deck_node_mass(const deck_ctx *c, size_t v) {
   return (c->added ? c->added[v] : 0.0) + (c->carried ? c->carried[v] : 0.0);
 }
 
+double deck_element_mass(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
+  double x[3 * DTM_MAX_NODES], E, nu, rho;
+  dtm_mesh_gather_one(c->m, b, e, x);
+  deck_elastic(c, p->mat, &E, &nu, &rho);
+  return rho * dtm_elem_measure(b->type, x) * (p->kind == DTM_SECTION_SOLID ? 1.0 : p->thickness);
+}
+
 void deck_elastic(const deck_ctx *c, int mat, double *E, double *nu, double *rho) {
   const dtm_material *m = &c->s->materials[mat].m;
   *E = dtm_material_value(m, "E"), *nu = dtm_material_value(m, "nu"), *rho = dtm_material_value(m, "rho");
@@ -340,6 +348,7 @@ void deck_header(const deck_ctx *c, const char *cm) {
   else if (isfinite(in->tssfac))
     fprintf(f, "%s TSSFAC %.10g: the step over %s's own estimate, so that its first step is the deck's\n", cm,
             in->tssfac, in->title);
+  if (in->selective) deck_sms_header(c, cm);
   for (const char *l = c->proven; *l;) {
     size_t n = strcspn(l, "\n");
     fprintf(f, "%s %.*s\n", cm, (int)n, l);
@@ -430,9 +439,17 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
   snprintf(in->basis, sizeof in->basis, "%s",
            in->step < in->recommended ? "capped by the solver's elements" : "the recommended step");
   if (!(o->target > in->step)) return DTM_OK;
-  if (c->own_scaling) { /* the solver's mass scaling reaches it; checked once predicted */
-    in->step = fmin(o->target, cap);
-    snprintf(in->basis, sizeof in->basis, "the target, with the solver's mass scaling");
+  if (c->own_scaling) {                        /* the solver's mass scaling reaches it; checked once predicted */
+    int ccx = !strcmp(c->w->name, "calculix"); /* ccx runs at its minimum increment, the target */
+    in->step = ccx ? o->target : fmin(o->target, cap);
+    snprintf(in->basis, sizeof in->basis, "%s",
+             o->selective_mass ? "the target, by selective mass scaling"
+                               : "the target, with the solver's mass scaling");
+    if (ccx && cap < o->target)
+      deck_warn(c,
+                "dtmap caps CalculiX's layers (shells, membranes, beams, plane stress) at %.4e s, below the target "
+                "%.4e s; ccx's selective scaling lowers their thickness modes too, by its rule, not measured here",
+                cap, o->target);
     return DTM_OK;
   }
   DTM_CHECK(target_mass(c->a, o->target / factor, ms));
@@ -481,7 +498,9 @@ static double solver_cost(const deck_ctx *c, char *src, size_t len) {
 static void solver_run(const deck_ctx *c, dtm_solver_run *r) {
   const dtm_deck_info *in = c->info;
   r->step = in->step;
-  if (!strcmp(c->w->name, "calculix") && in->own < in->step)
+  if (!strcmp(c->w->name, "calculix") && in->selective)
+    snprintf(r->basis, sizeof r->basis, "the deck's minimum increment, with ccx's selective mass scaling");
+  else if (!strcmp(c->w->name, "calculix") && in->own < in->step)
     r->step = in->own,
     snprintf(r->basis, sizeof r->basis, "ccx's own estimate: it takes the smaller of it and the deck's increment");
   else if (!strcmp(c->w->name, "calculix"))
@@ -534,8 +553,22 @@ static int write_file(deck_ctx *c, const char *path) {
   return dtm_atomic_commit(&w);
 }
 
+/* --selective-mass needs a target and the solver's own scaling. */
+static int selective_usage(const dtm_deck_opts *o) {
+  if (!o->selective_mass) return DTM_OK;
+  if (!(o->target > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "--selective-mass scales the mass to reach a step: give --target DT");
+  if (o->lsdyna_proven)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "--selective-mass takes LS-DYNA's own scaling (DT2MS < 0 with IMSCL); --lsdyna-step proven "
+                   "writes dtmap's masses at the nodes instead: choose one");
+  return DTM_OK;
+}
+
 static void info_init(const deck_ctx *c, const dtm_deck_opts *o, dtm_deck_info *in) {
   memset(in, 0, sizeof *in);
+  in->selective = o->selective_mass;
+  in->sms_added = in->sms_beta_max = NAN;
   snprintf(in->solver, sizeof in->solver, "%s", c->w->name);
   snprintf(in->title, sizeof in->title, "%s", c->w->title);
   snprintf(in->path, sizeof in->path, "%s", o->path);
@@ -552,17 +585,21 @@ int dtm_deck_write(const dtm_analysis *a, const dtm_deck_opts *o, dtm_deck_info 
                 .carried = dtm_analysis_point_masses(a),
                 .info = info};
   if (!c.w) return dtm_deck_solver(o->solver, NULL);
+  DTM_CHECK(selective_usage(o));
   info_init(&c, o, info);
   DTM_CHECK(elastic_of(a, &k));
   c.form = formulation(a, k), c.elastic = k;
   dtm_mass_scaling ms = {0};
   int r = deck_plan(&c);
-  c.own_scaling = !strcmp(c.w->name, "lsdyna") && !o->lsdyna_proven;
+  c.own_scaling =
+      (!strcmp(c.w->name, "lsdyna") && !o->lsdyna_proven) || (!strcmp(c.w->name, "calculix") && o->selective_mass);
   info->lsdyna_proven = !strcmp(c.w->name, "lsdyna") && o->lsdyna_proven;
   if (r == DTM_OK) r = choose_step(&c, o, &ms);
   if (r == DTM_OK) own_estimate(&c);
   if (r == DTM_OK && !strcmp(c.w->name, "lsdyna")) deck_lsdyna_step(&c);
-  if (r == DTM_OK && c.own_scaling && o->target > 0) r = mass_check(&c, o);
+  if (r == DTM_OK && o->selective_mass) deck_sms_predict(&c);
+  /* selective scaling leaves the translational mass unchanged: the limit is for mass at the nodes */
+  if (r == DTM_OK && c.own_scaling && o->target > 0 && !o->selective_mass) r = mass_check(&c, o);
   if (r == DTM_OK) {
     solver_run(&c, &info->run);
     damping_ratio(&c);

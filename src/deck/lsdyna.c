@@ -138,6 +138,9 @@ static double own(const deck_ctx *c, const dtm_block *b, size_t e, size_t i, con
 
 /* ---- cards ---- */
 
+/* The ID of the part set of selective mass scaling: after the groups'. */
+static int sms_set(const deck_ctx *c) { return c->ngroups + 1; }
+
 /* *CONTROL_TIMESTEP: TSSFAC makes LS-DYNA's first step the deck's; LCTM
  * names the curve that caps every later one. */
 static void control(deck_ctx *c) {
@@ -152,6 +155,14 @@ static void control(deck_ctx *c) {
   else
     put_text(&l, "0.0");
   put_id(&l, LCTM), put_text(&l, "0"), put_text(&l, "0");
+  card_end(&l, c->f);
+  if (!in->selective || !isfinite(in->dt2ms)) return;
+  /* the second card: DT2MSF, DT2MSLC, IMSCL (minus the part set), two unused, RMSCL */
+  fputs("$# dt2msf,dt2mslc,imscl,unused,unused,rmscl\n", c->f);
+  char imscl[16];
+  snprintf(imscl, sizeof imscl, "%d", -sms_set(c));
+  put_text(&l, "0.0"), put_text(&l, "0"), put_text(&l, imscl), put_text(&l, "0"), put_text(&l, "0");
+  put_text(&l, "0.0");
   card_end(&l, c->f);
 }
 
@@ -373,7 +384,17 @@ static void group_elements(deck_ctx *c, const deck_group *g, int sid) {
   id_flush(&l);
 }
 
+/* The part set IMSCL names: every part (--selective-mass with DT2MS). */
+static void sms_parts(deck_ctx *c) {
+  id_line l = {c->f, {0}, 0};
+  if (!c->info->selective || !isfinite(c->info->dt2ms)) return;
+  fprintf(c->f, "*SET_PART_LIST_TITLE\nDTMAP_SMS_PARTS\n%10d\n", sms_set(c));
+  for (int k = 0; k < c->nparts; k++) id_put(&l, (size_t)k + 1);
+  id_flush(&l);
+}
+
 static void sets(deck_ctx *c) {
+  sms_parts(c);
   for (int i = 0; i < c->ngroups; i++) {
     const deck_group *g = &c->groups[i];
     if (g->mesh_group >= 0) group_elements(c, g, i + 1);
@@ -404,15 +425,6 @@ static double ratio_down(double t) {
  * deck's step and never above dtmap's. */
 static void tssfac(dtm_deck_info *in) { in->tssfac = ratio_down(in->step / in->own), in->step = in->tssfac * in->own; }
 
-/* The mass of element e of block b in part p: rho x its measure x the
- * part's thickness (plane, membrane, shell) or area (truss, beam), kg. */
-static double element_mass(const deck_ctx *c, const dtm_block *b, size_t e, const deck_part *p) {
-  double x[3 * DTM_MAX_NODES], E, nu, rho;
-  dtm_mesh_gather_one(c->m, b, e, x);
-  deck_elastic(c, p->mat, &E, &nu, &rho);
-  return rho * dtm_elem_measure(b->type, x) * (p->kind == DTM_SECTION_SOLID ? 1.0 : p->thickness);
-}
-
 /* The mass LS-DYNA adds at its start with DT2MS = -dt (its conventional
  * mass scaling, docs/deck.md): an element whose step by its rule, dt_e,
  * is below dt gets its density scaled so that its step is dt. Every rule
@@ -428,7 +440,7 @@ static void dt2ms_mass(deck_ctx *c, double dt) {
     for (size_t e = 0; e < c->m->blocks[k].n; e++, i++) {
       const dtm_block *b = &c->m->blocks[k];
       const deck_part *p = &c->parts[c->part[i]];
-      double m = element_mass(c, b, e, p), t = own(c, b, e, i, p);
+      double m = deck_element_mass(c, b, e, p), t = own(c, b, e, i, p);
       model += m;
       if (t < dt) in->solver_added += m * ((dt / t) * (dt / t) - 1.0), in->solver_added_elements++;
     }

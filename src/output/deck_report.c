@@ -10,6 +10,19 @@
 #include "output-impl.h"
 #include "report.h"
 
+/* deck.selective_mass (--selective-mass): what the solver does and what
+ * its selective scaling adds by its rule, as dtmap predicts it. */
+static cJSON *selective_json(const dtm_deck_info *d) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddBoolToObject(o, "solver_scales", d->sms_solver);
+  cJSON_AddStringToObject(o, "note", d->sms_note);
+  if (d->sms_solver) cJSON_AddNumberToObject(o, "added_mass", isnan(d->sms_added) ? 0.0 : d->sms_added);
+  if (d->sms_solver) cJSON_AddNumberToObject(o, "elements", (double)d->sms_elements);
+  if (!isnan(d->sms_beta_max)) cJSON_AddNumberToObject(o, "beta_max", d->sms_beta_max);
+  if (d->sms_counted) cJSON_AddNumberToObject(o, "counted_without_mass", (double)d->sms_counted);
+  return o;
+}
+
 static cJSON *deck_json(const dtm_deck_info *d) {
   cJSON *o = cJSON_CreateObject(), *w = cJSON_CreateArray();
   cJSON_AddStringToObject(o, "solver", d->solver);
@@ -36,6 +49,7 @@ static cJSON *deck_json(const dtm_deck_info *d) {
   cJSON_AddNumberToObject(o, "added_mass", d->added);
   cJSON_AddNumberToObject(o, "added_nodes", (double)d->added_nodes);
   if (isfinite(d->model_mass)) cJSON_AddNumberToObject(o, "model_mass", d->model_mass);
+  if (d->selective) cJSON_AddItemToObject(o, "selective_mass", selective_json(d));
   for (int i = 0; i < d->nwarnings; i++) cJSON_AddItemToArray(w, cJSON_CreateString(d->warnings[i]));
   cJSON_AddItemToObject(o, "warnings", w);
   cJSON_AddNumberToObject(o, "seconds", d->seconds);
