@@ -146,6 +146,16 @@ static void header_lsdyna(const deck_ctx *c, const char *cm, const char *M) {
           cm);
 }
 
+static void header_abaqus(const deck_ctx *c, const char *cm, const char *M) {
+  const dtm_deck_info *in = c->info;
+  fprintf(c->f,
+          "%s selective mass scaling (--selective-mass): Abaqus/Explicit has none. The deck reaches the target\n"
+          "%s with conventional mass at the nodes instead (dtmap's --target path, the mass elements below):\n"
+          "%s %.10g %s at %zu nodes, %.4g %% of the model's %.10g %s. That mass changes the model's\n"
+          "%s translational mass and moves its low frequencies; the CalculiX and LS-DYNA decks scale selectively.\n",
+          cm, cm, cm, in->added, M, in->added_nodes, 100 * in->added / in->model_mass, in->model_mass, M, cm);
+}
+
 void deck_sms_header(const deck_ctx *c, const char *cm) {
   const char *M = dtm_scene_mass_unit(c->s, dtm_analysis_mesh(c->a)->dim);
   if (!strcmp(c->w->name, "calculix"))
@@ -153,10 +163,7 @@ void deck_sms_header(const deck_ctx *c, const char *cm) {
   else if (!strcmp(c->w->name, "lsdyna"))
     header_lsdyna(c, cm, M);
   else
-    fprintf(c->f,
-            "%s selective mass scaling (--selective-mass): %s. That mass changes the model's\n"
-            "%s translational mass and moves its low frequencies; LS-DYNA and CalculiX can scale selectively.\n",
-            cm, c->info->sms_note, cm);
+    header_abaqus(c, cm, M);
 }
 
 void deck_sms_elset(deck_ctx *c) {
