@@ -37,6 +37,8 @@ What is checked, for each:
   (without loads or damping central differences keep this sum up to an
   oscillation of a few percent: 3 % on the wall; an unstable run grows
   without bound), and the velocities it prints are finite.
+Beside them, the reinforced block and the stiffened panel (membranes,
+springs, shells, a beam) check ccx's count and largest beta (below).
 On the old code (no --selective-mass) the deck command exits 2.
 """
 
@@ -265,6 +267,38 @@ class SelectiveCalculix(unittest.TestCase):
         print("wall: %d elements, beta max %.6g, predicted %.6g kg; artificial energy ccx %.7g, dtmap %.7g; "
               "total energy %.4g to %.4g" % (sm["elements"], sm["beta_max"], sm["added_mass"], e_ccx, e_dtmap,
                                               min(total), max(total)))
+
+    def test_layers_and_springs(self):
+        """The reinforced block (tetrahedra, membranes, trusses as springs
+        and masses) and the stiffened panel (shells, a beam) at 3e-6 s:
+        ccx's count of scaled elements is the report's plus the springs
+        and mass elements it counts without adding them mass, its largest
+        beta the report's, its increment the target; 20 increments from a
+        seeded random force at every node end with finite displacements.
+        The mass of the layers it builds is not checked (their nodes are
+        its own)."""
+        for name in ("reinforced_block", "stiffened_panel"):
+            with self.subTest(example=name):
+                path, rep = deck(os.path.join(tu.SRC, "geometries", name + ".xml"), name, 3e-6)
+                sm = rep["deck"]["selective_mass"]
+                run, _ = du.prepare(path, 20 * 3e-6)
+                with open(run + ".inp") as f:
+                    runl = f.read().split("\n")
+                i = runl.index(du.DYNAMIC)
+                runl[i + 1] = "3e-06, 6e-05, 3e-06, 3e-06"
+                with open(run + ".inp", "w") as f:
+                    f.write("\n".join(runl))
+                code, log = run_ccx(run)
+                self.assertEqual(code, 0, log[-2000:])
+                self.assertIn("Job finished", log)
+                count = int(re.search(r"In total\s+(\d+)\s+elements were scaled", log).group(1))
+                self.assertEqual(count, sm["elements"] + sm.get("counted_without_mass", 0))
+                self.assertLess(abs(floats(r"beta \(maximum\) =\s*(\S+)", log)[0] / sm["beta_max"] - 1), 1e-9)
+                self.assertTrue(all(abs(s / 3e-6 - 1) < 1e-6 for s in floats(r"SELECTED time increment:\s*(\S+)", log)))
+                self.assertTrue(0 < du.max_displacement(run + ".dat") < float("inf"))
+                print("%s: ccx scaled %d = %d + %d without mass, beta max %.6g, predicted %.6g kg" %
+                      (name, count, sm["elements"], sm.get("counted_without_mass", 0), sm["beta_max"],
+                       sm["added_mass"]))
 
 
 if __name__ == "__main__":

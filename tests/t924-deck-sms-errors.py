@@ -27,8 +27,9 @@ class SelectiveErrors(unittest.TestCase):
     def test_no_target(self):
         for solver in ("calculix", "abaqus", "lsdyna"):
             with self.subTest(solver=solver):
-                self.refused("no_target_" + solver, "--selective-mass scales the mass to reach a step: give --target DT",
-                             "--solver", solver, "--selective-mass")
+                self.refused("no_target_" + solver,
+                             "--selective-mass scales the mass to reach a step: give --target DT", "--solver", solver,
+                             "--selective-mass")
 
     def test_lsdyna_proven(self):
         self.refused("proven.k", "--selective-mass takes LS-DYNA's own scaling", "--solver", "lsdyna", "--target",
