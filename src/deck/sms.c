@@ -70,9 +70,9 @@ static void predict_calculix(deck_ctx *c) {
   in->sms_counted = on ? other + mass_nodes(c) : 0;
   if (isnan(in->model_mass)) in->model_mass = model;
   snprintf(in->sms_note, sizeof in->sms_note,
-           on ? "ccx runs at the deck's minimum increment, the target, with its own selective mass scaling (its "
+           on ? "ccx runs at the deck's minimum increment, its step, with its own selective mass scaling (its "
                 "estimate is below it)"
-              : "ccx's own estimate is at or above the target: it runs at the target without mass scaling");
+              : "ccx's own estimate is at or above the deck's step: it runs at that step without mass scaling");
 }
 
 void deck_sms_predict(deck_ctx *c) {
@@ -86,7 +86,7 @@ void deck_sms_predict(deck_ctx *c) {
     in->sms_added = on ? in->solver_added : 0.0, in->sms_elements = on ? in->solver_added_elements : 0;
     snprintf(in->sms_note, sizeof in->sms_note, "%s",
              on ? "LS-DYNA scales every part selectively (IMSCL) where an element's step is below |DT2MS|"
-                : "the target is at most 0.9 x LS-DYNA's estimate: no mass scaling, selective or not");
+                : "the step is at most 0.9 x LS-DYNA's estimate: no mass scaling, selective or not");
   } else {
     snprintf(in->sms_note, sizeof in->sms_note,
              "Abaqus/Explicit has no selective mass scaling: conventional mass at the nodes instead, %.6g %s at %zu "
@@ -104,10 +104,10 @@ static void header_calculix(const deck_ctx *c, const char *cm, const char *M) {
     return;
   }
   fprintf(f,
-          "%s selective mass scaling (--selective-mass): the *DYNAMIC minimum increment is the target, %.10g s,\n"
+          "%s selective mass scaling (--selective-mass): the *DYNAMIC minimum increment is the step, %.10g s,\n"
           "%s above CalculiX's own estimate %.10g s, so ccx 2.20 switches on its selective mass scaling and runs at\n"
-          "%s the target (it prints \"Selective Mass Scaling is active\"). Its rule: each element whose own step\n"
-          "%s dt_e is below the target gets beta_e = (target / dt_e)^2 - 1 and the added mass\n"
+          "%s that step (it prints \"Selective Mass Scaling is active\"). Its rule: each element whose own step\n"
+          "%s dt_e is below the step T gets beta_e = (T / dt_e)^2 - 1 and the added mass\n"
           "%s beta_e m_e / (n (n - 1)) (n I - 1 1^T) per direction (n nodes, m_e its mass): rows sum to zero,\n"
           "%s so the model's translational mass, %.10g %s, is unchanged. With equal nodal masses the element's\n"
           "%s deformation modes get n / (n - 1) x beta_e of its mass, more than the beta_e its rule asks for.\n",
