@@ -14,6 +14,11 @@ packages=(build-essential cmake pkg-config clang clang-format libgmsh-dev gmsh l
                                          # fixed font without spaces)
           python3 python3-gmsh python3-numpy python3-scipy python3-jsonschema man-db
           libsuitesparse-dev  # CHOLMOD: the factorisation that proves the global bound (src/spectral/certify.c)
+          libopenblas0-serial  # the BLAS under CHOLMOD (Debian's alternatives pick it over the reference
+                               # BLAS): 6x faster certificates. Single-threaded on purpose: the OpenMP
+                               # build (libopenblas0-openmp) spins when loaded under ulimit -d (t309);
+                               # if a threaded OpenBLAS is installed too it outranks this one
+                               # (update-alternatives --display libblas.so.3-x86_64-linux-gnu)
           calculix-ccx  # ccx 2.20 runs the decks of dtmap deck (tests/t371)
           gmsh-doc  # Gmsh's tutorials and demos: tests/t318 reruns bench/surface_models.py on one
           openmpi-bin libopenmpi-dev libpetsc-real-dev libslepc-real-dev)

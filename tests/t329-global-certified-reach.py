@@ -14,10 +14,22 @@ The exact step comes from an independent assembly
 --posterior must say "proven", and its global step must not exceed the
 exact step beyond 1e-10 relative (the two assemblies' rounding, far below
 the 3e-4 of the cluster) and stay within 1e-4 of it (Lanczos's
-tolerance)."""
+tolerance).
+
+The budget's rule (src/analysis/global.c): the factorisation is tried
+when CHOLMOD predicts at most max(CERT_FLOOR, CERT_RATE x the run before
+it) flops, the run before being the report's timings mesh + extract +
+effects + nodal. Two Gmsh tet4 boxes (the unit box of
+bench/certify_reach.py) check it: at 22,026 unknowns CHOLMOD predicts
+6.9e9 flops, below the floor whatever the machine's speed, so it is
+proven (the floor of 4e9 flops before OpenBLAS refused it); at 36,813
+unknowns AMD predicts 6.8e10 (METIS 2.1e10), and the summary's allowed
+flops must be the rule's, to its 3 printed digits, and the outcome the
+comparison's ("too dear" unless the run before took seconds)."""
 
 import json
 import os
+import re
 import subprocess
 import sys
 import unittest
@@ -32,6 +44,10 @@ SIZE = 0.12
 SCALE = 1 + 1.5e-4
 ROUNDING = 1e-10
 OLD_REACH = 30000  # unknowns: the hand-written factorisation refused every operator above
+CERT_RATE = 8e9  # flop/s, src/analysis/global.c
+CERT_FLOOR = 8e9  # flops, src/analysis/global.c
+OLD_FLOOR = 4e9  # flops: the floor with the reference BLAS under CHOLMOD
+PRINTED = 5e-3  # the summary prints flops to 3 significant digits
 
 
 def two_bars(path):
@@ -58,6 +74,71 @@ def two_bars(path):
         gmsh.write(path)
     finally:
         gmsh.finalize()
+
+
+def box(name, unknowns):
+    """bench/certify_reach.py's Delaunay tet4 unit box with about unknowns / 3 nodes, and its scene."""
+    h = (unknowns / 3) ** (-1 / 3) * 0.93
+    gmsh.initialize(["t329", "-v", "0"])
+    try:
+        gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [1]), "block")
+        gmsh.option.setNumber("Mesh.MeshSizeMin", h)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(tu.path(name + ".msh"))
+    finally:
+        gmsh.finalize()
+    tu.write(name + ".xml", """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<mesh file="%s.msh"/>
+<material name="steel" groups="block" E="210e9" nu="0.3" rho="7850"/>
+<effects><elastic formulation="3d"/></effects>
+</dtmap-scene>
+""" % name)
+
+
+def budget_run(name):
+    """run --posterior of name.xml: (report, summary, the flops the rule allows from the report's timings)."""
+    code, log = tu.run("run", name + ".xml", "-o", name + "_out.msh", "--report", name + ".json", "--posterior")
+    if code != 0:
+        raise AssertionError(log)
+    rep = tu.report(name + ".json")
+    tm = rep["timings"]
+    before = tm["mesh"] + tm["extract"] + tm["effects"] + tm["nodal"]
+    return rep, log, max(CERT_FLOOR, CERT_RATE * before)
+
+
+class Budget(unittest.TestCase):
+    def test_proven_between_old_and_new_floor(self):
+        box("small", 1.8e4)
+        rep, log, allowed = budget_run("small")
+        self.assertEqual(3 * rep["mesh"]["nodes"], 22026, "the mesh changed: the predicted flops below do not hold")
+        m = re.search(r"factorisation of ([0-9.e+]+) flops", log)
+        self.assertIsNotNone(m, log)
+        predicted = float(m.group(1))
+        self.assertGreater(predicted, OLD_FLOOR, log)
+        self.assertLessEqual(predicted, CERT_FLOOR, log)
+        self.assertLessEqual(predicted, allowed * (1 + PRINTED), log)
+        self.assertEqual(rep["effect_minima"][0]["lanczos"].get("deterministic"), "proven", log)
+
+    def test_allowed_flops_are_the_rule(self):
+        box("large", 3e4)
+        rep, log, allowed = budget_run("large")
+        self.assertEqual(3 * rep["mesh"]["nodes"], 36813, "the mesh changed: the predicted flops below do not hold")
+        lz = rep["effect_minima"][0]["lanczos"]
+        dear = re.search(r"too dear: ([0-9.e+]+) flops and [0-9.e+]+ MB predicted, ([0-9.e+]+) flops allowed", log)
+        if dear:
+            predicted, printed = float(dear.group(1)), float(dear.group(2))
+            self.assertAlmostEqual(printed / allowed, 1, delta=PRINTED, msg=log)
+            self.assertGreater(predicted, allowed * (1 - PRINTED), log)
+            self.assertEqual(lz.get("deterministic"), "too dear", log)
+        else:  # a run before of seconds (a loaded machine, the sanitizers): allowed, so proven
+            m = re.search(r"factorisation of ([0-9.e+]+) flops", log)
+            self.assertIsNotNone(m, log)
+            self.assertLessEqual(float(m.group(1)), allowed * (1 + PRINTED), log)
+            self.assertEqual(lz.get("deterministic"), "proven", log)
 
 
 class Reach(unittest.TestCase):

@@ -27,12 +27,15 @@
  * cholmod_factorize_p of -A + sigma I with the symbolic factor reused;
  * CHOLMOD stops at the first column whose pivot is not positive (status
  * CHOLMOD_NOT_POSDEF, L->minor < n): an eigenvalue lies at or above sigma,
- * up to rounding. The BLAS under CHOLMOD is Debian's reference BLAS
- * (docs/certificate.md says why not OpenBLAS); an OpenMP BLAS, where one is
- * installed, is held to one thread: its many small parallel regions, one
- * per supernode's kernels, took 18x longer than one thread on a shared
- * two-core machine (load 5: 14.1 s against 0.78 s for a box of 14,229
- * unknowns; the reference BLAS took 2.4 s).
+ * up to rounding. Nearly all of a large certificate's time is the
+ * supernodal kernels, that is the BLAS under CHOLMOD: scripts/setup.sh
+ * installs Debian's single-threaded OpenBLAS (libopenblas0-serial), which
+ * factors a box of 105,912 unknowns (1.96e11 flops) in 12 s where the
+ * reference BLAS took 81 s (docs/certificate.md). An OpenMP BLAS, where
+ * one is installed instead, is held to one thread: its many small
+ * parallel regions, one per supernode's kernels, took 18x longer than one
+ * thread on a shared two-core machine (load 5: 14.1 s against 0.78 s for
+ * a box of 14,229 unknowns).
  *
  * Rounding: when the factorisation succeeds in floating point, P (sigma I
  * - A) P^T + E is positive definite with |E| <= g |L| |L^T|, g = (c + 1) u
