@@ -4,7 +4,7 @@ modes_compare.c) on a real Gmsh mesh against an independent assembly.
 The model: a free steel bar 0.2 x 0.04 x 0.02 m meshed by Gmsh into linear
 tetrahedra (about 260 nodes), analysed by the Python module; dtmap's
 operator and its modes through libdtmap's C API (ctypes). The reference
-reads the same mesh's nodes and tetrahedra from Gmsh, assembles K with its
+(tests/reference/modes_ref.py) reads the same mesh's nodes and tetrahedra from Gmsh, assembles K with its
 own tet4 formula (B^T D B V, isotropic D) and the lumped mass rho V / 4 per
 node, builds each extra mass itself and solves the dense pencil with
 scipy.linalg.eigh; it shares no code with dtmap.
@@ -35,16 +35,20 @@ Checks and tolerances:
 
 import ctypes
 import math
+import os
+import sys
 import unittest
 
 import gmsh
 import numpy
-import scipy.linalg
 import scipy.sparse
 
 import dtmap
 from dtmap._lib import check, lib
 import testutil as tu
+
+sys.path.insert(0, os.path.join(tu.SRC, "tests", "reference"))
+from modes_ref import Reference, elastic, mac  # noqa: E402
 
 E, NU, RHO = 210e9, 0.3, 7850.0
 LX, LY, LZ = 0.2, 0.04, 0.02
@@ -84,75 +88,6 @@ lib.dtm_csr_free.argtypes = [ctypes.POINTER(Csr)]
 lib.dtm_operator_destroy.argtypes = [ctypes.POINTER(ctypes.c_void_p)]
 lib.dtm_operator_ndof.argtypes = [ctypes.c_void_p]
 lib.dtm_operator_ndof.restype = ctypes.c_size_t
-
-
-# ---- the reference ----------------------------------------------------------
-
-def elasticity():
-    lam, mu = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))
-    D = numpy.zeros((6, 6))
-    D[:3, :3] = lam
-    D[range(3), range(3)] += 2 * mu
-    D[range(3, 6), range(3, 6)] = mu
-    return D
-
-
-def tet4(X, D):
-    """Stiffness (12 x 12, node-major) and volume of a linear tetrahedron."""
-    A = numpy.hstack([numpy.ones((4, 1)), X])
-    grads = numpy.linalg.inv(A)[1:, :].T  # [node][x, y, z]
-    B = numpy.zeros((6, 12))
-    for a, (gx, gy, gz) in enumerate(grads):
-        B[:, 3 * a:3 * a + 3] = [[gx, 0, 0], [0, gy, 0], [0, 0, gz], [gy, gx, 0], [0, gz, gy], [gz, 0, gx]]
-    V = abs(numpy.linalg.det(A)) / 6
-    return V * B.T @ D @ B, V
-
-
-class Reference:
-    """K, the lumped mass and the element list of the current Gmsh mesh."""
-
-    def __init__(self):
-        tags, xyz, _ = gmsh.model.mesh.getNodes()
-        coords = dict(zip((int(t) for t in tags), xyz.reshape(-1, 3)))
-        _, conn = gmsh.model.mesh.getElementsByType(4)
-        conn = conn.reshape(-1, 4).astype(int)
-        self.tags = sorted({int(t) for t in conn.ravel()})
-        self.pos = {t: i for i, t in enumerate(self.tags)}
-        self.x = numpy.array([coords[t] for t in self.tags])
-        n = 3 * len(self.tags)
-        self.K, self.m = numpy.zeros((n, n)), numpy.zeros(n)
-        self.elements, D = [], elasticity()
-        for c in conn:
-            nodes = [self.pos[int(t)] for t in c]
-            Ke, V = tet4(self.x[nodes], D)
-            dofs = [3 * v + k for v in nodes for k in range(3)]
-            self.K[numpy.ix_(dofs, dofs)] += Ke
-            self.m[dofs] += RHO * V / 4
-            self.elements.append((nodes, RHO * V))
-
-    def eig(self, extra=None):
-        B = numpy.diag(self.m) + (extra if extra is not None else 0)
-        return scipy.linalg.eigh(self.K, B)
-
-    def sms(self):
-        """beta_e (W_e - w_e w_e^T / m_e) (x) I_3 over every element, beta_e = 1 + 4 x_c / LX."""
-        S = numpy.zeros_like(self.K)
-        for nodes, me in self.elements:
-            beta = 1 + 4 * self.x[nodes, 0].mean() / LX
-            w = numpy.full(4, me / 4)
-            Me = beta * numpy.kron(numpy.diag(w) - numpy.outer(w, w) / me, numpy.eye(3))
-            dofs = [3 * v + k for v in nodes for k in range(3)]
-            S[numpy.ix_(dofs, dofs)] += Me
-        return S
-
-
-def elastic(values, vectors=None):
-    """The eigenpairs past the 6 rigid ones."""
-    return values[6:], (vectors[:, 6:] if vectors is not None else None)
-
-
-def mac(a, b, m):
-    return (a @ (m * b)) ** 2 / ((a @ (m * a)) * (b @ (m * b)))
 
 
 # ---- dtmap through the C API --------------------------------------------------
@@ -203,7 +138,7 @@ class ModesReference(unittest.TestCase):
         gmsh.option.setNumber("Mesh.MeshSizeMax", 0.012)
         gmsh.model.mesh.generate(3)
         gmsh.write(tu.path("bar.msh"))
-        cls.ref = Reference()
+        cls.ref = Reference(E, NU, RHO)
         cls.result = dtmap.analyse(materials={"steel": {"groups": "bar", "E": E, "nu": NU, "rho": RHO}},
                                    effects=["elastic"], views=False)
         cls.dt = Dtmap(cls.result, cls.ref)
@@ -253,7 +188,7 @@ class ModesReference(unittest.TestCase):
         lib.dtm_csr_free(ctypes.byref(csr))
 
     def test_selective(self):
-        S = self.ref.sms()
+        S = self.ref.sms(lambda c: 1 + 4 * c[0] / LX)
         md = self.dt.modes(self.dt.csr(S))
         self.check_against(md, self.ref.eig(S)[0], "selective mass")
         lib.dtm_modes_free(ctypes.byref(md))

@@ -377,14 +377,12 @@ DTM_EXPORT int dtm_modes_price_base(const dtm_analysis *a, int n, dtm_modes_pric
 /* A variant: the model with extra (over p->op's unknowns, dtm_csr), added_mass
  * kg of translational mass (for the report), its modes and shifts. */
 DTM_EXPORT int dtm_modes_price_add(dtm_modes_price *p, const char *name, const dtm_csr *extra, double added_mass);
-/* The conventional variant: the point masses dtm_mass_points finds to lift
- * a's recommended step to target (on the global estimate when global is
- * set), up to DTM_MASS_CAP % of the model's mass, as a diagonal extra mass;
- * a is put back as it was after (its point masses, nodal bounds and
- * recommendation; a global estimate made before is dropped). A target a
- * already meets adds no mass (shifts 0); one not reached is a variant not
- * computed, with why. */
-DTM_EXPORT int dtm_modes_price_conventional(dtm_analysis *a, double target, int global, dtm_modes_price *p);
+/* The conventional variant: the point masses that lift every nodal bound
+ * of a, hence its recommended step, to target (s, safety included), by the
+ * rule `deck --target` adds (dtm_mass_scaling_nodal at target / safety),
+ * as a diagonal extra mass. A target a already meets adds no mass (shifts
+ * 0); without a nodal bound the variant is not computed, with why. */
+DTM_EXPORT int dtm_modes_price_conventional(const dtm_analysis *a, double target, dtm_modes_price *p);
 DTM_EXPORT void dtm_modes_price_free(dtm_modes_price *p);
 
 #endif

@@ -266,11 +266,10 @@ static int write_early(void *user, size_t nelements) {
 /* ---- --modes ---- */
 
 /* The natural frequencies of the model and, with --target, those under
- * the conventional point masses reaching it (a is put back as it was),
- * before any global estimate (the mass search drops it). */
-static int modes_step(dtm_analysis *a, const cli_opts *o, dtm_modes_price *p) {
+ * the conventional point masses reaching it (deck --target's). */
+static int modes_step(const dtm_analysis *a, const cli_opts *o, dtm_modes_price *p) {
   DTM_CHECK(dtm_modes_price_base(a, o->modes, p));
-  if (o->target > 0) DTM_CHECK(dtm_modes_price_conventional(a, o->target, o->posterior, p));
+  if (o->target > 0) DTM_CHECK(dtm_modes_price_conventional(a, o->target, p));
   return DTM_OK;
 }
 

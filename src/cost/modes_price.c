@@ -1,9 +1,10 @@
 /* What mass scaling costs in accuracy, in the model's own natural
  * frequencies: the lowest elastic modes of the model as meshed, and of each
  * modified model a caller adds (conventional point masses reaching a
- * target, found here by the rule refine and deck use, src/cost/
- * point_masses.c; or any added mass matrix, such as selective mass
- * scaling's), each mode matched to the model's by shape (MAC) and its
+ * target, by the nodal rule `deck --target` adds, dtm_mass_scaling_nodal:
+ * each node below the target gets m_a ((T / dt_a)^2 - 1), which lifts every
+ * nodal bound, hence the recommended step, to the target; or any added
+ * mass matrix, such as selective mass scaling's), each mode matched to the model's by shape (MAC) and its
  * frequency shift in percent. The modes are those of dtm_modes_lowest on
  * the first elastic effect's operator (src/spectral/modes.c); every extra
  * mass is a dtm_csr over that operator's unknowns. */
@@ -67,60 +68,22 @@ int dtm_modes_price_add(dtm_modes_price *p, const char *name, const dtm_csr *ext
   return DTM_OK;
 }
 
-/* The masses a carries beyond kept[nn] (NULL: none) into add[nn]; their
- * total and the nodes that got some. */
-static double added(const dtm_analysis *a, const double *kept, size_t nn, double *add, size_t *nodes) {
-  const double *pm = dtm_analysis_point_masses(a);
-  double t = 0;
-  *nodes = 0;
-  for (size_t v = 0; v < nn; v++) {
-    add[v] = (pm ? pm[v] : 0.0) - (kept ? kept[v] : 0.0);
-    add[v] = add[v] > 0 ? add[v] : 0.0;
-    t += add[v], *nodes += add[v] > 0;
-  }
-  return t;
-}
-
-/* The point masses that meet the target into add[nn] (a put back after). */
-static int search(dtm_analysis *a, double target, int global, double *add, dtm_mass_found *found, size_t *nodes,
-                  double *total) {
-  size_t nn = dtm_analysis_mesh(a)->nnodes;
-  const double *pm = dtm_analysis_point_masses(a);
-  double *kept = pm ? malloc((nn + 1) * sizeof *kept) : NULL;
-  if (pm && !kept) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (kept) memcpy(kept, pm, nn * sizeof *kept);
-  dtm_mass_aim aim = {target, global, 0, 0, DTM_MASS_CAP};
-  int r = dtm_mass_points(a, &aim, found);
-  *total = r == DTM_OK && found->kept ? added(a, kept, nn, add, nodes) : 0.0;
-  if (r == DTM_OK && found->kept) r = dtm_analysis_set_point_masses(a, kept); /* a as it was */
-  free(kept);
-  return r;
-}
-
-int dtm_modes_price_conventional(dtm_analysis *a, double target, int global, dtm_modes_price *p) {
-  size_t nn = dtm_analysis_mesh(a)->nnodes, nodes = 0;
-  double *add = calloc(nn + 1, sizeof *add), total = 0;
-  dtm_mass_found found = {0};
+int dtm_modes_price_conventional(const dtm_analysis *a, double target, dtm_modes_price *p) {
+  dtm_mass_scaling ms;
   p->target = target;
-  int met = dtm_analysis_recommended(a) >= target;
-  int r = add ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  if (r == DTM_OK && !met) r = search(a, target, global, add, &found, &nodes, &total);
-  if (r == DTM_OK && (met || found.kept)) {
-    dtm_csr extra = {0};
-    r = dtm_csr_point_masses(p->op, add, nn, &extra);
-    if (r == DTM_OK) r = dtm_modes_price_add(p, "conventional mass", &extra, total);
-    if (r == DTM_OK) p->variant[p->nvariants - 1].nodes = nodes;
-    dtm_csr_free(&extra);
-  } else if (r == DTM_OK) {
+  if (!isfinite(dtm_analysis_dt_nodal(a))) {
     dtm_modes_variant *v = NULL;
-    r = new_variant(p, "conventional mass", &v);
-    if (r == DTM_OK) v->added_percent = found.percent, v->added_mass = NAN;
-    if (r == DTM_OK)
-      v->why = isfinite(dtm_analysis_dt_nodal(a)) ? "no point masses up to 100 % of the model's mass "
-                                                    "reach the target"
-                                                  : "no nodal bound to add point masses on";
+    DTM_CHECK(new_variant(p, "conventional mass", &v));
+    v->why = "no nodal bound to add point masses on", v->added_mass = v->added_percent = NAN;
+    return DTM_OK;
   }
-  free(add);
+  DTM_CHECK(dtm_mass_scaling_nodal(a, target / dtm_analysis_scene(a)->safety, NULL, &ms));
+  dtm_csr extra = {0};
+  int r = dtm_csr_point_masses(p->op, ms.node_added, dtm_analysis_mesh(a)->nnodes, &extra);
+  if (r == DTM_OK) r = dtm_modes_price_add(p, "conventional mass", &extra, ms.total_added);
+  if (r == DTM_OK) p->variant[p->nvariants - 1].nodes = ms.nodes;
+  dtm_csr_free(&extra);
+  dtm_mass_scaling_free(&ms);
   return r;
 }
 
