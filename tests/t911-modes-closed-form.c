@@ -78,6 +78,8 @@ static void test_free_bar(void **state) {
   assert_true(md.converged);
   assert_int_equal(md.nrigid, 1);
   assert_int_equal(md.nelastic, 5);
+  assert_int_equal(md.counted, 1);
+  assert_int_equal(md.sturm, 6); /* the rigid mode and 5 elastic ones below 1 + 1e-6 times the fifth */
   assert_true(md.mode[0].rigid);
   assert_true(fabs(md.mode[0].lambda) <= 1e-10 * chain(n, 1));
   for (int k = 1; k <= 5; k++) {

@@ -26,6 +26,8 @@ Checks and tolerances:
   and the two assemblies' rounding about 1e-10, and eigh's error on the
   lowest eigenvalues is eps |K| / lambda, about 1e-12 here;
 - each returned residual ||K x - lambda B x|| / (lambda ||B x||) below 1e-7;
+- the Sturm check (the inertia of K - s B just above the largest mode)
+  counts exactly the modes returned;
 - the swap: base modes 0 and 1 matched to modified modes 1 and 0 with a MAC
   above 0.9, each shift within 1e-6 percentage points of the reference's
   (the reference's own MAC matching on its eigenvectors); a modified model
@@ -65,7 +67,8 @@ class Modes(ctypes.Structure):
     _fields_ = [("n", ctypes.c_int), ("nrigid", ctypes.c_int), ("nelastic", ctypes.c_int),
                 ("mode", ctypes.POINTER(Mode)), ("shape", ctypes.POINTER(ctypes.c_double)), ("ndof", ctypes.c_size_t),
                 ("sigma", ctypes.c_double), ("block", ctypes.c_int), ("steps", ctypes.c_int),
-                ("converged", ctypes.c_int), ("seconds", ctypes.c_double), ("factor_seconds", ctypes.c_double)]
+                ("converged", ctypes.c_int), ("seconds", ctypes.c_double), ("factor_seconds", ctypes.c_double),
+                ("sturm_at", ctypes.c_double), ("sturm", ctypes.c_long), ("counted", ctypes.c_int)]
 
 
 class Csr(ctypes.Structure):
@@ -151,6 +154,7 @@ class ModesReference(unittest.TestCase):
 
     def check_against(self, md, values, what):
         self.assertTrue(md.converged, what)
+        self.assertEqual((md.counted, md.sturm), (1, md.n), what + ": the Sturm count")
         self.assertEqual(md.nrigid, 6, what)
         self.assertEqual(md.nelastic, NMODES, what)
         top = md.mode[md.n - 1].lam

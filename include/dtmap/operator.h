@@ -103,6 +103,11 @@ typedef struct {
   int converged;         /* every returned mode passed the test (DTM_MODES_TOL) */
   double seconds;        /* wall time (assembly, factorisation, Lanczos) */
   double factor_seconds; /* of which the assembly and factorisation */
+  double sturm_at;       /* the Sturm check's s: just above the largest mode returned, rad^2/s^2 */
+  long sturm;            /* the eigenvalues below sturm_at by the inertia of K - s B (LDL^T), -1: not counted */
+  int counted;           /* 1: sturm equals the modes Lanczos found below sturm_at (none missed); 0: it does not
+                            (a mode missed); -1: not checked (a zero pivot); -2: not checked (its factorisation
+                            predicted above 1e9 flops) */
 } dtm_modes;
 
 /* The lowest n elastic modes (and the rigid ones below them) of (K, M +

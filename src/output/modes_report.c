@@ -21,6 +21,16 @@ static void print_heading(const dtm_modes_price *p, FILE *f) {
           b->nelastic);
   fprintf(f, "             sparse factorisation, %d steps, %.2f s%s); %d rigid-body mode(s) below them\n", b->steps,
           b->seconds, b->converged ? "" : ", NOT CONVERGED", b->nrigid);
+  if (b->counted == 0)
+    fprintf(
+        f, "             WARNING: the Sturm count finds %ld eigenvalues below %.6g Hz, Lanczos %d: a mode is missing\n",
+        b->sturm, sqrt(b->sturm_at) / 6.283185307179586, b->n);
+  else if (b->counted == 1)
+    fprintf(f, "             Sturm check: none missed (the inertia of K - s M counts exactly these %d below %.6g Hz)\n",
+            b->n, sqrt(b->sturm_at) / 6.283185307179586);
+  else
+    fprintf(f, "             Sturm check not done (%s): a mode Lanczos missed would go unseen\n",
+            b->counted == -2 ? "its factorisation would cost more than 1e9 flops" : "a zero pivot");
 }
 
 /* The line under the table that says what a variant added. */
@@ -79,6 +89,7 @@ static void frequencies_json(cJSON *o, const dtm_modes *m) {
   cJSON_AddNumberToObject(o, "rigid", m->nrigid);
   cJSON_AddNumberToObject(o, "steps", m->steps);
   cJSON_AddBoolToObject(o, "converged", m->converged);
+  if (m->counted >= 0) cJSON_AddBoolToObject(o, "counted", m->counted);
   cJSON_AddNumberToObject(o, "seconds", m->seconds);
   cJSON_AddNumberToObject(o, "factor_seconds", m->factor_seconds);
 }
