@@ -76,7 +76,7 @@ static const cli_option run_options[] = {
      "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
     {"--solver-rule", CLI_STRING, OPT(solver_rule), 0, 0, 0, "LIST",
      "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
-    {"--modes", CLI_INT, OPT(modes), 0, 1, 1000, "N",
+    {"--modes", CLI_INT, OPT(modes), 0, 1, 200, "N",
      "the lowest N elastic natural frequencies (Hz) of the free model, its rigid-body modes named"},
     {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
      "with --modes: each mode's shift under conventional mass (point masses) reaching this step, s"},

@@ -236,6 +236,7 @@ typedef struct {
   int p, mmax, ld; /* block, most steps, rows of h (mmax + p) */
   int m, nv;       /* steps done, vectors stored */
   size_t cap;      /* most vectors: min(mmax + p, unknowns with mass) */
+  size_t alloc;    /* vectors q and bq have room for (grown on demand) */
   double *q, *bq;  /* [ld][n] the basis and B times it */
   double *h;       /* [mmax][ld] column j: OP q_j in the basis */
   double *w, *bw;  /* [n] scratch */
@@ -273,9 +274,22 @@ static void random_vector(const pencil *p, band *z, unsigned seed) {
   }
 }
 
+/* Room for k vectors in q and bq (at most cap): doubled when short. */
+static int room(const pencil *p, band *z, size_t k) {
+  if (k <= z->alloc || z->alloc >= z->cap) return DTM_OK;
+  size_t want = 2 * z->alloc > k ? 2 * z->alloc : k;
+  want = want < z->cap ? want : z->cap;
+  double *q = realloc(z->q, want * p->n * sizeof *q);
+  if (q) z->q = q;
+  double *bq = q ? realloc(z->bq, want * p->n * sizeof *bq) : NULL;
+  if (bq) z->bq = bq, z->alloc = want;
+  return bq ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the modes' basis (%zu vectors)", want);
+}
+
 /* One step: OP q_m in the basis, a new vector from what remains. */
 static int step(pencil *p, band *z) {
   double *c = z->h + (size_t)z->m * (size_t)z->ld;
+  DTM_CHECK(room(p, z, (size_t)z->nv + 1));
   DTM_CHECK(solve(p, z->bq + (size_t)z->m * p->n, z->w));
   for (size_t r = 0; r < p->n; r++) z->w[r] = p->on[r] ? z->w[r] : 0.0;
   b_apply(p, z->w, z->bw);
@@ -292,7 +306,8 @@ static int step(pencil *p, band *z) {
 static int band_alloc(band *z, size_t n, int p, int mmax, size_t non) {
   z->p = p, z->mmax = mmax, z->ld = mmax + p, z->m = z->nv = 0;
   z->cap = (size_t)z->ld < non ? (size_t)z->ld : non;
-  z->q = malloc((size_t)z->ld * n * sizeof *z->q), z->bq = malloc((size_t)z->ld * n * sizeof *z->bq);
+  z->alloc = (size_t)(4 * p) < z->cap ? (size_t)(4 * p) : z->cap;
+  z->q = malloc(z->alloc * n * sizeof *z->q + 1), z->bq = malloc(z->alloc * n * sizeof *z->bq + 1);
   z->h = calloc((size_t)z->ld * (size_t)mmax, sizeof *z->h);
   z->w = malloc((n + 1) * sizeof *z->w), z->bw = malloc((n + 1) * sizeof *z->bw);
   return z->q && z->bq && z->h && z->w && z->bw ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the modes");
