@@ -357,14 +357,10 @@ typedef struct {
   double *nu, *s, *res;
 } ritz;
 
-static int ritz_compute(const band *z, ritz *rz) {
+/* The eigenpairs of the symmetric part of H's leading m x m block (a,
+ * v scratch) into rz, nu descending. */
+static void ritz_sorted(const band *z, double *a, double *v, int *idx, ritz *rz) {
   int m = z->m, ld = z->ld;
-  double *a = malloc((size_t)m * m * sizeof *a), *v = malloc((size_t)m * m * sizeof *v);
-  int *idx = malloc((size_t)m * sizeof *idx);
-  rz->m = m, rz->nu = malloc((size_t)m * sizeof *rz->nu), rz->res = malloc((size_t)m * sizeof *rz->res);
-  rz->s = malloc((size_t)m * m * sizeof *rz->s);
-  if (!a || !v || !idx || !rz->nu || !rz->s || !rz->res)
-    return free(a), free(v), free(idx), DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the modes");
   for (int i = 0; i < m; i++)
     for (int j = 0; j < m; j++) a[i * m + j] = 0.5 * (z->h[(size_t)j * ld + i] + z->h[(size_t)i * ld + j]);
   jacobi(m, a, v);
@@ -378,6 +374,11 @@ static int ritz_compute(const band *z, ritz *rz) {
     rz->nu[i] = a[idx[i] * m + idx[i]];
     for (int r = 0; r < m; r++) rz->s[(size_t)r * m + i] = v[r * m + idx[i]];
   }
+}
+
+/* Each Ritz pair's ||OP y - nu y||_B = ||H_{m:nv, :} s||. */
+static void ritz_residuals(const band *z, ritz *rz) {
+  int m = z->m, ld = z->ld;
   for (int i = 0; i < m; i++) {
     double e = 0;
     for (int r = m; r < z->nv && r < ld; r++) {
@@ -387,8 +388,19 @@ static int ritz_compute(const band *z, ritz *rz) {
     }
     rz->res[i] = sqrt(e);
   }
+}
+
+static int ritz_compute(const band *z, ritz *rz) {
+  int m = z->m;
+  double *a = malloc((size_t)m * m * sizeof *a), *v = malloc((size_t)m * m * sizeof *v);
+  int *idx = malloc((size_t)m * sizeof *idx);
+  rz->m = m, rz->nu = malloc((size_t)m * sizeof *rz->nu), rz->res = malloc((size_t)m * sizeof *rz->res);
+  rz->s = malloc((size_t)m * m * sizeof *rz->s);
+  int r =
+      a && v && idx && rz->nu && rz->s && rz->res ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the modes");
+  if (r == DTM_OK) ritz_sorted(z, a, v, idx, rz), ritz_residuals(z, rz);
   free(a), free(v), free(idx);
-  return DTM_OK;
+  return r;
 }
 
 static void ritz_free(ritz *rz) { free(rz->nu), free(rz->s), free(rz->res); }
