@@ -110,6 +110,10 @@ static void test_point_mass(void **state) {
   assert_int_equal(md.nelastic, 1);
   near(md.mode[1].lambda, k * (1 / m1 + 1 / (m1 + kg[1])), 1e-10, "spring-mass eigenvalue");
   dtm_modes_free(&md);
+  if (dtm_modes_lowest(op, &pm, 5, &md)) fail_msg("modes: %s", dtm_error_message());
+  assert_int_equal(md.nelastic, 1); /* more asked than the model has: all it has, converged */
+  assert_true(md.converged);
+  dtm_modes_free(&md);
   dtm_csr_free(&pm);
   dtm_operator_destroy(&op);
   dtm_mesh_destroy(&m);

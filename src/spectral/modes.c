@@ -451,12 +451,12 @@ static void make_mode(const pencil *p, const band *z, const ritz *rz, int k, dou
 static int collect(const pencil *p, const band *z, const ritz *rz, int n, dtm_modes *out) {
   double top = lambda_top(p, rz);
   int nr = 0, k = passed(p, rz, &nr), count = 0;
-  out->converged = k - nr >= n;
   for (int i = 0; i < rz->m && rz->nu[i] > 0; i++) count += fabs(lambda_of(p, rz->nu[i])) <= DTM_MODES_RIGID_TOL * top;
   int nel = 0;
   for (int i = 0; i < rz->m && rz->nu[i] > 0 && nel < n; i++)
     nel += !(fabs(lambda_of(p, rz->nu[i])) <= DTM_MODES_RIGID_TOL * top);
   out->n = count + nel, out->nrigid = count, out->nelastic = nel;
+  out->converged = k >= out->n; /* every mode returned passed (fewer than n elastic ones: the model has no more) */
   out->mode = calloc((size_t)out->n + 1, sizeof *out->mode);
   out->shape = malloc(((size_t)out->n * p->n + 1) * sizeof *out->shape);
   if (!out->mode || !out->shape) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the modes");
