@@ -15,6 +15,8 @@
  *   masses a m_i): every frequency falls by exactly 1 / sqrt(1 + a), the
  *   shapes do not change, so each mode matches itself (MAC 1 to 1e-10)
  *   with a shift of 100 (1 / sqrt(1 + a) - 1) % (to 1e-7 %).
+ * - dtm_csr_minus_lumped: M + P (a whole mass matrix) minus M is P again,
+ *   entry for entry (exact: one subtraction of the same double).
  * - A plane-stress square of two triangles (8 unknowns): 3 rigid modes
  *   named, and with all 5 elastic modes asked for, every eigenvalue of
  *   M^-1/2 K M^-1/2 is found: their sum equals its trace and the largest its
@@ -114,6 +116,14 @@ static void test_point_mass(void **state) {
   assert_int_equal(md.nelastic, 1); /* more asked than the model has: all it has, converged */
   assert_true(md.converged);
   dtm_modes_free(&md);
+  double whole[2] = {m1 + kg[0], dtm_operator_mass(op)[1] + kg[1]};
+  size_t rowptr[3] = {0, 1, 2}, col[2] = {0, 1};
+  dtm_csr full = {2, rowptr, col, whole}, back;
+  assert_int_equal(dtm_csr_minus_lumped(op, &full, &back), 0);
+  assert_int_equal(back.rowptr[2], 1); /* node 0's zero dropped */
+  assert_int_equal(back.col[0], 1);
+  assert_true(back.val[0] == (dtm_operator_mass(op)[1] + kg[1]) - dtm_operator_mass(op)[1]);
+  dtm_csr_free(&back);
   dtm_csr_free(&pm);
   dtm_operator_destroy(&op);
   dtm_mesh_destroy(&m);

@@ -140,6 +140,10 @@ DTM_EXPORT int dtm_modes_compare(const dtm_operator *op, const dtm_modes *base, 
  * (node * ncomp + c), zero rows elsewhere (rotations): conventional mass
  * scaling as an extra mass for dtm_modes_lowest. */
 DTM_EXPORT int dtm_csr_point_masses(const dtm_operator *op, const double *kg, size_t nnodes, dtm_csr *out);
+/* out = full - M (M the operator's lumped diagonal), entries that become 0
+ * dropped: the added part of a whole mass matrix (M_s = M + M_add of
+ * selective mass scaling), the form dtm_modes_lowest's extra takes. */
+DTM_EXPORT int dtm_csr_minus_lumped(const dtm_operator *op, const dtm_csr *full, dtm_csr *out);
 
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);
 DTM_EXPORT int dtm_operator_ncomp(const dtm_operator *op);

@@ -2,7 +2,8 @@
  * of a base model matched to the modified model's mode of the same shape
  * and its frequency shift in percent; and the conventional alternative,
  * point masses at the nodes, as a diagonal extra mass for
- * dtm_modes_lowest.
+ * dtm_modes_lowest; and the added part of a whole mass matrix (selective
+ * mass scaling's M_s = M + M_add travels whole).
  *
  * Added mass reorders modes whose frequencies are close (a bending mode
  * that gains more mass than a torsion mode drops below it), so modes are
@@ -94,6 +95,30 @@ int dtm_csr_point_masses(const dtm_operator *op, const double *kg, size_t nnodes
     out->rowptr[i] = k;
     if (v > 0) out->col[k] = i, out->val[k++] = v;
   }
+  out->rowptr[n] = k;
+  return DTM_OK;
+}
+
+/* Row i of full with lumped[i] taken off its diagonal into out at *k. */
+static void row_minus(const dtm_csr *full, size_t i, double lumped, dtm_csr *out, size_t *k) {
+  out->rowptr[i] = *k;
+  for (size_t q = full->rowptr[i]; q < full->rowptr[i + 1]; q++) {
+    double v = full->val[q] - (full->col[q] == i ? lumped : 0.0);
+    if (v != 0) out->col[*k] = full->col[q], out->val[(*k)++] = v;
+  }
+}
+
+int dtm_csr_minus_lumped(const dtm_operator *op, const dtm_csr *full, dtm_csr *out) {
+  size_t n = dtm_operator_ndof(op), nnz = full->rowptr[full->n];
+  memset(out, 0, sizeof *out);
+  if (full->n != n) return DTM_ERR(DTM_ERR_INPUT, "a mass matrix of %zu rows, the model has %zu unknowns", full->n, n);
+  out->n = n;
+  out->rowptr = malloc((n + 1) * sizeof *out->rowptr), out->col = malloc((nnz + 1) * sizeof *out->col);
+  out->val = malloc((nnz + 1) * sizeof *out->val);
+  if (!out->rowptr || !out->col || !out->val) return dtm_csr_free(out), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  size_t k = 0;
+  const double *m = dtm_operator_mass(op);
+  for (size_t i = 0; i < n; i++) row_minus(full, i, m[i], out, &k);
   out->rowptr[n] = k;
   return DTM_OK;
 }
