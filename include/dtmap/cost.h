@@ -339,4 +339,50 @@ typedef struct {
 DTM_EXPORT int dtm_measures_phase_along(const dtm_analysis *a, double f, double dt, const double n[3],
                                         const double pol[3], int mode, int mat, dtm_phase_along *out);
 
+/* The accuracy price of mass scaling in natural frequencies
+ * (src/cost/modes_price.c): the lowest n elastic modes of the model (the
+ * first elastic effect's operator; dtm_modes_lowest) and, for each modified
+ * model (a variant: conventional point masses reaching a target, or any
+ * added mass matrix a caller gives, such as selective mass scaling), its
+ * modes matched to the model's by MAC and each one's frequency shift
+ * (dtm_modes_compare). A variant computes DTM_PRICE_SPARE elastic modes more
+ * than the model, so that a mode pushed past the n-th still finds its
+ * match. */
+#define DTM_PRICE_VARIANTS 4
+#define DTM_PRICE_SPARE 4
+typedef struct {
+  const char *name;      /* "conventional mass", "selective mass", ... (static) */
+  int computed;          /* 1: modes computed and compared */
+  const char *why;       /* when not: why, in words (static); else NULL */
+  double added_mass;     /* mass added, kg (per unit thickness in 2D): its translational inertia added */
+  double added_percent;  /* its share of the model's mass, % */
+  size_t nodes;          /* nodes that got mass (point masses), else 0 */
+  dtm_modes modes;       /* its modes (owned) */
+  dtm_mode_shift *shift; /* [base.nelastic] each model mode's match and shift (owned) */
+} dtm_modes_variant;
+typedef struct dtm_modes_price {
+  int effect;        /* the elastic effect whose operator (index) */
+  int n;             /* elastic modes asked */
+  double target;     /* the target step of the conventional variant, s (0: none) */
+  double model_mass; /* the lumped mass of the model (its analysed elements and point masses), kg */
+  dtm_modes base;    /* the model's modes (owned) */
+  int nvariants;     /* variants, in the order added */
+  dtm_modes_variant variant[DTM_PRICE_VARIANTS];
+  dtm_operator *op; /* the model's operator (owned): the unknowns every variant's extra mass is over */
+} dtm_modes_price;
+/* The model's lowest n elastic modes (and its rigid ones) into p (zeroed
+ * first; dtm_modes_price_free also after an error). DTM_ERR_INPUT when no
+ * effect is elastic, or for shells and beams. */
+DTM_EXPORT int dtm_modes_price_base(const dtm_analysis *a, int n, dtm_modes_price *p);
+/* A variant: the model with extra (over p->op's unknowns, dtm_csr), added_mass
+ * kg of translational mass (for the report), its modes and shifts. */
+DTM_EXPORT int dtm_modes_price_add(dtm_modes_price *p, const char *name, const dtm_csr *extra, double added_mass);
+/* The conventional variant: the point masses that lift every nodal bound
+ * of a, hence its recommended step, to target (s, safety included), by the
+ * rule `deck --target` adds (dtm_mass_scaling_nodal at target / safety),
+ * as a diagonal extra mass. A target a already meets adds no mass (shifts
+ * 0); without a nodal bound the variant is not computed, with why. */
+DTM_EXPORT int dtm_modes_price_conventional(const dtm_analysis *a, double target, dtm_modes_price *p);
+DTM_EXPORT void dtm_modes_price_free(dtm_modes_price *p);
+
 #endif

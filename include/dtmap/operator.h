@@ -69,6 +69,82 @@ DTM_EXPORT void dtm_csr_free(dtm_csr *m);
 /* y = m x (x, y of m->n). */
 DTM_EXPORT void dtm_csr_apply(const dtm_csr *m, const double *x, double *y);
 
+/* ---- natural modes (src/spectral/modes.c, modes_compare.c) ---------------
+ * The lowest natural frequencies of the pencil (K, B), B = the lumped mass
+ * M + extra (a dtm_csr over the operator's unknowns; NULL: none): K x =
+ * lambda B x, lambda = omega^2 (rad^2/s^2), f = omega / 2 pi (Hz). dtmap's
+ * model has no supports, so a free model has rigid-body modes (6 in 3D, 3
+ * in a plane, 1 along a line; more for parts not joined): they are found
+ * and named, then the lowest elastic ones. Elastic operators of solids,
+ * membranes and trusses; an error for shells and beams (their rotations are
+ * not assembled) and for diffusion. */
+#define DTM_MODES_RIGID_TOL 1e-8 /* rigid: |lambda| <= this times the largest eigenvalue computed */
+#define DTM_MODES_TOL 1e-9       /* a Ritz pair converged: ||OP y - nu y||_B <= this times |nu| */
+#define DTM_MODES_MAC_MIN 0.8    /* a modified mode matches a base mode at a MAC of at least this */
+
+typedef struct {
+  double lambda;   /* eigenvalue omega^2, rad^2/s^2 */
+  double freq;     /* natural frequency sqrt(max(lambda, 0)) / 2 pi, Hz */
+  double residual; /* ||K x - lambda B x|| / (lambda ||B x||) measured on the returned shape; a rigid
+                      mode's with the largest lambda computed in the denominator */
+  int rigid;       /* 1: a rigid-body mode (|lambda| <= DTM_MODES_RIGID_TOL x the largest) */
+} dtm_mode;
+
+typedef struct {
+  int n;                 /* modes returned: nrigid rigid ones, then nelastic elastic ones, lambda ascending */
+  int nrigid;            /* rigid-body modes found */
+  int nelastic;          /* elastic modes: as many as asked unless not converged */
+  dtm_mode *mode;        /* [n] (owned) */
+  double *shape;         /* [n][ndof] the mode shapes, x^T B x = 1 (owned) */
+  size_t ndof;           /* the operator's unknowns */
+  double sigma;          /* the shift, rad^2/s^2 (negative) */
+  int block;             /* the Lanczos block: start vectors (the most equal eigenvalues it separates) */
+  int steps;             /* Lanczos steps (one solve each) */
+  int converged;         /* every returned mode passed the test (DTM_MODES_TOL) */
+  double seconds;        /* wall time (assembly, factorisation, Lanczos) */
+  double factor_seconds; /* of which the assembly and factorisation */
+  double sturm_at;       /* the Sturm check's s: just above the largest mode returned, rad^2/s^2 */
+  long sturm;            /* the eigenvalues below sturm_at by the inertia of K - s B (LDL^T), -1: not counted */
+  int counted;           /* 1: sturm equals the modes Lanczos found below sturm_at (none missed); 0: it does not
+                            (a mode missed); -1: not checked (a zero pivot); -2: not checked (its factorisation
+                            predicted above 1e9 flops) */
+} dtm_modes;
+
+/* The lowest n elastic modes (and the rigid ones below them) of (K, M +
+ * extra) by shift-invert block Lanczos with full reorthogonalisation in the
+ * B inner product on CHOLMOD's factorisation of K - sigma B; see
+ * src/spectral/modes.c. extra: n x n of the operator's unknowns, symmetric
+ * positive semi-definite, or NULL. out is zeroed first; dtm_modes_free. */
+DTM_EXPORT int dtm_modes_lowest(const dtm_operator *op, const dtm_csr *extra, int n, dtm_modes *out);
+DTM_EXPORT void dtm_modes_free(dtm_modes *m);
+
+/* A base elastic mode against the modified model's. */
+typedef struct {
+  int base;     /* the base's elastic mode, 0-based among its elastic modes */
+  int match;    /* the modified model's elastic mode it matches (0-based), -1: none */
+  double mac;   /* the largest MAC of the base mode with any modified elastic mode (that of match when matched) */
+  double shift; /* 100 (f_modified / f_base - 1), %; NaN without a match */
+} dtm_mode_shift;
+
+/* Each of base's elastic modes matched to one of mod's by the mass-weighted
+ * modal assurance criterion MAC(a, b) = (a^T M b)^2 / (a^T M a  b^T M b),
+ * M the operator's lumped mass (the same weight for every model compared):
+ * pairs are taken greedily by descending MAC, each mode at most once, at a
+ * MAC of at least DTM_MODES_MAC_MIN; out[base->nelastic]. base and mod are
+ * modes of the same operator's unknowns. */
+DTM_EXPORT int dtm_modes_compare(const dtm_operator *op, const dtm_modes *base, const dtm_modes *mod,
+                                 dtm_mode_shift *out);
+
+/* The diagonal matrix of point masses kg[nnodes] (kg per node, NULL: none;
+ * per unit thickness in 2D) on each node's translational unknowns
+ * (node * ncomp + c), zero rows elsewhere (rotations): conventional mass
+ * scaling as an extra mass for dtm_modes_lowest. */
+DTM_EXPORT int dtm_csr_point_masses(const dtm_operator *op, const double *kg, size_t nnodes, dtm_csr *out);
+/* out = full - M (M the operator's lumped diagonal), entries that become 0
+ * dropped: the added part of a whole mass matrix (M_s = M + M_add of
+ * selective mass scaling), the form dtm_modes_lowest's extra takes. */
+DTM_EXPORT int dtm_csr_minus_lumped(const dtm_operator *op, const dtm_csr *full, dtm_csr *out);
+
 DTM_EXPORT size_t dtm_operator_ndof(const dtm_operator *op);
 DTM_EXPORT int dtm_operator_ncomp(const dtm_operator *op);
 /* DTM_OP_ELASTIC or DTM_OP_DIFFUSION, as created. */

@@ -22,6 +22,7 @@ typedef struct {
   int nsolvers;                         /* solvers named (run --solver-rule, deck --solver): the report's solvers[] */
   const char *solver_names[8];          /* their names (not owned) */
   const dtm_solver_run *solver_runs[8]; /* the step each takes with dtmap's deck and the hours (not owned) */
+  const dtm_modes_price *modes;         /* run --modes: the natural frequencies and their shifts, or NULL (not owned) */
 } dtm_results;
 
 /* The view of the elements whose step is below the scene's target, and the

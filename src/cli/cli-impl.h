@@ -33,7 +33,7 @@ typedef struct {
   double max_added_mass;   /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
   int keep_counts;         /* refine --keep-counts: the model's transfinite node counts stay */
   const char *optimise;    /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
-  double target;           /* refine --target, s (0: the scene's <time target>) */
+  double target;           /* refine --target, s (0: the scene's <time target>); run --target: with --modes */
   double factor;           /* verify --factor: multiple of the recommended step (0: not given, 1) */
   double dt;               /* verify --dt, s (0: use factor x recommended) */
   int steps;               /* verify --steps */
@@ -50,6 +50,7 @@ typedef struct {
   const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
   int selective_mass;      /* deck --selective-mass: the solver's own selective mass scaling for --target */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
+  int modes;               /* run --modes N: the lowest N elastic natural frequencies (0: none) */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;

@@ -76,6 +76,10 @@ static const cli_option run_options[] = {
      "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
     {"--solver-rule", CLI_STRING, OPT(solver_rule), 0, 0, 0, "LIST",
      "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
+    {"--modes", CLI_INT, OPT(modes), 0, 1, 200, "N",
+     "the lowest N elastic natural frequencies (Hz) of the free model, its rigid-body modes named"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
+     "with --modes: each mode's shift under conventional mass (point masses) reaching this step, s"},
     LANCZOS_OPTIONS,
     SEED_OPTION,
     THREADS_OPTION,
@@ -169,7 +173,8 @@ const cli_command dtm_cli_commands[] = {
     {"run",
      "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior [--tol T] [--lanczos-max K] [--seed S]] [--png PREFIX "
      "[--width W] "
-     "[--height H]] [--top N] [--format F] [--views-only] [--solver-rule LIST] [--verified V.json,... [--calibrate]] "
+     "[--height H]] [--top N] [--format F] [--views-only] [--solver-rule LIST] [--modes N [--target DT]] [--verified "
+     "V.json,... [--calibrate]] "
      "[-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
@@ -178,7 +183,11 @@ const cli_command dtm_cli_commands[] = {
      "scene) OUT.msh holds only the views: gmsh IN.msh OUT.msh shows them on the input.\n"
      "--solver-rule lsdyna,abaqus,calculix adds one view per solver, 'dt lsdyna', ...: each\n"
      "element's step by that solver's own rule (the one its deck's header estimates with),\n"
-     "and the summary gives each solver's smallest step, its element and centroid.",
+     "and the summary gives each solver's smallest step, its element and centroid.\n"
+     "--modes N adds the lowest N elastic natural frequencies of the free model (its\n"
+     "rigid-body modes named by count) to the summary and the report; with --target DT,\n"
+     "also each mode's shift when point masses at the nodes lift the step to DT, matched\n"
+     "by mode shape (MAC): the accuracy price of conventional mass scaling.",
      run_options, dtm_cli_run},
     {"verify",
      "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--tol T] [--lanczos-max K] [--seed S] [--report "

@@ -263,25 +263,46 @@ static int write_early(void *user, size_t nelements) {
   return begin_output(e->s, e->o, names.mesh, nelements, 1, &e->file, &e->seconds);
 }
 
+/* ---- --modes ---- */
+
+/* The natural frequencies of the model and, with --target, those under
+ * the conventional point masses reaching it (deck --target's). */
+static int modes_step(const dtm_analysis *a, const cli_opts *o, dtm_modes_price *p) {
+  DTM_CHECK(dtm_modes_price_base(a, o->modes, p));
+  if (o->target > 0) DTM_CHECK(dtm_modes_price_conventional(a, o->target, p));
+  return DTM_OK;
+}
+
 /* Analyse, then summarise and either write the outputs or verify. */
 static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   early_output early = {s, o, NULL, 0.0};
   solver_rules rules = {0};
+  dtm_modes_price price = {0};
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
   if (r == DTM_OK) dtm_cli_warn_curved(a);
   if (r == DTM_OK && (!o->verbosity || verify)) dtm_cli_warn_units(a); /* else in run's summary */
   if (r == DTM_OK) dtm_analysis_set_lanczos_seed(a, (unsigned)o->seed);
+  if (r == DTM_OK && o->modes && !verify) r = modes_step(a, o, &price);
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
   if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o), rules.n, {NULL}, {NULL}};
+    dtm_results res = {a,
+                       cost,
+                       NULL,
+                       t_scene,
+                       early.seconds,
+                       dtm_cli_top(o),
+                       rules.n,
+                       {NULL},
+                       {NULL},
+                       o->modes && !verify ? &price : NULL};
     for (int i = 0; i < rules.n; i++) res.solver_names[i] = rules.names[i], res.solver_runs[i] = &rules.steps[i].run;
     if (o->verbosity && verify)
       print_brief(a);
@@ -293,6 +314,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   }
   dtm_output_abort(&early.file); /* after a failure: no partial output */
   rules_free(&rules);
+  dtm_modes_price_free(&price);
   dtm_cost_destroy(&cost);
   dtm_analysis_destroy(&a);
   dtm_gmsh_stop();
@@ -307,6 +329,11 @@ static int run_parallel(const dtm_scene *s, const cli_opts *o, double t_scene) {
     return DTM_ERR(DTM_ERR_INPUT, "%s: --png draws one output mesh; a distributed run writes one per part", s->path);
   if (o->solver_rule)
     return DTM_ERR(DTM_ERR_INPUT, "%s: --solver-rule runs on one whole mesh, without mpirun or partition files",
+                   s->path);
+  if (o->modes)
+    return DTM_ERR(DTM_ERR_INPUT,
+                   "%s: --modes factors the whole model: one whole mesh, without mpirun or partition "
+                   "files",
                    s->path);
   dtm_cli_output_names(s, o, NULL, &names);
   dtm_parallel_opts po = {.out = names.mesh,
@@ -355,6 +382,9 @@ int dtm_cli_run(const cli_opts *o) {
   if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
   if (o->png && o->views_only)
     return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
+  if (o->target > 0 && !o->modes)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--target gives the step of --modes' conventional mass; give "
+                                                     "--modes N too");
   solver_rules names;
   char why[512];
   if (o->solver_rule && rule_names(o->solver_rule, &names, why, sizeof why))

@@ -577,6 +577,7 @@ cJSON *dtm_report_json(const dtm_results *r) {
   if (dtm_analysis_point_masses(a)) cJSON_AddItemToObject(root, "point_masses", dtm_report_point_masses(a));
   if (r->cost) cJSON_AddItemToObject(root, "cost", dtm_report_cost(a, r->cost));
   if (r->nsolvers) cJSON_AddItemToObject(root, "solvers", solvers_json(r));
+  if (r->modes) cJSON_AddItemToObject(root, "modes", dtm_report_modes(a, r->modes));
   if (r->cost) cJSON_AddItemToObject(root, "accuracy_measures", dtm_report_measures(a, r->cost->measures));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));

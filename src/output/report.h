@@ -85,4 +85,8 @@ typedef struct {
 cJSON *dtm_report_warnings_of(const dtm_analysis *a, const dtm_mass_scaling *ms, const dtm_report_conflict *c,
                               const char *note);
 
+/* run --modes (src/output/modes_report.c): the report's "modes" object and
+ * the summary's table of a's natural frequencies p. */
+cJSON *dtm_report_modes(const dtm_analysis *a, const dtm_modes_price *p);
+void dtm_summary_modes(const dtm_analysis *a, const dtm_modes_price *p, void *stream);
 #endif

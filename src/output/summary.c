@@ -487,6 +487,7 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   print_accuracy(r->analysis, f);
   if (r->cost) print_cost(r->analysis, r->cost, f);
   if (r->cost) dtm_summary_measures(r->analysis, r->cost, f);
+  if (r->modes) dtm_summary_modes(r->analysis, r->modes, f);
   print_shape(r, f);
   print_layers(r, f);
   print_smallest(r, f);

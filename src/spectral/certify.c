@@ -99,9 +99,11 @@ static int colour_nodes(size_t nn, const size_t *xa, const size_t *ad, int *colo
   return nc;
 }
 
-/* The entries of A in node blocks: blk[(p * nc + i) * nc + j] = A(w nc + i,
- * v nc + j) for w = ad[p], p in v's list. */
-static int probe(const dtm_operator *op, size_t nn, const size_t *xa, const size_t *ad, double *blk) {
+/* The entries of the matrix of apply (A, or K for dtm_operator_assemble)
+ * in node blocks: blk[(p * nc + i) * nc + j] = A(w nc + i, v nc + j) for
+ * w = ad[p], p in v's list. */
+static int probe(const dtm_operator *op, void (*apply)(const dtm_operator *, const double *, double *), size_t nn,
+                 const size_t *xa, const size_t *ad, double *blk) {
   size_t n = dtm_operator_ndof(op), nc = (size_t)dtm_operator_ncomp(op);
   int *colour = malloc((nn + 1) * sizeof *colour), *seen = malloc((nn + 1) * sizeof *seen);
   double *x = calloc(n + 1, sizeof *x), *y = malloc((n + 1) * sizeof *y);
@@ -113,7 +115,7 @@ static int probe(const dtm_operator *op, size_t nn, const size_t *xa, const size
   for (int c = 0; c < ncol; c++)
     for (size_t j = 0; j < nc; j++) {
       for (size_t v = 0; v < nn; v++) x[v * nc + j] = colour[v] == c;
-      dtm_operator_apply_sym(op, x, y);
+      apply(op, x, y);
       for (size_t v = 0; v < nn; v++) {
         if (colour[v] != c) continue;
         x[v * nc + j] = 0;
@@ -123,6 +125,17 @@ static int probe(const dtm_operator *op, size_t nn, const size_t *xa, const size
     }
   free(colour), free(seen), free(x), free(y);
   return DTM_OK;
+}
+
+/* K itself by the same coloured products (src/spectral/modes.c). */
+int dtm_operator_assemble(const dtm_operator *op, size_t *nn, size_t **xadj, size_t **adj, double **blk) {
+  size_t nc = (size_t)dtm_operator_ncomp(op);
+  *blk = NULL;
+  DTM_CHECK(dtm_operator_node_graph(op, nn, xadj, adj));
+  *blk = malloc(((*xadj)[*nn] * nc * nc + 1) * sizeof **blk);
+  int r = *blk ? probe(op, dtm_operator_apply, *nn, *xadj, *adj, *blk) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  if (r) free(*xadj), free(*adj), free(*blk), *xadj = *adj = NULL, *blk = NULL;
+  return r;
 }
 
 /* ---- the assembled matrix ------------------------------------------- */
@@ -284,7 +297,7 @@ static int analyse(dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, con
 static int values(const dtm_operator *op, dtm_certifier *c, size_t nn, size_t nc, const size_t *xa, const size_t *ad,
                   int *status) {
   double *blk = malloc((xa[nn] * nc * nc + 1) * sizeof *blk);
-  int r = blk ? probe(op, nn, xa, ad, blk) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  int r = blk ? probe(op, dtm_operator_apply_sym, nn, xa, ad, blk) : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   if (r == DTM_OK) r = upper(c, nn, nc, xa, ad, blk);
   free(blk);
   if (r == DTM_OK) *status = assembly_agrees(op, c) ? DTM_CERT_PROVEN : DTM_CERT_UNAVAILABLE;

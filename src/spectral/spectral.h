@@ -36,6 +36,13 @@ struct dtm_operator;
  * translations). */
 int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj);
 
+/* The stiffness K of the operator assembled by coloured products (as the
+ * certificate assembles A, certify.c), in node blocks over its node graph:
+ * blk[(p * nc + i) * nc + j] = K(adj[p] nc + i, v nc + j) for p in
+ * [xadj[v], xadj[v + 1]), nc = dtm_operator_ncomp (all owned: free). An
+ * error for shells and beams, as dtm_operator_node_graph. */
+int dtm_operator_assemble(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj, double **blk);
+
 /* The certificate of certify.c: sigma I - A = L L^T for A = M^-1/2 K M^-1/2
  * assembled from the operator's product. */
 typedef struct dtm_certifier dtm_certifier;
