@@ -1,4 +1,4 @@
-"""Independent reference for dtmap's natural modes (tests t912, t913): the
+"""Independent reference for dtmap's natural modes (tests t942, t943): the
 linear tetrahedra of the current Gmsh model (nodes and elements read with
 Gmsh's API, from a .msh or a live mesh), K = sum V B^T D B with isotropic D,
 the row-sum lumped mass rho V / 4 per node and unknown, extra masses built

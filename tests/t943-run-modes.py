@@ -5,7 +5,7 @@ Checks and tolerances:
 - the report's modes object: 6 rigid modes counted, N elastic frequencies,
   converged, each within 1e-8 relative of the independent reference
   (tests/reference/modes_ref.py: numpy assembly of the mesh the run wrote,
-  scipy's eigh; the reasons for 1e-8 are t912's: Lanczos's test, the
+  scipy's eigh; the reasons for 1e-8 are t942's: Lanczos's test, the
   shift's conditioning, the .msh's 16 digits);
 - --target above the recommended step: the conventional variant added point
   masses (kg > 0, at some nodes), and by Courant-Fischer each of its
@@ -62,7 +62,7 @@ class RunModes(unittest.TestCase):
         tu.elastic_scene("plate", "plate.geo", 3)
         cls.plain, _, _ = run()
         cls.rep, _, msh = run("--modes", str(N))
-        gmsh.initialize(["t913", "-v", "0"])
+        gmsh.initialize(["t943", "-v", "0"])
         try:
             gmsh.open(msh)
             cls.ref = Reference(E, NU, RHO)

@@ -132,7 +132,7 @@ class Dtmap:
 class ModesReference(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        gmsh.initialize(["t912", "-v", "0"])
+        gmsh.initialize(["t942", "-v", "0"])
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.model.add("bar")
         gmsh.model.occ.addBox(0, 0, 0, LX, LY, LZ)
