@@ -1159,3 +1159,21 @@ int dtm_operator_node_graph(const dtm_operator *op, size_t *nnodes, size_t **xad
   *nnodes = nn, *xadj = x, *adj = ad;
   return DTM_OK;
 }
+
+/* ---- the elements and their lumped masses (sms.c) -------------------- */
+
+int dtm_operator_each_element(const dtm_operator *op, const dtm_mesh *m, dtm_operator_elem_fn fn, void *user) {
+  if (op->st.n) return DTM_ERR(DTM_ERR_INPUT, "selective mass scaling: shells and beams are not supported");
+  double w[DTM_K_NODES];
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    for (size_t e = 0; e < b->n; e++) {
+      if (elem_lumped(op, m, b, e, w)) return DTM_ERR(DTM_ERR_INPUT, "an element has a non-positive lumped mass");
+      double cap = op->mats[slot_of(b, e)].cap;
+      for (int a = 0; a < b->nn; a++) w[a] *= cap;
+      int r = fn(user, b->mbi, b->orig ? b->orig[e] : e, b->nn, b->conn + e * (size_t)b->nn, w);
+      if (r) return r;
+    }
+  }
+  return DTM_OK;
+}
