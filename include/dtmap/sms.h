@@ -44,6 +44,7 @@ DTM_EXPORT int dtm_sms_assemble(const dtm_sms *s, int add_only, dtm_csr *out);
 
 /* What the added mass comes to. */
 typedef struct {
+  int ncomp;              /* directions (the operator's components) */
   size_t scaled;          /* elements with beta > 0 */
   double beta_max;        /* the largest beta */
   int beta_block;         /* its mesh block and index there (-1: none scaled) */

@@ -33,7 +33,7 @@ typedef struct {
   double max_added_mass;   /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
   int keep_counts;         /* refine --keep-counts: the model's transfinite node counts stay */
   const char *optimise;    /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
-  double target;           /* refine --target, s (0: the scene's <time target>) */
+  double target;           /* refine and run --target, s (0: the scene's <time target>) */
   double factor;           /* verify --factor: multiple of the recommended step (0: not given, 1) */
   double dt;               /* verify --dt, s (0: use factor x recommended) */
   int steps;               /* verify --steps */
@@ -49,6 +49,8 @@ typedef struct {
   const char *solver;      /* deck --solver NAME */
   const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
+  int selective_mass;      /* run --selective-mass: the scaled model at the target (run --target, else <time
+                              target>) */
 } cli_opts;
 
 typedef enum { CLI_FLAG, CLI_STRING, CLI_DOUBLE, CLI_INT } cli_kind;

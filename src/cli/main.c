@@ -76,6 +76,10 @@ static const cli_option run_options[] = {
      "write only the views, to open over the input: gmsh IN.msh OUT.msh"},
     {"--solver-rule", CLI_STRING, OPT(solver_rule), 0, 0, 0, "LIST",
      "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "selective mass scaling to the target: the scaled model's step, added mass and solver cost"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
+     "with --selective-mass: the recommended step to reach, s (default: <time target>)"},
     LANCZOS_OPTIONS,
     SEED_OPTION,
     THREADS_OPTION,
@@ -167,7 +171,7 @@ const cli_command dtm_cli_commands[] = {
      "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior [--tol T] [--lanczos-max K] [--seed S]] [--png PREFIX "
      "[--width W] "
      "[--height H]] [--top N] [--format F] [--views-only] [--solver-rule LIST] [--verified V.json,... [--calibrate]] "
-     "[-j N] [-v|-q]",
+     "[--selective-mass [--target DT]] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"

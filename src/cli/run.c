@@ -15,6 +15,7 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
 #include "dtmap/parallel.h"
+#include "dtmap/selective.h"
 #include "dtmap/units.h"
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
@@ -263,12 +264,32 @@ static int write_early(void *user, size_t nelements) {
   return begin_output(e->s, e->o, names.mesh, nelements, 1, &e->file, &e->seconds);
 }
 
+/* --selective-mass: the target of --target, else the scene's. */
+static double sms_target(const dtm_scene *s, const cli_opts *o) { return o->target > 0 ? o->target : s->target; }
+
+static int selective(const dtm_analysis *a, const cli_opts *o, dtm_selective_mass *sms) {
+  return dtm_analysis_selective_mass(a, sms_target(dtm_analysis_scene(a), o), o->tol, o->lanczos_max, sms);
+}
+
+/* What --selective-mass needs of the scene, before any work. */
+static int sms_check(const dtm_scene *s, const cli_opts *o) {
+  if (!o->selective_mass) return DTM_OK;
+  if (!(sms_target(s, o) > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --selective-mass needs a target step: give --target DT or <time target>",
+                   s->path);
+  if (dtm_parallel_wanted(s))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --selective-mass runs on one whole mesh, without mpirun or partition files",
+                   s->path);
+  return DTM_OK;
+}
+
 /* Analyse, then summarise and either write the outputs or verify. */
 static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
   dtm_cost *cost = NULL;
   early_output early = {s, o, NULL, 0.0};
   solver_rules rules = {0};
+  dtm_selective_mass sms;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
@@ -278,11 +299,13 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
+  if (r == DTM_OK && !verify && o->selective_mass) r = selective(a, o, &sms);
   if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
   if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {
-    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o), rules.n, {NULL}, {NULL}};
+    dtm_results res = {a, cost, NULL, t_scene, early.seconds, dtm_cli_top(o), rules.n, {NULL}, {NULL}, NULL};
     for (int i = 0; i < rules.n; i++) res.solver_names[i] = rules.names[i], res.solver_runs[i] = &rules.steps[i].run;
+    res.selective_mass = o->selective_mass && !verify ? &sms : NULL;
     if (o->verbosity && verify)
       print_brief(a);
     else if (o->verbosity)
@@ -334,6 +357,7 @@ static int run_scene(const cli_opts *given, int verify) {
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
   if (r == DTM_OK && !verify) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
+  if (r == DTM_OK && !verify) r = sms_check(s, o);
   if (r == DTM_OK && verify && o->report) r = dtm_output_path_check(s, o->report, NULL, "--report");
   if (r == DTM_OK && dtm_parallel_wanted(s))
     r = verify ? DTM_ERR(DTM_ERR_INPUT, "%s: dtmap verify runs on one whole mesh, without mpirun", s->path)
@@ -355,6 +379,8 @@ int dtm_cli_run(const cli_opts *o) {
   if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
   if (o->png && o->views_only)
     return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
+  if (o->target > 0 && !o->selective_mass)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--target is the target of --selective-mass; give both");
   solver_rules names;
   char why[512];
   if (o->solver_rule && rule_names(o->solver_rule, &names, why, sizeof why))

@@ -113,7 +113,7 @@ static int setup(dtm_sms *s, const dtm_operator *op, const dtm_mesh *mesh, const
   if (!s->mass || !s->offset || !s->eptr || !s->beta) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   memcpy(s->mass, dtm_operator_mass(op), s->ndof * sizeof *s->mass);
   for (int b = 0, i = 0; b < mesh->nblocks; i += (int)mesh->blocks[b].n, b++) s->offset[b] = (size_t)i;
-  s->all_beta = beta, s->st.beta_block = -1;
+  s->all_beta = beta, s->st.beta_block = -1, s->st.ncomp = s->nc;
   DTM_CHECK(dtm_operator_each_element(op, mesh, collect, s));
   s->all_beta = NULL;
   return masses(s);
