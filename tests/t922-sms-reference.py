@@ -24,11 +24,13 @@ by scipy.linalg.eigh. Checks:
 - the translational mass is the model's rho V exactly (1e-12), with and
   without the scaling, and the target is met;
 - bad combinations exit 2 with their message: no target, --target without
-  --selective-mass, a diffusion-only scene; nothing is written.
+  --selective-mass, a diffusion-only scene, shells and beams (not
+  supported); nothing is written.
 """
 
 import math
 import os
+import shutil
 
 import numpy as np
 import scipy.linalg
@@ -52,6 +54,17 @@ SCENE = """<?xml version="1.0"?>
 <material name="steel" groups="block" E="210e9" nu="0.3" rho="7850" %s/>
 <effects>%s</effects>
 <time duration="1e-4"/>
+</dtmap-scene>
+"""
+
+SHELLS = """<?xml version="1.0"?>
+<dtmap-scene version="1">
+<geometry file="shell_beam_single.geo"/>
+<meshing size="1" order="1" dim="2"/>
+<material name="steel" groups="plate rod" E="200e9" nu="0.3" rho="7850"/>
+<section groups="plate" kind="shell" thickness="0.01"/>
+<section groups="rod" kind="beam" radius="0.01"/>
+<effects><elastic/></effects>
 </dtmap-scene>
 """
 
@@ -193,6 +206,12 @@ class SelectiveMass(tu.unittest.TestCase):
         code, log = tu.run("run", "heat.xml", "-o", "bad.msh", "--selective-mass", "--target", "1e-3")
         self.assertEqual(code, 2, log)
         self.assertIn("needs an elastic (wave) effect", log)
+        self.assertFalse(os.path.exists(tu.path("bad.msh")))
+        shutil.copy(os.path.join(tu.SRC, "tests", "data", "shell_beam_single.geo"), tu.tmpdir())
+        tu.write("shell.xml", SHELLS)
+        code, log = tu.run("run", "shell.xml", "-o", "bad.msh", "--selective-mass", "--target", "1e-5")
+        self.assertEqual(code, 2, log)
+        self.assertIn("shells and beams is not supported", log)
         self.assertFalse(os.path.exists(tu.path("bad.msh")))
 
 
