@@ -40,4 +40,12 @@ typedef struct {
 DTM_EXPORT int dtm_analysis_selective_mass(const dtm_analysis *a, double target, double tol, int maxit,
                                            dtm_selective_mass *out);
 
+/* `dtmap verify --selective-mass`: central differences on the scaled
+ * model m of a (made by dtm_analysis_selective_mass) at step dt (s) for
+ * steps steps, from a field uniform in [-1, 1] per unknown drawn from the
+ * Lanczos seed, at rest (dtm_sms_verify_run); *cg_mean (may be NULL) the
+ * mean CG iterations per step. */
+DTM_EXPORT int dtm_analysis_selective_verify(const dtm_analysis *a, const dtm_selective_mass *m, double dt, int steps,
+                                             dtm_verify_result *vr, double *cg_mean);
+
 #endif

@@ -105,4 +105,12 @@ typedef struct {
 DTM_EXPORT int dtm_sms_lambda_max(const dtm_operator *op, const dtm_sms *s, double tol, int maxit, unsigned seed,
                                   double budget, double eps_target, dtm_sms_global *g);
 
+/* Central differences on (K, M_s) at step dt (s) for steps steps from u0
+ * at rest, each step one K product and one PCG solve to
+ * DTM_SMS_LANCZOS_RTOL; undamped; the growth of the energy norm sqrt(u^T
+ * K u + v^T M_s v) as dtm_verify_run's (include/dtmap/operator.h).
+ * *cg_mean (may be NULL): the mean CG iterations per step. */
+DTM_EXPORT int dtm_sms_verify_run(const dtm_operator *op, const dtm_sms *s, double dt, int steps, const double *u0,
+                                  dtm_verify_result *r, double *cg_mean);
+
 #endif

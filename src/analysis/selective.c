@@ -112,14 +112,20 @@ static int solver_cost(const dtm_operator *op, const dtm_sms *s, unsigned seed, 
   return r;
 }
 
+/* The undamped operator of effect k and the added masses of beta. */
+static int build(const dtm_analysis *a, int k, const double *beta, dtm_operator **op, dtm_sms **s) {
+  int r = dtm_analysis_operator(a, k, 0.0, op);
+  if (r == DTM_OK && dtm_operator_kind(*op) != DTM_OP_ELASTIC)
+    r = DTM_ERR(DTM_ERR_INPUT, "%s: selective mass scaling needs an elastic effect", a->scene->path);
+  if (r == DTM_OK) r = dtm_sms_create(*op, a->mesh, beta, s);
+  return r;
+}
+
 static int scaled(const dtm_analysis *a, int k, double tol, int maxit, const double *beta, dtm_selective_mass *o) {
   dtm_operator *op = NULL;
   dtm_sms *s = NULL;
   double safety = a->scene->safety;
-  int r = dtm_analysis_operator(a, k, 0.0, &op); /* undamped */
-  if (r == DTM_OK && dtm_operator_kind(op) != DTM_OP_ELASTIC)
-    r = DTM_ERR(DTM_ERR_INPUT, "%s: selective mass scaling needs an elastic effect", a->scene->path);
-  if (r == DTM_OK) r = dtm_sms_create(op, a->mesh, beta, &s);
+  int r = build(a, k, beta, &op, &s);
   if (r == DTM_OK) dtm_sms_stats_get(s, &o->stats);
   if (r == DTM_OK && o->stats.beta_block >= 0)
     o->beta_element = global_index(a, o->stats.beta_block, o->stats.beta_local);
@@ -130,6 +136,33 @@ static int scaled(const dtm_analysis *a, int k, double tol, int maxit, const dou
   dtm_sms_destroy(&s);
   dtm_operator_destroy(&op);
   return r;
+}
+
+/* The field verify starts from: uniform in [-1, 1] per dof, from the seed. */
+static int run_verify(const dtm_operator *op, const dtm_sms *s, unsigned seed, double dt, int steps,
+                      dtm_verify_result *vr, double *cg_mean) {
+  size_t n = dtm_operator_ndof(op);
+  double *u0 = malloc((n + 1) * sizeof *u0);
+  if (!u0) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_operator_draw(op, seed, -1, 1, u0);
+  int r = dtm_sms_verify_run(op, s, dt, steps, u0, vr, cg_mean);
+  free(u0);
+  return r;
+}
+
+int dtm_analysis_selective_verify(const dtm_analysis *a, const dtm_selective_mass *m, double dt, int steps,
+                                  dtm_verify_result *vr, double *cg_mean) {
+  dtm_operator *op = NULL;
+  dtm_sms *s = NULL;
+  double *beta = malloc((a->nel + 1) * sizeof *beta);
+  if (!beta) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_sms_beta(a->nel, dtm_analysis_effect_dt_undamped(a, m->effect), m->element_target, beta);
+  int r = build(a, m->effect, beta, &op, &s);
+  if (r == DTM_OK) r = run_verify(op, s, dtm_analysis_seed(a), dt, steps, vr, cg_mean);
+  free(beta);
+  dtm_sms_destroy(&s);
+  dtm_operator_destroy(&op);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
 
 int dtm_analysis_selective_mass(const dtm_analysis *a, double target, double tol, int maxit, dtm_selective_mass *out) {

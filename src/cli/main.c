@@ -96,6 +96,10 @@ static const cli_option verify_options[] = {
      "the step, steps, growth and verdict as JSON (with --accuracy: the wave, measured and predicted errors)"},
     {"--accuracy", CLI_FLAG, OPT(accuracy), 1, 0, 0, NULL,
      "instead: run a plane wave and compare its phase-speed error with the prediction"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "instead: the selectively scaled model at the target (default step), --factor x its global step, or --dt"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
+     "with --selective-mass: the recommended step it scales to, s (default: <time target>)"},
     {"--wave", CLI_STRING, OPT(wave), 0, 0, 0, "P|S", "--accuracy: the wave's branch (default P)"},
     {"--direction", CLI_STRING, OPT(direction), 0, 0, 0, "X,Y,Z", "--accuracy: direction of the wave (default 1,0,0)"},
     {"--freq", CLI_DOUBLE, OPT(freq), 0, POSITIVE, "F", "--accuracy: frequency, Hz (default: the report's)"},
@@ -184,7 +188,8 @@ const cli_command dtm_cli_commands[] = {
     {"verify",
      "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--tol T] [--lanczos-max K] [--seed S] [--report "
      "V.json] "
-     "[--accuracy [--wave P|S] [--direction X,Y,Z] [--freq F] [--periods N]] [--top N] [-j N] [-v|-q]",
+     "[--accuracy [--wave P|S] [--direction X,Y,Z] [--freq F] [--periods N]] [--selective-mass [--target DT]] "
+     "[--top N] [-j N] [-v|-q]",
      "Simulates the scene's spectral effects on its mesh (central differences with the\n"
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
      "mode of the global estimate plus a random part, at F x the recommended step (by\n"
