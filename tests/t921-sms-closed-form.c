@@ -147,6 +147,9 @@ static void one_element(int type, int nn, const double *x, double volume) {
   double grow = sqrt(lam0 / lams);
   print_message("%s: step x %.15f (sqrt(1 + beta) = 3)\n", dtm_elem_name(type), grow);
   assert_true(fabs(grow / 3 - 1) < 1e-12);
+  double scaled_step;
+  dtm_sms_element_steps(1, &dt, &beta, &scaled_step);
+  assert_true(fabs(scaled_step / (2 / sqrt(lams)) - 1) < 1e-12);
   /* rigid translations in M_add's null space; the translational mass kept */
   double big = 0, *t = malloc(n * sizeof *t), *y = malloc(n * sizeof *y), *y2 = malloc(n * sizeof *y2);
   for (size_t p = 0; p < add.rowptr[n]; p++) big = fmax(big, fabs(add.val[p]));

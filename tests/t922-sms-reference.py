@@ -18,6 +18,9 @@ by scipy.linalg.eigh. Checks:
   Lanczos residual is at most 1e-4 theta, so the step is at most 1e-4 / 2
   below, plus the certificate's rounding margin (1e-4 allowed in all);
   and it is proven (the mesh is far within the certificate's budget);
+  with the certificate refused (DTMAP_BENCH_CERT_BUDGET=1 flop) the
+  probable bound holds the exact lambda_max and its eps is at most
+  1 - safety^2;
 - the elements scaled, the largest beta, the smallest element step before
   (1e-9: the kernel's element eigen-solver against scipy's), and the
   trace of M_add per direction (1e-9);
@@ -31,6 +34,7 @@ by scipy.linalg.eigh. Checks:
 import math
 import os
 import shutil
+import subprocess
 
 import numpy as np
 import scipy.linalg
@@ -176,6 +180,24 @@ class SelectiveMass(tu.unittest.TestCase):
             self.assertGreaterEqual(sm["recommended"], target)
             self.assertIn("PROVEN", log)
             self.assertIn("target MET", log)
+
+    def test_probable(self):
+        """The certificate refused (a budget of 1 flop): the probable bound."""
+        target = 2 * self.input_step
+        env = dict(os.environ, DTMAP_BENCH_CERT_BUDGET="1")
+        p = subprocess.run([tu.CLI, "run", "slab.xml", "--selective-mass", "--target", "%.12e" % target, "-q", "-o",
+                            "prob.msh", "--report", "prob.json"], cwd=tu.tmpdir(), env=env, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, universal_newlines=True)
+        self.assertEqual(p.returncode, 0, p.stdout)
+        g = tu.report("prob.json")["selective_mass"]["global"]
+        _, ms, _ = self.ref.scaled(target)
+        exact = self.ref.lambda_max(ms)
+        print("probable: bound / exact lambda_max %.6f, eps %.3g, %d steps" % (g["bound"] / exact, g["eps"],
+                                                                             g["iterations"]))
+        self.assertEqual(g["certificate"], "probable")
+        self.assertEqual(g["deterministic"], "too dear")
+        self.assertGreaterEqual(g["bound"], exact * (1 - 1e-12))
+        self.assertLessEqual(g["eps"], 1 - SAFETY ** 2)
 
     def test_elements_and_mass(self):
         total = RHO * self.ref.vol.sum()

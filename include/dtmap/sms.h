@@ -28,6 +28,10 @@
  * old frequency times sqrt(1 + beta) and T. */
 DTM_EXPORT void dtm_sms_beta(size_t n, const double *dt, double target, double *beta);
 
+/* The element steps of the scaled model: out[i] = dt[i] sqrt(1 + beta[i])
+ * (each element's undamped step grows by exactly that factor). */
+DTM_EXPORT void dtm_sms_element_steps(size_t n, const double *dt, const double *beta, double *out);
+
 /* The added masses of one operator's elements: beta per element in the
  * mesh's global element order (block 0's elements, then block 1's ...). */
 typedef struct dtm_sms dtm_sms;

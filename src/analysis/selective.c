@@ -61,9 +61,10 @@ static void factors(const dtm_analysis *a, int k, dtm_selective_mass *o, double 
   dtm_sms_beta(n, dt, o->element_target, beta);
   o->dt_input = o->element_min = INFINITY, o->beta_element = (size_t)-1;
   for (size_t i = 0; i < n; i++) {
+    double after;
     if (!(dt[i] > 0) || !isfinite(dt[i])) continue;
-    o->dt_input = fmin(o->dt_input, dt[i]);
-    o->element_min = fmin(o->element_min, dt[i] * sqrt(1 + beta[i]));
+    dtm_sms_element_steps(1, dt + i, beta + i, &after);
+    o->dt_input = fmin(o->dt_input, dt[i]), o->element_min = fmin(o->element_min, after);
   }
 }
 

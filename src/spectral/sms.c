@@ -37,6 +37,10 @@ void dtm_sms_beta(size_t n, const double *dt, double target, double *beta) {
   }
 }
 
+void dtm_sms_element_steps(size_t n, const double *dt, const double *beta, double *out) {
+  for (size_t i = 0; i < n; i++) out[i] = dt[i] * sqrt(1 + beta[i]);
+}
+
 void dtm_sms_destroy(dtm_sms **sp) {
   if (!sp || !*sp) return;
   dtm_sms *s = *sp;

@@ -218,6 +218,7 @@ static int probable(pz_state *z, double tol, double eps_target, dtm_sms_global *
   for (size_t t = 0; t < z->n; t++) nb += ml[t] > 0;
   DTM_CHECK(steps(z, tol, eps_target, nb));
   bracket(z, g);
+  g->converged = g->residual <= tol * g->theta || z->invariant;
   double eps = dtm_lanczos_kw_eps(nb, z->k, DTM_LANCZOS_FAILURE) + DTM_SMS_LANCZOS_RTOL * z->k;
   if (!(eps < 1)) return DTM_OK;
   g->certified = DTM_CERT_PROBABLE, g->eps = eps, g->bound = (g->theta + g->residual) / (1 - eps);
