@@ -139,7 +139,7 @@ static void one_element(int type, int nn, const double *x, double volume) {
   dtm_sms_beta(1, &dt, 3 * dt, &beta);
   assert_true(fabs(beta - 8) < 1e-12);
   dtm_sms *s = NULL;
-  assert_int_equal(dtm_sms_create(op, &m, &beta, &s), 0);
+  assert_int_equal(dtm_sms_create(op, &m, NULL, &beta, &s), 0);
   dtm_csr ms = {0}, add = {0};
   assert_int_equal(dtm_sms_assemble(s, 0, &ms), 0);
   assert_int_equal(dtm_sms_assemble(s, 1, &add), 0);
@@ -276,7 +276,7 @@ static void check_grid(const mesh_t *g, dtm_operator *op, const double *k, const
   dtm_sms_beta(ne, dt, target, beta);
   dtm_sms *s = NULL;
   dtm_csr ms = {0};
-  assert_int_equal(dtm_sms_create(op, &g->m, beta, &s), 0);
+  assert_int_equal(dtm_sms_create(op, &g->m, NULL, beta, &s), 0);
   assert_int_equal(dtm_sms_assemble(s, 0, &ms), 0);
   double *msd = dense_csr(&ms), exact = pencil_top(n, k, msd);
   dtm_sms_global gp, gq;

@@ -35,8 +35,12 @@ DTM_EXPORT void dtm_sms_element_steps(size_t n, const double *dt, const double *
 /* The added masses of one operator's elements: beta per element in the
  * mesh's global element order (block 0's elements, then block 1's ...). */
 typedef struct dtm_sms dtm_sms;
-/* DTM_ERR_INPUT for shells or beams. mesh is the operator's. */
-DTM_EXPORT int dtm_sms_create(const dtm_operator *op, const dtm_mesh *mesh, const double *beta, dtm_sms **out);
+/* DTM_ERR_INPUT for shells or beams. mesh is the operator's; level the
+ * converged rule levels of its second-order elements that its creation
+ * was given (dtm_operator_kept.level: an analysis's), or NULL (searched
+ * again: the same lumped weights, slower on curved elements). */
+DTM_EXPORT int dtm_sms_create(const dtm_operator *op, const dtm_mesh *mesh, const unsigned char *const *level,
+                              const double *beta, dtm_sms **out);
 DTM_EXPORT void dtm_sms_destroy(dtm_sms **s);
 /* y = M_s x, matrix free (the lumped diagonal plus each scaled element's
  * added mass; x, y of the operator's ndof). */

@@ -118,7 +118,7 @@ static int build(const dtm_analysis *a, int k, const double *beta, dtm_operator 
   int r = dtm_analysis_operator(a, k, 0.0, op);
   if (r == DTM_OK && dtm_operator_kind(*op) != DTM_OP_ELASTIC)
     r = DTM_ERR(DTM_ERR_INPUT, "%s: selective mass scaling needs an elastic effect", a->scene->path);
-  if (r == DTM_OK) r = dtm_sms_create(*op, a->mesh, beta, s);
+  if (r == DTM_OK) r = dtm_sms_create(*op, a->mesh, (const unsigned char *const *)a->level, beta, s);
   return r;
 }
 

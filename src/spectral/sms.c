@@ -106,7 +106,8 @@ static int collect(void *user, int block, size_t local, int nn, const size_t *no
   return DTM_OK;
 }
 
-static int setup(dtm_sms *s, const dtm_operator *op, const dtm_mesh *mesh, const double *beta) {
+static int setup(dtm_sms *s, const dtm_operator *op, const dtm_mesh *mesh, const unsigned char *const *level,
+                 const double *beta) {
   s->ndof = dtm_operator_ndof(op), s->nc = dtm_operator_ncomp(op), s->nnodes = mesh->nnodes;
   if (s->ndof != s->nnodes * (size_t)s->nc)
     return DTM_ERR(DTM_ERR_INPUT, "selective mass scaling: shells and beams are not supported");
@@ -118,16 +119,17 @@ static int setup(dtm_sms *s, const dtm_operator *op, const dtm_mesh *mesh, const
   memcpy(s->mass, dtm_operator_mass(op), s->ndof * sizeof *s->mass);
   for (int b = 0, i = 0; b < mesh->nblocks; i += (int)mesh->blocks[b].n, b++) s->offset[b] = (size_t)i;
   s->all_beta = beta, s->st.beta_block = -1, s->st.ncomp = s->nc;
-  DTM_CHECK(dtm_operator_each_element(op, mesh, collect, s));
+  DTM_CHECK(dtm_operator_each_element(op, mesh, level, collect, s));
   s->all_beta = NULL;
   return masses(s);
 }
 
-int dtm_sms_create(const dtm_operator *op, const dtm_mesh *mesh, const double *beta, dtm_sms **out) {
+int dtm_sms_create(const dtm_operator *op, const dtm_mesh *mesh, const unsigned char *const *level, const double *beta,
+                   dtm_sms **out) {
   *out = NULL;
   dtm_sms *s = calloc(1, sizeof *s);
   if (!s) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  int r = setup(s, op, mesh, beta);
+  int r = setup(s, op, mesh, level, beta);
   if (r) return dtm_sms_destroy(&s), dtm_error_trace(r, __FILE__, __LINE__, __func__);
   free(s->offset), s->offset = NULL;
   *out = s;

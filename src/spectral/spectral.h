@@ -67,9 +67,12 @@ int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin);
  * w[nn] (kg: what it adds to dtm_operator_mass at each of its nodes'
  * translational unknowns); fn returning non-zero stops the walk and is
  * returned. DTM_ERR_INPUT for an operator with shells or beams. mesh is
- * the operator's. */
+ * the operator's; level the converged rule levels its creation was given
+ * (dtm_operator_kept.level), or NULL: searched again, the same weights
+ * (the operator keeps no pointer to what its creation was given). */
 typedef int (*dtm_operator_elem_fn)(void *user, int block, size_t local, int nn, const size_t *nodes, const double *w);
-int dtm_operator_each_element(const struct dtm_operator *op, const dtm_mesh *mesh, dtm_operator_elem_fn fn, void *user);
+int dtm_operator_each_element(const struct dtm_operator *op, const dtm_mesh *mesh, const unsigned char *const *level,
+                              dtm_operator_elem_fn fn, void *user);
 
 /* The largest eigenvalue of the symmetric tridiagonal matrix of diagonal
  * a[k] and off-diagonal b[k - 1] (lanczos.c: bisection), with its unit
