@@ -130,7 +130,7 @@ static void round_trip(int format, const char *header) {
   dtm_analysis *a = tu_analyse("cube", &s);
   char out[600];
   tmp_path(out, sizeof out, "cube_out.msh");
-  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   dtm_output_opts o = {format, 0, 0, 0};
   assert_int_equal(dtm_output_write_ex(&res, out, &o), 0);
   size_t n;
@@ -193,7 +193,7 @@ static void views_only(void **unused) {
   tu_steel_scene("from_msh", "<mesh file=\"cube_in.msh\"/>", MESHING, "");
   dtm_scene *s = NULL;
   dtm_analysis *a = tu_analyse("from_msh", &s);
-  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   for (int format = DTM_MSH_ASCII; format <= DTM_MSH_BINARY; format++) {
     dtm_output_opts o = {format, 1, 0, 0};
     int ierr = 0;
@@ -227,7 +227,7 @@ static void views_only_needs_mesh(void **unused) {
   dtm_analysis *a = tu_analyse("cube", &s);
   char out[600];
   tmp_path(out, sizeof out, "never.msh");
-  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   dtm_output_opts o = {DTM_MSH_AUTO, 1, 0, 0};
   assert_int_equal(dtm_output_write_ex(&res, out, &o), DTM_ERR_INPUT);
   assert_non_null(strstr(dtm_error_message(), "views-only"));

@@ -41,7 +41,7 @@ static void check(const char *name, int algorithm, int threads, int reproducible
   assert_int_equal(mi->reproducible, reproducible);
   char rep[600];
   snprintf(rep, sizeof rep, "%s/%s.json", tu_tmpdir(), name);
-  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   assert_int_equal(dtm_report_write(&res, rep), 0);
   cJSON *j = tu_json_load(rep);
   const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(j, "mesh");

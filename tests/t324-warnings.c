@@ -45,7 +45,7 @@ static void warnings_at(double k2, int *model, int *group) {
   /* (k^2 - 1)/6 of the model's mass: 1e-12 relative */
   double want = (k2 - 1) / 6;
   assert_true(fabs(c->mass->total_added / c->mass->total_mass - want) <= 1e-12 * want);
-  dtm_results r = {a, c, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results r = {a, c, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   dtm_warnings w;
   dtm_output_warnings(&r, &w);
   *model = *group = 0;
@@ -76,7 +76,7 @@ static int forbidden(double k) {
   s.f_max = sqrt(E / RHO) / (10 * L), s.elements_per_wavelength = 10;
   dtm_analysis *a = tu_bar_analysis(&s, 2, len, NULL, 0);
   int found = 0;
-  dtm_results r = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results r = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   dtm_warnings w;
   dtm_output_warnings(&r, &w);
   for (int i = 0; i < w.n; i++) found |= strstr(w.text[i], "forbidden by the accuracy bound") != NULL;

@@ -44,7 +44,7 @@ static void thermal_only(void **unused) {
   assert_ptr_equal(a->effects[0].cls, &dtm_effect_thermal);
   char out[600];
   snprintf(out, sizeof out, "%s/thermal.msh", tu_tmpdir());
-  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {a, NULL, NULL, 0, 0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   assert_int_equal(dtm_output_write(&res, out), 0);
   dtm_analysis_destroy(&a);
   dtm_scene_destroy(&s);

@@ -10,6 +10,7 @@
 #include "dtmap/deck.h"
 #include "dtmap/export.h"
 #include "dtmap/refine.h"
+#include "dtmap/selective.h"
 #include "dtmap/verify.h"
 
 typedef struct {
@@ -23,6 +24,8 @@ typedef struct {
   const char *solver_names[8];          /* their names (not owned) */
   const dtm_solver_run *solver_runs[8]; /* the step each takes with dtmap's deck and the hours (not owned) */
   const dtm_modes_price *modes;         /* run --modes: the natural frequencies and their shifts, or NULL (not owned) */
+  const dtm_selective_mass *selective_mass; /* run --selective-mass: the summary's lines and the report's
+                                               selective_mass object, or NULL (not owned) */
 } dtm_results;
 
 /* The view of the elements whose step is below the scene's target, and the

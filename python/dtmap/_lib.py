@@ -82,7 +82,7 @@ class Results(ctypes.Structure):
     """dtm_results (include/dtmap/output.h)."""
     _fields_ = [("analysis", _p), ("cost", _p), ("refine", _p), ("t_scene", ctypes.c_double),
                 ("t_output", ctypes.c_double), ("top", ctypes.c_int), ("nsolvers", ctypes.c_int),
-                ("solver_names", _p * 8), ("solver_runs", _p * 8), ("modes", _p)]
+                ("solver_names", _p * 8), ("solver_runs", _p * 8), ("modes", _p), ("selective_mass", _p)]
 
 
 # dtm_analysis_estimate_global's flags (include/dtmap/analysis.h)

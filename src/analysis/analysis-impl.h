@@ -166,4 +166,9 @@ int dtm_analysis_curvature_pass(dtm_analysis *a);
 /* Effect k's coefficients for slot i, with the section's factor set. */
 int dtm_analysis_coefficients(const dtm_analysis *a, int k, int slot, dtm_operator_coeffs *c);
 
+/* The flops the certificate of a global bound may cost on this analysis
+ * (global.c), and the Lanczos start seed it uses. */
+double dtm_analysis_cert_budget(const dtm_analysis *a);
+unsigned dtm_analysis_seed(const dtm_analysis *a);
+
 #endif

@@ -68,12 +68,14 @@
 
 /* DTMAP_BENCH_CERT_BUDGET (flops) replaces it, for bench/certify_reach.py's
  * factorisations past the budget and for tests/t307 (a probable report). */
-static double cert_budget(const dtm_analysis *a) {
+double dtm_analysis_cert_budget(const dtm_analysis *a) {
   const char *bench = getenv("DTMAP_BENCH_CERT_BUDGET");
   if (bench && *bench) return atof(bench);
   double t = a->timings[DTM_T_MESH] + a->timings[DTM_T_EXTRACT] + a->timings[DTM_T_EFFECTS] + a->timings[DTM_T_NODAL];
   return fmax(CERT_FLOOR, CERT_TIMES * CERT_RATE * t);
 }
+
+unsigned dtm_analysis_seed(const dtm_analysis *a) { return a->lanczos_seed ? a->lanczos_seed : LANCZOS_SEED; }
 
 /* Rayleigh coefficients of material i from the scene's damping effects. */
 static int material_rayleigh(const dtm_analysis *a, int i, double omega, double *al, double *be) {
@@ -175,8 +177,8 @@ static int estimate_effect(dtm_analysis *a, int k, double tol, int maxit, int wa
   dtm_operator *op = NULL;
   dtm_lanczos_result lr;
   memset(&lr, 0, sizeof lr);
-  unsigned seed = a->lanczos_seed ? a->lanczos_seed : LANCZOS_SEED;
-  double budget = cert_budget(a); /* the certificate's flops, read once for the call and the report */
+  unsigned seed = dtm_analysis_seed(a);
+  double budget = dtm_analysis_cert_budget(a); /* the certificate's flops, read once for the call and the report */
   /* the eps at which safety x the step of theta is the probable bound's step:
      dt ~ lambda^-1/2 for waves, lambda^-1 for diffusion */
   double safety = a->scene->safety, eps_target = dtm_analysis_is_wave(a, k) ? 1 - safety * safety : 1 - safety;

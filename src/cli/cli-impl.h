@@ -14,30 +14,30 @@
 
 /* Every option of every command; a command reads the ones it declares. */
 typedef struct {
-  const char *scene;       /* SCENE.xml (the one positional argument) */
-  const char *out;         /* -o OUT.msh, or NULL */
-  const char *report;      /* --report R.json, or NULL */
-  const char *sizes;       /* sweep --sizes h1,h2,... */
-  const char *csv;         /* sweep --csv, or NULL */
-  const char *plot;        /* sweep --plot, or NULL */
-  const char *format;      /* --format ascii|binary|auto, or NULL (the scene's) */
-  int views_only;          /* run --views-only */
-  int threads;             /* -j N, 0 = all cores */
-  int verbosity;           /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
-  int posterior;           /* run/verify --posterior */
-  int top;                 /* --top N: elements listed as the smallest steps (default 10; 0: none) */
-  double tol;              /* --tol: Lanczos relative residual */
-  int lanczos_max;         /* --lanczos-max: Lanczos steps */
-  int seed;                /* --seed: the Lanczos start vector's seed (0: the default) */
-  int max_iter;            /* refine --max-iter: rounds */
-  double max_added_mass;   /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
-  int keep_counts;         /* refine --keep-counts: the model's transfinite node counts stay */
-  const char *optimise;    /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
-  double target;           /* refine --target, s (0: the scene's <time target>); run --target: with --modes */
-  double factor;           /* verify --factor: multiple of the recommended step (0: not given, 1) */
-  double dt;               /* verify --dt, s (0: use factor x recommended) */
-  int steps;               /* verify --steps */
-  int accuracy;            /* verify --accuracy: the plane-wave phase check instead of the stability run */
+  const char *scene;     /* SCENE.xml (the one positional argument) */
+  const char *out;       /* -o OUT.msh, or NULL */
+  const char *report;    /* --report R.json, or NULL */
+  const char *sizes;     /* sweep --sizes h1,h2,... */
+  const char *csv;       /* sweep --csv, or NULL */
+  const char *plot;      /* sweep --plot, or NULL */
+  const char *format;    /* --format ascii|binary|auto, or NULL (the scene's) */
+  int views_only;        /* run --views-only */
+  int threads;           /* -j N, 0 = all cores */
+  int verbosity;         /* 0 quiet (-q), 1 normal, 2 verbose (-v) */
+  int posterior;         /* run/verify --posterior */
+  int top;               /* --top N: elements listed as the smallest steps (default 10; 0: none) */
+  double tol;            /* --tol: Lanczos relative residual */
+  int lanczos_max;       /* --lanczos-max: Lanczos steps */
+  int seed;              /* --seed: the Lanczos start vector's seed (0: the default) */
+  int max_iter;          /* refine --max-iter: rounds */
+  double max_added_mass; /* refine --max-added-mass: % of the model's mass (NaN: the scene's) */
+  int keep_counts;       /* refine --keep-counts: the model's transfinite node counts stay */
+  const char *optimise;  /* refine --optimise LIST: Gmsh's optimiser passes, or NULL (the default) */
+  double target; /* refine --target, s (0: the scene's <time target>); run --target: with --modes or --selective-mass */
+  double factor; /* verify --factor: multiple of the recommended step (0: not given, 1) */
+  double dt;     /* verify --dt, s (0: use factor x recommended) */
+  int steps;     /* verify --steps */
+  int accuracy;  /* verify --accuracy: the plane-wave phase check instead of the stability run */
   const char *wave;        /* verify --wave P|S (NULL: P) */
   const char *direction;   /* verify --direction x,y,z (NULL: the x axis) */
   double freq;             /* verify --freq, Hz (0: the report's frequency) */
@@ -48,7 +48,9 @@ typedef struct {
   int width, height;       /* their size, pixels */
   const char *solver;      /* deck --solver NAME */
   const char *lsdyna_step; /* deck --lsdyna-step conventional|proven (NULL: conventional) */
-  int selective_mass;      /* deck --selective-mass: the solver's own selective mass scaling for --target */
+  int selective_mass;      /* deck --selective-mass: the solver's own selective mass scaling for --target;
+                              run and verify --selective-mass: the scaled model at the target (--target, else
+                              <time target>) */
   const char *solver_rule; /* run --solver-rule LIST: solvers whose own element steps become views */
   int modes;               /* run --modes N: the lowest N elastic natural frequencies (0: none) */
 } cli_opts;

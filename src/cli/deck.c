@@ -125,8 +125,9 @@ static int analyse(const dtm_scene *s, const cli_opts *o, const char *path, doub
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK) r = dtm_deck_write(a, &dop, &info);
   if (r == DTM_OK && o->verbosity) print_deck(&info, dtm_scene_mass_unit(s, dtm_analysis_mesh(a)->dim));
-  dtm_results res = {a, cost,          NULL,        t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o),
-                     1, {info.solver}, {&info.run}, NULL};
+  dtm_results res = {
+      a,           cost, NULL, t_scene, r == DTM_OK ? info.seconds : 0.0, dtm_cli_top(o), 1, {info.solver},
+      {&info.run}, NULL, NULL};
   if (r == DTM_OK && o->report) r = dtm_report_write_deck(&res, &info, o->report);
   if (r == DTM_OK && o->verbosity)
     printf("\nwrote        %s%s%s\n", path, o->report ? ", " : "", o->report ? o->report : "");

@@ -78,8 +78,11 @@ static const cli_option run_options[] = {
      "also a view 'dt SOLVER' of each solver's own element step (lsdyna,abaqus,calculix: any of them)"},
     {"--modes", CLI_INT, OPT(modes), 0, 1, 200, "N",
      "the lowest N elastic natural frequencies (Hz) of the free model, its rigid-body modes named"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "selective mass scaling to the target: the scaled model's step, added mass and solver cost"},
     {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
-     "with --modes: each mode's shift under conventional mass (point masses) reaching this step, s"},
+     "with --selective-mass: the recommended step to reach, s (default: <time target>); with --modes: also each "
+     "mode's shift under conventional mass (point masses) reaching it"},
     LANCZOS_OPTIONS,
     SEED_OPTION,
     THREADS_OPTION,
@@ -96,6 +99,10 @@ static const cli_option verify_options[] = {
      "the step, steps, growth and verdict as JSON (with --accuracy: the wave, measured and predicted errors)"},
     {"--accuracy", CLI_FLAG, OPT(accuracy), 1, 0, 0, NULL,
      "instead: run a plane wave and compare its phase-speed error with the prediction"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "instead: the selectively scaled model at the target (default step), --factor x its global step, or --dt"},
+    {"--target", CLI_DOUBLE, OPT(target), 0, POSITIVE, "DT",
+     "with --selective-mass: the recommended step it scales to, s (default: <time target>)"},
     {"--wave", CLI_STRING, OPT(wave), 0, 0, 0, "P|S", "--accuracy: the wave's branch (default P)"},
     {"--direction", CLI_STRING, OPT(direction), 0, 0, 0, "X,Y,Z", "--accuracy: direction of the wave (default 1,0,0)"},
     {"--freq", CLI_DOUBLE, OPT(freq), 0, POSITIVE, "F", "--accuracy: frequency, Hz (default: the report's)"},
@@ -174,8 +181,7 @@ const cli_command dtm_cli_commands[] = {
      "SCENE.xml [-o OUT.msh] [--report R.json] [--posterior [--tol T] [--lanczos-max K] [--seed S]] [--png PREFIX "
      "[--width W] "
      "[--height H]] [--top N] [--format F] [--views-only] [--solver-rule LIST] [--modes N [--target DT]] [--verified "
-     "V.json,... [--calibrate]] "
-     "[-j N] [-v|-q]",
+     "V.json,... [--calibrate]] [--selective-mass [--target DT]] [-j N] [-v|-q]",
      "Meshes the scene's geometry (or reads its .msh), computes every element's critical\n"
      "explicit step for the effects the scene names, and writes the mesh with the views\n"
      "'dt', 'characteristic length', 'limiting effect', 'size suggestion', 'nodal dt',\n"
@@ -192,7 +198,8 @@ const cli_command dtm_cli_commands[] = {
     {"verify",
      "SCENE.xml [--factor F | --dt DT] [--steps N] [--posterior] [--tol T] [--lanczos-max K] [--seed S] [--report "
      "V.json] "
-     "[--accuracy [--wave P|S] [--direction X,Y,Z] [--freq F] [--periods N]] [--top N] [-j N] [-v|-q]",
+     "[--accuracy [--wave P|S] [--direction X,Y,Z] [--freq F] [--periods N]] [--selective-mass [--target DT]] "
+     "[--top N] [-j N] [-v|-q]",
      "Simulates the scene's spectral effects on its mesh (central differences with the\n"
      "damping force on the lagged velocity; forward Euler for diffusion) from the top\n"
      "mode of the global estimate plus a random part, at F x the recommended step (by\n"

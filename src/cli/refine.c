@@ -247,7 +247,7 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
-  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o), 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o), 0, {NULL}, {NULL}, NULL, NULL};
   dtm_cli_warn_flagged(rr->analysis);
   if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
   print_accuracy_change(rr, o->verbosity);

@@ -15,6 +15,7 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/output.h"
 #include "dtmap/parallel.h"
+#include "dtmap/selective.h"
 #include "dtmap/units.h"
 #include "dtmap/util.h"
 #include "dtmap/verify.h"
@@ -170,6 +171,26 @@ static int verify_step(const dtm_analysis *a, const cli_opts *o) {
   return r;
 }
 
+/* verify --selective-mass: the scaled model at --dt, --factor x its
+ * global step, or the target. */
+static int sms_verify_step(const dtm_analysis *a, const cli_opts *o, const dtm_selective_mass *m) {
+  dtm_verify_result vr;
+  double cg = NAN, dt = o->dt > 0 ? o->dt : o->factor > 0 ? o->factor * m->global.dt : m->target;
+  DTM_CHECK(dtm_analysis_selective_verify(a, m, dt, o->steps, &vr, &cg));
+  if (o->verbosity) {
+    const char *how = m->global.certified == DTM_CERT_PROVEN     ? "proven"
+                      : m->global.certified == DTM_CERT_PROBABLE ? "probable"
+                                                                 : "an estimate";
+    printf("\nverify       selective mass scaling: %d steps of %.4e s = %.4fx the scaled model's global step %.4e s "
+           "(%s; the target %.4e s)\n",
+           vr.steps, dt, dt / m->global.dt, m->global.dt, how, m->target);
+    printf("  central differences on (K, M_s), undamped, %.1f CG iterations per step; growth (largest energy norm "
+           "over the second half / the start) %.4g: %s, %.2f s\n",
+           cg, vr.growth, vr.unstable ? "UNSTABLE" : "stable", vr.seconds);
+  }
+  return vr.unstable ? DTM_ERR(DTM_ERR_TARGET, "verify: the step %.4e s is unstable for the scaled model", dt) : DTM_OK;
+}
+
 /* The global estimate: verify needs its modes; only --posterior lets a
  * converged one become the basis, so that verify checks exactly the step
  * run reports. */
@@ -273,6 +294,25 @@ static int modes_step(const dtm_analysis *a, const cli_opts *o, dtm_modes_price 
   return DTM_OK;
 }
 
+/* --selective-mass: the target of --target, else the scene's. */
+static double sms_target(const dtm_scene *s, const cli_opts *o) { return o->target > 0 ? o->target : s->target; }
+
+static int selective(const dtm_analysis *a, const cli_opts *o, dtm_selective_mass *sms) {
+  return dtm_analysis_selective_mass(a, sms_target(dtm_analysis_scene(a), o), o->tol, o->lanczos_max, sms);
+}
+
+/* What --selective-mass needs of the scene, before any work. */
+static int sms_check(const dtm_scene *s, const cli_opts *o) {
+  if (!o->selective_mass) return DTM_OK;
+  if (!(sms_target(s, o) > 0))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --selective-mass needs a target step: give --target DT or <time target>",
+                   s->path);
+  if (dtm_parallel_wanted(s))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: --selective-mass runs on one whole mesh, without mpirun or partition files",
+                   s->path);
+  return DTM_OK;
+}
+
 /* Analyse, then summarise and either write the outputs or verify. */
 static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int verify) {
   dtm_analysis *a = NULL;
@@ -280,6 +320,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   early_output early = {s, o, NULL, 0.0};
   solver_rules rules = {0};
   dtm_modes_price price = {0};
+  dtm_selective_mass sms;
   int r = dtm_gmsh_start(o->verbosity > 1 ? 2 : 0);
   if (r == DTM_OK) r = dtm_analysis_run_ex(s, verify ? NULL : write_early, &early, &a);
   if (r == DTM_OK) dtm_cli_warn_flagged(a);
@@ -287,9 +328,10 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
   if (r == DTM_OK && (!o->verbosity || verify)) dtm_cli_warn_units(a); /* else in run's summary */
   if (r == DTM_OK) dtm_analysis_set_lanczos_seed(a, (unsigned)o->seed);
   if (r == DTM_OK && o->modes && !verify) r = modes_step(a, o, &price);
-  if (r == DTM_OK && (o->posterior || (verify && !o->accuracy)))
+  if (r == DTM_OK && (o->posterior || (verify && !o->accuracy && !o->selective_mass)))
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
+  if (r == DTM_OK && o->selective_mass) r = selective(a, o, &sms);
   if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
   if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {
@@ -302,15 +344,20 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
                        rules.n,
                        {NULL},
                        {NULL},
-                       o->modes && !verify ? &price : NULL};
+                       o->modes && !verify ? &price : NULL,
+                       NULL};
     for (int i = 0; i < rules.n; i++) res.solver_names[i] = rules.names[i], res.solver_runs[i] = &rules.steps[i].run;
+    res.selective_mass = o->selective_mass ? &sms : NULL;
     if (o->verbosity && verify)
       print_brief(a);
     else if (o->verbosity)
       dtm_summary_print(&res, stdout);
     if (o->verbosity) print_rules(a, &rules);
     if (rules.n) dtm_output_solver_steps(early.file, rules.steps, rules.n);
-    r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL, &early.file);
+    if (verify && o->selective_mass)
+      r = sms_verify_step(a, o, &sms);
+    else
+      r = verify ? verify_step(a, o) : dtm_cli_write_outputs(&res, o, NULL, &early.file);
   }
   dtm_output_abort(&early.file); /* after a failure: no partial output */
   rules_free(&rules);
@@ -361,6 +408,7 @@ static int run_scene(const cli_opts *given, int verify) {
   if (r == DTM_OK) dtm_cli_output_names(s, o, NULL, &out);
   if (r == DTM_OK && !verify) r = dtm_cli_verified(s, o);
   if (r == DTM_OK && !verify) r = dtm_cli_check_outputs(s, &out);
+  if (r == DTM_OK) r = sms_check(s, o);
   if (r == DTM_OK && verify && o->report) r = dtm_output_path_check(s, o->report, NULL, "--report");
   if (r == DTM_OK && dtm_parallel_wanted(s))
     r = verify ? DTM_ERR(DTM_ERR_INPUT, "%s: dtmap verify runs on one whole mesh, without mpirun", s->path)
@@ -382,9 +430,9 @@ int dtm_cli_run(const cli_opts *o) {
   if (dtm_cli_format(&dtm_cli_commands[0], o->format, &f)) return DTM_ERR_INPUT;
   if (o->png && o->views_only)
     return dtm_cli_usage_error(&dtm_cli_commands[0], "--png draws the output mesh, which --views-only leaves out");
-  if (o->target > 0 && !o->modes)
-    return dtm_cli_usage_error(&dtm_cli_commands[0], "--target gives the step of --modes' conventional mass; give "
-                                                     "--modes N too");
+  if (o->target > 0 && !o->modes && !o->selective_mass)
+    return dtm_cli_usage_error(&dtm_cli_commands[0], "--target is the step of --selective-mass or of --modes' "
+                                                     "conventional mass; give one of them");
   solver_rules names;
   char why[512];
   if (o->solver_rule && rule_names(o->solver_rule, &names, why, sizeof why))
@@ -396,5 +444,10 @@ int dtm_cli_verify(const cli_opts *o) {
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--factor and --dt both give the step; give one");
   if (!o->accuracy && (o->wave || o->direction || o->freq > 0 || o->periods > 0))
     return dtm_cli_usage_error(&dtm_cli_commands[1], "--wave, --direction, --freq and --periods need --accuracy");
+  if (o->target > 0 && !o->selective_mass)
+    return dtm_cli_usage_error(&dtm_cli_commands[1], "--target is the target of --selective-mass; give both");
+  if (o->selective_mass && (o->accuracy || o->report || o->posterior))
+    return dtm_cli_usage_error(&dtm_cli_commands[1], "--selective-mass checks the scaled model's stability alone: "
+                                                     "without --accuracy, --report or --posterior");
   return run_scene(o, 1);
 }

@@ -202,7 +202,7 @@ int dtm_ol_compute(ol_conn *c, const ol_model *m, const ol_panel *pn, int poster
   if (r == DTM_OK && !stop) r = analyse(c, s, posterior || pn->posterior, &a, &cost, &stop);
   if (r == DTM_OK && !stop) r = stop_asked(c, "writing the result", &stop);
   if (r == DTM_OK && !stop) {
-    dtm_results res = {a, cost, NULL, t_scene, 0.0, 0, 0, {NULL}, {NULL}, NULL};
+    dtm_results res = {a, cost, NULL, t_scene, 0.0, 0, 0, {NULL}, {NULL}, NULL, NULL};
     r = write_and_send(c, m, &res);
   }
   if (r == DTM_OK && !stop) r = save_scene(c, pn, xml);

@@ -63,6 +63,8 @@ void dtm_output_section_warnings(const dtm_analysis *a, dtm_warnings *w);
 /* The run time in hours and the accuracy measures of c, for the summary
  * (stream is a FILE *; src/output/measures.c). */
 void dtm_summary_measures(const dtm_analysis *a, const dtm_cost *c, void *stream);
+/* run --selective-mass's lines (selective.c; nothing when r->selective_mass is NULL). */
+void dtm_summary_selective_mass(const dtm_results *r, void *stream);
 /* Its parts: the added mass of ms (what: which mass scaling) above
  * DTM_MASS_WARN of the model or a group; a target the accuracy bound
  * forbids at n elements (the bound's view, its size, the step it allows). */

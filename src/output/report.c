@@ -581,6 +581,7 @@ cJSON *dtm_report_json(const dtm_results *r) {
   if (r->cost) cJSON_AddItemToObject(root, "accuracy_measures", dtm_report_measures(a, r->cost->measures));
   if (r->cost) cJSON_AddItemToObject(root, "subcycling", dtm_report_subcycling(&r->cost->subcycling));
   if (r->cost && r->cost->mass) cJSON_AddItemToObject(root, "mass_scaling", dtm_report_mass(a, r->cost->mass, NULL));
+  if (r->selective_mass) cJSON_AddItemToObject(root, "selective_mass", dtm_report_selective_mass(r));
   cJSON_AddItemToObject(root, "cohesive", dtm_report_zones(a));
   cJSON_AddItemToObject(root, "damping", dtm_report_damping(a));
   advice_json(r, root);

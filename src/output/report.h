@@ -37,6 +37,8 @@ cJSON *dtm_report_subcycling(const dtm_subcycling *sc);
 /* The mass scaling ms (totals, groups of a's mesh), with most_added as its
  * list (taken over), or NULL for dtm_report_top_added(a, ms->added). */
 cJSON *dtm_report_mass(const dtm_analysis *a, const dtm_mass_scaling *ms, cJSON *most_added);
+/* run --selective-mass's object (selective.c); r->selective_mass set. */
+cJSON *dtm_report_selective_mass(const dtm_results *r);
 
 /* refine's rounds, stop, causes, counts and ways (src/output/
  * refine_report.c), and the point masses a's mesh carries. */

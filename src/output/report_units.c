@@ -48,6 +48,8 @@ static const struct {
     {"total_added", DTM_UNIT_MASS},
     {"total_mass", DTM_UNIT_MASS},
     {"solver_added_mass", DTM_UNIT_MASS},
+    {"translational_mass", DTM_UNIT_MASS},
+    {"translational_mass_lumped", DTM_UNIT_MASS},
     {"shell_thickness", DTM_UNIT_LENGTH},
 };
 

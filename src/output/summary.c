@@ -492,5 +492,6 @@ void dtm_summary_print(const dtm_results *r, void *stream) {
   print_layers(r, f);
   print_smallest(r, f);
   print_histogram(r->analysis, f);
+  dtm_summary_selective_mass(r, f);
   print_warnings(r, shown, f);
 }

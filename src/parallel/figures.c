@@ -271,7 +271,7 @@ static void merge_rows(const dtm_analysis *a, cJSON **arr) {
 /* The lists of individual elements and the rows per material: each part's
  * own, merged on rank 0. */
 static int lists(dtm_par *p, dtm_par_figures *f) {
-  dtm_results res = {p->analysis, p->cost, NULL, 0.0, 0.0, p->top, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {p->analysis, p->cost, NULL, 0.0, 0.0, p->top, 0, {NULL}, {NULL}, NULL, NULL};
   DTM_CHECK(gather_json(p, dtm_report_under_resolved(p->analysis), &f->under_list));
   truncate_array(f->under_list, DTM_REPORT_LISTED);
   DTM_CHECK(gather_json(p, dtm_report_worst(&res), &f->worst));

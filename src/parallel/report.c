@@ -133,7 +133,7 @@ static cJSON *timings_json(const dtm_par *p, const dtm_parallel_opts *o, const d
 static void advice_json(const dtm_par *p, const dtm_par_figures *f, cJSON *root) {
   dtm_cost c = *p->cost;
   c.subcycling = f->sub, c.shape_mass = c.layer_mass = NULL; /* the parts' masses are indexed by part */
-  dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   size_t n = 0;
   if (p->advice) dtm_analysis_shape_limited(p->advice, &n);
   cJSON_AddItemToObject(root, "shape_limited", p->advice ? dtm_report_shape(&res) : cJSON_CreateArray());

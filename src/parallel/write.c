@@ -92,7 +92,7 @@ static int commit(const dtm_par_outputs *w, const char *report) {
 }
 
 int dtm_par_write_finish(dtm_par *p, const dtm_parallel_opts *o, dtm_par_figures *f) {
-  dtm_results res = {p->analysis, p->cost, NULL, o->t_scene, 0.0, o->top, 0, {NULL}, {NULL}, NULL};
+  dtm_results res = {p->analysis, p->cost, NULL, o->t_scene, 0.0, o->top, 0, {NULL}, {NULL}, NULL, NULL};
   int r = dtm_par_collect(p, f); /* the views and the .opt take the whole mesh's figures */
   double t0 = dtm_wtime();
   if (r == DTM_OK) r = dtm_par_agree(p, dtm_output_finish(&p->out.file, &res));

@@ -378,3 +378,58 @@ int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin) {
   *margin = g / (1 - g) * frob + DBL_EPSILON / 2 * (fabs(sigma) + c->diag);
   return 1;
 }
+
+/* ---- a pencil (sms.c) ------------------------------------------------- */
+
+/* The values of dx in the slots of c->neg's pattern (upper triangle,
+ * columns sorted) into out[nzmax]; 0 when an entry of dx has no slot. */
+static int pencil_values(const dtm_certifier *c, const dtm_csr *dx, double *out) {
+  const SuiteSparse_long *ap = c->neg->p, *ai = c->neg->i;
+  for (size_t j = 0; j < c->n; j++) {
+    SuiteSparse_long p = ap[j];
+    for (size_t k = dx->rowptr[j]; k < dx->rowptr[j + 1] && dx->col[k] <= j; k++) {
+      while (p < ap[j + 1] && (size_t)ai[p] < dx->col[k]) out[p++] = 0;
+      if (p == ap[j + 1] || (size_t)ai[p] != dx->col[k]) return 0;
+      out[p++] = dx->val[k];
+    }
+    while (p < ap[j + 1]) out[p++] = 0;
+  }
+  return 1;
+}
+
+/* The largest row sum of |x| over the symmetric matrix whose upper
+ * triangle has c->neg's pattern. */
+static double row_sum_max(const dtm_certifier *c, const double *x, double *rows) {
+  const SuiteSparse_long *ap = c->neg->p, *ai = c->neg->i;
+  double most = 0;
+  memset(rows, 0, c->n * sizeof *rows);
+  for (size_t j = 0; j < c->n; j++)
+    for (SuiteSparse_long p = ap[j]; p < ap[j + 1]; p++) {
+      rows[ai[p]] += fabs(x[p]);
+      if ((size_t)ai[p] != j) rows[j] += fabs(x[p]);
+    }
+  for (size_t j = 0; j < c->n; j++) most = fmax(most, rows[j]);
+  return most;
+}
+
+int dtm_certifier_below_pencil(dtm_certifier *c, const dtm_csr *dx, double sigma, double *margin) {
+  size_t nz = (size_t)c->neg->nzmax;
+  double *keep = malloc((nz + 1) * sizeof *keep), *d = malloc((nz + 1) * sizeof *d);
+  double *rows = malloc((c->n + 1) * sizeof *rows), *ax = c->neg->x;
+  int ok = 0;
+  *margin = NAN;
+  if (keep && d && rows && dx->n == c->n && pencil_values(c, dx, d)) {
+    double na = row_sum_max(c, ax, rows), nd = row_sum_max(c, d, rows), diag = c->diag;
+    memcpy(keep, ax, nz * sizeof *ax);
+    for (size_t p = 0; p < nz; p++) ax[p] += sigma * d[p]; /* sigma dx - A: sigma I is added by CHOLMOD */
+    for (size_t p = 0; p < nz; p++) c->diag = fmax(c->diag, fabs(ax[p]));
+    ok = dtm_certifier_below(c, sigma, margin);
+    memcpy(ax, keep, nz * sizeof *ax);
+    c->diag = diag;
+    /* forming sigma dx - A rounds each entry by at most u (|a| + sigma |dx|): a symmetric perturbation of
+       2-norm at most its largest row sum */
+    if (ok) *margin += DBL_EPSILON / 2 * (na + sigma * nd) * 2;
+  }
+  free(keep), free(d), free(rows);
+  return ok;
+}

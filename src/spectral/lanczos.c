@@ -282,6 +282,17 @@ static void tri_update(lz_tri *t) {
   t->invariant = t->b[k - 1] <= 1e-13 * norm;
 }
 
+double dtm_tridiag_top(int k, const double *a, const double *b, double *s, double *w) {
+  double norm, theta = top_eig(k, a, b, 1, &norm), piv = DBL_EPSILON * fmax(norm, DBL_MIN);
+  uint64_t x = 12345;
+  for (int i = 0; i < k; i++) s[i] = dtm_rng_uniform(&x, 0.5, 1.5);
+  for (int it = 0; it < 3; it++) {
+    tri_solve(k, a, b, theta, piv, s, w);
+    unit(k, s);
+  }
+  return theta;
+}
+
 /* ---- the two passes -------------------------------------------------- */
 
 /* How far the residual estimate est has come down towards tol * theta,

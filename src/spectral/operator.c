@@ -384,16 +384,18 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part 
 
 /* ---- creation: lumped diagonals ------------------------------------- */
 
-/* The converged level an analysis kept for element e of part b, or -1. */
-static int kept_level(const dtm_operator *op, const op_block *b, size_t e) {
-  const unsigned char *row = op->kept && op->kept->level ? op->kept->level[b->mbi] : NULL;
+/* The converged level an analysis kept for element e of part b (level:
+ * its rows per mesh block, or NULL), or -1. */
+static int kept_level(const unsigned char *const *level, const op_block *b, size_t e) {
+  const unsigned char *row = level ? level[b->mbi] : NULL;
   return row ? row[b->orig ? b->orig[e] : e] : -1;
 }
 
 /* Lumped node masses of element e per unit capacity, into w[nn]: the
  * kernel's weights times the measure, which is the sum of the stored dv
  * (the same rule as dtm_elem_measure, without integrating a second time). */
-static void lumped_weights(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+static void lumped_weights(const unsigned char *const *level, const dtm_mesh *m, const op_block *b, size_t e,
+                           double *w) {
   double x[DTM_K_NODES * 3];
   const size_t *c = b->conn + e * (size_t)b->nn;
   if (b->p1) { /* row sums of a linear simplex (lump.c), without gathering the nodes */
@@ -404,15 +406,15 @@ static void lumped_weights(const dtm_operator *op, const dtm_mesh *m, const op_b
   if (b->level == DTM_K_RULE_C3D10) /* CalculiX's lumping goes with its rule (src/kernel/lump.c) */
     dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CALCULIX, b->level, w);
   else /* the converged weights, at the level an analysis kept (else searched) */
-    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CONVERGED, kept_level(op, b, e), w);
+    dtm_elem_lumped_at(b->type, x, DTM_INTEGRATION_CONVERGED, kept_level(level, b, e), w);
 }
 
-static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
+static int elem_lumped(const unsigned char *const *level, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double meas = 0;
   size_t st = (size_t)b->st;
   const double *g = b->geo + e * (size_t)b->nq * st;
   for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
-  lumped_weights(op, m, b, e, w);
+  lumped_weights(level, m, b, e, w);
   int ok = 1;
   for (int a = 0; a < b->nn; a++) {
     w[a] *= meas;
@@ -428,9 +430,10 @@ static int elem_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block
 static size_t chunk_lumped(const dtm_operator *op, const dtm_mesh *m, const op_block *b, size_t e0, size_t e1,
                            double *w) {
   size_t bad = e1;
+  const unsigned char *const *level = op->kept ? op->kept->level : NULL;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = e0; e < e1; e++)
-    if (elem_lumped(op, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
+    if (elem_lumped(level, m, b, e, w + (e - e0) * (size_t)b->nn) && e < bad) bad = e;
   return bad;
 }
 
@@ -541,6 +544,7 @@ int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_
   op->ncomp = kind == DTM_OP_ELASTIC ? d : 1;
   op->kept = kept;
   int r = create(op, mesh, coef, alpha, beta);
+  op->kept = NULL; /* creation only: the caller's struct need not outlive it */
   if (r) {
     dtm_operator_destroy(&op);
     return dtm_error_trace(r, __FILE__, __LINE__, __func__);
@@ -1157,5 +1161,24 @@ int dtm_operator_node_graph(const dtm_operator *op, size_t *nnodes, size_t **xad
   free(ep), free(el), free(mark);
   if (r) return free(x), free(ad), r;
   *nnodes = nn, *xadj = x, *adj = ad;
+  return DTM_OK;
+}
+
+/* ---- the elements and their lumped masses (sms.c) -------------------- */
+
+int dtm_operator_each_element(const dtm_operator *op, const dtm_mesh *m, const unsigned char *const *level,
+                              dtm_operator_elem_fn fn, void *user) {
+  if (op->st.n) return DTM_ERR(DTM_ERR_INPUT, "selective mass scaling: shells and beams are not supported");
+  double w[DTM_K_NODES];
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    for (size_t e = 0; e < b->n; e++) {
+      if (elem_lumped(level, m, b, e, w)) return DTM_ERR(DTM_ERR_INPUT, "an element has a non-positive lumped mass");
+      double cap = op->mats[slot_of(b, e)].cap;
+      for (int a = 0; a < b->nn; a++) w[a] *= cap;
+      int r = fn(user, b->mbi, b->orig ? b->orig[e] : e, b->nn, b->conn + e * (size_t)b->nn, w);
+      if (r) return r;
+    }
+  }
   return DTM_OK;
 }

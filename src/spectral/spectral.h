@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "dtmap/mesh.h"
+#include "dtmap/operator.h"
 
 extern size_t dtm_operator_narrow_max;
 
@@ -67,5 +68,38 @@ double dtm_certifier_flops(const dtm_certifier *c);
  * above sigma, up to that rounding), or when CHOLMOD ran out of memory
  * (nothing proven: the caller takes it as refuted, the safe side). */
 int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin);
+
+/* Each element of op's blocks (in their order) with its mesh block, its
+ * index in that block, its nn node indices and its lumped node masses
+ * w[nn] (kg: what it adds to dtm_operator_mass at each of its nodes'
+ * translational unknowns); fn returning non-zero stops the walk and is
+ * returned. DTM_ERR_INPUT for an operator with shells or beams. mesh is
+ * the operator's; level the converged rule levels its creation was given
+ * (dtm_operator_kept.level), or NULL: searched again, the same weights
+ * (the operator keeps no pointer to what its creation was given). */
+typedef int (*dtm_operator_elem_fn)(void *user, int block, size_t local, int nn, const size_t *nodes, const double *w);
+int dtm_operator_each_element(const struct dtm_operator *op, const dtm_mesh *mesh, const unsigned char *const *level,
+                              dtm_operator_elem_fn fn, void *user);
+
+/* The largest eigenvalue of the symmetric tridiagonal matrix of diagonal
+ * a[k] and off-diagonal b[k - 1] (lanczos.c: bisection), with its unit
+ * eigenvector in s[k] (inverse iteration; w: [4k] workspace). */
+double dtm_tridiag_top(int k, const double *a, const double *b, double *s, double *w);
+
+/* certify.c for a pencil: 1 when sigma D - A factors with positive pivots
+ * for D = I + dx (dx symmetric, both triangles, its pattern within the
+ * certifier's node graph: a scaled added mass M^-1/2 M_add M^-1/2), so
+ * that every eigenvalue of the pencil (A, D) is below sigma + *margin
+ * (the factorisation's rounding and that of forming sigma dx - A; D >= I
+ * turns an absolute perturbation into one of the pencil's eigenvalues); 0
+ * as dtm_certifier_below. */
+int dtm_certifier_below_pencil(dtm_certifier *c, const dtm_csr *dx, double sigma, double *margin);
+
+/* sms.c: G^T g for a factor G of M_s = G^T G (G stacks M^1/2 and each
+ * scaled element's sqrt(beta) W^1/2 (I - 1 w^T / m) per component) and g
+ * standard normal drawn from seed (per node tag and component for M^1/2):
+ * M_s^-1 G^T g then has an M_s^1/2 image that is standard normal. */
+struct dtm_sms;
+void dtm_sms_factor_draw(const struct dtm_sms *s, const struct dtm_operator *op, unsigned long long seed, double *rhs);
 
 #endif
