@@ -237,9 +237,35 @@ class SelectiveMass(tu.unittest.TestCase):
             self.assertGreater(sm["cost"]["cg_iterations"], 0)
             self.assertGreaterEqual(sm["cost"]["runtime_factor"], 1)
 
+    def test_modes(self):
+        """run --modes 4 beside --selective-mass: the selective variant's frequencies are the dense scaled
+        pencil's lowest elastic ones (1e-8: the shift-invert Lanczos's convergence test is 1e-9 on the
+        eigenvalue, as t942's), its trace per direction the reference's (1e-9), no translational mass, and
+        each shift 100 (f_s / f - 1) of the reference (1e-5 percentage points)."""
+        target = 2 * self.input_step
+        code, log = tu.run("run", "slab.xml", "--selective-mass", "--target", "%.12e" % target, "--modes", "4", "-o",
+                           "modes.msh", "--report", "modes.json")
+        self.assertEqual(code, 0, log)
+        modes = tu.report("modes.json")["modes"]
+        v = {x["name"]: x for x in modes["variants"]}["selective mass"]
+        _, ms, trace = self.ref.scaled(target)
+        lam0 = scipy.linalg.eigh(self.ref.K, np.diag(self.ref.m), eigvals_only=True, subset_by_index=[0, 9])
+        lam1 = scipy.linalg.eigh(self.ref.K, ms, eigvals_only=True, subset_by_index=[0, 9])
+        f0, f1 = np.sqrt(np.abs(lam0[6:])) / (2 * math.pi), np.sqrt(np.abs(lam1[6:])) / (2 * math.pi)
+        print("modes: model %s Hz, selective %s Hz" % (np.array(modes["frequencies"][:4]), f1))
+        self.assertEqual(v["rigid"], 6)
+        for i in range(4):
+            self.assertLessEqual(abs(modes["frequencies"][i] / f0[i] - 1), 1e-8)
+            self.assertLessEqual(abs(v["frequencies"][i] / f1[i] - 1), 1e-8)
+            self.assertEqual(v["match"][i], i + 1)
+            self.assertLessEqual(abs(v["shifts"][i] - 100 * (f1[i] / f0[i] - 1)), 1e-5)
+        self.assertAlmostEqual(v["deformation_mass"] / trace, 1, delta=1e-9)
+        self.assertEqual(v["added_mass"], 0)
+        self.assertIn("added to the deformation modes only", log)
+
     def test_bad_combinations(self):
         cases = [(("--selective-mass",), "needs a target step"),
-                 (("--target", "1e-6"), "--target is the target of --selective-mass")]
+                 (("--target", "1e-6"), "--target is the step of --selective-mass or of --modes'")]
         for extra, message in cases:
             code, log = tu.run("run", "slab.xml", "-o", "bad.msh", *extra)
             self.assertEqual(code, 2, log)

@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "dtmap/analysis.h"
+#include "dtmap/selective.h"
 #include "dtmap/export.h"
 
 /* Mass scaling to reach the target step dt_t (s, compared with the
@@ -357,6 +358,8 @@ typedef struct {
   double added_mass;     /* mass added, kg (per unit thickness in 2D): its translational inertia added */
   double added_percent;  /* its share of the model's mass, % */
   size_t nodes;          /* nodes that got mass (point masses), else 0 */
+  double deformation;    /* selective mass: the trace of its added mass per direction, kg (it all goes into
+                            the deformation modes; added_mass, the translational share, is 0); else 0 */
   dtm_modes modes;       /* its modes (owned) */
   dtm_mode_shift *shift; /* [base.nelastic] each model mode's match and shift (owned) */
 } dtm_modes_variant;
@@ -383,6 +386,10 @@ DTM_EXPORT int dtm_modes_price_add(dtm_modes_price *p, const char *name, const d
  * as a diagonal extra mass. A target a already meets adds no mass (shifts
  * 0); without a nodal bound the variant is not computed, with why. */
 DTM_EXPORT int dtm_modes_price_conventional(const dtm_analysis *a, double target, dtm_modes_price *p);
+/* The selective variant: the added mass of m (dtm_analysis_selective_mass
+ * of a, on the same elastic effect as p) as an extra matrix; its target
+ * becomes p's when p has none. */
+DTM_EXPORT int dtm_modes_price_selective(const dtm_analysis *a, const dtm_selective_mass *m, dtm_modes_price *p);
 DTM_EXPORT void dtm_modes_price_free(dtm_modes_price *p);
 
 #endif

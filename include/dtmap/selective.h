@@ -45,6 +45,12 @@ DTM_EXPORT int dtm_analysis_selective_mass(const dtm_analysis *a, double target,
  * steps steps, from a field uniform in [-1, 1] per unknown drawn from the
  * Lanczos seed, at rest (dtm_sms_verify_run); *cg_mean (may be NULL) the
  * mean CG iterations per step. */
+/* The added mass M_add of the scaled model m of a (made by
+ * dtm_analysis_selective_mass) assembled into *out over the unknowns of
+ * the effect's undamped operator (dtm_analysis_operator; owned:
+ * dtm_csr_free), kg: for the natural frequencies it moves
+ * (dtm_modes_price_add). */
+DTM_EXPORT int dtm_analysis_selective_added(const dtm_analysis *a, const dtm_selective_mass *m, dtm_csr *out);
 DTM_EXPORT int dtm_analysis_selective_verify(const dtm_analysis *a, const dtm_selective_mass *m, double dt, int steps,
                                              dtm_verify_result *vr, double *cg_mean);
 

@@ -151,16 +151,33 @@ static int run_verify(const dtm_operator *op, const dtm_sms *s, unsigned seed, d
   return r;
 }
 
+/* The operator and scaled mass of m, made again from a's element steps. */
+static int rebuild(const dtm_analysis *a, const dtm_selective_mass *m, dtm_operator **op, dtm_sms **s) {
+  double *beta = malloc((a->nel + 1) * sizeof *beta);
+  if (!beta) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  dtm_sms_beta(a->nel, dtm_analysis_effect_dt_undamped(a, m->effect), m->element_target, beta);
+  int r = build(a, m->effect, beta, op, s);
+  free(beta);
+  return r;
+}
+
 int dtm_analysis_selective_verify(const dtm_analysis *a, const dtm_selective_mass *m, double dt, int steps,
                                   dtm_verify_result *vr, double *cg_mean) {
   dtm_operator *op = NULL;
   dtm_sms *s = NULL;
-  double *beta = malloc((a->nel + 1) * sizeof *beta);
-  if (!beta) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  dtm_sms_beta(a->nel, dtm_analysis_effect_dt_undamped(a, m->effect), m->element_target, beta);
-  int r = build(a, m->effect, beta, &op, &s);
+  int r = rebuild(a, m, &op, &s);
   if (r == DTM_OK) r = run_verify(op, s, dtm_analysis_seed(a), dt, steps, vr, cg_mean);
-  free(beta);
+  dtm_sms_destroy(&s);
+  dtm_operator_destroy(&op);
+  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+}
+
+int dtm_analysis_selective_added(const dtm_analysis *a, const dtm_selective_mass *m, dtm_csr *out) {
+  dtm_operator *op = NULL;
+  dtm_sms *s = NULL;
+  memset(out, 0, sizeof *out);
+  int r = rebuild(a, m, &op, &s);
+  if (r == DTM_OK) r = dtm_sms_assemble(s, 1, out);
   dtm_sms_destroy(&s);
   dtm_operator_destroy(&op);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;

@@ -286,16 +286,19 @@ static int write_early(void *user, size_t nelements) {
 
 /* ---- --modes ---- */
 
-/* The natural frequencies of the model and, with --target, those under
- * the conventional point masses reaching it (deck --target's). */
-static int modes_step(const dtm_analysis *a, const cli_opts *o, dtm_modes_price *p) {
-  DTM_CHECK(dtm_modes_price_base(a, o->modes, p));
-  if (o->target > 0) DTM_CHECK(dtm_modes_price_conventional(a, o->target, p));
-  return DTM_OK;
-}
-
 /* --selective-mass: the target of --target, else the scene's. */
 static double sms_target(const dtm_scene *s, const cli_opts *o) { return o->target > 0 ? o->target : s->target; }
+
+/* The natural frequencies of the model and, with a target (--target, or
+ * --selective-mass's), those under the conventional point masses reaching
+ * it (deck --target's); the selective variant is added after the scaled
+ * model is made. */
+static int modes_step(const dtm_analysis *a, const cli_opts *o, dtm_modes_price *p) {
+  DTM_CHECK(dtm_modes_price_base(a, o->modes, p));
+  double target = o->target > 0 || o->selective_mass ? sms_target(dtm_analysis_scene(a), o) : 0;
+  if (target > 0) DTM_CHECK(dtm_modes_price_conventional(a, target, p));
+  return DTM_OK;
+}
 
 static int selective(const dtm_analysis *a, const cli_opts *o, dtm_selective_mass *sms) {
   return dtm_analysis_selective_mass(a, sms_target(dtm_analysis_scene(a), o), o->tol, o->lanczos_max, sms);
@@ -332,6 +335,7 @@ static int analyse(const dtm_scene *s, const cli_opts *o, double t_scene, int ve
     r = dtm_analysis_estimate_global(a, o->tol, o->lanczos_max, global_flags(o, verify));
   if (r == DTM_OK) r = dtm_cost_create(a, &cost);
   if (r == DTM_OK && o->selective_mass) r = selective(a, o, &sms);
+  if (r == DTM_OK && o->selective_mass && o->modes && !verify) r = dtm_modes_price_selective(a, &sms, &price);
   if (r == DTM_OK && !verify) r = rule_steps(a, o->solver_rule, &rules);
   if (r == DTM_OK && rules.n && !early.file) r = write_early(&early, dtm_analysis_nelements(a));
   if (r == DTM_OK) {

@@ -87,6 +87,22 @@ int dtm_modes_price_conventional(const dtm_analysis *a, double target, dtm_modes
   return r;
 }
 
+int dtm_modes_price_selective(const dtm_analysis *a, const dtm_selective_mass *m, dtm_modes_price *p) {
+  if (m->effect != p->effect) {
+    dtm_modes_variant *v = NULL;
+    DTM_CHECK(new_variant(p, "selective mass", &v));
+    v->why = "the scaled effect is not the one whose modes are computed", v->added_mass = v->added_percent = NAN;
+    return DTM_OK;
+  }
+  if (!(p->target > 0)) p->target = m->target;
+  dtm_csr add = {0};
+  int r = dtm_analysis_selective_added(a, m, &add);
+  if (r == DTM_OK) r = dtm_modes_price_add(p, "selective mass", &add, 0.0);
+  if (r == DTM_OK) p->variant[p->nvariants - 1].deformation = m->stats.trace_add[0];
+  dtm_csr_free(&add);
+  return r;
+}
+
 void dtm_modes_price_free(dtm_modes_price *p) {
   if (!p) return;
   for (int i = 0; i < p->nvariants; i++) dtm_modes_free(&p->variant[i].modes), free(p->variant[i].shift);

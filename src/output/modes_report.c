@@ -40,6 +40,13 @@ static void print_variant_note(const dtm_analysis *a, const dtm_modes_price *p, 
     fprintf(f, "  %s: not computed: %s (target %.4e s)\n", v->name, v->why, p->target);
     return;
   }
+  if (v->deformation > 0) {
+    fprintf(f,
+            "  %s: %.4g %s per direction added to the deformation modes only (%.3g %% of the model's %.4g %s), none "
+            "to rigid translation, reaching the target %.4e s\n",
+            v->name, v->deformation, kg, 100.0 * v->deformation / p->model_mass, p->model_mass, kg, p->target);
+    return;
+  }
   fprintf(f, "  %s: %.4g %s added (%.3g %% of the model's %.4g %s)", v->name, v->added_mass, kg, v->added_percent,
           p->model_mass, kg);
   if (v->nodes) fprintf(f, " at %zu node(s), reaching the target %.4e s", v->nodes, p->target);
@@ -102,6 +109,7 @@ static cJSON *variant_json(const dtm_modes_price *p, const dtm_modes_variant *v)
   cJSON_AddNumberToObject(o, "added_mass", v->added_mass);
   cJSON_AddNumberToObject(o, "added_percent", v->added_percent);
   cJSON_AddNumberToObject(o, "nodes", (double)v->nodes);
+  if (v->deformation > 0) cJSON_AddNumberToObject(o, "deformation_mass", v->deformation);
   frequencies_json(o, &v->modes);
   cJSON *sh = cJSON_AddArrayToObject(o, "shifts"), *ma = cJSON_AddArrayToObject(o, "match");
   cJSON *mac = cJSON_AddArrayToObject(o, "mac");

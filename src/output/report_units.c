@@ -42,6 +42,7 @@ static const struct {
     {"added", DTM_UNIT_MASS},
     {"added_mass", DTM_UNIT_MASS},
     {"carried_mass", DTM_UNIT_MASS},
+    {"deformation_mass", DTM_UNIT_MASS},
     {"model_mass", DTM_UNIT_MASS},
     {"mass_added", DTM_UNIT_MASS},
     {"total", DTM_UNIT_MASS},
