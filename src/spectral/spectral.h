@@ -61,4 +61,15 @@ double dtm_certifier_flops(const dtm_certifier *c);
  * (nothing proven: the caller takes it as refuted, the safe side). */
 int dtm_certifier_below(dtm_certifier *c, double sigma, double *margin);
 
+/* Lanczos's reorthogonalisation (lanczos.c): partial (Simon's omega
+ * recurrence: what dtmap runs), full at every step, or none. */
+enum { DTM_REORTH_PARTIAL, DTM_REORTH_FULL, DTM_REORTH_NONE };
+/* White-box (tests/t931): steps Lanczos steps from seed (fewer where T_k
+ * becomes invariant) with the reorthogonalisation mode (DTM_REORTH_*);
+ * *theta the top Ritz value, *deviation the largest |v_i . v_j -
+ * delta_ij| over the stored basis, *nreorth the steps that
+ * reorthogonalised. */
+int dtm_lanczos_basis_check(const struct dtm_operator *op, int steps, unsigned seed, int mode, double *theta,
+                            double *deviation, int *nreorth);
+
 #endif
