@@ -70,17 +70,19 @@ typedef struct {
   const dtm_operator *op;
   size_t n;
   unsigned seed;
-  double *vp, *v, *w; /* v_{j-1}, v_j, and the next direction */
-  double bprev;       /* beta_{j-1} */
-  double **V;         /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
-  int nv;             /* vectors stored */
-  double *c;          /* [maxit] Gram-Schmidt coefficients */
-  double nmass;       /* dofs with mass: the order of the bound */
-  int mode;           /* DTM_REORTH_*: partial (dtmap's), full or none (the white-box test's references) */
-  double *om[3];      /* [maxit + 2] omega rows j - 1, j, j + 1: estimates of v_j . v_i */
-  int again;          /* the next direction is reorthogonalised too (in pairs) */
-  int nreorth;        /* steps that reorthogonalised */
-  double tnorm;       /* |T_k| so far (Gershgorin): the scale of the rounding */
+  const double *vp; /* v_{j-1} (NULL for j = 0): the basis's vector */
+  const double *v;  /* v_j: the basis's last vector */
+  double *w;        /* the next direction (owned) */
+  double bprev;     /* beta_{j-1} */
+  double **V;       /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
+  int nv;           /* vectors stored */
+  double *c;        /* [maxit] Gram-Schmidt coefficients */
+  double nmass;     /* dofs with mass: the order of the bound */
+  int mode;         /* DTM_REORTH_*: partial (dtmap's), full or none (the white-box test's references) */
+  double *om[3];    /* [maxit + 2] omega rows j - 1, j, j + 1: estimates of v_j . v_i */
+  int again;        /* the next direction is reorthogonalised too (in pairs) */
+  int nreorth;      /* steps that reorthogonalised */
+  double tnorm;     /* |T_k| so far (Gershgorin): the scale of the rounding */
 } lz_state;
 
 typedef struct {
@@ -107,13 +109,27 @@ static double dot(size_t n, const double *x, const double *y) {
   return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
 }
 
-/* Append a copy of v to the basis; 0 when it cannot grow (memory). */
-static int keep(lz_state *z, const double *v) {
+/* A new vector at the end of the basis (it owns it); NULL when the basis
+ * cannot grow (memory). */
+static double *grow(lz_state *z) {
   double *q = malloc((z->n ? z->n : 1) * sizeof *q);
-  if (!q) return 0;
-  memcpy(q, v, z->n * sizeof *q);
-  z->V[z->nv++] = q;
-  return 1;
+  if (q) z->V[z->nv++] = q;
+  return q;
+}
+
+/* w -= s x (x NULL: w unchanged), then w . y, in one pass: the partial sums
+ * of dot's fixed order. */
+static double axpy_dot(size_t n, double *w, double s, const double *x, const double *y) {
+  if (!x) return dot(n, w, y);
+  double p[DOT_LANES] = {0};
+  size_t i = 0;
+  for (; i + DOT_LANES <= n; i += DOT_LANES)
+    for (int l = 0; l < DOT_LANES; l++) {
+      w[i + l] -= s * x[i + l];
+      p[l] += w[i + l] * y[i + l];
+    }
+  for (; i < n; i++) w[i] -= s * x[i], p[0] += w[i] * y[i];
+  return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
 }
 
 /* v_0: standard normal on the dofs with mass (drawn per Gmsh node tag, so
@@ -121,18 +137,19 @@ static int keep(lz_state *z, const double *v) {
  * unit sphere of those dofs; 0 when there are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  dtm_operator_draw_normal(z->op, z->seed, z->v);
+  double *v = grow(z);
+  if (!v) return 0;
+  dtm_operator_draw_normal(z->op, z->seed, v);
   z->nmass = 0;
   for (size_t i = 0; i < z->n; i++) {
-    z->v[i] = m[i] > 0 ? z->v[i] : 0;
+    v[i] = m[i] > 0 ? v[i] : 0;
     z->nmass += m[i] > 0;
-    z->vp[i] = 0;
   }
-  double nv = sqrt(dot(z->n, z->v, z->v));
-  for (size_t i = 0; i < z->n && nv > 0; i++) z->v[i] /= nv;
-  z->bprev = 0;
+  double nv = sqrt(dot(z->n, v, v));
+  for (size_t i = 0; i < z->n && nv > 0; i++) v[i] /= nv;
+  z->v = v, z->vp = NULL, z->bprev = 0;
   z->om[1][0] = 1; /* v_0 . v_0 */
-  return nv > 0 && keep(z, z->v) ? nv : 0;
+  return nv;
 }
 
 #define GS_CHUNK 4096 /* unknowns per block of the Gram-Schmidt update */
@@ -248,18 +265,16 @@ static void lz_step(lz_state *z, lz_tri *t) {
   dtm_operator_apply_sym(z->op, z->v, z->w);
   if (z->mode == DTM_REORTH_FULL) {
     *a = dot(n, z->w, z->v);
-    for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + z->bprev * z->vp[i];
+    for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + (z->vp ? z->bprev * z->vp[i] : 0);
     *b = sqrt(dot(n, z->w, z->w));
     reorthogonalise(z, a, b);
     return;
   }
-  for (size_t i = 0; i < n; i++) z->w[i] -= z->bprev * z->vp[i];
-  *a = dot(n, z->w, z->v);
-  for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i];
-  double c = dot(n, z->w, z->v); /* the local correction */
-  for (size_t i = 0; i < n; i++) z->w[i] -= c * z->v[i];
+  *a = axpy_dot(n, z->w, z->bprev, z->vp, z->v); /* w -= beta_{j-1} v_{j-1}; alpha_j = w . v_j */
+  double c = axpy_dot(n, z->w, *a, z->v, z->v);  /* w -= alpha_j v_j; the local correction's w . v_j */
+  double bb = axpy_dot(n, z->w, c, z->v, z->w);  /* w -= c v_j; |w|^2 */
   *a += c;
-  *b = sqrt(dot(n, z->w, z->w));
+  *b = sqrt(bb);
   z->tnorm = fmax(z->tnorm, fabs(*a) + *b + z->bprev);
   double worst = *b > 0 ? om_update(z, t->a, t->b, j, *b) : 0;
   if (z->mode == DTM_REORTH_PARTIAL && *b > 0 && (z->again || worst > om_limit(t->k + 1))) {
@@ -269,15 +284,15 @@ static void lz_step(lz_state *z, lz_tri *t) {
   }
 }
 
-/* v_{j+1} = w / b, kept in the basis; the old v_{j-1} becomes the next w,
- * and the omega rows move on. 0 when the basis cannot grow. */
+/* v_{j+1} = w / b, written straight into the basis, and the omega rows
+ * move on. 0 when the basis cannot grow. */
 static int lz_advance(lz_state *z, double b) {
-  double *t = z->vp, *o = z->om[0];
-  z->vp = z->v, z->v = z->w, z->w = t;
+  double *q = grow(z), *o = z->om[0];
+  if (!q) return 0;
+  for (size_t i = 0; i < z->n; i++) q[i] = z->w[i] / b;
+  z->vp = z->v, z->v = q, z->bprev = b;
   z->om[0] = z->om[1], z->om[1] = z->om[2], z->om[2] = o;
-  for (size_t i = 0; i < z->n; i++) z->v[i] /= b;
-  z->bprev = b;
-  return keep(z, z->v);
+  return 1;
 }
 
 /* ---- the tridiagonal T_k -------------------------------------------- */
@@ -437,21 +452,19 @@ static void lz_free(lz_state *z, lz_tri *t) {
   for (int j = 0; z->V && j < z->nv; j++) free(z->V[j]);
   free(z->V), free(z->c);
   free(z->om[0]), free(z->om[1]), free(z->om[2]);
-  free(z->vp), free(z->v), free(z->w);
+  free(z->w);
   free(t->a), free(t->b), free(t->s), free(t->work);
 }
 
 static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
   size_t n = z->n ? z->n : 1, k = (size_t)maxit;
-  z->vp = malloc(n * sizeof(double)), z->v = malloc(n * sizeof(double));
   z->w = malloc(n * sizeof(double));
   t->a = malloc(k * sizeof(double)), t->b = malloc(k * sizeof(double));
   t->s = malloc(k * sizeof(double)), t->work = malloc(4 * k * sizeof(double));
   z->V = calloc(k, sizeof *z->V), z->c = malloc(k * sizeof(double));
   for (int i = 0; i < 3; i++) z->om[i] = calloc(k + 2, sizeof(double));
   t->kmax = maxit;
-  if (z->vp && z->v && z->w && t->a && t->b && t->s && t->work && z->V && z->c && z->om[0] && z->om[1] && z->om[2])
-    return DTM_OK;
+  if (z->w && t->a && t->b && t->s && t->work && z->V && z->c && z->om[0] && z->om[1] && z->om[2]) return DTM_OK;
   lz_free(z, t);
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Lanczos vectors");
 }
