@@ -35,6 +35,13 @@ struct dtm_operator;
  * free). An error for shells and beams (their rotations are not nodes'
  * translations). */
 int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj);
+/* A lower bound of that graph's entries without building it (one pass over
+ * the connectivity): every node of an element of nn nodes shares it with
+ * nn nodes (itself included), so the entries are at least the nodes in
+ * some element times the fewest nodes per element of any block (an element
+ * that repeats a node could only make the bound refuse a certificate that
+ * was affordable, the safe side). 0 for shells and beams. */
+size_t dtm_operator_node_graph_floor(const struct dtm_operator *op);
 
 /* The certificate of certify.c: sigma I - A = L L^T for A = M^-1/2 K M^-1/2
  * assembled from the operator's product. */
