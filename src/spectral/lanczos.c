@@ -194,12 +194,12 @@ static double orthogonalise(lz_state *z) {
   return c[nv - 1];
 }
 
-/* The second pass of Daniel, Gragg, Kaufman and Stewart: w is
- * reorthogonalised against v_0 .. v_j, a second time when the first pass
- * left less than 1/sqrt(2) of w's length (one pass that removes little
- * leaves w orthogonal to working precision, and after one that removes
- * much the second restores it); a takes the coefficients of v_j, *b is
- * w's new length. */
+/* w reorthogonalised against v_0 .. v_j, a second time when the first
+ * pass left less than 1/sqrt(2) of w's length (Daniel, Gragg, Kaufman and
+ * Stewart's criterion: one pass that removes little leaves w orthogonal to
+ * working precision, and after one that removes much the second restores
+ * it); *a takes the coefficients of v_j, *b (w's length before) becomes
+ * its length after. */
 static void reorthogonalise(lz_state *z, double *a, double *b) {
   double before = *b;
   *a += orthogonalise(z);
@@ -253,11 +253,12 @@ static double om_limit(int k) { return sqrt(DBL_EPSILON / k); }
 /* w = A v_j - a v_j - beta_{j-1} v_{j-1} for j = t->k - 1, into a_j and
  * b_j. Full mode: reorthogonalised against v_0 .. v_j at every step.
  * Partial (Simon, 1984): w is kept orthogonal to v_j locally (a second
- * projection, two passes over n), the omega recurrence estimates its
+ * projection on v_j), the omega recurrence estimates its
  * loss of orthogonality to the older vectors from T_k alone, and w is
  * reorthogonalised against the whole basis only when an estimate exceeds
  * om_limit, and then at the next step too (the next direction inherits
- * v_j's loss through the recurrence). */
+ * v_j's loss through the recurrence). The vector work is three passes over
+ * n, each update fused with the dot that follows it. */
 static void lz_step(lz_state *z, lz_tri *t) {
   size_t n = z->n;
   int j = t->k - 1;
