@@ -19,7 +19,7 @@
  *   (the reference) to RITZ_TOL relative: both are the top eigenvalue of a
  *   projection of A on an orthonormal basis of (to rounding) the same
  *   Krylov space, up to O(k eps |A|) by Simon's semi-orthogonality
- *   result; 1e-12 is 50 times k eps at k = STEPS, and is also far below
+ *   result; 1e-12 is 30 times k eps at k = STEPS, and is also far below
  *   Lanczos's tolerances (1e-4 by default) and the probable bound's eps.
  *   The measured difference is printed.
  * Also the certificate's cheap refusal (certify.c): the node graph's
