@@ -3,17 +3,29 @@
  * mass stay 0), started from a vector uniform on the unit sphere of the
  * dofs with mass: a standard normal value per dof, drawn by splitmix64 from
  * the seed and the node's Gmsh tag (Box-Muller), normalised.
- * Every new direction is reorthogonalised in full against the stored basis
- * V_k (classical Gram-Schmidt, a second pass where the first took much
- * off), so V_k stays orthonormal to a small
- * multiple of k eps and T_k = V_k^T A V_k to rounding: the top eigenvalue
- * theta of T_k is then the largest Rayleigh quotient of A over the Krylov
- * space K_k(A, v_0) up to O(k eps |A|), the quantity the
- * Kuczynski-Wozniakowski bound is about, and it never exceeds lambda_max
- * (beyond that rounding) whatever k is. Without reorthogonalisation lost
- * orthogonality brings spurious copies of converged Ritz values and T_k is
- * no longer a projection of A. The basis costs k ndof doubles, and gives
- * the Ritz vector y = V_k s directly.
+ * The basis V_k is kept semi-orthogonal by Simon's partial
+ * reorthogonalisation (1984): the omega recurrence estimates every
+ * v_{j+1} . v_i from T_k alone (no pass over the basis), and a new
+ * direction is reorthogonalised against the whole stored basis (classical
+ * Gram-Schmidt, a second pass where the first took much off) only when an
+ * estimate exceeds sqrt(eps / k), and then at the next step too. What
+ * finite precision changes, and why this is enough for the bound: with
+ * |V_k^T V_k - I| <= sqrt(eps / k), T_k equals Q^T A Q for an orthonormal
+ * basis Q of span(V_k) up to O(eps |A|) (Simon's semi-orthogonality
+ * result), so theta, the top eigenvalue of T_k, is the largest Rayleigh
+ * quotient of A over the computed Krylov space to working precision, as
+ * with full reorthogonalisation at every step (tests/t931: the same top
+ * Ritz value to 1e-12 on a Gmsh cube, the measured |V^T V - I| below
+ * sqrt(eps / k) where plain Lanczos reaches 0.1-0.2), and it never
+ * exceeds lambda_max beyond that rounding whatever k is. Without any
+ * reorthogonalisation lost orthogonality brings spurious copies of
+ * converged Ritz values and T_k is no longer a projection of A. Full
+ * reorthogonalisation at every step (2-4 passes over k vectors of n) took
+ * as much CPU as the products in a profile of run --posterior at 1.2e6
+ * tets (41 steps, 6e5 unknowns: 16 % each); the partial one
+ * reorthogonalised 6 of those 41 steps (docs/performance.md). The
+ * basis costs k ndof doubles, and gives the Ritz vector y = V_k s
+ * directly.
  * After each step theta is found by Sturm bisection to full precision and
  * its unit eigenvector s by inverse iteration, which gives the residual
  * estimate |beta_k s_k|. The run stops when that is <= tol * theta, at
@@ -37,7 +49,7 @@
  * the spectrum and its gaps. With eps_k the smallest eps whose bound is
  * <= DTM_LANCZOS_FAILURE, lambda_max <= theta_k / (1 - eps_k) but for that
  * probability; theta_k is raised by 10 k eps |T_k| first for the rounding
- * of the reorthogonalised recurrence. Lanczos goes on past its tolerance
+ * of the semi-orthogonal recurrence. Lanczos goes on past its tolerance
  * until eps_k meets the caller's target; converged is then judged at the
  * caller's tolerance (the heuristic's stricter one may run out of steps,
  * and the probable bound caps the step instead). The seed is the caller's (the
@@ -58,12 +70,19 @@ typedef struct {
   const dtm_operator *op;
   size_t n;
   unsigned seed;
-  double *vp, *v, *w; /* v_{j-1}, v_j, and the next direction */
-  double bprev;       /* beta_{j-1} */
-  double **V;         /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
-  int nv;             /* vectors stored */
-  double *c;          /* [maxit] Gram-Schmidt coefficients */
-  double nmass;       /* dofs with mass: the order of the bound */
+  const double *vp; /* v_{j-1} (NULL for j = 0): the basis's vector */
+  const double *v;  /* v_j: the basis's last vector */
+  double *w;        /* the next direction (owned) */
+  double bprev;     /* beta_{j-1} */
+  double **V;       /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
+  int nv;           /* vectors stored */
+  double *c;        /* [maxit] Gram-Schmidt coefficients */
+  double nmass;     /* dofs with mass: the order of the bound */
+  int mode;         /* DTM_REORTH_*: partial (dtmap's), full or none (the white-box test's references) */
+  double *om[3];    /* [maxit + 2] omega rows j - 1, j, j + 1: estimates of v_j . v_i */
+  int again;        /* the next direction is reorthogonalised too (in pairs) */
+  int nreorth;      /* steps that reorthogonalised */
+  double tnorm;     /* |T_k| so far (Gershgorin): the scale of the rounding */
 } lz_state;
 
 typedef struct {
@@ -90,13 +109,27 @@ static double dot(size_t n, const double *x, const double *y) {
   return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
 }
 
-/* Append a copy of v to the basis; 0 when it cannot grow (memory). */
-static int keep(lz_state *z, const double *v) {
+/* A new vector at the end of the basis (it owns it); NULL when the basis
+ * cannot grow (memory). */
+static double *grow(lz_state *z) {
   double *q = malloc((z->n ? z->n : 1) * sizeof *q);
-  if (!q) return 0;
-  memcpy(q, v, z->n * sizeof *q);
-  z->V[z->nv++] = q;
-  return 1;
+  if (q) z->V[z->nv++] = q;
+  return q;
+}
+
+/* w -= s x (x NULL: w unchanged), then w . y, in one pass: the partial sums
+ * of dot's fixed order. */
+static double axpy_dot(size_t n, double *w, double s, const double *x, const double *y) {
+  if (!x) return dot(n, w, y);
+  double p[DOT_LANES] = {0};
+  size_t i = 0;
+  for (; i + DOT_LANES <= n; i += DOT_LANES)
+    for (int l = 0; l < DOT_LANES; l++) {
+      w[i + l] -= s * x[i + l];
+      p[l] += w[i + l] * y[i + l];
+    }
+  for (; i < n; i++) w[i] -= s * x[i], p[0] += w[i] * y[i];
+  return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
 }
 
 /* v_0: standard normal on the dofs with mass (drawn per Gmsh node tag, so
@@ -104,17 +137,19 @@ static int keep(lz_state *z, const double *v) {
  * unit sphere of those dofs; 0 when there are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  dtm_operator_draw_normal(z->op, z->seed, z->v);
+  double *v = grow(z);
+  if (!v) return 0;
+  dtm_operator_draw_normal(z->op, z->seed, v);
   z->nmass = 0;
   for (size_t i = 0; i < z->n; i++) {
-    z->v[i] = m[i] > 0 ? z->v[i] : 0;
+    v[i] = m[i] > 0 ? v[i] : 0;
     z->nmass += m[i] > 0;
-    z->vp[i] = 0;
   }
-  double nv = sqrt(dot(z->n, z->v, z->v));
-  for (size_t i = 0; i < z->n && nv > 0; i++) z->v[i] /= nv;
-  z->bprev = 0;
-  return nv > 0 && keep(z, z->v) ? nv : 0;
+  double nv = sqrt(dot(z->n, v, v));
+  for (size_t i = 0; i < z->n && nv > 0; i++) v[i] /= nv;
+  z->v = v, z->vp = NULL, z->bprev = 0;
+  z->om[1][0] = 1; /* v_0 . v_0 */
+  return nv;
 }
 
 #define GS_CHUNK 4096 /* unknowns per block of the Gram-Schmidt update */
@@ -159,33 +194,106 @@ static double orthogonalise(lz_state *z) {
   return c[nv - 1];
 }
 
-/* w = A v_j - a v_j - beta_{j-1} v_{j-1}, then reorthogonalised against
- * v_0 .. v_j, a second time when the first pass left less than 1/sqrt(2)
- * of w's length (Daniel, Gragg, Kaufman and Stewart's criterion: one pass
- * that removes little leaves w orthogonal to working precision, and after
- * one that removes much the second restores it). */
-static void lz_step(lz_state *z, double *a, double *b) {
-  size_t n = z->n;
-  dtm_operator_apply_sym(z->op, z->v, z->w);
-  *a = dot(n, z->w, z->v);
-  for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + z->bprev * z->vp[i];
-  double before = sqrt(dot(n, z->w, z->w));
+/* w reorthogonalised against v_0 .. v_j, a second time when the first
+ * pass left less than 1/sqrt(2) of w's length (Daniel, Gragg, Kaufman and
+ * Stewart's criterion: one pass that removes little leaves w orthogonal to
+ * working precision, and after one that removes much the second restores
+ * it); *a takes the coefficients of v_j, *b (w's length before) becomes
+ * its length after. */
+static void reorthogonalise(lz_state *z, double *a, double *b) {
+  double before = *b;
   *a += orthogonalise(z);
-  *b = sqrt(dot(n, z->w, z->w));
+  *b = sqrt(dot(z->n, z->w, z->w));
   if (*b < 0.7071067811865476 * before) { /* 1/sqrt(2) */
     *a += orthogonalise(z);
+    *b = sqrt(dot(z->n, z->w, z->w));
+  }
+  z->nreorth++;
+}
+
+/* The rounding floor of the omega estimates: a dot of n terms and a
+ * product, relative to |T_k| (the square root of n: rounding errors of
+ * random sign). */
+static double om_floor(const lz_state *z) { return DBL_EPSILON * sqrt((double)z->n); }
+
+/* Simon's omega recurrence: from om[0] (row j - 1) and om[1] (row j) the
+ * estimates om[2] of v_{j+1} . v_i, i <= j, before v_{j+1} = w / bj is
+ * formed, from the recurrence both vectors obey (A v_i = beta_i v_{i+1} +
+ * alpha_i v_i + beta_{i-1} v_{i-1} + rounding): beta_j om_{j+1,i} =
+ * beta_i om_{j,i+1} + (alpha_i - alpha_j) om_{j,i} + beta_{i-1}
+ * om_{j,i-1} - beta_{j-1} om_{j-1,i} + the rounding of both products,
+ * taken at its bound om_floor |T_k| with the sign that makes |om| larger.
+ * Returns the largest |om_{j+1,i}|, i < j (v_j itself is kept orthogonal
+ * locally). */
+static double om_update(lz_state *z, const double *al, const double *be, int j, double bj) {
+  const double *op = z->om[0], *oc = z->om[1];
+  double *on = z->om[2], noise = om_floor(z) * z->tnorm, worst = 0;
+  for (int i = 0; i < j; i++) {
+    double x = be[i] * oc[i + 1] + (al[i] - al[j]) * oc[i] - be[j - 1] * op[i] + (i > 0 ? be[i - 1] * oc[i - 1] : 0);
+    on[i] = (x + copysign(noise, x)) / bj;
+    worst = fmax(worst, fabs(on[i]));
+  }
+  on[j] = noise / bj; /* the local orthogonality of v_{j+1} to v_j */
+  on[j + 1] = 1;
+  return worst;
+}
+
+/* After a reorthogonalisation v_{j+1} is orthogonal to the basis to the
+ * rounding floor. */
+static void om_reset(lz_state *z, int j, double bj) {
+  for (int i = 0; i < j; i++) z->om[2][i] = om_floor(z);
+  z->om[2][j] = om_floor(z) * z->tnorm / bj;
+}
+
+/* Semi-orthogonality: the level of |v_i . v_j| the omega estimates are
+ * kept under, sqrt(eps / k) (Simon's condition for T_k to be the
+ * projection of A on an orthonormal basis of span(V_k) up to O(eps |A|)). */
+static double om_limit(int k) { return sqrt(DBL_EPSILON / k); }
+
+/* w = A v_j - a v_j - beta_{j-1} v_{j-1} for j = t->k - 1, into a_j and
+ * b_j. Full mode: reorthogonalised against v_0 .. v_j at every step.
+ * Partial (Simon, 1984): w is kept orthogonal to v_j locally (a second
+ * projection on v_j), the omega recurrence estimates its
+ * loss of orthogonality to the older vectors from T_k alone, and w is
+ * reorthogonalised against the whole basis only when an estimate exceeds
+ * om_limit, and then at the next step too (the next direction inherits
+ * v_j's loss through the recurrence). The vector work is three passes over
+ * n, each update fused with the dot that follows it. */
+static void lz_step(lz_state *z, lz_tri *t) {
+  size_t n = z->n;
+  int j = t->k - 1;
+  double *a = &t->a[j], *b = &t->b[j];
+  dtm_operator_apply_sym(z->op, z->v, z->w);
+  if (z->mode == DTM_REORTH_FULL) {
+    *a = dot(n, z->w, z->v);
+    for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + (z->vp ? z->bprev * z->vp[i] : 0);
     *b = sqrt(dot(n, z->w, z->w));
+    reorthogonalise(z, a, b);
+    return;
+  }
+  *a = axpy_dot(n, z->w, z->bprev, z->vp, z->v); /* w -= beta_{j-1} v_{j-1}; alpha_j = w . v_j */
+  double c = axpy_dot(n, z->w, *a, z->v, z->v);  /* w -= alpha_j v_j; the local correction's w . v_j */
+  double bb = axpy_dot(n, z->w, c, z->v, z->w);  /* w -= c v_j; |w|^2 */
+  *a += c;
+  *b = sqrt(bb);
+  z->tnorm = fmax(z->tnorm, fabs(*a) + *b + z->bprev);
+  double worst = *b > 0 ? om_update(z, t->a, t->b, j, *b) : 0;
+  if (z->mode == DTM_REORTH_PARTIAL && *b > 0 && (z->again || worst > om_limit(t->k + 1))) {
+    z->again = !z->again;
+    reorthogonalise(z, a, b);
+    if (*b > 0) om_reset(z, j, *b);
   }
 }
 
-/* v_{j+1} = w / b, kept in the basis; the old v_{j-1} becomes the next w.
- * 0 when the basis cannot grow. */
+/* v_{j+1} = w / b, written straight into the basis, and the omega rows
+ * move on. 0 when the basis cannot grow. */
 static int lz_advance(lz_state *z, double b) {
-  double *t = z->vp;
-  z->vp = z->v, z->v = z->w, z->w = t;
-  for (size_t i = 0; i < z->n; i++) z->v[i] /= b;
-  z->bprev = b;
-  return keep(z, z->v);
+  double *q = grow(z), *o = z->om[0];
+  if (!q) return 0;
+  for (size_t i = 0; i < z->n; i++) q[i] = z->w[i] / b;
+  z->vp = z->v, z->v = q, z->bprev = b;
+  z->om[0] = z->om[1], z->om[1] = z->om[2], z->om[2] = o;
+  return 1;
 }
 
 /* ---- the tridiagonal T_k -------------------------------------------- */
@@ -322,7 +430,7 @@ static void first_pass(lz_state *z, lz_tri *t, double tol, double eps_target) {
   } else
     t->k = 1;
   for (;; t->k++) {
-    lz_step(z, &t->a[t->k - 1], &t->b[t->k - 1]);
+    lz_step(z, t);
     tri_update(t);
     dtm_progress_update(fraction_done(t, tol));
     if (done(z, t, tol, eps_target)) return;
@@ -355,19 +463,20 @@ static void to_field(const dtm_operator *op, size_t n, double *y) {
 static void lz_free(lz_state *z, lz_tri *t) {
   for (int j = 0; z->V && j < z->nv; j++) free(z->V[j]);
   free(z->V), free(z->c);
-  free(z->vp), free(z->v), free(z->w);
+  free(z->om[0]), free(z->om[1]), free(z->om[2]);
+  free(z->w);
   free(t->a), free(t->b), free(t->s), free(t->work);
 }
 
 static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
   size_t n = z->n ? z->n : 1, k = (size_t)maxit;
-  z->vp = malloc(n * sizeof(double)), z->v = malloc(n * sizeof(double));
   z->w = malloc(n * sizeof(double));
   t->a = malloc(k * sizeof(double)), t->b = malloc(k * sizeof(double));
   t->s = malloc(k * sizeof(double)), t->work = malloc(4 * k * sizeof(double));
   z->V = calloc(k, sizeof *z->V), z->c = malloc(k * sizeof(double));
+  for (int i = 0; i < 3; i++) z->om[i] = calloc(k + 2, sizeof(double));
   t->kmax = maxit;
-  if (z->vp && z->v && z->w && t->a && t->b && t->s && t->work && z->V && z->c) return DTM_OK;
+  if (z->w && t->a && t->b && t->s && t->work && z->V && z->c && z->om[0] && z->om[1] && z->om[2]) return DTM_OK;
   lz_free(z, t);
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Lanczos vectors");
 }
@@ -539,4 +648,25 @@ int dtm_lanczos_max_probable(const dtm_operator *op, double tol, int maxit, unsi
                              int suspect, double eps_target, dtm_lanczos_result *r) {
   lz_layers l = {budget, suspect, 1, eps_target};
   return lanczos(op, tol, maxit, seed, want_mode, &l, r);
+}
+
+/* The largest |v_i . v_j - delta_ij| over the basis. */
+static double basis_deviation(const lz_state *z) {
+  double worst = 0;
+  for (int i = 0; i < z->nv; i++)
+    for (int j = 0; j <= i; j++) worst = fmax(worst, fabs(dot(z->n, z->V[i], z->V[j]) - (i == j)));
+  return worst;
+}
+
+int dtm_lanczos_basis_check(const dtm_operator *op, int steps, unsigned seed, int mode, double *theta,
+                            double *deviation, int *nreorth) {
+  if (!op || steps < 1) return DTM_ERR(DTM_ERR_INPUT, "dtm_lanczos_basis_check: an operator and steps >= 1");
+  lz_state z = {.op = op, .n = dtm_operator_ndof(op), .seed = seed, .mode = mode};
+  lz_tri t = {0};
+  DTM_CHECK(lz_alloc(&z, &t, steps));
+  int e = lz_start(&z) > 0 ? DTM_OK : DTM_ERR(DTM_ERR_INPUT, "the basis check needs a mesh with mass");
+  if (e == DTM_OK) first_pass(&z, &t, 0, INFINITY); /* tol 0: every step, or an invariant subspace */
+  *theta = t.theta, *deviation = basis_deviation(&z), *nreorth = z.nreorth;
+  lz_free(&z, &t);
+  return e;
 }

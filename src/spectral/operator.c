@@ -14,6 +14,7 @@
  * the whole mesh, so each of the ~30 colours sweeps u and y again, while
  * the extra buffer costs one zeroing and one addition of ndof values. */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -1127,6 +1128,21 @@ static int incidence(const dtm_operator *op, size_t nnodes, size_t **eptr, uint6
   }
   *eptr = p, *elist = l;
   return DTM_OK;
+}
+
+size_t dtm_operator_node_graph_floor(const dtm_operator *op) {
+  if (op->st.n || op->ndof % (size_t)op->ncomp) return 0;
+  size_t nn = op->ndof / (size_t)op->ncomp, used = 0;
+  int least = INT_MAX;
+  unsigned char *seen = calloc(nn + 1, 1);
+  if (!seen) return 0;
+  for (int ib = 0; ib < op->nblocks; ib++) {
+    const op_block *b = &op->blocks[ib];
+    if (b->n) least = b->nn < least ? b->nn : least;
+    for (size_t k = 0; k < b->n * (size_t)b->nn; k++) used += !seen[b->conn[k]], seen[b->conn[k]] = 1;
+  }
+  free(seen);
+  return least == INT_MAX ? 0 : used * (size_t)least;
 }
 
 int dtm_operator_node_graph(const dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj) {

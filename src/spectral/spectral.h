@@ -36,6 +36,13 @@ struct dtm_operator;
  * free). An error for shells and beams (their rotations are not nodes'
  * translations). */
 int dtm_operator_node_graph(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj);
+/* A lower bound of that graph's entries without building it (one pass over
+ * the connectivity): every node of an element of nn nodes shares it with
+ * nn nodes (itself included), so the entries are at least the nodes in
+ * some element times the fewest nodes per element of any block (an element
+ * that repeats a node could only make the bound refuse a certificate that
+ * was affordable, the safe side). 0 for shells and beams. */
+size_t dtm_operator_node_graph_floor(const struct dtm_operator *op);
 
 /* The stiffness K of the operator assembled by coloured products (as the
  * certificate assembles A, certify.c), in node blocks over its node graph:
@@ -101,5 +108,15 @@ int dtm_certifier_below_pencil(dtm_certifier *c, const dtm_csr *dx, double sigma
  * M_s^-1 G^T g then has an M_s^1/2 image that is standard normal. */
 struct dtm_sms;
 void dtm_sms_factor_draw(const struct dtm_sms *s, const struct dtm_operator *op, unsigned long long seed, double *rhs);
+/* Lanczos's reorthogonalisation (lanczos.c): partial (Simon's omega
+ * recurrence: what dtmap runs), full at every step, or none. */
+enum { DTM_REORTH_PARTIAL, DTM_REORTH_FULL, DTM_REORTH_NONE };
+/* White-box (tests/t931): steps Lanczos steps from seed (fewer where T_k
+ * becomes invariant) with the reorthogonalisation mode (DTM_REORTH_*);
+ * *theta the top Ritz value, *deviation the largest |v_i . v_j -
+ * delta_ij| over the stored basis, *nreorth the steps that
+ * reorthogonalised. */
+int dtm_lanczos_basis_check(const struct dtm_operator *op, int steps, unsigned seed, int mode, double *theta,
+                            double *deviation, int *nreorth);
 
 #endif
