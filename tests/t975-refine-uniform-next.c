@@ -2,10 +2,11 @@
  * uniform ladder judges sizes on the basis it refines on, so a coarser
  * uniform mesh that meets the target is found before a layer cause is
  * named"), at the level of its decision, dtm_refine_uniform_next: rounds
- * are written by hand, no mesh is made. (A real thin-walled geometry where
+ * are written by hand, no mesh is made. (No real thin-walled geometry where
  * the code before commit 23e5c28 names a layer and the ladder finds the
- * uniform mesh was not reproduced here: this machine's Gmsh meets the
- * issue's housing on either code; so this tests the decision, not a run.)
+ * uniform mesh is known: 23e5c28 reports that this machine's Gmsh meets the
+ * issue's housing on either code, and none was searched for here; so this
+ * tests the decision, not a run.)
  * Checked against the closed form size x clamp((target / step x 1.05)^(1/p),
  * 1.1, 2) (1e-15: the same doubles):
  * - the largest uniform size falls short on the round's recommended step
