@@ -12,6 +12,20 @@ the two wall times over elements x (N2 - N1), so reading the deck and
 setting up do not count; each run is the best of --repeat. With --inc FILE
 the figures are written as src/cost/ccx_cost.inc (the table dtmap reads).
 
+The figure of an element-step depends on the mesh's size, not only on its
+element: ccx's per-increment arrays of a small mesh stay in the processor's
+cache, a large mesh's do not, and beyond a switch every element-step costs
+about twice as much (C3D4: 1.2 us per element-step up to 23,006 elements,
+2.5 - 3 us from 26,618 on, the bundled notched beam's 31,313 included). So
+each element is measured twice, on a mesh below the switch (CASES) and on
+one several times beyond it (LARGE: 37,000 - 72,000 elements), and the
+switch itself is found on C3D4 (the bundled box meshed at SWITCH_SIZES: the
+largest mesh whose figure stays within 1.3x of the small one, and the next
+one, whose mean element count is the switch). Other elements take C3D4's
+switch in elements (not measured for them; docs/accuracy.md says so).
+With --only and --inc, the rows of the elements not measured now (and the
+switch, when C3D4 is not measured) are kept from the existing file.
+
 Check mode (--check): for each bundled example (geometries/*.xml) the deck
 of `dtmap deck --solver calculix` is run for N2 + 1/2 increments, whole (set
 up included), and its wall time is compared with what the deck's summary
@@ -31,6 +45,7 @@ import argparse
 import glob
 import json
 import os
+import re
 import resource
 import shutil
 import subprocess
@@ -74,9 +89,18 @@ CASES = [
     ("CPE3", RECT % "", 2.5e-3, 1, 2, "slab", "", ' formulation="plane-strain"'),
     ("CPE4", RECT % QUADS, 2.5e-3, 1, 2, "slab", "", ' formulation="plane-strain"'),
     ("CPE6", RECT % "", 5e-3, 2, 2, "slab", "", ' formulation="plane-strain"'),
-    ("S3", RECT % "", 5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
-    ("S4", RECT % QUADS, 5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
+    ("S3", RECT % "", 2.5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
+    ("S4", RECT % QUADS, 2.5e-3, 1, 2, "slab", '<section groups="slab" kind="shell" thickness="0.004"/>', ""),
 ]
+# The same elements on meshes far beyond the switch: (element, size m; a
+# C3D8 size is the number of nodes per edge of the structured cube).
+# None: not measured beyond the switch (Gmsh's recombination of 50,000 quads
+# takes over 10 minutes here), so the small mesh's figure stands for both.
+LARGE = {"C3D4": 4e-3, "C3D10": 5e-3, "C3D8": 41, "CPE3": 0.9e-3, "CPE4": None, "CPE6": 0.9e-3, "S3": 0.9e-3,
+         "S4": None}
+# Sizes of the bundled box (C3D4) around the switch, coarse to fine.
+SWITCH_SIZES = [6.6e-3, 6.2e-3, 6.0e-3, 5.8e-3, 5.5e-3]
+SWITCH_JUMP = 1.3  # a figure this far above the small mesh's is past the switch
 
 
 def deck(dtmap, scene, out):
@@ -113,40 +137,94 @@ def run_ccx(run, repeat):
     return best
 
 
+def measure(a, tmp, elem, geo, size, order, dim, group, section, form, n1, n2, tag=""):
+    """(elements, nodes, wall N1, wall N2, CPU N1, CPU N2, ns per element-step) of elem's deck at size."""
+    if elem == "C3D8" and tag:
+        geo = HEX % size
+        size = 1.0
+    gpath = geo if os.path.exists(geo) else os.path.join(tmp, elem + tag + ".geo")
+    if gpath != geo:
+        with open(gpath, "w") as f:
+            f.write(geo)
+    scene = os.path.join(tmp, elem + tag + ".xml")
+    with open(scene, "w") as f:
+        f.write(SCENE % (gpath, size, order, dim, STEEL % group, section, form))
+    base = os.path.join(tmp, elem + tag + ".inp")
+    rep = deck(a.dtmap, scene, base)
+    n, step = rep["deck"]["elements"], rep["solvers"][0]["step"]
+    t = []
+    for k in (n1, n2):
+        t.append(run_ccx(with_period(base, (k + 0.5) * step), a.repeat))
+    i = 1 if a.cpu else 0
+    ns = 1e9 * (t[1][i] - t[0][i]) / (n * (n2 - n1))
+    return (n, rep["deck"]["nodes"], t[0][0], t[1][0], t[0][1], t[1][1], ns)
+
+
+def switch(a, tmp, small):
+    """C3D4's switch in elements: the mean of the largest box mesh whose
+    figure stays within SWITCH_JUMP of small (ns) and the next one."""
+    below = None
+    for h in SWITCH_SIZES:
+        r = measure(a, tmp, "C3D4", os.path.join(GEO, "box.geo"), h, 1, 3, "block", "", ' formulation="3d"', a.n1,
+                    a.n2, "_switch")
+        print("| C3D4, box %.1f mm | %d | %d | %.3f | %.3f | %.3f | %.3f | **%.0f** |" % ((1e3 * h,) + r), flush=True)
+        if r[6] > SWITCH_JUMP * small:
+            return 0.5 * (below + r[0]) if below else r[0]
+        below = r[0]
+    return float("inf")
+
+
+def merged(inc, rows, fit):
+    """rows and the switch with the rows of inc (when it exists) that were
+    not measured now kept (--only measures some elements), in CASES' order."""
+    old = {}
+    if os.path.exists(inc):
+        with open(inc) as f:
+            for m in re.finditer(r'\{"(\w+)", ([0-9.e+]+), ([0-9.e+]+), ([0-9.e+]+)\}', f.read()):
+                old[m.group(1)] = [float(x) for x in m.group(2, 3, 4)]
+    new = {r[0]: [r[7], r[8][6]] for r in rows}
+    if fit is None:
+        fit = next(iter(old.values()))[2] if old else float("inf")
+    out = []
+    for elem, *_ in CASES:
+        if elem in new:
+            out.append((elem, new[elem][0], new[elem][1]))
+        elif elem in old:
+            out.append((elem, old[elem][0], old[elem][1]))
+    return out, fit
+
+
 def table(a, tmp):
     rows = []
     for elem, geo, size, order, dim, group, section, form in CASES:
         if a.only and elem not in a.only.split(","):
             continue
-        gpath = geo if os.path.exists(geo) else os.path.join(tmp, elem + ".geo")
-        if gpath != geo:
-            with open(gpath, "w") as f:
-                f.write(geo)
-        scene = os.path.join(tmp, elem + ".xml")
-        with open(scene, "w") as f:
-            f.write(SCENE % (gpath, size, order, dim, STEEL % group, section, form))
-        base = os.path.join(tmp, elem + ".inp")
-        rep = deck(a.dtmap, scene, base)
-        n, step = rep["deck"]["elements"], rep["solvers"][0]["step"]
-        t = []
-        for k in (a.n1, a.n2):
-            t.append(run_ccx(with_period(base, (k + 0.5) * step), a.repeat))
-        i = 1 if a.cpu else 0
-        ns = 1e9 * (t[1][i] - t[0][i]) / (n * (a.n2 - a.n1))
-        rows.append((elem, n, rep["deck"]["nodes"], t[0][0], t[1][0], t[0][1], t[1][1], ns))
-        print("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | **%.0f** |" % rows[-1], flush=True)
+        r = measure(a, tmp, elem, geo, size, order, dim, group, section, form, a.n1, a.n2)
+        print("| %s | %d | %d | %.3f | %.3f | %.3f | %.3f | **%.0f** |" % ((elem,) + r), flush=True)
+        big = r
+        if LARGE[elem]:
+            big = measure(a, tmp, elem, geo, LARGE[elem], order, dim, group, section, form, a.n1, a.n2, "_large")
+            print("| %s, large | %d | %d | %.3f | %.3f | %.3f | %.3f | **%.0f** |" % ((elem,) + big), flush=True)
+        rows.append((elem,) + r + (big,))
+    c3d4 = [r for r in rows if r[0] == "C3D4"]
+    fit = switch(a, tmp, c3d4[0][7]) if c3d4 else None
+    if fit:
+        print("switch: %.0f elements" % fit, flush=True)
     if a.inc:
+        rows, fit = merged(a.inc, rows, fit)
         with open(a.inc, "w") as f:
             f.write("/* CalculiX 2.20 (Debian's ccx), explicit dynamics, one thread\n"
                     " * (OMP_NUM_THREADS=1): %s per element-step, ns, of dtmap's own\n"
-                    " * CalculiX decks, per CalculiX element (N1 = %d, N2 = %d increments).\n"
+                    " * CalculiX decks, per CalculiX element (N1 = %d, N2 = %d increments): on a\n"
+                    " * mesh below the switch, on a mesh beyond it, and the switch in the\n"
+                    " * mesh's elements (measured on C3D4, the same for every element).\n"
                     " * Regenerate with\n"
                     " *   /usr/bin/python3 bench/ccx_cost.py build/dtmap%s --inc src/cost/ccx_cost.inc\n"
                     " * (docs/accuracy.md, \"CalculiX's own runs\"). */\n" % (
                         "CPU time (user + system: the wall time of an idle machine)" if a.cpu else "wall time",
                         a.n1, a.n2, " --cpu" if a.cpu else ""))
-            for r in rows:
-                f.write('{"%s", %.0f},\n' % (r[0], r[7]))
+            for elem, small, large in rows:
+                f.write('{"%s", %.0f, %.0f, %.0f},\n' % (elem, small, large, fit))
 
 
 def check(a, tmp):

@@ -27,7 +27,7 @@ BOX = os.path.join(tu.SRC, "geometries", "box.xml")
 
 def ccx_figure(elem):
     with open(os.path.join(tu.SRC, "src", "cost", "ccx_cost.inc")) as f:
-        return float(re.search(r'\{"%s", ([0-9.e+]+)\}' % elem, f.read()).group(1)) * 1e-9
+        return float(re.search(r'\{"%s", ([0-9.e+]+),' % elem, f.read()).group(1)) * 1e-9
 
 
 class Runs(unittest.TestCase):

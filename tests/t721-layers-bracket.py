@@ -133,7 +133,7 @@ class Bracket(unittest.TestCase):
         self.assertAlmostEqual(layers[0]["thickness"] / WALL, 1, delta=TOL)
         line = [l for l in out.splitlines() if l.startswith("thickness ")]
         self.assertEqual(len(line), len(layers), out)
-        self.assertIn("(an estimate)", line[0])
+        self.assertIn("(an estimate, not a bound", line[0])
         self.assertNotIn("at most", line[0])
         self.assertNotIn("s at most", out)
 

@@ -143,13 +143,20 @@ DTM_EXPORT void dtm_cost_destroy(dtm_cost **c);
  * dtmap's calibration (dtm_cost_calibrated_ns) weighted by the mesh's
  * element types. */
 DTM_EXPORT int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *source, size_t len);
-/* dtmap's calibration for one element type, ns per element-step (CalculiX
- * 2.20 explicit, one thread; a type not calibrated takes the nearest). */
-DTM_EXPORT double dtm_cost_calibrated_ns(int type);
-/* Wall time of one element-step of CalculiX's element elem ("C3D4",
- * "S3") in Debian's ccx 2.20, one thread, measured on dtmap's decks by
- * bench/ccx_cost.py (src/cost/ccx_cost.inc), ns; NaN when not measured. */
-DTM_EXPORT double dtm_cost_ccx_ns(const char *elem);
+/* dtmap's calibration for one element type in a mesh of `elements`
+ * elements (all types), ns per element-step (CalculiX 2.20 explicit, one
+ * thread; a type not calibrated takes the nearest). */
+DTM_EXPORT double dtm_cost_calibrated_ns(int type, double elements);
+/* Time of one element-step of CalculiX's element elem ("C3D4", "S3") in
+ * Debian's ccx 2.20, one thread, in a mesh of `elements` elements (all
+ * types), measured on dtmap's decks by bench/ccx_cost.py
+ * (src/cost/ccx_cost.inc), ns: the figure of a mesh below the table's
+ * switch (ccx's arrays in the processor's cache) or beyond it; NaN when
+ * not measured. */
+DTM_EXPORT double dtm_cost_ccx_ns(const char *elem, double elements);
+/* The table's switch, elements: a mesh of more elements takes the figures
+ * measured beyond it (bench/ccx_cost.py, measured on C3D4). */
+DTM_EXPORT double dtm_cost_ccx_switch(void);
 
 /* Element-steps to cover the scene's duration (NaN without one): every
  * element takes ceil(duration / recommended) steps. Subcycled: the same

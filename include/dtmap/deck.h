@@ -46,7 +46,7 @@ typedef struct {
   char basis[160];       /* why ("ccx's own estimate: it takes the smaller of it and the deck's increment") */
   double element_steps;  /* elements x ceil(duration / step) (NaN without <time duration>) */
   double cost;           /* s per element-step (NaN: not known) */
-  char cost_source[200]; /* where that figure comes from, or why it is not known */
+  char cost_source[320]; /* where that figure comes from, or why it is not known */
   double hours;          /* element_steps x cost / 3600 (NaN: not known) */
 } dtm_solver_run;
 

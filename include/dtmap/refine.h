@@ -162,5 +162,14 @@ DTM_EXPORT const char *dtm_refine_stop_text(int stop);
 /* The cost a round is judged by: its element-steps, or its rate without a
  * duration. */
 DTM_EXPORT double dtm_refine_cost(const dtm_refine_round *r);
+/* The uniform strategy's next size past its list of sizes, m, from the
+ * rounds run so far: while the target is not met, the largest uniform size
+ * tried is also the uniform round of the largest step, judged on refine's
+ * own basis (rounds[].recommended: the global estimate with --posterior),
+ * that size times ((target / its step) x 1.05)^(1/exponent) (exponent: the
+ * step's power of the size, 1 for waves), clamped to [1.1, 2]; NaN to stop
+ * (met, no uniform round, or a coarser size already did not raise the
+ * step). */
+DTM_EXPORT double dtm_refine_uniform_next(const dtm_refine_result *rr, double exponent);
 
 #endif

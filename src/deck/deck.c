@@ -467,7 +467,8 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
 
 /* The cost per element-step of the solver's elements, s, and its source:
  * the scene's <time cost-per-element-step>; else for CalculiX its
- * elements' measured figures (ccx_cost.inc) weighted by their counts, an
+ * elements' measured figures (ccx_cost.inc, at the deck's element count)
+ * weighted by their counts, an
  * element not measured taking dtmap's figure for its type; else not
  * known (NaN). */
 static double solver_cost(const deck_ctx *c, char *src, size_t len) {
@@ -478,18 +479,22 @@ static double solver_cost(const deck_ctx *c, char *src, size_t len) {
     return snprintf(src, len, "not known: no %s here to measure, and the scene gives no <time cost-per-element-step>",
                     c->w->title),
            NAN;
-  double sum = 0.0, n = 0.0;
+  double sum = 0.0, n = 0.0, all = 0.0;
   char lacks[64] = "";
+  for (int k = 0; k < c->nparts; k++) all += (double)c->parts[k].count;
   for (int k = 0; k < c->nparts; k++) {
     const deck_part *p = &c->parts[k];
-    double ns = dtm_cost_ccx_ns(p->elem);
+    double ns = dtm_cost_ccx_ns(p->elem, all);
     if (isnan(ns) && !strstr(lacks, p->elem) && strlen(lacks) + strlen(p->elem) + 3 < sizeof lacks)
       strcat(strcat(lacks, lacks[0] ? ", " : ""), p->elem);
-    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type);
+    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type, all);
     sum += ns * (double)p->count, n += (double)p->count;
   }
-  snprintf(src, len, "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py)%s%s%s",
-           lacks[0] ? "; " : "", lacks, lacks[0] ? " not measured: their dtmap type's figure" : "");
+  snprintf(src, len,
+           "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py), for a deck of %.0f "
+           "elements: %s the switch at %.0f%s%s%s",
+           all, all > dtm_cost_ccx_switch() ? "beyond" : "below", dtm_cost_ccx_switch(), lacks[0] ? "; " : "", lacks,
+           lacks[0] ? " not measured: their dtmap type's figure" : "");
   return n > 0 ? sum / n * 1e-9 : NAN;
 }
 

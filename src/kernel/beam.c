@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "dtmap/error.h"
+#include "dtmap/units.h"
 #include "kernel-impl.h"
 #include "structural.h"
 
@@ -25,7 +26,10 @@ static const double PI = 3.14159265358979323846;
 static int positive(double v) { return v > 0 && isfinite(v); }
 
 int dtm_beam_section_circle(double r, dtm_beam_section *s) {
-  if (!positive(r)) return DTM_ERR(DTM_ERR_INPUT, "beam: radius must be finite and > 0 (got %g m)", r);
+  char t[48];
+  if (!positive(r))
+    return DTM_ERR(DTM_ERR_INPUT, "beam: radius must be finite and > 0 (got %s)",
+                   dtm_units_si_text(DTM_UNIT_LENGTH, r, 6, t, sizeof t));
   double r2 = r * r;
   s->area = PI * r2;
   s->iy = s->iz = PI * r2 * r2 / 4;
@@ -44,8 +48,11 @@ static double rect_torsion(double a, double c) {
 }
 
 int dtm_beam_section_rect(double b, double h, dtm_beam_section *s) {
+  char tb[48], th[48];
   if (!positive(b) || !positive(h))
-    return DTM_ERR(DTM_ERR_INPUT, "beam: rectangle sides must be finite and > 0 (got %g, %g m)", b, h);
+    return DTM_ERR(DTM_ERR_INPUT, "beam: rectangle sides must be finite and > 0 (got %s, %s)",
+                   dtm_units_si_text(DTM_UNIT_LENGTH, b, 6, tb, sizeof tb),
+                   dtm_units_si_text(DTM_UNIT_LENGTH, h, 6, th, sizeof th));
   s->area = b * h;
   s->iy = b * h * h * h / 12;
   s->iz = h * b * b * b / 12;
@@ -54,13 +61,19 @@ int dtm_beam_section_rect(double b, double h, dtm_beam_section *s) {
 }
 
 static int check_section(const dtm_beam_section *s) {
+  char t1[48], t2[48], t3[48], t4[48];
   if (!positive(s->E) || !positive(s->rho))
-    return DTM_ERR(DTM_ERR_INPUT, "beam: E and rho must be finite and > 0 (got %g Pa, %g kg/m^3)", s->E, s->rho);
+    return DTM_ERR(DTM_ERR_INPUT, "beam: E and rho must be finite and > 0 (got %s, %s)",
+                   dtm_units_si_text(DTM_UNIT_MODULUS, s->E, 6, t1, sizeof t1),
+                   dtm_units_si_text(DTM_UNIT_DENSITY, s->rho, 6, t2, sizeof t2));
   if (!(s->nu > -1 && s->nu < 0.5))
     return DTM_ERR(DTM_ERR_INPUT, "beam: Poisson's ratio must lie in (-1, 0.5) (got %g)", s->nu);
   if (!positive(s->area) || !positive(s->iy) || !positive(s->iz) || !positive(s->jt))
-    return DTM_ERR(DTM_ERR_INPUT, "beam: A, I_y, I_z, J_t must be finite and > 0 (got %g, %g, %g, %g)", s->area, s->iy,
-                   s->iz, s->jt);
+    return DTM_ERR(DTM_ERR_INPUT, "beam: A, I_y, I_z, J_t must be finite and > 0 (got %s, %s, %s, %s)",
+                   dtm_units_si_text(DTM_UNIT_AREA, s->area, 6, t1, sizeof t1),
+                   dtm_units_si_text(DTM_UNIT_MOMENT, s->iy, 6, t2, sizeof t2),
+                   dtm_units_si_text(DTM_UNIT_MOMENT, s->iz, 6, t3, sizeof t3),
+                   dtm_units_si_text(DTM_UNIT_MOMENT, s->jt, 6, t4, sizeof t4));
   if (!(s->k_shear >= 0) || !isfinite(s->k_shear))
     return DTM_ERR(DTM_ERR_INPUT, "beam: shear correction must be finite and >= 0 (got %g)", s->k_shear);
   return DTM_OK;

@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include "dtmap/error.h"
+#include "dtmap/units.h"
 #include "kernel-impl.h"
 
 static int simplex(int type, double alpha, const double *x, double *lambda) {
@@ -25,8 +26,10 @@ static int simplex(int type, double alpha, const double *x, double *lambda) {
 }
 
 int dtm_kernel_diffusion_lambda(int type, double alpha, const double *x, double *lambda) {
+  char t[48];
   if (!isfinite(alpha) || !(alpha > 0))
-    return DTM_ERR(DTM_ERR_INPUT, "diffusivity must be finite and > 0 (got %g m^2/s)", alpha);
+    return DTM_ERR(DTM_ERR_INPUT, "diffusivity must be finite and > 0 (got %s)",
+                   dtm_units_si_text(DTM_UNIT_DIFFUSIVITY, alpha, 6, t, sizeof t));
   DTM_CHECK(dtm_elem_info(type, NULL, NULL));
   if (dtm_elem_is_simplex(type))
     DTM_CHECK(simplex(type, alpha, x, lambda));

@@ -7,13 +7,17 @@
 
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
+#include "dtmap/units.h"
 
 static int check(dtm_formulation f, double E, double nu, double rho) {
   if (f < DTM_FORM_3D || f > DTM_FORM_BAR) return DTM_ERR(DTM_ERR_INPUT, "unknown elastic formulation %d", (int)f);
+  char t[48];
   if (!isfinite(E) || !(E > 0))
-    return DTM_ERR(DTM_ERR_INPUT, "Young's modulus E must be finite and > 0 (got %g Pa)", E);
+    return DTM_ERR(DTM_ERR_INPUT, "Young's modulus E must be finite and > 0 (got %s)",
+                   dtm_units_si_text(DTM_UNIT_MODULUS, E, 6, t, sizeof t));
   if (!isfinite(rho) || !(rho > 0))
-    return DTM_ERR(DTM_ERR_INPUT, "density rho must be finite and > 0 (got %g kg/m^3)", rho);
+    return DTM_ERR(DTM_ERR_INPUT, "density rho must be finite and > 0 (got %s)",
+                   dtm_units_si_text(DTM_UNIT_DENSITY, rho, 6, t, sizeof t));
   if (!isfinite(nu) || !(nu > -1 && nu < 0.5))
     return DTM_ERR(DTM_ERR_INPUT, "Poisson's ratio nu must lie in (-1, 0.5) (got %g)", nu);
   return DTM_OK;

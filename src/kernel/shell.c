@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "dtmap/error.h"
+#include "dtmap/units.h"
 #include "kernel-impl.h"
 #include "structural.h"
 
@@ -261,12 +262,16 @@ void dtm_struct_bounds_fast(int nn, const double *K, const double *m, int nref, 
 /* ---- the shell ---- */
 
 static int check_section(const dtm_shell_section *s) {
+  char t1[48], t2[48];
   if (!(s->E > 0) || !isfinite(s->E) || !(s->rho > 0) || !isfinite(s->rho))
-    return DTM_ERR(DTM_ERR_INPUT, "shell: E and rho must be finite and > 0 (got %g Pa, %g kg/m^3)", s->E, s->rho);
+    return DTM_ERR(DTM_ERR_INPUT, "shell: E and rho must be finite and > 0 (got %s, %s)",
+                   dtm_units_si_text(DTM_UNIT_MODULUS, s->E, 6, t1, sizeof t1),
+                   dtm_units_si_text(DTM_UNIT_DENSITY, s->rho, 6, t2, sizeof t2));
   if (!(s->nu > -1 && s->nu < 0.5))
     return DTM_ERR(DTM_ERR_INPUT, "shell: Poisson's ratio must lie in (-1, 0.5) (got %g)", s->nu);
   if (!(s->thickness > 0) || !isfinite(s->thickness))
-    return DTM_ERR(DTM_ERR_INPUT, "shell: thickness must be finite and > 0 (got %g m)", s->thickness);
+    return DTM_ERR(DTM_ERR_INPUT, "shell: thickness must be finite and > 0 (got %s)",
+                   dtm_units_si_text(DTM_UNIT_LENGTH, s->thickness, 6, t1, sizeof t1));
   if (!(s->k_shear >= 0) || !isfinite(s->k_shear))
     return DTM_ERR(DTM_ERR_INPUT, "shell: shear correction must be finite and >= 0 (got %g)", s->k_shear);
   return DTM_OK;

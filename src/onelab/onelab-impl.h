@@ -155,7 +155,8 @@ typedef struct {
   double target;              /* s; 0: none */
   double duration;            /* s; 0: none */
   int posterior;              /* also the global estimate */
-  const char *units;          /* the base scene's system of units (dtm_scene_units; "SI" without one):
+  const char *units;          /* the base scene's system of units (dtm_scene_units), else the panel's
+                                 choice ("SI" or "mm-t-s"):
                                  every length and material value below is in it, the times in s */
   double mesh_size;           /* the scene's length unit; 0: the geometry's own sizes */
   int save_scene;             /* write the panel as a scene after the run */

@@ -13,7 +13,9 @@
  * Every length and material value is in the base scene's system of units
  * (SI, or mm-t-s: mm, MPa, t/mm^3), with that unit shown beside it: the
  * library's SI values are converted into it, and what the user types is
- * read in it. Defaults come from the scene beside the model; a value the
+ * read in it. Without a base scene the system is the panel's own choice
+ * ("0Units": SI, or mm-t-s for a model drawn in mm), and the scene the
+ * panel writes says it. Defaults come from the scene beside the model; a value the
  * user changed in the panel stays in force (the server keeps it) until the
  * panel is reset. */
 #include <math.h>
@@ -220,7 +222,7 @@ static int measures(ol_conn *c, const char *dir, const dtm_section *sec, const c
 /* The section menu of a group below the analysed dimension: none (not
  * analysed) or one of its dimension's kinds, default the scene's; g->kind
  * and g->measure receive the values in force. */
-static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, ol_group *g) {
+static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, const char *units, ol_group *g) {
   const dtm_section *sec = scene_section(base, g->ref);
   int given = sec && (sec->kind == lower_kind(g->dim, 1) || sec->kind == lower_kind(g->dim, 2));
   char name[512];
@@ -233,7 +235,7 @@ static int section_menu(ol_conn *c, const char *dir, const dtm_scene *base, ol_g
   DTM_CHECK(dtm_ol_define(c, &p));
   g->kind = p.value == 1 || p.value == 2 ? lower_kind(g->dim, (int)p.value) : -1;
   g->scene_sec = sec;
-  return measures(c, dir, given ? sec : NULL, dtm_scene_units(base), g);
+  return measures(c, dir, given ? sec : NULL, units, g);
 }
 
 /* The material menu of one group; g->choice receives the choice in force. */
@@ -279,7 +281,7 @@ static int group_panel(ol_conn *c, const ol_model *m, const ol_panel *pn, unsign
   for (char *s = clean; *s; s++)
     if (*s == '/') *s = '_';
   snprintf(dir, sizeof dir, "%s/4Materials/%s", c->name, clean);
-  if (g->dim < m->dim) DTM_CHECK(section_menu(c, dir, m->base, g));
+  if (g->dim < m->dim) DTM_CHECK(section_menu(c, dir, m->base, pn->units, g));
   int shown = g->dim == m->dim || g->kind >= 0; /* a group below it needs a material only with a section */
   const dtm_scene_material *sm = scene_material(m->base, g->ref);
   DTM_CHECK(material_menu(c, dir, sm, shown, g));
@@ -324,9 +326,29 @@ static int source(ol_conn *c, const ol_model *m) {
   return dtm_ol_set(c, &p);
 }
 
+/* The system of units: the base scene's (shown read-only), else the
+ * user's choice, SI by default. */
+static int units(ol_conn *c, const ol_model *m, ol_panel *pn) {
+  ol_param p;
+  char name[256];
+  int mm = dtm_units_mm(dtm_scene_units(m->base));
+  path(name, sizeof name, c, "0Units");
+  dtm_ol_number(&p, name, mm, m->base ? "system of units (the scene's)" : "system of units");
+  dtm_ol_choice(&p, 0, "SI (m, kg, Pa)"), dtm_ol_choice(&p, 1, "mm-t-s (mm, t, MPa)");
+  if (m->base) {
+    p.read_only = 1;
+    DTM_CHECK(dtm_ol_set(c, &p)); /* the scene's, whatever the panel held */
+  } else {
+    DTM_CHECK(dtm_ol_define(c, &p));
+    mm = p.value != 0;
+  }
+  pn->units = mm ? "mm-t-s" : "SI";
+  return DTM_OK;
+}
+
 int dtm_ol_panel_declare(ol_conn *c, const ol_model *m, ol_panel *pn) {
   memset(pn, 0, sizeof *pn);
-  pn->units = dtm_scene_units(m->base);
+  DTM_CHECK(units(c, m, pn));
   DTM_CHECK(source(c, m));
   DTM_CHECK(effects(c, m, pn));
   DTM_CHECK(times(c, m, pn));

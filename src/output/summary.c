@@ -294,7 +294,7 @@ static void print_shape(const dtm_results *r, FILE *f) {
     char ft[200], rt[200];
     fprintf(f, "  ");
     print_where(a, sl[j].element, f);
-    fprintf(f, ":\n    %s; a fresh mesh reaches about %.4e s there (an estimate); remedy: %s\n",
+    fprintf(f, ":\n    %s; a well-shaped element there reaches about %.4e s (an estimate, not a bound); remedy: %s\n",
             dtm_feature_text(a, &sl[j], ft, sizeof ft), sl[j].reach, dtm_remedy_text(r, &sl[j], rt, sizeof rt));
   }
   if (n > SHAPE_LISTED) fprintf(f, "  ... and %zu more (the report lists them)\n", n - SHAPE_LISTED);
@@ -340,7 +340,8 @@ static void print_layers(const dtm_results *r, FILE *f) {
   if (n && !ly[0].at_minimum)
     fprintf(f,
             "thickness    %zu layer(s) cap elements below the target at their own thickness (view 'thickness "
-            "limited'); no mesh of them reaches the target:\n",
+            "limited'): a well-shaped element across each falls short of the target on its own (an estimate, not a "
+            "bound: a fresh mesh's nodal bound there may lie above it; refine tries):\n",
             n);
   for (size_t k = 0; k < n && k < LAYERS_LISTED; k++) {
     char lbl[64], fc[96];
@@ -348,15 +349,17 @@ static void print_layers(const dtm_results *r, FILE *f) {
     dtm_layer_faces_text(&ly[k], fc, sizeof fc);
     if (ly[k].at_minimum) {
       double rec = dtm_analysis_recommended(a);
-      fprintf(f,
-              "thickness    the smallest steps lie where '%s' is %.4g %s thin, %s (%zu of the elements within 10%% of "
-              "the smallest step): a fresh mesh of that thickness reaches about %.4e s there (an estimate%s)\n",
-              gl, ly[k].thickness, L, fc, ly[k].elements, ly[k].reach,
-              ly[k].reach < rec ? ", which this mesh's recommended step already beats: not a bound" : "");
+      fprintf(
+          f,
+          "thickness    the smallest steps lie where '%s' is %.4g %s thin, %s (%zu of the elements within 10%% of "
+          "the smallest step): a well-shaped element across that thickness reaches about %.4e s there (an estimate, "
+          "not a bound%s)\n",
+          gl, ly[k].thickness, L, fc, ly[k].elements, ly[k].reach,
+          ly[k].reach < rec ? ", which this mesh's recommended step already beats: not a bound" : "");
       continue; /* no target: nothing to remedy */
     }
-    fprintf(f, "  layer %zu   '%s' %s: %zu element(s), %.4g %s thick; the best step there is %.4e s\n", k + 1, gl, fc,
-            ly[k].elements, ly[k].thickness, L, ly[k].reach);
+    fprintf(f, "  layer %zu   '%s' %s: %zu element(s), %.4g %s thick; an element across it reaches about %.4e s\n",
+            k + 1, gl, fc, ly[k].elements, ly[k].thickness, L, ly[k].reach);
     print_layer_remedies(r, k, &ly[k], f);
   }
   if (n > LAYERS_LISTED) fprintf(f, "  ... and %zu more layer(s) (the report lists them)\n", n - LAYERS_LISTED);

@@ -14,6 +14,7 @@
 
 #include <libxml/parser.h>
 
+#include "dtmap/units.h"
 #include "scene-impl.h"
 
 static const char *extension(const char *file) {
@@ -266,6 +267,7 @@ static int read_units(dtm_scene *s, const xmlNode *root) {
   else if (text && strcmp(text, "SI"))
     rc = DTM_SCENE_ERR(s, root, "<dtmap-scene> units=\"%s\" is not SI or mm-t-s", text);
   free(text);
+  if (rc == DTM_OK) dtm_units_set_messages(s->units); /* the library's messages follow the scene loaded */
   return rc;
 }
 

@@ -677,24 +677,32 @@ static int largest_uniform(const dtm_refine_result *rr) {
   return b;
 }
 
+double dtm_refine_uniform_next(const dtm_refine_result *rr, double exponent) {
+  if (!rr || rr->nrounds < 1 || !(exponent > 0) || met(rr, rr->best)) return NAN;
+  int u = largest_uniform(rr);
+  if (u < 0 || u != dtm_refine_best_of(rr, "uniform")) return NAN; /* a coarser size already did not help */
+  double step = rr->rounds[u].recommended;
+  if (!(step > 0)) return NAN;
+  double grow = pow(rr->target / step * MIN_MARGIN, 1.0 / exponent);
+  return rr->rounds[u].uniform * fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, grow));
+}
+
 /* Past the list: while the largest uniform size tried falls short on the
  * basis refine judges by (the recommended step of its round: the global
  * estimate with --posterior) and has the largest step of the uniform
- * rounds, coarser by that shortfall and the margin (as the ladder does),
- * until a coarser size does not raise the step. A mesh
+ * rounds, coarser by that shortfall and the margin (dtm_refine_uniform_next,
+ * as the ladder does), until a coarser size does not raise the step. A mesh
  * the list stopped just short of (a fresh mesh's worst element scatters by
  * a few per cent from one size to the next) is then found before a layer
  * or a shape is named as the cause. */
 static int uniform_coarser(dtm_refine_result *rr, loop_state *st, int dim, double *size) {
   int r = DTM_OK;
-  for (int t = 0; t < UNIFORM_MORE && r == DTM_OK && room(rr) && !met(rr, rr->best); t++) {
-    int u = largest_uniform(rr), refused = 0;
-    if (u < 0 || u != dtm_refine_best_of(rr, "uniform")) break; /* a coarser size already did not help */
-    double step = rr->rounds[u].recommended;
-    int before = rr->nrounds;
-    double grow = pow(rr->target / step * MIN_MARGIN, 1.0 / basis_exponent(st->input));
-    r = one_size(rr, st, dim, "uniform", rr->rounds[u].uniform * fmin(LADDER_MAX_GROW, fmax(LADDER_GROW, grow)), 0,
-                 size, &refused);
+  for (int t = 0; t < UNIFORM_MORE && r == DTM_OK && room(rr); t++) {
+    double x = dtm_refine_uniform_next(rr, basis_exponent(st->input));
+    if (isnan(x)) break;
+    double step = rr->rounds[largest_uniform(rr)].recommended;
+    int before = rr->nrounds, refused = 0;
+    r = one_size(rr, st, dim, "uniform", x, 0, size, &refused);
     if (r == SAME_FIELD) return DTM_OK; /* the accuracy bounds clamp it: nothing coarser to try */
     if (r || refused || rr->nrounds == before) break;
     if (!(rr->rounds[rr->nrounds - 1].recommended > LADDER_FLAT * step)) break; /* coarser did not help */
