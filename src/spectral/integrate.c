@@ -64,16 +64,19 @@ static void step_diffusion(vr_state *s) {
 }
 
 /* The time loop: norms at n = 0 .. steps, growth over n >= steps / 2. */
+int dtm_verify_sample(int n, int steps, double q, dtm_verify_result *r) {
+  if (n >= steps / 2 || !(q <= GROWTH_LIMIT)) r->growth = fmax(r->growth, q);
+  if (!(q <= GROWTH_LIMIT)) {
+    r->unstable = 1;
+    if (!isfinite(q)) r->growth = INFINITY;
+    return 1;
+  }
+  return n == steps;
+}
+
 static void integrate(vr_state *s, int steps, double e0, dtm_verify_result *r) {
   for (int n = 0;; n++) {
-    double e = n ? norm_now(s) : e0, q = e / e0;
-    if (n >= steps / 2 || !(q <= GROWTH_LIMIT)) r->growth = fmax(r->growth, q);
-    if (!(q <= GROWTH_LIMIT)) {
-      r->unstable = 1;
-      if (!isfinite(q)) r->growth = INFINITY;
-      return;
-    }
-    if (n == steps) return;
+    if (dtm_verify_sample(n, steps, n ? norm_now(s) / e0 : 1.0, r)) return;
     if (n % 16 == 0) dtm_progress_update((double)n / steps);
     if (s->elastic)
       step_elastic(s);

@@ -17,8 +17,8 @@
 #include "dtmap/error.h"
 #include "dtmap/sms.h"
 #include "dtmap/util.h"
+#include "spectral.h"
 
-#define GROWTH_LIMIT 1e6
 #define CG_MAXIT 10000
 
 typedef struct {
@@ -54,14 +54,7 @@ static int step(sv_state *s) {
 
 static int integrate(sv_state *s, int steps, double e0, dtm_verify_result *r) {
   for (int n = 0;; n++) {
-    double e = n ? norm_now(s) : e0, q = e / e0;
-    if (n >= steps / 2 || !(q <= GROWTH_LIMIT)) r->growth = fmax(r->growth, q);
-    if (!(q <= GROWTH_LIMIT)) {
-      r->unstable = 1;
-      if (!isfinite(q)) r->growth = INFINITY;
-      return DTM_OK;
-    }
-    if (n == steps) return DTM_OK;
+    if (dtm_verify_sample(n, steps, n ? norm_now(s) / e0 : 1.0, r)) return DTM_OK;
     DTM_CHECK(step(s));
     r->steps = n + 1;
   }

@@ -51,6 +51,12 @@ size_t dtm_operator_node_graph_floor(const struct dtm_operator *op);
  * error for shells and beams, as dtm_operator_node_graph. */
 int dtm_operator_assemble(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj, double **blk);
 
+/* integrate.c: one energy sample of a verify run, the energy norm q at
+ * step n over its value at rest: the growth kept over n >= steps / 2 (or
+ * at once when q passes 1e6 or is not finite: unstable); 1 when the run
+ * stops there (unstable, or n == steps). */
+int dtm_verify_sample(int n, int steps, double q, dtm_verify_result *r);
+
 /* The certificate of certify.c: sigma I - A = L L^T for A = M^-1/2 K M^-1/2
  * assembled from the operator's product. */
 typedef struct dtm_certifier dtm_certifier;
