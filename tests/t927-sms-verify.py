@@ -1,10 +1,12 @@
 """`dtmap verify --selective-mass` (issue 44 item 6; src/spectral/sms_verify.c):
 central differences on (K, M_s) with a PCG mass solve every step.
 
-Two Gmsh-meshed models, the bundled steel box (coarsened to 20 mm) and a
-block with a 0.8 mm layer fused on its top (the geometry of t926), each at
-a target 3x the input's recommended step (the layer's elements get beta
-up to about 10):
+Three Gmsh-meshed models, the bundled steel box (coarsened to 20 mm), a
+block with a 0.8 mm layer fused on its top (the geometry of t926) and the
+bundled aluminium plate with a hole in plane stress (2D: two components
+per node; coarsened to 10 mm, 3 mm at the hole, about 1,500 triangles),
+each at a target 3x the input's recommended step (the layer's elements get
+beta up to about 10):
 
 - at the target the run is bounded (growth below 10 over 1000 steps: a
   stable run's discrete energy wanders by a few units at most, an
@@ -49,7 +51,14 @@ def models():
     with open(tu.path("box.xml")) as f:
         text = f.read().replace('size="8e-3"', 'size="2e-2"')
     tu.write("box.xml", text)
-    return ["slab", "box"]
+    for ext in ("geo", "xml"):
+        shutil.copy(os.path.join(tu.SRC, "geometries", "plate_with_hole." + ext), tu.tmpdir())
+    with open(tu.path("plate_with_hole.xml")) as f:
+        text = f.read()
+    coarse = text.replace('size="5e-3" min-size="1e-3"', 'size="1e-2" min-size="3e-3"')
+    assert coarse != text, "geometries/plate_with_hole.xml: its <meshing> changed; update t927"
+    tu.write("plate_with_hole.xml", coarse)
+    return ["slab", "box", "plate_with_hole"]
 
 
 class Verify(tu.unittest.TestCase):
