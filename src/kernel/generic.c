@@ -25,7 +25,8 @@
 #include "assemble-impl.h"
 #include "kernel-impl.h"
 
-static int lumped_eig_max(int n, int per, double *K, const double *m, double *lambda, int reference) {
+/* K = M^-1/2 K M^-1/2 in place, m the masses of the n / per nodes. */
+static int lumped_scale(int n, int per, double *K, const double *m) {
   double r[DTM_K_DOF];
   for (int k = 0; k < n; k++) {
     if (!(m[k / per] > 0))
@@ -34,6 +35,11 @@ static int lumped_eig_max(int n, int per, double *K, const double *m, double *la
   }
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) K[i * n + j] *= r[i] * r[j];
+  return DTM_OK;
+}
+
+static int lumped_eig_max(int n, int per, double *K, const double *m, double *lambda, int reference) {
+  DTM_CHECK(lumped_scale(n, per, K, m));
   /* Jacobi for the small linear problems (up to quad4's 8 unknowns),
    * tridiagonalization for the rest (pyr5 15, prism6 18, hex8 24, and the
    * second-order types up to 81), where it is several times faster: hex8
@@ -84,6 +90,27 @@ int dtm_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x
   DTM_CHECK(dtm_form_check(type, d, m->form));
   for (int a = 0; a < nn; a++) mass[a] *= m->rho;
   return lumped_eig_max(nn * d, d, K, mass, lambda, 0);
+}
+
+int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m, const double *const *x,
+                             const int *level, double *lambda, int *failed) {
+  int d, nn, n = 0, done = 0, err = DTM_OK;
+  double K[4][DTM_K_LANE_DOF * DTM_K_LANE_DOF], mass[DTM_K_NODES], *a[4] = {K[0], K[1], K[2], K[3]};
+  for (int k = 0; k < count; k++, done++) {
+    int r = matrices(type, x[k], m[k]->integration, level[k], m[k], &d, &nn, a[k], mass);
+    if (!r) r = dtm_form_check(type, d, m[k]->form);
+    n = nn * d;
+    if (!r && n > DTM_K_LANE_DOF)
+      r = DTM_ERR(DTM_ERR_INTERNAL, "%s has too many unknowns for the lanes", dtm_elem_name(type));
+    for (int b = 0; !r && b < nn; b++) mass[b] *= m[k]->rho;
+    if (!r) r = lumped_scale(n, d, a[k], mass);
+    if (r) {
+      *failed = k, err = r;
+      break;
+    }
+  }
+  if (done) dtm_eig_sym_max_tridiag_lanes(n, a, done, lambda);
+  return err;
 }
 
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {
