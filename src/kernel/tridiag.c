@@ -210,7 +210,9 @@ static v4d *packed_row(v4d *a, int r) { return a + r * (r + 1) / 2; }
 
 /* reflect() on the four lanes of the packed a (n x n): the new subdiagonal
  * entries into e_k[4]. */
-static void reflect4(int n, v4d *a, int k, double e_k[LANES]) {
+#define INLINE static inline __attribute__((always_inline))
+
+INLINE void reflect4(int n, v4d *a, int k, double e_k[LANES]) {
   v4d v[DTM_K_DOF], p[DTM_K_DOF], xx = {0, 0, 0, 0}, K = {0, 0, 0, 0};
   int m = n - k - 1;
   v[0] = packed_row(a, k + 1)[k];
@@ -241,6 +243,35 @@ static void reflect4(int n, v4d *a, int k, double e_k[LANES]) {
   }
 }
 
+/* The reflections of the four lanes, subdiagonals into e[l][k]. */
+INLINE void reflections4(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+  double ek[LANES];
+  for (int k = 0; k + 2 < n; k++) {
+    reflect4(n, A, k, ek);
+    for (int l = 0; l < LANES; l++) e[l][k] = ek[l];
+  }
+}
+
+/* The build targets the x86-64 baseline (SSE2: a vector of four doubles is
+ * two instructions); where the processor has AVX the same code compiled
+ * for it does each in one. AVX has no fused multiply-add (and C11 mode does
+ * not contract), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void reflections4_avx(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+  reflections4(n, A, e);
+}
+#endif
+
+static void reduce4(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx")) {
+    reflections4_avx(n, A, e);
+    return;
+  }
+#endif
+  reflections4(n, A, e);
+}
+
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda) {
   v4d A[DTM_K_DOF * (DTM_K_DOF + 1) / 2];
   double s[LANES], r[LANES], d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF];
@@ -260,11 +291,7 @@ void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *
   for (int i = 0; i < n; i++)
     for (int j = 0; j <= i; j++)
       for (int l = 0; l < LANES; l++) packed_row(A, i)[j][l] = live[l] ? a[l][i * n + j] * r[l] : 0;
-  double ek[LANES];
-  for (int k = 0; k + 2 < n; k++) {
-    reflect4(n, A, k, ek);
-    for (int l = 0; l < LANES; l++) e[l][k] = ek[l];
-  }
+  reduce4(n, A, e);
   for (int l = 0; l < LANES; l++) {
     if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
     for (int i = 0; i < n; i++) d[l][i] = packed_row(A, i)[i][l];
