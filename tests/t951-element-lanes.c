@@ -2,10 +2,11 @@
  * (dtm_kernel_elastic_lambda_lanes, dtm_eig_sym_max_tridiag_lanes: issue 46)
  * against the one-element path they replace in the element map
  * (dtm_kernel_elastic_lambda_at, dtm_eig_sym_max_tridiag):
- *  - the tridiagonal reduction of four matrices side by side, each lane
- *    against the scalar reduction of its matrix alone, with a zero matrix,
- *    a NaN, a diagonal matrix (every reflection skipped) and short groups
- *    in the other lanes, n from 13 to 81;
+ *  - the tridiagonal reduction and Laguerre's search of four matrices side
+ *    by side, each lane against the scalar path on its matrix alone, with
+ *    a zero matrix, a NaN, a diagonal matrix (every reflection skipped, the
+ *    first pivot zero), a multiple top (the bisection's end) and short
+ *    groups in the other lanes, n from 13 to 81;
  *  - groups of 1 to 4 random elements of every type the lanes take (tet10
  *    straight and curved, hex8, prism6, pyr5, quad8) whose sizes (1e-3 to
  *    1e3 m), materials and Poisson ratios differ wildly side by side, with
@@ -83,6 +84,14 @@ static void tridiagonal_lanes(void **state) {
     if (r % 5 == 3)                                       /* diagonal: every column already zero */
       for (int i = 0; i < n; i++)
         for (int j = 0; j < n; j++) a[r % count][i * n + j] = i == j ? urand() : 0;
+    if (r % 5 == 4) { /* one random 3 x 3 block repeated along the diagonal: a multiple top (bisection's end) */
+      double blk[9];
+      random_sym(3, 1, blk);
+      memset(a[r % count], 0, sizeof a[0]);
+      for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+          if (i / 3 == j / 3 && i / 3 < n / 3) a[r % count][i * n + j] = blk[(i % 3) * 3 + j % 3];
+    }
     double *p[4] = {a[0], a[1], a[2], a[3]}, got[4], want;
     dtm_eig_sym_max_tridiag_lanes(n, p, count, got);
     for (int l = 0; l < count; l++) {

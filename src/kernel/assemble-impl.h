@@ -36,6 +36,11 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
+/* U += dv gl gl^T on the upper triangle (x <= y) of the nd x nd U, gl a
+ * rule point's gradients flattened (gl[a d + i] = g[a][i]): the Gram
+ * tensor's sum of the second-order stiffness and of curved.c's level
+ * search. AVX where the processor has it (DTM_KERNEL_AVX: the same bits). */
+void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and

@@ -212,6 +212,17 @@ double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], con
  * vol, or CalculiX's C3D10 lumping when a tet10's rule has 4 points). */
 void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m);
 
+/* On x86-64 with GCC, a hot loop marked DTM_KERNEL_AVX is compiled twice,
+ * for the build's baseline (SSE2) and for AVX, and the processor's version
+ * is chosen when the library loads (an ifunc). Only for loops whose lanes
+ * are independent: AVX has no fused multiply-add and C11 mode does not
+ * contract, so both versions give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define DTM_KERNEL_AVX __attribute__((target_clones("avx", "default")))
+#else
+#define DTM_KERNEL_AVX
+#endif
+
 /* Three-component vectors: difference, dot and cross products. */
 static inline void dtm_v3_sub(const double *a, const double *b, double *c) {
   for (int i = 0; i < 3; i++) c[i] = a[i] - b[i];

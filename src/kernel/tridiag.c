@@ -120,32 +120,23 @@ static int laguerre_sums(int n, const double *d, const double *e2, double x, dou
  * by bisection between the largest diagonal entry (a lower bound) and the
  * last upper bound. Against tri_max: the same eigenvalue within a few eps
  * of |T| (tests/t521). */
-static double tri_max_fast(int n, const double *d, const double *e) {
-  double lo = INFINITY, hi = -INFINITY, dmax = -INFINITY, e2[DTM_K_DOF];
+/* tri_max_fast's start: the Gershgorin bounds *lo, *hi, the largest
+ * diagonal entry *dmax and e2[i] = e[i]^2. */
+static void gershgorin(int n, const double *d, const double *e, double *lo, double *hi, double *dmax, double *e2) {
+  *lo = INFINITY, *hi = -INFINITY, *dmax = -INFINITY;
   for (int i = 0; i < n; i++) {
     double r = (i ? fabs(e[i - 1]) : 0) + (i + 1 < n ? fabs(e[i]) : 0);
-    hi = fmax(hi, d[i] + r), dmax = fmax(dmax, d[i]);
-    lo = fmin(lo, d[i] - r);
+    *hi = fmax(*hi, d[i] + r), *dmax = fmax(*dmax, d[i]);
+    *lo = fmin(*lo, d[i] - r);
   }
   for (int i = 0; i + 1 < n; i++) e2[i] = e[i] * e[i];
-  double tol = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x = hi, above = hi;
-  for (int it = 0; it < 16; it++) {
-    double g, h;
-    if (!laguerre_sums(n, d, e2, x, &g, &h)) {
-      /* x is not above the top, which lies in [x, above]: rounding in the
-       * last, converged step, as a rule; then x + 4 tol is above it */
-      if (x + 4 * tol < above && laguerre_sums(n, d, e2, x + 4 * tol, &g, &h)) return x + 4 * tol;
-      break;
-    }
-    above = x;
-    double disc = (n - 1) * (n * h - g * g);
-    double step = n / (g + sqrt(disc > 0 ? disc : 0));
-    if (!(step > tol)) return above;
-    x = fmax(x - step, dmax);
-    if (x >= above) return above;
-  }
-  lo = fmin(dmax, x);
-  hi = above;
+}
+
+/* tri_max_fast's end, when Laguerre's steps did not settle: bisection
+ * between the largest diagonal entry (or the last iterate x) and the last
+ * upper bound. */
+static double bisect_tail(int n, const double *d, const double *e2, double x, double dmax, double above, double tol) {
+  double lo = fmin(dmax, x), hi = above;
   for (int it = 0; it < 200 && hi - lo > 2 * tol; it++) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
@@ -155,6 +146,36 @@ static double tri_max_fast(int n, const double *d, const double *e) {
       lo = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+/* One of Laguerre's steps from x (p'/p = g, (p'/p)^2 - p''/p = h), x above
+ * the top: 1 with the result in *out when it is settled, else 0 with the
+ * next iterate in *x (and *above = the old x). */
+static int laguerre_step(int n, double g, double h, double tol, double dmax, double *x, double *above, double *out) {
+  *above = *x;
+  double disc = (n - 1) * (n * h - g * g);
+  double step = n / (g + sqrt(disc > 0 ? disc : 0));
+  if (!(step > tol)) return *out = *above, 1;
+  *x = fmax(*x - step, dmax);
+  if (*x >= *above) return *out = *above, 1;
+  return 0;
+}
+
+static double tri_max_fast(int n, const double *d, const double *e) {
+  double lo, hi, dmax, e2[DTM_K_DOF], out;
+  gershgorin(n, d, e, &lo, &hi, &dmax, e2);
+  double tol = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x = hi, above = hi;
+  for (int it = 0; it < 16; it++) {
+    double g, h;
+    if (!laguerre_sums(n, d, e2, x, &g, &h)) {
+      /* x is not above the top, which lies in [x, above]: rounding in the
+       * last, converged step, as a rule; then x + 4 tol is above it */
+      if (x + 4 * tol < above && laguerre_sums(n, d, e2, x + 4 * tol, &g, &h)) return x + 4 * tol;
+      break;
+    }
+    if (laguerre_step(n, g, h, tol, dmax, &x, &above, &out)) return out;
+  }
+  return bisect_tail(n, d, e2, x, dmax, above, tol);
 }
 
 /* Reduce a (scaled by its largest entry s, returned) to the tridiagonal
@@ -272,6 +293,63 @@ static void reduce4(int n, v4d *A, double (*e)[DTM_K_DOF]) {
   reflections4(n, A, e);
 }
 
+typedef long long v4l __attribute__((vector_size(32)));
+
+/* laguerre_sums at x[l] on the tridiagonal of every lane (D[i], E2[i]
+ * holding the lanes' d[i], e2[i]): g, h per lane, ok[l] = 0 where a pivot
+ * is not positive (that lane's g, h are then meaningless, as laguerre_sums
+ * returns 0 there). Lane by lane the scalar operations in their order. */
+static void laguerre_sums4(int n, const v4d *D, const v4d *E2, const double x[LANES], double g[LANES], double h[LANES],
+                           int ok[LANES]) {
+  const v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  v4d X = {x[0], x[1], x[2], x[3]}, p = one, dp = zero, ddp = zero, G = zero, H = zero;
+  v4l good = {-1, -1, -1, -1};
+  for (int i = 0; i < n; i++) {
+    v4d r = i ? E2[i - 1] / p : zero, sp = i ? r / p : zero;
+    v4d q = X - D[i] - r, dq = one + sp * dp, ddq = i ? sp * (ddp - 2 * dp * dp / p) : zero;
+    good &= q > zero;
+    v4d u = dq / q;
+    G += u, H += u * u - ddq / q;
+    p = q, dp = dq, ddp = ddq;
+  }
+  for (int l = 0; l < LANES; l++) g[l] = G[l], h[l] = H[l], ok[l] = good[l] != 0;
+}
+
+/* tri_max_fast of the live lanes of (d, e), their Laguerre sums four at a
+ * time (a chain of divisions each: four chains in flight instead of one);
+ * every lane takes the scalar steps and ends as tri_max_fast does. */
+static void tri_max_fast4(int n, double (*d)[DTM_K_DOF], double (*e)[DTM_K_DOF], const int *live, double *out) {
+  v4d D[DTM_K_DOF], E2[DTM_K_DOF];
+  double e2[LANES][DTM_K_DOF], lo, hi, dmax[LANES], tol[LANES], x[LANES], above[LANES], g[LANES], h[LANES];
+  int state[LANES], ok[LANES], going = 0; /* state: 0 Laguerre, 1 done, 2 bisection */
+  for (int l = 0; l < LANES; l++) {
+    state[l] = live[l] ? 0 : 1, going += live[l];
+    if (!live[l]) { /* a harmless tridiagonal: zeros, x = 1 */
+      for (int i = 0; i < n; i++) d[l][i] = e2[l][i] = 0;
+      x[l] = 1;
+      continue;
+    }
+    gershgorin(n, d[l], e[l], &lo, &hi, &dmax[l], e2[l]);
+    tol[l] = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x[l] = above[l] = hi;
+  }
+  for (int i = 0; i < n; i++)
+    for (int l = 0; l < LANES; l++) D[i][l] = d[l][i], E2[i][l] = i + 1 < n ? e2[l][i] : 0;
+  for (int it = 0; it < 16 && going; it++) {
+    laguerre_sums4(n, D, E2, x, g, h, ok);
+    for (int l = 0; l < LANES; l++) {
+      if (state[l]) continue;
+      if (!ok[l]) {
+        double t = x[l] + 4 * tol[l], gg, hh;
+        state[l] = t < above[l] && laguerre_sums(n, d[l], e2[l], t, &gg, &hh) ? (out[l] = t, 1) : 2;
+      } else if (laguerre_step(n, g[l], h[l], tol[l], dmax[l], &x[l], &above[l], &out[l]))
+        state[l] = 1;
+      going -= state[l] != 0;
+    }
+  }
+  for (int l = 0; l < LANES; l++)
+    if (state[l] != 1) out[l] = bisect_tail(n, d[l], e2[l], x[l], dmax[l], above[l], tol[l]);
+}
+
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda) {
   v4d A[DTM_K_DOF * (DTM_K_DOF + 1) / 2];
   double s[LANES], r[LANES], d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF];
@@ -296,5 +374,7 @@ void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *
     if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
     for (int i = 0; i < n; i++) d[l][i] = packed_row(A, i)[i][l];
   }
-  for (int l = 0; l < count; l++) lambda[l] = live[l] ? s[l] * tri_max_fast(n, d[l], e[l]) : s[l];
+  double top[LANES];
+  tri_max_fast4(n, d, e, live, top);
+  for (int l = 0; l < count; l++) lambda[l] = live[l] ? s[l] * top[l] : s[l];
 }
