@@ -94,11 +94,12 @@ def main():
         print(f"| {key[0]} | {key[1]} | {flops:,.0f} | " + " | ".join(cells) +
               f" | {100 * flops / a['rows'][key][1] / roof:.0f}% |")
     if BEFORE:
-        print()
+        print("\nTime after / before, the same path (the lanes' rows: after's lanes against before's one by one, "
+              "the element map's change):\n")
         for key in a["rows"]:
-            b = res["before"]["rows"].get(key)
+            b = res["before"]["rows"].get(key if key[1] != "lanes" else (key[0], "one by one"))
             if b:
-                print(f"- {key[0]}, {key[1]}: after / before time {a['rows'][key][1] / b[1]:.2f}")
+                print(f"- {key[0]}, {key[1]}: **{a['rows'][key][1] / b[1]:.2f}**")
     sys.stdout.flush()
 
 
