@@ -242,8 +242,8 @@ DTM_EXPORT int dtm_kernel_elastic_lambda_at(int type, const dtm_elastic_moduli *
  * (NULL: searched, -1 each): lambda[k] is bitwise the one-element call's.
  * Types whose element problem is solved by the Householder reduction with
  * at most 30 unknowns (tet10, hex8, prism6, pyr5; quad8 and quad9 in the
- * plane) solve the count problems side by side in vector lanes (tet10:
- * about 15 % less time per element, bench/roofline.sh, docs/performance.md);
+ * plane) solve the count problems side by side in vector lanes (straight
+ * tet10: 0.7x the time per element, bench/roofline.sh, docs/performance.md);
  * the others are taken one by one. On an error, *failed is the index of the element (the
  * lambdas before it are set) and the message is the one-element call's. */
 DTM_EXPORT int dtm_kernel_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m,
