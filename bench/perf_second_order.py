@@ -33,6 +33,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BUILD = os.environ.get("BUILD_DIR", os.path.join(ROOT, "build-bench"))
 DTMAP = os.path.join(BUILD, "dtmap")
 BEFORE = os.environ.get("DTMAP_BEFORE", "")
+BEFORE_NAME = os.environ.get("DTMAP_BEFORE_NAME", "another build (DTMAP_BEFORE)")  # what `before` is, in words
 WORK = os.environ.get("BENCH_WORK", "/tmp/dtmap-perf-second-order")
 REPS = int(os.environ.get("BENCH_REPS", "5"))
 SIZES = [float(s) for s in os.environ.get("BENCH_SIZES", "1e5 1e6").split()]
@@ -147,11 +148,12 @@ def rows_msh():
         for label, _ in binaries():
             d = res[label]
             ratios = [x[0] / y[0] for x, y in zip(d, g)]
+            cpu = statistics.median(x[1] / y[1] for x, y in zip(d, g))
             r = report(f"r_{label}.json")
             st = stages(r, r["mesh"]["elements"], r["mesh"]["nodes"])
             rows.append(f"| tet10 box, {r['mesh']['elements']:,} elements, {label} | {min(x[0] for x in d):.2f} "
                         f"({min(x[1] for x in d):.2f}) | {min(x[0] for x in g):.2f} ({min(x[1] for x in g):.2f}) | "
-                        f"**{statistics.median(ratios):.2f}x** ({min(ratios):.2f}-{max(ratios):.2f}) | "
+                        f"**{statistics.median(ratios):.2f}x** ({min(ratios):.2f}-{max(ratios):.2f}); CPU {cpu:.2f}x | "
                         f"{st['effects']:.2f} s = {st['us_elem']:.1f} us/element | {st['extract']:.2f} s = "
                         f"{st['us_node']:.2f} us/node | {la} / {lb} | <= 3x |")
     return rows
@@ -172,13 +174,14 @@ def rows_curved():
     for label, _ in binaries():
         c, s = res[label + " curved"], res[label + " straight"]
         ratios = [x[0] / y[0] for x, y in zip(c, s)]
+        cpu = statistics.median(x[1] / y[1] for x, y in zip(c, s))
         rc, rs = report(f"bc_{label}.json"), report(f"bs_{label}.json")
         n = rc["mesh"]["elements"]
         ec, es = rc["timings"]["effects"], rs["timings"]["effects"]
         rows.append(f"| curved ball, {n:,} tet10 ({rc['curvature']['curved']:,} curved), {label} | "
                     f"{min(x[0] for x in c):.2f} ({min(x[1] for x in c):.2f}) | {min(x[0] for x in s):.2f} "
                     f"({min(x[1] for x in s):.2f}) | **{statistics.median(ratios):.2f}x** ({min(ratios):.2f}-"
-                    f"{max(ratios):.2f}) | {ec:.2f} / {es:.2f} s = {1e6 * ec / n:.1f} / {1e6 * es / n:.1f} "
+                    f"{max(ratios):.2f}); CPU {cpu:.2f}x | {ec:.2f} / {es:.2f} s = {1e6 * ec / n:.1f} / {1e6 * es / n:.1f} "
                     f"us/element | {la} / {lb} | <= 1.5x |")
     return rows
 
@@ -194,8 +197,9 @@ def main():
           "apart from the full docs/performance.md run (30-60 minutes).\n")
     print(f"Machine: {cpu} cores, shared: the load average (1 minute) is given before / after each group of "
           f"rows (it was {start} at the start). Wall seconds, with CPU seconds (user + system) in brackets, "
-          f"best of {REPS}; ratios are the median of {REPS} alternating pairs with their range. "
-          "`before` is main's build before issue 38's kernel work, `after` this branch's, measured in the same "
+          f"best of {REPS}; ratios are the median of {REPS} alternating pairs with their range, then the median "
+          "of the pairs' CPU ratios (the steadier one on a loaded machine). "
+          f"`before` is {BEFORE_NAME}, `after` this branch's, measured in the same "
           "alternation. Stage times are the report's (wall, 2 threads) of the last run.\n")
     print("## tet10 read from a binary .msh against Gmsh's read + write (`gmsh X.msh -0 -bin`)\n")
     print("| mesh, build | dtmap run (s) | gmsh -0 -bin (s) | ratio | element map (`effects`) | extraction "

@@ -3,7 +3,9 @@
 # (about 1e5 and 1e6 elements) against Gmsh's own read + write, and a ball
 # of curved tet10 against its straight-sided twin, as the median of 5
 # alternating pairs (bench/perf_second_order.py). With DTMAP_BEFORE=path of
-# another build's dtmap, its rows run in the same alternation. About 10-20
+# another build's dtmap (DTMAP_BEFORE_NAME: what it is, in words), its rows
+# run in the same alternation. BENCH_SIZES, BENCH_REPS: the box sizes and
+# the pairs (default "1e5 1e6", 5). About 10-20
 # minutes on 2 cores; meshes are kept in BENCH_WORK (default
 # /tmp/dtmap-perf-second-order) for the next run.
 set -euo pipefail

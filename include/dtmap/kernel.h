@@ -235,6 +235,19 @@ DTM_EXPORT int dtm_kernel_elastic_lambda(int type, const dtm_elastic_moduli *m, 
  * same bitwise. level -1: searched, as dtm_kernel_elastic_lambda. */
 DTM_EXPORT int dtm_kernel_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x, int level,
                                             double *lambda);
+/* Elements the batched bound takes at once. */
+#define DTM_KERNEL_LANES 4
+/* dtm_kernel_elastic_lambda_at of count (1 .. DTM_KERNEL_LANES) elements of
+ * one type, with moduli m[k], coordinates x[k] and kept levels level[k]
+ * (NULL: searched, -1 each): lambda[k] is bitwise the one-element call's.
+ * Types whose element problem is solved by the Householder reduction with
+ * at most 30 unknowns (tet10, hex8, prism6, pyr5; quad8 and quad9 in the
+ * plane) solve the count problems side by side in vector lanes (straight
+ * tet10: 0.7x the time per element, bench/roofline.sh, docs/performance.md);
+ * the others are taken one by one. On an error, *failed is the index of the element (the
+ * lambdas before it are set) and the message is the one-element call's. */
+DTM_EXPORT int dtm_kernel_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m,
+                                               const double *const *x, const int *level, double *lambda, int *failed);
 
 /* Largest eigenvalue of Ce^-1 Ke (1/s) for scalar diffusion with
  * diffusivity alpha (m^2/s) and lumped capacity (row sums for linear

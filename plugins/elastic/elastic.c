@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "dtmap/effect.h"
+#include "dtmap/error.h"
 #include "dtmap/topology.h"
 
 typedef struct {
@@ -142,16 +143,53 @@ static int one_element(const elastic_state *s, const dtm_batch *b, size_t e, con
   return DTM_OK;
 }
 
+/* 1 when element e takes the plain element bound (no length rule, no
+ * structural section): the elements the lanes may batch. */
+static int plain_bound(const elastic_state *s, const dtm_batch *b, size_t e) {
+  return s->kind == DTM_LEN_EIGEN && !(b->section && b->section[e] && dtm_section_has_rotations(b->section[e]->kind));
+}
+
+/* The plain bounds of the elements e[0 .. count) (moduli mod[k]) side by
+ * side (dtm_kernel_elastic_lambda_lanes): their steps and lengths. */
+static int lane_elements(const dtm_batch *b, const size_t *e, int count, const dtm_elastic_moduli *mod, double *dt,
+                         double *len) {
+  const double *x[DTM_KERNEL_LANES] = {NULL};
+  const dtm_elastic_moduli *m[DTM_KERNEL_LANES] = {NULL};
+  int level[DTM_KERNEL_LANES] = {0}, failed = 0;
+  double lambda[DTM_KERNEL_LANES];
+  for (int k = 0; k < count; k++)
+    x[k] = b->x + 3 * (size_t)b->nn * e[k], m[k] = &mod[k], level[k] = b->level ? b->level[e[k]] : -1;
+  if (dtm_kernel_elastic_lambda_lanes(b->type, count, m, x, level, lambda, &failed))
+    return DTM_ERR(DTM_ERR_INPUT, "element %zu (%s): %s", b->tags[e[failed]], dtm_elem_name(b->type),
+                   dtm_error_message());
+  for (int k = 0; k < count; k++) dt[e[k]] = 2.0 / sqrt(lambda[k]), len[e[k]] = mod[k].cd * dt[e[k]];
+  return DTM_OK;
+}
+
+/* Elements with the plain bound go DTM_KERNEL_LANES at a time, in their
+ * order (the last group may be short); the others one by one. */
 static int elastic_element_dt(void *state, const dtm_batch *b, double *dt, double *len) {
   const elastic_state *s = state;
   const dtm_material *last = NULL;
   const dtm_section *sec = NULL;
-  dtm_elastic_moduli mod;
+  dtm_elastic_moduli mod, lane_mod[DTM_KERNEL_LANES];
+  size_t lane_e[DTM_KERNEL_LANES];
+  int count = 0;
   for (size_t e = 0; e < b->n; e++) {
     DTM_CHECK(element_moduli(s, b, e, &last, &sec, &mod));
-    DTM_CHECK(one_element(s, b, e, &mod, &dt[e]));
-    len[e] = mod.cd * dt[e];
+    if (!plain_bound(s, b, e)) { /* the elements before it first: errors come in element order */
+      if (count) DTM_CHECK(lane_elements(b, lane_e, count, lane_mod, dt, len));
+      count = 0;
+      DTM_CHECK(one_element(s, b, e, &mod, &dt[e]));
+      len[e] = mod.cd * dt[e];
+      continue;
+    }
+    lane_mod[count] = mod, lane_e[count++] = e;
+    if (count < DTM_KERNEL_LANES) continue;
+    DTM_CHECK(lane_elements(b, lane_e, count, lane_mod, dt, len));
+    count = 0;
   }
+  if (count) DTM_CHECK(lane_elements(b, lane_e, count, lane_mod, dt, len));
   return DTM_OK;
 }
 

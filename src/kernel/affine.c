@@ -99,17 +99,22 @@ static int affine(int type, int nn, const double (*xl)[3]) {
   return 1;
 }
 
-int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
-                        double *mass) {
-  if ((type != DTM_TET10 && type != DTM_TRI6) || !affine(type, nn, xl)) return 0;
-  const affine_ref *r = reference(type, nn);
-  if (!r) return 0;
-  double J[3][3] = {{0}}, Ji[3][3];
+int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj, double Ji[3][3]) {
+  if ((type != DTM_TET10 && type != DTM_TRI6) || !affine(type, nn, xl) || !reference(type, nn)) return 0;
+  double J[3][3] = {{0}};
   for (int i = 0; i < d; i++)
     for (int j = 0; j < d; j++) J[i][j] = xl[j + 1][i] - xl[0][i]; /* corner j + 1 at xi_j = 1 */
-  double dj = dtm_mat_det(d, (const double(*)[3])J);
-  if (!(dj > 1000 * 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J)) || !isfinite(dj)) return 0;
-  dtm_mat_inverse(d, (const double(*)[3])J, dj, Ji);
+  *dj = dtm_mat_det(d, (const double(*)[3])J);
+  if (!(*dj > 1000 * 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J)) || !isfinite(*dj)) return 0;
+  dtm_mat_inverse(d, (const double(*)[3])J, *dj, Ji);
+  return 1;
+}
+
+int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
+                        double *mass) {
+  double dj, Ji[3][3];
+  if (!dtm_affine_frame(type, d, nn, xl, &dj, Ji)) return 0;
+  const affine_ref *r = reference(type, nn);
   int n = m ? nn * d : nn;
   double lam = m ? dj * (d == 1 ? m->modulus : m->lam) : 0, mu = m ? dj * (d == 1 ? 0 : m->mu) : 0;
   for (int a = 0; a < nn; a++) {
@@ -135,6 +140,64 @@ int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dt
     }
   }
   return 1;
+}
+
+/* ---- tet10 elastic matrices four at a time ----
+ * dtm_affine_matrices' elastic tet10 branch on the lanes of a vector of four
+ * doubles: lane l holds element l's J^-1 and moduli, and every operation is
+ * the scalar one lane by lane in the same order (the same bits). */
+typedef double v4d __attribute__((vector_size(32)));
+
+static inline __attribute__((always_inline)) void elastic4(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
+                                                           int count, double *const *K) {
+  enum { NN = 10, D = 3, N = 30 };
+  const v4d zero = {0, 0, 0, 0}, lam = lm[0], mu = lm[1];
+  for (int a = 0; a < NN; a++)
+    for (int b = a; b < NN; b++) {
+      v4d T[3][3], A[3][3];
+      for (int p = 0; p < D; p++)
+        for (int j = 0; j < D; j++) T[p][j] = A[p][j] = zero;
+      for (int p = 0; p < D; p++)
+        for (int q = 0; q < D; q++)
+          for (int j = 0; j < D; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
+      for (int i = 0; i < D; i++)
+        for (int p = 0; p < D; p++)
+          for (int j = 0; j < D; j++) A[i][j] += Ji[p][i] * T[p][j];
+      v4d tr = A[0][0] + A[1][1] + A[2][2];
+      for (int i = 0; i < D; i++)
+        for (int j = 0; j < D; j++) {
+          v4d v = lam * A[i][j] + mu * A[j][i] + (i == j ? mu * tr : zero);
+          for (int l = 0; l < count; l++) K[l][(a * D + i) * N + b * D + j] = K[l][(b * D + j) * N + a * D + i] = v[l];
+        }
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void elastic4_avx(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
+                                                        int count, double *const *K) {
+  elastic4(r, Ji, lm, count, K);
+}
+#endif
+
+void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
+                              double *const *K, double *const *mass) {
+  const affine_ref *r = reference(DTM_TET10, 10); /* built: dtm_affine_frame said so */
+  v4d J4[3][3], lm[2];
+  for (int l = 0; l < 4; l++) {
+    int k = l < count ? l : 0; /* a short group repeats element 0 in the idle lanes */
+    lm[0][l] = dj[k] * m[k]->lam, lm[1][l] = dj[k] * m[k]->mu;
+    for (int q = 0; q < 3; q++)
+      for (int j = 0; j < 3; j++) J4[q][j][l] = Ji[k][q][j];
+  }
+  for (int l = 0; l < count; l++)
+    for (int a = 0; a < 10; a++) mass[l][a] = dj[l] * r->wsum * r->f[a];
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx")) {
+    elastic4_avx(r, (const v4d(*)[3])J4, lm, count, K);
+    return;
+  }
+#endif
+  elastic4(r, (const v4d(*)[3])J4, lm, count, K);
 }
 
 int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled) {

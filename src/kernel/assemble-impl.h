@@ -36,6 +36,11 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
+/* U += dv gl gl^T on the upper triangle (x <= y) of the nd x nd U, gl a
+ * rule point's gradients flattened (gl[a d + i] = g[a][i]): the Gram
+ * tensor's sum of the second-order stiffness and of curved.c's level
+ * search. AVX where the processor has it (DTM_KERNEL_AVX: the same bits). */
+void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and
@@ -48,6 +53,14 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
  * safely positive, as dtm_elem_setup checks it. */
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj);
+/* dtm_affine_matrices' check and frame: 1 with det J in *dj and J^-1 in Ji
+ * when its shortcut applies to the element, else 0. */
+int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj, double Ji[3][3]);
+/* dtm_affine_matrices of count (1 .. 4) elastic tet10 whose frames
+ * dtm_affine_frame gave (dj[l], Ji[l]), side by side in vector lanes: K[l]
+ * (30 x 30) and mass[l] (10) bitwise the one-element call's. */
+void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
+                              double *const *K, double *const *mass);
 /* The same matrices of a straight-sided tri6 or tet10 from the type's
  * reference tensors (affine.c), to 1e-12 of dtm_elem_assemble's: returns
  * 1 with K and mass filled, or 0 (nothing written) for another type, a

@@ -148,9 +148,7 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
   mirror(eg->nn, eg->d, K);
 }
 
-/* U += dv gl gl^T on the upper triangle (x <= y), gl the point's
- * gradients flattened (gl[a d + i] = g[a][i]). */
-static void add_gram(int nd, const double *gl, double dv, double *U) {
+DTM_KERNEL_AVX void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U) {
   for (int x = 0; x < nd; x++) {
     double gx = gl[x] * dv, *row = U + x * nd;
     for (int y = x; y < nd; y++) row[y] += gx * gl[y];
@@ -200,7 +198,7 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
       double gl[DTM_K_DOF];
       for (int a = 0; a < nn; a++)
         for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
-      add_gram(n, gl, dv, U);
+      dtm_elem_gram_add(n, gl, dv, U);
     } else
       add(m ? (void *)&c : (void *)K, &eg, t->N[k], (const double(*)[3])g, dv);
     for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;

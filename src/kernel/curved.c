@@ -126,10 +126,7 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
     vol += dv;
     for (int a = 0; a < nn; a++)
       for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
-    for (int x = 0; x < nd; x++) {
-      double gx = gl[x] * dv, *row = T + x * nd;
-      for (int y = x; y < nd; y++) row[y] += gx * gl[y];
-    }
+    dtm_elem_gram_add(nd, gl, dv, T);
   }
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;

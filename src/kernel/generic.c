@@ -25,7 +25,8 @@
 #include "assemble-impl.h"
 #include "kernel-impl.h"
 
-static int lumped_eig_max(int n, int per, double *K, const double *m, double *lambda, int reference) {
+/* K = M^-1/2 K M^-1/2 in place, m the masses of the n / per nodes. */
+static int lumped_scale(int n, int per, double *K, const double *m) {
   double r[DTM_K_DOF];
   for (int k = 0; k < n; k++) {
     if (!(m[k / per] > 0))
@@ -34,6 +35,11 @@ static int lumped_eig_max(int n, int per, double *K, const double *m, double *la
   }
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) K[i * n + j] *= r[i] * r[j];
+  return DTM_OK;
+}
+
+static int lumped_eig_max(int n, int per, double *K, const double *m, double *lambda, int reference) {
+  DTM_CHECK(lumped_scale(n, per, K, m));
   /* Jacobi for the small linear problems (up to quad4's 8 unknowns),
    * tridiagonalization for the rest (pyr5 15, prism6 18, hex8 24, and the
    * second-order types up to 81), where it is several times faster: hex8
@@ -84,6 +90,49 @@ int dtm_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x
   DTM_CHECK(dtm_form_check(type, d, m->form));
   for (int a = 0; a < nn; a++) mass[a] *= m->rho;
   return lumped_eig_max(nn * d, d, K, mass, lambda, 0);
+}
+
+/* 1 when element x of a lanes group is a tet10 the reference tensors
+ * serve (the first steps of matrices(): its frame, its rule, the affine
+ * check), with det J and J^-1; else 0 and matrices() takes it. */
+static int affine_lane(int type, const double *x, int model, int level, double *dj, double Ji[3][3]) {
+  double xl[DTM_K_NODES][3];
+  if (type != DTM_TET10 || dtm_elem_local(type, x, xl)) return 0;
+  return rule_of(type, 3, 10, (const double(*)[3])xl, model, level) == 0 &&
+         dtm_affine_frame(type, 3, 10, (const double(*)[3])xl, dj, Ji);
+}
+
+int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m, const double *const *x,
+                             const int *level, double *lambda, int *failed) {
+  int d = 3, nn = 10, n = 0, done = 0, err = DTM_OK, na = 0;
+  double K[4][DTM_K_LANE_DOF * DTM_K_LANE_DOF], mass[4][DTM_K_NODES], *a[4] = {K[0], K[1], K[2], K[3]};
+  double dj[4], Ji[4][3][3], *aK[4], *am[4];
+  const dtm_elastic_moduli *amod[4];
+  for (int k = 0; k < count; k++, done++) {
+    int r = DTM_OK;
+    if (affine_lane(type, x[k], m[k]->integration, level[k], &dj[na], Ji[na])) { /* below, with the others */
+      aK[na] = a[k], am[na] = mass[k], amod[na++] = m[k], n = 30;
+      continue;
+    }
+    r = matrices(type, x[k], m[k]->integration, level[k], m[k], &d, &nn, a[k], mass[k]);
+    if (!r) r = dtm_form_check(type, d, m[k]->form);
+    n = nn * d;
+    if (!r && n > DTM_K_LANE_DOF)
+      r = DTM_ERR(DTM_ERR_INTERNAL, "%s has too many unknowns for the lanes", dtm_elem_name(type));
+    for (int b = 0; !r && b < nn; b++) mass[k][b] *= m[k]->rho;
+    if (!r) r = lumped_scale(n, d, a[k], mass[k]);
+    if (r) {
+      *failed = k, err = r;
+      break;
+    }
+  }
+  if (na) dtm_affine_elastic_lanes(na, dj, (const double(*)[3][3])Ji, amod, aK, am);
+  for (int i = 0; i < na; i++) { /* as matrices() and the loop above: masses per unit density, then rho */
+    for (int b = 0; b < 10; b++) am[i][b] *= amod[i]->rho;
+    lumped_scale(30, 3, aK[i], am[i]); /* the masses are positive: det J is */
+  }
+  if (done) dtm_eig_sym_max_tridiag_lanes(n, a, done, lambda);
+  return err;
 }
 
 int dtm_elastic_lambda_generic(int type, const dtm_elastic_moduli *m, const double *x, double *lambda) {

@@ -163,6 +163,11 @@ double dtm_eig_sym_max_tridiag_bisect(int n, double *a);
  * matrix (d, e untouched), NaN with a non-finite entry. Shared with the
  * shell and beam eigensolver (shell_eig.c). */
 double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e);
+/* dtm_eig_sym_max_tridiag of count <= 4 matrices a[l] (n x n, lower
+ * triangles read, not written) at once, one per lane of a vector of four
+ * doubles (tridiag.c): lambda[l] is bitwise what dtm_eig_sym_max_tridiag
+ * returns for a[l] alone, whatever the other lanes hold. */
+void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda);
 
 /* Generic (quadrature + eigenvalue) paths, any supported type; linear
  * simplices go through them too, which is how the closed forms are
@@ -173,6 +178,20 @@ int dtm_diffusion_lambda_generic(int type, double alpha, const double *x, double
  * level dtm_ref_rule_elem returns under DTM_INTEGRATION_CONVERGED; the
  * model's rule follows from it, dtm_ref_rule_id), or searched (level -1). */
 int dtm_elastic_lambda_at(int type, const dtm_elastic_moduli *m, const double *x, int level, double *lambda);
+/* Tests only: nonzero sends every element of dtm_kernel_elastic_lambda_lanes
+ * through the one-element path (elastic.c), the reference the lanes are
+ * compared with. Set it before an analysis, never during one. */
+extern int dtm_kernel_lanes_off;
+#define DTM_K_LANE_DOF 30 /* most unknowns the lanes take: tet10 (29 kB per four matrices) */
+/* dtm_elastic_lambda_at of count <= DTM_KERNEL_LANES elements of one type
+ * (moduli m[k], coordinates x[k], kept level level[k]) whose element
+ * problems go to the tridiagonal path with at most DTM_K_LANE_DOF
+ * unknowns, their eigenvalue problems solved side by side in vector lanes
+ * (dtm_eig_sym_max_tridiag_lanes): each lambda[k] bitwise the scalar
+ * path's. On an error, *failed is the element's index and the lambdas
+ * before it are set. */
+int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m, const double *const *x,
+                             const int *level, double *lambda, int *failed);
 /* The generic path as it was before the fast one (generic.c): separate
  * passes, the rule searched, bisection on the tridiagonal. For tests. */
 int dtm_elastic_lambda_reference(int type, const dtm_elastic_moduli *m, const double *x, double *lambda);
@@ -192,6 +211,17 @@ double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], con
  * left as they are) or N_a^2 (second-order types: scaled to the measure
  * vol, or CalculiX's C3D10 lumping when a tet10's rule has 4 points). */
 void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m);
+
+/* On x86-64 with GCC, a hot loop marked DTM_KERNEL_AVX is compiled twice,
+ * for the build's baseline (SSE2) and for AVX, and the processor's version
+ * is chosen when the library loads (an ifunc). Only for loops whose lanes
+ * are independent: AVX has no fused multiply-add and C11 mode does not
+ * contract, so both versions give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define DTM_KERNEL_AVX __attribute__((target_clones("avx", "default")))
+#else
+#define DTM_KERNEL_AVX
+#endif
 
 /* Three-component vectors: difference, dot and cross products. */
 static inline void dtm_v3_sub(const double *a, const double *b, double *c) {

@@ -120,32 +120,23 @@ static int laguerre_sums(int n, const double *d, const double *e2, double x, dou
  * by bisection between the largest diagonal entry (a lower bound) and the
  * last upper bound. Against tri_max: the same eigenvalue within a few eps
  * of |T| (tests/t521). */
-static double tri_max_fast(int n, const double *d, const double *e) {
-  double lo = INFINITY, hi = -INFINITY, dmax = -INFINITY, e2[DTM_K_DOF];
+/* tri_max_fast's start: the Gershgorin bounds *lo, *hi, the largest
+ * diagonal entry *dmax and e2[i] = e[i]^2. */
+static void gershgorin(int n, const double *d, const double *e, double *lo, double *hi, double *dmax, double *e2) {
+  *lo = INFINITY, *hi = -INFINITY, *dmax = -INFINITY;
   for (int i = 0; i < n; i++) {
     double r = (i ? fabs(e[i - 1]) : 0) + (i + 1 < n ? fabs(e[i]) : 0);
-    hi = fmax(hi, d[i] + r), dmax = fmax(dmax, d[i]);
-    lo = fmin(lo, d[i] - r);
+    *hi = fmax(*hi, d[i] + r), *dmax = fmax(*dmax, d[i]);
+    *lo = fmin(*lo, d[i] - r);
   }
   for (int i = 0; i + 1 < n; i++) e2[i] = e[i] * e[i];
-  double tol = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x = hi, above = hi;
-  for (int it = 0; it < 16; it++) {
-    double g, h;
-    if (!laguerre_sums(n, d, e2, x, &g, &h)) {
-      /* x is not above the top, which lies in [x, above]: rounding in the
-       * last, converged step, as a rule; then x + 4 tol is above it */
-      if (x + 4 * tol < above && laguerre_sums(n, d, e2, x + 4 * tol, &g, &h)) return x + 4 * tol;
-      break;
-    }
-    above = x;
-    double disc = (n - 1) * (n * h - g * g);
-    double step = n / (g + sqrt(disc > 0 ? disc : 0));
-    if (!(step > tol)) return above;
-    x = fmax(x - step, dmax);
-    if (x >= above) return above;
-  }
-  lo = fmin(dmax, x);
-  hi = above;
+}
+
+/* tri_max_fast's end, when Laguerre's steps did not settle: bisection
+ * between the largest diagonal entry (or the last iterate x) and the last
+ * upper bound. */
+static double bisect_tail(int n, const double *d, const double *e2, double x, double dmax, double above, double tol) {
+  double lo = fmin(dmax, x), hi = above;
   for (int it = 0; it < 200 && hi - lo > 2 * tol; it++) {
     double mid = 0.5 * (lo + hi);
     if (mid <= lo || mid >= hi) break;
@@ -155,6 +146,36 @@ static double tri_max_fast(int n, const double *d, const double *e) {
       lo = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+/* One of Laguerre's steps from x (p'/p = g, (p'/p)^2 - p''/p = h), x above
+ * the top: 1 with the result in *out when it is settled, else 0 with the
+ * next iterate in *x (and *above = the old x). */
+static int laguerre_step(int n, double g, double h, double tol, double dmax, double *x, double *above, double *out) {
+  *above = *x;
+  double disc = (n - 1) * (n * h - g * g);
+  double step = n / (g + sqrt(disc > 0 ? disc : 0));
+  if (!(step > tol)) return *out = *above, 1;
+  *x = fmax(*x - step, dmax);
+  if (*x >= *above) return *out = *above, 1;
+  return 0;
+}
+
+static double tri_max_fast(int n, const double *d, const double *e) {
+  double lo, hi, dmax, e2[DTM_K_DOF], out;
+  gershgorin(n, d, e, &lo, &hi, &dmax, e2);
+  double tol = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x = hi, above = hi;
+  for (int it = 0; it < 16; it++) {
+    double g, h;
+    if (!laguerre_sums(n, d, e2, x, &g, &h)) {
+      /* x is not above the top, which lies in [x, above]: rounding in the
+       * last, converged step, as a rule; then x + 4 tol is above it */
+      if (x + 4 * tol < above && laguerre_sums(n, d, e2, x + 4 * tol, &g, &h)) return x + 4 * tol;
+      break;
+    }
+    if (laguerre_step(n, g, h, tol, dmax, &x, &above, &out)) return out;
+  }
+  return bisect_tail(n, d, e2, x, dmax, above, tol);
 }
 
 /* Reduce a (scaled by its largest entry s, returned) to the tridiagonal
@@ -189,4 +210,171 @@ double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e) { retu
 double dtm_eig_sym_max_tridiag_bisect(int n, double *a) {
   double d[DTM_K_DOF], e[DTM_K_DOF], s = reduce(n, a, d, e, 1);
   return s == 0 || s != s ? s : s * tri_max(n, d, e);
+}
+
+/* ---- four matrices at once, one per vector lane ----
+ * The same reduction as reduce() with divide = 0, written on vectors of
+ * four doubles (GCC's vector extension, as src/spectral/operator.c): lane
+ * l of every vector belongs to matrix l, and every operation is the
+ * scalar one applied lane by lane in the same order, so each lane's
+ * tridiagonal is bitwise the one reduce() gives its matrix alone. Only
+ * the lower triangle is kept, packed by rows (row r starts at r (r + 1) /
+ * 2), which holds n = 81 in 104 kB. The one branch of reflect (a column
+ * already zero) becomes a per-lane choice: such a lane gets beta = 0,
+ * which leaves its trailing block unchanged, as the early return does.
+ * Laguerre's search stays scalar per lane: O(n) per step against the
+ * reduction's 4 n^3 / 3. */
+typedef double v4d __attribute__((vector_size(32)));
+#define LANES 4
+
+static v4d *packed_row(v4d *a, int r) { return a + r * (r + 1) / 2; }
+
+/* reflect() on the four lanes of the packed a (n x n): the new subdiagonal
+ * entries into e_k[4]. */
+#define INLINE static inline __attribute__((always_inline))
+
+INLINE void reflect4(int n, v4d *a, int k, double e_k[LANES]) {
+  v4d v[DTM_K_DOF], p[DTM_K_DOF], xx = {0, 0, 0, 0}, K = {0, 0, 0, 0};
+  int m = n - k - 1;
+  v[0] = packed_row(a, k + 1)[k];
+  for (int i = 1; i < m; i++) v[i] = packed_row(a, k + 1 + i)[k], xx += v[i] * v[i];
+  xx += v[0] * v[0];
+  v4d alpha, beta;
+  for (int l = 0; l < LANES; l++) alpha[l] = v[0][l] > 0 ? -sqrt(xx[l]) : sqrt(xx[l]);
+  v4d vv = xx - v[0] * v[0] + (v[0] - alpha) * (v[0] - alpha);
+  v[0] -= alpha;
+  for (int l = 0; l < LANES; l++) {
+    int live = vv[l] > 0; /* else the column is already zero: no reflection in this lane */
+    e_k[l] = live ? alpha[l] : v[0][l] + alpha[l];
+    beta[l] = live ? 2 / vv[l] : 0;
+  }
+  for (int i = 0; i < m; i++) p[i] = (v4d){0, 0, 0, 0};
+  for (int i = 0; i < m; i++) {
+    const v4d *row = packed_row(a, k + 1 + i) + k + 1;
+    v4d s = {0, 0, 0, 0};
+    for (int j = 0; j < i; j++) s += row[j] * v[j], p[j] += row[j] * v[i];
+    p[i] += s + row[i] * v[i];
+  }
+  for (int i = 0; i < m; i++) p[i] *= beta, K += v[i] * p[i];
+  K *= beta / 2;
+  for (int i = 0; i < m; i++) p[i] -= K * v[i];
+  for (int i = 0; i < m; i++) {
+    v4d *row = packed_row(a, k + 1 + i) + k + 1;
+    for (int j = 0; j <= i; j++) row[j] -= v[i] * p[j] + p[i] * v[j];
+  }
+}
+
+/* The reflections of the four lanes, subdiagonals into e[l][k]. */
+INLINE void reflections4(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+  double ek[LANES];
+  for (int k = 0; k + 2 < n; k++) {
+    reflect4(n, A, k, ek);
+    for (int l = 0; l < LANES; l++) e[l][k] = ek[l];
+  }
+}
+
+/* The build targets the x86-64 baseline (SSE2: a vector of four doubles is
+ * two instructions); where the processor has AVX the same code compiled
+ * for it does each in one. AVX has no fused multiply-add (and C11 mode does
+ * not contract), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void reflections4_avx(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+  reflections4(n, A, e);
+}
+#endif
+
+static void reduce4(int n, v4d *A, double (*e)[DTM_K_DOF]) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx")) {
+    reflections4_avx(n, A, e);
+    return;
+  }
+#endif
+  reflections4(n, A, e);
+}
+
+typedef long long v4l __attribute__((vector_size(32)));
+
+/* laguerre_sums at x[l] on the tridiagonal of every lane (D[i], E2[i]
+ * holding the lanes' d[i], e2[i]): g, h per lane, ok[l] = 0 where a pivot
+ * is not positive (that lane's g, h are then meaningless, as laguerre_sums
+ * returns 0 there). Lane by lane the scalar operations in their order. */
+static void laguerre_sums4(int n, const v4d *D, const v4d *E2, const double x[LANES], double g[LANES], double h[LANES],
+                           int ok[LANES]) {
+  const v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  v4d X = {x[0], x[1], x[2], x[3]}, p = one, dp = zero, ddp = zero, G = zero, H = zero;
+  v4l good = {-1, -1, -1, -1};
+  for (int i = 0; i < n; i++) {
+    v4d r = i ? E2[i - 1] / p : zero, sp = i ? r / p : zero;
+    v4d q = X - D[i] - r, dq = one + sp * dp, ddq = i ? sp * (ddp - 2 * dp * dp / p) : zero;
+    good &= q > zero;
+    v4d u = dq / q;
+    G += u, H += u * u - ddq / q;
+    p = q, dp = dq, ddp = ddq;
+  }
+  for (int l = 0; l < LANES; l++) g[l] = G[l], h[l] = H[l], ok[l] = good[l] != 0;
+}
+
+/* tri_max_fast of the live lanes of (d, e), their Laguerre sums four at a
+ * time (a chain of divisions each: four chains in flight instead of one);
+ * every lane takes the scalar steps and ends as tri_max_fast does. */
+static void tri_max_fast4(int n, double (*d)[DTM_K_DOF], double (*e)[DTM_K_DOF], const int *live, double *out) {
+  v4d D[DTM_K_DOF], E2[DTM_K_DOF];
+  double e2[LANES][DTM_K_DOF], lo, hi, dmax[LANES], tol[LANES], x[LANES], above[LANES], g[LANES], h[LANES];
+  int state[LANES], ok[LANES], going = 0; /* state: 0 Laguerre, 1 done, 2 bisection */
+  for (int l = 0; l < LANES; l++) {
+    state[l] = live[l] ? 0 : 1, going += live[l];
+    if (!live[l]) { /* a harmless tridiagonal: zeros, x = 1 */
+      for (int i = 0; i < n; i++) d[l][i] = e2[l][i] = 0;
+      x[l] = 1;
+      continue;
+    }
+    gershgorin(n, d[l], e[l], &lo, &hi, &dmax[l], e2[l]);
+    tol[l] = 2 * DBL_EPSILON * fmax(fabs(lo), fabs(hi)), x[l] = above[l] = hi;
+  }
+  for (int i = 0; i < n; i++)
+    for (int l = 0; l < LANES; l++) D[i][l] = d[l][i], E2[i][l] = i + 1 < n ? e2[l][i] : 0;
+  for (int it = 0; it < 16 && going; it++) {
+    laguerre_sums4(n, D, E2, x, g, h, ok);
+    for (int l = 0; l < LANES; l++) {
+      if (state[l]) continue;
+      if (!ok[l]) {
+        double t = x[l] + 4 * tol[l], gg, hh;
+        state[l] = t < above[l] && laguerre_sums(n, d[l], e2[l], t, &gg, &hh) ? (out[l] = t, 1) : 2;
+      } else if (laguerre_step(n, g[l], h[l], tol[l], dmax[l], &x[l], &above[l], &out[l]))
+        state[l] = 1;
+      going -= state[l] != 0;
+    }
+  }
+  for (int l = 0; l < LANES; l++)
+    if (state[l] != 1) out[l] = bisect_tail(n, d[l], e2[l], x[l], dmax[l], above[l], tol[l]);
+}
+
+void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda) {
+  v4d A[DTM_K_DOF * (DTM_K_DOF + 1) / 2];
+  double s[LANES], r[LANES], d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF];
+  int live[LANES];
+  for (int l = 0; l < LANES; l++) {
+    s[l] = 0, live[l] = l < count;
+    for (int i = 0; live[l] && i < n * n; i++) {
+      if (!isfinite(a[l][i])) { /* a NaN would not compare */
+        s[l] = NAN;
+        break;
+      }
+      s[l] = fabs(a[l][i]) > s[l] ? fabs(a[l][i]) : s[l];
+    }
+    live[l] = live[l] && s[l] > 0; /* else the answer is s: 0 or NaN */
+    r[l] = live[l] ? 1 / s[l] : 0; /* a lane without a matrix holds zeros: no reflection touches it */
+  }
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j <= i; j++)
+      for (int l = 0; l < LANES; l++) packed_row(A, i)[j][l] = live[l] ? a[l][i * n + j] * r[l] : 0;
+  reduce4(n, A, e);
+  for (int l = 0; l < LANES; l++) {
+    if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
+    for (int i = 0; i < n; i++) d[l][i] = packed_row(A, i)[i][l];
+  }
+  double top[LANES];
+  tri_max_fast4(n, d, e, live, top);
+  for (int l = 0; l < count; l++) lambda[l] = live[l] ? s[l] * top[l] : s[l];
 }
