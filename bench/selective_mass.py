@@ -48,19 +48,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "cad"))
 
 import corpus  # noqa: E402
+from survey import SCENE  # noqa: E402  (the corpus survey's scene: steel, eigen lengths)
 
 PARTS = ["thin_blend_plate", "thin_blend_shell", "sheet_clamp", "as1_l_bracket", "as1_plate", "ski_part"]
 TETS_AIM = 2500
 
-SCENE = """<?xml version="1.0" encoding="UTF-8"?>
-<dtmap-scene version="1">
-  <geometry file="{geo}"/>
-  <meshing dim="3" size="{size:.6g}"/>
-  <material name="steel" default="true" E="210e9" nu="0.3" rho="7850"/>
-  <effects><elastic formulation="3d" length="eigen"/></effects>
-  <time safety="0.9" duration="1e-3"/>
-</dtmap-scene>
-"""
 
 
 def bring(parts, out, mirrors):

@@ -23,30 +23,13 @@ mass unchanged. A step within 0.9 x LS-DYNA's estimate needs no scaling
 (the Brazilian disc): no DT2MS, no second card, and the header says so.
 Fails on the code before: it has no --selective-mass (exit 2)."""
 
-import math
 import os
 import unittest
 
 import deckread
+from barmodel import BAR, C_D, E, NU, RHO, SCENE
 import testutil as tu
 
-BAR = """Point(1) = {0, 0, 0};
-l[] = Extrude {0.12, 0, 0} { Point{1}; Layers{ {4, 4}, {0.3333333333333333, 1} }; };
-s[] = Extrude {0, 0.04, 0} { Line{l[1]}; Layers{2}; Recombine; };
-v[] = Extrude {0, 0, 0.04} { Surface{s[1]}; Layers{2}; Recombine; };
-Physical Volume("bar") = {v[1]};
-"""
-SCENE = """<?xml version="1.0"?>
-<dtmap-scene version="1">
-  <geometry file="bar.geo"/>
-  <meshing dim="3"/>
-  <material name="steel" groups="bar" E="%r" nu="%r" rho="%r"/>
-  <effects><elastic formulation="3d"/></effects>
-  <time duration="1e-4"/>
-</dtmap-scene>
-"""
-E, NU, RHO = 210e9, 0.3, 7850.0
-C_D = math.sqrt(E * (1 - NU) / (RHO * (1 + NU) * (1 - 2 * NU)))
 BOX = os.path.join(tu.SRC, "geometries", "box.xml")
 
 
