@@ -12,7 +12,9 @@ no mesh refine tries meets the target (--max-iter 1 keeps it short). Checks:
   masses and selective mass), exits 1 (the written mesh falls short) and
   says in its error that the selective way meets the target;
 - the selective way's recommended step meets the target on a proven or
-  probable bound, and every figure of its selective_mass object equals
+  probable bound, its cost against the input is the kept mesh's elements x
+  ceil(duration / its step) x the mass solves' runtime factor over the
+  input's element-steps (1e-12), and every figure of its selective_mass object equals
   `dtmap run --selective-mass --target T --modes 3` on the kept mesh as
   refine wrote it (1e-9 relative: the same mesh read back, the same Lanczos
   seed, tolerance and steps; only the measured wall times differ), as do the
@@ -137,6 +139,15 @@ class RefineSelective(tu.unittest.TestCase):
         self.assertGreaterEqual(sm["recommended"], self.target)
         self.assertEqual(self.way["round"], self.rep["refine"]["best"])
         self.assertLess(self.way["lumped_recommended"], self.target)
+        # its cost against the input, as refine judges a round: elements x ceil(duration / step), times the
+        # runtime factor of the mass solves (1e-12: the same arithmetic)
+        rounds = self.rep["refine"]["rounds"]
+        kept, steps = rounds[self.way["round"]], math.ceil(1e-4 / sm["recommended"])
+        cost = kept["elements"] * steps * sm["cost"]["runtime_factor"] / rounds[0]["element_steps"]
+        self.assertLessEqual(rel(self.way["cost_ratio"], cost), 1e-12)
+        self.assertLessEqual(rel(self.way["runtime_ratio"],
+                                 sm["cost"]["runtime_factor"] * self.way["lumped_recommended"] / sm["recommended"]),
+                             1e-12)
 
     def test_equals_run_on_kept_mesh(self):
         def same(a, b, where):

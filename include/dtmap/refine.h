@@ -191,6 +191,11 @@ DTM_EXPORT const char *dtm_refine_stop_text(int stop);
 /* The cost a round is judged by: its element-steps, or its rate without a
  * duration. */
 DTM_EXPORT double dtm_refine_cost(const dtm_refine_round *r);
+/* The cost of the way mesh + selective mass (rr->selective DONE; NaN
+ * otherwise), judged as dtm_refine_cost judges a round: the scaled mesh's
+ * element-steps at the scaled recommended step (its rate without a
+ * duration), times the runtime factor of the mass solves. */
+DTM_EXPORT double dtm_refine_selective_cost(const dtm_refine_result *rr);
 /* The uniform strategy's next size past its list of sizes, m, from the
  * rounds run so far: while the target is not met, the largest uniform size
  * tried is also the uniform round of the largest step, judged on refine's

@@ -219,14 +219,12 @@ static const char *const cert_words[] = {"an estimate", "PROVEN", "too dear", "u
  * per step the mass solves take), or why there is none. */
 static void print_selective_way(const dtm_refine_result *rr, double c0) {
   const dtm_refine_selective *w = &rr->selective;
-  const dtm_refine_round *b = &rr->rounds[w->round];
   int short_of = rr->rounds[rr->best].kind != DTM_ROUND_MESH || rr->rounds[rr->best].recommended < rr->target;
   if (w->state == DTM_REFINE_SMS_DONE) {
-    double steps = dtm_refine_cost(b) * (b->recommended / w->sms.recommended);
     printf("  mesh + selective mass: round %d scaled, recommended %.4e s (%s), target %s, cost x%.3f of the input with "
            "the mass solves\n",
            w->round, w->sms.recommended, cert_words[w->sms.global.certified], w->sms.target_met ? "met" : "NOT met",
-           steps * w->sms.runtime_factor / c0);
+           dtm_refine_selective_cost(rr) / c0);
   } else if (w->state == DTM_REFINE_SMS_REFUSED) {
     printf("  mesh + selective mass: refused: %s\n", w->why);
   } else if (w->state == DTM_REFINE_SMS_NOT_NEEDED) {

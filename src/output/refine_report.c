@@ -134,13 +134,11 @@ static cJSON *selective_way_json(const dtm_results *r) {
   cJSON_AddStringToObject(o, "state", sms_states[w->state]);
   if (w->state == DTM_REFINE_SMS_REFUSED) cJSON_AddStringToObject(o, "why", w->why);
   if (w->state != DTM_REFINE_SMS_DONE) return o;
-  const dtm_refine_round *b = &rr->rounds[w->round];
-  double steps = dtm_refine_cost(b) * (b->recommended / w->sms.recommended);
   dtm_results one = *r;
   one.selective_mass = &w->sms;
   cJSON_AddNumberToObject(o, "round", w->round);
   cJSON_AddNumberToObject(o, "lumped_recommended", w->lumped);
-  cJSON_AddNumberToObject(o, "cost_ratio", steps * w->sms.runtime_factor / dtm_refine_cost(&rr->rounds[0]));
+  cJSON_AddNumberToObject(o, "cost_ratio", dtm_refine_selective_cost(rr) / dtm_refine_cost(&rr->rounds[0]));
   cJSON_AddNumberToObject(o, "runtime_ratio", w->sms.runtime_factor * w->lumped / w->sms.recommended);
   cJSON_AddItemToObject(o, "conventional", conventional_json(w));
   cJSON_AddItemToObject(o, "selective_mass", dtm_report_selective_mass(&one));

@@ -63,6 +63,15 @@ int dtm_refine_selective_way(dtm_refine_result *rr) {
   return modes(rr);
 }
 
+double dtm_refine_selective_cost(const dtm_refine_result *rr) {
+  const dtm_refine_selective *w = &rr->selective;
+  if (w->state != DTM_REFINE_SMS_DONE) return NAN;
+  const dtm_refine_round *b = &rr->rounds[w->round];
+  double d = rr->scene.duration, rec = w->sms.recommended;
+  double c = d > 0 ? (double)b->elements * ceil(d / rec) : (double)b->elements / rec;
+  return c * w->sms.runtime_factor;
+}
+
 void dtm_refine_selective_free(dtm_refine_result *rr) {
   if (rr->selective.modes) dtm_modes_price_free(rr->selective.modes);
   free(rr->selective.modes);
