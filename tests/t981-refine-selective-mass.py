@@ -24,6 +24,8 @@ no mesh refine tries meets the target (--max-iter 1 keeps it short). Checks:
 - its translational mass equals the model's, rho V of the kept mesh's
   tetrahedra summed here from the .msh by Gmsh's Python API (1e-12: the
   same sum in another order), while the point masses change it;
+- with --max-added-mass the mass round is kept (exit 0), and the selective
+  way is of the mesh before its point masses: the same figures (1e-9);
 - without --selective-mass one line says the way exists and the report's
   field is null; with it and a target the input meets, the way is "not
   needed";
@@ -184,6 +186,23 @@ class RefineSelective(tu.unittest.TestCase):
         self.assertGreater(min(m["added_mass"]), 0)
         self.assertGreater(self.way["conventional"]["added_percent"], 1)
         self.assertIn("unchanged", self.log)
+
+    def test_with_point_masses(self):
+        """--max-added-mass beside it: the mass round is kept (exit 0) and the selective way is of the same mesh
+        before its point masses: the same figures as without them (1e-9, wall times aside)."""
+        code, log = tu.run("refine", "slab.xml", "--target", "%.12e" % self.target, "--max-iter", "1",
+                           "--selective-mass", "--max-added-mass", "60", "-o", "massr.msh", "--report", "massr.json")
+        self.assertEqual(code, 0, log)
+        rr = tu.report("massr.json")["refine"]
+        self.assertEqual(rr["met_by"], "mesh and point masses")
+        way = rr["ways"]["mesh_and_selective_mass"]
+        self.assertEqual(way["round"], self.way["round"])
+        for key in ("recommended", "element_target"):
+            self.assertLessEqual(rel(way["selective_mass"][key], self.way["selective_mass"][key]), 1e-9)
+        for key in ("translational_mass", "translational_mass_lumped"):
+            self.assertLessEqual(rel(way["selective_mass"]["mass"][key], self.way["selective_mass"]["mass"][key]),
+                                 1e-9)
+        self.assertIn("the selective figures are of the mesh without them", log)
 
     def test_without_flag_and_not_needed(self):
         code, log = tu.run("refine", "slab.xml", "--target", "%.12e" % self.target, "--max-iter", "1", "-o",
