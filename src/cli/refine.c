@@ -226,9 +226,10 @@ static void print_selective_way(const dtm_refine_result *rr, double c0) {
            w->round, w->sms.recommended, cert_words[w->sms.global.certified], w->sms.target_met ? "met" : "NOT met",
            dtm_refine_selective_cost(rr) / c0);
   } else if (w->state == DTM_REFINE_SMS_REFUSED) {
-    printf("  mesh + selective mass: refused: %s\n", w->why);
+    printf("  mesh + selective mass: refused: %s%s\n", w->why, rr->options.modes ? " (--modes: nothing to price)" : "");
   } else if (w->state == DTM_REFINE_SMS_NOT_NEEDED) {
-    printf("  mesh + selective mass: not needed (a mesh meets the target)\n");
+    printf("  mesh + selective mass: not needed (a mesh meets the target)%s\n",
+           rr->options.modes ? "; --modes prices it only where no mesh does" : "");
   } else if (short_of && rr->rounds[0].recommended < rr->target) {
     printf("  mesh + selective mass: not tried (--selective-mass scales the kept mesh to the target, its translational "
            "mass unchanged)\n");
