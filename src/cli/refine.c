@@ -256,7 +256,7 @@ static void print_selective_compare(const dtm_refine_result *rr) {
          "added mass), target %.4e s:\n",
          w->round, w->lumped, rr->target);
   compare_row("", "point masses (deck --target's rule)", "selective mass scaling");
-  if (isfinite(w->conventional_percent))
+  if (isfinite(w->conventional_percent)) /* NaN: no nodal bound */
     snprintf(a, sizeof a, "every nodal bound lifted to %.4e s", rr->target / rr->scene.safety);
   else
     snprintf(a, sizeof a, "no nodal bound: not computed");
@@ -267,13 +267,16 @@ static void print_selective_compare(const dtm_refine_result *rr) {
   snprintf(b, sizeof b, "%.4e s = %.2f x global: target %s", m->recommended, rr->scene.safety,
            m->target_met ? "met" : "NOT met");
   compare_row("recommended", a, b);
+  int conv = isfinite(w->conventional_percent);
   snprintf(a, sizeof a, "+%.4g %% of the model's mass (%.4g %s, %zu nodes)", w->conventional_percent,
            w->conventional_added, M, w->conventional_nodes);
+  if (!conv) snprintf(a, sizeof a, "-");
   int n = snprintf(b, sizeof b, "trace(M_add)/trace(M)");
   for (int c = 0; c < st->ncomp && n > 0 && (size_t)n < sizeof b; c++)
     n += snprintf(b + n, sizeof b - (size_t)n, " %c %.3g %%", "xyz"[c], 100 * st -> trace_add[c] / st -> trace_mass[c]);
   compare_row("added mass", a, b);
   snprintf(a, sizeof a, "+%.4g %% (every rigid translation slower)", w->conventional_percent);
+  if (!conv) snprintf(a, sizeof a, "-");
   snprintf(b, sizeof b, "%.6g %s, the model's %.6g %s: %s", st->translational, M, st->translational_m, M,
            fabs(st->translational - st->translational_m) <= 1e-9 * st->translational_m ? "unchanged" : "CHANGED");
   compare_row("translational", a, b);
@@ -282,6 +285,7 @@ static void print_selective_compare(const dtm_refine_result *rr) {
            m->cg_iterations, m->product_ratio);
   compare_row("time per step", a, b);
   snprintf(a, sizeof a, "x%.3f of the kept mesh's at its own step", w->lumped / rr->target);
+  if (!conv) snprintf(a, sizeof a, "-");
   snprintf(b, sizeof b, "x%.3f", m->runtime_factor * w->lumped / m->recommended);
   compare_row("run time", a, b);
   printf("  the selective mass is not written into the mesh (no view holds it): to run it, a scene with the kept mesh "
