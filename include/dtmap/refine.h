@@ -21,6 +21,7 @@
 #include <stddef.h>
 
 #include "dtmap/analysis.h"
+#include "dtmap/cost.h"
 #include "dtmap/export.h"
 #include "dtmap/gmsh.h"
 
@@ -97,7 +98,31 @@ typedef struct dtm_refine_options_s {
   int keep_counts;       /* 1: leave the model's transfinite node counts as they are */
   unsigned optimise;     /* Gmsh's optimiser passes after each remesh (DTM_OPTIMISE_* bits; 0:
                             DTM_REFINE_OPTIMISE) */
+  int selective_mass;    /* 1: where no mesh meets the target, the kept mesh scaled selectively to it
+                            (dtm_analysis_selective_mass), beside point masses (the way mesh + selective mass) */
+  int modes;             /* with selective_mass: the lowest modes elastic frequencies of the kept mesh and their
+                            shifts under point masses and under the selective mass (0: none) */
 } dtm_refine_options;
+
+/* The way mesh + selective mass (dtm_refine_options.selective_mass). */
+enum {
+  DTM_REFINE_SMS_NOT_ASKED = 0,  /* selective_mass was 0 */
+  DTM_REFINE_SMS_NOT_NEEDED = 1, /* a mesh met the target */
+  DTM_REFINE_SMS_REFUSED = 2,    /* the scene has shells or beams, or no elastic effect (sms_why says which) */
+  DTM_REFINE_SMS_DONE = 3        /* computed: sms, sms_conventional, modes */
+};
+typedef struct {
+  int state;                   /* DTM_REFINE_SMS_* */
+  char why[320];               /* REFUSED: dtm_analysis_selective_mass's reason */
+  int round;                   /* DONE: the round whose mesh is scaled (the kept mesh before any mass round) */
+  double lumped;               /* DONE: that mesh's recommended step without added mass, s */
+  dtm_selective_mass sms;      /* DONE: the scaled model (the options' tol and Lanczos steps, the analysis's seed) */
+  double conventional_added;   /* DONE: point masses by deck --target's rule (every nodal bound lifted to target /
+                                  safety, dtm_mass_scaling_nodal), kg (per unit thickness in 2D) */
+  double conventional_percent; /* ... their share of the mass of the analysed elements, % (NaN: no nodal bound) */
+  size_t conventional_nodes;   /* ... the nodes that get some */
+  dtm_modes_price *modes; /* DONE with options.modes: the frequencies and their shifts under both (owned), or NULL */
+} dtm_refine_selective;
 
 /* The optimiser passes refine runs by default: none, since none paid in
  * Debian's Gmsh 4.8 (bench/refine_optimisers.sh, docs/refine-survey.md: in
@@ -141,6 +166,7 @@ typedef struct dtm_refine_result {
   double element_bound;                           /* safety x the kept mesh's element bound, s: about
                                                      what an element-by-element solver estimate
                                                      gives it (the step must be fixed above it) */
+  dtm_refine_selective selective;                 /* the way mesh + selective mass */
 } dtm_refine_result;
 
 /* Round 0 is the scene's own mesh; then the strategies while the target
@@ -153,7 +179,10 @@ typedef struct dtm_refine_result {
  * mesh is the met round of least cost, else the round of the largest
  * recommended step among those costing no more than round 0. With
  * point masses, the kept analysis carries them (dtm_analysis_point_masses).
- * DTM_ERR_INPUT for a bad target or mass limit, or o->global on a scene
+ * With o->selective_mass, where no mesh meets the target, the kept mesh
+ * (before any point masses) is scaled selectively to the target
+ * (rr->selective; shells, beams or no elastic effect: REFUSED with the
+ * reason, not an error). DTM_ERR_INPUT for a bad target or mass limit, or o->global on a scene
  * none of whose effects has a global estimate. */
 DTM_EXPORT int dtm_refine_run(const dtm_scene *s, const dtm_refine_options *o, dtm_refine_result **out);
 DTM_EXPORT void dtm_refine_destroy(dtm_refine_result **r);
@@ -162,6 +191,11 @@ DTM_EXPORT const char *dtm_refine_stop_text(int stop);
 /* The cost a round is judged by: its element-steps, or its rate without a
  * duration. */
 DTM_EXPORT double dtm_refine_cost(const dtm_refine_round *r);
+/* The cost of the way mesh + selective mass (rr->selective DONE; NaN
+ * otherwise), judged as dtm_refine_cost judges a round: the scaled mesh's
+ * element-steps at the scaled recommended step (its rate without a
+ * duration), times the runtime factor of the mass solves. */
+DTM_EXPORT double dtm_refine_selective_cost(const dtm_refine_result *rr);
 /* The uniform strategy's next size past its list of sizes, m, from the
  * rounds run so far: while the target is not met, the largest uniform size
  * tried is also the uniform round of the largest step, judged on refine's

@@ -130,6 +130,10 @@ static const cli_option refine_options[] = {
      "keep the model's transfinite node counts (default: refine sets them)"},
     {"--optimise", CLI_STRING, OPT(optimise), 0, 0, 0, "LIST",
      "Gmsh's optimisers after each remesh, of gmsh,netgen,relocate,laplace, or none (default: none)"},
+    {"--selective-mass", CLI_FLAG, OPT(selective_mass), 1, 0, 0, NULL,
+     "where no mesh meets the target, also the kept mesh with selective mass scaling to it, beside point masses"},
+    {"--modes", CLI_INT, OPT(modes), 0, 1, 200, "N",
+     "with --selective-mass: the lowest N elastic frequencies of the kept mesh and their shifts under each way"},
     TOP_OPTION,
     LANCZOS_OPTIONS,
     FORMAT_OPTION,
@@ -218,8 +222,8 @@ const cli_command dtm_cli_commands[] = {
      verify_options, dtm_cli_verify},
     {"refine",
      "SCENE.xml [--target DT] [-o OUT.msh] [--report R.json] [--max-iter K] [--posterior [--tol T] [--lanczos-max K]] "
-     "[--max-added-mass P] [--keep-counts] [--optimise LIST] [--top N] [--format F] [--verified V.json,... "
-     "[--calibrate]] [-j N] [-v|-q]",
+     "[--max-added-mass P] [--selective-mass [--modes N]] [--keep-counts] [--optimise LIST] [--top N] [--format F] "
+     "[--verified V.json,... [--calibrate]] [-j N] [-v|-q]",
      "Remeshes the scene's geometry with the size suggestion for the target step (the\n"
      "current size where a node meets it, the larger size that reaches it elsewhere) as\n"
      "the background size field, with the node counts of transfinite curves set from it,\n"
@@ -229,7 +233,11 @@ const cli_command dtm_cli_commands[] = {
      "told to use. An input that meets DT is kept as it is. It stops when a round raises\n"
      "the cost without reaching DT, or when nothing a remesh changes limits the step;\n"
      "with --max-added-mass P point masses at the nodes that need them make up the rest,\n"
-     "up to P % of the model's mass (view 'added mass at nodes'). Exit 1 if DT is not met.",
+     "up to P % of the model's mass (view 'added mass at nodes'). With --selective-mass\n"
+     "the kept mesh scaled selectively to DT is shown beside them (its step and certificate,\n"
+     "added mass, solver cost, with --modes N the frequency shifts); it is not written into\n"
+     "the mesh: dtmap deck --selective-mass gives it to a solver. Exit 1 if the written\n"
+     "mesh does not meet DT.",
      refine_options, dtm_cli_refine},
     {"sweep",
      "SCENE.xml --sizes h1,h2,... [--csv F] [--plot F.png] [--verified V.json,... [--calibrate]] [-j N] [-v|-q]",

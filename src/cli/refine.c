@@ -212,6 +212,90 @@ static void print_basis_note(const dtm_refine_result *rr) {
          rr->element_bound, b->recommended / rr->element_bound);
 }
 
+static const char *const cert_words[] = {"an estimate", "PROVEN", "too dear", "unavailable", "refuted", "PROBABLE"};
+
+/* The way mesh + selective mass in the list of ways: its round, step and
+ * cost (the kept mesh's element-steps at the scaled step, times the time
+ * per step the mass solves take), or why there is none. */
+static void print_selective_way(const dtm_refine_result *rr, double c0) {
+  const dtm_refine_selective *w = &rr->selective;
+  int short_of = rr->rounds[rr->best].kind != DTM_ROUND_MESH || rr->rounds[rr->best].recommended < rr->target;
+  if (w->state == DTM_REFINE_SMS_DONE) {
+    printf("  mesh + selective mass: round %d scaled, recommended %.4e s (%s), target %s, cost x%.3f of the input with "
+           "the mass solves\n",
+           w->round, w->sms.recommended, cert_words[w->sms.global.certified], w->sms.target_met ? "met" : "NOT met",
+           dtm_refine_selective_cost(rr) / c0);
+  } else if (w->state == DTM_REFINE_SMS_REFUSED) {
+    printf("  mesh + selective mass: refused: %s%s\n", w->why, rr->options.modes ? " (--modes: nothing to price)" : "");
+  } else if (w->state == DTM_REFINE_SMS_NOT_NEEDED) {
+    printf("  mesh + selective mass: not needed (a mesh meets the target)%s\n",
+           rr->options.modes ? "; --modes prices it only where no mesh does" : "");
+  } else if (short_of && rr->rounds[0].recommended < rr->target) {
+    printf("  mesh + selective mass: not tried (--selective-mass scales the kept mesh to the target, its translational "
+           "mass unchanged)\n");
+  }
+}
+
+/* One row of the comparison: a label and the two ways' texts. */
+static void compare_row(const char *label, const char *mass, const char *sms) {
+  printf("  %-15s %-52s %s\n", label, mass, sms);
+}
+
+/* mesh + mass against mesh + selective mass on the kept mesh, side by
+ * side: the step and what vouches for it, the target, the added mass, the
+ * time per step and the run time against the kept mesh at its own step;
+ * then how to use the selective way. */
+static void print_selective_compare(const dtm_refine_result *rr) {
+  const dtm_refine_selective *w = &rr->selective;
+  if (w->state != DTM_REFINE_SMS_DONE) return;
+  const dtm_selective_mass *m = &w->sms;
+  const dtm_sms_stats *st = &m->stats;
+  const char *M = dtm_scene_mass_unit(&rr->scene, dtm_analysis_mesh(rr->analysis)->dim);
+  char a[160], b[200];
+  printf("\nmesh + mass against mesh + selective mass on the kept mesh (round %d, recommended step %.4e s without "
+         "added mass), target %.4e s:\n",
+         w->round, w->lumped, rr->target);
+  compare_row("", "point masses (deck --target's rule)", "selective mass scaling");
+  if (isfinite(w->conventional_percent)) /* NaN: no nodal bound */
+    snprintf(a, sizeof a, "every nodal bound lifted to %.4e s", rr->target / rr->scene.safety);
+  else
+    snprintf(a, sizeof a, "no nodal bound: not computed");
+  snprintf(b, sizeof b, "global %.4e s, %s (Lanczos %d steps)", m->global.dt, cert_words[m->global.certified],
+           m->global.iterations);
+  compare_row("step (undamped)", a, b);
+  snprintf(a, sizeof a, "%s", isfinite(w->conventional_percent) ? "the target, met (by the rule's construction)" : "-");
+  snprintf(b, sizeof b, "%.4e s = %.2f x global: target %s", m->recommended, rr->scene.safety,
+           m->target_met ? "met" : "NOT met");
+  compare_row("recommended", a, b);
+  int conv = isfinite(w->conventional_percent);
+  snprintf(a, sizeof a, "+%.4g %% of the model's mass (%.4g %s, %zu nodes)", w->conventional_percent,
+           w->conventional_added, M, w->conventional_nodes);
+  if (!conv) snprintf(a, sizeof a, "-");
+  int n = snprintf(b, sizeof b, "trace(M_add)/trace(M)");
+  for (int c = 0; c < st->ncomp && n > 0 && (size_t)n < sizeof b; c++)
+    n += snprintf(b + n, sizeof b - (size_t)n, " %c %.3g %%", "xyz"[c], 100 * st -> trace_add[c] / st -> trace_mass[c]);
+  compare_row("added mass", a, b);
+  snprintf(a, sizeof a, "+%.4g %% (every rigid translation slower)", w->conventional_percent);
+  if (!conv) snprintf(a, sizeof a, "-");
+  snprintf(b, sizeof b, "%.6g %s, the model's %.6g %s: %s", st->translational, M, st->translational_m, M,
+           fabs(st->translational - st->translational_m) <= 1e-9 * st->translational_m ? "unchanged" : "CHANGED");
+  compare_row("translational", a, b);
+  snprintf(a, sizeof a, "%s", "x1 (the mass stays diagonal)");
+  snprintf(b, sizeof b, "x%.2f (%.1f CG iterations per mass solve, an M_s product %.2f K products)", m->runtime_factor,
+           m->cg_iterations, m->product_ratio);
+  compare_row("time per step", a, b);
+  snprintf(a, sizeof a, "x%.3f of the kept mesh's at its own step", w->lumped / rr->target);
+  if (!conv) snprintf(a, sizeof a, "-");
+  snprintf(b, sizeof b, "x%.3f", m->runtime_factor * w->lumped / m->recommended);
+  compare_row("run time", a, b);
+  printf("  the selective mass is not written into the mesh (no view holds it): to run it, a scene with the kept mesh "
+         "as its <mesh> and\n    dtmap deck SCENE.xml --solver calculix|lsdyna --target %.4e --selective-mass\n",
+         rr->target);
+  if (rr->rounds[rr->best].kind == DTM_ROUND_MASS)
+    printf("  (the mesh written carries the point masses of mesh + mass; the selective figures are of the mesh "
+           "without them)\n");
+}
+
 /* The ways found to reach the target, cheapest first among those that
  * do: the mesh alone, the mesh with point masses, subcycling on the kept
  * mesh (the ideal speed-up of its levels). */
@@ -239,6 +323,7 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
            rr->options.max_added_mass);
   else if (!(rr->options.max_added_mass > 0) && mesh < 0 && rr->rounds[0].recommended < rr->target)
     printf("  mesh + mass:     not tried (--max-added-mass P allows P %% of the model's mass at the nodes)\n");
+  print_selective_way(rr, c0);
   if (cost && cost->subcycling.speedup > 1.0005)
     printf("  subcycling:      the kept mesh's levels, ideal speed-up %.2fx (cost x%.3f of the input)\n",
            cost->subcycling.speedup, dtm_refine_cost(&rr->rounds[rr->best]) / cost->subcycling.speedup / c0);
@@ -247,9 +332,9 @@ static void print_ways(const dtm_refine_result *rr, const dtm_cost *cost) {
 static int report_rounds(const dtm_refine_result *rr, const cli_opts *o) {
   dtm_cost *cost = NULL;
   DTM_CHECK(dtm_cost_create(rr->analysis, &cost));
-  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o), 0, {NULL}, {NULL}, NULL, NULL};
+  dtm_results res = {rr->analysis, cost, rr, 0.0, 0.0, dtm_cli_top(o), 0, {NULL}, {NULL}, rr->selective.modes, NULL};
   dtm_cli_warn_flagged(rr->analysis);
-  if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost);
+  if (o->verbosity) print_rounds(rr), print_basis_note(rr), print_ways(rr, cost), print_selective_compare(rr);
   print_accuracy_change(rr, o->verbosity);
   warn_dearer(rr);
   if (o->verbosity) printf("\n"), dtm_summary_print(&res, stdout);
@@ -265,8 +350,12 @@ static int not_met(const dtm_refine_result *rr, int verbose) {
   const char *why = verbose       ? "the causes are above"
                     : rr->ncauses ? rr->causes[0].text
                                   : dtm_refine_stop_text(rr->stop);
-  return DTM_ERR(DTM_ERR_TARGET, "refine: the target %.4e s was not met (best recommended step %.4e s): %s", rr->target,
-                 best, why);
+  const dtm_refine_selective *w = &rr->selective;
+  const char *sms = w->state == DTM_REFINE_SMS_DONE && w->sms.target_met
+                        ? "; mesh + selective mass meets it (not written into the mesh: dtmap deck --selective-mass)"
+                        : "";
+  return DTM_ERR(DTM_ERR_TARGET, "refine: the target %.4e s was not met (best recommended step %.4e s): %s%s",
+                 rr->target, best, why, sms);
 }
 
 /* The met line: by the mesh alone, or with point masses. */
@@ -316,6 +405,7 @@ static dtm_refine_options options_of(const dtm_scene *s, const cli_opts *o, doub
   ro.target = target, ro.max_rounds = o->max_iter, ro.global = o->posterior || s->posterior;
   ro.tol = o->tol, ro.lanczos_max = o->lanczos_max, ro.keep_counts = o->keep_counts;
   ro.max_added_mass = isnan(o->max_added_mass) ? s->max_added_mass : o->max_added_mass;
+  ro.selective_mass = o->selective_mass, ro.modes = o->modes;
   return ro;
 }
 
@@ -332,6 +422,10 @@ int dtm_cli_refine(const cli_opts *o) {
                                "--optimise takes gmsh, netgen, relocate, laplace or none, "
                                "separated by commas; got '%s'",
                                o->optimise);
+  }
+  if (o->modes && !o->selective_mass) {
+    dtm_scene_destroy(&s);
+    return dtm_cli_usage_error(&dtm_cli_commands[2], "--modes prices the selective mass way: give --selective-mass");
   }
   if (r == DTM_OK && !(target > 0)) {
     dtm_scene_destroy(&s);

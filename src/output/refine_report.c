@@ -3,7 +3,9 @@
  * field's calibration, the transfinite counts set, Gmsh's optimisers, the
  * point masses), the kept round and why the loop stopped, the causes of a
  * target the mesh alone does not meet, the counts refine set, and the ways
- * found (mesh only, mesh and point masses, subcycling on the kept mesh).
+ * found (mesh only, mesh and point masses, the kept mesh with selective
+ * mass scaling beside the point masses of deck --target's rule, subcycling
+ * on the kept mesh).
  * Also the point masses a mesh carries (refine's, or read back with the
  * .msh): their total, share of the model's mass, nodes, the groups their
  * elements' shares fall in, and the largest by node. */
@@ -109,11 +111,46 @@ static cJSON *way_json(const dtm_refine_result *rr, int kind) {
   return o;
 }
 
+static const char *const sms_states[] = {"not asked", "not needed", "refused", "computed"};
+
+/* The point masses the selective way is compared with. */
+static cJSON *conventional_json(const dtm_refine_selective *w) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "rule", "deck --target: every nodal bound lifted to target / safety");
+  dtm_report_number(o, "added_mass", w->conventional_added);
+  dtm_report_number(o, "added_percent", w->conventional_percent);
+  cJSON_AddNumberToObject(o, "nodes", (double)w->conventional_nodes);
+  return o;
+}
+
+/* The way mesh + selective mass: null when not asked, else its state,
+ * and when computed the kept mesh's round scaled, the run-time figures
+ * against the input and the whole selective_mass object of that mesh. */
+static cJSON *selective_way_json(const dtm_results *r) {
+  const dtm_refine_result *rr = r->refine;
+  const dtm_refine_selective *w = &rr->selective;
+  if (w->state == DTM_REFINE_SMS_NOT_ASKED) return cJSON_CreateNull();
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "state", sms_states[w->state]);
+  if (w->state == DTM_REFINE_SMS_REFUSED) cJSON_AddStringToObject(o, "why", w->why);
+  if (w->state != DTM_REFINE_SMS_DONE) return o;
+  dtm_results one = *r;
+  one.selective_mass = &w->sms;
+  cJSON_AddNumberToObject(o, "round", w->round);
+  cJSON_AddNumberToObject(o, "lumped_recommended", w->lumped);
+  cJSON_AddNumberToObject(o, "cost_ratio", dtm_refine_selective_cost(rr) / dtm_refine_cost(&rr->rounds[0]));
+  cJSON_AddNumberToObject(o, "runtime_ratio", w->sms.runtime_factor * w->lumped / w->sms.recommended);
+  cJSON_AddItemToObject(o, "conventional", conventional_json(w));
+  cJSON_AddItemToObject(o, "selective_mass", dtm_report_selective_mass(&one));
+  return o;
+}
+
 static cJSON *ways_json(const dtm_results *r) {
   const dtm_refine_result *rr = r->refine;
   cJSON *o = cJSON_CreateObject();
   cJSON_AddItemToObject(o, "mesh", way_json(rr, DTM_ROUND_MESH));
   cJSON_AddItemToObject(o, "mesh_and_mass", way_json(rr, DTM_ROUND_MASS));
+  cJSON_AddItemToObject(o, "mesh_and_selective_mass", selective_way_json(r));
   if (r->cost) {
     cJSON *s = cJSON_AddObjectToObject(o, "subcycling");
     double c = dtm_refine_cost(&rr->rounds[rr->best]) / dtm_refine_cost(&rr->rounds[0]);

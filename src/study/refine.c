@@ -55,7 +55,8 @@
  * clamped the sizes tried, the budget when the size field was still rising,
  * else no mesh tried met it. When the mesh alone does not meet the target
  * and the caller allows it, point masses at the nodes that need them make
- * up the rest (refine_mass.c). The causes of a target not met come from
+ * up the rest (refine_mass.c); when asked, the kept mesh scaled selectively
+ * is the way beside them (refine_selective.c). The causes of a target not met come from
  * refine_causes.c. */
 #include <math.h>
 #include <stdio.h>
@@ -919,6 +920,7 @@ static int refine_loop(dtm_refine_result *rr) {
   release(&st.cur, st.input, rr->analysis);
   release(&st.input, rr->analysis, NULL);
   if (r == DTM_OK && rr->best != st.model_round) r = dtm_gmsh_restore_mesh(st.kept.tmp);
+  if (r == DTM_OK) r = dtm_refine_selective_way(rr); /* before any point masses */
   if (r == DTM_OK && !met(rr, rr->best)) r = dtm_refine_mass_round(rr);
   if (r == DTM_OK && met(rr, rr->best)) dtm_refine_met_causes(rr); /* nothing about a stop */
   dtm_atomic_abort(&st.kept);
@@ -934,6 +936,8 @@ static int check_options(const dtm_scene *s, const dtm_refine_options *o) {
   if (!isnan(o->max_added_mass) && !(o->max_added_mass >= 0 && o->max_added_mass <= 100))
     return DTM_ERR(DTM_ERR_INPUT, "%s: the added mass allowed must be 0 to 100 %% of the model's mass, got %g", s->path,
                    o->max_added_mass);
+  if (o->modes < 0 || (o->modes > 0 && !o->selective_mass))
+    return DTM_ERR(DTM_ERR_INPUT, "%s: refine's modes price the selective mass way: ask for it too", s->path);
   return DTM_OK;
 }
 
@@ -962,6 +966,7 @@ int dtm_refine_run(const dtm_scene *s, const dtm_refine_options *o, dtm_refine_r
 void dtm_refine_destroy(dtm_refine_result **pr) {
   if (!*pr) return;
   dtm_analysis_destroy(&(*pr)->analysis);
+  dtm_refine_selective_free(*pr);
   free((*pr)->counts);
   free(*pr);
   *pr = NULL;

@@ -1,7 +1,8 @@
 /* Private to src/study/: the shaping of a size field (grade.c) that the
  * refine loop applies before it remeshes: caps at short model curves and
  * grading; and the parts of the refine loop in files of their own: its
- * causes (refine_causes.c) and its mass round (refine_mass.c). */
+ * causes (refine_causes.c), its mass round (refine_mass.c) and its
+ * selective mass way (refine_selective.c). */
 #ifndef DTM_STUDY_IMPL_H
 #define DTM_STUDY_IMPL_H
 
@@ -49,5 +50,12 @@ void dtm_refine_mass_cause(dtm_refine_result *rr);
  * DTM_ROUND_MASS round is recorded and kept; beyond it, rr->mass_needed
  * says how much was needed and the analysis is left as it was. */
 int dtm_refine_mass_round(dtm_refine_result *rr);
+/* The way mesh + selective mass (refine_selective.c): with
+ * options.selective_mass, where the kept mesh (rr->analysis, no point
+ * masses yet) falls short, rr->selective from it; run before the mass
+ * round. */
+int dtm_refine_selective_way(dtm_refine_result *rr);
+/* Free what rr->selective owns. */
+void dtm_refine_selective_free(dtm_refine_result *rr);
 
 #endif
