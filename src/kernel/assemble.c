@@ -148,12 +148,17 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
   mirror(eg->nn, eg->d, K);
 }
 
-DTM_KERNEL_AVX void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U) {
+/* Static, so that the clones' resolver stays inside the library (GCC
+ * gives a global target_clones function a resolver symbol of default
+ * visibility, which libdtmap would then export: t001). */
+static DTM_KERNEL_AVX void gram_add(int nd, const double *gl, double dv, double *U) {
   for (int x = 0; x < nd; x++) {
     double gx = gl[x] * dv, *row = U + x * nd;
     for (int y = x; y < nd; y++) row[y] += gx * gl[y];
   }
 }
+
+void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U) { gram_add(nd, gl, dv, U); }
 
 /* The elastic stiffness from the Gram tensor U (upper triangle of
  * integral g_ai g_bj), in place: K_(ai)(bj) = lam U_(ai)(bj) +
