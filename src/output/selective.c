@@ -8,6 +8,7 @@
 #include <cJSON.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "output-impl.h"
 #include "report.h"
@@ -78,6 +79,43 @@ static void print_cost(const dtm_analysis *a, const dtm_selective_mass *m, FILE 
           m->cg_iterations, DTM_SMS_SOLVER_RTOL, m->product_ratio, m->runtime_factor, net, step / lumped, step);
 }
 
+/* The largest |shift| (%) of the lowest modes under variant name of p,
+ * INFINITY when a mode has no match (its shape changed), NaN when p has
+ * no such computed variant. */
+static double max_shift(const dtm_modes_price *p, const char *name) {
+  for (int k = 0; p && k < p->nvariants; k++) {
+    const dtm_modes_variant *v = &p->variant[k];
+    if (strcmp(v->name, name) || !v->computed) continue;
+    double w = 0;
+    for (int i = 0; i < p->base.nelastic; i++) w = fmax(w, v->shift[i].match < 0 ? INFINITY : fabs(v->shift[i].shift));
+    return w;
+  }
+  return NAN;
+}
+
+#define SMS_SHIFT_LIMIT 1.0 /* % of a low mode's frequency: what selective scaling should leave (issue 44) */
+
+/* With --modes: how far the lowest modes moved, and why where it is more
+ * than SMS_SHIFT_LIMIT. */
+static void print_accuracy(const dtm_results *r, const dtm_selective_mass *m, FILE *f) {
+  double s = max_shift(r->modes, "selective mass"), c = max_shift(r->modes, "conventional mass");
+  if (isnan(s)) return;
+  size_t n = dtm_analysis_nelements(r->analysis);
+  fprintf(f,
+          "  accuracy     the lowest %d elastic modes move by up to %.3g %% (conventional mass reaching the target: ",
+          r->modes->base.nelastic, s);
+  fprintf(f, isnan(c) ? "not computed)" : "%.3g %%)", c);
+  if (s <= SMS_SHIFT_LIMIT) {
+    fprintf(f, ": within %.0f %%\n", SMS_SHIFT_LIMIT);
+    return;
+  }
+  fprintf(f,
+          "\nWARNING: selective mass moves the low modes by more than %.0f %%: %zu of the %zu elements are scaled "
+          "(largest beta %.3g), so the added mass also reaches the strain of the low modes; a smaller target, or a "
+          "mesh whose thin parts are scaled less, keeps them\n",
+          SMS_SHIFT_LIMIT, m->stats.scaled, n, m->stats.beta_max);
+}
+
 void dtm_summary_selective_mass(const dtm_results *r, void *stream) {
   const dtm_selective_mass *m = r->selective_mass;
   FILE *f = stream;
@@ -86,6 +124,7 @@ void dtm_summary_selective_mass(const dtm_results *r, void *stream) {
   print_elements(r->analysis, m, f);
   print_mass(r->analysis, m, f);
   print_cost(r->analysis, m, f);
+  print_accuracy(r, m, f);
 }
 
 /* ---- the report ---------------------------------------------------------- */
@@ -158,6 +197,15 @@ cJSON *dtm_report_selective_mass(const dtm_results *r) {
   cJSON_AddItemToObject(o, "elements", elements_json(r->analysis, m));
   cJSON_AddItemToObject(o, "mass", mass_json(&m->stats, m->stats.ncomp));
   cJSON_AddItemToObject(o, "cost", cost_json(m));
+  double sh = max_shift(r->modes, "selective mass"), cs = max_shift(r->modes, "conventional mass");
+  if (!isnan(sh)) {
+    cJSON *acc = cJSON_AddObjectToObject(o, "accuracy");
+    cJSON_AddNumberToObject(acc, "modes", r->modes->base.nelastic);
+    dtm_report_number(acc, "max_shift", isinf(sh) ? NAN : sh);
+    dtm_report_number(acc, "max_shift_conventional", isinf(cs) ? NAN : cs);
+    cJSON_AddBoolToObject(acc, "within_limit", sh <= SMS_SHIFT_LIMIT);
+    cJSON_AddNumberToObject(acc, "limit", SMS_SHIFT_LIMIT);
+  }
   cJSON_AddNumberToObject(o, "seconds", m->seconds);
   return o;
 }
