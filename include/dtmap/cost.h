@@ -143,6 +143,11 @@ DTM_EXPORT void dtm_cost_destroy(dtm_cost **c);
  * dtmap's calibration (dtm_cost_calibrated_ns) weighted by the mesh's
  * element types. */
 DTM_EXPORT int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *source, size_t len);
+/* The same for a mesh of `elements` elements in all, a's types weighted as
+ * in a (a distributed run: the whole mesh's count for the calibration's
+ * switch, each part's analysis holding a share of it). */
+DTM_EXPORT int dtm_cost_per_element_step_of(const dtm_analysis *a, double elements, double *seconds, char *source,
+                                            size_t len);
 /* dtmap's calibration for one element type in a mesh of `elements`
  * elements (all types), ns per element-step (CalculiX 2.20 explicit, one
  * thread; a type not calibrated takes the nearest). */

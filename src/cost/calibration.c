@@ -74,6 +74,10 @@ double dtm_cost_calibrated_ns(int type, double elements) {
 }
 
 int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *source, size_t len) {
+  return dtm_cost_per_element_step_of(a, (double)dtm_mesh_nelements(dtm_analysis_mesh(a)), seconds, source, len);
+}
+
+int dtm_cost_per_element_step_of(const dtm_analysis *a, double all, double *seconds, char *source, size_t len) {
   const dtm_scene *s = dtm_analysis_scene(a);
   if (s->cost_per_element_step > 0) {
     *seconds = s->cost_per_element_step;
@@ -84,7 +88,6 @@ int dtm_cost_per_element_step(const dtm_analysis *a, double *seconds, char *sour
   double sum = 0;
   size_t n = 0;
   int all_own = 1, own;
-  double all = (double)dtm_mesh_nelements(m);
   for (int b = 0; b < m->nblocks; b++) {
     sum += figure(m->blocks[b].type, all, &own) * (double)m->blocks[b].n;
     n += m->blocks[b].n, all_own &= own;

@@ -373,3 +373,12 @@ void dtm_par_figures_free(dtm_par_figures *f) {
   cJSON_Delete(f->zones), cJSON_Delete(f->damping);
   memset(f, 0, sizeof *f);
 }
+
+void dtm_par_whole_cost(const dtm_par *p, const dtm_par_figures *f, dtm_cost *c) {
+  double seconds;
+  if (dtm_cost_per_element_step_of(p->analysis, f->elements, &seconds, c->per_element_step_source,
+                                   sizeof c->per_element_step_source) == DTM_OK)
+    c->per_element_step = seconds;
+  else
+    dtm_error_clear();
+}

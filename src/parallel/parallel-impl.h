@@ -158,6 +158,10 @@ typedef struct {
 int dtm_par_collect(dtm_par *p, dtm_par_figures *f);
 int dtm_par_collect_rows(dtm_par *p, dtm_par_figures *f);
 void dtm_par_figures_free(dtm_par_figures *f);
+/* c (a copy of this part's cost) with the run time per element-step of
+ * the whole mesh: the calibration's switch counts f->elements, every
+ * part's (figures.c). */
+void dtm_par_whole_cost(const dtm_par *p, const dtm_par_figures *f, dtm_cost *c);
 
 /* report.c: the JSON report text on rank 0 (free()); the serial run's
  * warnings from the whole mesh's figures, and a note when elements below

@@ -63,6 +63,7 @@ static cJSON *accuracy_json(const dtm_analysis *a, const dtm_par_figures *f) {
  * count and the summed subcycling. */
 static cJSON *cost_json(const dtm_par *p, const dtm_par_figures *f) {
   dtm_cost c = *p->cost;
+  dtm_par_whole_cost(p, f, &c);
   if (c.duration > 0)
     c.element_steps = f->elements * c.steps, c.element_steps_subcycled = c.element_steps / f->sub.speedup;
   return dtm_report_cost(p->analysis, &c);
@@ -132,6 +133,7 @@ static cJSON *timings_json(const dtm_par *p, const dtm_parallel_opts *o, const d
  * (none when the scene's part files hold no model). */
 static void advice_json(const dtm_par *p, const dtm_par_figures *f, cJSON *root) {
   dtm_cost c = *p->cost;
+  dtm_par_whole_cost(p, f, &c);
   c.subcycling = f->sub, c.shape_mass = c.layer_mass = NULL; /* the parts' masses are indexed by part */
   dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   size_t n = 0;

@@ -55,6 +55,7 @@ static void print_cost(const dtm_par *p, const dtm_par_figures *f) {
 /* The shape-limited elements and the layers, as a serial run prints them. */
 static void print_advice(const dtm_par *p, const dtm_par_figures *f) {
   dtm_cost c = *p->cost;
+  dtm_par_whole_cost(p, f, &c);
   c.subcycling = f->sub, c.shape_mass = c.layer_mass = NULL; /* the parts' masses are indexed by part */
   dtm_results res = {p->advice, &c, NULL, 0.0, 0.0, 0, 0, {NULL}, {NULL}, NULL, NULL};
   if (p->advice) dtm_summary_advice(&res, stdout);
