@@ -26,6 +26,13 @@ switch in elements (not measured for them; docs/accuracy.md says so).
 With --only and --inc, the rows of the elements not measured now (and the
 switch, when C3D4 is not measured) are kept from the existing file.
 
+The figures hold for the bound of integration points per element each
+deck alone gave ccx (C3D4: 27): ccx sizes its per-element arrays, copied
+every increment, by the bound of the whole deck (its allocation.f), which
+the deck's elements set together (C3D4 with M3D3: 9). The cost per point of
+that bound (CCX_POINT_NS) is measured on the C3D4 deck alone (27) and the
+same deck with one M3D3 added (9): --only POINT measures it alone.
+
 Check mode (--check): for each bundled example (geometries/*.xml) the deck
 of `dtmap deck --solver calculix` is run for N2 + 1/2 increments, whole (set
 up included), and its wall time is compared with what the deck's summary
@@ -160,6 +167,50 @@ def measure(a, tmp, elem, geo, size, order, dim, group, section, form, n1, n2, t
     return (n, rep["deck"]["nodes"], t[0][0], t[1][0], t[0][1], t[1][1], ns)
 
 
+def ns_of(a, path, step, n):
+    """CPU (--cpu) or wall ns per element-step of the deck at path (n elements, ccx's step)."""
+    t = [run_ccx(with_period(path, (k + 0.5) * step), a.repeat) for k in (a.n1, a.n2)]
+    i = 1 if a.cpu else 0
+    return 1e9 * (t[1][i] - t[0][i]) / (n * (a.n2 - a.n1))
+
+
+def with_membrane(path, out):
+    """The deck at path with one M3D3 added on three nodes of its first
+    C3D4 (numbered after its last element, a membrane as thick as the mesh
+    is fine, so ccx's step stays): ccx's bound of integration points per
+    element falls from 27 to 9 (its allocation.f), the work barely grows."""
+    with open(path) as f:
+        text = f.read()
+    first = re.search(r"\*ELEMENT, TYPE=C3D4, ELSET=(\w+)\n(\d+), (\d+), (\d+), (\d+)", text)
+    last = max(int(m.group(1)) for m in re.finditer(r"^(\d+), \d+, \d+, \d+, \d+$", text, re.M))
+    sec = "*SOLID SECTION, ELSET=%s" % first.group(1)
+    i = text.index(sec)
+    mat = re.match(r"[^\n]*MATERIAL=(\w+)", text[i:]).group(1)
+    text = text[:i] + "*ELEMENT, TYPE=M3D3, ELSET=DTMAP_POINTS\n%d, %s, %s, %s\n" % (
+        (last + 1,) + first.group(3, 4, 5)) + "*MEMBRANE SECTION, ELSET=DTMAP_POINTS, MATERIAL=%s\n0.006\n" % mat + \
+        text[i:]
+    with open(out, "w") as f:
+        f.write(text)
+
+
+def points(a, tmp):
+    """ns per point of ccx's bound of integration points per element and
+    per element-step: the C3D4 deck alone (bound 27) against the same deck
+    with one M3D3 added (bound 9)."""
+    elem, geo, size, order, dim, group, section, form = CASES[0]
+    scene = os.path.join(tmp, "points.xml")
+    with open(scene, "w") as f:
+        f.write(SCENE % (geo, size, order, dim, STEEL % group, section, form))
+    base = os.path.join(tmp, "points.inp")
+    rep = deck(a.dtmap, scene, base)
+    n, step = rep["deck"]["elements"], rep["solvers"][0]["step"]
+    with_membrane(base, os.path.join(tmp, "points9.inp"))
+    ns27, ns9 = ns_of(a, base, step, n), ns_of(a, os.path.join(tmp, "points9.inp"), step, n)
+    print("| C3D4, bound 27 / with one M3D3, bound 9 | %d | %.0f | %.0f | per point: **%.1f** |" % (
+        n, ns27, ns9, (ns27 - ns9) / 18), flush=True)
+    return (ns27 - ns9) / 18
+
+
 def switch(a, tmp, small):
     """C3D4's switch in elements: the mean of the largest box mesh whose
     figure stays within SWITCH_JUMP of small (ns) and the next one."""
@@ -210,8 +261,12 @@ def table(a, tmp):
     fit = switch(a, tmp, c3d4[0][7]) if c3d4 else None
     if fit:
         print("switch: %.0f elements" % fit, flush=True)
+    point = points(a, tmp) if not a.only or "POINT" in a.only.split(",") else None
     if a.inc:
         rows, fit = merged(a.inc, rows, fit)
+        if point is None:
+            with open(a.inc) as f:
+                point = float(re.search(r"#define CCX_POINT_NS ([0-9.e+-]+)", f.read()).group(1))
         with open(a.inc, "w") as f:
             f.write("/* CalculiX 2.20 (Debian's ccx), explicit dynamics, one thread\n"
                     " * (OMP_NUM_THREADS=1): %s per element-step, ns, of dtmap's own\n"
@@ -225,6 +280,8 @@ def table(a, tmp):
                         a.n1, a.n2, " --cpu" if a.cpu else ""))
             for elem, small, large in rows:
                 f.write('{"%s", %.0f, %.0f, %.0f},\n' % (elem, small, large, fit))
+            f.write("#define CCX_POINT_NS %.1f /* per point of ccx's bound of integration points per element, per "
+                    "element-step */\n" % point)
 
 
 def check(a, tmp):
