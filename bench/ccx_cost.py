@@ -13,8 +13,9 @@ setting up do not count; each run is the best of --repeat. With --inc FILE
 the figures are written as src/cost/ccx_cost.inc (the table dtmap reads).
 
 The figure of an element-step depends on the mesh's size, not only on its
-element: ccx's per-increment arrays of a small mesh stay in the processor's
-cache, a large mesh's do not, and beyond a switch every element-step costs
+element: the arrays ccx allocates every increment for a large mesh pass
+glibc's mmap threshold (32 MiB) and are faulted in and zeroed afresh each
+increment (docs/accuracy.md), and beyond a switch every element-step costs
 about twice as much (C3D4: 1.2 us per element-step up to 23,006 elements,
 2.5 - 3 us from 26,618 on, the bundled notched beam's 31,313 included). So
 each element is measured twice, on a mesh below the switch (CASES) and on

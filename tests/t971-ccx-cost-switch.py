@@ -1,8 +1,9 @@
 """CalculiX's cost per element-step follows the mesh's size (issue 43, item 5).
 
 Debian's ccx 2.20 costs about twice as much per element-step on a mesh
-beyond a switch of about 25,000 elements as on a smaller one (its arrays no
-longer stay in the processor's cache: bench/ccx_cost.py measures both
+beyond a switch of about 25,000 elements as on a smaller one (the arrays it
+allocates every increment pass glibc's mmap threshold: docs/accuracy.md;
+bench/ccx_cost.py measures both
 figures per CalculiX element and the switch on C3D4; src/cost/ccx_cost.inc
 holds them, read here). Checked on two bundled examples meshed by the real
 Gmsh: the box (10,161 C3D4, below the switch) takes the small figure and the

@@ -151,7 +151,7 @@ DTM_EXPORT double dtm_cost_calibrated_ns(int type, double elements);
  * Debian's ccx 2.20, one thread, in a mesh of `elements` elements (all
  * types), measured on dtmap's decks by bench/ccx_cost.py
  * (src/cost/ccx_cost.inc), ns: the figure of a mesh below the table's
- * switch (ccx's arrays in the processor's cache) or beyond it; NaN when
+ * switch (ccx's per-increment arrays below glibc's mmap threshold) or beyond it; NaN when
  * not measured. */
 DTM_EXPORT double dtm_cost_ccx_ns(const char *elem, double elements);
 /* The bound of integration points per element that Debian's ccx 2.20

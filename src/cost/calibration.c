@@ -4,9 +4,10 @@
  * (bench/ccx_cost.py writes ccx_cost.inc; docs/accuracy.md), each dtmap
  * type taking its CalculiX element's figure (2D: plane strain);
  * a mesh of several types takes the element-weighted mean. Each figure
- * holds for a mesh of the measured size: ccx's arrays of a mesh below the
- * switch (ccx_cost.inc, in elements, measured on C3D4: about 25,000) stay in
- * the processor's cache, a larger mesh's do not, and its element-steps
+ * holds for a mesh of the measured size: the arrays ccx allocates every
+ * increment for a mesh beyond the switch (ccx_cost.inc, in elements,
+ * measured on C3D4: about 25,000) pass glibc's 32 MiB mmap threshold and
+ * are faulted in and zeroed afresh each time, and its element-steps
  * cost about twice as much (the second figure, measured on a mesh beyond
  * it), so the figure is chosen by the mesh's element count. Each figure
  * also holds for the bound of integration points per element its deck
