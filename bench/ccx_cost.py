@@ -45,7 +45,12 @@ force at every node). Wall and CPU time (user + system) are both printed;
 --cpu makes the table from CPU time, which stands for the wall time of an
 idle machine when the machine is shared.
 
-Usage: /usr/bin/python3 bench/ccx_cost.py DTMAP [--inc src/cost/ccx_cost.inc] [--check] [--cpu]
+Bound mode (--bound): the reinforced block's deck as written (bound 9) and
+without its M3D3 (27), the box's as written (27), with one M3D3 on three of
+its nodes (9), with one free C3D6 (9) and one free C3D10 (15), each run
+--repeat times (N1, N2 as the table), ccx's printed bound beside it.
+
+Usage: /usr/bin/python3 bench/ccx_cost.py DTMAP [--inc src/cost/ccx_cost.inc] [--check] [--bound] [--cpu]
        [--n1 20] [--n2 220] [--repeat 2] [--only C3D4,S3]
 Needs ccx (Debian's calculix-ccx) and Debian's python3 for the scenes.
 """
@@ -194,6 +199,75 @@ def with_membrane(path, out):
         f.write(text)
 
 
+def without(path, out, heads):
+    """The deck at path without its keyword blocks starting with one of heads."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    keep, skip = [], False
+    for line in lines:
+        if line.startswith("*") and not line.startswith("**"):
+            skip = any(line.startswith(h) for h in heads)
+        if not skip:
+            keep.append(line)
+    with open(out, "w") as f:
+        f.write("\n".join(keep))
+
+
+def with_free(path, out, elem, h):
+    """The deck at path with one free element elem (C3D6: a wedge of legs h;
+    C3D10: a tetrahedron of legs 2h), its nodes and itself numbered after
+    the deck's last, away from the mesh: only ccx's bound changes."""
+    with open(path) as f:
+        text = f.read()
+    node = max(int(m.group(1)) for m in re.finditer(r"^(\d+), [-0-9.e+]+, [-0-9.e+]+, [-0-9.e+]+$", text, re.M))
+    last = max(int(m.group(1)) for m in re.finditer(r"^(\d+), \d+, \d+, \d+, \d+$", text, re.M))
+    x = 10.0
+    if elem == "C3D6":
+        pts = [(x, 0, 0), (x + h, 0, 0), (x, h, 0), (x, 0, h), (x + h, 0, h), (x, h, h)]
+    else:
+        c = [(x, 0, 0), (x + 2 * h, 0, 0), (x, 2 * h, 0), (x, 0, 2 * h)]
+        mid = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]
+        pts = c + [tuple((c[i][k] + c[j][k]) / 2 for k in range(3)) for i, j in mid]
+    first = re.search(r"\*ELEMENT, TYPE=C3D4, ELSET=(\w+)", text)
+    sec = "*SOLID SECTION, ELSET=%s" % first.group(1)
+    mat = re.search(re.escape(sec) + r", MATERIAL=(\w+)", text).group(1)
+    add = "*NODE\n" + "".join("%d, %.9g, %.9g, %.9g\n" % ((node + 1 + i,) + p) for i, p in enumerate(pts))
+    add += "*ELEMENT, TYPE=%s, ELSET=DTMAP_FREE\n%d, %s\n" % (elem, last + 1, ", ".join(
+        str(node + 1 + i) for i in range(len(pts))))
+    i = text.index(first.group(0))
+    text = text[:i] + add + text[i:]
+    j = text.index(sec)
+    text = text[:j] + "*SOLID SECTION, ELSET=DTMAP_FREE, MATERIAL=%s\n" % mat + text[j:]
+    with open(out, "w") as f:
+        f.write(text)
+
+
+def bound(a, tmp):
+    """Rows of ns per element-step of bundled decks as written and with
+    ccx's bound of integration points per element changed by one element
+    added or removed."""
+    for name, variants in (("reinforced_block", [("as written", None), ("without its M3D3", "noplate")]),
+                           ("box", [("as written", None), ("with one M3D3 on three of its nodes", "m3d3"),
+                                    ("with one free C3D6", "C3D6"), ("with one free C3D10", "C3D10")])):
+        base = os.path.join(tmp, name + ".inp")
+        rep = deck(a.dtmap, os.path.join(GEO, name + ".xml"), base)
+        n, step = rep["deck"]["elements"], rep["solvers"][0]["step"]
+        for label, how in variants:
+            path = os.path.join(tmp, "%s_%s.inp" % (name, how)) if how else base
+            if how == "noplate":
+                without(base, path, ["*ELEMENT, TYPE=M3D3", "*MEMBRANE SECTION"])
+            elif how == "m3d3":
+                with_membrane(base, path)
+            elif how:
+                with_free(base, path, how, 0.008)
+            run = with_period(path, 1.5 * step)
+            log = deckutil.run("ccx", run)[1]
+            mi = re.search(r"integration points per element:\s*(\d+)", log)
+            ns = [ns_of(a, path, step, n) for _ in range(a.repeat)]
+            print("| %s, %s | %s | %s |" % (name, label, mi.group(1) if mi else "?", ", ".join("%.0f" % x for x in ns)),
+                  flush=True)
+
+
 def points(a, tmp):
     """ns per point of ccx's bound of integration points per element and
     per element-step: the C3D4 deck alone (bound 27) against the same deck
@@ -308,12 +382,17 @@ def main():
     ap.add_argument("--n2", type=int, default=220)
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--only")
+    ap.add_argument("--bound", action="store_true", help="bundled decks with ccx's bound changed by one element")
     ap.add_argument("--cpu", action="store_true", help="the table from CPU time (user + system), for a shared machine")
     a = ap.parse_args()
     a.dtmap = os.path.abspath(a.dtmap)
     tmp = tempfile.mkdtemp(prefix="dtmap-ccx-cost-")
     try:
-        if a.check:
+        if a.bound:
+            print("| deck | bound | ns per element-step (%s), each of --repeat |\n|---|---|---|" % (
+                "CPU" if a.cpu else "wall"), flush=True)
+            bound(a, tmp)
+        elif a.check:
             print("| example | elements | ccx's step (s) | increments | predicted (s) | wall (s) | CPU (s) | "
                   "wall / predicted | CPU / predicted |\n|---|---|---|---|---|---|---|---|---|", flush=True)
             check(a, tmp)
