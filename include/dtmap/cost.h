@@ -156,9 +156,24 @@ DTM_EXPORT double dtm_cost_calibrated_ns(int type, double elements);
  * Debian's ccx 2.20, one thread, in a mesh of `elements` elements (all
  * types), measured on dtmap's decks by bench/ccx_cost.py
  * (src/cost/ccx_cost.inc), ns: the figure of a mesh below the table's
- * switch (ccx's arrays in the processor's cache) or beyond it; NaN when
+ * switch (ccx's per-increment arrays below glibc's mmap threshold) or beyond it; NaN when
  * not measured. */
 DTM_EXPORT double dtm_cost_ccx_ns(const char *elem, double elements);
+/* The bound of integration points per element that Debian's ccx 2.20
+ * sizes its per-element arrays with (6 doubles per point and element,
+ * copied several times every increment) for a deck of the n CalculiX
+ * elements elems in explicit dynamics: the largest of the elements' own
+ * counts, which *DYNAMIC then raises (1 and 8 to 27, 4 to 15, 2 to 9), as
+ * its allocation.f does; C3D4 alone gives 27, C3D4 with M3D3 9. */
+DTM_EXPORT int dtm_cost_ccx_points(const char *const *elems, int n);
+/* dtm_cost_ccx_ns for a deck whose bound is `points` (dtm_cost_ccx_points):
+ * the figure measured on elem's deck alone plus the table's cost per point
+ * of the bound and element-step (src/cost/ccx_cost.inc) times the
+ * difference of the two bounds. */
+DTM_EXPORT double dtm_cost_ccx_ns_at(const char *elem, double elements, int points);
+/* The CalculiX element whose figure stands for a dtmap type (its own, else
+ * the nearest calibrated type's); NULL when the type is not known. */
+DTM_EXPORT const char *dtm_cost_calibrated_elem(int type);
 /* The table's switch, elements: a mesh of more elements takes the figures
  * measured beyond it (bench/ccx_cost.py, measured on C3D4). */
 DTM_EXPORT double dtm_cost_ccx_switch(void);

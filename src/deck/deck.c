@@ -465,6 +465,15 @@ static int choose_step(deck_ctx *c, const dtm_deck_opts *o, dtm_mass_scaling *ms
   return mass_check(c, o);
 }
 
+/* ccx's bound of integration points per element for the deck's elements
+ * (dtm_cost_ccx_points: it scales ccx's per-element arrays). */
+static int deck_points(const deck_ctx *c) {
+  const char *elems[64];
+  int n = 0;
+  for (int k = 0; k < c->nparts && n < 64; k++) elems[n++] = c->parts[k].elem;
+  return dtm_cost_ccx_points(elems, n);
+}
+
 /* The cost per element-step of the solver's elements, s, and its source:
  * the scene's <time cost-per-element-step>; else for CalculiX its
  * elements' measured figures (ccx_cost.inc, at the deck's element count)
@@ -481,20 +490,22 @@ static double solver_cost(const deck_ctx *c, char *src, size_t len) {
            NAN;
   double sum = 0.0, n = 0.0, all = 0.0;
   char lacks[64] = "";
+  int points = deck_points(c);
   for (int k = 0; k < c->nparts; k++) all += (double)c->parts[k].count;
   for (int k = 0; k < c->nparts; k++) {
     const deck_part *p = &c->parts[k];
-    double ns = dtm_cost_ccx_ns(p->elem, all);
+    double ns = dtm_cost_ccx_ns_at(p->elem, all, points);
     if (isnan(ns) && !strstr(lacks, p->elem) && strlen(lacks) + strlen(p->elem) + 3 < sizeof lacks)
       strcat(strcat(lacks, lacks[0] ? ", " : ""), p->elem);
-    if (isnan(ns)) ns = dtm_cost_calibrated_ns(p->type, all);
+    const char *stand = dtm_cost_calibrated_elem(p->type);
+    if (isnan(ns)) ns = stand ? dtm_cost_ccx_ns_at(stand, all, points) : NAN;
     sum += ns * (double)p->count, n += (double)p->count;
   }
   snprintf(src, len,
            "Debian's ccx 2.20, one thread, measured on dtmap's decks (bench/ccx_cost.py), for a deck of %.0f "
-           "elements: %s the switch at %.0f%s%s%s",
-           all, all > dtm_cost_ccx_switch() ? "beyond" : "below", dtm_cost_ccx_switch(), lacks[0] ? "; " : "", lacks,
-           lacks[0] ? " not measured: their dtmap type's figure" : "");
+           "elements: %s the switch at %.0f; ccx's bound of %d integration points per element%s%s%s",
+           all, all > dtm_cost_ccx_switch() ? "beyond" : "below", dtm_cost_ccx_switch(), points, lacks[0] ? "; " : "",
+           lacks, lacks[0] ? " not measured: their dtmap type's figure" : "");
   return n > 0 ? sum / n * 1e-9 : NAN;
 }
 
