@@ -91,12 +91,6 @@ static void b_apply(const pencil *p, const double *x, double *y) {
   for (size_t i = 0; i < p->n; i++) y[i] = (p->extra ? y[i] : 0.0) + p->mass[i] * x[i];
 }
 
-static double dot(size_t n, const double *x, const double *y) {
-  double s = 0;
-  for (size_t i = 0; i < n; i++) s += x[i] * y[i];
-  return s;
-}
-
 /* ---- the factorisation ------------------------------------------------ */
 
 /* B's diagonal into d[n]. */
@@ -247,12 +241,12 @@ typedef struct {
 static double orthogonalise(const pencil *p, band *z, int k, double *c) {
   for (int pass = 0; pass < 2; pass++)
     for (int i = 0; i < k; i++) {
-      double a = dot(p->n, z->bq + (size_t)i * p->n, z->w);
+      double a = dtm_vec_dot(p->n, z->bq + (size_t)i * p->n, z->w);
       for (size_t r = 0; r < p->n; r++) z->w[r] -= a * z->q[(size_t)i * p->n + r];
       if (c) c[i] += a;
     }
   b_apply(p, z->w, z->bw);
-  return sqrt(fmax(dot(p->n, z->w, z->bw), 0.0));
+  return sqrt(fmax(dtm_vec_dot(p->n, z->w, z->bw), 0.0));
 }
 
 /* Store w / norm as vector nv. */
@@ -269,7 +263,7 @@ static void random_vector(const pencil *p, band *z, unsigned seed) {
     dtm_operator_draw_normal(p->op, seed * 7919u + tries, z->w);
     for (size_t r = 0; r < p->n; r++) z->w[r] = p->on[r] ? z->w[r] : 0.0;
     b_apply(p, z->w, z->bw);
-    double before = sqrt(dot(p->n, z->w, z->bw)), norm = orthogonalise(p, z, z->nv, NULL);
+    double before = sqrt(dtm_vec_dot(p->n, z->w, z->bw)), norm = orthogonalise(p, z, z->nv, NULL);
     if (norm > DEFLATE * before) return keep(p, z, norm);
   }
 }
@@ -293,7 +287,7 @@ static int step(pencil *p, band *z) {
   DTM_CHECK(solve(p, z->bq + (size_t)z->m * p->n, z->w));
   for (size_t r = 0; r < p->n; r++) z->w[r] = p->on[r] ? z->w[r] : 0.0;
   b_apply(p, z->w, z->bw);
-  double before = sqrt(fmax(dot(p->n, z->w, z->bw), 0.0)), norm = orthogonalise(p, z, z->nv, c);
+  double before = sqrt(fmax(dtm_vec_dot(p->n, z->w, z->bw), 0.0)), norm = orthogonalise(p, z, z->nv, c);
   int at = z->nv;
   if ((size_t)z->nv < z->cap && norm > DEFLATE * before)
     keep(p, z, norm), c[at] = norm;
@@ -439,7 +433,7 @@ static void make_mode(const pencil *p, const band *z, const ritz *rz, int k, dou
   }
   dtm_operator_apply(p->op, x, z->w);
   b_apply(p, x, z->bw);
-  double e = 0, bn = 0, nx = sqrt(fmax(dot(p->n, x, z->bw), 0.0));
+  double e = 0, bn = 0, nx = sqrt(fmax(dtm_vec_dot(p->n, x, z->bw), 0.0));
   for (size_t r = 0; r < p->n; r++)
     e += (z->w[r] - lam * z->bw[r]) * (z->w[r] - lam * z->bw[r]), bn += z->bw[r] * z->bw[r];
   for (size_t r = 0; nx > 0 && r < p->n; r++) x[r] /= nx;

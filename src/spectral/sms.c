@@ -256,12 +256,6 @@ int dtm_sms_assemble(const dtm_sms *s, int add_only, dtm_csr *out) {
 
 /* ---- Jacobi-preconditioned conjugate gradients -------------------------- */
 
-static double dot(size_t n, const double *x, const double *y) {
-  double s = 0;
-  for (size_t i = 0; i < n; i++) s += x[i] * y[i];
-  return s;
-}
-
 /* The inverse of m's diagonal (0 where it is not positive). */
 static void jacobi(const dtm_csr *m, double *dinv) {
   for (size_t i = 0; i < m->n; i++) {
@@ -276,13 +270,13 @@ static int pcg(const dtm_csr *m, const double *b, double rtol, int maxit, double
   double *dinv = work, *r = work + n, *z = work + 2 * n, *p = work + 3 * n, *q = work + 4 * n;
   jacobi(m, dinv);
   for (size_t i = 0; i < n; i++) x[i] = 0, r[i] = b[i] * (dinv[i] > 0), z[i] = dinv[i] * r[i], p[i] = z[i];
-  double rz = dot(n, r, z), stop = rtol * rtol * rz;
+  double rz = dtm_vec_dot(n, r, z), stop = rtol * rtol * rz;
   if (!(rz > 0)) return 0;
   for (int it = 1; it <= maxit; it++) {
     dtm_csr_apply(m, p, q);
-    double alpha = rz / dot(n, p, q);
+    double alpha = rz / dtm_vec_dot(n, p, q);
     for (size_t i = 0; i < n; i++) x[i] += alpha * p[i], r[i] -= alpha * q[i], z[i] = dinv[i] * r[i];
-    double rz1 = dot(n, r, z);
+    double rz1 = dtm_vec_dot(n, r, z);
     if (rz1 <= stop) return it;
     for (size_t i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
     rz = rz1;

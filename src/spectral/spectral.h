@@ -51,6 +51,10 @@ size_t dtm_operator_node_graph_floor(const struct dtm_operator *op);
  * error for shells and beams, as dtm_operator_node_graph. */
 int dtm_operator_assemble(const struct dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj, double **blk);
 
+/* csr.c: x . y summed in order (the mass solves and the modes' Lanczos:
+ * one rounding for every caller). */
+double dtm_vec_dot(size_t n, const double *x, const double *y);
+
 /* integrate.c: one energy sample of a verify run, the energy norm q at
  * step n over its value at rest: the growth kept over n >= steps / 2 (or
  * at once when q passes 1e6 or is not finite: unstable); 1 when the run
