@@ -137,21 +137,6 @@ static int setup(void **state) {
   return r;
 }
 
-/* The Units attribute of the ONELAB parameter name ("" when none). */
-static void assert_units(const char *name, const char *unit) {
-  char *json = NULL;
-  int ierr = 0;
-  gmshOnelabGet(&json, name, "json", &ierr);
-  cJSON *p = json && json[0] ? cJSON_Parse(json) : NULL;
-  gmshFree(json);
-  assert_non_null(p);
-  const cJSON *u = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(p, "attributes"), "Units");
-  if (!cJSON_IsString(u) || strcmp(u->valuestring, unit))
-    fprintf(stderr, "%s: units '%s', expected '%s'\n", name, cJSON_IsString(u) ? u->valuestring : "", unit);
-  assert_true(cJSON_IsString(u) && !strcmp(u->valuestring, unit));
-  cJSON_Delete(p);
-}
-
 static int close_to(double a, double b, double rel) { return fabs(a - b) <= rel * fabs(b); }
 
 /* The recommended and smallest element steps of the panel's run equal those
@@ -188,10 +173,10 @@ static void test_panel_units(void **state) {
   (void)state;
   tu_onelab_session(geo, "t805");
   tu_onelab_run("check");
-  assert_units("dtmap/3Mesh/0size", "mm");
+  tu_onelab_assert_units("dtmap/3Mesh/0size", "mm");
   assert_true(tu_onelab_get_number("dtmap/3Mesh/0size") == 8);
-  assert_units("dtmap/4Materials/block/1E", "MPa");
-  assert_units("dtmap/4Materials/block/3rho", "t/mm^3");
+  tu_onelab_assert_units("dtmap/4Materials/block/1E", "MPa");
+  tu_onelab_assert_units("dtmap/4Materials/block/3rho", "t/mm^3");
   assert_true(tu_onelab_get_number("dtmap/4Materials/block/1E") == 210000);
   assert_true(tu_onelab_get_number("dtmap/4Materials/block/3rho") == 7.85e-9);
   tu_onelab_set_number("dtmap/4Materials/block/0material", 1); /* the library's first entry: steel */
@@ -242,7 +227,7 @@ static void test_section_units(void **state) {
   (void)state;
   tu_onelab_session(sheet_geo, "t805");
   tu_onelab_run("check");
-  assert_units("dtmap/4Materials/sheet/01thickness", "mm");
+  tu_onelab_assert_units("dtmap/4Materials/sheet/01thickness", "mm");
   assert_true(tu_onelab_get_number("dtmap/4Materials/sheet/01thickness") == 2);
   tu_gmsh_end();
   assert_run_matches(sheet_geo, report_sheet, "kind=\"membrane\" thickness=\"2\"");

@@ -62,21 +62,6 @@ static int setup(void **state) {
   return r;
 }
 
-/* The Units attribute of the ONELAB parameter name. */
-static void assert_units(const char *name, const char *unit) {
-  char *json = NULL;
-  int ierr = 0;
-  gmshOnelabGet(&json, name, "json", &ierr);
-  cJSON *p = json && json[0] ? cJSON_Parse(json) : NULL;
-  gmshFree(json);
-  assert_non_null(p);
-  const cJSON *u = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(p, "attributes"), "Units");
-  if (!cJSON_IsString(u) || strcmp(u->valuestring, unit))
-    fprintf(stderr, "%s: units '%s', expected '%s'\n", name, cJSON_IsString(u) ? u->valuestring : "", unit);
-  assert_true(cJSON_IsString(u) && !strcmp(u->valuestring, unit));
-  cJSON_Delete(p);
-}
-
 static int close_to(double a, double b, double rel) { return fabs(a - b) <= rel * fabs(b); }
 
 /* Without a choice: SI, as the panel always was. */
@@ -85,8 +70,8 @@ static void test_default_si(void **state) {
   tu_onelab_session(geo, "t973");
   tu_onelab_run("check");
   assert_true(tu_onelab_get_number("dtmap/0Units") == 0);
-  assert_units("dtmap/3Mesh/0size", "m");
-  assert_units("dtmap/4Materials/block/1E", "Pa");
+  tu_onelab_assert_units("dtmap/3Mesh/0size", "m");
+  tu_onelab_assert_units("dtmap/4Materials/block/1E", "Pa");
   tu_gmsh_end();
 }
 
@@ -98,9 +83,9 @@ static void test_mm(void **state) {
   tu_onelab_run("check");
   tu_onelab_set_number("dtmap/0Units", 1);
   tu_onelab_run("check");
-  assert_units("dtmap/3Mesh/0size", "mm");
-  assert_units("dtmap/4Materials/block/1E", "MPa");
-  assert_units("dtmap/4Materials/block/3rho", "t/mm^3");
+  tu_onelab_assert_units("dtmap/3Mesh/0size", "mm");
+  tu_onelab_assert_units("dtmap/4Materials/block/1E", "MPa");
+  tu_onelab_assert_units("dtmap/4Materials/block/3rho", "t/mm^3");
   tu_onelab_set_number("dtmap/4Materials/block/0material", 1); /* the library's first entry: steel */
   tu_onelab_set_number("dtmap/3Mesh/0size", 8);
   tu_onelab_run("check");

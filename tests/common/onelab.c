@@ -6,9 +6,11 @@
 #include <stddef.h>
 #include <cmocka.h>
 
+#include <cJSON.h>
 #include <gmshc.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "onelab.h"
@@ -47,4 +49,18 @@ double tu_onelab_get_number(const char *name) {
   if (n == 1) r = v[0];
   gmshFree(v);
   return r;
+}
+
+void tu_onelab_assert_units(const char *name, const char *unit) {
+  char *json = NULL;
+  int ierr = 0;
+  gmshOnelabGet(&json, name, "json", &ierr);
+  cJSON *p = json && json[0] ? cJSON_Parse(json) : NULL;
+  gmshFree(json);
+  assert_non_null(p);
+  const cJSON *u = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(p, "attributes"), "Units");
+  if (!cJSON_IsString(u) || strcmp(u->valuestring, unit))
+    fprintf(stderr, "%s: units '%s', expected '%s'\n", name, cJSON_IsString(u) ? u->valuestring : "", unit);
+  assert_true(cJSON_IsString(u) && !strcmp(u->valuestring, unit));
+  cJSON_Delete(p);
 }

@@ -1,9 +1,9 @@
 /* Helpers for the tests that drive Gmsh's own ONELAB machinery (t804,
- * t805): a fresh Gmsh session with an empty ONELAB database and a model
+ * t805, t973): a fresh Gmsh session with an empty ONELAB database and a model
  * open, on a solver socket of the test program's own (Gmsh's default,
  * ~/.gmshsock<id>, is the one t802 listens on when ctest runs them side by
  * side); dtmap run as Gmsh's ONELAB solver for one action; numbers set and
- * read in the database. Failures end the cmocka test. */
+ * read in the database, and a parameter's Units checked. Failures end the cmocka test. */
 #ifndef DTM_TEST_ONELAB_H
 #define DTM_TEST_ONELAB_H
 
@@ -14,5 +14,7 @@ void tu_onelab_run(const char *action);
 void tu_onelab_set_number(const char *name, double v);
 /* The number name holds, NaN when it holds none or several. */
 double tu_onelab_get_number(const char *name);
+/* The Units attribute of the ONELAB parameter name is unit ("" for none). */
+void tu_onelab_assert_units(const char *name, const char *unit);
 
 #endif
