@@ -43,16 +43,10 @@ import numpy as np
 import scipy.linalg
 
 import testutil as tu
+from slab import GEO, SHELLS, read_tets
 
 E, NU, RHO, SAFETY = 210e9, 0.3, 7850.0, 0.9
 TOL = 1e-4  # Lanczos's relative residual (dtmap's default)
-
-GEO = """SetFactory("OpenCASCADE");
-Box(1) = {0, 0, 0, 0.02, 0.02, 0.01};
-Box(2) = {0, 0, 0.01, 0.02, 0.02, 0.0008};
-BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
-Physical Volume("block") = {1, 2};
-"""
 
 SCENE = """<?xml version="1.0"?>
 <dtmap-scene version="1">
@@ -63,32 +57,6 @@ SCENE = """<?xml version="1.0"?>
 <time duration="1e-4"/>
 </dtmap-scene>
 """
-
-SHELLS = """<?xml version="1.0"?>
-<dtmap-scene version="1">
-<geometry file="shell_beam_single.geo"/>
-<meshing size="1" order="1" dim="2"/>
-<material name="steel" groups="plate rod" E="200e9" nu="0.3" rho="7850"/>
-<section groups="plate" kind="shell" thickness="0.01"/>
-<section groups="rod" kind="beam" radius="0.01"/>
-<effects><elastic/></effects>
-</dtmap-scene>
-"""
-
-
-def read_tets(msh):
-    """(xyz [n][3], tets [ne][4] node indices) of the .msh, by Gmsh's API."""
-    import gmsh
-    gmsh.initialize(["t926", "-v", "0"])
-    try:
-        gmsh.open(msh)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = {int(t): i for i, t in enumerate(tags)}
-        _, conn = gmsh.model.mesh.getElementsByType(4)
-        tets = np.array([index[int(t)] for t in conn]).reshape(-1, 4)
-        return np.array(coords).reshape(-1, 3), tets
-    finally:
-        gmsh.finalize()
 
 
 def elasticity():
@@ -116,7 +84,7 @@ class Reference:
     """K, the lumped M, each element's step and its nodal masses."""
 
     def __init__(self, msh):
-        self.xyz, self.tets = read_tets(msh)
+        self.xyz, self.tets = read_tets(msh, "t926")
         n = 3 * len(self.xyz)
         self.K, self.m = np.zeros((n, n)), np.zeros(n)
         self.dt, self.vol = [], []

@@ -22,13 +22,7 @@ import shutil
 import os
 
 import testutil as tu
-
-SLAB_GEO = """SetFactory("OpenCASCADE");
-Box(1) = {0, 0, 0, 0.02, 0.02, 0.01};
-Box(2) = {0, 0, 0.01, 0.02, 0.02, 0.0008};
-BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
-Physical Volume("block") = {1, 2};
-"""
+from slab import GEO
 
 SLAB = """<?xml version="1.0"?>
 <dtmap-scene version="1">
@@ -44,7 +38,7 @@ STEPS = 1000
 
 
 def models():
-    tu.write("slab.geo", SLAB_GEO)
+    tu.write("slab.geo", GEO)
     tu.write("slab.xml", SLAB)
     for ext in ("geo", "xml"):
         shutil.copy(os.path.join(tu.SRC, "geometries", "box." + ext), tu.tmpdir())

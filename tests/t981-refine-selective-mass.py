@@ -43,16 +43,10 @@ import shutil
 import numpy as np
 
 import testutil as tu
+from slab import GEO, SHELLS, read_tets
 
 RHO = 7850.0
 TIMED = {"product_ratio", "runtime_factor"}  # measured wall times (and every *seconds): not reproducible
-
-GEO = """SetFactory("OpenCASCADE");
-Box(1) = {0, 0, 0, 0.02, 0.02, 0.01};
-Box(2) = {0, 0, 0.01, 0.02, 0.02, 0.0008};
-BooleanFragments{ Volume{1}; Delete; }{ Volume{2}; Delete; }
-Physical Volume("block") = {1, 2};
-"""
 
 SCENE = """<?xml version="1.0"?>
 <dtmap-scene version="1">
@@ -64,31 +58,10 @@ SCENE = """<?xml version="1.0"?>
 """
 GEOMETRY = '<geometry file="slab.geo"/>\n<meshing dim="3" size="5e-3"/>'
 
-SHELLS = """<?xml version="1.0"?>
-<dtmap-scene version="1">
-<geometry file="shell_beam_single.geo"/>
-<meshing size="1" order="1" dim="2"/>
-<material name="steel" groups="plate rod" E="200e9" nu="0.3" rho="7850"/>
-<section groups="plate" kind="shell" thickness="0.01"/>
-<section groups="rod" kind="beam" radius="0.01"/>
-<effects><elastic/></effects>
-</dtmap-scene>
-"""
-
 
 def tet_mass(msh):
     """rho x the summed volume of the tet4s of msh, by Gmsh's API and numpy."""
-    import gmsh
-    gmsh.initialize(["t981", "-v", "0"])
-    try:
-        gmsh.open(msh)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = {int(t): i for i, t in enumerate(tags)}
-        xyz = np.array(coords).reshape(-1, 3)
-        _, conn = gmsh.model.mesh.getElementsByType(4)
-        tets = np.array([index[int(t)] for t in conn]).reshape(-1, 4)
-    finally:
-        gmsh.finalize()
+    xyz, tets = read_tets(msh, "t981")
     x = xyz[tets]
     vol = np.abs(np.einsum("ij,ij->i", x[:, 1] - x[:, 0], np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 0]))) / 6
     return RHO * vol.sum()

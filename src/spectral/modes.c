@@ -386,7 +386,8 @@ static void ritz_residuals(const band *z, ritz *rz) {
 
 static int ritz_compute(const band *z, ritz *rz) {
   int m = z->m;
-  double *a = malloc((size_t)m * m * sizeof *a), *v = malloc((size_t)m * m * sizeof *v);
+  double *a = calloc((size_t)m * m, sizeof *a),
+         *v = malloc((size_t)m * m * sizeof *v); /* calloc: GCC -O1 cannot see it filled */
   int *idx = malloc((size_t)m * sizeof *idx);
   rz->m = m, rz->nu = malloc((size_t)m * sizeof *rz->nu), rz->res = malloc((size_t)m * sizeof *rz->res);
   rz->s = malloc((size_t)m * m * sizeof *rz->s);
