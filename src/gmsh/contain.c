@@ -235,14 +235,11 @@ static int hand_back(const job_spec *j, const job_files *f) {
   return j->no_periodic ? dtm_gmsh_strip_periodic(f->mesh.tmp) : DTM_OK;
 }
 
-/* Curves and surfaces are meshed on the threads asked for, as Gmsh's own
- * `gmsh -nt N` does, only while Gmsh's messages are read from its terminal
- * (a file: dtm_gmsh_log_terminal): each curve and surface logs "Meshing
- * ..." at info level from its thread, and Gmsh's API logger appends to one
- * vector without a lock, so curves meshed on OpenMP threads corrupt it
- * (ASan: a double free in t312, HXT on 2 threads). Where the terminal is
- * not a file dtmap reads (dtmap -v shows it), they are meshed one at a
- * time. Volumes keep the threads asked for. */
+/* Curves and surfaces are meshed one at a time: each logs "Meshing ..."
+ * at info level, and Gmsh's API logger (which dtmap reads for errors)
+ * appends to one vector without a lock, so curves meshed on OpenMP threads
+ * corrupt it (ASan: a double free in t312, HXT on 2 threads). Volumes keep
+ * the threads asked for. */
 static const char *const thread_keys[] = {"Mesh.MaxNumThreads1D", "Mesh.MaxNumThreads2D"};
 
 static void serial_surfaces(double *old) {
@@ -271,7 +268,7 @@ static void child(pid_t parent, const char *stage, const job_spec *j, const job_
   dup2(f->log, STDOUT_FILENO), dup2(f->log, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
-  dtm_gmsh_log_terminal(f->log);                      /* curves and surfaces on the threads asked for */
+  serial_surfaces(NULL);
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
@@ -413,17 +410,11 @@ int dtm_gmsh_logged(dtm_gmsh_job fn, void *arg) {
 static int in_process(const char *stage, const job_spec *j) {
   double old[2];
   log_redirect s = log_begin();
-  if (s.out >= 0)
-    dtm_gmsh_log_terminal(supervisor_log); /* curves and surfaces on the threads asked for */
-  else
-    serial_surfaces(old);
+  serial_surfaces(old);
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
-  if (s.out >= 0)
-    dtm_gmsh_log_terminal(-1);
-  else
-    restore_surfaces(old);
+  restore_surfaces(old);
   log_end(s);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
