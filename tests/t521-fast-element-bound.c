@@ -68,21 +68,9 @@ static void near(double got, double want, double tol, const char *what, int type
  * by up to curve h (0: straight-sided); 2D elements tilted out of the xy
  * plane. */
 static void shape(int type, double curve, double *x) {
-  int d, nn, nc, parent = dtm_elem_parent(type);
+  int d, nn;
   dtm_elem_info(type, &d, &nn);
-  dtm_elem_info(parent, NULL, &nc);
-  assert_int_equal(dtm_elem_regular(type, 1.0, x), DTM_OK);
-  for (int i = 0; i < 3 * nc; i++) x[i] += (d == 2 && i % 3 == 2) ? 0 : 0.15 * urand();
-  for (int a = nc; a < nn; a++) {
-    double p[3], N[DTM_K_NODES], dN[DTM_K_NODES][3];
-    dtm_ref_node(type, a, p);
-    dtm_ref_eval(parent, p, N, dN);
-    for (int i = 0; i < 3; i++) {
-      x[3 * a + i] = 0;
-      for (int c = 0; c < nc; c++) x[3 * a + i] += N[c] * x[3 * c + i];
-      if (d == 3 || i < 2) x[3 * a + i] += curve * urand();
-    }
-  }
+  assert_int_equal(tu_random_element(type, curve, urand, x), DTM_OK);
   if (d == 2) /* tilt: z = 0.3 x + 0.2 y, and shift away from the origin */
     for (int a = 0; a < nn; a++) x[3 * a + 2] = 0.3 * x[3 * a] + 0.2 * x[3 * a + 1] + 5;
 }

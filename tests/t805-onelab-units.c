@@ -145,17 +145,8 @@ static int close_to(double a, double b, double rel) { return fabs(a - b) <= rel 
 static void assert_run_matches(const char *model, const char *rep, const char *want) {
   tu_onelab_session(model, "t805");
   tu_onelab_run("check");
-  tu_onelab_set_number("dtmap/5Scene/0save", 1);
-  int ierr = 0;
-  char *file[] = {saved};
-  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
-  unlink(saved);
-  tu_onelab_run("compute");
-  double rec = tu_onelab_get_number("dtmap/9Results/0recommended"),
-         dmin = tu_onelab_get_number("dtmap/9Results/2dt min");
-  tu_gmsh_end();
-  char *text = NULL;
-  assert_int_equal(tu_run(&text, "cat %s", saved), 0);
+  double rec, dmin;
+  char *text = tu_onelab_compute_saved(saved, &rec, &dmin);
   if (!strstr(text, want)) fprintf(stderr, "the panel's scene (expected %s):\n%s\n", want, text);
   assert_non_null(strstr(text, want));
   free(text);

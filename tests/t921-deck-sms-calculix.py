@@ -149,10 +149,7 @@ def prepare(path, n_inc, seed=5):
     nodes, (_, sets) = du.inp_nodes(lines), inp_elements(lines)
     rng = random.Random(seed)
     with open(base + "_model.inp", "w") as f:
-        f.write("*NSET, NSET=DTMAPTEST_ALL\n")
-        ids = sorted(nodes)
-        for k in range(0, len(ids), 16):
-            f.write(", ".join(str(n) for n in ids[k:k + 16]) + "\n")
+        ids = du.write_node_set(f, nodes)
         f.write("*ELSET, ELSET=DTMAPTEST_EALL\n" + ", ".join(sets) + "\n")
         f.write("*INITIAL CONDITIONS, TYPE=VELOCITY\n")
         for n in ids:

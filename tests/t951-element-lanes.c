@@ -107,21 +107,9 @@ static void tridiagonal_lanes(void **state) {
  * by up to 15 %, the other nodes where the parent's map puts them, moved by
  * up to curve h; shifted away from the origin; 2D elements in the xy plane. */
 static void shape(int type, double h, double curve, double *x) {
-  int d, nn, nc, parent = dtm_elem_parent(type);
+  int d, nn;
   dtm_elem_info(type, &d, &nn);
-  dtm_elem_info(parent, NULL, &nc);
-  assert_int_equal(dtm_elem_regular(type, 1.0, x), DTM_OK);
-  for (int i = 0; i < 3 * nc; i++) x[i] += (d == 2 && i % 3 == 2) ? 0 : 0.15 * urand();
-  for (int a = nc; a < nn; a++) {
-    double p[3], N[DTM_K_NODES], dN[DTM_K_NODES][3];
-    dtm_ref_node(type, a, p);
-    dtm_ref_eval(parent, p, N, dN);
-    for (int i = 0; i < 3; i++) {
-      x[3 * a + i] = 0;
-      for (int c = 0; c < nc; c++) x[3 * a + i] += N[c] * x[3 * c + i];
-      if (d == 3 || i < 2) x[3 * a + i] += curve * urand();
-    }
-  }
+  assert_int_equal(tu_random_element(type, curve, urand, x), DTM_OK);
   for (int i = 0; i < 3 * nn; i++) x[i] = h * (x[i] + (d == 2 && i % 3 == 2 ? 0 : 3));
 }
 

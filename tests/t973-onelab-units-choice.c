@@ -91,17 +91,8 @@ static void test_mm(void **state) {
   tu_onelab_run("check");
   assert_true(close_to(tu_onelab_get_number("dtmap/4Materials/block/1E"), 210000, 1e-15));
   assert_true(close_to(tu_onelab_get_number("dtmap/4Materials/block/3rho"), 7.85e-9, 1e-15));
-  tu_onelab_set_number("dtmap/5Scene/0save", 1);
-  int ierr = 0;
-  char *file[] = {saved};
-  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
-  unlink(saved);
-  tu_onelab_run("compute");
-  double rec = tu_onelab_get_number("dtmap/9Results/0recommended"),
-         dmin = tu_onelab_get_number("dtmap/9Results/2dt min");
-  tu_gmsh_end();
-  char *text = NULL;
-  assert_int_equal(tu_run(&text, "cat %s", saved), 0);
+  double rec, dmin;
+  char *text = tu_onelab_compute_saved(saved, &rec, &dmin);
   if (!strstr(text, "units=\"mm-t-s\"")) fprintf(stderr, "the panel's scene:\n%s\n", text);
   assert_non_null(strstr(text, "units=\"mm-t-s\""));
   free(text);

@@ -30,6 +30,15 @@ def inp_nodes(lines):
     return nodes
 
 
+def write_node_set(f, nodes):
+    """*NSET DTMAPTEST_ALL of every node id of nodes, 16 a line, to the open file f; the ids sorted."""
+    f.write("*NSET, NSET=DTMAPTEST_ALL\n")
+    ids = sorted(nodes)
+    for k in range(0, len(ids), 16):
+        f.write(", ".join(str(n) for n in ids[k:k + 16]) + "\n")
+    return ids
+
+
 def prepare(deck, duration, seed=27, increment=None):
     """Write RUN.inp beside deck (RUN: deck's name + '_run') with the slots
     opened and filled; returns (run name without .inp, the deck's step)."""
@@ -49,10 +58,7 @@ def prepare(deck, duration, seed=27, increment=None):
         out.append("*INCLUDE, INPUT=" + m.group(1) if m else line)
     rng = random.Random(seed)
     with open(base + "_model.inp", "w") as f:
-        f.write("*NSET, NSET=DTMAPTEST_ALL\n")
-        ids = sorted(nodes)
-        for k in range(0, len(ids), 16):
-            f.write(", ".join(str(n) for n in ids[k:k + 16]) + "\n")
+        ids = write_node_set(f, nodes)
     with open(base + "_step.inp", "w") as f:
         f.write("*CLOAD\n")
         for n in ids:

@@ -1,6 +1,7 @@
 /* In-memory fixtures for effect tests (see fixtures.h). */
 #include "dtmap/analysis.h"
 #include "fixtures.h"
+#include "kernel-impl.h"
 #include "dtmap/registry.h"
 
 #include <math.h>
@@ -136,4 +137,24 @@ struct dtm_analysis *tu_bar_analysis(const dtm_scene *s, int n, const double *le
     abort();
   }
   return a;
+}
+
+int tu_random_element(int type, double curve, double (*urand)(void), double *x) {
+  int d, nn, nc, parent = dtm_elem_parent(type);
+  dtm_elem_info(type, &d, &nn);
+  dtm_elem_info(parent, NULL, &nc);
+  int r = dtm_elem_regular(type, 1.0, x);
+  if (r) return r;
+  for (int i = 0; i < 3 * nc; i++) x[i] += (d == 2 && i % 3 == 2) ? 0 : 0.15 * urand();
+  for (int a = nc; a < nn; a++) {
+    double p[3], N[DTM_K_NODES], dN[DTM_K_NODES][3];
+    dtm_ref_node(type, a, p);
+    dtm_ref_eval(parent, p, N, dN);
+    for (int i = 0; i < 3; i++) {
+      x[3 * a + i] = 0;
+      for (int c = 0; c < nc; c++) x[3 * a + i] += N[c] * x[3 * c + i];
+      if (d == 3 || i < 2) x[3 * a + i] += curve * urand();
+    }
+  }
+  return DTM_OK;
 }

@@ -47,4 +47,11 @@ void tu_bar_scene(dtm_scene *s, dtm_scene_effect *se, dtm_scene_material *sm, do
  * group[n] (NULL: none) among ngroups groups named "a", "b", ... */
 struct dtm_analysis *tu_bar_analysis(const dtm_scene *s, int n, const double *len, const int *group, int ngroups);
 
+/* A random element of type in x[3 nn]: the regular element's corners moved
+ * by up to 15 % (not out of the xy plane for a 2D type), the other nodes
+ * where the parent's map puts them, then moved by up to curve (0:
+ * straight-sided), urand() uniform in [-1, 1). DTM_OK, or
+ * dtm_elem_regular's error. (t521, t951) */
+int tu_random_element(int type, double curve, double (*urand)(void), double *x);
+
 #endif

@@ -64,3 +64,18 @@ void tu_onelab_assert_units(const char *name, const char *unit) {
   assert_true(cJSON_IsString(u) && !strcmp(u->valuestring, unit));
   cJSON_Delete(p);
 }
+
+char *tu_onelab_compute_saved(const char *saved, double *rec, double *dmin) {
+  tu_onelab_set_number("dtmap/5Scene/0save", 1);
+  int ierr = 0;
+  char *file[] = {(char *)saved};
+  gmshOnelabSetString("dtmap/5Scene/1file", file, 1, &ierr);
+  unlink(saved);
+  tu_onelab_run("compute");
+  *rec = tu_onelab_get_number("dtmap/9Results/0recommended");
+  *dmin = tu_onelab_get_number("dtmap/9Results/2dt min");
+  tu_gmsh_end();
+  char *text = NULL;
+  assert_int_equal(tu_run(&text, "cat %s", saved), 0);
+  return text;
+}

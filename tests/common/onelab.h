@@ -16,5 +16,9 @@ void tu_onelab_set_number(const char *name, double v);
 double tu_onelab_get_number(const char *name);
 /* The Units attribute of the ONELAB parameter name is unit ("" for none). */
 void tu_onelab_assert_units(const char *name, const char *unit);
+/* The panel asked to save its scene to saved, then "compute": the
+ * recommended and smallest steps it shows into *rec and *dmin, Gmsh ended,
+ * and the saved scene's text returned (owned: free). */
+char *tu_onelab_compute_saved(const char *saved, double *rec, double *dmin);
 
 #endif
