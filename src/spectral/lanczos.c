@@ -25,7 +25,9 @@
  * tets (41 steps, 6e5 unknowns: 16 % each); the partial one
  * reorthogonalised 6 of those 41 steps (docs/performance.md). The
  * basis costs k ndof doubles, and gives the Ritz vector y = V_k s
- * directly.
+ * directly. Its vectors are stored unnormalised with their scales, and
+ * every pass over them is lzvec.c's (in chunks, on the run's threads,
+ * with the same bits on any thread count).
  * After each step theta is found by Sturm bisection to full precision and
  * its unit eigenvector s by inverse iteration, which gives the residual
  * estimate |beta_k s_k|. The run stops when that is <= tol * theta, at
@@ -70,13 +72,16 @@ typedef struct {
   const dtm_operator *op;
   size_t n;
   unsigned seed;
-  const double *vp; /* v_{j-1} (NULL for j = 0): the basis's vector */
-  const double *v;  /* v_j: the basis's last vector */
-  double *w;        /* the next direction (owned) */
+  const double *vp; /* V_{j-1} (NULL for j = 0): the basis's vector */
+  const double *v;  /* V_j: the basis's last vector */
+  double sp, sv;    /* their scales: v_{j-1} = sp V_{j-1}, v_j = sv V_j */
+  double *w;        /* the next direction (owned; it becomes V_{j+1}) */
   double bprev;     /* beta_{j-1} */
-  double **V;       /* [maxit][n] the basis v_0 .. v_{nv-1} (each owned) */
+  double **V;       /* [maxit][n] the basis, unnormalised: v_i = sc[i] V_i (each owned) */
+  double *sc;       /* [maxit] the scales */
   int nv;           /* vectors stored */
   double *c;        /* [maxit] Gram-Schmidt coefficients */
+  double *part;     /* [chunks * (maxit + 2)] the chunks' partial sums (lzvec.c) */
   double nmass;     /* dofs with mass: the order of the bound */
   int mode;         /* DTM_REORTH_*: partial (dtmap's), full or none (the white-box test's references) */
   double *om[3];    /* [maxit + 2] omega rows j - 1, j, j + 1: estimates of v_j . v_i */
@@ -95,103 +100,49 @@ typedef struct {
   int kmax;          /* maxit, or fewer when the basis could not grow */
 } lz_tri;
 
-#define DOT_LANES 8 /* independent partial sums: a dot no longer waits on each addition's latency */
+/* A vector of the basis (n doubles, at least one). Huge pages
+ * (posix_memalign to 2 MiB and madvise MADV_HUGEPAGE) were tried: with
+ * Debian's defrag setting each 2 MiB fault zeroed and compacted
+ * synchronously, and the global estimate at 1.2e6 tets took 1.8 s instead
+ * of 1.0-1.2 s. */
+static double *vec_alloc(size_t n) { return malloc((n ? n : 1) * sizeof(double)); }
 
-/* x . y in DOT_LANES interleaved partial sums added pairwise at the end: a
- * fixed order (the same bits on every run and thread count), several times
- * faster than one running sum, whose every addition waits on the last. */
-static double dot(size_t n, const double *x, const double *y) {
-  double s[DOT_LANES] = {0};
-  size_t i = 0;
-  for (; i + DOT_LANES <= n; i += DOT_LANES)
-    for (int l = 0; l < DOT_LANES; l++) s[l] += x[i + l] * y[i + l];
-  for (; i < n; i++) s[0] += x[i] * y[i];
-  return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
-}
-
-/* A new vector at the end of the basis (it owns it); NULL when the basis
- * cannot grow (memory). */
-static double *grow(lz_state *z) {
-  double *q = malloc((z->n ? z->n : 1) * sizeof *q);
-  if (q) z->V[z->nv++] = q;
-  return q;
-}
-
-/* w -= s x (x NULL: w unchanged), then w . y, in one pass: the partial sums
- * of dot's fixed order. */
-static double axpy_dot(size_t n, double *w, double s, const double *x, const double *y) {
-  if (!x) return dot(n, w, y);
-  double p[DOT_LANES] = {0};
-  size_t i = 0;
-  for (; i + DOT_LANES <= n; i += DOT_LANES)
-    for (int l = 0; l < DOT_LANES; l++) {
-      w[i + l] -= s * x[i + l];
-      p[l] += w[i + l] * y[i + l];
-    }
-  for (; i < n; i++) w[i] -= s * x[i], p[0] += w[i] * y[i];
-  return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+/* |x|, by a pass that leaves x as it is. */
+static double norm2(lz_state *z, double *x) {
+  double d[2];
+  dtm_vstep(z->n, x, 1, 0, x, x, z->part, d);
+  return sqrt(d[1]);
 }
 
 /* v_0: standard normal on the dofs with mass (drawn per Gmsh node tag, so
- * the start does not depend on the node order), unit norm: uniform on the
- * unit sphere of those dofs; 0 when there are none. */
+ * the start does not depend on the node order), of unit norm through its
+ * scale: uniform on the unit sphere of those dofs; 0 when there are none. */
 static double lz_start(lz_state *z) {
   const double *m = dtm_operator_mass(z->op);
-  double *v = grow(z);
+  double *v = vec_alloc(z->n);
   if (!v) return 0;
+  z->V[z->nv++] = v;
   dtm_operator_draw_normal(z->op, z->seed, v);
   z->nmass = 0;
   for (size_t i = 0; i < z->n; i++) {
     v[i] = m[i] > 0 ? v[i] : 0;
     z->nmass += m[i] > 0;
   }
-  double nv = sqrt(dot(z->n, v, v));
-  for (size_t i = 0; i < z->n && nv > 0; i++) v[i] /= nv;
-  z->v = v, z->vp = NULL, z->bprev = 0;
+  double nv = norm2(z, v);
+  z->sc[0] = nv > 0 ? 1 / nv : 0;
+  z->v = v, z->sv = z->sc[0], z->vp = NULL, z->sp = 0, z->bprev = 0;
   z->om[1][0] = 1; /* v_0 . v_0 */
   return nv;
 }
 
-#define GS_CHUNK 4096 /* unknowns per block of the Gram-Schmidt update */
-
-/* The coefficients c_j = w . v_j, summed block by block (each block's dot
- * in part[b nv + j], then the blocks in order), so that w's block stays in
- * cache while the basis streams past. */
-static void gs_coefficients(lz_state *z, size_t nb, double *part) {
-  size_t n = z->n;
-  int nv = z->nv;
-  const double *w = z->w;
-  double *const *V = z->V;
-  for (size_t b = 0; b < nb; b++) {
-    size_t lo = b * GS_CHUNK, hi = lo + GS_CHUNK < n ? lo + GS_CHUNK : n;
-    for (int j = 0; j < nv; j++) part[b * (size_t)nv + (size_t)j] = dot(hi - lo, w + lo, V[j] + lo);
-  }
-  for (int j = 0; j < nv; j++) {
-    double c = 0;
-    for (size_t b = 0; b < nb; b++) c += part[b * (size_t)nv + (size_t)j];
-    z->c[j] = c;
-  }
-}
-
-/* One classical Gram-Schmidt pass of w against the basis by blocks of w
- * that stay in cache while the basis streams past; returns the coefficient
- * of the newest vector. Serial: on a loaded machine OpenMP here cost more
- * than it saved (2.5 s serial against 4.9 s on two threads at 1.2e6 tets,
- * load 4; docs/estimators.md). */
-static double orthogonalise(lz_state *z) {
-  size_t n = z->n, nb = (n + GS_CHUNK - 1) / GS_CHUNK;
-  int nv = z->nv;
-  double *c = z->c, *w = z->w, *const *V = z->V;
-  double *part = malloc((nb * (size_t)nv + 1) * sizeof *part);
-  if (part) gs_coefficients(z, nb, part);
-  for (int j = 0; j < nv && !part; j++) c[j] = dot(n, w, V[j]); /* no memory for the blocks: one pass each */
-  free(part);
-  for (size_t b = 0; b < nb; b++) {
-    size_t lo = b * GS_CHUNK, hi = lo + GS_CHUNK < n ? lo + GS_CHUNK : n;
-    for (int j = 0; j < nv; j++)
-      for (size_t i = lo; i < hi; i++) w[i] -= c[j] * V[j][i];
-  }
-  return c[nv - 1];
+/* One classical Gram-Schmidt pass of w against the basis (lzvec.c: by
+ * chunks of w that stay in cache while the basis streams past, on the
+ * run's threads); returns the coefficient of the newest vector and w's
+ * squared length after. */
+static double orthogonalise(lz_state *z, double *ww) {
+  dtm_vproject(z->n, z->w, z->V, z->sc, z->nv, z->part, z->c);
+  *ww = dtm_vsubtract(z->n, z->w, z->V, z->sc, z->c, z->nv, z->part);
+  return z->c[z->nv - 1];
 }
 
 /* w reorthogonalised against v_0 .. v_j, a second time when the first
@@ -201,12 +152,12 @@ static double orthogonalise(lz_state *z) {
  * it); *a takes the coefficients of v_j, *b (w's length before) becomes
  * its length after. */
 static void reorthogonalise(lz_state *z, double *a, double *b) {
-  double before = *b;
-  *a += orthogonalise(z);
-  *b = sqrt(dot(z->n, z->w, z->w));
+  double before = *b, ww;
+  *a += orthogonalise(z, &ww);
+  *b = sqrt(ww);
   if (*b < 0.7071067811865476 * before) { /* 1/sqrt(2) */
-    *a += orthogonalise(z);
-    *b = sqrt(dot(z->n, z->w, z->w));
+    *a += orthogonalise(z, &ww);
+    *b = sqrt(ww);
   }
   z->nreorth++;
 }
@@ -252,29 +203,35 @@ static double om_limit(int k) { return sqrt(DBL_EPSILON / k); }
 
 /* w = A v_j - a v_j - beta_{j-1} v_{j-1} for j = t->k - 1, into a_j and
  * b_j. Full mode: reorthogonalised against v_0 .. v_j at every step.
- * Partial (Simon, 1984): w is kept orthogonal to v_j locally (a second
- * projection on v_j), the omega recurrence estimates its
- * loss of orthogonality to the older vectors from T_k alone, and w is
+ * Partial (Simon, 1984): the omega recurrence estimates w's loss of
+ * orthogonality to the older vectors from T_k alone, and w is
  * reorthogonalised against the whole basis only when an estimate exceeds
  * om_limit, and then at the next step too (the next direction inherits
- * v_j's loss through the recurrence). The vector work is three passes over
- * n, each update fused with the dot that follows it. */
+ * v_j's loss through the recurrence). Locally, w . v_j after the
+ * subtraction of a v_j is measured in the same pass; a second projection
+ * on v_j follows only where it exceeds the rounding of a itself (4 eps
+ * |T_k|: below that it changes neither a nor v_{j+1} . v_j beyond what
+ * om_update already allows for). So the vector work is two passes over
+ * n, each update fused with the dots that follow it. */
 static void lz_step(lz_state *z, lz_tri *t) {
   size_t n = z->n;
   int j = t->k - 1;
-  double *a = &t->a[j], *b = &t->b[j];
+  double *a = &t->a[j], *b = &t->b[j], d[2];
+  const double *vp = z->vp ? z->vp : z->v;
   dtm_operator_apply_sym(z->op, z->v, z->w);
+  dtm_vstep(n, z->w, z->sv, z->vp ? z->bprev * z->sp : 0, vp, z->v, z->part, d); /* w = A v_j - beta_{j-1} v_{j-1} */
+  *a = z->sv * d[0];
+  dtm_vstep(n, z->w, 1, *a * z->sv, z->v, z->v, z->part, d); /* w -= alpha_j v_j; w . v_j, |w|^2 */
+  double c = z->sv * d[0], bb = d[1], scale = fmax(z->tnorm, fabs(*a) + sqrt(bb) + z->bprev);
   if (z->mode == DTM_REORTH_FULL) {
-    *a = dot(n, z->w, z->v);
-    for (size_t i = 0; i < n; i++) z->w[i] -= *a * z->v[i] + (z->vp ? z->bprev * z->vp[i] : 0);
-    *b = sqrt(dot(n, z->w, z->w));
+    *b = sqrt(bb);
     reorthogonalise(z, a, b);
     return;
   }
-  *a = axpy_dot(n, z->w, z->bprev, z->vp, z->v); /* w -= beta_{j-1} v_{j-1}; alpha_j = w . v_j */
-  double c = axpy_dot(n, z->w, *a, z->v, z->v);  /* w -= alpha_j v_j; the local correction's w . v_j */
-  double bb = axpy_dot(n, z->w, c, z->v, z->w);  /* w -= c v_j; |w|^2 */
-  *a += c;
+  if (fabs(c) > 4 * DBL_EPSILON * scale) { /* the local correction */
+    dtm_vstep(n, z->w, 1, c * z->sv, z->v, z->v, z->part, d);
+    *a += c, bb = d[1];
+  }
   *b = sqrt(bb);
   z->tnorm = fmax(z->tnorm, fabs(*a) + *b + z->bprev);
   double worst = *b > 0 ? om_update(z, t->a, t->b, j, *b) : 0;
@@ -285,13 +242,14 @@ static void lz_step(lz_state *z, lz_tri *t) {
   }
 }
 
-/* v_{j+1} = w / b, written straight into the basis, and the omega rows
- * move on. 0 when the basis cannot grow. */
+/* v_{j+1} = w / b: w itself joins the basis with the scale 1 / b, and a
+ * new w is taken for the next product. 0 when the basis cannot grow. */
 static int lz_advance(lz_state *z, double b) {
-  double *q = grow(z), *o = z->om[0];
+  double *q = vec_alloc(z->n), *o = z->om[0];
   if (!q) return 0;
-  for (size_t i = 0; i < z->n; i++) q[i] = z->w[i] / b;
-  z->vp = z->v, z->v = q, z->bprev = b;
+  z->V[z->nv] = z->w, z->sc[z->nv] = 1 / b, z->w = q;
+  z->vp = z->v, z->sp = z->sv, z->v = z->V[z->nv], z->sv = z->sc[z->nv], z->bprev = b;
+  z->nv++;
   z->om[0] = z->om[1], z->om[1] = z->om[2], z->om[2] = o;
   return 1;
 }
@@ -444,14 +402,13 @@ static void first_pass(lz_state *z, lz_tri *t, double tol, double eps_target) {
 /* y = V_k s (unit), then the true residual ||A y - theta y|| (ay: [n]
  * workspace). */
 static double ritz(lz_state *z, const lz_tri *t, double *y, double *ay) {
-  memset(y, 0, z->n * sizeof *y);
-  for (int j = 0; j < t->k; j++)
-    for (size_t i = 0; i < z->n; i++) y[i] += t->s[j] * z->V[j][i];
-  double ny = sqrt(dot(z->n, y, y)), r = 0;
+  double d[2];
+  dtm_vcombine(z->n, y, z->V, z->sc, t->s, t->k);
+  double ny = norm2(z, y);
   for (size_t i = 0; i < z->n; i++) y[i] /= ny;
   dtm_operator_apply_sym(z->op, y, ay);
-  for (size_t i = 0; i < z->n; i++) r += pow(ay[i] - t->theta * y[i], 2);
-  return sqrt(r);
+  dtm_vstep(z->n, ay, 1, t->theta, y, y, z->part, d); /* ay - theta y, its length */
+  return sqrt(d[1]);
 }
 
 /* The mode u = M^-1/2 y, into y (u^T M u = y^T y = 1). */
@@ -462,7 +419,7 @@ static void to_field(const dtm_operator *op, size_t n, double *y) {
 
 static void lz_free(lz_state *z, lz_tri *t) {
   for (int j = 0; z->V && j < z->nv; j++) free(z->V[j]);
-  free(z->V), free(z->c);
+  free(z->V), free(z->c), free(z->sc), free(z->part);
   free(z->om[0]), free(z->om[1]), free(z->om[2]);
   free(z->w);
   free(t->a), free(t->b), free(t->s), free(t->work);
@@ -470,13 +427,15 @@ static void lz_free(lz_state *z, lz_tri *t) {
 
 static int lz_alloc(lz_state *z, lz_tri *t, int maxit) {
   size_t n = z->n ? z->n : 1, k = (size_t)maxit;
-  z->w = malloc(n * sizeof(double));
+  z->w = vec_alloc(n);
   t->a = malloc(k * sizeof(double)), t->b = malloc(k * sizeof(double));
   t->s = malloc(k * sizeof(double)), t->work = malloc(4 * k * sizeof(double));
-  z->V = calloc(k, sizeof *z->V), z->c = malloc(k * sizeof(double));
+  z->V = calloc(k, sizeof *z->V), z->c = malloc(k * sizeof(double)), z->sc = malloc(k * sizeof(double));
+  z->part = malloc(dtm_vchunks(n) * (k + 2) * sizeof(double));
   for (int i = 0; i < 3; i++) z->om[i] = calloc(k + 2, sizeof(double));
   t->kmax = maxit;
-  if (z->w && t->a && t->b && t->s && t->work && z->V && z->c && z->om[0] && z->om[1] && z->om[2]) return DTM_OK;
+  if (z->w && t->a && t->b && t->s && t->work && z->V && z->c && z->sc && z->part && z->om[0] && z->om[1] && z->om[2])
+    return DTM_OK;
   lz_free(z, t);
   return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the Lanczos vectors");
 }
@@ -653,8 +612,10 @@ int dtm_lanczos_max_probable(const dtm_operator *op, double tol, int maxit, unsi
 /* The largest |v_i . v_j - delta_ij| over the basis. */
 static double basis_deviation(const lz_state *z) {
   double worst = 0;
-  for (int i = 0; i < z->nv; i++)
-    for (int j = 0; j <= i; j++) worst = fmax(worst, fabs(dot(z->n, z->V[i], z->V[j]) - (i == j)));
+  for (int i = 0; i < z->nv; i++) {
+    dtm_vproject(z->n, z->V[i], z->V, z->sc, i + 1, z->part, z->c);
+    for (int j = 0; j <= i; j++) worst = fmax(worst, fabs(z->sc[i] * z->c[j] - (i == j)));
+  }
   return worst;
 }
 
