@@ -1132,17 +1132,19 @@ static int incidence(const dtm_operator *op, size_t nnodes, size_t **eptr, uint6
 
 size_t dtm_operator_node_graph_floor(const dtm_operator *op) {
   if (op->st.n || op->ndof % (size_t)op->ncomp) return 0;
-  size_t nn = op->ndof / (size_t)op->ncomp, used = 0;
-  int least = INT_MAX;
+  size_t nn = op->ndof / (size_t)op->ncomp, used = 0, tets = 0;
+  int least = INT_MAX, all_tets = op->d == 3;
   unsigned char *seen = calloc(nn + 1, 1);
   if (!seen) return 0;
   for (int ib = 0; ib < op->nblocks; ib++) {
     const op_block *b = &op->blocks[ib];
     if (b->n) least = b->nn < least ? b->nn : least;
+    if (b->n) all_tets &= b->p1 && b->nn == 4, tets += b->n;
     for (size_t k = 0; k < b->n * (size_t)b->nn; k++) used += !seen[b->conn[k]], seen[b->conn[k]] = 1;
   }
   free(seen);
-  return least == INT_MAX ? 0 : used * (size_t)least;
+  if (least == INT_MAX) return 0;
+  return all_tets ? 3 * used + 2 * tets : used * (size_t)least;
 }
 
 int dtm_operator_node_graph(const dtm_operator *op, size_t *nnodes, size_t **xadj, size_t **adj) {
