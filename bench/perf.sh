@@ -14,6 +14,13 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 export BUILD_DIR=${BUILD_DIR:-$root/build-bench}
 bash "$root/bench/setup.sh" >/dev/null
 bash "$root/scripts/build.sh" -DDTM_MPI=OFF >/dev/null
-/usr/bin/python3 "$root/bench/perf.py" > "$root/docs/performance.md.tmp"
-mv "$root/docs/performance.md.tmp" "$root/docs/performance.md"
+doc=$root/docs/performance.md
+/usr/bin/python3 "$root/bench/perf.py" > "$doc.tmp"
+# The sections below the marker come from other scripts (each names its
+# own): they are kept as they are.
+if [ -f "$doc" ] && grep -q '^<!-- bench/perf.sh regenerates' "$doc"; then
+  printf '\n' >> "$doc.tmp"
+  sed -n '/^<!-- bench\/perf.sh regenerates/,$p' "$doc" >> "$doc.tmp"
+fi
+mv "$doc.tmp" "$doc"
 cat "$root/docs/performance.md"
