@@ -120,6 +120,7 @@ static cJSON *strip_run(void) {
   char *log = NULL;
   int code = tu_run(&log, "%s run %s -o %s --report %s -q", tu_cli(), buf[1], in_tmp(2, "strip_dt.msh"),
                     in_tmp(3, "strip_dt.json"));
+  if (code) fprintf(stderr, "%s\n", log); /* a failed run's own words */
   free(log);
   assert_int_equal(code, 0);
   return tu_json_load(buf[3]);
@@ -194,6 +195,7 @@ static void platen(void **unused) {
   tu_write(in_tmp(1, "platen.xml"), platen_xml);
   int code = tu_run(&log, "%s run %s -o %s --report %s -q", tu_cli(), buf[1], in_tmp(2, "platen_dt.msh"),
                     in_tmp(3, "platen_dt.json"));
+  if (code) fprintf(stderr, "%s\n", log);
   free(log);
   assert_int_equal(code, 0);
   cJSON *j = tu_json_load(buf[3]);
