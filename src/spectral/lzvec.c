@@ -77,8 +77,7 @@ void dtm_vproject(size_t n, const double *w, double *const *V, const double *sc,
   }
 }
 
-double dtm_vsubtract(size_t n, double *w, double *const *V, const double *sc, const double *c, int nv,
-                     double *part) {
+double dtm_vsubtract(size_t n, double *w, double *const *V, const double *sc, const double *c, int nv, double *part) {
   size_t nb = dtm_vchunks(n);
 #pragma omp parallel for schedule(static) if (nb >= LZ_PAR_CHUNKS)
   for (size_t b = 0; b < nb; b++) {
