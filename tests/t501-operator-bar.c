@@ -44,6 +44,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
+#include "fixtures.h"
 
 static const double E = 210e9, RHO = 7850, NU = 0.3;
 
@@ -102,15 +103,8 @@ static dtm_lanczos_result lanczos(const dtm_operator *op, double tol, int maxit)
 
 /* Largest eigenvalue of the dense M^-1/2 K M^-1/2, by unit vectors. */
 static double dense_top(const dtm_operator *op) {
-  int n = (int)dtm_operator_ndof(op);
-  double *a = malloc((size_t)n * (size_t)n * sizeof *a), *e = calloc((size_t)n, sizeof *e);
-  for (int j = 0; j < n; j++) {
-    e[j] = 1;
-    dtm_operator_apply_sym(op, e, a + (size_t)j * (size_t)n);
-    e[j] = 0;
-  }
-  double top = dtm_eig_sym_max(n, a);
-  free(a), free(e);
+  double *a = tu_operator_dense(op, 1), top = dtm_eig_sym_max((int)dtm_operator_ndof(op), a);
+  free(a);
   return top;
 }
 

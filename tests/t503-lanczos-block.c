@@ -32,6 +32,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
+#include "fixtures.h"
 
 static void near(double got, double want, double rel, const char *what) {
   if (!(fabs(got - want) <= rel * fabs(want)))
@@ -155,16 +156,11 @@ static dtm_operator *make(const dtm_mesh *m) {
 
 static double dense_top(const dtm_operator *op) {
   size_t n = dtm_operator_ndof(op);
-  double *a = malloc(n * n * sizeof *a), *e = calloc(n, sizeof *e);
-  for (size_t j = 0; j < n; j++) {
-    e[j] = 1;
-    dtm_operator_apply_sym(op, e, a + j * n);
-    e[j] = 0;
-  }
+  double *a = tu_operator_dense(op, 1);
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < i; j++) assert_true(fabs(a[i * n + j] - a[j * n + i]) <= 1e-12 * fabs(a[i * n + i]));
   double top = dtm_eig_sym_max((int)n, a);
-  free(a), free(e);
+  free(a);
   return top;
 }
 

@@ -34,6 +34,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
+#include "fixtures.h"
 #include "spectral.h"
 
 #define N 3           /* cells per side of each copy */
@@ -124,16 +125,8 @@ static dtm_operator *make(const dtm_mesh *m) {
 }
 
 static double dense_top(const dtm_operator *op) {
-  size_t n = dtm_operator_ndof(op);
-  double *a = malloc(n * n * sizeof *a), *e = calloc(n, sizeof *e);
-  assert_non_null(a), assert_non_null(e);
-  for (size_t j = 0; j < n; j++) {
-    e[j] = 1;
-    dtm_operator_apply_sym(op, e, a + j * n);
-    e[j] = 0;
-  }
-  double top = dtm_eig_sym_max((int)n, a);
-  free(a), free(e);
+  double *a = tu_operator_dense(op, 1), top = dtm_eig_sym_max((int)dtm_operator_ndof(op), a);
+  free(a);
   return top;
 }
 

@@ -33,6 +33,7 @@
 #include "dtmap/error.h"
 #include "dtmap/kernel.h"
 #include "dtmap/operator.h"
+#include "fixtures.h"
 #include "dtmap/sms.h"
 
 #define N 3
@@ -54,20 +55,6 @@ static dtm_operator *make(const dtm_mesh *m) {
   dtm_error_clear();
   if (dtm_operator_create(m, DTM_OP_ELASTIC, &c, NULL, NULL, 1, &op)) fail_msg("create: %s", dtm_error_message());
   return op;
-}
-
-/* Dense columns of K. */
-static double *dense_k(const dtm_operator *op) {
-  size_t n = dtm_operator_ndof(op);
-  double *k = malloc(n * n * sizeof *k), *e = calloc(n, sizeof *e);
-  assert_non_null(k), assert_non_null(e);
-  for (size_t j = 0; j < n; j++) {
-    e[j] = 1;
-    dtm_operator_apply(op, e, k + j * n);
-    e[j] = 0;
-  }
-  free(e);
-  return k;
 }
 
 static double *dense_csr(const dtm_csr *m) {
@@ -130,7 +117,7 @@ static void one_element(int type, int nn, const double *x, double volume) {
   dtm_mesh m = {.dim = 3, .nnodes = (size_t)nn, .xyz = xyz, .nblocks = 1, .blocks = &b};
   dtm_operator *op = make(&m);
   size_t n = dtm_operator_ndof(op);
-  double *k = dense_k(op), *md = diag_of(op), lam0 = pencil_top(n, k, md), lam_kernel;
+  double *k = tu_operator_dense(op, 0), *md = diag_of(op), lam0 = pencil_top(n, k, md), lam_kernel;
   dtm_elastic_moduli mod;
   assert_int_equal(dtm_elastic_moduli_init(DTM_FORM_3D, 210e9, 0.3, RHO, &mod), 0);
   assert_int_equal(dtm_kernel_elastic_lambda(type, &mod, x, &lam_kernel), 0);
@@ -302,7 +289,7 @@ static void test_grid(void **state) {
   mesh_t g;
   grid_init(&g);
   dtm_operator *op = make(&g.m);
-  double *dt = malloc(g.b.n * sizeof *dt), lo = element_steps(&g, dt), *k = dense_k(op);
+  double *dt = malloc(g.b.n * sizeof *dt), lo = element_steps(&g, dt), *k = tu_operator_dense(op, 0);
   check_grid(&g, op, k, dt, 2 * lo);
   check_grid(&g, op, k, dt, 5 * lo);
   free(dt), free(k);

@@ -2,6 +2,7 @@
 #include "dtmap/analysis.h"
 #include "fixtures.h"
 #include "kernel-impl.h"
+#include "dtmap/operator.h"
 #include "dtmap/registry.h"
 
 #include <math.h>
@@ -157,4 +158,17 @@ int tu_random_element(int type, double curve, double (*urand)(void), double *x) 
     }
   }
   return DTM_OK;
+}
+
+double *tu_operator_dense(const struct dtm_operator *op, int sym) {
+  size_t n = dtm_operator_ndof(op);
+  double *a = malloc((n ? n * n : 1) * sizeof *a), *e = calloc(n + 1, sizeof *e);
+  if (!a || !e) abort();
+  for (size_t j = 0; j < n; j++) {
+    e[j] = 1;
+    (sym ? dtm_operator_apply_sym : dtm_operator_apply)(op, e, a + j * n);
+    e[j] = 0;
+  }
+  free(e);
+  return a;
 }

@@ -54,4 +54,10 @@ struct dtm_analysis *tu_bar_analysis(const dtm_scene *s, int n, const double *le
  * dtm_elem_regular's error. (t521, t951) */
 int tu_random_element(int type, double curve, double (*urand)(void), double *x);
 
+struct dtm_operator;
+/* The operator as a dense matrix of dtm_operator_ndof(op)^2 doubles, column
+ * j its product with the unit vector e_j: the symmetric M^-1/2 K M^-1/2
+ * when sym, else K (owned: free). (t501, t503, t504, t925, t941) */
+double *tu_operator_dense(const struct dtm_operator *op, int sym);
+
 #endif
