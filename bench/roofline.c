@@ -72,6 +72,7 @@
 #include "../src/kernel/assemble-impl.h"
 #include "../src/kernel/kernel-impl.h"
 #include "../src/kernel/structural.h"
+#include "fixtures.h"
 
 #define LAGUERRE 4
 #define PN 30
@@ -147,23 +148,12 @@ static double quad4_shell_flops(void) {
 }
 
 /* ---- elements ---- */
-/* A tet10 at scale h: the corners of the unit tetrahedron moved by up to
- * 15 %, the mid-edge nodes where the corners' map puts them, moved by up to
- * curve h (as tests/t521). */
+/* A tet10 at scale h: tests/common's random element (the corners of the
+ * unit tetrahedron moved by up to 15 %, the mid-edge nodes where the
+ * corners' map puts them, moved by up to curve h, as tests/t521), moved
+ * to positive coordinates and scaled. */
 static void tet10(double h, double curve, double *x) {
-  int nc = 4;
-  if (dtm_elem_regular(DTM_TET10, 1.0, x)) abort();
-  for (int i = 0; i < 3 * nc; i++) x[i] += 0.15 * urand();
-  for (int a = nc; a < 10; a++) {
-    double p[3], N[DTM_K_NODES], dN[DTM_K_NODES][3];
-    dtm_ref_node(DTM_TET10, a, p);
-    dtm_ref_eval(DTM_TET4, p, N, dN);
-    for (int i = 0; i < 3; i++) {
-      x[3 * a + i] = 0;
-      for (int c = 0; c < nc; c++) x[3 * a + i] += N[c] * x[3 * c + i];
-      x[3 * a + i] += curve * urand();
-    }
-  }
+  if (tu_random_element(DTM_TET10, curve, urand, x)) abort();
   for (int i = 0; i < 30; i++) x[i] = h * (x[i] + 2);
 }
 
