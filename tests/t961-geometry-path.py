@@ -40,22 +40,6 @@ SCENE = """<?xml version="1.0"?>
 REL = 1e-12  # the same arithmetic on the same mesh, its coordinates through 16 digits of ASCII
 
 
-def views(path):
-    """{view name: {tag: value}} of every view of the .msh at path, read with Gmsh's Python API."""
-    import gmsh
-    gmsh.initialize(["t961", "-v", "0"])
-    try:
-        gmsh.open(path)
-        out = {}
-        for tag in gmsh.view.getTags():
-            name = gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(tag))
-            kind, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
-            out[name] = {int(t): float(d[0]) for t, d in zip(tags, data)}
-        return out
-    finally:
-        gmsh.finalize()
-
-
 def counts(path):
     """(elements of dimension 3, nodes) of the .msh at path."""
     import gmsh
@@ -84,7 +68,7 @@ class GeometryPath(unittest.TestCase):
         code, log = tu.run("run", "msh.xml", "-q", "-o", "msh_dt.msh", "--report", "msh_dt.json")
         assert code == 0, log
         cls.geo, cls.msh = tu.report("geo_dt.json"), tu.report("msh_dt.json")
-        cls.vgeo, cls.vmsh = views(tu.path("geo_dt.msh")), views(tu.path("msh_dt.msh"))
+        cls.vgeo, cls.vmsh = tu.views(tu.path("geo_dt.msh")), tu.views(tu.path("msh_dt.msh"))
 
     def test_mesh_is_the_analysed_one(self):
         n, nodes = counts(tu.path("geo_dt.msh"))

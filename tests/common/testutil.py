@@ -76,21 +76,29 @@ def effect_api_version():
         return int(re.search(r"#define DTM_EFFECT_API_VERSION (\d+)", f.read()).group(1))
 
 
-def view_values(path, name):
-    """{element or node tag: first value} of the view called name in the .msh at path ({} when
-    it has none), read with Gmsh's Python API (imported here: not every script needs it)."""
+def views(path):
+    """{view name: {element or node tag: first value}} of every view of the .msh at path (the
+    first view of a name when two share it), read with Gmsh's Python API (imported here: not
+    every script needs it)."""
     import gmsh
     gmsh.initialize(["testutil", "-v", "0"])
     try:
         gmsh.open(path)
+        out = {}
         for tag in gmsh.view.getTags():
-            if gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(tag)) != name:
-                continue
-            _, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
-            return {int(t): float(d[0]) for t, d in zip(tags, data)}
-        return {}
+            name = gmsh.option.getString("View[%d].Name" % gmsh.view.getIndex(tag))
+            if name not in out:
+                _, tags, data, _, _ = gmsh.view.getModelData(tag, 0)
+                out[name] = {int(t): float(d[0]) for t, d in zip(tags, data)}
+        return out
     finally:
         gmsh.finalize()
+
+
+def view_values(path, name):
+    """{element or node tag: first value} of the view called name in the .msh at path ({} when
+    it has none)."""
+    return views(path).get(name, {})
 
 
 def report(name):
