@@ -39,6 +39,9 @@ import numpy as np
 
 import testutil as tu
 
+sys.path.insert(0, os.path.join(tu.SRC, "bench"))
+import certify_reach  # noqa: E402  (bench/certify_reach.py: the reach table's boxes)
+
 REF = os.path.join(tu.SRC, "tests", "reference", "mass_ref.py")
 SIZE = 0.12
 SCALE = 1 + 1.5e-4
@@ -78,18 +81,7 @@ def two_bars(path):
 
 def box(name, unknowns):
     """bench/certify_reach.py's Delaunay tet4 unit box with about unknowns / 3 nodes, and its scene."""
-    h = (unknowns / 3) ** (-1 / 3) * 0.93
-    gmsh.initialize(["t329", "-v", "0"])
-    try:
-        gmsh.model.occ.addBox(0, 0, 0, 1, 1, 1)
-        gmsh.model.occ.synchronize()
-        gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [1]), "block")
-        gmsh.option.setNumber("Mesh.MeshSizeMin", h)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-        gmsh.model.mesh.generate(3)
-        gmsh.write(tu.path(name + ".msh"))
-    finally:
-        gmsh.finalize()
+    certify_reach.box_mesh(tu.path(name + ".msh"), unknowns)
     tu.write(name + ".xml", """<?xml version="1.0"?>
 <dtmap-scene version="1">
 <mesh file="%s.msh"/>
