@@ -343,6 +343,18 @@ DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int
  * extracted and, where wanted, written): a run from a 1e6-tet .msh then
  * holds one copy of the mesh, not two. */
 DTM_EXPORT void dtm_gmsh_release(void);
+/* Gmsh's library is not thread-safe, and one thread calls it beside the
+ * main one: run's background writer (src/output/mesh.c), which holds this
+ * lock while it writes the mesh and releases the model. A call into Gmsh
+ * that the analysis makes while that writer may run (the layers' gap,
+ * dtm_gmsh_gap) takes it too. */
+DTM_EXPORT void dtm_gmsh_lock(void);
+DTM_EXPORT void dtm_gmsh_unlock(void);
+/* On from the start of run's background writer until its output is
+ * finished: the model is the writer's, released once written, and
+ * dtm_gmsh_gap answers NaN at once (the layers keep the mesh's thickness)
+ * instead of asking a model the writer may be releasing. */
+DTM_EXPORT void dtm_gmsh_model_given(int on);
 
 /* The view of a 3D result with trusses or membranes that draws the solid
  * elements' faint skin: dt over its solid elements alone, an ElementData

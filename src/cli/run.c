@@ -266,10 +266,10 @@ static void print_rules(const dtm_analysis *a, const solver_rules *sr) {
 }
 
 /* The output of `run`, begun as soon as the mesh is extracted: Gmsh writes
- * the mesh on a thread of its own while the analysis computes (nothing
- * below calls Gmsh until the output is finished), then releases its copy of
- * the model, so the two copies of a large mesh live only as long as that
- * write. */
+ * the mesh on a thread of its own while the analysis computes (the one call
+ * into Gmsh below, the layers' gap, answers NaN meanwhile:
+ * dtm_gmsh_model_given), then releases its copy of the model, so the two
+ * copies of a large mesh live only as long as that write. */
 typedef struct {
   const dtm_scene *s;    /* the scene */
   const cli_opts *o;     /* the options */

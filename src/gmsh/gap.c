@@ -7,11 +7,17 @@
  * mesh of a curved face can lie far from the narrowest place (4.5 mm for a
  * 2.5 mm ligament), so the layers' thickness (src/analysis/layers.c) asks
  * the geometry when there is one. Projection is onto the untrimmed
- * surfaces; the caller checks the pair against the mesh. */
+ * surfaces; the caller checks the pair against the mesh. While run's
+ * background writer has the model (dtm_gmsh_model_given: it writes and
+ * then releases it on its own thread) the answer is NaN, under the lock
+ * the writer holds, so the gap never asks a model being cleared (a crash
+ * once seen under the sanitizers: t803) and does not depend on which
+ * thread came first. */
 #include <gmshc.h>
 #include <math.h>
 
 #include "dtmap/gmsh.h"
+#include "gmsh-impl.h"
 
 #define GAP_ITERATIONS 40
 
@@ -31,7 +37,7 @@ static double dist3(const double *p, const double *q) {
   return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
 }
 
-double dtm_gmsh_gap(const int a[2], const int b[2], const double x0[3], double pa[3], double pb[3]) {
+static double gap(const int a[2], const int b[2], const double x0[3], double pa[3], double pb[3]) {
   if (a[0] < 1 || b[0] < 1 || closest(a[0], a[1], x0, pa)) return NAN;
   double last = INFINITY;
   for (int k = 0; k < GAP_ITERATIONS; k++) {
@@ -41,4 +47,11 @@ double dtm_gmsh_gap(const int a[2], const int b[2], const double x0[3], double p
     last = t;
   }
   return last;
+}
+
+double dtm_gmsh_gap(const int a[2], const int b[2], const double x0[3], double pa[3], double pb[3]) {
+  dtm_gmsh_lock(); /* run's writer may be writing the mesh on its thread */
+  double g = dtm_gmsh_model_is_given() ? NAN : gap(a, b, x0, pa, pb);
+  dtm_gmsh_unlock();
+  return g;
 }

@@ -116,4 +116,8 @@ int dtm_gmsh_snapshot_camera_worst(int width, int height);
  * step, in a list-based view "worst element"; 1 when drawn. */
 int dtm_gmsh_snapshot_mark_worst(int width, int height);
 
+/* views.c: whether run's background writer has the model (dtm_gmsh_model_given); read under
+ * dtm_gmsh_lock. */
+int dtm_gmsh_model_is_given(void);
+
 #endif

@@ -15,6 +15,7 @@
 #include <errno.h>
 #include <gmshc.h>
 #include <math.h>
+#include <pthread.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -87,6 +88,20 @@ int dtm_gmsh_write_mesh(const char *path, int binary) {
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);
   return check_mesh_written(path);
 }
+
+static pthread_mutex_t gmsh_lock = PTHREAD_MUTEX_INITIALIZER;
+static int given; /* the model is run's background writer's (under gmsh_lock) */
+
+void dtm_gmsh_lock(void) { pthread_mutex_lock(&gmsh_lock); }
+void dtm_gmsh_unlock(void) { pthread_mutex_unlock(&gmsh_lock); }
+
+void dtm_gmsh_model_given(int on) {
+  dtm_gmsh_lock();
+  given = on;
+  dtm_gmsh_unlock();
+}
+
+int dtm_gmsh_model_is_given(void) { return given; } /* read under gmsh_lock */
 
 void dtm_gmsh_release(void) {
   int ierr = 0;

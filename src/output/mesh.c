@@ -630,24 +630,30 @@ static int write_mesh(dtm_output_file *f) {
  * the library's stages belong to the caller's thread). */
 static void *writer(void *arg) {
   dtm_output_file *f = arg;
+  dtm_gmsh_lock(); /* the analysis's own calls into Gmsh wait (dtm_gmsh_gap) */
   f->written = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w);
   snprintf(f->msg, sizeof f->msg, "%s", f->written ? dtm_error_message() : "");
   dtm_error_clear();
   dtm_gmsh_release();
+  dtm_gmsh_unlock();
   return NULL;
 }
 
 /* Wait for the background writer; its error, raised on this thread. */
 static int join_writer(dtm_output_file *f) {
+  if (f->writing) {
+    dtm_progress_begin("writing the mesh");
+    pthread_join(f->writer, NULL);
+    dtm_progress_end();
+  }
+  dtm_gmsh_model_given(0); /* released (or never given): the next model is the caller's */
   if (!f->writing) return DTM_OK;
-  dtm_progress_begin("writing the mesh");
-  pthread_join(f->writer, NULL);
-  dtm_progress_end();
   f->writing = 0;
   return f->written ? DTM_ERR(f->written, "%s", f->msg) : DTM_OK;
 }
 
 static int start_writer(dtm_output_file *f) {
+  dtm_gmsh_model_given(1);
   f->writing = pthread_create(&f->writer, NULL, writer, f) == 0;
   if (f->writing) return DTM_OK;
   int r = write_mesh(f); /* no thread: now */
@@ -667,7 +673,8 @@ int dtm_output_begin(const dtm_scene *s, const char *path, const dtm_output_opts
   int r = dtm_atomic_open(&f->w, path, ".msh", 0);
   int background = o && o->background;
   if (r == DTM_OK && !f->fmt.views_only) r = background ? start_writer(f) : write_mesh(f);
-  if (r == DTM_OK && f->fmt.views_only && background) dtm_gmsh_release(); /* nothing to write */
+  if (r == DTM_OK && f->fmt.views_only && background) /* nothing to write */
+    dtm_gmsh_model_given(1), dtm_gmsh_release();
   if (r) dtm_atomic_abort(&f->w);
   if (r) return free(f), dtm_error_trace(r, __FILE__, __LINE__, __func__);
   *out = f;
