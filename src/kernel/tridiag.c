@@ -299,7 +299,7 @@ typedef long long v4l __attribute__((vector_size(32)));
  * holding the lanes' d[i], e2[i]): g, h per lane, ok[l] = 0 where a pivot
  * is not positive (that lane's g, h are then meaningless, as laguerre_sums
  * returns 0 there). Lane by lane the scalar operations in their order. */
-static void laguerre_sums4(int n, const v4d *D, const v4d *E2, const double x[LANES], double g[LANES], double h[LANES],
+INLINE void laguerre_sums4(int n, const v4d *D, const v4d *E2, const double x[LANES], double g[LANES], double h[LANES],
                            int ok[LANES]) {
   const v4d zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   v4d X = {x[0], x[1], x[2], x[3]}, p = one, dp = zero, ddp = zero, G = zero, H = zero;
@@ -313,6 +313,28 @@ static void laguerre_sums4(int n, const v4d *D, const v4d *E2, const double x[LA
     p = q, dp = dq, ddp = ddq;
   }
   for (int l = 0; l < LANES; l++) g[l] = G[l], h[l] = H[l], ok[l] = good[l] != 0;
+}
+
+/* laguerre_sums4 compiled for AVX where the processor has it, as
+ * reflections4: in SSE2 its eleven vectors of four do not fit the sixteen
+ * registers and spill to the stack at every pivot. Divisions and
+ * subtractions round alike in both. */
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void laguerre_sums4_avx(int n, const v4d *D, const v4d *E2, const double x[LANES],
+                                                              double g[LANES], double h[LANES], int ok[LANES]) {
+  laguerre_sums4(n, D, E2, x, g, h, ok);
+}
+#endif
+
+static void laguerre4(int n, const v4d *D, const v4d *E2, const double x[LANES], double g[LANES], double h[LANES],
+                      int ok[LANES]) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx")) {
+    laguerre_sums4_avx(n, D, E2, x, g, h, ok);
+    return;
+  }
+#endif
+  laguerre_sums4(n, D, E2, x, g, h, ok);
 }
 
 /* tri_max_fast of the live lanes of (d, e), their Laguerre sums four at a
@@ -335,7 +357,7 @@ static void tri_max_fast4(int n, double (*d)[DTM_K_DOF], double (*e)[DTM_K_DOF],
   for (int i = 0; i < n; i++)
     for (int l = 0; l < LANES; l++) D[i][l] = d[l][i], E2[i][l] = i + 1 < n ? e2[l][i] : 0;
   for (int it = 0; it < 16 && going; it++) {
-    laguerre_sums4(n, D, E2, x, g, h, ok);
+    laguerre4(n, D, E2, x, g, h, ok);
     for (int l = 0; l < LANES; l++) {
       if (state[l]) continue;
       if (!ok[l]) {
@@ -350,25 +372,61 @@ static void tri_max_fast4(int n, double (*d)[DTM_K_DOF], double (*e)[DTM_K_DOF],
     if (state[l] != 1) out[l] = bisect_tail(n, d[l], e2[l], x[l], dmax[l], above[l], tol[l]);
 }
 
+/* The largest |entry| of x[0..len), NaN if one is not finite (a NaN would
+ * not compare). In locals, not in the caller's array: a running maximum
+ * kept in memory waits on a store and a load at every entry, which took
+ * more time than the reduction it scales. The maximum is exact in any
+ * order, so the loop may run in vector lanes. */
+static double max_abs(int len, const double *x) {
+  /* four independent maxima m0..m3, not one chain; z: 0 while every entry
+   * is finite, else NaN. Plain scalars: GCC keeps a small array of them in
+   * memory. */
+  double m0 = 0, m1 = 0, m2 = 0, m3 = 0, z0 = 0, z1 = 0, z2 = 0, z3 = 0;
+  int i = 0;
+  for (; i + 4 <= len; i += 4) {
+    double t0 = fabs(x[i]), t1 = fabs(x[i + 1]), t2 = fabs(x[i + 2]), t3 = fabs(x[i + 3]);
+    m0 = t0 > m0 ? t0 : m0, m1 = t1 > m1 ? t1 : m1, m2 = t2 > m2 ? t2 : m2, m3 = t3 > m3 ? t3 : m3;
+    z0 += x[i] * 0, z1 += x[i + 1] * 0, z2 += x[i + 2] * 0, z3 += x[i + 3] * 0;
+  }
+  for (; i < len; i++) {
+    double t = fabs(x[i]);
+    m0 = t > m0 ? t : m0, z0 += x[i] * 0;
+  }
+  double top = fmax(fmax(m0, m1), fmax(m2, m3));
+  return z0 + z1 + z2 + z3 == 0 ? top : NAN;
+}
+
+/* The lower triangles of the live lanes' a[l], times r[l], into the packed
+ * A; +0 in the other lanes (a lane without a matrix, or a zero or NaN
+ * one). A whole vector at a time: each lane's product, then a mask that
+ * clears the lanes that are not live (reading a[0] there, so no pointer
+ * is needed). */
+static void pack4(int n, double *const a[], const int live[LANES], const double r[LANES], v4d *A) {
+  const double *src[LANES];
+  v4l keep;
+  v4d R;
+  for (int l = 0; l < LANES; l++) src[l] = live[l] ? a[l] : a[0], keep[l] = live[l] ? -1 : 0, R[l] = r[l];
+  for (int i = 0; i < n; i++) {
+    v4d *row = packed_row(A, i);
+    for (int j = 0; j <= i; j++) {
+      int k = i * n + j;
+      v4d x = {src[0][k], src[1][k], src[2][k], src[3][k]};
+      row[j] = (v4d)((v4l)(x * R) & keep);
+    }
+  }
+}
+
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda) {
   v4d A[DTM_K_DOF * (DTM_K_DOF + 1) / 2];
   double s[LANES], r[LANES], d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF];
   int live[LANES];
+  if (count <= 0) return;
   for (int l = 0; l < LANES; l++) {
-    s[l] = 0, live[l] = l < count;
-    for (int i = 0; live[l] && i < n * n; i++) {
-      if (!isfinite(a[l][i])) { /* a NaN would not compare */
-        s[l] = NAN;
-        break;
-      }
-      s[l] = fabs(a[l][i]) > s[l] ? fabs(a[l][i]) : s[l];
-    }
-    live[l] = live[l] && s[l] > 0; /* else the answer is s: 0 or NaN */
-    r[l] = live[l] ? 1 / s[l] : 0; /* a lane without a matrix holds zeros: no reflection touches it */
+    s[l] = l < count ? max_abs(n * n, a[l]) : 0;
+    live[l] = l < count && s[l] > 0; /* else the answer is s: 0 or NaN */
+    r[l] = live[l] ? 1 / s[l] : 0;   /* a lane without a matrix holds zeros: no reflection touches it */
   }
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j <= i; j++)
-      for (int l = 0; l < LANES; l++) packed_row(A, i)[j][l] = live[l] ? a[l][i * n + j] * r[l] : 0;
+  pack4(n, a, live, r, A);
   reduce4(n, A, e);
   for (int l = 0; l < LANES; l++) {
     if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
