@@ -146,7 +146,8 @@ int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dt
  * dtm_affine_matrices' elastic tet10 branch on the lanes of a vector of four
  * doubles: lane l holds element l's J^-1 and moduli, and every operation is
  * the scalar one lane by lane in the same order (the same bits). */
-typedef double v4d __attribute__((vector_size(32)));
+typedef dtm_v4d v4d;
+typedef long long v4l __attribute__((vector_size(32)));
 
 static inline __attribute__((always_inline)) void elastic4(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
                                                            int count, double *const *K) {
@@ -198,6 +199,115 @@ void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3]
   }
 #endif
   elastic4(r, (const v4d(*)[3])J4, lm, count, K);
+}
+
+/* ---- the same, straight into the eigenvalue solver's packed lanes ----
+ * dtm_affine_elastic_lanes, then the mass scaling of generic.c
+ * (K_ij r_i r_j with r = (rho m)^-1/2), then the largest |entry| and the
+ * division by it that dtm_eig_sym_max_tridiag_lanes does, without the
+ * 30 x 30 matrices between them: each block's lower triangle is scaled
+ * as it is formed and stored in the packed rows. The values are those
+ * the matrices held (their lower triangle: block (a, a) holds v_ij, i >=
+ * j, the iteration that wrote it last in elastic4), so the bits are the
+ * same. */
+static inline __attribute__((always_inline)) void packed4(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
+                                                          const v4d *R, v4d *A, v4d *top, v4d *bad) {
+  enum { NN = 10, D = 3 };
+  const v4d zero = {0, 0, 0, 0}, lam = lm[0], mu = lm[1];
+  v4d mx = zero, z = zero;
+  for (int a = 0; a < NN; a++)
+    for (int b = a; b < NN; b++) {
+      v4d T[3][3], Am[3][3];
+      for (int p = 0; p < D; p++)
+        for (int j = 0; j < D; j++) T[p][j] = Am[p][j] = zero;
+      for (int p = 0; p < D; p++)
+        for (int q = 0; q < D; q++)
+          for (int j = 0; j < D; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
+      for (int i = 0; i < D; i++)
+        for (int p = 0; p < D; p++)
+          for (int j = 0; j < D; j++) Am[i][j] += Ji[p][i] * T[p][j];
+      v4d tr = Am[0][0] + Am[1][1] + Am[2][2];
+      for (int i = 0; i < D; i++)
+        for (int j = 0; j < D; j++) {
+          if (a == b && i < j) continue; /* block (a, a): its lower triangle */
+          int row = b * D + j, col = a * D + i;
+          if (a == b) row = a * D + i, col = a * D + j;
+          v4d v = lam * Am[i][j] + mu * Am[j][i] + (i == j ? mu * tr : zero);
+          v *= R[row] * R[col];
+          A[row * (row + 1) / 2 + col] = v;
+          v4d av = (v4d)((v4l)v & ~(v4l)(v4d){-0.0, -0.0, -0.0, -0.0});
+          v4l gt = av > mx;
+          mx = (v4d)((gt & (v4l)av) | (~gt & (v4l)mx)), z += v * 0;
+        }
+    }
+  *top = mx, *bad = z;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void packed4_avx(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
+                                                       const v4d *R, v4d *A, v4d *top, v4d *bad) {
+  packed4(r, Ji, lm, R, A, top, bad);
+}
+#endif
+
+/* Every packed entry times keep (1 / s of its lane), +0 where the lane is
+ * not live (as dtm_eig_sym_max_tridiag_lanes packs such a lane). */
+static inline __attribute__((always_inline)) void divide4(v4d *A, const v4d *keep, const v4l *live) {
+  v4d k4 = *keep;
+  v4l l4 = *live;
+  for (int k = 0; k < 30 * 31 / 2; k++) A[k] = (v4d)((v4l)(A[k] * k4) & l4);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx"))) static void divide4_avx(v4d *A, const v4d *keep, const v4l *live) {
+  divide4(A, keep, live);
+}
+#endif
+
+int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
+                              dtm_v4d *A, double *s) {
+  const affine_ref *r = reference(DTM_TET10, 10);
+  v4d J4[3][3], lm[2], R[30], top, bad, keep;
+  for (int l = 0; l < 4; l++) {
+    int k = l < count ? l : 0; /* a short group repeats element 0 in the idle lanes */
+    lm[0][l] = dj[k] * m[k]->lam, lm[1][l] = dj[k] * m[k]->mu;
+    for (int q = 0; q < 3; q++)
+      for (int j = 0; j < 3; j++) J4[q][j][l] = Ji[k][q][j];
+    for (int a = 0; a < 10; a++) {
+      double mass = dj[k] * r->wsum * r->f[a]; /* as dtm_affine_elastic_lanes, then rho */
+      mass *= m[k]->rho;
+      if (!(mass > 0)) return 0; /* generic.c's path names the element */
+      for (int i = 0; i < 3; i++) R[a * 3 + i][l] = 1 / sqrt(mass);
+    }
+  }
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx"))
+    packed4_avx(r, (const v4d(*)[3])J4, lm, R, A, &top, &bad);
+  else
+#endif
+    packed4(r, (const v4d(*)[3])J4, lm, R, A, &top, &bad);
+  v4l live;
+  for (int l = 0; l < 4; l++) {
+    s[l] = l >= count ? 0 : bad[l] == 0 ? top[l] : NAN; /* dtm_eig_sym_max_tridiag_lanes' max_abs */
+    live[l] = l < count && s[l] > 0 ? -1 : 0;
+    keep[l] = live[l] ? 1 / s[l] : 0;
+  }
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx"))
+    divide4_avx(A, &keep, &live);
+  else
+#endif
+    divide4(A, &keep, &live);
+  return 1;
+}
+
+int dtm_affine_lumped(int type, int d, int nn, const double (*xl)[3], double *m, double *vol) {
+  double dj, Ji[3][3];
+  if (!dtm_affine_frame(type, d, nn, xl, &dj, Ji)) return 0;
+  const affine_ref *r = reference(type, nn);
+  for (int a = 0; a < nn; a++) m[a] = dj * r->wsum * r->f[a];
+  *vol = dj * r->wsum;
+  return 1;
 }
 
 int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *scaled) {

@@ -41,6 +41,12 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
  * tensor's sum of the second-order stiffness and of curved.c's level
  * search. AVX where the processor has it (DTM_KERNEL_AVX: the same bits). */
 void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U);
+/* dtm_elem_gram_add of np (<= 4) points at once, gl[p] and dv[p] point
+ * p's, in the order p = 0, 1, ...: each entry of U is loaded and stored
+ * once for the np points instead of np times, and still takes their
+ * products one rounded addition after the other, so U is bitwise what np
+ * calls in that order give. */
+void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], const double *dv, double *U);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and
@@ -61,12 +67,25 @@ int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj,
  * (30 x 30) and mass[l] (10) bitwise the one-element call's. */
 void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
                               double *const *K, double *const *mass);
+/* dtm_affine_elastic_lanes' matrices of count (1 .. 4) tet10, scaled by
+ * their masses (moduli m[l], density included) and by their largest
+ * |entry| s[l], straight into A, packed for dtm_eig_sym_max_tridiag_packed:
+ * bitwise what dtm_eig_sym_max_tridiag_lanes would pack from them. 0
+ * (A unusable) where a mass is not positive. */
+int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
+                              dtm_v4d *A, double *s);
 /* The same matrices of a straight-sided tri6 or tet10 from the type's
  * reference tensors (affine.c), to 1e-12 of dtm_elem_assemble's: returns
  * 1 with K and mass filled, or 0 (nothing written) for another type, a
  * curved element or one near the validity threshold. */
 int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dtm_elastic_moduli *m, double *K,
                         double *mass);
+/* The lumped masses per unit density (m[nn]) and the measure (*vol) of a
+ * straight-sided tri6 or tet10 from the reference fractions, as
+ * dtm_affine_matrices gives its masses: 1, or 0 (nothing written) where
+ * its shortcut does not apply. To 1e-12 of the full rule's sums
+ * (dtm_lumped_mass_table), which they replace in measure.c. */
+int dtm_affine_lumped(int type, int d, int nn, const double (*xl)[3], double *m, double *vol);
 /* For a straight-sided tri6 or tet10 (affine.c's test): 1, with the
  * scaled Jacobian det J / (product of J's column lengths) of its constant
  * Jacobian in *scaled; else 0. */

@@ -160,6 +160,30 @@ static DTM_KERNEL_AVX void gram_add(int nd, const double *gl, double dv, double 
 
 void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U) { gram_add(nd, gl, dv, U); }
 
+/* gram_add of four points, one pass over U. */
+static DTM_KERNEL_AVX void gram_add4(int nd, const double (*gl)[DTM_K_DOF], const double *dv, double *U) {
+  const double *g0 = gl[0], *g1 = gl[1], *g2 = gl[2], *g3 = gl[3];
+  for (int x = 0; x < nd; x++) {
+    double a0 = g0[x] * dv[0], a1 = g1[x] * dv[1], a2 = g2[x] * dv[2], a3 = g3[x] * dv[3], *row = U + x * nd;
+    for (int y = x; y < nd; y++) {
+      double r = row[y];
+      r += a0 * g0[y];
+      r += a1 * g1[y];
+      r += a2 * g2[y];
+      r += a3 * g3[y];
+      row[y] = r;
+    }
+  }
+}
+
+void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], const double *dv, double *U) {
+  if (np == 4) {
+    gram_add4(nd, gl, dv, U);
+    return;
+  }
+  for (int p = 0; p < np; p++) gram_add(nd, gl[p], dv[p], U);
+}
+
 /* The elastic stiffness from the Gram tensor U (upper triangle of
  * integral g_ai g_bj), in place: K_(ai)(bj) = lam U_(ai)(bj) +
  * mu U_(aj)(bi) + delta_ij mu sum_r U_(ar)(br), mirrored. */
@@ -197,18 +221,21 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB on the stack at most, as K */
   memset(gram ? U : K, 0, sizeof(double) * (size_t)(n * n));
   for (int a = 0; a < nn; a++) mass[a] = 0;
+  double gl[4][DTM_K_DOF], dvs[4]; /* the Gram tensor's points, four at a time (dtm_elem_gram_add_points) */
+  int held = 0;
   for (int k = 0; k < t->q.n; k++) {
     if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj)) return k;
     if (gram) {
-      double gl[DTM_K_DOF];
       for (int a = 0; a < nn; a++)
-        for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
-      dtm_elem_gram_add(n, gl, dv, U);
+        for (int i = 0; i < d; i++) gl[held][a * d + i] = g[a][i];
+      dvs[held++] = dv;
+      if (held == 4) dtm_elem_gram_add_points(n, 4, (const double(*)[DTM_K_DOF])gl, dvs, U), held = 0;
     } else
       add(m ? (void *)&c : (void *)K, &eg, t->N[k], (const double(*)[3])g, dv);
     for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
   }
+  if (held) dtm_elem_gram_add_points(n, held, (const double(*)[DTM_K_DOF])gl, dvs, U);
   dtm_lumped_finish(type, nn, t->q.n, vol, mass);
   if (gram) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
   return -1;

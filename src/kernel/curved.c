@@ -98,12 +98,17 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
   for (int k = 0; k < t->nedge; k++) hmax = fmax(hmax, dist3(x[t->edge[k][0]], x[t->edge[k][1]]));
   for (int a = nc; a < nn; a++) {
     double y[3] = {0, 0, 0};
-    dtm_ref_node(type, a, p);
-    dtm_ref_eval(parent, p, N, dN);
-    for (int c = 0; c < nc; c++)
-      for (int i = 0; i < 3; i++) y[i] += N[c] * x[c][i];
-    /* mid-edge nodes relative to their edge, the others to the longest */
     int k = a - nc;
+    if (k < t->nedge) { /* the middle of edge k: the parent's shape functions there are 1/2, 1/2 and 0 */
+      const double *e0 = x[t->edge[k][0]], *e1 = x[t->edge[k][1]];
+      for (int i = 0; i < 3; i++) y[i] = 0.5 * e0[i] + 0.5 * e1[i];
+    } else {
+      dtm_ref_node(type, a, p);
+      dtm_ref_eval(parent, p, N, dN);
+      for (int c = 0; c < nc; c++)
+        for (int i = 0; i < 3; i++) y[i] += N[c] * x[c][i];
+    }
+    /* mid-edge nodes relative to their edge, the others to the longest */
     double h = k < t->nedge ? dist3(x[t->edge[k][0]], x[t->edge[k][1]]) : hmax;
     double off = dist3(x[a], y) / (h > 0 ? h : 1);
     worst = off > worst || !(off == off) ? off : worst;
@@ -118,16 +123,19 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
   double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
   for (int a = 0; a < nn; a++) m[a] = 0;
+  double gl[4][DTM_K_DOF], dvs[4]; /* g flattened: gl[p][x] = g[x / d][x % d]; four points per Gram update */
+  int held = 0;
   for (int k = 0; k < t->q.n; k++) {
-    double gl[DTM_K_DOF]; /* g flattened: gl[x] = g[x / d][x % d], the divisions once per point */
     dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv);
     /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
     for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
     for (int a = 0; a < nn; a++)
-      for (int i = 0; i < d; i++) gl[a * d + i] = g[a][i];
-    dtm_elem_gram_add(nd, gl, dv, T);
+      for (int i = 0; i < d; i++) gl[held][a * d + i] = g[a][i];
+    dvs[held++] = dv;
+    if (held == 4) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])gl, dvs, T), held = 0;
   }
+  if (held) dtm_elem_gram_add_points(nd, held, (const double(*)[DTM_K_DOF])gl, dvs, T);
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
   for (int x = 0; x < nd; x++)

@@ -126,6 +126,14 @@ int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *cons
       break;
     }
   }
+  if (na && na == done && !err) { /* every element of the group straight: no 30 x 30 matrices */
+    dtm_v4d A[30 * 31 / 2];
+    double s[4];
+    if (dtm_affine_elastic_packed(na, dj, (const double(*)[3][3])Ji, amod, A, s)) {
+      dtm_eig_sym_max_tridiag_packed(30, A, s, na, lambda);
+      return DTM_OK;
+    }
+  }
   if (na) dtm_affine_elastic_lanes(na, dj, (const double(*)[3][3])Ji, amod, aK, am);
   for (int i = 0; i < na; i++) { /* as matrices() and the loop above: masses per unit density, then rho */
     for (int b = 0; b < 10; b++) am[i][b] *= amod[i]->rho;

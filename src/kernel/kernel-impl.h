@@ -84,6 +84,10 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
  * dtm_ref_level_table), without N. */
 double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
                        double *dv);
+/* dtm_map_eval_dn's det J and dv alone (no inverse, no gradients): bitwise
+ * the same two numbers, for the sums that need only the volume factor
+ * (the lumped masses). */
+double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double *dv);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
  * Jacobian: returns -1 (g and dv unset) when det J (into *dj) is not
  * safely positive, else 0. Bitwise the values of the two calls. */
@@ -168,6 +172,15 @@ double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e);
  * doubles (tridiag.c): lambda[l] is bitwise what dtm_eig_sym_max_tridiag
  * returns for a[l] alone, whatever the other lanes hold. */
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda);
+/* Four doubles in one vector (GCC's vector extension): lane l belongs to
+ * matrix l of a group. */
+typedef double dtm_v4d __attribute__((vector_size(32)));
+/* dtm_eig_sym_max_tridiag_lanes' second half, for callers that build the
+ * packed lanes themselves: A holds the lower triangles packed by rows (row
+ * r starts at r (r + 1) / 2), lane l already divided by its largest
+ * |entry| s[l]; a lane whose s[l] is 0 or NaN holds zeros and its lambda
+ * is s[l]. A is overwritten. lambda[l] for l < count. */
+void dtm_eig_sym_max_tridiag_packed(int n, dtm_v4d *A, const double s[4], int count, double *lambda);
 
 /* Generic (quadrature + eigenvalue) paths, any supported type; linear
  * simplices go through them too, which is how the closed forms are

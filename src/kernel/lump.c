@@ -46,13 +46,13 @@ static void lump_c3d10(double vol, double *m) {
  * there is one (else evaluated here). */
 static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_qrule *q, const dtm_ref_table *t,
                      double *m) {
-  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], g[DTM_K_NODES][3], dv, vol = 0;
+  double Nk[DTM_K_NODES], dN[DTM_K_NODES][3], dv, vol = 0;
   int hrz = dtm_elem_parent(type) != type;
   for (int a = 0; a < nn; a++) m[a] = 0;
   for (int k = 0; k < q->n; k++) {
     if (!t) dtm_ref_eval(type, q->p[k], Nk, dN);
     const double *N = t ? t->N[k] : Nk;
-    dtm_map_eval_dn(d, nn, xl, t ? (const double(*)[3])t->dN[k] : (const double(*)[3])dN, q->w[k], g, &dv);
+    dtm_map_dv_dn(d, nn, xl, t ? (const double(*)[3])t->dN[k] : (const double(*)[3])dN, q->w[k], &dv);
     for (int a = 0; a < nn; a++) m[a] += (hrz ? N[a] * N[a] : N[a]) * dv;
     vol += dv;
   }

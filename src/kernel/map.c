@@ -62,6 +62,14 @@ double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[
   return dj;
 }
 
+double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double *dv) {
+  double J[3][3];
+  jacobian(d, nn, xl, dN, J);
+  double dj = dtm_mat_det(d, (const double(*)[3])J);
+  *dv = dj * wq;
+  return dj;
+}
+
 double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double p[3], double wq, double *N,
                     double (*g)[3], double *dv) {
   double dN[DTM_K_NODES][3];

@@ -11,6 +11,7 @@
 #include <math.h>
 
 #include "kernel-impl.h"
+#include "assemble-impl.h"
 
 int dtm_ref_rule_id(int type, int model, int level) {
   if (model == DTM_INTEGRATION_CALCULIX && type == DTM_TET10) return DTM_K_RULE_C3D10;
@@ -41,6 +42,8 @@ static double integrate(int type, const double *x, int model, int level, double 
   if (dtm_elem_local(type, x, xl)) return 0;
   int id = level < 0 ? dtm_elem_rule_choose(type, d, nn, (const double(*)[3])xl, model, NULL, NULL)
                      : dtm_ref_rule_id(type, model, level);
+  double vol;
+  if (id == 0 && dtm_affine_lumped(type, d, nn, (const double(*)[3])xl, m, &vol)) return vol; /* straight tri6, tet10 */
   const dtm_ref_table *t = dtm_ref_rule_table(type, id); /* full rules too: the shape functions evaluated once */
   if (t) return dtm_lumped_mass_table(type, d, nn, (const double(*)[3])xl, t, m);
   dtm_ref_rule_at(type, model, id, &q); /* no memory for the table */

@@ -224,7 +224,7 @@ double dtm_eig_sym_max_tridiag_bisect(int n, double *a) {
  * which leaves its trailing block unchanged, as the early return does.
  * Laguerre's search stays scalar per lane: O(n) per step against the
  * reduction's 4 n^3 / 3. */
-typedef double v4d __attribute__((vector_size(32)));
+typedef dtm_v4d v4d;
 #define LANES 4
 
 static v4d *packed_row(v4d *a, int r) { return a + r * (r + 1) / 2; }
@@ -416,9 +416,22 @@ static void pack4(int n, double *const a[], const int live[LANES], const double 
   }
 }
 
+void dtm_eig_sym_max_tridiag_packed(int n, dtm_v4d *A, const double s[4], int count, double *lambda) {
+  double d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF], top[LANES];
+  int live[LANES];
+  for (int l = 0; l < LANES; l++) live[l] = l < count && s[l] > 0;
+  reduce4(n, A, e);
+  for (int l = 0; l < LANES; l++) {
+    if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
+    for (int i = 0; i < n; i++) d[l][i] = packed_row(A, i)[i][l];
+  }
+  tri_max_fast4(n, d, e, live, top);
+  for (int l = 0; l < count; l++) lambda[l] = live[l] ? s[l] * top[l] : s[l];
+}
+
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda) {
   v4d A[DTM_K_DOF * (DTM_K_DOF + 1) / 2];
-  double s[LANES], r[LANES], d[LANES][DTM_K_DOF], e[LANES][DTM_K_DOF];
+  double s[LANES], r[LANES];
   int live[LANES];
   if (count <= 0) return;
   for (int l = 0; l < LANES; l++) {
@@ -427,12 +440,5 @@ void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *
     r[l] = live[l] ? 1 / s[l] : 0;   /* a lane without a matrix holds zeros: no reflection touches it */
   }
   pack4(n, a, live, r, A);
-  reduce4(n, A, e);
-  for (int l = 0; l < LANES; l++) {
-    if (n >= 2) e[l][n - 2] = packed_row(A, n - 1)[n - 2][l];
-    for (int i = 0; i < n; i++) d[l][i] = packed_row(A, i)[i][l];
-  }
-  double top[LANES];
-  tri_max_fast4(n, d, e, live, top);
-  for (int l = 0; l < count; l++) lambda[l] = live[l] ? s[l] * top[l] : s[l];
+  dtm_eig_sym_max_tridiag_packed(n, A, s, count, lambda);
 }
