@@ -320,7 +320,8 @@ The choices behind these figures (README, "Views written into the .msh" and "Spe
 docs/architecture.md, "Processes"): every command runs in one supervised worker that meshes,
 analyses and writes in one address space (nothing handed back between processes); `run`
 starts writing the mesh right after extraction, on a thread of its own while the analysis
-computes, and releases Gmsh's model when that write is done; binary output above 1e5 elements;
+computes, and releases Gmsh's model when that write is done (a `.msh` read unchanged, in the
+output's encoding: its mesh sections copied, not written again by Gmsh); binary output above 1e5 elements;
 views written directly as $ElementData/$NodeData; `--views-only` writes no mesh at all; the
 mesh is renumbered for locality; the global product takes linear tets four at a time in
 vector lanes, with the mass scaling applied once per unknown; shells and beams solve their

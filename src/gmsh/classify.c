@@ -238,6 +238,7 @@ int dtm_gmsh_save_mesh(const char *path) {
 
 int dtm_gmsh_restore_mesh(const char *path) {
   int ierr = 0;
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshClear(&ierr);
   gmshOpen(path, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, path);

@@ -329,6 +329,7 @@ static int judge(const char *stage, int status, const job_files *f) {
 /* Replace the current model's mesh by the child's. */
 static int merge_back(const job_files *f) {
   int ierr = 0;
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshClear(NULL, 0, &ierr);
   gmshModelMeshRebuildNodeCache(0, &ierr);       /* no node of the cleared mesh is left to find by tag */
   gmshModelRemovePhysicalGroups(NULL, 0, &ierr); /* the file brings them back; merged, each entity would be in its

@@ -175,6 +175,7 @@ static int probe_curves(void *arg, double *out, size_t nout) {
     char h[64];
     snprintf(h, sizeof h, "%.17g", s->h[pass > 0]);
     gmshModelMeshFieldSetString(field, "F", h, &ierr);
+    dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
     gmshModelMeshClear(NULL, 0, &ierr);
     gmshOptionSetNumber("Mesh.MeshSizeMax", s->h[pass > 0], &ierr);
     gmshModelMeshGenerate(1, &ierr);

@@ -37,6 +37,18 @@ size_t dtm_msh_view_records(const dtm_view *v);
 /* Append one view as $ElementData or $NodeData (msh_data.c), with the part
  * number of a partitioned result (0: none). */
 int dtm_msh_write_view(FILE *f, const dtm_view *v, int binary, int partition);
+/* Forget that the current model is a .msh as read (session.c): every
+ * function that changes the model calls it first. */
+void dtm_gmsh_source_clear(void);
+/* The path of the .msh the current model was read from (dtm_gmsh_open),
+ * while nothing has changed the model since; NULL else. */
+const char *dtm_gmsh_source_unchanged(void);
+/* Write the mesh sections of the MSH 4.1 file src (up to its first view)
+ * to dst, byte for byte, when that is the mesh Gmsh would write with
+ * dtmap's options in the encoding binary (msh_copy.c says when): *copied
+ * 1; else *copied 0 and nothing raised (dst may be left empty or absent).
+ * A failed write raises DTM_ERR_INPUT naming dst. */
+int dtm_msh_copy_mesh(const char *src, const char *dst, int binary, int *copied);
 /* What a .msh file's headers say (msh_scan.c). */
 typedef struct {
   double version;         /* $MeshFormat version (1 for MSH 1) */

@@ -16,6 +16,7 @@ int dtm_gmsh_partition_write(int nparts, const char *path) {
    * Gmsh 4.8 reports a spurious error building them for a mesh read from
    * a file that holds no elements of some lower dimension. */
   gmshOptionSetNumber("Mesh.PartitionCreateTopology", 0, &ierr);
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshPartition(nparts, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INPUT, what);
   gmshOptionSetNumber("Mesh.PartitionSplitMeshFiles", 1, &ierr);

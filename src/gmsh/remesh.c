@@ -115,8 +115,10 @@ static const struct {
 static void optimise(const remesh_job *j) {
   for (size_t k = 0; k < sizeof passes / sizeof passes[0]; k++) {
     int ierr = 0;
-    if ((j->optimise & passes[k].bit) && passes[k].dim == j->dim)
+    if ((j->optimise & passes[k].bit) && passes[k].dim == j->dim) {
+      dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
       gmshModelMeshOptimize(passes[k].method, 0, 1, NULL, 0, &ierr);
+    }
   }
 }
 
@@ -144,6 +146,7 @@ static int generate(void *arg) {
   const remesh_job *j = arg;
   int dim = j->dim, order = j->order, ierr = 0;
   dtm_gmsh_log_reset();
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshGenerate(dim, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, "remeshing with the size suggestion failed");
   optimise(j);
@@ -166,6 +169,7 @@ int dtm_gmsh_remesh_sized(const dtm_mesh *m, const double *size, double scale, i
   snprintf(stage, sizeof stage, "remeshing after round %d", round);
   DTM_CHECK(size_view(m, size, scale, &view));
   DTM_CHECK(dtm_gmsh_unpartition());
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshClear(NULL, 0, &ierr);
   int field = gmshModelMeshFieldAdd("PostView", -1, &ierr);
   gmshModelMeshFieldSetNumber(field, "ViewTag", view, &ierr);

@@ -6,6 +6,7 @@
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "dtmap/gmsh.h"
 #include "dtmap/progress.h"
@@ -134,6 +135,7 @@ static int mesh_job(void *arg) {
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot mesh it", j->s->geometry);
   dtm_gmsh_log_reset();
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshGenerate(j->dim, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   if (j->s->mesh_order > 1) {
@@ -190,11 +192,25 @@ static int open_file(void *arg) {
   return DTM_OK;
 }
 
+/* The .msh the current model was read from, while it is unchanged
+ * (dtm_gmsh_source_clear); "" else. */
+static char source[4096];
+
+void dtm_gmsh_source_clear(void) { source[0] = '\0'; }
+
+const char *dtm_gmsh_source_unchanged(void) { return source[0] ? source : NULL; }
+
+static int is_msh_path(const char *p) {
+  size_t n = strlen(p);
+  return n > 4 && !strcasecmp(p + n - 4, ".msh");
+}
+
 int dtm_gmsh_open(const char *path, int *dim) {
   int ierr = 0;
   open_job j = {path, 0};
   char what[4200];
   snprintf(what, sizeof what, "%s: Gmsh cannot read it", path);
+  dtm_gmsh_source_clear();
   DTM_CHECK(dtm_gmsh_check_msh(path)); /* only .msh files are scanned */
   gmshClear(&ierr);
   dtm_gmsh_mesher_defaults();
@@ -203,6 +219,7 @@ int dtm_gmsh_open(const char *path, int *dim) {
   dtm_gmsh_logged(open_file, &j);
   dtm_progress_end();
   DTM_GMSH_CHECK_LOG(j.ierr, DTM_ERR_INPUT, what);
+  if (is_msh_path(path) && strlen(path) < sizeof source) snprintf(source, sizeof source, "%s", path);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);
   return DTM_OK;

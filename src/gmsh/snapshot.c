@@ -137,6 +137,7 @@ static int open_window(const char *msh, int width, int height) {
   gmshLoggerStart(&ierr);
   snprintf(what, sizeof what, "%s: Gmsh cannot read it", msh);
   DTM_CHECK(dtm_gmsh_check_msh(msh));
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshOpen(msh, &ierr);
   DTM_GMSH_CHECK_LOG(ierr, DTM_ERR_INPUT, what);
   DTM_CHECK(check_result(msh));

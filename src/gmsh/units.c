@@ -314,6 +314,7 @@ static int scale_nodes(double f) {
   size_t *tags = NULL, nt = 0, nx = 0, np = 0;
   double *xyz = NULL, *par = NULL;
   int ierr = 0;
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshGetNodes(&tags, &nt, &xyz, &nx, &par, &np, -1, -1, 0, 0, &ierr);
   for (size_t i = 0; !ierr && i < nt && 3 * i + 2 < nx; i++) {
     double x[3] = {f * xyz[3 * i], f * xyz[3 * i + 1], f * xyz[3 * i + 2]};

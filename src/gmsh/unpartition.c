@@ -126,6 +126,7 @@ int dtm_gmsh_unpartition(void) {
   if (!g) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   int ierr = 0;
   dtm_gmsh_log_reset();
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshModelMeshUnpartition(&ierr);
   int r = dtm_gmsh_check_log(ierr, DTM_ERR_INPUT, __FILE__, __LINE__, __func__,
                              "making the partitioned mesh whole before remeshing failed");

@@ -89,6 +89,13 @@ int dtm_gmsh_write_mesh(const char *path, int binary) {
   return check_mesh_written(path);
 }
 
+int dtm_gmsh_write_mesh_as_read(const char *path, int binary, int *copied) {
+  const char *src = dtm_gmsh_source_unchanged();
+  *copied = 0;
+  if (src) DTM_CHECK(dtm_msh_copy_mesh(src, path, binary, copied));
+  return *copied ? DTM_OK : dtm_gmsh_write_mesh(path, binary);
+}
+
 static pthread_mutex_t gmsh_lock = PTHREAD_MUTEX_INITIALIZER;
 static int given; /* the model is run's background writer's (under gmsh_lock) */
 
@@ -105,6 +112,7 @@ int dtm_gmsh_model_is_given(void) { return given; } /* read under gmsh_lock */
 
 void dtm_gmsh_release(void) {
   int ierr = 0;
+  dtm_gmsh_source_clear(); /* the model is no longer the file's as read */
   gmshClear(&ierr);
 #ifdef __GLIBC__
   malloc_trim(0); /* Gmsh's many small blocks: give the pages back */
