@@ -426,7 +426,8 @@ typedef struct {
   const double *meas;  /* [nel] element measures, m^d */
   const double *edge;  /* [nel] mean edges, m */
   double *hs;          /* [nel] the measured table's spacings (smooth_sizes), m */
-  int alone;           /* 1: the measured table's elements at their own mean edge, not hs */
+  double *alone_err;   /* [nel] or NULL: each element's error at its own mean edge as well (the
+                          measured table's elements; the others' is err's) */
   int measured_any;    /* set when an element takes the measured table */
   double sc[2];        /* --calibrate's ratios of P and S (1: none) */
   table_cache cache;   /* the tables and curves met */
@@ -448,15 +449,18 @@ static void block_errors(const dtm_block *bl, size_t i0, const slot *s, phase_ru
     err[i] = INFINITY; /* not applicable */
     if (mt < 0 || (bl->section && bl->section[e] >= 0) || !s[mt].t) {
       sk++;
+      if (p->alone_err) p->alone_err[i] = INFINITY;
       continue;
     }
     const dtm_elastic_moduli *m = &s[mt].m;
-    double dt, speed,
-        h = s[mt].t->shape == DTM_LATTICE_MEASURED ? (p->alone ? p->edge[i] : p->hs[i])
-                                                   : dtm_acc_spacing(s[mt].t, bl->dim, p->meas[i], p->edge[i]);
+    int measured = s[mt].t->shape == DTM_LATTICE_MEASURED;
+    double dt, speed, h = measured ? p->hs[i] : dtm_acc_spacing(s[mt].t, bl->dim, p->meas[i], p->edge[i]);
     pw = fmin(pw, (p->f == DTM_FORM_BAR ? m->cd : sqrt(m->mu / m->rho)) / (p->freq * p->edge[i]));
     element_step(p->sr, i, m->rho * p->meas[i], &dt, &speed);
     err[i] = isnan(dt) ? NAN : element_phase(&p->cache, s[mt].t, m, h, p->freq, dt, speed, p->sc);
+    if (p->alone_err) /* the same element alone: only the measured table's spacing differs */
+      p->alone_err[i] =
+          measured && !isnan(dt) ? element_phase(&p->cache, s[mt].t, m, p->edge[i], p->freq, dt, speed, p->sc) : err[i];
   }
   *skip += sk, *pwmin = fmin(*pwmin, pw);
 }
@@ -477,8 +481,7 @@ static int phase_errors(const dtm_analysis *a, phase_run *p, double *err, double
     const dtm_block *bl = &mesh->blocks[b];
     rc = prepare_block(a, p->f, p->freq, p->sr, bl, i0, &p->cache, s);
     if (rc) break;
-    if (any_measured(s, nmat) && !p->alone)
-      smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
+    if (any_measured(s, nmat)) smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
     p->measured_any |= any_measured(s, nmat);
     block_errors(bl, i0, s, p, err, &skip, &pwmin);
   }
@@ -552,20 +555,13 @@ static void alone_summary(const double *err, size_t n, dtm_measure *m) {
 }
 
 /* The worst element alone (m->worst_alone): the elements of the measured
- * table again, each at its own mean edge instead of the average over its
- * rings; the other models' elements already are at their own spacing.
- * err: [nel] of the errors (overwritten), work as phase_errors'. */
-static int alone_worst(const dtm_analysis *a, phase_run *p, double *err, double *work, dtm_measure *m) {
-  size_t skipped;
-  double pw;
+ * table each at its own mean edge instead of the average over its rings
+ * (phase_errors' alone_err, from the same pass); the other models'
+ * elements already are at their own spacing. */
+static void alone_worst(const phase_run *p, size_t n, dtm_measure *m) {
   m->worst_alone = m->worst, m->worst_alone_element = m->worst_element;
   m->rings = p->measured_any ? SMOOTH_PASSES : 0;
-  if (!p->measured_any || !m->elements) return DTM_OK;
-  p->alone = 1;
-  int rc = phase_errors(a, p, err, work, &skipped, &pw);
-  p->alone = 0;
-  if (!rc) alone_summary(err, dtm_analysis_nelements(a), m);
-  return rc;
+  if (p->measured_any && m->elements) alone_summary(p->alone_err, n, m);
 }
 
 /* Why there is no default frequency (it is taken from the elements with a
@@ -628,11 +624,12 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   const dtm_mesh *mesh = dtm_analysis_mesh(a);
   size_t n = dtm_analysis_nelements(a), skipped, nw = 2 * mesh->nnodes;
   int kept = dtm_analysis_measure(a) && dtm_analysis_size(a); /* else gathered after err */
-  double *err = malloc(((kept ? 2 : 4) * n + nw + 1) * sizeof *err);
+  double *err = malloc(((kept ? 3 : 5) * n + nw + 1) * sizeof *err);
   if (!err) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   step_rule sr = {st, dtm_analysis_recommended(a), dtm_analysis_local_step(a)};
   phase_run p = {.f = dtm_acc_formulation(a, k), .sr = &sr, .sc = {branch_scale(a, 0), branch_scale(a, 1)}};
   p.hs = err + n + nw;
+  p.alone_err = err + (kept ? 2 : 4) * n + nw;
   element_sizes(a, err + 2 * n + nw, &p.meas, &p.edge);
   int rc = DTM_OK;
   if (!(m.f > 0)) m.f = dtm_analysis_scene(a)->f_max;
@@ -642,7 +639,7 @@ static int wave_measure(const dtm_analysis *a, int k, double freq, const dtm_mea
   if (!rc) rc = phase_errors(a, &p, err, err + n, &skipped, &m.per_wavelength);
   if (!rc) phase_summary(err, n, err, &m); /* in place: err is not read again */
   if (!rc && isfinite(m.worst) && m.elements) rc = describe_worst(a, &p, &m);
-  if (!rc) rc = alone_worst(a, &p, err, err + n, &m);
+  if (!rc) alone_worst(&p, n, &m);
   cache_free(&p.cache);
   free(err);
   if (rc) return rc;
