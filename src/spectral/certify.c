@@ -56,10 +56,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cholmod.h>
 #include <omp.h>
 
 #include "base.h"
+#include "cholmod_dl.h"
 #include "spectral.h"
 #include "dtmap/operator.h"
 
@@ -322,6 +322,7 @@ int dtm_certifier_create_costed(const dtm_operator *op, double budget, dtm_certi
                                 double predicted[2]) {
   *out = NULL, *status = DTM_CERT_TOO_DEAR;
   if (predicted) predicted[0] = predicted[1] = NAN;
+  DTM_CHECK(dtm_cholmod_load());
   dtm_certifier *c = calloc(1, sizeof *c);
   if (!c) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   c->n = dtm_operator_ndof(op), c->flops = c->bytes = NAN;

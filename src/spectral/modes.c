@@ -53,9 +53,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cholmod.h>
-
 #include "base.h"
+#include "cholmod_dl.h"
 #include "spectral.h"
 #include "dtmap/operator.h"
 #include "dtmap/util.h"
@@ -522,6 +521,7 @@ int dtm_modes_lowest(const dtm_operator *op, const dtm_csr *extra, int n, dtm_mo
   size_t nd = dtm_operator_ndof(op);
   if (extra && extra->n != nd)
     return DTM_ERR(DTM_ERR_INPUT, "natural modes: the extra mass has %zu rows, the model %zu unknowns", extra->n, nd);
+  DTM_CHECK(dtm_cholmod_load());
   pencil p;
   memset(&p, 0, sizeof p);
   p.op = op, p.extra = extra, p.n = nd, p.mass = dtm_operator_mass(op), p.on = calloc(nd + 1, 1);
