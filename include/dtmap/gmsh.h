@@ -338,11 +338,14 @@ DTM_EXPORT int dtm_gmsh_write(const char *path, const dtm_view *views, int nview
  * and the views (appended after the mesh, or, with fmt->views_only, in a
  * new file with the format header). */
 DTM_EXPORT int dtm_gmsh_write_mesh(const char *path, int binary);
-/* dtm_gmsh_write_mesh for a model read from a .msh and not changed since:
- * the file's own mesh sections are copied (src/gmsh/msh_copy.c says when
- * that is the mesh Gmsh would write), else Gmsh writes it. *copied says
- * which. */
-DTM_EXPORT int dtm_gmsh_write_mesh_as_read(const char *path, int binary, int *copied);
+/* dtm_gmsh_write_mesh for a model read from a .msh and changed by no
+ * dtmap call since (a program that changes it through Gmsh's own API calls
+ * dtm_gmsh_write_mesh): the file's own mesh sections are copied
+ * (src/gmsh/msh_copy.c says when that is the mesh Gmsh would write), else
+ * Gmsh writes it. With release, the model is released (dtm_gmsh_release)
+ * as soon as it is no longer needed: before the copy, or after Gmsh's
+ * write. */
+DTM_EXPORT int dtm_gmsh_write_mesh_as_read(const char *path, int binary, int release);
 DTM_EXPORT int dtm_gmsh_write_views(const char *path, const dtm_view *views, int nviews, const dtm_msh_format *fmt);
 /* Drop the current model and give its memory back (once its mesh is
  * extracted and, where wanted, written): a run from a 1e6-tet .msh then

@@ -43,12 +43,13 @@ void dtm_gmsh_source_clear(void);
 /* The path of the .msh the current model was read from (dtm_gmsh_open),
  * while nothing has changed the model since; NULL else. */
 const char *dtm_gmsh_source_unchanged(void);
-/* Write the mesh sections of the MSH 4.1 file src (up to its first view)
- * to dst, byte for byte, when that is the mesh Gmsh would write with
- * dtmap's options in the encoding binary (msh_copy.c says when): *copied
- * 1; else *copied 0 and nothing raised (dst may be left empty or absent).
- * A failed write raises DTM_ERR_INPUT naming dst. */
-int dtm_msh_copy_mesh(const char *src, const char *dst, int binary, int *copied);
+/* The length of the mesh sections of the MSH 4.1 file src (up to its
+ * first view) when they are the mesh Gmsh would write with dtmap's options
+ * in the encoding binary (msh_copy.c says when); -1 else. */
+long long dtm_msh_mesh_extent(const char *src, int binary);
+/* The first n bytes of src into dst (created or emptied); a failed write
+ * raises DTM_ERR_INPUT naming dst. */
+int dtm_msh_copy_bytes(const char *src, const char *dst, long long n);
 /* What a .msh file's headers say (msh_scan.c). */
 typedef struct {
   double version;         /* $MeshFormat version (1 for MSH 1) */

@@ -132,22 +132,23 @@ static int copy_plain(int in, int out, long long n) {
   return r;
 }
 
-int dtm_msh_copy_mesh(const char *src, const char *dst, int binary, int *copied) {
+long long dtm_msh_mesh_extent(const char *src, int binary) {
   struct stat st;
   extent x = {0, 0, 1};
-  *copied = 0;
   FILE *f = fopen(src, "rb");
-  if (!f) return DTM_OK; /* Gmsh's writer then */
+  if (!f) return -1; /* Gmsh's writer then */
   if (!fstat(fileno(f), &st) && format_matches(f, binary)) find_extent(f, (long long)st.st_size, &x);
   fclose(f);
-  if (x.refused || !x.elements_done) return DTM_OK;
+  return x.refused || !x.elements_done ? -1 : x.end;
+}
+
+int dtm_msh_copy_bytes(const char *src, const char *dst, long long n) {
   int in = open(src, O_RDONLY), out = open(dst, O_WRONLY | O_CREAT | O_TRUNC, 0666), r = -1;
-  if (in >= 0 && out >= 0) r = copy_bytes(in, out, x.end);
-  if (r > 0) r = copy_plain(in, out, x.end);
+  if (in >= 0 && out >= 0) r = copy_bytes(in, out, n);
+  if (r > 0) r = copy_plain(in, out, n);
   int err = errno;
   if (in >= 0) close(in);
   if (out >= 0 && close(out) && !r) r = -1, err = errno;
   if (r) return DTM_ERR(DTM_ERR_INPUT, "%s: cannot write the mesh: %s", dst, strerror(err ? err : EIO));
-  *copied = 1;
   return DTM_OK;
 }

@@ -89,11 +89,18 @@ int dtm_gmsh_write_mesh(const char *path, int binary) {
   return check_mesh_written(path);
 }
 
-int dtm_gmsh_write_mesh_as_read(const char *path, int binary, int *copied) {
-  const char *src = dtm_gmsh_source_unchanged();
-  *copied = 0;
-  if (src) DTM_CHECK(dtm_msh_copy_mesh(src, path, binary, copied));
-  return *copied ? DTM_OK : dtm_gmsh_write_mesh(path, binary);
+int dtm_gmsh_write_mesh_as_read(const char *path, int binary, int release) {
+  const char *at = dtm_gmsh_source_unchanged();
+  char src[4096];
+  long long n = at ? dtm_msh_mesh_extent(at, binary) : -1;
+  if (n < 0) {
+    int r = dtm_gmsh_write_mesh(path, binary);
+    if (release) dtm_gmsh_release();
+    return r;
+  }
+  snprintf(src, sizeof src, "%s", at);
+  if (release) dtm_gmsh_release(); /* before the copy: the file is all it needs */
+  return dtm_msh_copy_bytes(src, path, n);
 }
 
 static pthread_mutex_t gmsh_lock = PTHREAD_MUTEX_INITIALIZER;

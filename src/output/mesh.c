@@ -630,16 +630,15 @@ static int write_mesh(dtm_output_file *f) {
  * the library's stages belong to the caller's thread). */
 static void *writer(void *arg) {
   dtm_output_file *f = arg;
-  int copied;
   dtm_gmsh_lock(); /* the analysis's own calls into Gmsh wait (dtm_gmsh_gap) */
   /* the part of a distributed run is its own mesh; else a .msh read as it
-   * is: its own mesh sections, copied */
-  f->written = name_target(f->part ? dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary)
-                                   : dtm_gmsh_write_mesh_as_read(f->w.tmp, f->fmt.binary, &copied),
-                           &f->w);
+   * is: its own mesh sections, copied (the model released first) */
+  if (f->part)
+    f->written = name_target(dtm_gmsh_write_mesh(f->w.tmp, f->fmt.binary), &f->w), dtm_gmsh_release();
+  else
+    f->written = name_target(dtm_gmsh_write_mesh_as_read(f->w.tmp, f->fmt.binary, 1), &f->w);
   snprintf(f->msg, sizeof f->msg, "%s", f->written ? dtm_error_message() : "");
   dtm_error_clear();
-  dtm_gmsh_release();
   dtm_gmsh_unlock();
   return NULL;
 }
