@@ -61,14 +61,22 @@ def make_meshes():
         gmsh.finalize()
 
 
-def mesh_of(path):
-    """Nodes (tag: xyz), elements per entity and type (tags, nodes), physical groups with names and entities."""
+def with_gmsh(path, read):
+    """read() on the file at path, open in Gmsh (the real library), quiet."""
     import gmsh
 
     gmsh.initialize()
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.open(path)
+        return read(gmsh)
+    finally:
+        gmsh.finalize()
+
+
+def mesh_of(path):
+    """Nodes (tag: xyz), elements per entity and type (tags, nodes), physical groups with names and entities."""
+    def read(gmsh):
         tags, xyz, _ = gmsh.model.mesh.getNodes()
         nodes = {int(t): tuple(xyz[3 * i:3 * i + 3]) for i, t in enumerate(tags)}
         elems = {}
@@ -79,21 +87,13 @@ def mesh_of(path):
         groups = {(d, t): (gmsh.model.getPhysicalName(d, t), sorted(gmsh.model.getEntitiesForPhysicalGroup(d, t)))
                   for d, t in gmsh.model.getPhysicalGroups()}
         return nodes, elems, groups
-    finally:
-        gmsh.finalize()
+    return with_gmsh(path, read)
 
 
 def view_names(path):
     """The name of every view in the file, in order, repeats included."""
-    import gmsh
-
-    gmsh.initialize()
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.open(path)
-        return [gmsh.option.getString("View[%d].Name" % i) for i in range(len(gmsh.view.getTags()))]
-    finally:
-        gmsh.finalize()
+    return with_gmsh(path, lambda gmsh: [gmsh.option.getString("View[%d].Name" % i)
+                                         for i in range(len(gmsh.view.getTags()))])
 
 
 def read(name):

@@ -149,22 +149,31 @@ int dtm_affine_matrices(int type, int d, int nn, const double (*xl)[3], const dt
 typedef dtm_v4d v4d;
 typedef long long v4l __attribute__((vector_size(32)));
 
+/* Block (a, b) of the four lanes: A = J^-T R_ab J^-1 (T = R_ab J^-1 first)
+ * and its trace, in dtm_affine_matrices' order. */
+static inline __attribute__((always_inline)) void block4(const affine_ref *r, int a, int b, const v4d (*Ji)[3],
+                                                         v4d A[3][3], v4d *tr) {
+  const v4d zero = {0, 0, 0, 0};
+  v4d T[3][3];
+  for (int p = 0; p < 3; p++)
+    for (int j = 0; j < 3; j++) T[p][j] = A[p][j] = zero;
+  for (int p = 0; p < 3; p++)
+    for (int q = 0; q < 3; q++)
+      for (int j = 0; j < 3; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
+  for (int i = 0; i < 3; i++)
+    for (int p = 0; p < 3; p++)
+      for (int j = 0; j < 3; j++) A[i][j] += Ji[p][i] * T[p][j];
+  *tr = A[0][0] + A[1][1] + A[2][2];
+}
+
 static inline __attribute__((always_inline)) void elastic4(const affine_ref *r, const v4d (*Ji)[3], const v4d *lm,
                                                            int count, double *const *K) {
   enum { NN = 10, D = 3, N = 30 };
   const v4d zero = {0, 0, 0, 0}, lam = lm[0], mu = lm[1];
   for (int a = 0; a < NN; a++)
     for (int b = a; b < NN; b++) {
-      v4d T[3][3], A[3][3];
-      for (int p = 0; p < D; p++)
-        for (int j = 0; j < D; j++) T[p][j] = A[p][j] = zero;
-      for (int p = 0; p < D; p++)
-        for (int q = 0; q < D; q++)
-          for (int j = 0; j < D; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
-      for (int i = 0; i < D; i++)
-        for (int p = 0; p < D; p++)
-          for (int j = 0; j < D; j++) A[i][j] += Ji[p][i] * T[p][j];
-      v4d tr = A[0][0] + A[1][1] + A[2][2];
+      v4d A[3][3], tr;
+      block4(r, a, b, Ji, A, &tr);
       for (int i = 0; i < D; i++)
         for (int j = 0; j < D; j++) {
           v4d v = lam * A[i][j] + mu * A[j][i] + (i == j ? mu * tr : zero);
@@ -217,16 +226,8 @@ static inline __attribute__((always_inline)) void packed4(const affine_ref *r, c
   v4d mx = zero, z = zero;
   for (int a = 0; a < NN; a++)
     for (int b = a; b < NN; b++) {
-      v4d T[3][3], Am[3][3];
-      for (int p = 0; p < D; p++)
-        for (int j = 0; j < D; j++) T[p][j] = Am[p][j] = zero;
-      for (int p = 0; p < D; p++)
-        for (int q = 0; q < D; q++)
-          for (int j = 0; j < D; j++) T[p][j] += r->R[a][b][p][q] * Ji[q][j];
-      for (int i = 0; i < D; i++)
-        for (int p = 0; p < D; p++)
-          for (int j = 0; j < D; j++) Am[i][j] += Ji[p][i] * T[p][j];
-      v4d tr = Am[0][0] + Am[1][1] + Am[2][2];
+      v4d Am[3][3], tr;
+      block4(r, a, b, Ji, Am, &tr);
       for (int i = 0; i < D; i++)
         for (int j = 0; j < D; j++) {
           if (a == b && i < j) continue; /* block (a, a): its lower triangle */
