@@ -223,15 +223,28 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   for (int a = 0; a < nn; a++) mass[a] = 0;
   double gl[4][DTM_K_DOF], dvs[4]; /* the Gram tensor's points, four at a time (dtm_elem_gram_add_points) */
   int held = 0;
+  double g4[4][DTM_K_NODES][3], dv4[4], dj4[4];
+  const double(*gp)[3] = (const double(*)[3])g; /* this point's gradients: g, or a row of g4 */
   for (int k = 0; k < t->q.n; k++) {
-    if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj)) return k;
+    if (d == 3 && k % 4 == 0 && k + 4 <= t->q.n) { /* the next four points' maps side by side */
+      const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
+                                  (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
+      int bad = dtm_map_eval_valid4(nn, xl, dn4, &t->q.w[k], g4, dv4, dj4);
+      if (bad >= 0) return *dj = dj4[bad], k + bad;
+    }
+    if (d == 3 && k - k % 4 + 4 <= t->q.n)
+      gp = (const double(*)[3])g4[k % 4], dv = dv4[k % 4], *dj = dj4[k % 4];
+    else if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj))
+      return k;
+    else
+      gp = (const double(*)[3])g;
     if (gram) {
       for (int a = 0; a < nn; a++)
-        for (int i = 0; i < d; i++) gl[held][a * d + i] = g[a][i];
+        for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
       dvs[held++] = dv;
       if (held == 4) dtm_elem_gram_add_points(n, 4, (const double(*)[DTM_K_DOF])gl, dvs, U), held = 0;
     } else
-      add(m ? (void *)&c : (void *)K, &eg, t->N[k], (const double(*)[3])g, dv);
+      add(m ? (void *)&c : (void *)K, &eg, t->N[k], gp, dv);
     for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
   }

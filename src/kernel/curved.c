@@ -124,14 +124,24 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
   for (int a = 0; a < nn; a++) m[a] = 0;
   double gl[4][DTM_K_DOF], dvs[4]; /* g flattened: gl[p][x] = g[x / d][x % d]; four points per Gram update */
+  double g4[4][DTM_K_NODES][3], dv4[4];
+  const double(*gp)[3] = (const double(*)[3])g; /* this point's gradients: g, or a row of g4 */
   int held = 0;
   for (int k = 0; k < t->q.n; k++) {
-    dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv);
+    if (d == 3 && k % 4 == 0 && k + 4 <= t->q.n) { /* the next four points' maps side by side */
+      const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
+                                  (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
+      dtm_map_eval_dn4(nn, xl, dn4, &t->q.w[k], g4, dv4);
+    }
+    if (d == 3 && k - k % 4 + 4 <= t->q.n)
+      gp = (const double(*)[3])g4[k % 4], dv = dv4[k % 4];
+    else
+      dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv), gp = (const double(*)[3])g;
     /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
     for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
     for (int a = 0; a < nn; a++)
-      for (int i = 0; i < d; i++) gl[held][a * d + i] = g[a][i];
+      for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
     dvs[held++] = dv;
     if (held == 4) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])gl, dvs, T), held = 0;
   }
