@@ -118,10 +118,11 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
 
 /* T at level n (see above) into T[nd][nd], nd = nn d, from the level's
  * table (its shape functions evaluated once: ref_table.c). Returns |T|_F. */
-static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T) {
+static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T, int *bad) {
   int nd = nn * d, hrz = dtm_elem_parent(type) != type;
   double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
+  *bad = d == 3 ? 0 : -1; /* -1: not checked here (dtm_map_first_bad_table will) */
   for (int a = 0; a < nn; a++) m[a] = 0;
   double gl[4][DTM_K_DOF], dvs[4]; /* g flattened: gl[p][x] = g[x / d][x % d]; four points per Gram update */
   double g4[4][DTM_K_NODES][3], dv4[4];
@@ -131,12 +132,16 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
     if (d == 3 && k % 4 == 0 && k + 4 <= t->q.n) { /* the next four points' maps side by side */
       const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
                                   (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
-      dtm_map_eval_dn4(nn, xl, dn4, &t->q.w[k], g4, dv4);
+      double dj4[4];
+      if (dtm_map_eval_valid4(nn, xl, dn4, &t->q.w[k], g4, dv4, dj4) >= 0) *bad = 1; /* every lane computed */
     }
     if (d == 3 && k - k % 4 + 4 <= t->q.n)
       gp = (const double(*)[3])g4[k % 4], dv = dv4[k % 4];
-    else
+    else {
       dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv), gp = (const double(*)[3])g;
+      double had, dj = d == 3 ? dtm_map_det_dn(d, nn, xl, (const double(*)[3])t->dN[k], &had) : 0;
+      if (d == 3 && !(dj > 32 * DBL_EPSILON * had && isfinite(dj))) *bad = 1;
+    }
     /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
     for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
@@ -178,17 +183,17 @@ static double remainder_of(double d1, double d0) {
 /* The converged level of a curved element (its table into *t); 0 when a
  * table cannot be had (no memory). *rem: the estimated remaining change of
  * T (remainder_of), absolute. */
-static int converge(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table **t, int *settled,
-                    double *rem) {
+static int converge(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table **t, int *settled, double *rem,
+                    int *bad) {
   double T[2][DTM_K_DOF * DTM_K_DOF]; /* 105 kB on the stack at most (hex27) */
   int n = mass_level(type), cur = 0, nd = nn * d;
   double d0 = 0, d1 = 0;
   *settled = 0;
   if (!(*t = dtm_ref_level_table(type, n))) return 0;
-  tensor_at(type, d, nn, xl, *t, T[cur]);
+  tensor_at(type, d, nn, xl, *t, T[cur], bad);
   while (n < DTM_K_LEVEL_MAX) {
     if (!(*t = dtm_ref_level_table(type, ++n))) return 0;
-    double norm = tensor_at(type, d, nn, xl, *t, T[1 - cur]);
+    double norm = tensor_at(type, d, nn, xl, *t, T[1 - cur], bad);
     cur = 1 - cur;
     d0 = d1, d1 = diff_norm(nd, T[0], T[1]);
     if (d1 <= TOL * norm) {
@@ -215,9 +220,11 @@ static int choose(int type, int d, int nn, const double (*xl)[3], int model, dtm
     return 0;
   }
   const dtm_ref_table *t;
-  int n = converge(type, d, nn, xl, &t, &s, rem);
+  int bad;
+  int n = converge(type, d, nn, xl, &t, &s, rem, &bad);
   double dj;
-  if (!n || dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0) { /* inverted near a node: no converged model */
+  /* inverted near a node: no converged model (the search checked its last level's points in 3D) */
+  if (!n || (bad < 0 ? dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0 : bad)) {
     if (q) dtm_ref_rule(type, q);
     if (settled) *settled = 0;
     *rem = 0;
