@@ -238,7 +238,9 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
       return k;
     else
       gp = (const double(*)[3])g;
-    if (gram) {
+    if (gram && gp != (const double(*)[3])g) { /* a group of four: g4's rows are already flat (d = 3) */
+      if (k % 4 == 3) dtm_elem_gram_add_points(n, 4, (const double(*)[DTM_K_DOF])g4, dv4, U);
+    } else if (gram) {
       for (int a = 0; a < nn; a++)
         for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
       dvs[held++] = dv;

@@ -145,6 +145,10 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
     /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
     for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
+    if (gp != (const double(*)[3])g) { /* a group of four: g4's rows are already flat (d = 3) */
+      if (k % 4 == 3) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])g4, dv4, T);
+      continue;
+    }
     for (int a = 0; a < nn; a++)
       for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
     dvs[held++] = dv;
