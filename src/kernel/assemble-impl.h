@@ -36,16 +36,14 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
-/* U += dv gl gl^T on the upper triangle (x <= y) of the nd x nd U, gl a
- * rule point's gradients flattened (gl[a d + i] = g[a][i]): the Gram
- * tensor's sum of the second-order stiffness and of curved.c's level
- * search. AVX where the processor has it (DTM_KERNEL_AVX: the same bits). */
-void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U);
-/* dtm_elem_gram_add of np (<= 4) points at once, gl[p] and dv[p] point
- * p's, in the order p = 0, 1, ...: each entry of U is loaded and stored
- * once for the np points instead of np times, and still takes their
- * products one rounded addition after the other, so U is bitwise what np
- * calls in that order give. */
+/* U += sum_p dv[p] gl[p] gl[p]^T over np (<= 4) rule points, on the upper
+ * triangle (x <= y) of the nd x nd U, gl[p] point p's gradients flattened
+ * (gl[p][a d + i] = g[a][i]): the Gram tensor's sum of the second-order
+ * stiffness and of curved.c's level search. Each entry of U is loaded and
+ * stored once for the np points and still takes their products one rounded
+ * addition after the other (p = 0, 1, ...), so U is bitwise what the points
+ * one at a time give. AVX where the processor has it (DTM_KERNEL_AVX: the
+ * same bits). */
 void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], const double *dv, double *U);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic

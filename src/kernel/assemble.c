@@ -158,8 +158,6 @@ static DTM_KERNEL_AVX void gram_add(int nd, const double *gl, double dv, double 
   }
 }
 
-void dtm_elem_gram_add(int nd, const double *gl, double dv, double *U) { gram_add(nd, gl, dv, U); }
-
 /* gram_add of four points, one pass over U. */
 static DTM_KERNEL_AVX void gram_add4(int nd, const double (*gl)[DTM_K_DOF], const double *dv, double *U) {
   const double *g0 = gl[0], *g1 = gl[1], *g2 = gl[2], *g3 = gl[3];
