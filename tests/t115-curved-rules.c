@@ -15,7 +15,11 @@
  *     several Poisson ratios, and differs from the full rules' one by more
  *     than that on these elements (so the check can fail);
  *   - the node offset is the mid-node's distance from the edge's middle
- *     over the edge length.
+ *     over the edge length;
+ *   - the memo of the level search (memo.c) answers the element map and
+ *     the measure of an element searched just before, with the very bits
+ *     of integrating it again (compared with the memo emptied), and holds
+ *     every element of a chunk of 512 searched after 1,000 others.
  * Tolerances: 1e-14 of the reference measure (up to 8) on monomial
  * integrals (Gauss points and weights to a few ulps, at most 512 terms); 1e-13 relative on
  * exact masses (two exact rules, rounding of sums of <= 512 terms); 1e-6
@@ -238,12 +242,62 @@ static void test_corner_keeps_full(void **state) {
   assert_int_equal(c.settled, 0);
 }
 
+/* The element bound at the kept level lv, the lumped weights and the
+ * measure, into out[0], out[1 ..] and out[nn + 1]. */
+static void kept_numbers(int type, const double *x, int lv, double *out) {
+  dtm_elastic_moduli m = moduli(type, 0.3, DTM_INTEGRATION_CONVERGED);
+  int nn;
+  dtm_elem_info(type, NULL, &nn);
+  assert_int_equal(dtm_kernel_elastic_lambda_at(type, &m, x, lv, &out[0]), DTM_OK);
+  out[nn + 1] = dtm_elem_lumped_at(type, x, DTM_INTEGRATION_CONVERGED, lv, out + 1);
+}
+
+static void test_memo(void **state) {
+  (void)state;
+  static const int types[] = {DTM_TRI6, DTM_TET10};
+  for (size_t t = 0; t < 2; t++) {
+    double x[3 * DTM_MAX_NODES], rem, hit[DTM_K_NODES + 2], again[DTM_K_NODES + 2];
+    int nn;
+    dtm_elem_info(types[t], NULL, &nn);
+    element(types[t], 0.08, x);
+    dtm_memo_clear();
+    int lv = dtm_ref_level_elem(types[t], x, &rem);
+    assert_true(lv > 0);
+    long h0 = dtm_memo_hits();
+    kept_numbers(types[t], x, lv, hit);
+    assert_int_equal(dtm_memo_hits() - h0, 2); /* the bound and the weights came from the memo */
+    dtm_memo_clear();
+    kept_numbers(types[t], x, lv, again);
+    assert_int_equal(dtm_memo_hits() - h0, 2); /* integrated */
+    assert_memory_equal(hit, again, (size_t)(nn + 2) * sizeof *hit);
+  }
+  /* a chunk of 512 curved tet10 searched after 1,000 others: each is
+   * still there when the element map asks for it */
+  double x[30], rem, out[12];
+  int lv[512];
+  dtm_memo_clear();
+  for (int i = 0; i < 1512; i++) {
+    element(DTM_TET10, 0.02 + 1e-5 * i, x);
+    int l = dtm_ref_level_elem(DTM_TET10, x, &rem);
+    assert_true(l > 0);
+    if (i >= 1000) lv[i - 1000] = l;
+  }
+  long h0 = dtm_memo_hits();
+  for (int i = 1000; i < 1512; i++) {
+    element(DTM_TET10, 0.02 + 1e-5 * i, x);
+    kept_numbers(DTM_TET10, x, lv[i - 1000], out);
+  }
+  print_message("memo: %ld of 1024 asked answered\n", dtm_memo_hits() - h0);
+  assert_true(dtm_memo_hits() - h0 == 1024);
+}
+
 int main(int argc, char **argv) {
   (void)argc, (void)argv;
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_monomials),    cmocka_unit_test(test_straight_unchanged),
       cmocka_unit_test(test_exact_masses), cmocka_unit_test(test_converged_bound),
       cmocka_unit_test(test_offset),       cmocka_unit_test(test_corner_keeps_full),
+      cmocka_unit_test(test_memo),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

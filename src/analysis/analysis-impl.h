@@ -138,9 +138,12 @@ int dtm_analysis_nslots(const dtm_analysis *a);
 /* 1 when a scene section is a shell or a beam (nodes with rotations): the
  * same on every part of a distributed run. */
 int dtm_analysis_has_rotations(const dtm_analysis *a);
-/* Compute a->level (before the element map: its measures, the nodal
- * bound's masses and the global operator read it). */
+/* Make a->level and a->level_rem for the levelled blocks (before the
+ * element map: its measures, the nodal bound's masses and the global
+ * operator read them), to be filled a chunk at a time: the kept levels of
+ * elements [e0, e0 + n) of block b, with coordinates x[n][nn][3]. */
 int dtm_analysis_levels(dtm_analysis *a);
+void dtm_analysis_levels_chunk(const dtm_analysis *a, int b, size_t e0, size_t n, const double *x);
 /* The largest remaining quadrature error of effect k's operator over this
  * part's curved elements at their kept levels, as a bound on the shift of
  * its top eigenvalue (1/s^2 or 1/s; 0 without curved elements): see

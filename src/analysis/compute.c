@@ -192,6 +192,7 @@ static int compute_chunk(const dtm_analysis *a, int b, size_t e0, scratch *w) {
   sub.n = n;
   sub.conn = blk->conn + e0 * (size_t)blk->nn;
   dtm_mesh_gather(a->mesh, &sub, w->x);
+  dtm_analysis_levels_chunk(a, b, e0, n, w->x); /* just before the map: the kernel's memo holds what it integrated */
   for (size_t e = 0; e < n; e++) w->mat[e] = &a->scene->materials[blk->mat[e0 + e]].m;
   for (size_t e = 0; blk->section && e < n; e++) w->sec[e] = dtm_analysis_section(a, blk, e0 + e);
   dtm_batch bt = {blk->type,

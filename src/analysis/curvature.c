@@ -23,6 +23,7 @@
 
 #define OFFSET_CURVED 1e-9  /* node offset above which an element is curved (curved.c) */
 #define RULE_SENSITIVE 1e-3 /* relative step change that makes an element rule sensitive */
+#define RANGE 256           /* elements per task of the curvature pass */
 
 static int second_order(int type) {
   switch (type) {
@@ -45,17 +46,10 @@ static int second_order(int type) {
  * nodal bound's masses and the global operator, which took it by searching
  * again each, and the remaining quadrature error the search estimates at
  * that level (rem). Levelled blocks only; a straight-sided element costs
- * its node offset test. */
-static void block_levels(const dtm_analysis *a, const dtm_block *b, unsigned char *lev, double *rem) {
-  long n = (long)b->n;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (long e = 0; e < n; e++) {
-    double x[DTM_MAX_NODES * 3];
-    dtm_mesh_gather_one(a->mesh, b, (size_t)e, x);
-    lev[e] = (unsigned char)dtm_ref_level_elem(b->type, x, &rem[e]);
-  }
-}
-
+ * its node offset test. The arrays are made here; compute.c fills them a
+ * chunk at a time (dtm_analysis_levels_chunk) just before mapping the
+ * chunk, so that the kernel's memo (src/kernel/memo.c) still holds what
+ * the search integrated when the element map and the measures ask for it. */
 int dtm_analysis_levels(dtm_analysis *a) {
   for (int b = 0; b < a->mesh->nblocks; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
@@ -66,9 +60,16 @@ int dtm_analysis_levels(dtm_analysis *a) {
     if (a->level_rem) a->level_rem[b] = malloc((blk->n + 1) * sizeof(double));
     if (!a->level || !a->level[b] || !a->level_rem || !a->level_rem[b])
       return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-    block_levels(a, blk, a->level[b], a->level_rem[b]);
   }
   return DTM_OK;
+}
+
+void dtm_analysis_levels_chunk(const dtm_analysis *a, int b, size_t e0, size_t n, const double *x) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  if (!a->level || !a->level[b]) return;
+  for (size_t e = 0; e < n; e++)
+    a->level[b][e0 + e] =
+        (unsigned char)dtm_ref_level_elem(blk->type, x + 3 * (size_t)blk->nn * e, &a->level_rem[b][e0 + e]);
 }
 
 /* How much a change dT of the mass-scaled tensor T (Frobenius norm) can
@@ -154,33 +155,81 @@ int dtm_analysis_elastic_bound_effect(const dtm_analysis *a) {
 /* |dt_other / dt - 1| of an element whose undamped element step in the
  * effect's model is dt, dt_other in the other model; NaN when not
  * computable. */
-static double dependence(const dtm_operator_coeffs *c, int type, const double *x, double dt) {
+static double dependence(const dtm_operator_coeffs *c, int type, const double *x, int level, double dt) {
   dtm_elastic_moduli m = c->mod;
   double l;
   m.integration = m.integration == DTM_INTEGRATION_CONVERGED ? DTM_INTEGRATION_FULL : DTM_INTEGRATION_CONVERGED;
-  if (dtm_kernel_elastic_lambda(type, &m, x, &l)) return dtm_error_clear(), NAN;
+  if (dtm_kernel_elastic_lambda_at(type, &m, x, level, &l)) return dtm_error_clear(), NAN;
   return fabs(2 / sqrt(l) / dt - 1);
 }
 
-/* Per element of block b (global indices from g0): ratio and dependence. */
-static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, double *dep) {
+/* Curved elements waiting for their dependence, up to DTM_KERNEL_LANES. */
+typedef struct {
+  int held;
+  size_t e[DTM_KERNEL_LANES];
+  double x[DTM_KERNEL_LANES][DTM_MAX_NODES * 3];
+} lane_group;
+
+/* The dependence of the group's elements into dep, side by side in the
+ * kernel's lanes (the same bits as one at a time); an element the lanes
+ * refuse is taken alone, as dependence() does. */
+static void group_dependence(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, lane_group *q,
+                             double *dep) {
   const dtm_block *blk = &a->mesh->blocks[b];
   size_t g0 = a->offset[b];
-  long n = (long)blk->n;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (long e = 0; e < n; e++) {
-    double x[DTM_MAX_NODES * 3];
+  const double *dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
+  dtm_elastic_moduli m[DTM_KERNEL_LANES];
+  const dtm_elastic_moduli *mp[DTM_KERNEL_LANES];
+  const double *xp[DTM_KERNEL_LANES];
+  int lv[DTM_KERNEL_LANES], failed = -1;
+  double l[DTM_KERNEL_LANES];
+  for (int i = 0; i < q->held; i++) {
+    m[i] = coef[dtm_analysis_slot(a, blk, q->e[i])].mod, mp[i] = &m[i], xp[i] = q->x[i];
+    m[i].integration = m[i].integration == DTM_INTEGRATION_CONVERGED ? DTM_INTEGRATION_FULL : DTM_INTEGRATION_CONVERGED;
+    lv[i] = dtm_analysis_level(a, b, q->e[i]); /* the converged model's kept level (ignored by the others) */
+  }
+  int r = dtm_kernel_elastic_lambda_lanes(blk->type, q->held, mp, xp, lv, l, &failed);
+  if (r) dtm_error_clear();
+  for (int i = 0; i < q->held; i++) {
+    size_t g = g0 + q->e[i];
+    dep[g] = !r || i < failed ? fabs(2 / sqrt(l[i]) / dt[g] - 1)
+                              : dependence(&coef[dtm_analysis_slot(a, blk, q->e[i])], blk->type, q->x[i], lv[i], dt[g]);
+  }
+  q->held = 0;
+}
+
+/* Per element of block b in [e0, e1) (global indices from g0): ratio and
+ * dependence. */
+static void range_pass(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, double *dep, size_t e0,
+                       size_t e1) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  size_t g0 = a->offset[b];
+  lane_group q = {0};
+  for (size_t e = e0; e < e1; e++) {
+    double *x = q.x[q.held];
     dtm_curvature c;
-    dtm_mesh_gather_one(a->mesh, blk, (size_t)e, x);
-    dep[g0 + (size_t)e] = NAN;
+    dtm_mesh_gather_one(a->mesh, blk, e, x);
+    dep[g0 + e] = NAN;
     if (dtm_kernel_curvature_shape(blk->type, x, &c)) { /* the levels are kept: dtm_analysis_levels */
-      a->curv_ratio[g0 + (size_t)e] = NAN, a->curv_offset[g0 + (size_t)e] = NAN;
+      a->curv_ratio[g0 + e] = NAN, a->curv_offset[g0 + e] = NAN;
       continue;
     }
-    a->curv_ratio[g0 + (size_t)e] = c.jac_ratio, a->curv_offset[g0 + (size_t)e] = c.offset;
+    a->curv_ratio[g0 + e] = c.jac_ratio, a->curv_offset[g0 + e] = c.offset;
     if (!(c.offset > OFFSET_CURVED) || !coef) continue;
-    const double *dt = a->dt_bare && a->dt_bare[k] ? a->dt_bare[k] : a->dt_effect[k];
-    dep[g0 + (size_t)e] = dependence(&coef[dtm_analysis_slot(a, blk, (size_t)e)], blk->type, x, dt[g0 + (size_t)e]);
+    q.e[q.held++] = e;
+    if (q.held == DTM_KERNEL_LANES) group_dependence(a, b, k, coef, &q, dep);
+  }
+  if (q.held) group_dependence(a, b, k, coef, &q, dep);
+}
+
+/* Per element of block b: ratio and dependence, RANGE elements per task. */
+static void block_pass(const dtm_analysis *a, int b, int k, const dtm_operator_coeffs *coef, double *dep) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  long nr = (long)((blk->n + RANGE - 1) / RANGE);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long i = 0; i < nr; i++) {
+    size_t e0 = (size_t)i * RANGE, e1 = e0 + RANGE < blk->n ? e0 + RANGE : blk->n;
+    range_pass(a, b, k, coef, dep, e0, e1);
   }
 }
 

@@ -217,6 +217,10 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   eg.type = type, eg.d = d, eg.nn = nn;
   int gram = m && hrz;             /* second-order elastic: the Gram tensor, half the products of add_elastic_sym */
   double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB on the stack at most, as K */
+  if (gram && dtm_memo_get(type, t, nn, n, xl, U, mass, &vol)) { /* the level search just integrated it */
+    stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
+    return -1;
+  }
   memset(gram ? U : K, 0, sizeof(double) * (size_t)(n * n));
   for (int a = 0; a < nn; a++) mass[a] = 0;
   double gl[4][DTM_K_DOF], dvs[4]; /* the Gram tensor's points, four at a time (dtm_elem_gram_add_points) */

@@ -116,11 +116,21 @@ double dtm_elem_node_offset(int type, const double (*x)[3]) {
   return worst;
 }
 
-/* T at level n (see above) into T[nd][nd], nd = nn d, from the level's
- * table (its shape functions evaluated once: ref_table.c). Returns |T|_F. */
-static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *T, int *bad) {
+/* One level's integration of the element: the Gram tensor U (upper
+ * triangle of integral g_ai g_bj dv, row-major nd x nd, nd = nn d), the
+ * lumped masses m per unit density, the measure vol, and r_x = m_(x/d)^-1/2,
+ * so that T = U_xy r_x r_y (see above). */
+typedef struct {
+  double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB at most (hex27) */
+  double m[DTM_K_NODES], r[DTM_K_DOF], vol;
+} level_sums;
+
+/* T of level n (see above), as the sums L, from the level's table (its
+ * shape functions evaluated once: ref_table.c). Returns |T|_F. */
+static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, level_sums *L,
+                        int *bad) {
   int nd = nn * d, hrz = dtm_elem_parent(type) != type;
-  double g[DTM_K_NODES][3], dv, m[DTM_K_NODES], r[DTM_K_DOF], s = 0, vol = 0;
+  double g[DTM_K_NODES][3], dv, *m = L->m, *r = L->r, *T = L->U, s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
   *bad = d == 3 ? 0 : -1; /* -1: not checked here (dtm_map_first_bad_table will) */
   for (int a = 0; a < nn; a++) m[a] = 0;
@@ -156,20 +166,24 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
   }
   if (held) dtm_elem_gram_add_points(nd, held, (const double(*)[DTM_K_DOF])gl, dvs, T);
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
+  L->vol = vol;
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
   for (int x = 0; x < nd; x++)
     for (int y = x; y < nd; y++) {
-      T[x * nd + y] *= r[x] * r[y];
-      s += (x == y ? 1 : 2) * T[x * nd + y] * T[x * nd + y];
+      double v = T[x * nd + y] * (r[x] * r[y]);
+      s += (x == y ? 1 : 2) * v * v;
     }
   return sqrt(s);
 }
 
-static double diff_norm(int nd, const double *A, const double *B) {
+/* |T_A - T_B|_F of two levels' sums. */
+static double diff_norm(int nd, const level_sums *A, const level_sums *B) {
   double s = 0;
   for (int x = 0; x < nd; x++)
-    for (int y = x; y < nd; y++)
-      s += (x == y ? 1 : 2) * (A[x * nd + y] - B[x * nd + y]) * (A[x * nd + y] - B[x * nd + y]);
+    for (int y = x; y < nd; y++) {
+      double a = A->U[x * nd + y] * (A->r[x] * A->r[y]), b = B->U[x * nd + y] * (B->r[x] * B->r[y]);
+      s += (x == y ? 1 : 2) * (a - b) * (a - b);
+    }
   return sqrt(s);
 }
 
@@ -186,31 +200,34 @@ static double remainder_of(double d1, double d0) {
 
 /* The converged level of a curved element (its table into *t); 0 when a
  * table cannot be had (no memory). *rem: the estimated remaining change of
- * T (remainder_of), absolute. */
+ * T (remainder_of), absolute; *kept: the sums of the level returned (in L,
+ * scratch for two levels). */
 static int converge(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table **t, int *settled, double *rem,
-                    int *bad) {
-  double T[2][DTM_K_DOF * DTM_K_DOF]; /* 105 kB on the stack at most (hex27) */
+                    int *bad, level_sums *L, const level_sums **kept) {
   int n = mass_level(type), cur = 0, nd = nn * d;
   double d0 = 0, d1 = 0;
   *settled = 0;
   if (!(*t = dtm_ref_level_table(type, n))) return 0;
-  tensor_at(type, d, nn, xl, *t, T[cur], bad);
+  tensor_at(type, d, nn, xl, *t, &L[cur], bad);
   while (n < DTM_K_LEVEL_MAX) {
     if (!(*t = dtm_ref_level_table(type, ++n))) return 0;
-    double norm = tensor_at(type, d, nn, xl, *t, T[1 - cur], bad);
+    double norm = tensor_at(type, d, nn, xl, *t, &L[1 - cur], bad);
     cur = 1 - cur;
-    d0 = d1, d1 = diff_norm(nd, T[0], T[1]);
+    d0 = d1, d1 = diff_norm(nd, &L[0], &L[1]);
     if (d1 <= TOL * norm) {
       *settled = 1;
       break;
     }
   }
   *rem = remainder_of(d1, d0);
+  *kept = &L[cur];
   return n;
 }
 
 /* dtm_elem_rule_choose, with the remaining change of T into *rem (0 where
- * the rule is exact or no converged model exists). */
+ * the rule is exact or no converged model exists). A curved element's sums
+ * at its kept level go to the memo (memo.c), for the element map and the
+ * measure that integrate it next. */
 static int choose(int type, int d, int nn, const double (*xl)[3], int model, dtm_qrule *q, int *settled, double *rem) {
   if (settled) *settled = 1;
   *rem = 0;
@@ -224,8 +241,10 @@ static int choose(int type, int d, int nn, const double (*xl)[3], int model, dtm
     return 0;
   }
   const dtm_ref_table *t;
+  level_sums L[2]; /* 105 kB on the stack at most (hex27) */
+  const level_sums *kept = NULL;
   int bad;
-  int n = converge(type, d, nn, xl, &t, &s, rem, &bad);
+  int n = converge(type, d, nn, xl, &t, &s, rem, &bad, L, &kept);
   double dj;
   /* inverted near a node: no converged model (the search checked its last level's points in 3D) */
   if (!n || (bad < 0 ? dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0 : bad)) {
@@ -234,6 +253,7 @@ static int choose(int type, int d, int nn, const double (*xl)[3], int model, dtm
     *rem = 0;
     return 0;
   }
+  dtm_memo_put(type, t, nn, nn * d, xl, kept->U, kept->m, kept->vol);
   if (q) *q = t->q;
   if (settled) *settled = s;
   return n;

@@ -98,6 +98,9 @@ int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)
  * the same two numbers, for the sums that need only the volume factor
  * (the lumped masses). */
 double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double *dv);
+/* dtm_map_dv_dn at four points of a table side by side (3D), as
+ * dtm_map_eval_dn4: dv[4] bitwise those four calls give. */
+void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
  * Jacobian: returns -1 (g and dv unset) when det J (into *dj) is not
  * safely positive, else 0. Bitwise the values of the two calls. */
@@ -234,6 +237,23 @@ double dtm_lumped_mass_table(int type, int d, int nn, const double (*xl)[3], con
  * left as they are) or N_a^2 (second-order types: scaled to the measure
  * vol, or CalculiX's C3D10 lumping when a tet10's rule has 4 points). */
 void dtm_lumped_finish(int type, int nn, int npoints, double vol, double *m);
+
+/* The per-thread memo of a curved element's integration at its kept level
+ * (memo.c): the Gram tensor U (row-major nd x nd, upper triangle read or
+ * written), the masses per unit density m[nn] and the measure, keyed by
+ * type, rule table and the coordinates xl[nn] in the element's frame,
+ * compared exactly. dtm_memo_fits: whether elements of nn nodes and nd
+ * unknowns are kept at all. A put may drop the oldest entry or, without
+ * memory, do nothing; a get returns 1 and the values (U may be NULL), or 0. */
+int dtm_memo_fits(int nn, int nd);
+void dtm_memo_put(int type, const dtm_ref_table *t, int nn, int nd, const double (*xl)[3], const double *U,
+                  const double *m, double vol);
+int dtm_memo_get(int type, const dtm_ref_table *t, int nn, int nd, const double (*xl)[3], double *U, double *m,
+                 double *vol);
+/* For tests: forget every entry of this thread's memo; how many gets it
+ * has answered. */
+void dtm_memo_clear(void);
+long dtm_memo_hits(void);
 
 /* On x86-64 with GCC, a hot loop marked DTM_KERNEL_AVX is compiled twice,
  * for the build's baseline (SSE2) and for AVX, and the processor's version

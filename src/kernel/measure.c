@@ -45,6 +45,7 @@ static double integrate(int type, const double *x, int model, int level, double 
   double vol;
   if (id == 0 && dtm_affine_lumped(type, d, nn, (const double(*)[3])xl, m, &vol)) return vol; /* straight tri6, tet10 */
   const dtm_ref_table *t = dtm_ref_rule_table(type, id); /* full rules too: the shape functions evaluated once */
+  if (t && dtm_memo_get(type, t, nn, nn * d, (const double(*)[3])xl, NULL, m, &vol)) return vol; /* searched just now */
   if (t) return dtm_lumped_mass_table(type, d, nn, (const double(*)[3])xl, t, m);
   dtm_ref_rule_at(type, model, id, &q); /* no memory for the table */
   return dtm_lumped_mass(type, d, nn, (const double(*)[3])xl, &q, m);
