@@ -135,9 +135,10 @@ int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[
  * the instructions. */
 typedef double v4d __attribute__((vector_size(32)));
 
-static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                                 double (*g)[DTM_K_NODES][3], double *dv, double *det, double *had) {
-  v4d D[DTM_K_NODES][3], J[3][3], K[3][3];
+/* The reference gradients of the four points D, their Jacobians J and
+ * det J (dtm_mat_det's expression) into *dj, lane by lane. */
+static inline __attribute__((always_inline)) void jacobian4(int nn, const double (*xl)[3], const double (*const *dN)[3],
+                                                            v4d (*D)[3], v4d J[3][3], v4d *dj) {
   for (int a = 0; a < nn; a++)
     for (int j = 0; j < 3; j++) D[a][j] = (v4d){dN[0][a][j], dN[1][a][j], dN[2][a][j], dN[3][a][j]};
   for (int i = 0; i < 3; i++)
@@ -145,8 +146,15 @@ static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*c
   for (int a = 0; a < nn; a++)
     for (int i = 0; i < 3; i++)
       for (int j = 0; j < 3; j++) J[i][j] += xl[a][i] * D[a][j];
-  v4d dj = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
-           J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+  *dj = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+        J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+}
+
+static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
+                                 double (*g)[DTM_K_NODES][3], double *dv, double *det, double *had) {
+  v4d D[DTM_K_NODES][3], J[3][3], K[3][3];
+  v4d dj;
+  jacobian4(nn, xl, dN, D, J, &dj);
   if (had) { /* dtm_mat_hadamard lane by lane: the product of the column lengths */
     v4d c[3];
     for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
@@ -171,6 +179,19 @@ static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*c
     }
   v4d w = {wq[0], wq[1], wq[2], wq[3]}, v = dj * w;
   for (int l = 0; l < 4; l++) dv[l] = v[l];
+}
+
+static DTM_KERNEL_AVX void dv4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
+                               double *dv) {
+  v4d D[DTM_K_NODES][3], J[3][3];
+  v4d w = {wq[0], wq[1], wq[2], wq[3]}, dj;
+  jacobian4(nn, xl, dN, D, J, &dj);
+  v4d v = dj * w;
+  for (int l = 0; l < 4; l++) dv[l] = v[l];
+}
+
+void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv) {
+  dv4(nn, xl, dN, wq, dv);
 }
 
 void dtm_map_eval_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
