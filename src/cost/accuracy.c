@@ -375,15 +375,20 @@ static int is_measured(const dtm_block *bl, size_t e, const slot *s) {
 /* One pass of smooth_sizes: at each corner node the volume-weighted mean
  * of its elements' values v (summed in one thread: a node's sum is shared
  * by its elements), then at each element the mean over its nv corners (on
- * the OpenMP threads). sum and w: [nnodes] work arrays. */
+ * the OpenMP threads). sum and w: [nnodes] work arrays; w, the volumes
+ * around each node, is the same at every pass: summed at the first
+ * (first set) and kept. */
 static void smooth_pass(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, int nv, const slot *s, const double *meas,
-                        double *v, double *sum, double *w) {
+                        double *v, double *sum, double *w, int first) {
   const size_t nn = (size_t)bl->nn;
-  memset(sum, 0, mesh->nnodes * sizeof *sum), memset(w, 0, mesh->nnodes * sizeof *w);
+  memset(sum, 0, mesh->nnodes * sizeof *sum);
+  if (first) memset(w, 0, mesh->nnodes * sizeof *w);
   for (size_t e = 0; e < bl->n; e++) {
     if (!is_measured(bl, e, s)) continue;
     double x = v[i0 + e], m = meas[i0 + e];
-    for (int j = 0; j < nv; j++) sum[bl->conn[e * nn + (size_t)j]] += m * x, w[bl->conn[e * nn + (size_t)j]] += m;
+    const size_t *c = bl->conn + e * nn;
+    for (int j = 0; j < nv; j++) sum[c[j]] += m * x;
+    for (int j = 0; first && j < nv; j++) w[c[j]] += m;
   }
   const long long n = (long long)bl->n;
 #pragma omp parallel for schedule(static)
@@ -407,7 +412,7 @@ static void smooth_sizes(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, c
   int d, nv;
   dtm_elem_info(dtm_elem_parent(bl->type), &d, &nv);
   for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = edge[i0 + e] * edge[i0 + e];
-  for (int p = 0; p < SMOOTH_PASSES; p++) smooth_pass(mesh, bl, i0, nv, s, meas, hs, sum, w);
+  for (int p = 0; p < SMOOTH_PASSES; p++) smooth_pass(mesh, bl, i0, nv, s, meas, hs, sum, w, p == 0);
   for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = sqrt(hs[i0 + e]);
 }
 
