@@ -15,7 +15,8 @@
  * chunk in 500 was lost to a full window; tests/t115 checks that none is).
  * Elements with more than MAX_DOF unknowns (the 3D types above tet10) are
  * not kept: an entry is sized for tet10 (4 kB; 4 MB per thread, allocated
- * at the first put). */
+ * at the first put and freed when the thread ends). */
+#include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,6 +42,20 @@ typedef struct {
 static _Thread_local entry *slots;
 static _Thread_local uint64_t clock_now;
 static _Thread_local long hits;
+static pthread_key_t owner; /* frees a thread's slots when it ends */
+static int owner_made;
+static pthread_once_t owner_once = PTHREAD_ONCE_INIT;
+
+static void owner_make(void) { owner_made = !pthread_key_create(&owner, free); }
+
+/* This thread's slots, made on first use; NULL without memory. Without the
+ * key (or if it cannot be set) they live until the process ends. */
+static entry *slots_made(void) {
+  if (slots) return slots;
+  pthread_once(&owner_once, owner_make);
+  if ((slots = calloc(SLOTS, sizeof *slots)) && owner_made) (void)pthread_setspecific(owner, slots);
+  return slots;
+}
 
 int dtm_memo_fits(int nn, int nd) { return nn <= MAX_NODES && nd <= MAX_DOF; }
 
@@ -62,7 +77,7 @@ static int same(const entry *s, int type, const dtm_ref_table *t, int nn, int nd
 
 void dtm_memo_put(int type, const dtm_ref_table *t, int nn, int nd, const double (*xl)[3], const double *U,
                   const double *m, double vol) {
-  if (!dtm_memo_fits(nn, nd) || (!slots && !(slots = calloc(SLOTS, sizeof *slots)))) return;
+  if (!dtm_memo_fits(nn, nd) || !slots_made()) return;
   size_t h = hash_of(type, t, nn, xl);
   entry *s = &slots[h];
   for (int p = 0; p < PROBE; p++) { /* the key's own slot, an empty one, else the oldest */
