@@ -84,14 +84,10 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
  * dtm_ref_level_table), without N. */
 double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
                        double *dv);
-/* dtm_map_eval_dn (d = 3) at four points, reference gradients dN[l] and
- * weights wq[l], side by side in vector lanes (map.c): g[l] and dv[l]
- * bitwise what the four calls give. */
-void dtm_map_eval_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                      double (*g)[DTM_K_NODES][3], double *dv);
-/* The same with dtm_map_eval_valid's test at each point: the first of the
- * four (0..3) whose det J (all four in dj[4]) is not safely positive, or
- * -1; g and dv are bitwise dtm_map_eval_valid's where it passes. */
+/* dtm_map_eval_valid (d = 3) at four points, reference gradients dN[l]
+ * and weights wq[l], side by side in vector lanes (map.c): the first of
+ * the four (0..3) whose det J (all four in dj[4]) is not safely positive,
+ * or -1; g[l] and dv[l] bitwise dtm_map_eval_valid's where it passes. */
 int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
                         double (*g)[DTM_K_NODES][3], double *dv, double *dj);
 /* dtm_map_eval_dn's det J and dv alone (no inverse, no gradients): bitwise
@@ -99,7 +95,7 @@ int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)
  * (the lumped masses). */
 double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double *dv);
 /* dtm_map_dv_dn at four points of a table side by side (3D), as
- * dtm_map_eval_dn4: dv[4] bitwise those four calls give. */
+ * dtm_map_eval_valid4: dv[4] bitwise those four calls give. */
 void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
  * Jacobian: returns -1 (g and dv unset) when det J (into *dj) is not

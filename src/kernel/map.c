@@ -194,12 +194,6 @@ void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3],
   dv4(nn, xl, dN, wq, dv);
 }
 
-void dtm_map_eval_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                      double (*g)[DTM_K_NODES][3], double *dv) {
-  double det[4];
-  eval4(nn, xl, dN, wq, g, dv, det, NULL);
-}
-
 int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
                         double (*g)[DTM_K_NODES][3], double *dv, double *dj) {
   double had[4];
