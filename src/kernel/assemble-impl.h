@@ -45,6 +45,34 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
  * one at a time give. AVX where the processor has it (DTM_KERNEL_AVX: the
  * same bits). */
 void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], const double *dv, double *U);
+/* A walk over the points of a rule's table t in their order, for an
+ * element in its frame xl, that the element assembly and curved.c's level
+ * search share: the map (dtm_map_eval_valid4) at four points side by side
+ * where a full group of four opens (d = 3), else at one point
+ * (dtm_map_eval_valid); and the points' gradients gathered for the Gram
+ * tensor, a whole group straight from the map's rows. */
+typedef struct {
+  const dtm_ref_table *t;
+  int d, nn;
+  const double (*xl)[3];
+  double g4[4][DTM_K_NODES][3], dv4[4], dj4[4]; /* the current group of four */
+  int bad4;                                     /* its first lane where det J is not safely positive, or -1 */
+  double g[DTM_K_NODES][3];                     /* a point outside the groups */
+  double gl[4][DTM_K_DOF], dvl[4];              /* such points, flattened, waiting for the Gram update */
+  int held;
+} dtm_point_walk;
+void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int nn, const double (*xl)[3]);
+/* Point k (each k in turn from 0): its gradients g[nn][3], dv and det J
+ * (*dj). *valid is 0 where det J is not safely positive (the gradients are
+ * computed all the same); in a group of four only its first such lane says
+ * so, the later lanes are not tested (the callers stop, or have marked the
+ * element, at the first). */
+const double (*dtm_point_walk_at(dtm_point_walk *w, int k, double *dv, double *dj, int *valid))[3];
+/* U += dv g g^T of point k (its gradients g, just returned), as
+ * dtm_elem_gram_add_points four points at a time; _end adds the points
+ * still held. */
+void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double dv, double *U);
+void dtm_point_walk_gram_end(dtm_point_walk *w, double *U);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and

@@ -182,6 +182,45 @@ void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], con
   for (int p = 0; p < np; p++) gram_add(nd, gl[p], dv[p], U);
 }
 
+void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int nn, const double (*xl)[3]) {
+  w->t = t, w->d = d, w->nn = nn, w->xl = xl, w->bad4 = -1, w->held = 0;
+}
+
+/* Whether point k is in a full group of four (3D). */
+static int grouped(const dtm_point_walk *w, int k) { return w->d == 3 && k - k % 4 + 4 <= w->t->q.n; }
+
+const double (*dtm_point_walk_at(dtm_point_walk *w, int k, double *dv, double *dj, int *valid))[3] {
+  const dtm_ref_table *t = w->t;
+  if (!grouped(w, k)) {
+    *valid = !dtm_map_eval_valid(w->d, w->nn, w->xl, (const double(*)[3])t->dN[k], t->q.w[k], w->g, dv, dj);
+    return (const double(*)[3])w->g;
+  }
+  if (k % 4 == 0) { /* the next four points' maps side by side */
+    const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
+                                (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
+    w->bad4 = dtm_map_eval_valid4(w->nn, w->xl, dn4, &t->q.w[k], w->g4, w->dv4, w->dj4);
+  }
+  *dv = w->dv4[k % 4], *dj = w->dj4[k % 4], *valid = k % 4 != w->bad4;
+  return (const double(*)[3])w->g4[k % 4];
+}
+
+void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double dv, double *U) {
+  int nd = w->nn * w->d;
+  if (grouped(w, k)) { /* the group's rows are already flat (d = 3) */
+    if (k % 4 == 3) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])w->g4, w->dv4, U);
+    return;
+  }
+  for (int a = 0; a < w->nn; a++)
+    for (int i = 0; i < w->d; i++) w->gl[w->held][a * w->d + i] = g[a][i];
+  w->dvl[w->held++] = dv;
+  if (w->held == 4) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])w->gl, w->dvl, U), w->held = 0;
+}
+
+void dtm_point_walk_gram_end(dtm_point_walk *w, double *U) {
+  if (w->held) dtm_elem_gram_add_points(w->nn * w->d, w->held, (const double(*)[DTM_K_DOF])w->gl, w->dvl, U);
+  w->held = 0;
+}
+
 /* The elastic stiffness from the Gram tensor U (upper triangle of
  * integral g_ai g_bj), in place: K_(ai)(bj) = lam U_(ai)(bj) +
  * mu U_(aj)(bi) + delta_ij mu sum_r U_(ar)(br), mirrored. */
@@ -206,7 +245,7 @@ static void stiffness_from_gram(int nn, int d, double lam, double mu, double *U,
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj) {
   dtm_elem_geom eg; /* only type, d and nn: what the visitors read */
-  double g[DTM_K_NODES][3], dv, vol = 0;
+  double dv, vol = 0;
   int n = m ? nn * d : nn, hrz = dtm_elem_parent(type) != type;
   elastic_ctx c = {0, 0, K};
   void (*add)(void *, const dtm_elem_geom *, const double *, const double(*)[3], double) = add_laplace;
@@ -223,36 +262,20 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   }
   memset(gram ? U : K, 0, sizeof(double) * (size_t)(n * n));
   for (int a = 0; a < nn; a++) mass[a] = 0;
-  double gl[4][DTM_K_DOF], dvs[4]; /* the Gram tensor's points, four at a time (dtm_elem_gram_add_points) */
-  int held = 0;
-  double g4[4][DTM_K_NODES][3], dv4[4], dj4[4];
-  const double(*gp)[3] = (const double(*)[3])g; /* this point's gradients: g, or a row of g4 */
+  dtm_point_walk w;
+  dtm_point_walk_start(&w, t, d, nn, xl);
   for (int k = 0; k < t->q.n; k++) {
-    if (d == 3 && k % 4 == 0 && k + 4 <= t->q.n) { /* the next four points' maps side by side */
-      const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
-                                  (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
-      int bad = dtm_map_eval_valid4(nn, xl, dn4, &t->q.w[k], g4, dv4, dj4);
-      if (bad >= 0) return *dj = dj4[bad], k + bad;
-    }
-    if (d == 3 && k - k % 4 + 4 <= t->q.n)
-      gp = (const double(*)[3])g4[k % 4], dv = dv4[k % 4], *dj = dj4[k % 4];
-    else if (dtm_map_eval_valid(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv, dj))
-      return k;
+    int valid;
+    const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, dj, &valid);
+    if (!valid) return k;
+    if (gram)
+      dtm_point_walk_gram(&w, k, gp, dv, U);
     else
-      gp = (const double(*)[3])g;
-    if (gram && gp != (const double(*)[3])g) { /* a group of four: g4's rows are already flat (d = 3) */
-      if (k % 4 == 3) dtm_elem_gram_add_points(n, 4, (const double(*)[DTM_K_DOF])g4, dv4, U);
-    } else if (gram) {
-      for (int a = 0; a < nn; a++)
-        for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
-      dvs[held++] = dv;
-      if (held == 4) dtm_elem_gram_add_points(n, 4, (const double(*)[DTM_K_DOF])gl, dvs, U), held = 0;
-    } else
       add(m ? (void *)&c : (void *)K, &eg, t->N[k], gp, dv);
     for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
   }
-  if (held) dtm_elem_gram_add_points(n, held, (const double(*)[DTM_K_DOF])gl, dvs, U);
+  if (gram) dtm_point_walk_gram_end(&w, U);
   dtm_lumped_finish(type, nn, t->q.n, vol, mass);
   if (gram) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
   return -1;

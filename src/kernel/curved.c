@@ -130,41 +130,22 @@ typedef struct {
 static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, level_sums *L,
                         int *bad) {
   int nd = nn * d, hrz = dtm_elem_parent(type) != type;
-  double g[DTM_K_NODES][3], dv, *m = L->m, *r = L->r, *T = L->U, s = 0, vol = 0;
+  double dv, dj, *m = L->m, *r = L->r, *T = L->U, s = 0, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
-  *bad = d == 3 ? 0 : -1; /* -1: not checked here (dtm_map_first_bad_table will) */
+  *bad = 0;
   for (int a = 0; a < nn; a++) m[a] = 0;
-  double gl[4][DTM_K_DOF], dvs[4]; /* g flattened: gl[p][x] = g[x / d][x % d]; four points per Gram update */
-  double g4[4][DTM_K_NODES][3], dv4[4];
-  const double(*gp)[3] = (const double(*)[3])g; /* this point's gradients: g, or a row of g4 */
-  int held = 0;
+  dtm_point_walk w;
+  dtm_point_walk_start(&w, t, d, nn, xl);
   for (int k = 0; k < t->q.n; k++) {
-    if (d == 3 && k % 4 == 0 && k + 4 <= t->q.n) { /* the next four points' maps side by side */
-      const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
-                                  (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
-      double dj4[4];
-      if (dtm_map_eval_valid4(nn, xl, dn4, &t->q.w[k], g4, dv4, dj4) >= 0) *bad = 1; /* every lane computed */
-    }
-    if (d == 3 && k - k % 4 + 4 <= t->q.n)
-      gp = (const double(*)[3])g4[k % 4], dv = dv4[k % 4];
-    else {
-      dtm_map_eval_dn(d, nn, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dv), gp = (const double(*)[3])g;
-      double had, dj = d == 3 ? dtm_map_det_dn(d, nn, xl, (const double(*)[3])t->dN[k], &had) : 0;
-      if (d == 3 && !(dj > 32 * DBL_EPSILON * had && isfinite(dj))) *bad = 1;
-    }
+    int valid;
+    const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, &dj, &valid);
+    if (!valid) *bad = 1; /* the element is still integrated: the search goes on */
     /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
     for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
-    if (gp != (const double(*)[3])g) { /* a group of four: g4's rows are already flat (d = 3) */
-      if (k % 4 == 3) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])g4, dv4, T);
-      continue;
-    }
-    for (int a = 0; a < nn; a++)
-      for (int i = 0; i < d; i++) gl[held][a * d + i] = gp[a][i];
-    dvs[held++] = dv;
-    if (held == 4) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])gl, dvs, T), held = 0;
+    dtm_point_walk_gram(&w, k, gp, dv, T);
   }
-  if (held) dtm_elem_gram_add_points(nd, held, (const double(*)[DTM_K_DOF])gl, dvs, T);
+  dtm_point_walk_gram_end(&w, T);
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   L->vol = vol;
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
@@ -245,9 +226,8 @@ static int choose(int type, int d, int nn, const double (*xl)[3], int model, dtm
   const level_sums *kept = NULL;
   int bad;
   int n = converge(type, d, nn, xl, &t, &s, rem, &bad, L, &kept);
-  double dj;
-  /* inverted near a node: no converged model (the search checked its last level's points in 3D) */
-  if (!n || (bad < 0 ? dtm_map_first_bad_table(d, nn, xl, t, &dj) >= 0 : bad)) {
+  /* inverted near a node: no converged model (the search checked its last level's points) */
+  if (!n || bad) {
     if (q) dtm_ref_rule(type, q);
     if (settled) *settled = 0;
     *rem = 0;

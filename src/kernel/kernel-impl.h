@@ -98,8 +98,9 @@ double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3]
  * dtm_map_eval_valid4: dv[4] bitwise those four calls give. */
 void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
- * Jacobian: returns -1 (g and dv unset) when det J (into *dj) is not
- * safely positive, else 0. Bitwise the values of the two calls. */
+ * Jacobian: returns -1 when det J (into *dj) is not safely positive (g and
+ * dv are computed all the same, not finite where det J is 0), else 0.
+ * Bitwise the values of the two calls. */
 int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
                        double *dv, double *dj);
 /* dtm_map_det from the reference gradients dN[nn][3] at the point. */

@@ -118,11 +118,10 @@ int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[
   jacobian(d, nn, xl, dN, J);
   double had = dtm_mat_hadamard(d, (const double(*)[3])J);
   *dj = dtm_mat_det(d, (const double(*)[3])J);
-  if (!(*dj > 32 * DBL_EPSILON * had && isfinite(*dj))) return -1;
   dtm_mat_inverse(d, (const double(*)[3])J, *dj, K);
   gradients(d, nn, (const double(*)[3])K, dN, g);
   *dv = *dj * wq;
-  return 0;
+  return *dj > 32 * DBL_EPSILON * had && isfinite(*dj) ? 0 : -1;
 }
 
 /* ---- four rule points at once (3D) ----
