@@ -154,16 +154,14 @@ static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*c
   v4d D[DTM_K_NODES][3], J[3][3], K[3][3];
   v4d dj;
   jacobian4(nn, xl, dN, D, J, &dj);
-  if (had) { /* dtm_mat_hadamard lane by lane: the product of the column lengths */
-    v4d c[3];
-    for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
-    for (int j = 0; j < 3; j++)
-      for (int i = 0; i < 3; i++) c[j] += J[i][j] * J[i][j];
-    for (int l = 0; l < 4; l++) {
-      double h = 1;
-      for (int j = 0; j < 3; j++) h *= sqrt(c[j][l]);
-      had[l] = h;
-    }
+  v4d c[3]; /* dtm_mat_hadamard lane by lane: the product of the column lengths */
+  for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
+  for (int j = 0; j < 3; j++)
+    for (int i = 0; i < 3; i++) c[j] += J[i][j] * J[i][j];
+  for (int l = 0; l < 4; l++) {
+    double h = 1;
+    for (int j = 0; j < 3; j++) h *= sqrt(c[j][l]);
+    had[l] = h;
   }
   for (int l = 0; l < 4; l++) det[l] = dj[l];
   for (int i = 0; i < 3; i++)
