@@ -235,11 +235,19 @@ static int hand_back(const job_spec *j, const job_files *f) {
   return j->no_periodic ? dtm_gmsh_strip_periodic(f->mesh.tmp) : DTM_OK;
 }
 
-/* Curves and surfaces are meshed one at a time: each logs "Meshing ..."
- * at info level, and Gmsh's API logger (which dtmap reads for errors)
+/* Curves and surfaces are meshed on the threads asked for, as Gmsh's own
+ * `gmsh -nt N` does, only where dtmap reads Gmsh's messages from its
+ * terminal (a file: dtm_gmsh_log_terminal): each curve and surface logs
+ * "Meshing ..." at info level from its thread, and Gmsh's API logger
  * appends to one vector without a lock, so curves meshed on OpenMP threads
- * corrupt it (ASan: a double free in t312, HXT on 2 threads). Volumes keep
- * the threads asked for. */
+ * corrupt it (ASan: a double free in t312, HXT on 2 threads). That is the
+ * dtmap command's first mesh, made in its supervised worker (in_process)
+ * unless Gmsh's terminal is shown (dtmap -v). Everywhere else they are
+ * meshed one at a time: in a forked child (a remesh, a probe, a library
+ * caller's mesh), whose parent may have run OpenMP threads the child does
+ * not have (one sanitizer run of the suite failed once in such a child,
+ * t322's 2D strip, when its curves were meshed on threads; never
+ * reproduced). Volumes keep the threads asked for everywhere. */
 static const char *const thread_keys[] = {"Mesh.MaxNumThreads1D", "Mesh.MaxNumThreads2D"};
 
 static void serial_surfaces(double *old) {
@@ -268,7 +276,7 @@ static void child(pid_t parent, const char *stage, const job_spec *j, const job_
   dup2(f->log, STDOUT_FILENO), dup2(f->log, STDERR_FILENO);
   gmshOptionSetNumber("General.Terminal", 1, &ierr);
   gmshOptionSetNumber("General.Verbosity", 4, &ierr); /* errors, warnings and info: the last steps before a crash */
-  serial_surfaces(NULL);
+  serial_surfaces(NULL);                              /* a forked child: see above */
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
@@ -411,11 +419,17 @@ int dtm_gmsh_logged(dtm_gmsh_job fn, void *arg) {
 static int in_process(const char *stage, const job_spec *j) {
   double old[2];
   log_redirect s = log_begin();
-  serial_surfaces(old);
+  if (s.out >= 0)
+    dtm_gmsh_log_terminal(supervisor_log); /* curves and surfaces on the threads asked for */
+  else
+    serial_surfaces(old);
   int r = run_job(j);
   fflush(NULL);
   maybe_crash(stage);
-  restore_surfaces(old);
+  if (s.out >= 0)
+    dtm_gmsh_log_terminal(-1);
+  else
+    restore_surfaces(old);
   log_end(s);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }

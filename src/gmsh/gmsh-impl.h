@@ -80,6 +80,11 @@ int dtm_gmsh_check_tags(const char *src, const char *what, size_t max_tag, size_
 
 /* Forget what Gmsh has logged so far. */
 void dtm_gmsh_log_reset(void);
+/* fd >= 0: read Gmsh's messages from its terminal, the file at fd (where
+ * its stdout and stderr go), from its present end, with the API logger
+ * stopped, so that Gmsh may log from several threads; -1: from the API
+ * logger again (restarted). */
+void dtm_gmsh_log_terminal(int fd);
 /* Raise code with "<what>: <the errors Gmsh logged since the last reset>"
  * (at most three, "; "-separated; Gmsh's last error, or ierr's, when none
  * was logged) when ierr is set or Gmsh logged an error; else DTM_OK. */

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "dtmap/gmsh.h"
 #include "dtmap/progress.h"
@@ -21,10 +23,69 @@ int dtm_gmsh_fail(int code, const char *file, int line, const char *func, const 
   return r;
 }
 
+/* Where Gmsh's messages are read: its API logger, or (terminal >= 0) its
+ * terminal, the file at that descriptor, from byte `from` on. The API
+ * logger appends to one vector without a lock, so messages logged from
+ * OpenMP threads (curves and surfaces meshed in parallel) corrupt it; its
+ * terminal is written a whole line at a time under stdio's lock. */
+static int terminal = -1;
+static off_t terminal_from;
+
+static off_t terminal_end(void) {
+  struct stat st;
+  fflush(NULL);
+  return fstat(terminal, &st) ? 0 : st.st_size;
+}
+
+void dtm_gmsh_log_terminal(int fd) {
+  int ierr = 0;
+  if (fd >= 0 && terminal < 0) gmshLoggerStop(&ierr);
+  if (fd < 0 && terminal >= 0) gmshLoggerStart(&ierr);
+  terminal = fd;
+  if (fd >= 0) terminal_from = terminal_end();
+}
+
 void dtm_gmsh_log_reset(void) {
   int ierr = 0;
+  if (terminal >= 0) {
+    terminal_from = terminal_end();
+    return;
+  }
   gmshLoggerStop(&ierr);
   gmshLoggerStart(&ierr);
+}
+
+/* Add error text to buf[len] ("; "-separated), the first three. */
+static void add_error(char *buf, size_t len, int *count, const char *text) {
+  size_t used = strlen(buf);
+  if ((*count)++ < 3) snprintf(buf + used, len - used, "%s%s", used ? "; " : "", text);
+}
+
+/* The "Error   : " lines Gmsh wrote to its terminal since the reset,
+ * without its summary of the counts (a block between two lines of dashes,
+ * which Gmsh writes to its terminal only, not to its logger). */
+static int terminal_errors(char *buf, size_t len) {
+  static const char prefix[] = "Error   : ";
+  char line[1024];
+  int count = 0, summary = 0, copy = dup(terminal);
+  FILE *in = copy >= 0 ? fdopen(copy, "r") : NULL;
+  if (!in) {
+    if (copy >= 0) close(copy);
+    return 0;
+  }
+  fflush(NULL);
+  fseeko(in, terminal_from, SEEK_SET);
+  while (fgets(line, sizeof line, in)) {
+    char *text = line + sizeof prefix - 1;
+    if (strncmp(line, prefix, sizeof prefix - 1)) continue;
+    text[strcspn(text, "\r\n")] = '\0';
+    if (text[0] == '-' && !text[strspn(text, "-")])
+      summary = !summary;
+    else if (!summary)
+      add_error(buf, len, &count, text);
+  }
+  fclose(in);
+  return count;
 }
 
 /* Up to three "Error: " lines of the log, without the prefix, into buf;
@@ -34,13 +95,11 @@ static int logged_errors(char *buf, size_t len) {
   size_t n = 0;
   int ierr = 0, count = 0;
   static const char prefix[] = "Error: ";
-  gmshLoggerGet(&log, &n, &ierr);
   buf[0] = '\0';
+  if (terminal >= 0) return terminal_errors(buf, len);
+  gmshLoggerGet(&log, &n, &ierr);
   for (size_t i = 0; i < n; i++) {
-    if (!strncmp(log[i], prefix, sizeof prefix - 1) && count++ < 3) {
-      size_t used = strlen(buf);
-      snprintf(buf + used, len - used, "%s%s", used ? "; " : "", log[i] + sizeof prefix - 1);
-    }
+    if (!strncmp(log[i], prefix, sizeof prefix - 1)) add_error(buf, len, &count, log[i] + sizeof prefix - 1);
     gmshFree(log[i]);
   }
   gmshFree(log);
