@@ -9,7 +9,11 @@
  * (dtm_kernel_elastic_lambda, dtm_kernel_diffusion_lambda; 2D elements
  * are given in a plane z = const and clockwise, so the operator's
  * orientation handling is exercised), the lumped diagonal, and the input
- * checks of dtm_operator_create.
+ * checks of dtm_operator_create. The whole group runs three times: the
+ * operator keeping each element's points, keeping its element matrix
+ * wherever it may (solid 3D types but the linear tet), and choosing
+ * (dtm_operator_store); test_stored_matrices compares the two ways
+ * directly.
  * Tolerances: 1e-12 of max |K_ij| for symmetry and for the agreement with
  * the kernels' matrices (both are sums of a few dozen O(max|K|) products
  * per entry); 1e-10 relative for rigid modes, as asked (the actual
@@ -33,6 +37,7 @@
 #include "dtmap/operator.h"
 #include "assemble-impl.h"
 #include "kernel-impl.h"
+#include "spectral.h"
 
 #define MAXN (3 * DTM_K_NODES) /* most unknowns of one element */
 
@@ -481,6 +486,105 @@ static void test_errors(void **state) {
   dtm_error_clear();
 }
 
+/* K (elastic or diffusion) and the damping product of one element with
+ * Rayleigh beta, the operator keeping points (dtm_operator_store 0) or the
+ * element matrix (2): kdense[n][n] from K e_j and damp = C u for a fixed u;
+ * returns how many elements the operator stored. */
+static size_t matrices(const one *o, const dtm_operator_coeffs *c, int store, double *kdense, double *damp) {
+  double beta = 3e-7, e[MAXN] = {0}, col[MAXN];
+  dtm_operator *op = NULL;
+  dtm_operator_store = store;
+  dtm_error_clear();
+  if (dtm_operator_create(&o->m, c->kind, c, NULL, &beta, 1, &op))
+    fail_msg("%s: %s", dtm_elem_name(o->b.type), dtm_error_message());
+  dtm_operator_store = 1;
+  size_t n = dtm_operator_ndof(op), stored = dtm_operator_stored(op);
+  for (size_t j = 0; j < n; j++) {
+    e[j] = 1;
+    dtm_operator_apply(op, e, col);
+    e[j] = sin(0.7 * (double)j + 0.2);
+    for (size_t i = 0; i < n; i++) kdense[i * n + j] = col[i];
+  }
+  dtm_operator_apply_damping(op, e, damp);
+  dtm_operator_destroy(&op);
+  return stored;
+}
+
+/* The two ways of the operator on one element: the same K and damping
+ * product to 1e-12 of max |K| (each entry is the same integral over the
+ * same rule points, summed in another order: a few hundred roundings of
+ * terms below max |K|); the one with points stores nothing, the other
+ * one element. */
+static void check_stored(const one *o, const dtm_operator_coeffs *c, const char *what) {
+  size_t n = (size_t)o->b.nn * (c->kind == DTM_OP_ELASTIC ? 3 : 1);
+  double *kp = malloc(n * n * sizeof *kp), *ks = malloc(n * n * sizeof *ks), dp[MAXN], ds[MAXN], mx = 0;
+  assert_int_equal(matrices(o, c, 0, kp, dp), 0);
+  assert_int_equal(matrices(o, c, 2, ks, ds), 1);
+  for (size_t i = 0; i < n * n; i++) mx = fmax(mx, fabs(kp[i]));
+  for (size_t i = 0; i < n * n; i++)
+    if (!(fabs(ks[i] - kp[i]) <= 1e-12 * mx))
+      fail_msg("%s: K[%zu] = %.17g stored, %.17g from points", what, i, ks[i], kp[i]);
+  for (size_t i = 0; i < n; i++)
+    if (!(fabs(ds[i] - dp[i]) <= 1e-12 * 3e-7 * mx * (double)n))
+      fail_msg("%s: damping product [%zu] = %.17g stored, %.17g from points", what, i, ds[i], dp[i]);
+  free(kp), free(ks);
+}
+
+/* Element matrices kept instead of points (issue 46: the curved parts of
+ * the global estimate): every solid 3D type of the shapes above, a
+ * straight and a strongly curved tet10, elastic and diffusion; the curved
+ * tet10 settles at a level with more points than its packed matrix has
+ * entries, so the default keeps its matrix, the straight one (4 points)
+ * its points. */
+static void test_stored_matrices(void **state) {
+  (void)state;
+  dtm_operator_coeffs ce = elastic_coeffs(3), cd = {.kind = DTM_OP_DIFFUSION, .capacity = 2e6, .conductivity = 4.5};
+  for (size_t s = 0; s < sizeof shapes / sizeof shapes[0]; s++) {
+    if (shapes[s].dim != 3 || shapes[s].type == DTM_TET4) continue; /* linear simplices keep one point */
+    one o;
+    one_init(&o, &shapes[s]);
+    check_stored(&o, &ce, dtm_elem_name(o.b.type));
+    check_stored(&o, &cd, dtm_elem_name(o.b.type));
+  }
+  one o;
+  one_init(&o, &shapes[0]);
+  const dtm_topology *tp = dtm_elem_topology(DTM_TET4);
+  for (int e = 0; e < tp->nedge; e++)
+    for (int c = 0; c < 3; c++)
+      o.xyz[3 * (4 + e) + c] = 0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
+  for (int a = 0; a < 10; a++) o.conn[a] = (size_t)a;
+  o.b.type = DTM_TET10, o.b.nn = 10, o.m.nnodes = 10;
+  double kd[30 * 30], dd[30];
+  check_stored(&o, &ce, "straight tet10");
+  assert_int_equal(matrices(&o, &ce, 1, kd, dd), 0);
+  for (int a = 4; a < 10; a++)
+    for (int c = 0; c < 3; c++) o.xyz[3 * a + c] += 0.15 * sin(1.7 * a + 2.3 * c);
+  check_stored(&o, &ce, "curved tet10");
+  check_stored(&o, &cd, "curved tet10, diffusion");
+  assert_int_equal(matrices(&o, &ce, 1, kd, dd), 1);
+}
+
+/* The group once with the operator keeping points, once keeping element
+ * matrices wherever it may, and once its own way: the closed forms above
+ * hold for each. */
+static int points_everywhere(void **state) {
+  (void)state;
+  dtm_operator_store = 0;
+  return 0;
+}
+
+static int matrices_everywhere(void **state) {
+  (void)state;
+  dtm_operator_store = 2;
+  return 0;
+}
+
+static int own_choice(void **state) {
+  (void)state;
+  dtm_operator_store = 1;
+  return 0;
+}
+
 int main(int argc, char **argv) {
   (void)argc, (void)argv; /* source dir and dtmap binary: not needed */
   const struct CMUnitTest tests[] = {
@@ -489,5 +593,9 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_plane_stress),       cmocka_unit_test(test_errors),
       cmocka_unit_test(test_membranes_in_space),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  const struct CMUnitTest stored[] = {cmocka_unit_test(test_stored_matrices)};
+  int r = cmocka_run_group_tests_name("points", tests, points_everywhere, own_choice);
+  r += cmocka_run_group_tests_name("element matrices", tests, matrices_everywhere, own_choice);
+  r += cmocka_run_group_tests_name("the operator's choice", tests, own_choice, own_choice);
+  return r + cmocka_run_group_tests_name("both ways", stored, own_choice, own_choice);
 }

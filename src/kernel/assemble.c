@@ -280,3 +280,11 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   if (gram) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
   return -1;
 }
+
+int dtm_elem_matrix_at(int type, const double *x, int id, const dtm_elastic_moduli *m, double *K) {
+  int d = 0, nn = 0;
+  double xl[DTM_K_NODES][3], mass[DTM_K_NODES], dj = 0;
+  const dtm_ref_table *t = dtm_ref_rule_table(type, id);
+  if (!t || dtm_elem_info(type, &d, &nn) || d != 3 || dtm_elem_local(type, x, xl)) return -2;
+  return dtm_elem_assemble(type, 3, nn, (const double(*)[3])xl, t, m, K, mass, &dj);
+}

@@ -67,6 +67,16 @@ int dtm_ref_rule_at(int type, int model, int level, dtm_qrule *q);
 int dtm_kernel_curvature_shape(int type, const double *x, dtm_curvature *c);
 int dtm_ref_rule_id(int type, int model, int level); /* what dtm_ref_rule_at returns, without q */
 double dtm_elem_lumped_at(int type, const double *x, int model, int level, double *w);
+/* The matrix of a solid 3D element with coordinates x[nn][3] integrated by
+ * the rule id (what dtm_ref_rule_id gives: 0 the full rule, a level, or
+ * DTM_K_RULE_C3D10), as the kernel assembles it (dtm_elem_assemble: a
+ * curved element's level the search has just integrated comes back from
+ * the per-thread memo, bitwise): the elastic stiffness K[3 nn][3 nn] of
+ * moduli m (lam and mu), or the Laplacian K[nn][nn] when m is NULL, in the
+ * global axes (a 3D element's frame only moves the origin). Returns -1, or
+ * the first rule point where det J is not safely positive; -2 for a type
+ * that is not a 3D solid or a rule without a table. */
+int dtm_elem_matrix_at(int type, const double *x, int id, const dtm_elastic_moduli *m, double *K);
 double dtm_elem_measure_at(int type, const double *x, int level);
 /* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
  * written, unused ones zero) with respect to the reference coordinates

@@ -7,7 +7,12 @@
  * inverse Jacobian (d x d) and dv = |det J| * weight are stored, and the
  * reference gradients once per block, so a tet4 costs 10 doubles and a
  * hex8 80, with the connectivity in 32 bits when the nodes fit. Types whose reference gradients are the same at every
- * rule point (the linear simplices) keep a single point with the summed weight, which is exact. The product sums the
+ * rule point (the linear simplices) keep a single point with the summed weight, which is exact. A block of solid 3D
+ * elements whose points would take more memory than their element matrices (the curved tet10 of a part at level 5 or
+ * 6: 125 or 216 points, 1,250 or 2,160 doubles, against 465 for the packed 30 x 30 matrix) keeps the matrices instead,
+ * assembled by the kernel (dtm_elem_matrix_at) with the material in them: the same integrals over the same points,
+ * summed in another order, and a product then costs about 1,900 flops per element instead of about 60,000 or 100,000
+ * (stores_matrices). The product sums the
  * element forces of each thread's contiguous share of elements into its own buffer (the first thread writes y itself)
  * and the buffers are then added in a fixed order, so results do not depend on scheduling. On 2 cores this beat element
  * colouring by 2x on a 1e6-tet mesh: a colour's elements are spread over
@@ -54,6 +59,11 @@ typedef struct {
                                           the curved elements of this part (parts.c) */
   int mbi;                             /* index of the mesh block the elements come from */
   const size_t *orig;                  /* [n] their index in that block, or NULL (the same) */
+  double *kel;                         /* [n][npk] instead of geo (stores_matrices): each
+                                          element's matrix, material included, its upper
+                                          triangle packed row by row */
+  double *meas;                        /* [n] with kel: each element's measure (sum of its dv) */
+  int ne, npk;                         /* with kel: unknowns per element, ne (ne + 1) / 2 */
 } op_block;
 
 typedef struct {
@@ -99,6 +109,7 @@ enum { APPLY_K = 0, APPLY_BETA = 1 };
 static int shares_setup(dtm_operator *op);
 
 size_t dtm_operator_narrow_max = UINT32_MAX;
+int dtm_operator_store = 1;
 
 /* The element loops are specialised per dimension (and node count) by
  * inlining them with constant arguments, and their short loops unrolled;
@@ -268,12 +279,12 @@ static void inverse_packed(int d, const double J[3][3], double dj, double *inv) 
  * positive in 3D and the same at every point in 1D and 2D (where the
  * orientation in the plane is arbitrary). Returns 0, or -1 with det J. */
 static int elem_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
-                         double *dj_bad) {
+                         double *out, double *dj_bad) {
   int d = op->d, st = d * d + 1;
   const size_t *c = b->conn + e * (size_t)b->nn;
   double sign = 0;
   for (int k = 0; k < b->nq; k++) {
-    double J[3][3] = {{0}}, *g = b->geo + (e * (size_t)b->nq + (size_t)k) * (size_t)st;
+    double J[3][3] = {{0}}, *g = out + (size_t)k * (size_t)st;
     for (int i = 0; b->p1 && i < d; i++) /* the sum below, without its products by 0 and 1 */
       for (int j = 0; j < d; j++) J[i][j] = -xyz[3 * c[0] + i] + xyz[3 * c[j + 1] + i];
     for (int a = 0; !b->p1 && a < b->nn; a++)
@@ -321,11 +332,11 @@ static int manifold_point(int d, int k, const double J[3][3], double w, double *
 
 /* The same for an element of a manifold block. */
 static int manifold_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
-                             double *dj_bad) {
+                             double *out, double *dj_bad) {
   int d = op->d;
   const size_t *c = b->conn + e * (size_t)b->nn;
   for (int q = 0; q < b->nq; q++) {
-    double J[3][3] = {{0}}, *g = b->geo + (e * (size_t)b->nq + (size_t)q) * (size_t)b->st;
+    double J[3][3] = {{0}}, *g = out + (size_t)q * (size_t)b->st;
     for (int a = 0; a < b->nn; a++)
       for (int i = 0; i < d; i++)
         for (int j = 0; j < b->k; j++) J[i][j] += xyz[3 * c[a] + i] * b->dn[q][a][j];
@@ -334,9 +345,42 @@ static int manifold_geometry(const dtm_operator *op, const op_block *b, const do
   return 0;
 }
 
-static int any_geometry(const dtm_operator *op, const op_block *b, const double *xyz, size_t e, const double *wq,
-                        double *dj_bad) {
-  return b->manifold ? manifold_geometry(op, b, xyz, e, wq, dj_bad) : elem_geometry(op, b, xyz, e, wq, dj_bad);
+/* The points of element e into out[nq][st] (its place in geo, or a
+ * scratch for a block that stores matrices, whose measure it records). */
+static int any_geometry(const dtm_operator *op, op_block *b, const double *xyz, size_t e, const double *wq,
+                        double *scratch, double *dj_bad) {
+  double *out = b->kel ? scratch : b->geo + e * (size_t)b->nq * (size_t)b->st, meas = 0;
+  int r =
+      b->manifold ? manifold_geometry(op, b, xyz, e, wq, out, dj_bad) : elem_geometry(op, b, xyz, e, wq, out, dj_bad);
+  if (r || !b->kel) return r;
+  for (int k = 0; k < b->nq; k++) meas += out[(size_t)k * (size_t)b->st + (size_t)b->st - 1];
+  b->meas[e] = meas;
+  return 0;
+}
+
+/* Whether b keeps each element's matrix instead of its points: where the
+ * packed matrix takes less memory than the points (the curved elements'
+ * parts at a high level: a tet10 at level 6 keeps 465 doubles instead of
+ * 2160, and a product then costs about 1,900 flops instead of about
+ * 100,000), and only for solid 3D elements, whose matrix the kernel
+ * assembles in the global axes (dtm_elem_matrix_at). dtm_operator_store:
+ * 0 never, 2 wherever it may (tests). */
+static int stores_matrices(const dtm_operator *op, const op_block *b) {
+  int ne = b->nn * op->ncomp;
+  if (!dtm_operator_store || b->manifold || b->p1 || op->d != 3 || b->k != 3) return 0;
+  return dtm_operator_store == 2 || (size_t)ne * (size_t)(ne + 1) / 2 < (size_t)b->nq * (size_t)b->st;
+}
+
+/* Room for the points of each element, or for its matrix and measure. */
+static int block_alloc(const dtm_operator *op, op_block *b) {
+  if (!stores_matrices(op, b)) {
+    b->geo = malloc(b->n * (size_t)b->nq * (size_t)b->st * sizeof *b->geo);
+    return b->geo || !b->n ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  }
+  b->ne = b->nn * op->ncomp, b->npk = b->ne * (b->ne + 1) / 2;
+  b->kel = malloc((b->n * (size_t)b->npk + 1) * sizeof *b->kel);
+  b->meas = malloc((b->n + 1) * sizeof *b->meas);
+  return b->kel && b->meas ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
 }
 
 static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part *part, op_block *b) {
@@ -361,18 +405,17 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part 
   }
   block_rule(b, wq);
   if (b->manifold) b->p1 = 0;
-  b->geo = malloc(b->n * (size_t)b->nq * (size_t)b->st * sizeof *b->geo);
-  if (!b->geo && b->n) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  DTM_CHECK(block_alloc(op, b));
   size_t bad = b->n;
-  double dj = 0;
+  double dj = 0, scratch[DTM_K_QP * 10]; /* the points of one element of a block that stores matrices (d = 3) */
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (size_t e = 0; e < b->n; e++) {
-    double djt;
-    if (any_geometry(op, b, m->xyz, e, wq, &djt) && e < bad) bad = e;
+    double djt, own[DTM_K_QP * 10];
+    if (any_geometry(op, b, m->xyz, e, wq, own, &djt) && e < bad) bad = e;
   }
   if (bad == b->n) return DTM_OK;
   char place[256];
-  any_geometry(op, b, m->xyz, bad, wq, &dj);
+  any_geometry(op, b, m->xyz, bad, wq, scratch, &dj);
   if (mb->tags)
     dtm_mesh_element_place(m, b->mbi, b->orig ? b->orig[bad] : bad, place, sizeof place);
   else
@@ -381,6 +424,42 @@ static int block_setup(dtm_operator *op, const dtm_mesh *m, const dtm_rule_part 
                  "%s is degenerate, inverted or folded "
                  "(det J = %g at an integration point): the global estimate cannot use it",
                  place, dj);
+}
+
+/* ---- creation: element matrices -------------------------------------- */
+
+/* Element e's matrix, its material's coefficients included (the
+ * conductivity scales the Laplacian), packed into b->kel. Returns 0, or -1
+ * where the kernel finds det J not safely positive at a point of the rule. */
+static int elem_matrix(const dtm_operator *op, const dtm_mesh *m, op_block *b, size_t e) {
+  double x[DTM_K_NODES * 3], K[DTM_K_DOF * DTM_K_DOF];
+  const op_mat *mt = &op->mats[slot_of(b, e)];
+  const size_t *c = b->conn + e * (size_t)b->nn;
+  int el = op->kind == DTM_OP_ELASTIC, ne = b->ne;
+  dtm_elastic_moduli mod = {.form = DTM_FORM_3D, .lam = mt->lam, .mu = mt->mu, .modulus = mt->lam + 2 * mt->mu};
+  for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
+  if (dtm_elem_matrix_at(b->type, x, b->level, el ? &mod : NULL, K) != -1) return -1;
+  double f = el ? 1 : mt->cond, *k = b->kel + e * (size_t)b->npk;
+  for (int r = 0; r < ne; r++)
+    for (int q = r; q < ne; q++) *k++ = f * K[r * ne + q];
+  return 0;
+}
+
+/* The matrices of a block that stores them, once the materials are set. */
+static int block_matrices(const dtm_operator *op, const dtm_mesh *m, op_block *b) {
+  size_t bad = b->n;
+  if (!b->kel) return DTM_OK;
+#pragma omp parallel for schedule(dynamic, 64) reduction(min : bad)
+  for (size_t e = 0; e < b->n; e++)
+    if (elem_matrix(op, m, b, e) && e < bad) bad = e;
+  if (bad == b->n) return DTM_OK;
+  char place[256];
+  if (b->tags)
+    dtm_mesh_element_place(m, b->mbi, b->orig ? b->orig[bad] : bad, place, sizeof place);
+  else
+    snprintf(place, sizeof place, "element #%zu (%s)", bad, dtm_elem_name(b->type));
+  return DTM_ERR(DTM_ERR_INPUT, "%s is inverted or folded at a point of its rule: the global estimate cannot use it",
+                 place);
 }
 
 /* ---- creation: lumped diagonals ------------------------------------- */
@@ -413,8 +492,9 @@ static void lumped_weights(const unsigned char *const *level, const dtm_mesh *m,
 static int elem_lumped(const unsigned char *const *level, const dtm_mesh *m, const op_block *b, size_t e, double *w) {
   double meas = 0;
   size_t st = (size_t)b->st;
-  const double *g = b->geo + e * (size_t)b->nq * st;
-  for (int k = 0; k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
+  const double *g = b->kel ? NULL : b->geo + e * (size_t)b->nq * st;
+  for (int k = 0; g && k < b->nq; k++) meas += g[(size_t)k * st + st - 1];
+  if (b->kel) meas = b->meas[e]; /* the same sum, taken at creation */
   lumped_weights(level, m, b, e, w);
   int ok = 1;
   for (int a = 0; a < b->nn; a++) {
@@ -508,6 +588,7 @@ static int create(dtm_operator *op, const dtm_mesh *m, const dtm_operator_coeffs
   if (!op->blocks) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < np; ib++) DTM_CHECK(block_setup(op, m, &op->parts[ib], &op->blocks[ib]));
   DTM_CHECK(materials_setup(op, c, alpha, beta));
+  for (int ib = 0; ib < np; ib++) DTM_CHECK(block_matrices(op, m, &op->blocks[ib]));
   DTM_CHECK(dtm_op_struct_setup(&op->st, m, c, op->nmat_base, op->kept ? op->kept->rot : NULL)); /* after
                                                                     materials_setup: it checks every slot */
   op->ndof = m->nnodes * (size_t)op->ncomp + 3 * op->st.nrot;
@@ -556,7 +637,10 @@ int dtm_operator_create_kept(const dtm_mesh *mesh, int kind, const dtm_operator_
 
 void dtm_operator_destroy(dtm_operator **op) {
   if (!op || !*op) return;
-  for (int ib = 0; (*op)->blocks && ib < (*op)->nblocks; ib++) free((*op)->blocks[ib].geo), free((*op)->blocks[ib].c32);
+  for (int ib = 0; (*op)->blocks && ib < (*op)->nblocks; ib++) {
+    op_block *b = &(*op)->blocks[ib];
+    free(b->geo), free(b->c32), free(b->kel), free(b->meas);
+  }
   dtm_rule_parts_free((*op)->parts, (*op)->nblocks);
   free((*op)->share);
   free((*op)->buf);
@@ -574,6 +658,12 @@ void dtm_operator_destroy(dtm_operator **op) {
 }
 
 size_t dtm_operator_ndof(const dtm_operator *op) { return op->ndof; }
+
+size_t dtm_operator_stored(const dtm_operator *op) {
+  size_t n = 0;
+  for (int ib = 0; ib < op->nblocks; ib++) n += op->blocks[ib].kel ? op->blocks[ib].n : 0;
+  return n;
+}
 int dtm_operator_ncomp(const dtm_operator *op) { return op->ncomp; }
 int dtm_operator_kind(const dtm_operator *op) { return op->kind; }
 const double *dtm_operator_mass(const dtm_operator *op) { return op->mass; }
@@ -974,9 +1064,38 @@ static void diffusion_block(const dtm_operator *op, const op_block *b, size_t e0
     OTHER_BLOCK(0);
 }
 
+/* Add K_e u (scaled by beta_e for APPLY_BETA) of elements [e0, e1) of a
+ * block that stores their matrices: the packed upper triangle, each entry
+ * used for its row and, off the diagonal, for its column. */
+static void stored_range(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
+                         int which) {
+  const int ne = b->ne, nc = op->ncomp, nn = b->nn;
+  double ue[DTM_K_DOF], fe[DTM_K_DOF];
+  for (size_t e = e0; e < e1; e++) {
+    double s = which == APPLY_BETA ? op->mats[slot_of(b, e)].beta : 1;
+    const double *k = b->kel + e * (size_t)b->npk;
+    size_t c[DTM_K_NODES];
+    if (s == 0) continue;
+    for (int a = 0; a < nn; a++)
+      c[a] = b->c32 ? b->c32[e * (size_t)nn + (size_t)a] : b->conn[e * (size_t)nn + (size_t)a];
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < nc; i++) ue[a * nc + i] = u[c[a] * (size_t)nc + (size_t)i], fe[a * nc + i] = 0;
+    for (int r = 0; r < ne; r++) { /* row r: its ne - r entries from the diagonal on */
+      double acc = k[0] * ue[r], ur = ue[r];
+      for (int q = r + 1; q < ne; q++) acc += k[q - r] * ue[q], fe[q] += k[q - r] * ur;
+      fe[r] += acc;
+      k += ne - r;
+    }
+    for (int a = 0; a < nn; a++)
+      for (int i = 0; i < nc; i++) y[c[a] * (size_t)nc + (size_t)i] += s * fe[a * nc + i];
+  }
+}
+
 static void block_apply(const dtm_operator *op, const op_block *b, size_t e0, size_t e1, const double *u, double *y,
                         int which) {
-  if (b->manifold)
+  if (b->kel)
+    stored_range(op, b, e0, e1, u, y, which);
+  else if (b->manifold)
     manifold_range(op, b, e0, e1, u, y, which);
   else if (op->kind == DTM_OP_ELASTIC)
     elastic_block(op, b, e0, e1, u, y, which);

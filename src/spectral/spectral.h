@@ -11,6 +11,13 @@
 #include "dtmap/operator.h"
 
 extern size_t dtm_operator_narrow_max;
+/* Which blocks of solid 3D elements the operator keeps as element matrices
+ * instead of points (operator.c): 1 (default) where the packed matrix is
+ * smaller than the points (curved elements at a high level), 0 none, 2
+ * every one that is not a linear simplex (tests compare the two ways). */
+extern int dtm_operator_store;
+/* How many elements op keeps as element matrices. */
+size_t dtm_operator_stored(const struct dtm_operator *op);
 
 /* A part of a mesh block whose elements share one integration rule
  * (parts.c). */
