@@ -533,9 +533,9 @@ static void check_stored(const one *o, const dtm_operator_coeffs *c, const char 
 /* Element matrices kept instead of points (issue 46: the curved parts of
  * the global estimate): every solid 3D type of the shapes above, a
  * straight and a strongly curved tet10, elastic and diffusion; the curved
- * tet10 settles at a level with more points than its packed matrix has
- * entries, so the default keeps its matrix, the straight one (4 points)
- * its points. */
+ * tet10 settles at a level whose points (10 doubles each) take more memory
+ * than its packed matrix (465), so the default keeps its matrix, and the
+ * straight one (14 points) its points. */
 static void test_stored_matrices(void **state) {
   (void)state;
   dtm_operator_coeffs ce = elastic_coeffs(3), cd = {.kind = DTM_OP_DIFFUSION, .capacity = 2e6, .conductivity = 4.5};
