@@ -25,71 +25,71 @@
 #include <string.h>
 
 #include "analysis-impl.h"
-#include "dtmap/gmsh.h"
 #include "dtmap/operator.h"
 #include "spectral.h"
 #include "testutil.h"
 
-static dtm_scene *scene;
-
-static void setup_scene(void) {
-  char path[600];
-  snprintf(path, sizeof path, "%s/ball.geo", tu_tmpdir());
-  tu_write(path, "SetFactory(\"OpenCASCADE\");\nSphere(1) = {0, 0, 0, 1};\nPhysical Volume(\"block\") = {1};\n");
-  tu_steel_scene("ball", "<geometry file=\"ball.geo\"/>", "size=\"0.35\" order=\"2\"", "");
-  snprintf(path, sizeof path, "%s/ball.xml", tu_tmpdir());
-  assert_int_equal(dtm_scene_load(path, &scene), 0);
-}
-
-static double max_abs(size_t n, const double *y) {
-  double m = 0;
-  for (size_t i = 0; i < n; i++) m = fmax(m, fabs(y[i]));
-  return m;
-}
-
-static void stored_against_points(void **unused) {
-  dtm_analysis *a = NULL;
-  dtm_operator *ms = NULL, *pts = NULL;
-  assert_int_equal(dtm_analysis_run(scene, &a), 0);
-  assert_int_equal(dtm_analysis_operator(a, 0, 0.0, &ms), 0);
+/* The two operators of analysis a: the default one and one keeping points. */
+static void both_ways(const dtm_analysis *a, dtm_operator **stored, dtm_operator **points) {
+  assert_int_equal(dtm_analysis_operator(a, 0, 0.0, stored), 0);
   dtm_operator_store = 0;
-  int r = dtm_analysis_operator(a, 0, 0.0, &pts);
+  int r = dtm_analysis_operator(a, 0, 0.0, points);
   dtm_operator_store = 1;
   assert_int_equal(r, 0);
-  size_t n = dtm_operator_ndof(ms), ne = dtm_mesh_nelements(a->mesh), stored = dtm_operator_stored(ms);
-  print_message("%zu of %zu tet10 stored as matrices\n", stored, ne);
-  assert_true(stored > 0 && stored < ne);
-  assert_int_equal(dtm_operator_stored(pts), 0);
-  assert_memory_equal(dtm_operator_mass(ms), dtm_operator_mass(pts), n * sizeof(double));
+}
+
+/* K x of both on three random x, to 1e-12 of the result's largest entry. */
+static void same_products(const dtm_operator *ms, const dtm_operator *pts) {
+  size_t n = dtm_operator_ndof(ms);
   double *x = malloc(n * sizeof *x), *y1 = malloc(n * sizeof *y1), *y2 = malloc(n * sizeof *y2);
   for (unsigned seed = 1; seed <= 3; seed++) {
+    double big = 0;
     dtm_operator_draw(ms, seed, -1, 1, x);
     dtm_operator_apply(ms, x, y1);
     dtm_operator_apply(pts, x, y2);
-    double big = max_abs(n, y2);
+    for (size_t i = 0; i < n; i++) big = fmax(big, fabs(y2[i]));
     for (size_t i = 0; i < n; i++)
       if (!(fabs(y1[i] - y2[i]) <= 1e-12 * big)) fail_msg("dof %zu: %.17g stored, %.17g from points", i, y1[i], y2[i]);
   }
-  dtm_lanczos_result l1, l2;
-  assert_int_equal(dtm_lanczos_max_certified(ms, 1e-8, 400, 7, 0, 1e12, 0, &l1), 0);
-  assert_int_equal(dtm_lanczos_max_certified(pts, 1e-8, 400, 7, 0, 1e12, 0, &l2), 0);
-  assert_int_equal(l1.certified, DTM_CERT_PROVEN);
-  assert_int_equal(l2.certified, DTM_CERT_PROVEN);
-  double b1 = l1.theta + l1.residual, b2 = l2.theta + l2.residual;
-  if (!(fabs(b1 - b2) <= 1e-9 * b2)) fail_msg("bound %.17g stored, %.17g from points", b1, b2);
   free(x), free(y1), free(y2);
+}
+
+/* The certified bound theta + residual of op (Lanczos to 1e-8). */
+static double proven_bound(const dtm_operator *op) {
+  dtm_lanczos_result l;
+  assert_int_equal(dtm_lanczos_max_certified(op, 1e-8, 400, 7, 0, 1e12, 0, &l), 0);
+  assert_int_equal(l.certified, DTM_CERT_PROVEN);
+  return l.theta + l.residual;
+}
+
+static void stored_against_points(void **unused) {
+  char path[600];
+  dtm_scene *scene = NULL;
+  dtm_operator *ms = NULL, *pts = NULL;
+  snprintf(path, sizeof path, "%s/ball.geo", tu_tmpdir());
+  tu_write(path, "SetFactory(\"OpenCASCADE\");\nSphere(1) = {0, 0, 0, 1};\nPhysical Volume(\"block\") = {1};\n");
+  tu_steel_scene("ball", "<geometry file=\"ball.geo\"/>", "size=\"0.35\" order=\"2\"", "");
+  dtm_analysis *a = tu_analyse("ball", &scene);
+  both_ways(a, &ms, &pts);
+  size_t ne = dtm_mesh_nelements(a->mesh), stored = dtm_operator_stored(ms);
+  print_message("%zu of %zu tet10 stored as matrices\n", stored, ne);
+  assert_true(stored > 0 && stored < ne);
+  assert_int_equal(dtm_operator_stored(pts), 0);
+  assert_memory_equal(dtm_operator_mass(ms), dtm_operator_mass(pts), dtm_operator_ndof(ms) * sizeof(double));
+  same_products(ms, pts);
+  double b1 = proven_bound(ms), b2 = proven_bound(pts);
+  if (!(fabs(b1 - b2) <= 1e-9 * b2)) fail_msg("bound %.17g stored, %.17g from points", b1, b2);
   dtm_operator_destroy(&ms), dtm_operator_destroy(&pts);
   dtm_analysis_destroy(&a);
+  dtm_scene_destroy(&scene);
   (void)unused;
 }
 
 int main(int argc, char **argv) {
   tu_init(argc, argv);
-  if (dtm_gmsh_start(0)) return 3;
-  setup_scene();
+  tu_gmsh_begin();
   const struct CMUnitTest tests[] = {cmocka_unit_test(stored_against_points)};
   int r = cmocka_run_group_tests(tests, NULL, NULL);
-  dtm_scene_destroy(&scene);
-  dtm_gmsh_stop();
+  tu_gmsh_end();
   return r;
 }
