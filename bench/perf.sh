@@ -3,7 +3,8 @@
 # read + write and meshing, supervised against one process, the global
 # estimate against scipy's eigsh, 1e7 tets, shells against membranes and
 # curved tet10 against straight-sided, every row side by side in one run
-# (bench/perf.py). Takes 30-60 minutes on 2 cores and about 3 GB of memory
+# (bench/perf.py). Takes about 7 minutes on 2 cores once its meshes exist
+# (making them the first time takes much longer) and about 3 GB of memory
 # (the 1e7 rows); meshes are kept in BENCH_WORK (default /tmp/dtmap-perf)
 # for the next run.
 set -euo pipefail
