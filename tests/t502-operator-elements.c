@@ -564,6 +564,32 @@ static void test_stored_matrices(void **state) {
   assert_int_equal(matrices(&o, &ce, 1, kd, dd), 1);
 }
 
+/* The rule of a straight-sided tet10 (src/spectral/parts.c): its map is
+ * affine, so the operator integrates it with the 4 points of a degree-2
+ * rule, exact for its stiffness (the closed forms of test_second_order
+ * hold for it, and it equals the kernel's 14-point matrix to 1e-12); with
+ * a mid-edge node moved by 1e-12 of its edge (not affine, but straight for
+ * the levels: below 1e-9) it takes the full rule's 14 points. */
+static void test_affine_rule(void **state) {
+  (void)state;
+  one o;
+  one_init(&o, &shapes[0]);
+  const dtm_topology *tp = dtm_elem_topology(DTM_TET4);
+  for (int e = 0; e < tp->nedge; e++)
+    for (int c = 0; c < 3; c++)
+      o.xyz[3 * (4 + e) + c] = 0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
+  for (int a = 0; a < 10; a++) o.conn[a] = (size_t)a;
+  o.b.type = DTM_TET10, o.b.nn = 10, o.m.nnodes = 10;
+  dtm_operator_coeffs c = elastic_coeffs(3);
+  dtm_operator *op = make(&o, &c);
+  assert_int_equal(dtm_operator_points(op), 4);
+  dtm_operator_destroy(&op);
+  o.xyz[3 * 4] += 1e-12;
+  op = make(&o, &c);
+  assert_int_equal(dtm_operator_points(op), 14);
+  dtm_operator_destroy(&op);
+}
+
 /* The group once with the operator keeping points, once keeping element
  * matrices wherever it may, and once its own way: the closed forms above
  * hold for each. */
@@ -593,7 +619,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_plane_stress),       cmocka_unit_test(test_errors),
       cmocka_unit_test(test_membranes_in_space),
   };
-  const struct CMUnitTest stored[] = {cmocka_unit_test(test_stored_matrices)};
+  const struct CMUnitTest stored[] = {cmocka_unit_test(test_stored_matrices), cmocka_unit_test(test_affine_rule)};
   int r = cmocka_run_group_tests_name("points", tests, points_everywhere, own_choice);
   r += cmocka_run_group_tests_name("element matrices", tests, matrices_everywhere, own_choice);
   r += cmocka_run_group_tests_name("the operator's choice", tests, own_choice, own_choice);

@@ -320,3 +320,10 @@ int dtm_affine_scaled(int type, int d, int nn, const double (*xl)[3], double *sc
   *scaled = had > 0 ? dj / had : 0.0;
   return 1;
 }
+
+int dtm_elem_affine(int type, const double *x) {
+  double xl[DTM_K_NODES][3], dj, Ji[3][3];
+  int d = 0, nn = 0;
+  if (type != DTM_TET10 || dtm_elem_info(type, &d, &nn) || dtm_elem_local(type, x, xl)) return 0;
+  return dtm_affine_frame(type, d, nn, (const double(*)[3])xl, &dj, Ji);
+}

@@ -77,6 +77,11 @@ double dtm_elem_lumped_at(int type, const double *x, int model, int level, doubl
  * the first rule point where det J is not safely positive; -2 for a type
  * that is not a 3D solid or a rule without a table. */
 int dtm_elem_matrix_at(int type, const double *x, int id, const dtm_elastic_moduli *m, double *K);
+/* 1 for a tet10 with coordinates x[10][3] whose matrices the kernel takes
+ * from the reference tensors (affine.c: every mid-edge node at its edge's
+ * middle to 1e-14 of the edge, and det J safely positive): its map is
+ * affine, so a rule of degree 2 integrates its stiffness exactly; else 0. */
+int dtm_elem_affine(int type, const double *x);
 double dtm_elem_measure_at(int type, const double *x, int level);
 /* Shape functions N[nn] and their gradients dN[DTM_K_NODES][3] (all rows
  * written, unused ones zero) with respect to the reference coordinates

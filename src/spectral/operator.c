@@ -249,7 +249,9 @@ static int p1_gradients(const op_block *b) {
 static void block_rule(op_block *b, double *wq) {
   dtm_qrule q;
   double N[DTM_K_NODES];
-  if (b->level)
+  if (b->level == DTM_RULE_AFFINE) /* exact for the stiffness of an affine tet10: degree 2 */
+    dtm_ref_rule_level(b->type, DTM_K_RULE_C3D10, &q);
+  else if (b->level)
     dtm_ref_rule_level(b->type, b->level, &q);
   else
     dtm_ref_rule(b->type, &q);
@@ -438,7 +440,7 @@ static int elem_matrix(const dtm_operator *op, const dtm_mesh *m, op_block *b, s
   int el = op->kind == DTM_OP_ELASTIC, ne = b->ne;
   dtm_elastic_moduli mod = {.form = DTM_FORM_3D, .lam = mt->lam, .mu = mt->mu, .modulus = mt->lam + 2 * mt->mu};
   for (int a = 0; a < b->nn; a++) memcpy(x + 3 * a, m->xyz + 3 * c[a], 3 * sizeof *x);
-  if (dtm_elem_matrix_at(b->type, x, b->level, el ? &mod : NULL, K) != -1) return -1;
+  if (dtm_elem_matrix_at(b->type, x, b->level == DTM_RULE_AFFINE ? 0 : b->level, el ? &mod : NULL, K) != -1) return -1;
   double f = el ? 1 : mt->cond, *k = b->kel + e * (size_t)b->npk;
   for (int r = 0; r < ne; r++)
     for (int q = r; q < ne; q++) *k++ = f * K[r * ne + q];
@@ -658,6 +660,12 @@ void dtm_operator_destroy(dtm_operator **op) {
 }
 
 size_t dtm_operator_ndof(const dtm_operator *op) { return op->ndof; }
+
+size_t dtm_operator_points(const dtm_operator *op) {
+  size_t n = 0;
+  for (int ib = 0; ib < op->nblocks; ib++) n += op->blocks[ib].kel ? 0 : op->blocks[ib].n * (size_t)op->blocks[ib].nq;
+  return n;
+}
 
 size_t dtm_operator_stored(const dtm_operator *op) {
   size_t n = 0;

@@ -18,6 +18,16 @@ extern size_t dtm_operator_narrow_max;
 extern int dtm_operator_store;
 /* How many elements op keeps as element matrices. */
 size_t dtm_operator_stored(const struct dtm_operator *op);
+/* How many rule points op keeps for the elements it does not keep as
+ * matrices (shells and beams aside). */
+size_t dtm_operator_points(const struct dtm_operator *op);
+
+/* The part of the tet10 whose map is affine (dtm_elem_affine) among those
+ * the full rule integrates: the operator integrates their stiffness with a
+ * rule of degree 2 (the 4 points of CalculiX's C3D10 rule), which is exact
+ * for them, instead of the full rule's 14 points; their masses stay the
+ * full rule's. */
+#define DTM_RULE_AFFINE (DTM_K_RULE_C3D10 + 1)
 
 /* A part of a mesh block whose elements share one integration rule
  * (parts.c). */
@@ -25,7 +35,8 @@ typedef struct {
   dtm_block blk; /* its elements: the mesh block itself when orig is NULL
                     (arrays not owned), else owned copies of tags, conn,
                     mat and section (group, gmask, entity NULL) */
-  int level;     /* 0: the full rule; else the levelled rule's level (DTM_K_RULE_C3D10: CalculiX's C3D10 rule) */
+  int level;     /* 0: the full rule; else the levelled rule's level (DTM_K_RULE_C3D10: CalculiX's C3D10 rule;
+                    DTM_RULE_AFFINE: affine tet10) */
   int block;     /* index of the mesh block */
   size_t *orig;  /* [blk.n] element index in the mesh block (owned), or NULL */
 } dtm_rule_part;
