@@ -530,6 +530,18 @@ static void check_stored(const one *o, const dtm_operator_coeffs *c, const char 
   free(kp), free(ks);
 }
 
+/* The tet4 of the shapes above as a straight-sided tet10 (mid-edge nodes
+ * at the middles, in Gmsh's order of the edges). */
+static void straight_tet10(one *o) {
+  one_init(o, &shapes[0]);
+  const dtm_topology *tp = dtm_elem_topology(DTM_TET4);
+  for (int e = 0; e < tp->nedge; e++)
+    for (int c = 0; c < 3; c++)
+      o->xyz[3 * (4 + e) + c] = 0.5 * (o->xyz[3 * tp->edge[e][0] + c] + o->xyz[3 * tp->edge[e][1] + c]);
+  for (int a = 0; a < 10; a++) o->conn[a] = (size_t)a;
+  o->b.type = DTM_TET10, o->b.nn = 10, o->m.nnodes = 10;
+}
+
 /* Element matrices kept instead of points (issue 46: the curved parts of
  * the global estimate): every solid 3D type of the shapes above, a
  * straight and a strongly curved tet10, elastic and diffusion; the curved
@@ -547,13 +559,7 @@ static void test_stored_matrices(void **state) {
     check_stored(&o, &cd, dtm_elem_name(o.b.type));
   }
   one o;
-  one_init(&o, &shapes[0]);
-  const dtm_topology *tp = dtm_elem_topology(DTM_TET4);
-  for (int e = 0; e < tp->nedge; e++)
-    for (int c = 0; c < 3; c++)
-      o.xyz[3 * (4 + e) + c] = 0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
-  for (int a = 0; a < 10; a++) o.conn[a] = (size_t)a;
-  o.b.type = DTM_TET10, o.b.nn = 10, o.m.nnodes = 10;
+  straight_tet10(&o);
   double kd[30 * 30], dd[30];
   check_stored(&o, &ce, "straight tet10");
   assert_int_equal(matrices(&o, &ce, 1, kd, dd), 0);
@@ -573,13 +579,7 @@ static void test_stored_matrices(void **state) {
 static void test_affine_rule(void **state) {
   (void)state;
   one o;
-  one_init(&o, &shapes[0]);
-  const dtm_topology *tp = dtm_elem_topology(DTM_TET4);
-  for (int e = 0; e < tp->nedge; e++)
-    for (int c = 0; c < 3; c++)
-      o.xyz[3 * (4 + e) + c] = 0.5 * (o.xyz[3 * tp->edge[e][0] + c] + o.xyz[3 * tp->edge[e][1] + c]);
-  for (int a = 0; a < 10; a++) o.conn[a] = (size_t)a;
-  o.b.type = DTM_TET10, o.b.nn = 10, o.m.nnodes = 10;
+  straight_tet10(&o);
   dtm_operator_coeffs c = elastic_coeffs(3);
   dtm_operator *op = make(&o, &c);
   assert_int_equal(dtm_operator_points(op), 4);
