@@ -513,8 +513,9 @@ static size_t matrices(const one *o, const dtm_operator_coeffs *c, int store, do
 /* The two ways of the operator on one element: the same K and damping
  * product to 1e-12 of max |K| (each entry is the same integral over the
  * same rule points, summed in another order: a few hundred roundings of
- * terms below max |K|); the one with points stores nothing, the other
- * one element. */
+ * terms below max |K|), the damping product beta K u (|u_j| <= 1) to the
+ * same relative tolerance of its bound beta n max |K|; the one with points
+ * stores nothing, the other one element. */
 static void check_stored(const one *o, const dtm_operator_coeffs *c, const char *what) {
   size_t n = (size_t)o->b.nn * (c->kind == DTM_OP_ELASTIC ? 3 : 1);
   double *kp = malloc(n * n * sizeof *kp), *ks = malloc(n * n * sizeof *ks), dp[MAXN], ds[MAXN], mx = 0;

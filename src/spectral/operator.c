@@ -296,7 +296,7 @@ static int elem_geometry(const dtm_operator *op, const op_block *b, const double
     if (!sign) sign = d == 3 ? 1 : dj >= 0 ? 1 : -1;
     *dj_bad = dj;
     if (!(sign * dj > 32 * DBL_EPSILON * dtm_mat_hadamard(d, (const double(*)[3])J)) || !isfinite(dj)) return -1;
-    inverse_packed(d, (const double(*)[3])J, dj, g);
+    if (!b->kel) inverse_packed(d, (const double(*)[3])J, dj, g); /* a block of matrices wants dv only */
     g[d * d] = fabs(dj) * wq[k];
   }
   return 0;
