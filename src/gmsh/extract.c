@@ -159,13 +159,20 @@ static size_t node_at(const node_index *ni, size_t t) {
   return lo < ni->n && ni->sorted[2 * lo] == t ? ni->sorted[2 * lo + 1] : SIZE_MAX;
 }
 
-static int read_nodes(dtm_mesh *m, node_index *ni) {
+/* Every node, from the file's own reading when there is one (taken from
+ * it), else listed by Gmsh. */
+static int read_nodes(dtm_mesh *m, node_index *ni, dtm_msh_parsed *parsed) {
   size_t *tags = NULL, n = 0, nc = 0, np = 0;
   double *xyz = NULL, *par = NULL;
   int ierr = 0;
-  gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, -1, -1, 0, 0, &ierr);
-  DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read the mesh nodes");
-  gmshFree(par);
+  if (parsed) {
+    tags = parsed->node_tags, xyz = parsed->xyz, n = parsed->nnodes;
+    parsed->node_tags = NULL, parsed->xyz = NULL;
+  } else {
+    gmshModelMeshGetNodes(&tags, &n, &xyz, &nc, &par, &np, -1, -1, 0, 0, &ierr);
+    DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read the mesh nodes");
+    gmshFree(par);
+  }
   ni->max_tag = 0, ni->identity = 1, ni->n = n;
   for (size_t i = 0; i < n; i++) {
     if (tags[i] > ni->max_tag) ni->max_tag = tags[i];
@@ -240,6 +247,7 @@ typedef struct {
   int default_mat;
   node_index ni;
   const dtm_group_map *map; /* materials and sections of the groups */
+  dtm_msh_parsed *parsed;   /* the file's own reading (msh_read.c), blocks sorted by_block; NULL: Gmsh lists */
 } extract_ctx;
 
 static const char *src_of(const extract_ctx *c) { return source_name(c->s); }
@@ -401,10 +409,31 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsign
  * type before filling them, where its all-types call grows them element by
  * element (at 1e7 tets that growth, its copies and their page faults were
  * a third of the extraction). */
-static int extract_type(const extract_ctx *c, dtm_mesh *m, int tag, int g, unsigned long long mask, int type) {
+static int by_block(const void *a, const void *b) {
+  const dtm_msh_eblock *x = a, *y = b;
+  if (x->dim != y->dim) return x->dim < y->dim ? -1 : 1;
+  if (x->tag != y->tag) return x->tag < y->tag ? -1 : 1;
+  return x->type < y->type ? -1 : x->type > y->type;
+}
+
+/* The file's block of entity (dim, tag) and type, NULL when none. */
+static dtm_msh_eblock *parsed_block(const extract_ctx *c, int dim, int tag, int type) {
+  if (!c->parsed) return NULL;
+  dtm_msh_eblock key = {.dim = dim, .tag = tag, .type = type};
+  dtm_msh_eblock *b = bsearch(&key, c->parsed->blocks, (size_t)c->parsed->nblocks, sizeof key, by_block);
+  return b && b->tags ? b : NULL;
+}
+
+static int extract_type(const extract_ctx *c, dtm_mesh *m, int dim, int tag, int g, unsigned long long mask, int type) {
   size_t *etags = NULL, ne = 0, *ntags = NULL, nn = 0;
   int ierr = 0, owned = 0;
-  gmshModelMeshGetElementsByType(type, &etags, &ne, &ntags, &nn, tag, 0, 1, &ierr);
+  dtm_msh_eblock *b = parsed_block(c, dim, tag, type);
+  if (b) {
+    etags = b->tags, ntags = b->conn, ne = b->n;
+    b->tags = b->conn = NULL; /* freed below or adopted by the block */
+  } else {
+    gmshModelMeshGetElementsByType(type, &etags, &ne, &ntags, &nn, tag, 0, 1, &ierr);
+  }
   int r = ierr ? dtm_gmsh_fail(DTM_ERR_INTERNAL, __FILE__, __LINE__, __func__, "cannot read elements") : DTM_OK;
   if (r == DTM_OK) r = append_type(c, m, tag, g, mask, type, etags, ne, ntags, &owned);
   if (!owned) gmshFree(etags), gmshFree(ntags); /* else the block has them now */
@@ -421,7 +450,7 @@ static int extract_entity(const extract_ctx *c, dtm_mesh *m, int dim, int tag) {
   if (dim < m->dim && g < 0) return DTM_OK;
   gmshModelMeshGetElementTypes(&types, &nt, dim, tag, &ierr);
   DTM_GMSH_CHECK(ierr, DTM_ERR_INTERNAL, "cannot read element types");
-  for (size_t i = 0; i < nt && r == DTM_OK; i++) r = extract_type(c, m, tag, g, mask, types[i]);
+  for (size_t i = 0; i < nt && r == DTM_OK; i++) r = extract_type(c, m, dim, tag, g, mask, types[i]);
   gmshFree(types);
   return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
 }
@@ -458,14 +487,22 @@ int dtm_gmsh_extract(int dim, const int *group_mat, int default_mat, const dtm_s
 }
 
 int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm_scene *s, dtm_mesh *m) {
-  extract_ctx c = {s, map->group_mat, map->default_mat, {NULL, NULL, 0, 0, 0}, map};
+  dtm_msh_parsed parsed;
+  int own = dtm_gmsh_parsed_take(&parsed);
+  extract_ctx c = {s, map->group_mat, map->default_mat, {NULL, NULL, 0, 0, 0}, map, own ? &parsed : NULL};
   int r = DTM_OK;
   m->dim = dim;
-  DTM_CHECK(read_nodes(m, &c.ni));
+  if (own) qsort(parsed.blocks, (size_t)parsed.nblocks, sizeof *parsed.blocks, by_block);
+  r = read_nodes(m, &c.ni, c.parsed);
+  if (r) {
+    dtm_msh_parsed_free(&parsed);
+    return dtm_error_trace(r, __FILE__, __LINE__, __func__);
+  }
   r = dtm_gmsh_check_tags(src_of(&c), "node", c.ni.max_tag, m->nnodes);
   for (int d = dim; d >= 1 && r == DTM_OK; d--)
     if (d == dim || has_sections(m, map, d)) r = extract_dim(&c, m, d);
   if (r == DTM_OK) r = check_element_tags(&c, m);
+  dtm_msh_parsed_free(&parsed);
   free(c.ni.index);
   free(c.ni.sorted);
   DTM_CHECK(r);

@@ -67,6 +67,48 @@ typedef struct {
  * .msh the scan understands (then Gmsh alone judges it). */
 int dtm_msh_scan(const char *path, dtm_msh_head *h);
 
+/* Nodes of MSH element type t (Gmsh's numbering, 1 to 31), 0 when not
+ * listed (msh_scan.c). */
+int dtm_msh_type_nodes(int t);
+
+/* One $Elements block of an MSH 4.1 file (msh_read.c). */
+typedef struct {
+  int dim, tag, type; /* its entity and MSH element type */
+  size_t n;           /* elements */
+  size_t *tags;       /* [n] element tags (NULL once extraction took them) */
+  size_t *conn;       /* [n nodes] node tags */
+} dtm_msh_eblock;
+/* The nodes and elements of an MSH 4.1 file, in the order Gmsh's C API
+ * lists them (msh_read.c). */
+typedef struct {
+  size_t nnodes;
+  size_t *node_tags; /* [nnodes] (NULL once taken) */
+  double *xyz;       /* [3 nnodes] */
+  int nblocks;
+  dtm_msh_eblock *blocks; /* in the file's order */
+  size_t family[8];       /* elements of each family: point, line, triangle, quadrangle, tet, hex, prism, pyramid */
+} dtm_msh_parsed;
+/* Read path into *p: 0, or -1 (p empty) when the file is not an MSH 4.1
+ * this reader takes on (or cannot be read): then Gmsh's listing is used. */
+int dtm_msh_parse(const char *path, dtm_msh_parsed *p);
+void dtm_msh_parsed_free(dtm_msh_parsed *p);
+/* Reading path beside Gmsh (msh_beside.c): start a thread reading it
+ * (dropping what an earlier reading kept), then join it once Gmsh has read
+ * the file, keeping what it read when keep is set; drop forgets it. */
+void dtm_msh_beside_start(const char *path);
+void dtm_msh_beside_finish(int keep);
+void dtm_msh_beside_drop(void);
+/* The nodes and elements of the .msh the current model was read from, read
+ * by dtmap beside Gmsh (session.c), when the model is still the file's and
+ * its node and element counts agree with them: the caller owns *p (free it
+ * with dtm_msh_parsed_free) and takes what it wants; 0 when there is none
+ * (then list the model through Gmsh). */
+int dtm_gmsh_parsed_take(dtm_msh_parsed *p);
+/* Turn that reading beside Gmsh off (0) or on (1, the default); for tests
+ * that compare it with Gmsh's listing. Returns how many readings were
+ * taken so far. */
+int dtm_gmsh_parsed_enable(int on);
+
 /* The kill switches (budget.c): refuse, before Gmsh allocates, a .msh
  * whose headers promise more than the file holds or than the machine's
  * memory can take, and a geometry whose <meshing size> would give more

@@ -87,8 +87,7 @@ static void check_names(FILE *f, dtm_msh_head *h, long long offset) {
   fseek(f, (long)back, SEEK_SET);
 }
 
-/* Nodes of MSH element type t (Gmsh's numbering), 0 when not listed. */
-static int nodes_of(int t) {
+int dtm_msh_type_nodes(int t) {
   static const int nn[] = {0, 2,  3,  4,  4, 8,  6,  5,  3,  6,  9, 10, 27, 18, 14, 1,
                            8, 20, 15, 13, 9, 10, 12, 15, 15, 21, 4, 5,  6,  20, 35, 56};
   return t > 0 && t < (int)(sizeof nn / sizeof *nn) ? nn[t] : 0;
@@ -112,7 +111,7 @@ static void check_blocks(FILE *f, dtm_msh_head *h, long long offset) {
                (int)hd[1], (int)hd[2], h->elements - done);
       break;
     }
-    int nn = nodes_of(hd[0]);
+    int nn = dtm_msh_type_nodes(hd[0]);
     if (!nn || fseek(f, (long)hd[1] * (1 + hd[2] + nn) * 4, SEEK_CUR)) break;
     done += (size_t)hd[1];
   }

@@ -255,7 +255,10 @@ static int open_file(void *arg) {
  * (dtm_gmsh_source_clear); "" else. */
 static char source[4096];
 
-void dtm_gmsh_source_clear(void) { source[0] = '\0'; }
+void dtm_gmsh_source_clear(void) {
+  source[0] = '\0';
+  dtm_msh_beside_drop();
+}
 
 const char *dtm_gmsh_source_unchanged(void) { return source[0] ? source : NULL; }
 
@@ -275,9 +278,12 @@ int dtm_gmsh_open(const char *path, int *dim) {
   dtm_gmsh_mesher_defaults();
   dtm_gmsh_log_reset();
   dtm_progress_begin("reading");
+  if (is_msh_path(path)) dtm_msh_beside_start(path); /* its nodes and elements, on a thread of dtmap's */
   dtm_gmsh_logged(open_file, &j);
   dtm_progress_end();
-  DTM_GMSH_CHECK_LOG(j.ierr, DTM_ERR_INPUT, what);
+  int r = dtm_gmsh_check_log(j.ierr, DTM_ERR_INPUT, __FILE__, __LINE__, __func__, what);
+  dtm_msh_beside_finish(r == DTM_OK);
+  DTM_CHECK(r);
   if (is_msh_path(path) && strlen(path) < sizeof source) snprintf(source, sizeof source, "%s", path);
   *dim = gmshModelGetDimension(&ierr);
   if (*dim < 1 || *dim > 3) return DTM_ERR(DTM_ERR_INPUT, "%s: the model has no curve, surface or volume", path);
