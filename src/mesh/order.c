@@ -55,7 +55,8 @@ typedef struct {
   size_t idx;   /* node index */
 } keyed;
 
-#define DIGIT 15 /* radix bits per pass: 2 passes over 30-bit keys */
+#define DIGIT 15             /* radix bits per pass: 2 passes over 30-bit keys */
+#define COPY_CHUNK (1 << 14) /* elements copied back at a time by one thread */
 
 /* Stable LSD radix sort of a[n] by key; tmp[n] is scratch. */
 static void radix_sort(keyed *a, keyed *tmp, size_t n, int bits) {
@@ -113,12 +114,13 @@ static int node_order(const dtm_mesh *m, size_t *new_of, size_t *old_of) {
 static void element_order(dtm_block *b, const size_t *new_of, size_t nnodes, size_t *count, size_t *order) {
   size_t nn = (size_t)b->nn;
   memset(count, 0, (nnodes + 1) * sizeof *count);
+#pragma omp parallel for schedule(static)
   for (size_t e = 0; e < b->n; e++) {
     size_t lo = SIZE_MAX, *c = b->conn + e * nn;
     for (size_t a = 0; a < nn; a++) c[a] = new_of[c[a]], lo = c[a] < lo ? c[a] : lo;
     order[e] = lo; /* the key, for now */
-    count[lo + 1]++;
   }
+  for (size_t e = 0; e < b->n; e++) count[order[e] + 1]++;
   for (size_t v = 0; v < nnodes; v++) count[v + 1] += count[v];
   for (size_t e = 0; e < b->n; e++) {
     size_t key = order[e];
@@ -129,26 +131,54 @@ static void element_order(dtm_block *b, const size_t *new_of, size_t nnodes, siz
 
 /* Apply the element order (pos[old] = new) to one per-element array of w
  * bytes per element, a multiple of 4, through scratch (at least n w
- * bytes), so that no fresh memory is touched per array. *field may be
- * NULL: nothing to do. */
+ * bytes), so that no fresh memory is touched per array; both passes on
+ * the threads. *field may be NULL: nothing to do. */
 static void permute(void *field, size_t w, const size_t *pos, size_t n, uint32_t *scratch) {
   if (!field) return;
   uint32_t *f = field;
   size_t q = w / 4;
-#pragma omp parallel for schedule(static)
-  for (size_t e = 0; e < n; e++)
-    for (size_t k = 0; k < q; k++) scratch[pos[e] * q + k] = f[e * q + k];
-  memcpy(f, scratch, n * w);
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (size_t e = 0; e < n; e++)
+      for (size_t k = 0; k < q; k++) scratch[pos[e] * q + k] = f[e * q + k];
+    const size_t chunks = (n + COPY_CHUNK - 1) / COPY_CHUNK;
+#pragma omp for schedule(static)
+    for (size_t c = 0; c < chunks; c++) {
+      size_t e0 = c * COPY_CHUNK, k = n - e0 < COPY_CHUNK ? n - e0 : COPY_CHUNK;
+      memcpy(f + e0 * q, scratch + e0 * q, k * w);
+    }
+  }
 }
 
-static void permute_block(dtm_block *b, const size_t *pos, uint32_t *scratch) {
-  permute(b->tags, sizeof *b->tags, pos, b->n, scratch);
-  permute(b->conn, (size_t)b->nn * sizeof *b->conn, pos, b->n, scratch);
-  permute(b->group, sizeof *b->group, pos, b->n, scratch);
-  permute(b->mat, sizeof *b->mat, pos, b->n, scratch);
-  permute(b->gmask, sizeof *b->gmask, pos, b->n, scratch);
-  permute(b->entity, sizeof *b->entity, pos, b->n, scratch);
-  permute(b->section, sizeof *b->section, pos, b->n, scratch);
+/* The connectivity (the largest array) permuted into *scratch, which
+ * becomes the block's, its old array the scratch of the rest: no copy
+ * back. Only when *scratch is the size of the largest block (cap). */
+static void permute_conn(dtm_block *b, const size_t *pos, uint32_t **scratch, size_t cap) {
+  size_t w = (size_t)b->nn * sizeof *b->conn;
+  if (b->n * w != cap) {
+    permute(b->conn, w, pos, b->n, *scratch);
+    return;
+  }
+  const uint32_t *f = (const uint32_t *)b->conn;
+  uint32_t *to = *scratch;
+  size_t q = w / 4;
+#pragma omp parallel for schedule(static)
+  for (size_t e = 0; e < b->n; e++)
+    for (size_t k = 0; k < q; k++) to[pos[e] * q + k] = f[e * q + k];
+  *scratch = (uint32_t *)b->conn;
+  b->conn = (size_t *)to;
+}
+
+static void permute_block(dtm_block *b, const size_t *pos, uint32_t **scratch, size_t cap) {
+  permute_conn(b, pos, scratch, cap);
+  uint32_t *s = *scratch;
+  permute(b->tags, sizeof *b->tags, pos, b->n, s);
+  permute(b->group, sizeof *b->group, pos, b->n, s);
+  permute(b->mat, sizeof *b->mat, pos, b->n, s);
+  permute(b->gmask, sizeof *b->gmask, pos, b->n, s);
+  permute(b->entity, sizeof *b->entity, pos, b->n, s);
+  permute(b->section, sizeof *b->section, pos, b->n, s);
 }
 
 static int sort_blocks(dtm_mesh *m, const size_t *new_of) {
@@ -162,7 +192,7 @@ static int sort_blocks(dtm_mesh *m, const size_t *new_of) {
   int r = count && pos && scratch ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int ib = 0; ib < m->nblocks && r == DTM_OK; ib++) {
     element_order(&m->blocks[ib], new_of, m->nnodes, count, pos);
-    permute_block(&m->blocks[ib], pos, scratch);
+    permute_block(&m->blocks[ib], pos, &scratch, wmax);
   }
   free(count), free(pos), free(scratch);
   return r;
@@ -184,11 +214,15 @@ static int permute_nodes(dtm_mesh *m, const size_t *old_of) {
 }
 
 static int check_conn(const dtm_mesh *m) {
-  for (int ib = 0; ib < m->nblocks; ib++)
-    for (size_t k = 0; k < m->blocks[ib].n * (size_t)m->blocks[ib].nn; k++)
-      if (m->blocks[ib].conn[k] >= m->nnodes)
-        return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to node %zu of %zu", m->blocks[ib].conn[k],
-                       m->nnodes);
+  for (int ib = 0; ib < m->nblocks; ib++) {
+    const size_t *c = m->blocks[ib].conn, n = m->blocks[ib].n * (size_t)m->blocks[ib].nn;
+    size_t bad = SIZE_MAX; /* the first entry out of range */
+#pragma omp parallel for schedule(static) reduction(min : bad)
+    for (size_t k = 0; k < n; k++)
+      if (c[k] >= m->nnodes && k < bad) bad = k;
+    if (bad != SIZE_MAX)
+      return DTM_ERR(DTM_ERR_INTERNAL, "element connectivity refers to node %zu of %zu", c[bad], m->nnodes);
+  }
   return DTM_OK;
 }
 
