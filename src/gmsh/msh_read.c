@@ -216,7 +216,7 @@ static int node_block(reader *r, dtm_msh_parsed *p, size_t *at, int *pd, int *pt
 static int read_nodes(reader *r, dtm_msh_parsed *p, long long bytes) {
   size_t c[4], at = 0;
   int pd = -1, pt = 0;
-  if (section_header(r, c) || c[1] > (size_t)bytes / 4) return -1; /* a node takes 4 bytes at least */
+  if (section_header(r, c) || c[1] > (size_t)bytes / (r->binary ? 32 : 8)) return -1; /* more than the file holds */
   p->nnodes = c[1];
   p->node_tags = malloc((c[1] + 1) * sizeof *p->node_tags);
   p->xyz = malloc((3 * c[1] + 1) * sizeof *p->xyz);
@@ -255,7 +255,7 @@ static int element_block(reader *r, dtm_msh_parsed *p, long long bytes) {
   size_t n;
   if (block_header(r, h, &n) || family_of(h[2]) < 0) return -1;
   int nn = dtm_msh_type_nodes(h[2]), fam = family_of(h[2]);
-  if (n > (size_t)bytes / (size_t)(1 + nn)) return -1;
+  if (n > (size_t)bytes / ((r->binary ? 8 : 2) * (size_t)(1 + nn))) return -1; /* more than the file can hold */
   for (int b = 0; b < p->nblocks; b++) /* Gmsh keeps one list per family and entity */
     if (p->blocks[b].dim == h[0] && p->blocks[b].tag == h[1] && family_of(p->blocks[b].type) == fam) return -1;
   dtm_msh_eblock *nb = realloc(p->blocks, ((size_t)p->nblocks + 1) * sizeof *nb);
