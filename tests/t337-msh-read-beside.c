@@ -164,14 +164,16 @@ static const char *mixed_geo = "Point(1) = {0, 0, 0, 0.25}; Point(2) = {1, 0, 0,
 static void hexes_prisms_sections(void **unused) {
   (void)unused;
   tu_write(tmp("mixed.geo"), mixed_geo);
-  mesh_to("mixed.geo", 3, 1, 4.1, 0, "mixed_ascii.msh");
-  mesh_to("mixed.geo", 3, 1, 4.1, 1, "mixed_binary.msh");
-  mesh_to("mixed.geo", 3, 2, 4.1, 1, "mixed2_binary.msh");
   /* hexahedra, prisms, quadrangles, triangles and lines; second order
    * without the lines (dtmap takes no 3-node line) */
-  assert_int_equal(both_ways("mixed_ascii.msh", 3, 1, 1), 5);
-  assert_int_equal(both_ways("mixed_binary.msh", 3, 1, 1), 5);
-  assert_int_equal(both_ways("mixed2_binary.msh", 3, 2, 1), 4);
+  static const struct {
+    const char *msh;
+    int order, binary, lowest, blocks;
+  } cases[] = {{"mixed_ascii.msh", 1, 0, 1, 5}, {"mixed_binary.msh", 1, 1, 1, 5}, {"mixed2_binary.msh", 2, 1, 2, 4}};
+  for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+    mesh_to("mixed.geo", 3, cases[i].order, 4.1, cases[i].binary, cases[i].msh);
+    assert_int_equal(both_ways(cases[i].msh, 3, cases[i].lowest, 1), cases[i].blocks);
+  }
 }
 
 /* Node tags 10..50 (sparse), CRLF, ragged spaces; the volume's node block
