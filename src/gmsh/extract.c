@@ -2,8 +2,11 @@
  * physical groups of that dimension, a node index, and one structure-of-arrays block
  * per element type, with each element's group, material and model entity
  * (the shape classification reads it, classify.c) resolved per model
- * entity. Elements are read a type at a time, in arrays Gmsh sizes once.
- * The arrays Gmsh hands over are kept, not copied, where they can be: the
+ * entity. Elements are read a type at a time, in arrays Gmsh sizes once;
+ * when the model is a .msh that dtmap also read itself while Gmsh read it
+ * (msh_beside.c), the nodes and each entity's elements of a type come from
+ * that reading instead of Gmsh's listing (the same arrays, in the same
+ * order: tests/t337). The arrays handed over are kept, not copied, where they can be: the
  * node tags and coordinates always, and a block's element tags and
  * connectivity (node tags turned into indices in place) when one entity
  * holds all its elements, as in most meshes. Node tags that are 1..N in
@@ -405,10 +408,6 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsign
   return DTM_OK;
 }
 
-/* One entity's elements, a type at a time: Gmsh sizes the arrays of one
- * type before filling them, where its all-types call grows them element by
- * element (at 1e7 tets that growth, its copies and their page faults were
- * a third of the extraction). */
 static int by_block(const void *a, const void *b) {
   const dtm_msh_eblock *x = a, *y = b;
   if (x->dim != y->dim) return x->dim < y->dim ? -1 : 1;
@@ -424,6 +423,11 @@ static dtm_msh_eblock *parsed_block(const extract_ctx *c, int dim, int tag, int 
   return b && b->tags ? b : NULL;
 }
 
+/* One entity's elements, a type at a time: Gmsh sizes the arrays of one
+ * type before filling them, where its all-types call grows them element by
+ * element (at 1e7 tets that growth, its copies and their page faults were
+ * a third of the extraction); from the file's own reading instead when it
+ * has that entity and type. */
 static int extract_type(const extract_ctx *c, dtm_mesh *m, int dim, int tag, int g, unsigned long long mask, int type) {
   size_t *etags = NULL, ne = 0, *ntags = NULL, nn = 0;
   int ierr = 0, owned = 0;
