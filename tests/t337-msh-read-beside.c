@@ -10,8 +10,9 @@
  * materials, entities and sections. Equality is exact (no tolerance):
  * both come from the same bytes, and ASCII numbers go through the same
  * strtod. Each case also asserts which way it took: the reading is taken
- * on every MSH 4.1 file above, and not on an MSH 2.2 file or a file whose
- * node blocks are out of Gmsh's entity order (then Gmsh lists, with the
+ * on every MSH 4.1 file above, and not on an MSH 2.2 file, a file whose
+ * node blocks are out of Gmsh's entity order or one with a 200-character
+ * number (then Gmsh lists, with the
  * same result), so the comparison cannot pass by comparing Gmsh with
  * itself. dtm_msh_parse refuses a file cut inside $Elements. */
 #include <setjmp.h>
@@ -203,6 +204,14 @@ static void hand_written(void **unused) {
   tu_write(tmp("unordered.msh"), unordered_msh);
   assert_int_equal(both_ways("hand.msh", 3, 1, 1), 1);
   assert_int_equal(both_ways("unordered.msh", 3, 1, 0), 1);
+  /* a coordinate of 200 characters: longer than the reader takes (Gmsh reads it) */
+  char digits[201], *text = malloc(strlen(hand_msh) + sizeof digits);
+  memset(digits, '0', 200), digits[0] = '1', digits[1] = '.', digits[199] = '3', digits[200] = '\0';
+  const char *at = strstr(hand_msh, "1.5e0");
+  snprintf(text, strlen(hand_msh) + sizeof digits, "%.*s%s%s", (int)(at - hand_msh), hand_msh, digits, at + 5);
+  tu_write(tmp("long.msh"), text);
+  free(text);
+  assert_int_equal(both_ways("long.msh", 3, 1, 0), 1);
   dtm_msh_parsed p;
   assert_int_equal(dtm_msh_parse(tmp("hand.msh"), &p), 0);
   assert_int_equal(p.nnodes, 5);

@@ -138,11 +138,13 @@ static int ascii_int(reader *r, int *v) {
   return 0;
 }
 
+/* A number as strtod reads it; one of TOKEN characters or more may run
+ * past the buffer, so it is not taken (Gmsh writes at most 25). */
 static int ascii_double(reader *r, double *v) {
   skip_space(r);
   char *end;
   *v = strtod(r->buf + r->pos, &end);
-  if (end == r->buf + r->pos || !ends_token(*end)) return -1;
+  if (end == r->buf + r->pos || end - (r->buf + r->pos) >= TOKEN || !ends_token(*end)) return -1;
   r->pos = (size_t)(end - r->buf);
   return 0;
 }
