@@ -12,9 +12,10 @@
  * strtod. Each case also asserts which way it took: the reading is taken
  * on every MSH 4.1 file above, and not on an MSH 2.2 file, a file whose
  * node blocks are out of Gmsh's entity order or one with a 200-character
- * number (then Gmsh lists, with the
- * same result), so the comparison cannot pass by comparing Gmsh with
- * itself. dtm_msh_parse refuses a file cut inside $Elements. */
+ * number (then Gmsh lists, with the same result), so the comparison
+ * cannot pass by comparing Gmsh with itself. dtm_msh_parse refuses a file
+ * cut inside $Elements and one whose volume has a tet4 and a tet10 block
+ * (reading the same blocks in two volumes). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -216,9 +217,25 @@ static void hand_written(void **unused) {
   assert_int_equal(dtm_msh_parse(tmp("hand.msh"), &p), 0);
   assert_int_equal(p.nnodes, 5);
   assert_int_equal(p.node_tags[2], 30);
-  assert_true(p.xyz[3 * 2 + 1] == 1.5);
+  assert_true(p.xyz[3 * 2 + 1] == 1.5); /* exact: "1.5e0" names a double */
   assert_int_equal(p.nblocks, 1);
   assert_int_equal(p.blocks[0].conn[4], 20);
+  dtm_msh_parsed_free(&p);
+  /* one volume with a tet4 block and a tet10 block, a hexahedron's block
+   * between them in type order: Gmsh keeps the tets in one list and would
+   * list both as tet4, so the reader declines the file (and keeps nothing) */
+  char mixed[2048];
+  snprintf(mixed, sizeof mixed,
+           "%.*s$Elements\n3 3 1 3\n3 1 4 1\n1 10 20 30 40\n3 1 5 1\n2 10 20 30 40 50 10 20 30\n"
+           "3 1 11 1\n3 10 20 30 40 50 10 20 30 40 50\n$EndElements\n",
+           (int)(strstr(hand_msh, "$Elements") - hand_msh), hand_msh);
+  tu_write(tmp("two_tets.msh"), mixed);
+  assert_int_equal(dtm_msh_parse(tmp("two_tets.msh"), &p), -1);
+  assert_int_equal(p.nblocks, 0);
+  memcpy(strstr(mixed, "3 1 11 1"), "3 2", 3); /* the tet10 in a volume of its own: read */
+  tu_write(tmp("two_volumes.msh"), mixed);
+  assert_int_equal(dtm_msh_parse(tmp("two_volumes.msh"), &p), 0);
+  assert_int_equal(p.nblocks, 3);
   dtm_msh_parsed_free(&p);
 }
 

@@ -250,7 +250,7 @@ typedef struct {
   int default_mat;
   node_index ni;
   const dtm_group_map *map; /* materials and sections of the groups */
-  dtm_msh_parsed *parsed;   /* the file's own reading (msh_read.c), blocks sorted by_block; NULL: Gmsh lists */
+  dtm_msh_parsed *parsed;   /* the file's own reading (msh_read.c); NULL: Gmsh lists */
 } extract_ctx;
 
 static const char *src_of(const extract_ctx *c) { return source_name(c->s); }
@@ -408,18 +408,11 @@ static int append_type(const extract_ctx *c, dtm_mesh *m, int ent, int g, unsign
   return DTM_OK;
 }
 
-static int by_block(const void *a, const void *b) {
-  const dtm_msh_eblock *x = a, *y = b;
-  if (x->dim != y->dim) return x->dim < y->dim ? -1 : 1;
-  if (x->tag != y->tag) return x->tag < y->tag ? -1 : 1;
-  return x->type < y->type ? -1 : x->type > y->type;
-}
-
 /* The file's block of entity (dim, tag) and type, NULL when none. */
 static dtm_msh_eblock *parsed_block(const extract_ctx *c, int dim, int tag, int type) {
   if (!c->parsed) return NULL;
   dtm_msh_eblock key = {.dim = dim, .tag = tag, .type = type};
-  dtm_msh_eblock *b = bsearch(&key, c->parsed->blocks, (size_t)c->parsed->nblocks, sizeof key, by_block);
+  dtm_msh_eblock *b = bsearch(&key, c->parsed->blocks, (size_t)c->parsed->nblocks, sizeof key, dtm_msh_block_order);
   return b && b->tags ? b : NULL;
 }
 
@@ -496,7 +489,6 @@ int dtm_gmsh_extract_map(int dim, const dtm_group_map *map, const dtm_scene *s, 
   extract_ctx c = {s, map->group_mat, map->default_mat, {NULL, NULL, 0, 0, 0}, map, own ? &parsed : NULL};
   int r = DTM_OK;
   m->dim = dim;
-  if (own) qsort(parsed.blocks, (size_t)parsed.nblocks, sizeof *parsed.blocks, by_block);
   r = read_nodes(m, &c.ni, c.parsed);
   if (r) {
     dtm_msh_parsed_free(&parsed);

@@ -85,13 +85,15 @@ typedef struct {
   size_t *node_tags; /* [nnodes] (NULL once taken) */
   double *xyz;       /* [3 nnodes] */
   int nblocks;
-  dtm_msh_eblock *blocks; /* in the file's order */
+  dtm_msh_eblock *blocks; /* sorted by dtm_msh_block_order */
   size_t family[8];       /* elements of each family: point, line, triangle, quadrangle, tet, hex, prism, pyramid */
 } dtm_msh_parsed;
 /* Read path into *p: 0, or -1 (p empty) when the file is not an MSH 4.1
  * this reader takes on (or cannot be read): then Gmsh's listing is used. */
 int dtm_msh_parse(const char *path, dtm_msh_parsed *p);
 void dtm_msh_parsed_free(dtm_msh_parsed *p);
+/* qsort/bsearch order of blocks: entity dimension, entity tag, type. */
+int dtm_msh_block_order(const void *a, const void *b);
 /* Reading path beside Gmsh (msh_beside.c): start a thread reading it
  * (dropping what an earlier reading kept), then join it once Gmsh has read
  * the file, keeping what it read when keep is set; drop forgets it. */

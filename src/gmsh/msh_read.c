@@ -9,7 +9,8 @@
  * - nodes: every $Nodes block, which must come in Gmsh's entity order
  *   (dimension, then tag, each entity once), as gmsh/model/mesh/getNodes
  *   lists them; the parametric coordinates are skipped;
- * - elements: one array of tags and one of node tags per $Elements block
+ * - elements: one array of tags and one of node tags per $Elements block,
+ *   the blocks sorted by entity and type for extraction's look-up
  *   ((entity, type) at most once per family: Gmsh keeps one list of each
  *   family per entity and would list a mixed-order entity as one type).
  * Anything else this reader does not take on is left to Gmsh's listing:
@@ -258,8 +259,6 @@ static int element_block(reader *r, dtm_msh_parsed *p, long long bytes) {
   if (block_header(r, h, &n) || family_of(h[2]) < 0) return -1;
   int nn = dtm_msh_type_nodes(h[2]), fam = family_of(h[2]);
   if (n > (size_t)bytes / ((r->binary ? 8 : 2) * (size_t)(1 + nn))) return -1; /* more than the file can hold */
-  for (int b = 0; b < p->nblocks; b++) /* Gmsh keeps one list per family and entity */
-    if (p->blocks[b].dim == h[0] && p->blocks[b].tag == h[1] && family_of(p->blocks[b].type) == fam) return -1;
   dtm_msh_eblock *nb = realloc(p->blocks, ((size_t)p->nblocks + 1) * sizeof *nb);
   if (!nb) return -1;
   p->blocks = nb;
@@ -271,12 +270,29 @@ static int element_block(reader *r, dtm_msh_parsed *p, long long bytes) {
   return element_data(r, n, nn, b->tags, b->conn);
 }
 
+int dtm_msh_block_order(const void *a, const void *b) {
+  const dtm_msh_eblock *x = a, *y = b;
+  if (x->dim != y->dim) return x->dim < y->dim ? -1 : 1;
+  if (x->tag != y->tag) return x->tag < y->tag ? -1 : 1;
+  return x->type < y->type ? -1 : x->type > y->type;
+}
+
+/* The blocks sorted; -1 when an entity has two of one family (Gmsh keeps
+ * one list per family and entity, and would list both as its first type). */
+static int sort_blocks(dtm_msh_parsed *p) {
+  qsort(p->blocks, (size_t)p->nblocks, sizeof *p->blocks, dtm_msh_block_order);
+  for (int b = 1; b < p->nblocks; b++)
+    for (int a = b - 1; a >= 0 && p->blocks[a].dim == p->blocks[b].dim && p->blocks[a].tag == p->blocks[b].tag; a--)
+      if (family_of(p->blocks[a].type) == family_of(p->blocks[b].type)) return -1;
+  return 0;
+}
+
 static int read_elements(reader *r, dtm_msh_parsed *p, long long bytes) {
   size_t c[4];
   if (section_header(r, c) || c[0] > (size_t)bytes) return -1;
   for (size_t b = 0; b < c[0]; b++)
     if (element_block(r, p, bytes)) return -1;
-  return section_end(r, "$EndElements");
+  return section_end(r, "$EndElements") || sort_blocks(p) ? -1 : 0;
 }
 
 /* "$MeshFormat", "4.1 <binary> 8", and in a binary file the integer 1. */
