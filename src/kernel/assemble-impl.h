@@ -36,6 +36,7 @@ void dtm_elem_laplace(const dtm_elem_geom *eg, double *K);
 /* K[nn d][nn d], unknown (a, i) at a d + i: elastic stiffness (N/m). The
  * bar (d = 1) uses modulus E axially. */
 void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, double *K);
+#define DTM_GRAM_W 32 /* the blocked Gram's padded width and points per block (tet10: nd = 30) */
 /* U += sum_p dv[p] gl[p] gl[p]^T over np (<= 4) rule points, on the upper
  * triangle (x <= y) of the nd x nd U, gl[p] point p's gradients flattened
  * (gl[p][a d + i] = g[a][i]): the Gram tensor's sum of the second-order
@@ -45,6 +46,14 @@ void dtm_elem_stiffness(const dtm_elem_geom *eg, const dtm_elastic_moduli *m, do
  * one at a time give. AVX where the processor has it (DTM_KERNEL_AVX: the
  * same bits). */
 void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], const double *dv, double *U);
+/* The same sum over np <= DTM_GRAM_W points for nd <= DTM_GRAM_W, on a
+ * padded Ul (row x, column y of U at Ul[x][y]; the rows and columns from nd
+ * on are scratch, and gb's columns from nd on must be finite): each entry
+ * of a tile of 4 x 8 stays in a register through all the points, so U is
+ * loaded and stored once per block instead of once per four points, and
+ * still takes the points' products one rounded addition after the other
+ * in their order, so the same bits. */
+void dtm_elem_gram_block(int nd, int np, const double (*gb)[DTM_GRAM_W], const double *dv, double (*Ul)[DTM_GRAM_W]);
 /* A walk over the points of a rule's table t in their order, for an
  * element in its frame xl, that the element assembly and curved.c's level
  * search share: the map (dtm_map_eval_valid4) at four points side by side
@@ -56,10 +65,18 @@ typedef struct {
   int d, nn;
   const double (*xl)[3];
   double g4[4][DTM_K_NODES][3], dv4[4], dj4[4]; /* the current group of four */
+  double *rows[4];                              /* where its gradients are: g4, or the block's rows */
   int bad4;                                     /* its first lane where det J is not safely positive, or -1 */
   double g[DTM_K_NODES][3];                     /* a point outside the groups */
   double gl[4][DTM_K_DOF], dvl[4];              /* such points, flattened, waiting for the Gram update */
   int held;
+  /* 3D types with nd <= DTM_GRAM_W (tet10): the Gram tensor summed in
+   * register tiles (dtm_elem_gram_block) over blocks of points, into Ul,
+   * and added to U at the end; bl: points in the block, ul: Ul zeroed */
+  int blocked, bl, ul;
+  _Alignas(32) double Ul[DTM_GRAM_W][DTM_GRAM_W];
+  _Alignas(32) double gb[DTM_GRAM_W][DTM_GRAM_W];
+  double dvb[DTM_GRAM_W];
 } dtm_point_walk;
 void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int nn, const double (*xl)[3]);
 /* Point k (each k in turn from 0): its gradients g[nn][3], dv and det J
@@ -69,8 +86,11 @@ void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int 
  * element, at the first). */
 const double (*dtm_point_walk_at(dtm_point_walk *w, int k, double *dv, double *dj, int *valid))[3];
 /* U += dv g g^T of point k (its gradients g, just returned), as
- * dtm_elem_gram_add_points four points at a time; _end adds the points
- * still held. */
+ * dtm_elem_gram_add_points four points at a time, or dtm_elem_gram_block
+ * DTM_GRAM_W at a time into the walk's Ul; _end adds the points still held
+ * (and Ul to U). U must be zero at the walk's start (both callers clear
+ * it): the blocked sums start from zero, and 0 + s is s, so U's bits are
+ * those of the points added to U one after the other. */
 void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double dv, double *U);
 void dtm_point_walk_gram_end(dtm_point_walk *w, double *U);
 /* The element bound's matrices in one pass over the points of table t

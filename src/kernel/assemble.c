@@ -182,8 +182,59 @@ void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], con
   for (int p = 0; p < np; p++) gram_add(nd, gl[p], dv[p], U);
 }
 
+/* Tiles of 4 rows x 8 columns from the diagonal's block of 8 rightwards:
+ * 20 tiles, 640 entries for the 465 of tet10's triangle, each a chain of
+ * np multiplications and additions in eight named vector registers (GCC
+ * keeps an array of accumulators in memory). */
+#define TILE_ROW(r, c0, c1)                                                                                            \
+  do {                                                                                                                 \
+    double a_ = A[p][x0 + (r)];                                                                                        \
+    c0 += a_ * g0;                                                                                                     \
+    c1 += a_ * g1;                                                                                                     \
+  } while (0)
+static DTM_KERNEL_AVX void gram_tiles(int nd, int np, const double (*gb)[DTM_GRAM_W], const double *dv,
+                                      double (*Ul)[DTM_GRAM_W]) {
+  _Alignas(32) double A[DTM_GRAM_W][DTM_GRAM_W]; /* A[p][x] = gb[p][x] dv[p], as gram_add forms it */
+  for (int p = 0; p < np; p++)
+    for (int x = 0; x < DTM_GRAM_W; x++) A[p][x] = gb[p][x] * dv[p];
+  for (int x0 = 0; x0 < nd; x0 += 4)
+    for (int y0 = x0 & ~7; y0 < nd; y0 += 8) {
+      dtm_v4d *u0 = (dtm_v4d *)&Ul[x0][y0], *u1 = (dtm_v4d *)&Ul[x0 + 1][y0], *u2 = (dtm_v4d *)&Ul[x0 + 2][y0],
+              *u3 = (dtm_v4d *)&Ul[x0 + 3][y0];
+      dtm_v4d c00 = u0[0], c01 = u0[1], c10 = u1[0], c11 = u1[1], c20 = u2[0], c21 = u2[1], c30 = u3[0], c31 = u3[1];
+      for (int p = 0; p < np; p++) {
+        dtm_v4d g0 = *(const dtm_v4d *)&gb[p][y0], g1 = *(const dtm_v4d *)&gb[p][y0 + 4];
+        TILE_ROW(0, c00, c01);
+        TILE_ROW(1, c10, c11);
+        TILE_ROW(2, c20, c21);
+        TILE_ROW(3, c30, c31);
+      }
+      u0[0] = c00, u0[1] = c01, u1[0] = c10, u1[1] = c11, u2[0] = c20, u2[1] = c21, u3[0] = c30, u3[1] = c31;
+    }
+}
+#undef TILE_ROW
+
+void dtm_elem_gram_block(int nd, int np, const double (*gb)[DTM_GRAM_W], const double *dv, double (*Ul)[DTM_GRAM_W]) {
+  gram_tiles(nd, np, gb, dv, Ul);
+}
+
 void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int nn, const double (*xl)[3]) {
   w->t = t, w->d = d, w->nn = nn, w->xl = xl, w->bad4 = -1, w->held = 0;
+  w->blocked = d == 3 && nn * d <= DTM_GRAM_W, w->bl = 0, w->ul = 0;
+}
+
+/* Point k's gradients g (dv) into the block; the block summed when full. */
+static void walk_block_add(dtm_point_walk *w, const double (*g)[3], double dv) {
+  int nd = w->nn * w->d;
+  if (!w->ul) { /* the first point: Ul and the rows' padding cleared */
+    memset(w->Ul, 0, sizeof w->Ul), w->ul = 1;
+    for (int p = 0; p < DTM_GRAM_W; p++)
+      for (int x = nd; x < DTM_GRAM_W; x++) w->gb[p][x] = 0;
+  }
+  double *row = w->gb[w->bl];
+  if ((const double *)g != row) memcpy(row, g, sizeof(double) * (size_t)nd); /* else the map wrote it there */
+  w->dvb[w->bl++] = dv;
+  if (w->bl == DTM_GRAM_W) gram_tiles(nd, w->bl, (const double(*)[DTM_GRAM_W])w->gb, w->dvb, w->Ul), w->bl = 0;
 }
 
 /* Whether point k is in a full group of four (3D). */
@@ -195,17 +246,21 @@ const double (*dtm_point_walk_at(dtm_point_walk *w, int k, double *dv, double *d
     *valid = !dtm_map_eval_valid(w->d, w->nn, w->xl, (const double(*)[3])t->dN[k], t->q.w[k], w->g, dv, dj);
     return (const double(*)[3])w->g;
   }
-  if (k % 4 == 0) { /* the next four points' maps side by side */
-    const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
-                                (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
-    w->bad4 = dtm_map_eval_valid4(w->nn, w->xl, dn4, &t->q.w[k], w->g4, w->dv4, w->dj4);
+  if (k % 4 == 0) { /* the next four points' maps side by side, into the block's next rows where it sums */
+    for (int l = 0; l < 4; l++) w->rows[l] = w->blocked && w->bl + 4 <= DTM_GRAM_W ? w->gb[w->bl + l] : &w->g4[l][0][0];
+    w->bad4 =
+        dtm_map_eval_valid4(w->nn, w->xl, (const dtm_v4d(*)[3])t->dN4[k / 4], &t->q.w[k], w->rows, w->dv4, w->dj4);
   }
   *dv = w->dv4[k % 4], *dj = w->dj4[k % 4], *valid = k % 4 != w->bad4;
-  return (const double(*)[3])w->g4[k % 4];
+  return (const double(*)[3])w->rows[k % 4];
 }
 
 void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double dv, double *U) {
   int nd = w->nn * w->d;
+  if (w->blocked) {
+    walk_block_add(w, g, dv);
+    return;
+  }
   if (grouped(w, k)) { /* the group's rows are already flat (d = 3) */
     if (k % 4 == 3) dtm_elem_gram_add_points(nd, 4, (const double(*)[DTM_K_DOF])w->g4, w->dv4, U);
     return;
@@ -217,6 +272,14 @@ void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double 
 }
 
 void dtm_point_walk_gram_end(dtm_point_walk *w, double *U) {
+  if (w->blocked) {
+    int nd = w->nn * w->d;
+    if (!w->ul) return; /* no point */
+    if (w->bl) gram_tiles(nd, w->bl, (const double(*)[DTM_GRAM_W])w->gb, w->dvb, w->Ul), w->bl = 0;
+    for (int x = 0; x < nd; x++)
+      for (int y = x; y < nd; y++) U[x * nd + y] += w->Ul[x][y];
+    return;
+  }
   if (w->held) dtm_elem_gram_add_points(w->nn * w->d, w->held, (const double(*)[DTM_K_DOF])w->gl, w->dvl, U);
   w->held = 0;
 }

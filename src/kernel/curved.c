@@ -140,8 +140,13 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
     int valid;
     const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, &dj, &valid);
     if (!valid) *bad = 1; /* the element is still integrated: the search goes on */
-    /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation */
-    for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
+    /* the lumped masses, as dtm_lumped_mass_table sums them, from the same evaluation (the
+     * type's test outside the loop, so that the compiler takes the nodes side by side) */
+    const double *N = t->N[k];
+    if (hrz)
+      for (int a = 0; a < nn; a++) m[a] += N[a] * N[a] * dv;
+    else
+      for (int a = 0; a < nn; a++) m[a] += N[a] * dv;
     vol += dv;
     dtm_point_walk_gram(&w, k, gp, dv, T);
   }

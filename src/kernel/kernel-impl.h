@@ -10,6 +10,10 @@
 #include "dtmap/kernel.h"
 #include "reference.h"
 
+/* Four doubles in one vector (GCC's vector extension): lane l belongs to
+ * matrix l (or rule point l) of a group. */
+typedef double dtm_v4d __attribute__((vector_size(32)));
+
 /* Boundary facets and edges of a type, in Gmsh's node numbering. A
  * second-order type has those of its linear parent, on its corner nodes
  * (Gmsh numbers the corners first, as in the parent). */
@@ -62,6 +66,9 @@ typedef struct {
   dtm_qrule q;                         /* the rule (dtm_ref_rule_level) */
   double N[DTM_K_QP][DTM_K_NODES];     /* shape functions at its points */
   double dN[DTM_K_QP][DTM_K_NODES][3]; /* their reference gradients */
+  /* the same gradients of points 4 g .. 4 g + 3 lane by lane, for the map
+   * at four points side by side (dtm_map_eval_valid4); full groups only */
+  dtm_v4d dN4[DTM_K_QP / 4][DTM_K_NODES][3];
 } dtm_ref_table;
 /* The table of type's levelled rule at level (1 .. DTM_K_LEVEL_MAX), built
  * on first use (thread-safe); NULL for a type without levelled rules or
@@ -84,19 +91,20 @@ double dtm_map_eval(int type, int d, int nn, const double (*xl)[3], const double
  * dtm_ref_level_table), without N. */
 double dtm_map_eval_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double (*g)[3],
                        double *dv);
-/* dtm_map_eval_valid (d = 3) at four points, reference gradients dN[l]
- * and weights wq[l], side by side in vector lanes (map.c): the first of
- * the four (0..3) whose det J (all four in dj[4]) is not safely positive,
- * or -1; g[l] and dv[l] bitwise dtm_map_eval_valid's where it passes. */
-int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                        double (*g)[DTM_K_NODES][3], double *dv, double *dj);
+/* dtm_map_eval_valid (d = 3) at four points, their reference gradients
+ * lane by lane D[nn][3] (a table's dN4) and weights wq[l], side by side in
+ * vector lanes (map.c): the first of the four (0..3) whose det J (all four
+ * in dj[4]) is not safely positive, or -1; point l's gradients, flattened
+ * (g[l][3 a + i]), and dv[l] bitwise dtm_map_eval_valid's where it passes. */
+int dtm_map_eval_valid4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *const g[4],
+                        double *dv, double *dj);
 /* dtm_map_eval_dn's det J and dv alone (no inverse, no gradients): bitwise
  * the same two numbers, for the sums that need only the volume factor
  * (the lumped masses). */
 double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3], double wq, double *dv);
 /* dtm_map_dv_dn at four points of a table side by side (3D), as
  * dtm_map_eval_valid4: dv[4] bitwise those four calls give. */
-void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv);
+void dtm_map_dv_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *dv);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
  * Jacobian: returns -1 when det J (into *dj) is not safely positive (g and
  * dv are computed all the same, not finite where det J is 0), else 0.
@@ -182,9 +190,6 @@ double dtm_eig_sym_tridiagonalize(int n, double *a, double *d, double *e);
  * doubles (tridiag.c): lambda[l] is bitwise what dtm_eig_sym_max_tridiag
  * returns for a[l] alone, whatever the other lanes hold. */
 void dtm_eig_sym_max_tridiag_lanes(int n, double *const a[], int count, double *lambda);
-/* Four doubles in one vector (GCC's vector extension): lane l belongs to
- * matrix l of a group. */
-typedef double dtm_v4d __attribute__((vector_size(32)));
 /* dtm_eig_sym_max_tridiag_lanes' second half, for callers that build the
  * packed lanes themselves: A holds the lower triangles packed by rows (row
  * r starts at r (r + 1) / 2), lane l already divided by its largest

@@ -53,11 +53,8 @@ static double lumped(int type, int d, int nn, const double (*xl)[3], const dtm_q
   for (int k = 0; k < q->n; k++) {
     if (!t) dtm_ref_eval(type, q->p[k], Nk, dN);
     const double *N = t ? t->N[k] : Nk;
-    if (t && d == 3 && k % 4 == 0 && k + 4 <= q->n) { /* the next four points' det J side by side */
-      const double(*dn4[4])[3] = {(const double(*)[3])t->dN[k], (const double(*)[3])t->dN[k + 1],
-                                  (const double(*)[3])t->dN[k + 2], (const double(*)[3])t->dN[k + 3]};
-      dtm_map_dv_dn4(nn, xl, dn4, &q->w[k], dvs);
-    }
+    if (t && d == 3 && k % 4 == 0 && k + 4 <= q->n) /* the next four points' det J side by side */
+      dtm_map_dv_dn4(nn, xl, (const dtm_v4d(*)[3])t->dN4[k / 4], &q->w[k], dvs);
     if (t && d == 3 && k - k % 4 + 4 <= q->n)
       dv = dvs[k % 4];
     else

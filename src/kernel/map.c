@@ -11,6 +11,7 @@
  * those). */
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include "kernel-impl.h"
 
@@ -132,69 +133,92 @@ int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[
  * and the gradients are a few hundred flops of scalar code per point,
  * about a third of a curved element's level search: in lanes, a quarter of
  * the instructions. */
-typedef double v4d __attribute__((vector_size(32)));
+typedef dtm_v4d v4d;
 
-/* The reference gradients of the four points D, their Jacobians J and
- * det J (dtm_mat_det's expression) into *dj, lane by lane. */
-static inline __attribute__((always_inline)) void jacobian4(int nn, const double (*xl)[3], const double (*const *dN)[3],
-                                                            v4d (*D)[3], v4d J[3][3], v4d *dj) {
-  for (int a = 0; a < nn; a++)
-    for (int j = 0; j < 3; j++) D[a][j] = (v4d){dN[0][a][j], dN[1][a][j], dN[2][a][j], dN[3][a][j]};
+/* The Jacobians J of the four points whose reference gradients are D
+ * (lane by lane: a table's dN4) and det J (dtm_mat_det's expression) into
+ * *dj. */
+static inline __attribute__((always_inline)) void jacobian4(int nn, const double (*xl)[3], const v4d (*D)[3],
+                                                            v4d J[3][3], v4d *dj) {
+  v4d s[3][3]; /* in registers: constant indices once the loops are unrolled */
+#pragma GCC unroll 3
   for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) J[i][j] = (v4d){0, 0, 0, 0};
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; j++) s[i][j] = (v4d){0, 0, 0, 0};
   for (int a = 0; a < nn; a++)
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
-      for (int j = 0; j < 3; j++) J[i][j] += xl[a][i] * D[a][j];
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; j++) s[i][j] += xl[a][i] * D[a][j];
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; j++) J[i][j] = s[i][j];
   *dj = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
 }
 
-static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                                 double (*g)[DTM_K_NODES][3], double *dv, double *det, double *had) {
-  v4d D[DTM_K_NODES][3], J[3][3], K[3][3];
+/* Entries e .. e + 3 of the four points' rows g[l] from four vectors x
+ * (x[c] lane l: point l's entry e + c): a 4 x 4 transpose in registers and
+ * four stores, instead of sixteen single stores through the stack. */
+static inline __attribute__((always_inline)) void store4(const v4d *x, double *const g[4], int e) {
+  typedef long long v4l __attribute__((vector_size(32)));
+  v4d t0 = __builtin_shuffle(x[0], x[1], (v4l){0, 4, 2, 6}), t1 = __builtin_shuffle(x[0], x[1], (v4l){1, 5, 3, 7});
+  v4d t2 = __builtin_shuffle(x[2], x[3], (v4l){0, 4, 2, 6}), t3 = __builtin_shuffle(x[2], x[3], (v4l){1, 5, 3, 7});
+  v4d r[4] = {__builtin_shuffle(t0, t2, (v4l){0, 1, 4, 5}), __builtin_shuffle(t1, t3, (v4l){0, 1, 4, 5}),
+              __builtin_shuffle(t0, t2, (v4l){2, 3, 6, 7}), __builtin_shuffle(t1, t3, (v4l){2, 3, 6, 7})};
+  for (int l = 0; l < 4; l++) memcpy(g[l] + e, &r[l], sizeof r[l]);
+}
+
+static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *const g[4],
+                                 double *dv, double *det, double *had) {
+  v4d J[3][3], K[3][3];
   v4d dj;
-  jacobian4(nn, xl, dN, D, J, &dj);
+  jacobian4(nn, xl, D, J, &dj);
   v4d c[3]; /* dtm_mat_hadamard lane by lane: the product of the column lengths */
   for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
   for (int j = 0; j < 3; j++)
     for (int i = 0; i < 3; i++) c[j] += J[i][j] * J[i][j];
-  for (int l = 0; l < 4; l++) {
-    double h = 1;
-    for (int j = 0; j < 3; j++) h *= sqrt(c[j][l]);
-    had[l] = h;
+  v4d h = {1, 1, 1, 1}; /* the scalar path's 1 * sqrt(c0) * sqrt(c1) * sqrt(c2), lane by lane */
+  for (int j = 0; j < 3; j++) {
+    v4d r;
+    for (int l = 0; l < 4; l++) r[l] = sqrt(c[j][l]); /* one vector square root (-fno-math-errno: CMakeLists.txt) */
+    h *= r;
   }
+  for (int l = 0; l < 4; l++) had[l] = h[l];
   for (int l = 0; l < 4; l++) det[l] = dj[l];
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) {
       int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
     }
+  v4d x[3 * DTM_K_NODES]; /* x[3 a + i]: the gradients g_ai of the four points */
   for (int a = 0; a < nn; a++)
-    for (int i = 0; i < 3; i++) {
-      v4d x = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
-      for (int l = 0; l < 4; l++) g[l][a][i] = x[l];
-    }
+    for (int i = 0; i < 3; i++) x[3 * a + i] = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
+  int e = 0;
+  for (; e + 4 <= 3 * nn; e += 4) store4(x + e, g, e);
+  for (; e < 3 * nn; e++)
+    for (int l = 0; l < 4; l++) g[l][e] = x[e][l];
   v4d w = {wq[0], wq[1], wq[2], wq[3]}, v = dj * w;
   for (int l = 0; l < 4; l++) dv[l] = v[l];
 }
 
-static DTM_KERNEL_AVX void dv4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                               double *dv) {
-  v4d D[DTM_K_NODES][3], J[3][3];
+static DTM_KERNEL_AVX void dv4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *dv) {
+  v4d J[3][3];
   v4d w = {wq[0], wq[1], wq[2], wq[3]}, dj;
-  jacobian4(nn, xl, dN, D, J, &dj);
+  jacobian4(nn, xl, D, J, &dj);
   v4d v = dj * w;
   for (int l = 0; l < 4; l++) dv[l] = v[l];
 }
 
-void dtm_map_dv_dn4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq, double *dv) {
-  dv4(nn, xl, dN, wq, dv);
+void dtm_map_dv_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *dv) {
+  dv4(nn, xl, D, wq, dv);
 }
 
-int dtm_map_eval_valid4(int nn, const double (*xl)[3], const double (*const *dN)[3], const double *wq,
-                        double (*g)[DTM_K_NODES][3], double *dv, double *dj) {
+int dtm_map_eval_valid4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *const g[4],
+                        double *dv, double *dj) {
   double had[4];
-  eval4(nn, xl, dN, wq, g, dv, dj, had);
+  eval4(nn, xl, D, wq, g, dv, dj, had);
   for (int l = 0; l < 4; l++) /* dtm_map_eval_valid's test, in the points' order */
     if (!(dj[l] > 32 * DBL_EPSILON * had[l] && isfinite(dj[l]))) return l;
   return -1;

@@ -23,7 +23,8 @@ static const dtm_ref_table *tables[NTYPES][NODES + 1];
 static pthread_mutex_t building = PTHREAD_MUTEX_INITIALIZER;
 
 static dtm_ref_table *build(int type, int level) {
-  dtm_ref_table *t = malloc(sizeof *t);
+  size_t bytes = (sizeof(dtm_ref_table) + 31) / 32 * 32; /* aligned_alloc's size: a multiple of the alignment */
+  dtm_ref_table *t = aligned_alloc(32, bytes);           /* dN4's vectors */
   if (!t) return NULL;
   if (level == NODES) {
     dtm_elem_info(type, NULL, &t->q.n);
@@ -35,6 +36,10 @@ static dtm_ref_table *build(int type, int level) {
   else if (!dtm_ref_rule_level(type, level, &t->q))
     return free(t), NULL;
   for (int k = 0; k < t->q.n; k++) dtm_ref_eval(type, t->q.p[k], t->N[k], t->dN[k]);
+  for (int k = 0; k + 4 <= t->q.n; k += 4)
+    for (int a = 0; a < DTM_K_NODES; a++)
+      for (int j = 0; j < 3; j++)
+        t->dN4[k / 4][a][j] = (dtm_v4d){t->dN[k][a][j], t->dN[k + 1][a][j], t->dN[k + 2][a][j], t->dN[k + 3][a][j]};
   return t;
 }
 
