@@ -182,37 +182,61 @@ void dtm_elem_gram_add_points(int nd, int np, const double (*gl)[DTM_K_DOF], con
   for (int p = 0; p < np; p++) gram_add(nd, gl[p], dv[p], U);
 }
 
-/* Tiles of 4 rows x 8 columns from the diagonal's block of 8 rightwards:
- * 20 tiles, 640 entries for the 465 of tet10's triangle, each a chain of
- * np multiplications and additions in eight named vector registers (GCC
- * keeps an array of accumulators in memory). */
+/* Tiles of 4 rows from the diagonal rightwards, 8 columns wide but for a
+ * last one of at most 4 (tet10: 576 entries for the 465 of its
+ * triangle), each a chain of np multiplications and additions per entry
+ * in named vector registers (GCC keeps an array of accumulators in
+ * memory). */
 #define TILE_ROW(r, c0, c1)                                                                                            \
   do {                                                                                                                 \
     double a_ = A[p][x0 + (r)];                                                                                        \
     c0 += a_ * g0;                                                                                                     \
     c1 += a_ * g1;                                                                                                     \
   } while (0)
+static inline __attribute__((always_inline)) void
+tile8(int np, const double (*A)[DTM_GRAM_W], const double (*gb)[DTM_GRAM_W], double (*Ul)[DTM_GRAM_W], int x0, int y0) {
+  dtm_v4d *u0 = (dtm_v4d *)&Ul[x0][y0], *u1 = (dtm_v4d *)&Ul[x0 + 1][y0], *u2 = (dtm_v4d *)&Ul[x0 + 2][y0],
+          *u3 = (dtm_v4d *)&Ul[x0 + 3][y0];
+  dtm_v4d c00 = u0[0], c01 = u0[1], c10 = u1[0], c11 = u1[1], c20 = u2[0], c21 = u2[1], c30 = u3[0], c31 = u3[1];
+  for (int p = 0; p < np; p++) {
+    dtm_v4d g0 = *(const dtm_v4d *)&gb[p][y0], g1 = *(const dtm_v4d *)&gb[p][y0 + 4];
+    TILE_ROW(0, c00, c01);
+    TILE_ROW(1, c10, c11);
+    TILE_ROW(2, c20, c21);
+    TILE_ROW(3, c30, c31);
+  }
+  u0[0] = c00, u0[1] = c01, u1[0] = c10, u1[1] = c11, u2[0] = c20, u2[1] = c21, u3[0] = c30, u3[1] = c31;
+}
+#undef TILE_ROW
+
+static inline __attribute__((always_inline)) void
+tile4(int np, const double (*A)[DTM_GRAM_W], const double (*gb)[DTM_GRAM_W], double (*Ul)[DTM_GRAM_W], int x0, int y0) {
+  dtm_v4d *u0 = (dtm_v4d *)&Ul[x0][y0], *u1 = (dtm_v4d *)&Ul[x0 + 1][y0], *u2 = (dtm_v4d *)&Ul[x0 + 2][y0],
+          *u3 = (dtm_v4d *)&Ul[x0 + 3][y0];
+  dtm_v4d c0 = *u0, c1 = *u1, c2 = *u2, c3 = *u3;
+  for (int p = 0; p < np; p++) {
+    dtm_v4d g0 = *(const dtm_v4d *)&gb[p][y0];
+    c0 += A[p][x0] * g0;
+    c1 += A[p][x0 + 1] * g0;
+    c2 += A[p][x0 + 2] * g0;
+    c3 += A[p][x0 + 3] * g0;
+  }
+  *u0 = c0, *u1 = c1, *u2 = c2, *u3 = c3;
+}
+
 static DTM_KERNEL_AVX void gram_tiles(int nd, int np, const double (*gb)[DTM_GRAM_W], const double *dv,
                                       double (*Ul)[DTM_GRAM_W]) {
   _Alignas(32) double A[DTM_GRAM_W][DTM_GRAM_W]; /* A[p][x] = gb[p][x] dv[p], as gram_add forms it */
   for (int p = 0; p < np; p++)
     for (int x = 0; x < DTM_GRAM_W; x++) A[p][x] = gb[p][x] * dv[p];
   for (int x0 = 0; x0 < nd; x0 += 4)
-    for (int y0 = x0 & ~7; y0 < nd; y0 += 8) {
-      dtm_v4d *u0 = (dtm_v4d *)&Ul[x0][y0], *u1 = (dtm_v4d *)&Ul[x0 + 1][y0], *u2 = (dtm_v4d *)&Ul[x0 + 2][y0],
-              *u3 = (dtm_v4d *)&Ul[x0 + 3][y0];
-      dtm_v4d c00 = u0[0], c01 = u0[1], c10 = u1[0], c11 = u1[1], c20 = u2[0], c21 = u2[1], c30 = u3[0], c31 = u3[1];
-      for (int p = 0; p < np; p++) {
-        dtm_v4d g0 = *(const dtm_v4d *)&gb[p][y0], g1 = *(const dtm_v4d *)&gb[p][y0 + 4];
-        TILE_ROW(0, c00, c01);
-        TILE_ROW(1, c10, c11);
-        TILE_ROW(2, c20, c21);
-        TILE_ROW(3, c30, c31);
-      }
-      u0[0] = c00, u0[1] = c01, u1[0] = c10, u1[1] = c11, u2[0] = c20, u2[1] = c21, u3[0] = c30, u3[1] = c31;
+    for (int y0 = x0; y0 < nd; y0 += 8) {
+      if (nd - y0 > 4)
+        tile8(np, (const double(*)[DTM_GRAM_W])A, gb, Ul, x0, y0);
+      else
+        tile4(np, (const double(*)[DTM_GRAM_W])A, gb, Ul, x0, y0);
     }
 }
-#undef TILE_ROW
 
 void dtm_elem_gram_block(int nd, int np, const double (*gb)[DTM_GRAM_W], const double *dv, double (*Ul)[DTM_GRAM_W]) {
   gram_tiles(nd, np, gb, dv, Ul);
