@@ -5,7 +5,9 @@
  *     each point of every group of tet10's levelled tables 5 to 8, on
  *     curved elements and on one inverted near a node: gradients, dv, det J
  *     and the first lane that fails, all equal bit for bit;
- *   - det J alone (dtm_map_dv_dn4) against dtm_map_dv_dn;
+ *   - det J alone (dtm_map_dv_dn4) against dtm_map_dv_dn, and det J with
+ *     its Hadamard bound (dtm_map_det_dn4, the Bezier bound's root
+ *     lattice) against dtm_map_det_dn;
  *   - the blocked Gram sum (dtm_elem_gram_block, register tiles over up
  *     to 32 points) against the plain loop that adds each point's product
  *     (g_x dv) g_y to each entry in the points' order, for nd from 1 to 32
@@ -56,9 +58,10 @@ static double uniform(void) { /* in [0, 1) */
 static int compare_map(const dtm_ref_table *t, const double (*xl)[3]) {
   int failing = 0;
   for (int k = 0; k + 4 <= t->q.n; k += 4) {
-    double g4[4][32], *rows[4] = {g4[0], g4[1], g4[2], g4[3]}, dv4[4], dj4[4], dvs[4];
+    double g4[4][32], *rows[4] = {g4[0], g4[1], g4[2], g4[3]}, dv4[4], dj4[4], dvs[4], det4[4], had4[4];
     int bad = dtm_map_eval_valid4(10, xl, (const dtm_v4d(*)[3])t->dN4[k / 4], &t->q.w[k], rows, dv4, dj4);
     dtm_map_dv_dn4(10, xl, (const dtm_v4d(*)[3])t->dN4[k / 4], &t->q.w[k], dvs);
+    dtm_map_det_dn4(10, xl, (const dtm_v4d(*)[3])t->dN4[k / 4], det4, had4);
     int first = -1;
     for (int l = 0; l < 4; l++) {
       double g[DTM_K_NODES][3], dv, dj, dv1;
@@ -69,6 +72,9 @@ static int compare_map(const dtm_ref_table *t, const double (*xl)[3]) {
       for (int a = 0; a < 10; a++) assert_memory_equal(g[a], &g4[l][3 * a], 3 * sizeof(double));
       dtm_map_dv_dn(3, 10, xl, (const double(*)[3])t->dN[k + l], t->q.w[k + l], &dv1);
       assert_memory_equal(&dv1, &dvs[l], sizeof dv1);
+      double had, det = dtm_map_det_dn(3, 10, xl, (const double(*)[3])t->dN[k + l], &had);
+      assert_memory_equal(&det, &det4[l], sizeof det);
+      assert_memory_equal(&had, &had4[l], sizeof had);
     }
     assert_int_equal(bad, first);
     failing += bad >= 0;

@@ -126,11 +126,10 @@ typedef struct {
 } level_sums;
 
 /* T of level n (see above), as the sums L, from the level's table (its
- * shape functions evaluated once: ref_table.c). Returns |T|_F. */
-static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, level_sums *L,
-                        int *bad) {
+ * shape functions evaluated once: ref_table.c). */
+static void tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, level_sums *L, int *bad) {
   int nd = nn * d, hrz = dtm_elem_parent(type) != type;
-  double dv, dj, *m = L->m, *r = L->r, *T = L->U, s = 0, vol = 0;
+  double dv, dj, *m = L->m, *r = L->r, *T = L->U, vol = 0;
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
   *bad = 0;
   for (int a = 0; a < nn; a++) m[a] = 0;
@@ -154,23 +153,20 @@ static double tensor_at(int type, int d, int nn, const double (*xl)[3], const dt
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   L->vol = vol;
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
-  for (int x = 0; x < nd; x++)
-    for (int y = x; y < nd; y++) {
-      double v = T[x * nd + y] * (r[x] * r[y]);
-      s += (x == y ? 1 : 2) * v * v;
-    }
-  return sqrt(s);
 }
 
-/* |T_A - T_B|_F of two levels' sums. */
-static double diff_norm(int nd, const level_sums *A, const level_sums *B) {
-  double s = 0;
+/* |T_A|_F and |T_A - T_B|_F of two levels' sums (A the new one) in one
+ * pass: two chains of additions side by side, each in its own order (the
+ * entries x <= y, row by row), so each is what a loop of its own gives. */
+static void norms(int nd, const level_sums *A, const level_sums *B, double *norm, double *diff) {
+  double s = 0, t = 0;
   for (int x = 0; x < nd; x++)
     for (int y = x; y < nd; y++) {
       double a = A->U[x * nd + y] * (A->r[x] * A->r[y]), b = B->U[x * nd + y] * (B->r[x] * B->r[y]);
-      s += (x == y ? 1 : 2) * (a - b) * (a - b);
+      s += (x == y ? 1 : 2) * a * a;
+      t += (x == y ? 1 : 2) * (a - b) * (a - b);
     }
-  return sqrt(s);
+  *norm = sqrt(s), *diff = sqrt(t);
 }
 
 /* The remaining error of T at the level kept, estimated from the last two
@@ -197,9 +193,11 @@ static int converge(int type, int d, int nn, const double (*xl)[3], const dtm_re
   tensor_at(type, d, nn, xl, *t, &L[cur], bad);
   while (n < DTM_K_LEVEL_MAX) {
     if (!(*t = dtm_ref_level_table(type, ++n))) return 0;
-    double norm = tensor_at(type, d, nn, xl, *t, &L[1 - cur], bad);
+    double norm;
+    tensor_at(type, d, nn, xl, *t, &L[1 - cur], bad);
+    d0 = d1;
+    norms(nd, &L[1 - cur], &L[cur], &norm, &d1); /* the first level's norm is never needed */
     cur = 1 - cur;
-    d0 = d1, d1 = diff_norm(nd, &L[0], &L[1]);
     if (d1 <= TOL * norm) {
       *settled = 1;
       break;

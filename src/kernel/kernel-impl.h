@@ -105,6 +105,10 @@ double dtm_map_dv_dn(int d, int nn, const double (*xl)[3], const double (*dN)[3]
 /* dtm_map_dv_dn at four points of a table side by side (3D), as
  * dtm_map_eval_valid4: dv[4] bitwise those four calls give. */
 void dtm_map_dv_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *dv);
+/* dtm_map_det_dn (d = 3) at four points, reference gradients lane by lane
+ * D[nn][3]: det J into det[4] and the Hadamard bounds into hadamard[4],
+ * bitwise those four calls give. */
+void dtm_map_det_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], double *det, double *hadamard);
 /* dtm_map_eval_dn with the validity test of dtm_map_first_bad on the same
  * Jacobian: returns -1 when det J (into *dj) is not safely positive (g and
  * dv are computed all the same, not finite where det J is 0), else 0.

@@ -170,12 +170,9 @@ static inline __attribute__((always_inline)) void store4(const v4d *x, double *c
   for (int l = 0; l < 4; l++) memcpy(g[l] + e, &r[l], sizeof r[l]);
 }
 
-static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *const g[4],
-                                 double *dv, double *det, double *had) {
-  v4d J[3][3], K[3][3];
-  v4d dj;
-  jacobian4(nn, xl, D, J, &dj);
-  v4d c[3]; /* dtm_mat_hadamard lane by lane: the product of the column lengths */
+/* dtm_mat_hadamard lane by lane: the product of the column lengths. */
+static inline __attribute__((always_inline)) void hadamard4(const v4d J[3][3], double *had) {
+  v4d c[3];
   for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
   for (int j = 0; j < 3; j++)
     for (int i = 0; i < 3; i++) c[j] += J[i][j] * J[i][j];
@@ -186,6 +183,14 @@ static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3
     h *= r;
   }
   for (int l = 0; l < 4; l++) had[l] = h[l];
+}
+
+static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *const g[4],
+                                 double *dv, double *det, double *had) {
+  v4d J[3][3], K[3][3];
+  v4d dj;
+  jacobian4(nn, xl, D, J, &dj);
+  hadamard4(J, had);
   for (int l = 0; l < 4; l++) det[l] = dj[l];
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) {
@@ -213,6 +218,17 @@ static DTM_KERNEL_AVX void dv4(int nn, const double (*xl)[3], const v4d (*D)[3],
 
 void dtm_map_dv_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *dv) {
   dv4(nn, xl, D, wq, dv);
+}
+
+static DTM_KERNEL_AVX void det4(int nn, const double (*xl)[3], const v4d (*D)[3], double *det, double *had) {
+  v4d J[3][3], dj;
+  jacobian4(nn, xl, D, J, &dj);
+  hadamard4(J, had);
+  for (int l = 0; l < 4; l++) det[l] = dj[l];
+}
+
+void dtm_map_det_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], double *det, double *hadamard) {
+  det4(nn, xl, D, det, hadamard);
 }
 
 int dtm_map_eval_valid4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *const g[4],
