@@ -12,6 +12,7 @@
  * element bound's single pass over its points (generic.c). */
 #include <pthread.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "kernel-impl.h"
 
@@ -26,6 +27,7 @@ static dtm_ref_table *build(int type, int level) {
   size_t bytes = (sizeof(dtm_ref_table) + 31) / 32 * 32; /* aligned_alloc's size: a multiple of the alignment */
   dtm_ref_table *t = aligned_alloc(32, bytes);           /* dN4's vectors */
   if (!t) return NULL;
+  memset(t, 0, bytes); /* the rows' entries beyond the type's nodes read as zeros (curved.c's masses) */
   if (level == NODES) {
     dtm_elem_info(type, NULL, &t->q.n);
     for (int a = 0; a < t->q.n; a++) dtm_ref_node(type, a, t->q.p[a]), t->q.w[a] = 0;
