@@ -161,14 +161,20 @@ static inline __attribute__((always_inline)) void jacobian4(int nn, const double
 /* Entries e .. e + 3 of the four points' rows g[l] from four vectors x
  * (x[c] lane l: point l's entry e + c): a 4 x 4 transpose in registers and
  * four stores, instead of sixteen single stores through the stack. */
+#if defined(__clang__)
+#define SHUFFLE(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
+#else
+typedef long long v4l __attribute__((vector_size(32)));
+#define SHUFFLE(a, b, i, j, k, l) __builtin_shuffle(a, b, (v4l){i, j, k, l})
+#endif
 static inline __attribute__((always_inline)) void store4(const v4d *x, double *const g[4], int e) {
-  typedef long long v4l __attribute__((vector_size(32)));
-  v4d t0 = __builtin_shuffle(x[0], x[1], (v4l){0, 4, 2, 6}), t1 = __builtin_shuffle(x[0], x[1], (v4l){1, 5, 3, 7});
-  v4d t2 = __builtin_shuffle(x[2], x[3], (v4l){0, 4, 2, 6}), t3 = __builtin_shuffle(x[2], x[3], (v4l){1, 5, 3, 7});
-  v4d r[4] = {__builtin_shuffle(t0, t2, (v4l){0, 1, 4, 5}), __builtin_shuffle(t1, t3, (v4l){0, 1, 4, 5}),
-              __builtin_shuffle(t0, t2, (v4l){2, 3, 6, 7}), __builtin_shuffle(t1, t3, (v4l){2, 3, 6, 7})};
+  v4d t0 = SHUFFLE(x[0], x[1], 0, 4, 2, 6), t1 = SHUFFLE(x[0], x[1], 1, 5, 3, 7);
+  v4d t2 = SHUFFLE(x[2], x[3], 0, 4, 2, 6), t3 = SHUFFLE(x[2], x[3], 1, 5, 3, 7);
+  v4d r[4] = {SHUFFLE(t0, t2, 0, 1, 4, 5), SHUFFLE(t1, t3, 0, 1, 4, 5), SHUFFLE(t0, t2, 2, 3, 6, 7),
+              SHUFFLE(t1, t3, 2, 3, 6, 7)};
   for (int l = 0; l < 4; l++) memcpy(g[l] + e, &r[l], sizeof r[l]);
 }
+#undef SHUFFLE
 
 /* dtm_mat_hadamard lane by lane: the product of the column lengths. */
 static inline __attribute__((always_inline)) void hadamard4(const v4d J[3][3], double *had) {
