@@ -16,9 +16,9 @@
  * chunk: with 1024 slots and 16 probes that happened in one run in 40
  * (the hash takes the rule table's address, so it changes from run to run,
  * and tests/t115, which checks that none is lost, failed that often). At a
- * quarter full, a run of 20 such slots was not seen in 3,000 simulated
- * chunks, so 32 probes leave a loss for the odd chance it is, and a loss
- * costs one integration, never a different number.
+ * quarter full, a simulation of 3,000 chunks never saw a run of even 20
+ * such slots, so a loss with 32 probes is left to a remote chance; and a
+ * loss costs one integration, never a different number.
  * Elements with more than MAX_DOF unknowns (the 3D types above tet10) are
  * not kept: an entry is sized for tet10 (4 kB; 8 MB per thread, allocated
  * at the first put, touched as it fills, and freed when the thread ends). */
