@@ -258,11 +258,30 @@ static int link_in(dtm_atomic *w) {
   return linkat(AT_FDCWD, self, AT_FDCWD, w->tmp, AT_SYMLINK_FOLLOW) ? errno : 0;
 }
 
+/* Put the complete temporary in place of the target. A regular file
+ * already there is swapped with it (one atomic exchange: the name always
+ * holds the older file or the new one), then the older file, now under the
+ * temporary's name, is removed. A plain rename over an existing file makes
+ * ext4 allocate the new file's blocks before it returns (its guard for
+ * programs that replace files without fsync: 50 ms for a 114 MB mesh, a
+ * fifth of everything dtmap adds to Gmsh's meshing of 1e6 tets); Gmsh's own
+ * writes, which truncate the file in place, do not pay that. A target that
+ * does not exist yet, is not a regular file, or lies on a file system
+ * without the exchange is renamed over as before. */
+static int put_in_place(const dtm_atomic *w) {
+  struct stat st;
+  if (!lstat(w->path, &st) && S_ISREG(st.st_mode) && !renameat2(AT_FDCWD, w->tmp, AT_FDCWD, w->path, RENAME_EXCHANGE)) {
+    unlink(w->tmp); /* the older file; if this fails, the next writer of the target removes it */
+    return 0;
+  }
+  return rename(w->tmp, w->path) ? errno : 0;
+}
+
 int dtm_atomic_commit(dtm_atomic *w) {
   char why[256];
   int e = write_status(w);
   if (!e && w->unnamed) e = link_in(w);
-  if (!e && rename(w->tmp, w->path)) e = errno;
+  if (!e) e = put_in_place(w);
   if (e) {
     dtm_write_reason(e, why, sizeof why);
     dtm_atomic_abort(w);
