@@ -291,6 +291,10 @@ DTM_EXPORT const double *dtm_analysis_effect_nodal(const dtm_analysis *a, int k)
  * safety x the best estimate that is guaranteed safe, and what it rests on
  * ("element bound", "nodal bound" or "global estimate"). */
 DTM_EXPORT double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element);
+/* The 1 % quantile of the element steps: the k-th smallest finite step of
+ * the dt map, k = (n - 1) / 100 over its n finite steps (this part's in a
+ * distributed run), s; NaN when none is finite. */
+DTM_EXPORT double dtm_analysis_dt_quantile(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_dt_nodal(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_dt_global(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_recommended(const dtm_analysis *a);

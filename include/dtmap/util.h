@@ -15,6 +15,15 @@
 /* Monotonic wall clock, s. */
 DTM_EXPORT double dtm_wtime(void);
 
+/* The k-th smallest (from 0) of a[n], n > 0, a reordered in place so that
+ * every value before position k is at most it and every one after at
+ * least it (src/base/numbers.c). */
+DTM_EXPORT double dtm_select_kth(double *a, size_t n, size_t k);
+
+/* floor(log2(q)) for q > 0, the same integer as log2 gives, at a fraction
+ * of its cost (src/base/numbers.c). */
+DTM_EXPORT int dtm_octave(double q);
+
 /* Serve large allocations from the heap, not from fresh mappings, so that
  * the per-element arrays of one stage reuse the memory earlier stages (and
  * Gmsh) freed instead of faulting in new zeroed pages (src/base/memory.c).

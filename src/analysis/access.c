@@ -49,6 +49,8 @@ const double *dtm_analysis_effect_nodal(const dtm_analysis *a, int k) {
   return k >= 0 && k < a->neffects && a->node_dt ? a->node_dt[k] : NULL;
 }
 
+double dtm_analysis_dt_quantile(const dtm_analysis *a) { return a->dt_q1; }
+
 double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element) {
   if (element) *element = a->el_min;
   return a->dt_min;

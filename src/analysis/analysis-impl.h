@@ -45,6 +45,7 @@ struct dtm_analysis {
   dtm_effect_min *per_effect; /* [neffects] */
   double dt_min;              /* min of dt, s */
   size_t el_min;              /* its global element index */
+  double dt_q1;               /* the 1 % quantile of the finite element steps of dt, s (NaN: none) */
   double *nodal_node;         /* [nnodes] nodal-bound step per node, min over the
                                  spectral effects, s (+inf: no spectral effect) */
   double **node_dt;           /* [neffects][nnodes] nodal-bound step of each

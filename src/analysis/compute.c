@@ -284,11 +284,25 @@ static int global_minima(dtm_analysis *a) {
   return r;
 }
 
+/* The 1 % quantile of the finite element steps (this part's), NaN when
+ * none is finite: the outlier warning and the views' "smallest 1 %" read it. */
+static int quantile_1pc(dtm_analysis *a) {
+  double *v = malloc((a->nel + 1) * sizeof *v);
+  size_t n = 0;
+  if (!v) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  for (size_t i = 0; i < a->nel; i++)
+    if (isfinite(a->dt[i])) v[n++] = a->dt[i];
+  a->dt_q1 = n ? dtm_select_kth(v, n, (n - 1) / 100) : NAN;
+  free(v);
+  return DTM_OK;
+}
+
 static int summarize(dtm_analysis *a) {
   DTM_CHECK(drop_empty_accuracy(a));
   a->dt_min = INFINITY;
   for (size_t i = 0; i < a->nel; i++)
     if (before(a, a->dt[i], i, a->dt_min, a->el_min)) a->dt_min = a->dt[i], a->el_min = i;
+  DTM_CHECK(quantile_1pc(a));
   for (int k = 0; k < a->neffects; k++) {
     a->per_effect[k].min = a->per_effect[k].nodal = a->per_effect[k].global = a->per_effect[k].certified = NAN;
     a->per_effect[k].element_rigorous = 1; /* nodal.c lowers it for length rules */

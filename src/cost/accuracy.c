@@ -30,6 +30,7 @@
 #include "dtmap/cost.h"
 #include "dtmap/kernel.h"
 #include "dtmap/topology.h"
+#include "dtmap/util.h"
 
 #define PI 3.14159265358979323846
 #define MAX_TABLES 64 /* element type x material pairs kept at once */
@@ -176,36 +177,10 @@ static double element_measure(const dtm_mesh *mesh, const dtm_block *bl, size_t 
   return fabs(dtm_elem_measure(bl->type, x));
 }
 
-/* The k-th smallest of v[n] (reordered), by Hoare's selection: O(n). */
-static double select_kth(double *v, size_t n, size_t k) {
-  size_t lo = 0, hi = n - 1;
-  while (lo < hi) {
-    double p = v[lo + (hi - lo) / 2];
-    size_t i = lo, j = hi;
-    while (i <= j) {
-      while (v[i] < p) i++;
-      while (v[j] > p) j--;
-      if (i <= j) {
-        double t = v[i];
-        v[i] = v[j], v[j] = t, i++;
-        if (j == 0) break;
-        j--;
-      }
-    }
-    if (k <= j)
-      hi = j;
-    else if (k >= i)
-      lo = i;
-    else
-      return v[k];
-  }
-  return v[k];
-}
-
 /* Median of v[n] (reordered), NaN when n = 0. */
 static double median(double *v, size_t n) {
   if (!n) return NAN;
-  double hi = select_kth(v, n, n / 2);
+  double hi = dtm_select_kth(v, n, n / 2);
   if (n % 2) return hi;
   double lo = v[0];
   for (size_t i = 1; i < n / 2; i++) lo = fmax(lo, v[i]);

@@ -215,41 +215,6 @@ static int effect_views(const dtm_analysis *a, view_set *vs, int *k) {
   return DTM_OK;
 }
 
-/* The k-th smallest (from 0) of a[n], a reordered in place: Hoare's
- * selection with the median of three as pivot, O(n) on average (a full
- * sort of a million steps took a tenth of a second of the output stage). */
-static double kth_smallest(double *a, size_t n, size_t k) {
-  ptrdiff_t lo = 0, hi = (ptrdiff_t)n - 1, want = (ptrdiff_t)k;
-  while (lo < hi) {
-    ptrdiff_t i = lo, j = hi;
-    double x = a[lo], y = a[lo + (hi - lo) / 2], z = a[hi];
-    double pivot = x < y ? (y < z ? y : x < z ? z : x) : (x < z ? x : y < z ? z : y);
-    while (i <= j) {
-      while (a[i] < pivot) i++;
-      while (a[j] > pivot) j--;
-      if (i <= j) {
-        double t = a[i];
-        a[i++] = a[j], a[j--] = t;
-      }
-    }
-    if (want <= j)
-      hi = j;
-    else if (want >= i)
-      lo = i;
-    else
-      return a[want]; /* between the parts: equal to the pivot */
-  }
-  return a[want];
-}
-
-/* The step below which an element is among the 1 % smallest (finite steps). */
-static double quantile_1pc(const double *dt, size_t nel, double *scratch) {
-  size_t n = 0;
-  for (size_t i = 0; i < nel; i++)
-    if (isfinite(dt[i])) scratch[n++] = dt[i];
-  return n ? kth_smallest(scratch, n, (n - 1) / 100) : NAN;
-}
-
 /* "below target [s]": with a target, the elements below it on the one
  * basis of the recommendation (safety x their own safe step, the count
  * the summary and report give as below_target), with that step; without
@@ -260,7 +225,7 @@ static void below_view(const dtm_analysis *a, const dtm_output_part *part, view_
   size_t nel = dtm_analysis_nelements(a), n = 0;
   const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a);
   double target = dtm_analysis_advice_target(a), safety = dtm_analysis_scene(a)->safety;
-  vs->below_at = target > 0 ? target : part ? part->below_at : quantile_1pc(dt, nel, vs->bvals);
+  vs->below_at = target > 0 ? target : part ? part->below_at : dtm_analysis_dt_quantile(a);
   for (size_t i = 0; i < nel; i++) {
     double step = target > 0 ? safety * own[i] : dt[i];
     if (step < vs->below_at || (target <= 0 && step == vs->below_at))
@@ -401,8 +366,12 @@ static int has_skin(const dtm_mesh *m) { return m->dim == 3 && lower_dims(m); }
  * they are positive (a log scale can show them). */
 static int positive_range(const dtm_view *v, double *lo, double *hi) {
   *lo = INFINITY, *hi = -INFINITY;
-  for (size_t i = 0; v->values && !v->ivalues && i < v->n; i++)
-    if (isfinite(v->values[i])) *lo = fmin(*lo, v->values[i]), *hi = fmax(*hi, v->values[i]);
+  for (size_t i = 0; v->values && !v->ivalues && i < v->n; i++) {
+    double x = v->values[i];
+    if (!isfinite(x)) continue;
+    if (x < *lo) *lo = x; /* comparisons, not fmin and fmax: a call each per value */
+    if (x > *hi) *hi = x;
+  }
   return *lo > 0 && *hi >= *lo && isfinite(*hi);
 }
 

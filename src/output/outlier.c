@@ -17,26 +17,6 @@
 #define OUTLIER_RATIO 10.0 /* the quantile over the smallest step that makes a warning */
 #define OUTLIER_ENTITIES 6 /* lower-dimensional entities named at most */
 
-/* The k-th smallest of a[0..n) (a is reordered; Wirth's selection). */
-static double kth(double *a, long n, long k) {
-  long lo = 0, hi = n - 1;
-  while (lo < hi) {
-    double p = a[k];
-    long i = lo, j = hi;
-    do {
-      while (a[i] < p) i++;
-      while (p < a[j]) j--;
-      if (i <= j) {
-        double t = a[i];
-        a[i++] = a[j], a[j--] = t;
-      }
-    } while (i <= j);
-    if (j < k) lo = i;
-    if (k < i) hi = j;
-  }
-  return a[k];
-}
-
 static const char *entity_word(int dim) {
   return dim == 0 ? "point" : dim == 1 ? "curve" : dim == 2 ? "surface" : "volume";
 }
@@ -73,14 +53,10 @@ static void where_on_model(const dtm_analysis *a, int b, size_t e, char *buf, si
 }
 
 void dtm_output_outlier_warning(const dtm_analysis *a, dtm_warnings *w) {
-  size_t nel = dtm_analysis_nelements(a), imin = 0, n = 0, below = 0;
+  size_t nel = dtm_analysis_nelements(a), imin = 0, below = 0;
   const double *dt = dtm_analysis_dt(a);
-  double *v = nel ? malloc(nel * sizeof *v) : NULL, dmin = dtm_analysis_dt_min(a, &imin);
-  if (!v || !(dmin > 0) || !isfinite(dmin) || imin >= nel) return free(v);
-  for (size_t i = 0; i < nel; i++)
-    if (isfinite(dt[i])) v[n++] = dt[i];
-  double q = n ? kth(v, (long)n, (long)(n - 1) / 100) : NAN;
-  free(v);
+  double dmin = dtm_analysis_dt_min(a, &imin), q = dtm_analysis_dt_quantile(a);
+  if (!(dmin > 0) || !isfinite(dmin) || imin >= nel) return;
   if (!(q >= OUTLIER_RATIO * dmin)) return;
   for (size_t i = 0; i < nel; i++) below += isfinite(dt[i]) && dt[i] * OUTLIER_RATIO <= q;
   int b;

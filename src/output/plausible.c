@@ -42,19 +42,21 @@ const char *dtm_output_unit(const dtm_analysis *a, dtm_unit what) {
   return dtm_units_name(dtm_analysis_scene(a)->units, what);
 }
 
-/* rho V of element e of block b (0 without a density); its measure from
+/* rho V of element e of block b (0 without a density): rho, the density
+ * of each material (NaN without one), and sf, the factor of each section
+ * (thickness or area), looked up once for the whole mesh; its measure from
  * the analysis (vol, may be NULL: computed here). */
-static double element_mass(const dtm_scene *s, const dtm_mesh *m, const dtm_block *b, size_t e, int irho,
+static double element_mass(const dtm_mesh *m, const dtm_block *b, size_t e, const double *rho, const double *sf,
                            const double *vol) {
   int mi = b->mat[e];
-  if (mi < 0 || irho < 0 || !dtm_material_has(&s->materials[mi].m, irho)) return 0.0;
+  if (mi < 0 || isnan(rho[mi])) return 0.0;
   double x[DTM_MAX_NODES * 3], v;
   if (vol)
     v = *vol;
   else
     dtm_mesh_gather_one(m, b, e, x), v = fabs(dtm_elem_measure(b->type, x));
-  double f = b->section && b->section[e] >= 0 ? dtm_section_factor(&s->sections[b->section[e]]) : 1.0;
-  return isfinite(v) ? dtm_material_get(&s->materials[mi].m, irho) * v * f : 0.0;
+  double f = b->section && b->section[e] >= 0 ? sf[b->section[e]] : 1.0;
+  return isfinite(v) ? rho[mi] * v * f : 0.0;
 }
 
 /* The bounding box of the mesh's nodes into x. */
@@ -65,21 +67,32 @@ static void bbox(const dtm_mesh *m, dtm_model_extent *x) {
       x->lo[c] = fmin(x->lo[c], m->xyz[3 * v + c]), x->hi[c] = fmax(x->hi[c], m->xyz[3 * v + c]);
 }
 
+/* The density of each of the scene's materials into rho (NaN without
+ * one), the factor of each of its sections into sf. */
+static void mass_tables(const dtm_scene *s, double *rho, double *sf) {
+  int irho = dtm_scene_property_index(s, "rho");
+  for (int i = 0; i < s->nmaterials; i++)
+    rho[i] = irho >= 0 && dtm_material_has(&s->materials[i].m, irho) ? dtm_material_get(&s->materials[i].m, irho) : NAN;
+  for (int i = 0; i < s->nsections; i++) sf[i] = dtm_section_factor(&s->sections[i]);
+}
+
 int dtm_output_model(const dtm_analysis *a, dtm_model_extent *x) {
   const dtm_mesh *m = dtm_analysis_mesh(a);
   const dtm_scene *s = dtm_analysis_scene(a);
   const double *vol = dtm_analysis_measure(a);
-  int irho = dtm_scene_property_index(s, "rho");
   size_t i = 0;
   x->ngroups = m->ngroups + 1, x->mass = 0;
   x->group_mass = calloc((size_t)x->ngroups, sizeof *x->group_mass);
-  if (!x->group_mass) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  double *rho = malloc(((size_t)s->nmaterials + (size_t)s->nsections + 1) * sizeof *rho), *sf = rho + s->nmaterials;
+  if (!x->group_mass || !rho) return free(rho), dtm_output_model_free(x), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
+  mass_tables(s, rho, sf);
   for (int b = 0; b < m->nblocks; b++)
     for (size_t e = 0; e < m->blocks[b].n; e++, i++) {
-      double me = element_mass(s, m, &m->blocks[b], e, irho, vol ? vol + i : NULL);
+      double me = element_mass(m, &m->blocks[b], e, rho, sf, vol ? vol + i : NULL);
       int g = m->blocks[b].group[e];
       x->mass += me, x->group_mass[g >= 0 && g < m->ngroups ? g : m->ngroups] += me;
     }
+  free(rho);
   bbox(m, x);
   return DTM_OK;
 }

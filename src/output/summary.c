@@ -14,6 +14,7 @@
 
 #include "output-impl.h"
 #include "dtmap/operator.h"
+#include "dtmap/util.h"
 #include "report.h"
 
 static const char *effect_name(const dtm_analysis *a, int k) { return dtm_analysis_effect(a, k)->name; }
@@ -416,15 +417,6 @@ static void print_warnings(const dtm_results *r, int shown, FILE *f) {
 
 #define HIST_BINS 16 /* octaves shown at most; the last takes every larger step */
 
-/* The quantity the histogram bins and its reference: with a target, each
- * element's own safe step (safety x local step) over the advice target, so
- * that its bins under 1 hold exactly the elements below the target; else
- * each element's step (the dt map) over the recommended step, so that its
- * bins read as "how many times the step the run takes". */
-static double hist_value(const dtm_analysis *a, size_t i, int aimed) {
-  return aimed ? dtm_analysis_scene(a)->safety * dtm_analysis_local_step(a)[i] : dtm_analysis_dt(a)[i];
-}
-
 static void print_hist_title(const dtm_analysis *a, int aimed, double ref, FILE *f) {
   const dtm_scene *s = dtm_analysis_scene(a);
   if (!aimed) {
@@ -439,27 +431,35 @@ static void print_hist_title(const dtm_analysis *a, int aimed, double ref, FILE 
   fputs(":\n", f);
 }
 
-/* The histogram in octaves of a reference step (hist_value). Bins run
- * from the smallest element's octave up; the last gathers what lies
+/* The histogram in octaves of a reference step. With a target, it bins
+ * each element's own safe step (safety x local step) over the advice
+ * target, so that its bins under 1 hold exactly the elements below the
+ * target; else each element's step (the dt map) over the recommended step,
+ * so that its bins read as "how many times the step the run takes". Bins
+ * run from the smallest element's octave up; the last gathers what lies
  * above. */
 static void print_histogram(const dtm_analysis *a, FILE *f) {
   size_t nel = dtm_analysis_nelements(a);
   int aimed = dtm_analysis_advice_target(a) > 0;
-  double ref = aimed ? dtm_analysis_advice_target(a) : dtm_analysis_recommended(a), small = INFINITY;
+  double ref = aimed ? dtm_analysis_advice_target(a) : dtm_analysis_recommended(a), small = INFINITY, big = -INFINITY;
   if (!(ref > 0) || !isfinite(ref)) return;
-  for (size_t i = 0; i < nel; i++) small = fmin(small, hist_value(a, i, aimed));
-  if (!isfinite(small)) return;
-  int lo = (int)floor(log2(small / ref)), hi = lo;
+  const double *dt = dtm_analysis_dt(a), *own = dtm_analysis_local_step(a), safety = dtm_analysis_scene(a)->safety;
   for (size_t i = 0; i < nel; i++) {
-    double v = hist_value(a, i, aimed);
-    if (isfinite(v) && (int)floor(log2(v / ref)) > hi) hi = (int)floor(log2(v / ref));
+    double v = aimed ? safety * own[i] : dt[i];
+    if (v < small) small = v; /* NaN: skipped, as fmin skips it */
+    if (isfinite(v) && v > big) big = v;
   }
+  if (!isfinite(small)) return;
+  /* the largest octave is the largest value's: log2 and the division keep the order */
+  int lo = dtm_octave(small / ref), hi = dtm_octave(big / ref);
+  hi = hi > lo ? hi : lo;
   int last = hi - lo < HIST_BINS ? hi - lo : HIST_BINS - 1;
   size_t count[HIST_BINS] = {0}, most = 1;
+#pragma omp parallel for schedule(static) reduction(+ : count[:HIST_BINS])
   for (size_t i = 0; i < nel; i++) {
-    double v = hist_value(a, i, aimed);
+    double v = aimed ? safety * own[i] : dt[i];
     if (!isfinite(v)) continue; /* no effect limits this element */
-    int d = (int)floor(log2(v / ref)) - lo;
+    int d = dtm_octave(v / ref) - lo;
     if (aimed && v < ref && lo + d >= 0) d = -1 - lo; /* below the target by a rounding: the bin under 1 */
     count[d < 0 ? 0 : d > last ? last : d]++;
   }
