@@ -295,6 +295,9 @@ DTM_EXPORT double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element);
  * the dt map, k = (n - 1) / 100 over its n finite steps (this part's in a
  * distributed run), s; NaN when none is finite. */
 DTM_EXPORT double dtm_analysis_dt_quantile(const dtm_analysis *a);
+/* The analysed mesh's nodes split into parts for scatters in parallel that
+ * add in the serial order (dtm_mesh_node_parts). */
+DTM_EXPORT const dtm_node_parts *dtm_analysis_node_parts(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_dt_nodal(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_dt_global(const dtm_analysis *a);
 DTM_EXPORT double dtm_analysis_recommended(const dtm_analysis *a);

@@ -137,6 +137,32 @@ DTM_EXPORT int dtm_mesh_check(dtm_mesh *m, const char *src);
  * plane. DTM_ERR_INPUT for non-finite coordinates, DTM_ERR_INTERNAL for a
  * node index beyond the mesh. */
 DTM_EXPORT int dtm_mesh_space_dim(const dtm_mesh *m, int *d);
+
+/* The nodes split into parts for a scatter in parallel that adds each
+ * node's contributions in the serial order (src/mesh/node_parts.c): part p
+ * owns the nodes [lo, hi) (dtm_mesh_node_part) and, in block b, walks first
+ * the list of elements from below that reach into it, then its core run
+ * [e0, e1) (dtm_mesh_node_part_elements), adding only into its own nodes:
+ * every element with a node in [lo, hi), in ascending order. A mesh not in
+ * locality order (dtm_mesh_reorder) gets one part, every element its core. */
+#define DTM_NODE_PARTS_MAX 256
+typedef struct {
+  int n;         /* parts */
+  int nblocks;   /* blocks of the mesh */
+  size_t nnodes; /* nodes of the mesh */
+  size_t *core;  /* [nblocks][n + 1]: part p's core run in block b, [core[p], core[p + 1]) */
+  size_t *at;    /* [nblocks][n + 1]: part p's listed elements, list[b][at[p] .. at[p + 1]) */
+  size_t **list; /* [nblocks]: the listed elements, each part's ascending */
+} dtm_node_parts;
+/* Split m's nodes into np parts (at most DTM_NODE_PARTS_MAX and the node
+ * count, at least 1); free with dtm_mesh_node_parts_free. */
+DTM_EXPORT int dtm_mesh_node_parts(const dtm_mesh *m, int np, dtm_node_parts *out);
+/* The nodes [lo, hi) of part p (hi = SIZE_MAX with one part). */
+DTM_EXPORT void dtm_mesh_node_part(const dtm_node_parts *parts, int p, size_t *lo, size_t *hi);
+/* The elements of block b part p walks: list[nlist], then [e0, e1). */
+DTM_EXPORT void dtm_mesh_node_part_elements(const dtm_node_parts *parts, int p, int b, const size_t **list,
+                                            size_t *nlist, size_t *e0, size_t *e1);
+DTM_EXPORT void dtm_mesh_node_parts_free(dtm_node_parts *parts);
 DTM_EXPORT void dtm_mesh_destroy(dtm_mesh **m);
 
 #endif

@@ -51,6 +51,8 @@ const double *dtm_analysis_effect_nodal(const dtm_analysis *a, int k) {
 
 double dtm_analysis_dt_quantile(const dtm_analysis *a) { return a->dt_q1; }
 
+const dtm_node_parts *dtm_analysis_node_parts(const dtm_analysis *a) { return &a->parts; }
+
 double dtm_analysis_dt_min(const dtm_analysis *a, size_t *element) {
   if (element) *element = a->el_min;
   return a->dt_min;

@@ -11,6 +11,12 @@
 #include "dtmap/gmsh.h"
 #include "dtmap/section.h"
 
+/* Node parts per thread of the ordered scatters (dtm_mesh_node_parts): a
+ * few per thread, taken dynamically, so that a thread slowed by the
+ * machine's other work does not hold the others up; 0 gives one part, the
+ * serial loop (tests compare the two bit for bit). */
+extern int dtm_scatter_parts;
+
 struct dtm_analysis {
   const dtm_scene *scene;       /* not owned */
   dtm_section_stats *sec_stats; /* [nsections] what dtm_analysis_sections returns, computed once */
@@ -46,6 +52,7 @@ struct dtm_analysis {
   double dt_min;              /* min of dt, s */
   size_t el_min;              /* its global element index */
   double dt_q1;               /* the 1 % quantile of the finite element steps of dt, s (NaN: none) */
+  dtm_node_parts parts;       /* the nodes split for the ordered scatters (nodal bound, size suggestion) */
   double *nodal_node;         /* [nnodes] nodal-bound step per node, min over the
                                  spectral effects, s (+inf: no spectral effect) */
   double **node_dt;           /* [neffects][nnodes] nodal-bound step of each

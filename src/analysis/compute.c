@@ -75,6 +75,8 @@ static int alloc_results(dtm_analysis *a) {
   return DTM_OK;
 }
 
+int dtm_scatter_parts = 4;
+
 static int setup(dtm_analysis *a) {
   dtm_mesh *m = a->mesh;
   a->offset = malloc(((size_t)m->nblocks + 1) * sizeof *a->offset);
@@ -82,6 +84,7 @@ static int setup(dtm_analysis *a) {
   a->offset[0] = 0;
   for (int b = 0; b < m->nblocks; b++) a->offset[b + 1] = a->offset[b] + m->blocks[b].n;
   a->nel = a->offset[m->nblocks];
+  DTM_CHECK(dtm_mesh_node_parts(m, dtm_scatter_parts > 0 ? dtm_scatter_parts * omp_get_max_threads() : 1, &a->parts));
   return alloc_results(a);
 }
 
@@ -411,6 +414,7 @@ void dtm_analysis_destroy(dtm_analysis **pa) {
   free(a->dt_effect);
   free(a->per_effect);
   free(a->offset);
+  dtm_mesh_node_parts_free(&a->parts);
   if (!a->dt_shared) free(a->dt);
   free(a->len);
   free(a->limiting);

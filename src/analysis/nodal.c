@@ -5,7 +5,8 @@
  * tiny mass is shared with their neighbours. Waves: dt_a = 2/sqrt(lambda_a),
  * times the smallest damping factor of the node's materials at
  * omega_a = sqrt(lambda_a); diffusion: dt_a = 2/lambda_a. One pass over the
- * elements (eigenvalues in parallel, the scatter serial). Shell and beam
+ * elements in parallel, each thread adding into its own part of the nodes
+ * in the elements' order (src/mesh/node_parts.c). Shell and beam
  * elements also carry rotations, whose lumped rotary inertia is the same
  * about every axis: K_e <= lambda_e M_e over all their unknowns gives the
  * same weighted mean over the rotary inertias J_{e,a}, and a node's bound
@@ -51,8 +52,6 @@ static int lambda_of(const dtm_analysis *a, int k, int type, const dtm_operator_
   return DTM_OK;
 }
 
-#define NODAL_CHUNK 65536 /* elements whose lambda_e and masses are held at once */
-
 /* The translational and rotary masses of shell or beam element e of block
  * b, kept by dtm_analysis_rotary (its kernel again for one it refused, to
  * raise the kernel's error), into w[nn] and mr[nn]; 0 when element e has no
@@ -70,32 +69,22 @@ static int structural_masses(const dtm_analysis *a, const dtm_operator_coeffs *c
   return DTM_OK;
 }
 
-/* lambda_e and the lumped contributions mw[e - e0][i] = capacity V w_i of
- * elements [e0, e1) of block b (and, when mrw is not NULL, the rotary
- * inertias mrw[e - e0][i] of shells and beams, 0 for the others). */
-static int block_lambdas(const dtm_analysis *a, int k, int b, size_t e0, size_t e1, const coeff_cache *cc, double *lam,
-                         double *mw, double *mrw) {
+/* lambda_e and the lumped contributions w[i] = capacity V w_i of element e
+ * of block b (and, when mr is not NULL, the rotary inertias mr[i] of shells
+ * and beams, 0 for the others). */
+static int element_masses(const dtm_analysis *a, int k, int b, size_t e, const coeff_cache *cc, double *lam, double *w,
+                          double *mr) {
   const dtm_block *blk = &a->mesh->blocks[b];
-  dtm_par_error pe = {0, ""};
-#pragma omp parallel for schedule(static)
-  for (size_t e = e0; e < e1; e++) {
-    double x[DTM_MAX_NODES * 3], *w = mw + (e - e0) * blk->nn;
-    dtm_mesh_gather_one(a->mesh, blk, e, x);
-    const dtm_operator_coeffs *c = &cc->c[dtm_analysis_slot(a, blk, e)];
-    int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, &lam[e - e0]), done;
-    double *mr = mrw ? mrw + (e - e0) * blk->nn : NULL;
-    if (mr) memset(mr, 0, (size_t)blk->nn * sizeof *mr);
-    if (r == DTM_OK) r = structural_masses(a, c, b, (size_t)e, x, w, mr, &done);
-    if (r) dtm_par_error_keep(&pe, r);
-    if (r || done) continue;
-    int model = c->kind == DTM_OP_ELASTIC ? c->mod.integration : DTM_INTEGRATION_CONVERGED;
-    double m = c->capacity * c->section_factor *
-               dtm_elem_lumped_at(blk->type, x, model, dtm_analysis_level(a, b, (size_t)e), w);
-    for (int i = 0; i < blk->nn; i++) w[i] *= m;
-  }
-  if (pe.code)
-    return DTM_ERR(DTM_ERR_INPUT, "nodal bound: a degenerate element in block %s: %s", dtm_elem_name(blk->type),
-                   pe.msg);
+  double x[DTM_MAX_NODES * 3];
+  dtm_mesh_gather_one(a->mesh, blk, e, x);
+  const dtm_operator_coeffs *c = &cc->c[dtm_analysis_slot(a, blk, e)];
+  int r = lambda_of(a, k, blk->type, c, x, a->offset[b] + e, lam), done = 0;
+  if (mr) memset(mr, 0, (size_t)blk->nn * sizeof *mr);
+  if (r == DTM_OK) r = structural_masses(a, c, b, e, x, w, mr, &done);
+  if (r || done) return r;
+  int model = c->kind == DTM_OP_ELASTIC ? c->mod.integration : DTM_INTEGRATION_CONVERGED;
+  double m = c->capacity * c->section_factor * dtm_elem_lumped_at(blk->type, x, model, dtm_analysis_level(a, b, e), w);
+  for (int i = 0; i < blk->nn; i++) w[i] *= m;
   return DTM_OK;
 }
 
@@ -107,41 +96,65 @@ static int block_coeffs(const dtm_analysis *a, int k, coeff_cache *cc, const dtm
   return DTM_OK;
 }
 
-/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over elements [e0, e1);
- * with rotations (mrw not NULL), num[nn + a] and den[nn + a] the same over
+/* Sums into the nodes [lo, hi) of the node arrays (nodes: their count):
+ * num[v] += lambda_e m_{e,v} and den[v] += m_{e,v} over element e of block
+ * b; with rotations (rot), num[nodes + v] and den[nodes + v] the same over
  * the rotary inertias. */
-static void scatter_chunk(const dtm_block *blk, size_t nnodes, size_t e0, size_t e1, const double *lam,
-                          const double *mw, const double *mrw, double *num, double *den) {
-  size_t nn = (size_t)blk->nn;
-  for (size_t e = e0; e < e1; e++)
-    for (size_t i = 0; i < nn; i++) {
-      size_t v = blk->conn[e * nn + i], j = (e - e0) * nn + i;
-      num[v] += lam[e - e0] * mw[j];
-      den[v] += mw[j];
-      if (!mrw || !(mrw[j] > 0)) continue;
-      num[nnodes + v] += lam[e - e0] * mrw[j];
-      den[nnodes + v] += mrw[j];
-    }
+typedef struct {
+  const dtm_analysis *a;
+  int k, b, rot;
+  const coeff_cache *cc;
+  size_t lo, hi;
+  double *num, *den;
+} node_sums;
+
+static int add_element(const node_sums *ns, size_t e) {
+  const dtm_block *blk = &ns->a->mesh->blocks[ns->b];
+  size_t nodes = ns->a->mesh->nnodes;
+  double lam, w[DTM_MAX_NODES], mr[DTM_MAX_NODES];
+  DTM_CHECK(element_masses(ns->a, ns->k, ns->b, e, ns->cc, &lam, w, ns->rot ? mr : NULL));
+  for (int i = 0; i < blk->nn; i++) {
+    size_t v = blk->conn[e * (size_t)blk->nn + (size_t)i];
+    if (v < ns->lo || v >= ns->hi) continue;
+    ns->num[v] += lam * w[i];
+    ns->den[v] += w[i];
+    if (!ns->rot || !(mr[i] > 0)) continue;
+    ns->num[nodes + v] += lam * mr[i];
+    ns->den[nodes + v] += mr[i];
+  }
+  return DTM_OK;
 }
 
-/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements, a chunk
- * at a time (the scatter is serial, in element order: with the mesh in
- * locality order it walks the node arrays nearly in sequence). */
+/* The sums of part p of a->parts over block b: its listed elements, then
+ * its core, in ascending order. */
+static void part_sums(node_sums ns, int p, dtm_par_error *pe) {
+  const size_t *list;
+  size_t nlist, e0, e1;
+  int r;
+  dtm_mesh_node_part(&ns.a->parts, p, &ns.lo, &ns.hi);
+  dtm_mesh_node_part_elements(&ns.a->parts, p, ns.b, &list, &nlist, &e0, &e1);
+  for (size_t j = 0; j < nlist; j++)
+    if ((r = add_element(&ns, list[j]))) dtm_par_error_keep(pe, r);
+  for (size_t e = e0; e < e1; e++)
+    if ((r = add_element(&ns, e))) dtm_par_error_keep(pe, r);
+}
+
+/* num[a] += lambda_e m_{e,a}, den[a] += m_{e,a} over the elements, a block
+ * at a time, each part of the nodes on a thread: each node's sums in the
+ * elements' order, the same bits as one thread walking the elements. */
 static int scatter(const dtm_analysis *a, int k, coeff_cache *cc, int rot, double *num, double *den) {
-  double *lam = malloc(NODAL_CHUNK * sizeof *lam), *mw = malloc(NODAL_CHUNK * DTM_MAX_NODES * sizeof *mw);
-  double *mrw = rot ? malloc(NODAL_CHUNK * DTM_MAX_NODES * sizeof *mrw) : NULL;
-  int r = lam && mw && (mrw || !rot) ? DTM_OK : DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  for (int b = 0; b < a->mesh->nblocks && r == DTM_OK; b++) {
+  for (int b = 0; b < a->mesh->nblocks; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
-    r = block_coeffs(a, k, cc, blk);
-    for (size_t e0 = 0; e0 < blk->n && r == DTM_OK; e0 += NODAL_CHUNK) {
-      size_t e1 = blk->n - e0 < NODAL_CHUNK ? blk->n : e0 + NODAL_CHUNK;
-      r = block_lambdas(a, k, b, e0, e1, cc, lam, mw, mrw);
-      if (r == DTM_OK) scatter_chunk(blk, a->mesh->nnodes, e0, e1, lam, mw, mrw, num, den);
-    }
+    node_sums ns = {a, k, b, rot, cc, 0, 0, num, den};
+    dtm_par_error pe = {0, ""};
+    DTM_CHECK(block_coeffs(a, k, cc, blk));
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int p = 0; p < a->parts.n; p++) part_sums(ns, p, &pe);
+    if (pe.code)
+      return DTM_ERR(DTM_ERR_INPUT, "nodal bound: a degenerate element in block %s: %s", dtm_elem_name(blk->type),
+                     pe.msg);
   }
-  free(lam), free(mw), free(mrw);
-  return r ? dtm_error_trace(r, __FILE__, __LINE__, __func__) : DTM_OK;
+  return DTM_OK;
 }
 
 /* Smallest damping factor over the materials of the elements around each

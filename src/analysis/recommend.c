@@ -85,6 +85,7 @@ int dtm_local_steps(dtm_analysis *a) {
   if (!a->local) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
   for (int b = 0; b < a->mesh->nblocks; b++) {
     const dtm_block *blk = &a->mesh->blocks[b];
+#pragma omp parallel for schedule(static)
     for (size_t e = 0; e < blk->n; e++) {
       size_t i = a->offset[b] + e;
       a->local[i] = INFINITY;

@@ -34,21 +34,36 @@ typedef struct {
   unsigned *count;  /* [nnodes] */
 } node_fields;
 
-static void gather_nodes(const dtm_analysis *a, node_fields *nf) {
-  const dtm_mesh *m = a->mesh;
-  for (int b = 0; b < m->nblocks; b++) {
-    const dtm_block *blk = &m->blocks[b];
-    for (size_t e = 0; e < blk->n; e++) {
-      size_t i = a->offset[b] + e;
-      for (int c = 0; c < blk->nn; c++) {
-        size_t v = blk->conn[e * blk->nn + c];
-        nf->h[v] += a->h[i], nf->count[v]++;
-        nf->hcap[v] = fmin(nf->hcap[v], a->hmax[i]);
-        for (int k = 0; k < a->neffects; k++)
-          if (nf->emin[k]) nf->emin[k][v] = fmin(nf->emin[k][v], a->dt_effect[k][i]);
-      }
-    }
+/* Element e of block b into its nodes in [lo, hi). */
+static void gather_element(const dtm_analysis *a, node_fields *nf, int b, size_t e, size_t lo, size_t hi) {
+  const dtm_block *blk = &a->mesh->blocks[b];
+  size_t i = a->offset[b] + e;
+  for (int c = 0; c < blk->nn; c++) {
+    size_t v = blk->conn[e * blk->nn + c];
+    if (v < lo || v >= hi) continue;
+    nf->h[v] += a->h[i], nf->count[v]++;
+    nf->hcap[v] = fmin(nf->hcap[v], a->hmax[i]);
+    for (int k = 0; k < a->neffects; k++)
+      if (nf->emin[k]) nf->emin[k][v] = fmin(nf->emin[k][v], a->dt_effect[k][i]);
   }
+}
+
+/* The sums and minima into the nodes of part p of a->parts, each node's in
+ * the elements' order (block by block: the listed elements, then the core). */
+static void gather_part(const dtm_analysis *a, node_fields *nf, int p) {
+  const size_t *list;
+  size_t lo, hi, nlist, e0, e1;
+  dtm_mesh_node_part(&a->parts, p, &lo, &hi);
+  for (int b = 0; b < a->mesh->nblocks; b++) {
+    dtm_mesh_node_part_elements(&a->parts, p, b, &list, &nlist, &e0, &e1);
+    for (size_t j = 0; j < nlist; j++) gather_element(a, nf, b, list[j], lo, hi);
+    for (size_t e = e0; e < e1; e++) gather_element(a, nf, b, e, lo, hi);
+  }
+}
+
+static void gather_nodes(const dtm_analysis *a, node_fields *nf) {
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int p = 0; p < a->parts.n; p++) gather_part(a, nf, p);
 }
 
 /* Nodes shared with other parts of a distributed run: the sums (size,
@@ -175,6 +190,7 @@ static int field(const dtm_analysis *a, double c, double *size, node_fields *nf)
   int r = alloc_fields(a, nf);
   if (r == DTM_OK) gather_nodes(a, nf);
   DTM_CHECK(exchange_fields(a, nf, r)); /* the nodes shared with other parts of a distributed run */
+#pragma omp parallel for schedule(static)
   for (size_t v = 0; v < a->mesh->nnodes; v++) suggest_node(a, nf, v, c, size);
   return DTM_OK;
 }

@@ -347,24 +347,58 @@ static int is_measured(const dtm_block *bl, size_t e, const slot *s) {
   return mt >= 0 && !(bl->section && bl->section[e] >= 0) && s[mt].t && s[mt].t->shape == DTM_LATTICE_MEASURED;
 }
 
-/* One pass of smooth_sizes: at each corner node the volume-weighted mean
- * of its elements' values v (summed in one thread: a node's sum is shared
- * by its elements), then at each element the mean over its nv corners (on
- * the OpenMP threads). sum and w: [nnodes] work arrays; w, the volumes
- * around each node, is the same at every pass: summed at the first
- * (first set) and kept. */
-static void smooth_pass(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, int nv, const slot *s, const double *meas,
-                        double *v, double *sum, double *w, int first) {
-  const size_t nn = (size_t)bl->nn;
-  memset(sum, 0, mesh->nnodes * sizeof *sum);
-  if (first) memset(w, 0, mesh->nnodes * sizeof *w);
-  for (size_t e = 0; e < bl->n; e++) {
-    if (!is_measured(bl, e, s)) continue;
-    double x = v[i0 + e], m = meas[i0 + e];
-    const size_t *c = bl->conn + e * nn;
-    for (int j = 0; j < nv; j++) sum[c[j]] += m * x;
-    for (int j = 0; first && j < nv; j++) w[c[j]] += m;
+/* Where smooth_pass sums: block b (bl, its first element i0, nv corners)
+ * of the mesh, the nodes split into parts (the analysis's), the element
+ * values v and measures meas, the node sums sum and w. */
+typedef struct {
+  const dtm_mesh *mesh;
+  const dtm_node_parts *parts;
+  const dtm_block *bl;
+  int b, nv, first;
+  size_t i0;
+  const slot *s;
+  const double *meas, *v;
+  double *sum, *w;
+} smooth_sums;
+
+/* Element e's value into its corners in [lo, hi). */
+static void smooth_element(const smooth_sums *ss, size_t e, size_t lo, size_t hi) {
+  if (!is_measured(ss->bl, e, ss->s)) return;
+  double x = ss->v[ss->i0 + e], m = ss->meas[ss->i0 + e];
+  const size_t *c = ss->bl->conn + e * (size_t)ss->bl->nn;
+  for (int j = 0; j < ss->nv; j++) {
+    if (c[j] < lo || c[j] >= hi) continue;
+    ss->sum[c[j]] += m * x;
+    if (ss->first) ss->w[c[j]] += m;
   }
+}
+
+/* The sums of part p's nodes: its listed elements, then its core. */
+static void smooth_part(const smooth_sums *ss, int p) {
+  const size_t *list;
+  size_t lo, hi, nlist, e0, e1;
+  dtm_mesh_node_part(ss->parts, p, &lo, &hi);
+  dtm_mesh_node_part_elements(ss->parts, p, ss->b, &list, &nlist, &e0, &e1);
+  for (size_t j = 0; j < nlist; j++) smooth_element(ss, list[j], lo, hi);
+  for (size_t e = e0; e < e1; e++) smooth_element(ss, e, lo, hi);
+}
+
+/* One pass of smooth_sizes: at each corner node the volume-weighted mean
+ * of its elements' values v (each part of the nodes summed on a thread of
+ * its own, each node's sum in the elements' order: the serial loop's
+ * bits), then at each element the mean over its nv corners. sum and w:
+ * [nnodes] work arrays; w, the volumes around each node, is the same at
+ * every pass: summed at the first (first set) and kept. */
+static void smooth_pass(const smooth_sums *ss, double *v) {
+  const dtm_block *bl = ss->bl;
+  const size_t nn = (size_t)bl->nn, i0 = ss->i0;
+  const int nv = ss->nv;
+  const slot *s = ss->s;
+  double *sum = ss->sum, *w = ss->w;
+  memset(sum, 0, ss->mesh->nnodes * sizeof *sum);
+  if (ss->first) memset(w, 0, ss->mesh->nnodes * sizeof *w);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int p = 0; p < ss->parts->n; p++) smooth_part(ss, p);
   const long long n = (long long)bl->n;
 #pragma omp parallel for schedule(static)
   for (long long e = 0; e < n; e++) {
@@ -382,13 +416,19 @@ static void smooth_pass(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, in
  * gives a mesh's error at the root mean square of its mean edges; a wave
  * crossing the mesh sees the elements within a fraction of its wavelength
  * so, not one element alone. sum and w: [nnodes] work arrays. */
-static void smooth_sizes(const dtm_mesh *mesh, const dtm_block *bl, size_t i0, const slot *s, const double *meas,
-                         const double *edge, double *hs, double *sum, double *w) {
+static void smooth_sizes(const dtm_analysis *a, int b, size_t i0, const slot *s, const double *meas, const double *edge,
+                         double *hs, double *sum, double *w) {
+  const dtm_mesh *mesh = dtm_analysis_mesh(a);
+  const dtm_block *bl = &mesh->blocks[b];
   int d, nv;
   dtm_elem_info(dtm_elem_parent(bl->type), &d, &nv);
-  for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = edge[i0 + e] * edge[i0 + e];
-  for (int p = 0; p < SMOOTH_PASSES; p++) smooth_pass(mesh, bl, i0, nv, s, meas, hs, sum, w, p == 0);
-  for (size_t e = 0; e < bl->n; e++) hs[i0 + e] = sqrt(hs[i0 + e]);
+  smooth_sums ss = {mesh, dtm_analysis_node_parts(a), bl, b, nv, 1, i0, s, meas, hs, sum, w};
+  const long long n = (long long)bl->n;
+#pragma omp parallel for schedule(static)
+  for (long long e = 0; e < n; e++) hs[i0 + (size_t)e] = edge[i0 + (size_t)e] * edge[i0 + (size_t)e];
+  for (int p = 0; p < SMOOTH_PASSES; p++, ss.first = 0) smooth_pass(&ss, hs);
+#pragma omp parallel for schedule(static)
+  for (long long e = 0; e < n; e++) hs[i0 + (size_t)e] = sqrt(hs[i0 + (size_t)e]);
 }
 
 /* Whether any slot of the block's materials takes the measured table. */
@@ -461,7 +501,7 @@ static int phase_errors(const dtm_analysis *a, phase_run *p, double *err, double
     const dtm_block *bl = &mesh->blocks[b];
     rc = prepare_block(a, p->f, p->freq, p->sr, bl, i0, &p->cache, s);
     if (rc) break;
-    if (any_measured(s, nmat)) smooth_sizes(mesh, bl, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
+    if (any_measured(s, nmat)) smooth_sizes(a, b, i0, s, p->meas, p->edge, p->hs, work, work + mesh->nnodes);
     p->measured_any |= any_measured(s, nmat);
     block_errors(bl, i0, s, p, err, &skip, &pwmin);
   }

@@ -53,18 +53,26 @@ int dtm_subcycling_levels(const double *own, size_t n, double b, dtm_subcycling 
   if (!sc->level) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory for the levels of %zu elements", n);
   int ok = b > 0 && isfinite(b), top = 0, infinite = 0;
   for (int k = 0; k < DTM_MAX_LEVELS; k++) at[k] = ldexp(b, k);
-  for (size_t i = 0; ok && i < n; i++) {
-    int inf = isinf(own[i]) && own[i] > 0, k = inf ? 0 : level_of(own[i], at);
-    sc->level[i] = k, infinite |= inf;
-    if (!inf && isfinite(own[i]) && k > top) top = k;
+  size_t count[DTM_MAX_LEVELS] = {0};
+  int nlevels = 0;
+  /* every loop is per element; the reductions are counts and maxima: any order gives the same */
+  if (ok) { /* else every element at level 0 */
+#pragma omp parallel for schedule(static) reduction(max : top) reduction(| : infinite)
+    for (size_t i = 0; i < n; i++) {
+      int inf = isinf(own[i]) && own[i] > 0, k = inf ? 0 : level_of(own[i], at);
+      sc->level[i] = k, infinite |= inf;
+      if (!inf && isfinite(own[i]) && k > top) top = k;
+    }
   }
-  for (size_t i = 0; infinite && i < n; i++) /* no finite step: the highest finite level */
-    if (isinf(own[i]) && own[i] > 0) sc->level[i] = top;
+#pragma omp parallel for schedule(static) reduction(+ : count[:DTM_MAX_LEVELS]) reduction(max : nlevels)
   for (size_t i = 0; i < n; i++) {
+    if (infinite && isinf(own[i]) && own[i] > 0) sc->level[i] = top; /* no finite step: the highest finite level */
     int k = sc->level[i];
-    sc->count[k]++;
-    if (k + 1 > sc->nlevels) sc->nlevels = k + 1;
+    count[k]++;
+    if (k + 1 > nlevels) nlevels = k + 1;
   }
+  memcpy(sc->count, count, sizeof count);
+  sc->nlevels = nlevels;
   sc->speedup = speedup_of(sc, n);
   sc->basis = b;
   return DTM_OK;
