@@ -8,9 +8,11 @@
  *   (the split's straddlers and the Hilbert curve's far neighbours, which
  *   are walked twice);
  * - a mesh in Gmsh's own order gets one part (the serial loop);
- * - the analysis's nodal steps and size suggestion on 3 threads with 4
- *   parts per thread are the bits of the serial loop (one part): each
- *   node's sums are added in the same order.
+ * - the analysis's nodal steps, size suggestion and local steps on 3
+ *   threads with 4 parts per thread are the bits of the serial loop (one
+ *   part): each node's sums are added in the same order; so are the cost's
+ *   subcycling levels and its phase-error measure, whose measured table
+ *   smooths each element's size over the nodes around it.
  * Tolerance: none (set equality, bitwise equality). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -24,6 +26,7 @@
 #include <string.h>
 
 #include "analysis-impl.h"
+#include "dtmap/cost.h"
 #include "dtmap/gmsh.h"
 #include "testutil.h"
 
@@ -119,6 +122,20 @@ static void same_bits(void **unused) {
   assert_memory_equal(par->nodal_node, ser->nodal_node, nn * sizeof *par->nodal_node);
   assert_memory_equal(par->size_node, ser->size_node, nn * sizeof *par->size_node);
   assert_memory_equal(par->local, ser->local, par->nel * sizeof *par->local);
+  dtm_cost *cp = NULL, *cs = NULL;
+  assert_int_equal(dtm_cost_create(par, &cp), 0);
+  assert_int_equal(dtm_cost_create(ser, &cs), 0);
+  assert_memory_equal(cp->subcycling.level, cs->subcycling.level, par->nel * sizeof *cp->subcycling.level);
+  assert_int_equal(cp->measures->n, cs->measures->n);
+  assert_true(cp->measures->n > 0);
+  const dtm_measure *mp = &cp->measures->m[0], *ms = &cs->measures->m[0];
+  assert_int_equal(mp->kind, DTM_MEASURE_PHASE);
+  assert_int_equal(mp->rings, 3); /* the measured table: its sizes smoothed over the nodes */
+  assert_memory_equal(&mp->worst, &ms->worst, sizeof mp->worst);
+  assert_memory_equal(&mp->median, &ms->median, sizeof mp->median);
+  assert_memory_equal(&mp->worst_alone, &ms->worst_alone, sizeof mp->worst_alone);
+  assert_int_equal(mp->worst_element, ms->worst_element);
+  dtm_cost_destroy(&cp), dtm_cost_destroy(&cs);
   dtm_analysis_destroy(&par), dtm_analysis_destroy(&ser);
   (void)unused;
 }
