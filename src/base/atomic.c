@@ -3,9 +3,10 @@
  * unnamed file (O_TMPFILE) in the target's directory, which the kernel
  * removes with the last descriptor, so a killed run (SIGKILL, the OOM
  * killer, a power cut) leaves no data behind; it is linked in as
- * .BASE.tmpPID<suffix> only once complete and at once renamed over the
- * target. On any failure it is dropped and the target, if it existed, is
- * untouched.
+ * .BASE.tmpPID<suffix> only once complete and at once put in place: swapped
+ * with the target when that is a regular file (the older file then removed
+ * from the temporary's name), else renamed over it. On any failure it is
+ * dropped and the target, if it existed, is untouched.
  *
  * Libraries (Gmsh, PLplot) write files by name, so the temporary also has
  * a name while it is open: .BASE.tmpPID<suffix>, a symbolic link to the
