@@ -373,7 +373,9 @@ static void smooth_element(const smooth_sums *ss, size_t e, size_t lo, size_t hi
   }
 }
 
-/* The sums of part p's nodes: its listed elements, then its core. */
+/* The sums of part p's nodes (its listed elements, then its core), then
+ * each node's mean, sum / w, in place of its sum: the quotient each
+ * element around the node read before, divided once per node. */
 static void smooth_part(const smooth_sums *ss, int p) {
   const size_t *list;
   size_t lo, hi, nlist, e0, e1;
@@ -381,12 +383,14 @@ static void smooth_part(const smooth_sums *ss, int p) {
   dtm_mesh_node_part_elements(ss->parts, p, ss->b, &list, &nlist, &e0, &e1);
   for (size_t j = 0; j < nlist; j++) smooth_element(ss, list[j], lo, hi);
   for (size_t e = e0; e < e1; e++) smooth_element(ss, e, lo, hi);
+  for (size_t v = lo; v < hi && v < ss->mesh->nnodes; v++) ss->sum[v] /= ss->w[v];
 }
 
 /* One pass of smooth_sizes: at each corner node the volume-weighted mean
  * of its elements' values v (each part of the nodes summed on a thread of
  * its own, each node's sum in the elements' order: the serial loop's
- * bits), then at each element the mean over its nv corners. sum and w:
+ * bits), then at each element the mean over its nv corners (sum holds the
+ * nodes' means then: nodes of no measured element get 0/0, never read). sum and w:
  * [nnodes] work arrays; w, the volumes around each node, is the same at
  * every pass: summed at the first (first set) and kept. */
 static void smooth_pass(const smooth_sums *ss, double *v) {
@@ -404,8 +408,7 @@ static void smooth_pass(const smooth_sums *ss, double *v) {
   for (long long e = 0; e < n; e++) {
     if (!is_measured(bl, (size_t)e, s)) continue;
     double x = 0;
-    for (int j = 0; j < nv; j++)
-      x += sum[bl->conn[(size_t)e * nn + (size_t)j]] / w[bl->conn[(size_t)e * nn + (size_t)j]];
+    for (int j = 0; j < nv; j++) x += sum[bl->conn[(size_t)e * nn + (size_t)j]];
     v[i0 + (size_t)e] = x / nv;
   }
 }

@@ -24,23 +24,31 @@
 #include "dtmap/kernel.h"
 #include "dtmap/mesh.h"
 
-/* The part that holds node v of nn split into np: the largest p with
- * lo(p) = p nn / np <= v. */
-static int part_of(size_t v, size_t nn, int np) { return (int)(((v + 1) * (size_t)np + nn - 1) / nn) - 1; }
+/* The split: part p owns the nodes [bound[p], bound[p + 1]), bound[p] =
+ * p nn / np (dtm_mesh_node_part). */
+typedef struct {
+  int np;
+  const size_t *bound; /* [np + 1] */
+} split;
+
+/* The part that holds node v: the last p with bound[p] <= v. */
+static int part_of(const split *sp, size_t v) {
+  int lo = 0, hi = sp->np - 1;
+  while (lo < hi) {
+    int mid = (lo + hi + 1) / 2;
+    if (sp->bound[mid] <= v)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
 
 static size_t smallest_node(const dtm_block *b, size_t e) {
   const size_t *c = b->conn + e * (size_t)b->nn;
   size_t lo = c[0];
   for (int k = 1; k < b->nn; k++) lo = c[k] < lo ? c[k] : lo;
   return lo;
-}
-
-/* Whether block b's elements are in the order of their smallest node. */
-static int sorted_block(const dtm_block *b) {
-  int ok = 1;
-#pragma omp parallel for schedule(static) reduction(&& : ok)
-  for (size_t e = 1; e < b->n; e++) ok = ok && smallest_node(b, e - 1) <= smallest_node(b, e);
-  return ok;
 }
 
 /* The first element of sorted block b whose smallest node is at least v. */
@@ -56,13 +64,14 @@ static size_t first_at(const dtm_block *b, size_t v) {
   return lo;
 }
 
-/* The parts other than its core part q that element e reaches into, into
- * reach (ascending, distinct); their count. */
-static int reached(const dtm_block *b, size_t e, size_t nn, int np, int q, int *reach) {
+/* The parts above its core part q that element e reaches into, into reach
+ * (ascending, distinct); their count. Most nodes lie in q: one comparison. */
+static int reached(const dtm_block *b, size_t e, const split *sp, int q, int *reach) {
   int n = 0;
   for (int k = 0; k < b->nn; k++) {
-    int p = part_of(b->conn[e * (size_t)b->nn + (size_t)k], nn, np), i = n;
-    if (p == q) continue;
+    size_t v = b->conn[e * (size_t)b->nn + (size_t)k];
+    if (v < sp->bound[q + 1]) continue;
+    int p = part_of(sp, v), i = n;
     while (i > 0 && reach[i - 1] > p) i--;
     if (i > 0 && reach[i - 1] == p) continue;
     memmove(reach + i + 1, reach + i, (size_t)(n - i) * sizeof *reach);
@@ -78,30 +87,42 @@ static void chunk(const dtm_block *b, int c, size_t *e0, size_t *e1) {
 }
 
 /* Count (list NULL) or write, at next[part], the elements of chunk c that
- * reach into a part from below. */
-static void reaching_chunk(const dtm_block *b, size_t nn, int np, int c, size_t *next, size_t *list) {
-  size_t e0, e1;
+ * reach into a part from below; 0 when an element's smallest node is below
+ * the one before it (the block is not in locality order), else 1. */
+static int reaching_chunk(const dtm_block *b, const split *sp, int c, size_t *next, size_t *list) {
+  size_t e0, e1, prev;
   int reach[DTM_MAX_NODES];
   chunk(b, c, &e0, &e1);
+  prev = e0 < e1 && e0 > 0 ? smallest_node(b, e0 - 1) : 0;
+  int q = part_of(sp, prev);
   for (size_t e = e0; e < e1; e++) {
-    int n = reached(b, e, nn, np, part_of(smallest_node(b, e), nn, np), reach);
+    size_t mn = smallest_node(b, e);
+    if (mn < prev) return 0;
+    prev = mn;
+    while (mn >= sp->bound[q + 1]) q++;
+    int n = reached(b, e, sp, q, reach);
     for (int i = 0; i < n; i++)
       if (list)
         list[next[reach[i]]++] = e;
       else
         next[reach[i]]++;
   }
+  return 1;
 }
 
 /* The elements of block b that reach into a part from below, each part's
  * in ascending order: counted per chunk, then written from each chunk's
  * offsets (the chunks fixed, whatever the threads). at[np + 1] gets the
- * offsets into *list. */
-static int list_reaching(const dtm_block *b, size_t nn, int np, size_t *at, size_t **list) {
+ * offsets into *list; *sorted 0 (and no list) when the block is not in
+ * locality order. */
+static int list_reaching(const dtm_block *b, const split *sp, size_t *at, size_t **list, int *sorted) {
+  int np = sp->np, ok = 1;
   size_t *count = calloc((size_t)NCHUNKS * (size_t)np + 1, sizeof *count), total = 0;
   if (!count) return DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int c = 0; c < NCHUNKS; c++) reaching_chunk(b, nn, np, c, count + (size_t)c * (size_t)np, NULL);
+#pragma omp parallel for schedule(dynamic, 1) reduction(&& : ok)
+  for (int c = 0; c < NCHUNKS; c++) ok = reaching_chunk(b, sp, c, count + (size_t)c * (size_t)np, NULL) && ok;
+  *sorted = ok;
+  if (!ok) return free(count), DTM_OK;
   for (int p = 0; p < np; p++) {
     at[p] = total;
     for (int c = 0; c < NCHUNKS; c++) {
@@ -113,17 +134,18 @@ static int list_reaching(const dtm_block *b, size_t nn, int np, size_t *at, size
   *list = malloc((total + 1) * sizeof **list);
   if (!*list) return free(count), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
 #pragma omp parallel for schedule(dynamic, 1)
-  for (int c = 0; c < NCHUNKS; c++) reaching_chunk(b, nn, np, c, count + (size_t)c * (size_t)np, *list);
+  for (int c = 0; c < NCHUNKS; c++) reaching_chunk(b, sp, c, count + (size_t)c * (size_t)np, *list);
   free(count);
   return DTM_OK;
 }
 
-static int split_block(const dtm_block *b, size_t nn, dtm_node_parts *out, int bi) {
-  int np = out->n;
+static int split_block(const dtm_block *b, const split *sp, dtm_node_parts *out, int bi, int *sorted) {
+  int np = sp->np;
   size_t *core = out->core + (size_t)bi * (size_t)(np + 1), *at = out->at + (size_t)bi * (size_t)(np + 1);
-  for (int p = 0; p < np; p++) core[p] = first_at(b, (size_t)p * nn / (size_t)np);
+  DTM_CHECK(list_reaching(b, sp, at, &out->list[bi], sorted));
+  for (int p = 0; *sorted && p < np; p++) core[p] = first_at(b, sp->bound[p]);
   core[0] = 0, core[np] = b->n;
-  return list_reaching(b, nn, np, at, &out->list[bi]);
+  return DTM_OK;
 }
 
 /* One part: every block's elements its core, none listed. */
@@ -147,14 +169,18 @@ int dtm_mesh_node_parts(const dtm_mesh *m, int np, dtm_node_parts *out) {
   out->list = calloc(nb, sizeof *out->list);
   if (!out->core || !out->at || !out->list)
     return dtm_mesh_node_parts_free(out), DTM_ERR(DTM_ERR_INTERNAL, "out of memory");
-  int sorted = np > 1;
-  for (int b = 0; b < m->nblocks && sorted; b++) sorted = sorted_block(&m->blocks[b]);
-  if (!sorted) return one_part(m, out);
-  for (int b = 0; b < m->nblocks; b++) {
-    int r = split_block(&m->blocks[b], m->nnodes, out, b);
+  if (np == 1) return one_part(m, out);
+  size_t bound[DTM_NODE_PARTS_MAX + 1];
+  for (int p = 0; p <= np; p++) bound[p] = (size_t)p * m->nnodes / (size_t)np;
+  split sp = {np, bound};
+  int sorted = 1;
+  for (int b = 0; b < m->nblocks && sorted; b++) {
+    int r = split_block(&m->blocks[b], &sp, out, b, &sorted);
     if (r) return dtm_mesh_node_parts_free(out), r;
   }
-  return DTM_OK;
+  if (sorted) return DTM_OK;
+  for (int b = 0; b < m->nblocks; b++) free(out->list[b]), out->list[b] = NULL;
+  return one_part(m, out);
 }
 
 void dtm_mesh_node_part(const dtm_node_parts *parts, int p, size_t *lo, size_t *hi) {
