@@ -46,19 +46,6 @@ static void listing(char *buf, size_t len) {
   free(e);
 }
 
-static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = malloc(*n + 1);
-  assert_int_equal(fread(b, 1, *n, f), *n);
-  fclose(f);
-  b[*n] = '\0';
-  return b;
-}
-
 /* Write n bytes of fill through an atomic output at path. */
 static int put(const char *path, size_t n, char fill) {
   dtm_atomic w;
@@ -70,7 +57,7 @@ static int put(const char *path, size_t n, char fill) {
 
 static void holds(const char *path, size_t n, char fill) {
   size_t got;
-  char *b = slurp(path, &got);
+  char *b = tu_slurp(path, &got);
   assert_int_equal(got, n);
   for (size_t i = 0; i < n; i++) assert_int_equal(b[i], fill + (char)(i % 7));
   free(b);

@@ -30,20 +30,6 @@
 
 static void tmp_path(char *buf, size_t len, const char *name) { snprintf(buf, len, "%s/%s", tu_tmpdir(), name); }
 
-/* The whole file (caller frees), its size in *n. */
-static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *buf = malloc(*n + 1);
-  assert_int_equal(fread(buf, 1, *n, f), *n);
-  buf[*n] = '\0';
-  fclose(f);
-  return buf;
-}
-
 static int contains(const char *buf, size_t n, const char *what) {
   size_t k = strlen(what);
   for (size_t i = 0; i + k <= n; i++)
@@ -134,7 +120,7 @@ static void round_trip(int format, const char *header) {
   dtm_output_opts o = {format, 0, 0, 0};
   assert_int_equal(dtm_output_write_ex(&res, out, &o), 0);
   size_t n;
-  char *buf = slurp(out, &n);
+  char *buf = tu_slurp(out, &n);
   assert_int_equal(strncmp(buf, header, strlen(header)), 0);
   assert_true(contains(buf, n, "$Nodes"));
   free(buf);
@@ -201,7 +187,7 @@ static void views_only(void **unused) {
     gmshOpen(in, &ierr); /* the analysis' model, as dtmap run leaves it */
     assert_int_equal(dtm_output_write_ex(&res, out, &o), 0);
     size_t n;
-    char *buf = slurp(out, &n);
+    char *buf = tu_slurp(out, &n);
     assert_false(contains(buf, n, "$Nodes"));
     assert_false(contains(buf, n, "$Elements"));
     free(buf);
@@ -250,7 +236,7 @@ static void cli_format_words(void **unused) {
   size_t n;
   char out[600];
   tmp_path(out, sizeof out, "cli_out.msh");
-  char *buf = slurp(out, &n);
+  char *buf = tu_slurp(out, &n);
   assert_int_equal(strncmp(buf, "$MeshFormat\n4.1 1 8\n", 20), 0); /* the scene's <output format="binary"> */
   free(buf);
   assert_int_equal(tu_run(&log, "cd %s && %s run %s --views-only --png p -q", tu_tmpdir(), tu_cli(), scene), 2);

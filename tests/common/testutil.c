@@ -68,6 +68,20 @@ void tu_write(const char *path, const char *text) {
   }
 }
 
+char *tu_slurp(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  long size = f && !fseek(f, 0, SEEK_END) ? ftell(f) : -1;
+  char *buf = size >= 0 ? malloc((size_t)size + 1) : NULL;
+  if (!buf || fseek(f, 0, SEEK_SET) || fread(buf, 1, (size_t)size, f) != (size_t)size) {
+    fprintf(stderr, "cannot read %s\n", path);
+    abort();
+  }
+  fclose(f);
+  buf[size] = '\0';
+  *n = (size_t)size;
+  return buf;
+}
+
 void tu_remove_tree(const char *path) {
   DIR *d = opendir(path);
   struct dirent *e;

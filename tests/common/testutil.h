@@ -19,6 +19,9 @@ const char *tu_cli(void);
 const char *tu_tmpdir(void);
 /* Write text to path (aborts the test program on failure). */
 void tu_write(const char *path, const char *text);
+/* The whole file at path (malloc'ed, NUL-terminated), its size in *n
+ * (aborts the test program when it cannot be read). */
+char *tu_slurp(const char *path, size_t *n);
 int tu_exists(const char *path);
 /* Remove a directory tree (files and subdirectories; links not followed). */
 void tu_remove_tree(const char *path);
