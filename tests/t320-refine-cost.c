@@ -82,18 +82,6 @@ static void beam(void **unused) {
   (void)unused;
 }
 
-static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
-  assert_non_null(f);
-  fseek(f, 0, SEEK_END);
-  *n = (size_t)ftell(f);
-  rewind(f);
-  char *b = malloc(*n + 1);
-  assert_int_equal(fread(b, 1, *n, f), *n);
-  fclose(f);
-  return b;
-}
-
 /* A scene with <output mesh report> and a <time target>: run writes its
  * files, refine without -o, --report or --target writes X_refined.* beside
  * them for the scene's target and leaves run's files as they were. */
@@ -116,12 +104,12 @@ static void defaults(void **unused) {
   assert_int_equal(tu_run(&log, "%s run %s -q", tu_cli(), scene), 0);
   free(log);
   size_t n0, n1, m0, m1;
-  char *before = slurp(dt, &n0), *jbefore = slurp(js, &m0);
+  char *before = tu_slurp(dt, &n0), *jbefore = tu_slurp(js, &m0);
   int code = tu_run(&log, "%s refine %s -q", tu_cli(), scene);
   free(log);
   assert_true(code == 0 || code == 1);
   assert_true(tu_exists(rdt) && tu_exists(rjs));
-  char *after = slurp(dt, &n1), *jafter = slurp(js, &m1);
+  char *after = tu_slurp(dt, &n1), *jafter = tu_slurp(js, &m1);
   assert_true(n0 == n1 && !memcmp(before, after, n0));
   assert_true(m0 == m1 && !memcmp(jbefore, jafter, m0));
   cJSON *j = tu_json_load(rjs);

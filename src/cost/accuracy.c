@@ -349,7 +349,7 @@ static int is_measured(const dtm_block *bl, size_t e, const slot *s) {
 
 /* Where smooth_pass sums: block b (bl, its first element i0, nv corners)
  * of the mesh, the nodes split into parts (the analysis's), the element
- * values v and measures meas, the node sums sum and w. */
+ * values v (smoothed in place) and measures meas, the node sums sum and w. */
 typedef struct {
   const dtm_mesh *mesh;
   const dtm_node_parts *parts;
@@ -357,8 +357,8 @@ typedef struct {
   int b, nv, first;
   size_t i0;
   const slot *s;
-  const double *meas, *v;
-  double *sum, *w;
+  const double *meas;
+  double *v, *sum, *w;
 } smooth_sums;
 
 /* Element e's value into its corners in [lo, hi). */
@@ -393,12 +393,12 @@ static void smooth_part(const smooth_sums *ss, int p) {
  * nodes' means then: nodes of no measured element get 0/0, never read). sum and w:
  * [nnodes] work arrays; w, the volumes around each node, is the same at
  * every pass: summed at the first (first set) and kept. */
-static void smooth_pass(const smooth_sums *ss, double *v) {
+static void smooth_pass(const smooth_sums *ss) {
   const dtm_block *bl = ss->bl;
   const size_t nn = (size_t)bl->nn, i0 = ss->i0;
   const int nv = ss->nv;
   const slot *s = ss->s;
-  double *sum = ss->sum, *w = ss->w;
+  double *v = ss->v, *sum = ss->sum, *w = ss->w;
   memset(sum, 0, ss->mesh->nnodes * sizeof *sum);
   if (ss->first) memset(w, 0, ss->mesh->nnodes * sizeof *w);
 #pragma omp parallel for schedule(dynamic, 1)
@@ -429,7 +429,7 @@ static void smooth_sizes(const dtm_analysis *a, int b, size_t i0, const slot *s,
   const long long n = (long long)bl->n;
 #pragma omp parallel for schedule(static)
   for (long long e = 0; e < n; e++) hs[i0 + (size_t)e] = edge[i0 + (size_t)e] * edge[i0 + (size_t)e];
-  for (int p = 0; p < SMOOTH_PASSES; p++, ss.first = 0) smooth_pass(&ss, hs);
+  for (int p = 0; p < SMOOTH_PASSES; p++, ss.first = 0) smooth_pass(&ss);
 #pragma omp parallel for schedule(static)
   for (long long e = 0; e < n; e++) hs[i0 + (size_t)e] = sqrt(hs[i0 + (size_t)e]);
 }
