@@ -4,7 +4,9 @@
  *     table's lane-by-lane gradients dN4) against dtm_map_eval_valid at
  *     each point of every group of tet10's levelled tables 5 to 8, on
  *     curved elements and on one inverted near a node: gradients, dv, det J
- *     and the first lane that fails, all equal bit for bit;
+ *     and the first lane that fails, all equal bit for bit; also on flat
+ *     elements about the validity threshold, where the map at four points
+ *     takes its shortcut or not;
  *   - det J alone (dtm_map_dv_dn4) against dtm_map_dv_dn, and det J with
  *     its Hadamard bound (dtm_map_det_dn4, the Bezier bound's root
  *     lattice) against dtm_map_det_dn;
@@ -19,6 +21,7 @@
  *     the plain loop at every point.
  * Tolerance: none, bitwise: each lane does the scalar operations in the
  * scalar order, and the tiles keep each entry's additions in order. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -97,6 +100,36 @@ static void test_map_four_points(void **state) {
   }
 }
 
+/* Near the validity threshold: flat tet10 whose det J at the points is
+ * c 32 eps times the Hadamard bound, c from 0.3 to 9 (the corners' height
+ * s; the mid-edge nodes moved by up to 0.4 s across, so that det J differs
+ * from point to point and from lane to lane). The map at four points
+ * skips the square roots where every lane clears the threshold by a
+ * factor of 2: about c = 1 the scalar test decides, about c = 2 the
+ * shortcut's own test; both are crossed, and every group's first failing
+ * lane must be the scalar path's. */
+static void test_map_threshold(void **state) {
+  (void)state;
+  int failing = 0, groups = 0;
+  for (double c = 0.3; c < 9; c *= 1.07) {
+    double s = c * 32 * DBL_EPSILON * sqrt(0.5), x[30], xl[10][3];
+    assert_int_equal(dtm_elem_regular(DTM_TET10, 1.0, x), DTM_OK);
+    static const double corner[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
+    static const int edge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}}; /* Gmsh's tet10 order */
+    for (int a = 0; a < 10; a++)
+      for (int i = 0; i < 3; i++) {
+        double v = a < 4 ? corner[a][i] : 0.5 * (corner[edge[a - 4][0]][i] + corner[edge[a - 4][1]][i]);
+        xl[a][i] = i == 2 ? s * (v + (a >= 4 ? 0.4 * sin(1.7 * a + c) : 0)) : v;
+      }
+    for (int level = 5; level <= DTM_K_LEVEL_MAX; level++) {
+      const dtm_ref_table *t = dtm_ref_level_table(DTM_TET10, level);
+      assert_non_null(t);
+      failing += compare_map(t, (const double(*)[3])xl), groups += t->q.n / 4;
+    }
+  }
+  assert_true(failing > 0 && failing < groups); /* both sides of the threshold were seen */
+}
+
 /* U += (g_x dv) g_y, point after point: the order the scalar path adds. */
 static void plain_sum(int nd, int np, const double (*g)[DTM_GRAM_W], const double *dv, double *U, int reverse) {
   for (int q = 0; q < np; q++) {
@@ -171,6 +204,7 @@ int main(int argc, char **argv) {
   (void)argc, (void)argv;
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_map_four_points),
+      cmocka_unit_test(test_map_threshold),
       cmocka_unit_test(test_gram_block),
       cmocka_unit_test(test_walk),
   };

@@ -134,6 +134,10 @@ int dtm_map_eval_valid(int d, int nn, const double (*xl)[3], const double (*dN)[
  * about a third of a curved element's level search: in lanes, a quarter of
  * the instructions. */
 typedef dtm_v4d v4d;
+/* The same vector at any double's address: a row of g need not be 32-byte
+ * aligned. (memcpy of one was expanded as two 16-byte moves through the
+ * stack.) */
+typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
 
 /* The Jacobians J of the four points whose reference gradients are D
  * (lane by lane: a table's dN4) and det J (dtm_mat_det's expression) into
@@ -161,10 +165,10 @@ static inline __attribute__((always_inline)) void jacobian4(int nn, const double
 /* Entries e .. e + 3 of the four points' rows g[l] from four vectors x
  * (x[c] lane l: point l's entry e + c): a 4 x 4 transpose in registers and
  * four stores, instead of sixteen single stores through the stack. */
+typedef long long v4l __attribute__((vector_size(32)));
 #if defined(__clang__)
 #define SHUFFLE(a, b, i, j, k, l) __builtin_shufflevector(a, b, i, j, k, l)
 #else
-typedef long long v4l __attribute__((vector_size(32)));
 #define SHUFFLE(a, b, i, j, k, l) __builtin_shuffle(a, b, (v4l){i, j, k, l})
 #endif
 static inline __attribute__((always_inline)) void store4(const v4d *x, double *const g[4], int e) {
@@ -172,17 +176,22 @@ static inline __attribute__((always_inline)) void store4(const v4d *x, double *c
   v4d t2 = SHUFFLE(x[2], x[3], 0, 4, 2, 6), t3 = SHUFFLE(x[2], x[3], 1, 5, 3, 7);
   v4d r[4] = {SHUFFLE(t0, t2, 0, 1, 4, 5), SHUFFLE(t1, t3, 0, 1, 4, 5), SHUFFLE(t0, t2, 2, 3, 6, 7),
               SHUFFLE(t1, t3, 2, 3, 6, 7)};
-  for (int l = 0; l < 4; l++) memcpy(g[l] + e, &r[l], sizeof r[l]);
+#pragma GCC unroll 4
+  for (int l = 0; l < 4; l++) *(v4du *)(g[l] + e) = r[l]; /* one unaligned vector store each */
 }
 #undef SHUFFLE
 
 /* dtm_mat_hadamard lane by lane: the product of the column lengths. */
 static inline __attribute__((always_inline)) void hadamard4(const v4d J[3][3], double *had) {
   v4d c[3];
+#pragma GCC unroll 3
   for (int j = 0; j < 3; j++) c[j] = (v4d){0, 0, 0, 0};
+#pragma GCC unroll 3
   for (int j = 0; j < 3; j++)
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) c[j] += J[i][j] * J[i][j];
   v4d h = {1, 1, 1, 1}; /* the scalar path's 1 * sqrt(c0) * sqrt(c1) * sqrt(c2), lane by lane */
+#pragma GCC unroll 3
   for (int j = 0; j < 3; j++) {
     v4d r;
     for (int l = 0; l < 4; l++) r[l] = sqrt(c[j][l]); /* one vector square root (-fno-math-errno: CMakeLists.txt) */
@@ -191,20 +200,49 @@ static inline __attribute__((always_inline)) void hadamard4(const v4d J[3][3], d
   for (int l = 0; l < 4; l++) had[l] = h[l];
 }
 
-static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *const g[4],
-                                 double *dv, double *det, double *had) {
+/* Whether each lane's det J passes dtm_map_eval_valid's test, dj > 32 eps
+ * times the Hadamard bound had = sqrt(c0) sqrt(c1) sqrt(c2) (c_j the
+ * squared column lengths of J) and finite; the first lane that does not,
+ * or -1. Lanes that pass dj^2 > 4 (32 eps)^2 c0 c1 c2 with both sides
+ * normal and finite pass that test too (the factor 4 covers every
+ * rounding of both sides: at most 8 ulps), so the square roots are taken
+ * only when a lane does not clear it by that margin: then the test is
+ * dtm_map_eval_valid's, lane by lane, in the points' order. */
+static inline __attribute__((always_inline)) int first_bad4(const v4d J[3][3], v4d dj) {
+  const double k4 = 4 * (32 * DBL_EPSILON) * (32 * DBL_EPSILON), lo = 0x1p-900;
+  v4d c[3];
+#pragma GCC unroll 3
+  for (int j = 0; j < 3; j++) c[j] = J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j];
+  v4d p = c[0] * c[1] * c[2], q = dj * dj;
+  v4l clear = (dj > 0) & (p >= lo) & (q < INFINITY) & (q > k4 * p); /* lanes -1 where true */
+  if ((clear[0] & clear[1] & clear[2] & clear[3]) == -1) return -1;
+  double had[4], det[4];
+  hadamard4(J, had);
+  for (int l = 0; l < 4; l++) det[l] = dj[l];
+  for (int l = 0; l < 4; l++)
+    if (!(det[l] > 32 * DBL_EPSILON * had[l] && isfinite(det[l]))) return l;
+  return -1;
+}
+
+/* The map at four points (see above) for elements of nn nodes. */
+static inline __attribute__((always_inline)) int eval4_nodes(int nn, const double (*xl)[3], const v4d (*D)[3],
+                                                             const double *wq, double *const g[4], double *dv,
+                                                             double *det) {
   v4d J[3][3], K[3][3];
   v4d dj;
   jacobian4(nn, xl, D, J, &dj);
-  hadamard4(J, had);
+  int bad = first_bad4(J, dj);
   for (int l = 0; l < 4; l++) det[l] = dj[l];
+#pragma GCC unroll 3
   for (int i = 0; i < 3; i++)
+#pragma GCC unroll 3
     for (int j = 0; j < 3; j++) {
       int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
     }
   v4d x[3 * DTM_K_NODES]; /* x[3 a + i]: the gradients g_ai of the four points */
   for (int a = 0; a < nn; a++)
+#pragma GCC unroll 3
     for (int i = 0; i < 3; i++) x[3 * a + i] = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
   int e = 0;
   for (; e + 4 <= 3 * nn; e += 4) store4(x + e, g, e);
@@ -212,6 +250,15 @@ static DTM_KERNEL_AVX void eval4(int nn, const double (*xl)[3], const v4d (*D)[3
     for (int l = 0; l < 4; l++) g[l][e] = x[e][l];
   v4d w = {wq[0], wq[1], wq[2], wq[3]}, v = dj * w;
   for (int l = 0; l < 4; l++) dv[l] = v[l];
+  return bad;
+}
+
+/* tet10 (the curved elements' search) with its node count a constant, so
+ * that every loop unrolls. */
+static DTM_KERNEL_AVX int eval4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *const g[4],
+                                double *dv, double *det) {
+  if (nn == 10) return eval4_nodes(10, xl, D, wq, g, dv, det);
+  return eval4_nodes(nn, xl, D, wq, g, dv, det);
 }
 
 static DTM_KERNEL_AVX void dv4(int nn, const double (*xl)[3], const v4d (*D)[3], const double *wq, double *dv) {
@@ -239,9 +286,5 @@ void dtm_map_det_dn4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], doubl
 
 int dtm_map_eval_valid4(int nn, const double (*xl)[3], const dtm_v4d (*D)[3], const double *wq, double *const g[4],
                         double *dv, double *dj) {
-  double had[4];
-  eval4(nn, xl, D, wq, g, dv, dj, had);
-  for (int l = 0; l < 4; l++) /* dtm_map_eval_valid's test, in the points' order */
-    if (!(dj[l] > 32 * DBL_EPSILON * had[l] && isfinite(dj[l]))) return l;
-  return -1;
+  return eval4(nn, xl, D, wq, g, dv, dj);
 }
