@@ -8,7 +8,8 @@
  *    first pivot zero), a multiple top (the bisection's end) and short
  *    groups in the other lanes, n from 13 to 81;
  *  - groups of 1 to 4 random elements of every type the lanes take (tet10
- *    straight and curved, hex8, prism6, pyr5, quad8) whose sizes (1e-3 to
+ *    straight and curved side by side, whose groups go straight into the
+ *    packed lanes, hex8, prism6, pyr5, quad8) whose sizes (1e-3 to
  *    1e3 m), materials and Poisson ratios differ wildly side by side, with
  *    their levels kept or searched; an element that fails in the middle of
  *    a group;

@@ -213,7 +213,8 @@ void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3]
 /* ---- the same, straight into the eigenvalue solver's packed lanes ----
  * dtm_affine_elastic_lanes, then the mass scaling of generic.c
  * (K_ij r_i r_j with r = (rho m)^-1/2), then the largest |entry| and the
- * division by it that dtm_eig_sym_max_tridiag_lanes does, without the
+ * division by it (dtm_packed_divide) that dtm_eig_sym_max_tridiag_lanes
+ * does, without the
  * 30 x 30 matrices between them: each block's lower triangle is scaled
  * as it is formed and stored in the packed rows. The values are those
  * the matrices held (their lower triangle: block (a, a) holds v_ij, i >=
@@ -265,12 +266,15 @@ __attribute__((target("avx"))) static void divide4_avx(v4d *A, const v4d *keep, 
 }
 #endif
 
-int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
-                              dtm_v4d *A, double *s) {
+int dtm_affine_elastic_pack(const int *use, const double *dj, const double (*Ji)[3][3],
+                            const dtm_elastic_moduli *const *m, dtm_v4d *A, double *top) {
   const affine_ref *r = reference(DTM_TET10, 10);
-  v4d J4[3][3], lm[2], R[30], top, bad, keep;
+  v4d J4[3][3], lm[2], R[30], mx, bad;
+  int first = 0;
+  while (first < 4 && !use[first]) first++;
+  if (first == 4) return 1;
   for (int l = 0; l < 4; l++) {
-    int k = l < count ? l : 0; /* a short group repeats element 0 in the idle lanes */
+    int k = use[l] ? l : first; /* a lane not used repeats the first one used */
     lm[0][l] = dj[k] * m[k]->lam, lm[1][l] = dj[k] * m[k]->mu;
     for (int q = 0; q < 3; q++)
       for (int j = 0; j < 3; j++) J4[q][j][l] = Ji[k][q][j];
@@ -283,13 +287,20 @@ int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3]
   }
 #if defined(__x86_64__) && defined(__GNUC__)
   if (__builtin_cpu_supports("avx"))
-    packed4_avx(r, (const v4d(*)[3])J4, lm, R, A, &top, &bad);
+    packed4_avx(r, (const v4d(*)[3])J4, lm, R, A, &mx, &bad);
   else
 #endif
-    packed4(r, (const v4d(*)[3])J4, lm, R, A, &top, &bad);
+    packed4(r, (const v4d(*)[3])J4, lm, R, A, &mx, &bad);
+  for (int l = 0; l < 4; l++)
+    if (use[l]) top[l] = bad[l] == 0 ? mx[l] : NAN; /* dtm_eig_sym_max_tridiag_lanes' max_abs */
+  return 1;
+}
+
+void dtm_packed_divide(int count, dtm_v4d *A, double *s) {
+  v4d keep;
   v4l live;
   for (int l = 0; l < 4; l++) {
-    s[l] = l >= count ? 0 : bad[l] == 0 ? top[l] : NAN; /* dtm_eig_sym_max_tridiag_lanes' max_abs */
+    if (l >= count) s[l] = 0;
     live[l] = l < count && s[l] > 0 ? -1 : 0;
     keep[l] = live[l] ? 1 / s[l] : 0;
   }
@@ -299,7 +310,6 @@ int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3]
   else
 #endif
     divide4(A, &keep, &live);
-  return 1;
 }
 
 int dtm_affine_lumped(int type, int d, int nn, const double (*xl)[3], double *m, double *vol) {

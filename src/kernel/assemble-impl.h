@@ -105,6 +105,19 @@ void dtm_point_walk_gram_end(dtm_point_walk *w, double *U);
  * safely positive, as dtm_elem_setup checks it. */
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj);
+/* The Gram tensor U (its upper triangle, row-major nn d x nn d) and the
+ * lumped masses per unit density of a second-order element, from the memo
+ * (memo.c) or integrated over table t as dtm_elem_assemble does: returns
+ * -1, or the first point where det J (into *dj) is not safely positive. */
+int dtm_elem_gram(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *U, double *mass,
+                  double *dj);
+/* Lane l of the packed lower triangle A (dtm_eig_sym_max_tridiag_packed)
+ * from the Gram tensor U: the elastic stiffness of moduli lam, mu that
+ * dtm_elem_assemble forms from it, each entry K_xy times r_x r_y (r the
+ * masses' m^-1/2 per unknown), bitwise what dtm_eig_sym_max_tridiag_lanes
+ * packs from that matrix scaled by generic.c before its division by the
+ * largest |entry|, which is returned (NaN if an entry is not finite). */
+double dtm_elem_gram_lane(int nn, int d, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A);
 /* dtm_affine_matrices' check and frame: 1 with det J in *dj and J^-1 in Ji
  * when its shortcut applies to the element, else 0. */
 int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj, double Ji[3][3]);
@@ -113,14 +126,22 @@ int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj,
  * (30 x 30) and mass[l] (10) bitwise the one-element call's. */
 void dtm_affine_elastic_lanes(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
                               double *const *K, double *const *mass);
-/* dtm_affine_elastic_lanes' matrices of count (1 .. 4) tet10, scaled by
- * their masses (moduli m[l], density included) and by their largest
- * |entry| s[l], straight into A, packed for dtm_eig_sym_max_tridiag_packed:
- * bitwise what dtm_eig_sym_max_tridiag_lanes would pack from them. 0
- * (A unusable) where a mass is not positive. */
-int dtm_affine_elastic_packed(int count, const double *dj, const double (*Ji)[3][3], const dtm_elastic_moduli *const *m,
-                              dtm_v4d *A, double *s);
-/* The same matrices of a straight-sided tri6 or tet10 from the type's
+/* dtm_affine_elastic_lanes' matrices of the tet10 in the lanes l with
+ * use[l] (their own dj, Ji and moduli m, density included, at index l),
+ * scaled by their masses, straight into lane l of A, packed for
+ * dtm_eig_sym_max_tridiag_packed (the other lanes are written too, with a
+ * used lane's values), and their largest |entry| (NaN if one is not
+ * finite) into top[l]: bitwise what dtm_eig_sym_max_tridiag_lanes would
+ * pack from those matrices before its division by the largest entry
+ * (dtm_packed_divide). 0 (A unusable) where a mass is not positive. */
+int dtm_affine_elastic_pack(const int *use, const double *dj, const double (*Ji)[3][3],
+                            const dtm_elastic_moduli *const *m, dtm_v4d *A, double *top);
+/* The end of the packing: each lane l < count of A divided by s[l] (its
+ * largest |entry|), a lane whose s is not positive (or NaN), and every
+ * lane from count on, set to +0 (s[l] = 0 there), as
+ * dtm_eig_sym_max_tridiag_lanes packs them. */
+void dtm_packed_divide(int count, dtm_v4d *A, double *s);
+/* The matrices of a straight-sided tri6 or tet10 from the type's
  * reference tensors (affine.c), to 1e-12 of dtm_elem_assemble's: returns
  * 1 with K and mass filled, or 0 (nothing written) for another type, a
  * curved element or one near the validity threshold. */

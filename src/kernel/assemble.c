@@ -12,6 +12,7 @@
  * Lanes are independent, so every sum is rounded as before. */
 #pragma GCC optimize("vect-cost-model=dynamic")
 #endif
+#include <math.h>
 #include <string.h>
 
 #include "dtmap/error.h"
@@ -329,6 +330,28 @@ static void stiffness_from_gram(int nn, int d, double lam, double mu, double *U,
   mirror(nn, d, K);
 }
 
+int dtm_elem_gram(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *U, double *mass,
+                  double *dj) {
+  int nd = nn * d;
+  double dv, vol = 0;
+  if (dtm_memo_get(type, t, nn, nd, xl, U, mass, &vol)) return -1; /* the level search just integrated it */
+  memset(U, 0, sizeof(double) * (size_t)(nd * nd));
+  for (int a = 0; a < nn; a++) mass[a] = 0;
+  dtm_point_walk w;
+  dtm_point_walk_start(&w, t, d, nn, xl);
+  for (int k = 0; k < t->q.n; k++) {
+    int valid;
+    const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, dj, &valid);
+    if (!valid) return k;
+    dtm_point_walk_gram(&w, k, gp, dv, U);
+    for (int a = 0; a < nn; a++) mass[a] += t->N[k][a] * t->N[k][a] * dv;
+    vol += dv;
+  }
+  dtm_point_walk_gram_end(&w, U);
+  dtm_lumped_finish(type, nn, t->q.n, vol, mass);
+  return -1;
+}
+
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj) {
   dtm_elem_geom eg; /* only type, d and nn: what the visitors read */
@@ -340,14 +363,14 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
     c.lam = d == 1 ? m->modulus : m->lam, c.mu = d == 1 ? 0 : m->mu;
     add = hrz ? add_elastic_sym : add_elastic;
   }
-  eg.type = type, eg.d = d, eg.nn = nn;
-  int gram = m && hrz;             /* second-order elastic: the Gram tensor, half the products of add_elastic_sym */
-  double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB on the stack at most, as K */
-  if (gram && dtm_memo_get(type, t, nn, n, xl, U, mass, &vol)) { /* the level search just integrated it */
-    stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
-    return -1;
+  if (m && hrz) {                    /* second-order elastic: the Gram tensor, half the products of add_elastic_sym */
+    double U[DTM_K_DOF * DTM_K_DOF]; /* 52 kB on the stack at most, as K */
+    int bad = dtm_elem_gram(type, d, nn, xl, t, U, mass, dj);
+    if (bad < 0) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
+    return bad;
   }
-  memset(gram ? U : K, 0, sizeof(double) * (size_t)(n * n));
+  eg.type = type, eg.d = d, eg.nn = nn;
+  memset(K, 0, sizeof(double) * (size_t)(n * n));
   for (int a = 0; a < nn; a++) mass[a] = 0;
   dtm_point_walk w;
   dtm_point_walk_start(&w, t, d, nn, xl);
@@ -355,17 +378,35 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
     int valid;
     const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, dj, &valid);
     if (!valid) return k;
-    if (gram)
-      dtm_point_walk_gram(&w, k, gp, dv, U);
-    else
-      add(m ? (void *)&c : (void *)K, &eg, t->N[k], gp, dv);
+    add(m ? (void *)&c : (void *)K, &eg, t->N[k], gp, dv);
     for (int a = 0; a < nn; a++) mass[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv;
     vol += dv;
   }
-  if (gram) dtm_point_walk_gram_end(&w, U);
   dtm_lumped_finish(type, nn, t->q.n, vol, mass);
-  if (gram) stiffness_from_gram(nn, d, c.lam, c.mu, U, K);
   return -1;
+}
+
+double dtm_elem_gram_lane(int nn, int d, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A) {
+  int nd = nn * d, finite = 1;
+  double top = 0;
+  for (int a = 0; a < nn; a++)
+    for (int b = a; b < nn; b++) {
+      /* stiffness_from_gram's entries (x, y) = (a d + i, b d + j), y >= x, its UU read without the test: in
+       * block (a, b) the row of U_(aj)(bi) is a d + j <= b d + i but in block (a, a) below the diagonal
+       * (j > i), where U_(aj)(ai) is U_(ai)(aj) */
+      const double *Uab = U + a * d * nd + b * d;
+      double tr = 0;
+      for (int q = 0; q < d; q++) tr += Uab[q * nd + q];
+      for (int i = 0; i < d; i++)
+        for (int j = a == b ? i : 0; j < d; j++) {
+          int x = a * d + i, y = b * d + j;
+          double v = lam * Uab[i * nd + j] + mu * (a == b ? Uab[i * nd + j] : Uab[j * nd + i]) + (i == j ? mu * tr : 0);
+          v *= r[x] * r[y]; /* lumped_scale */
+          A[y * (y + 1) / 2 + x][l] = v;
+          top = fabs(v) > top ? fabs(v) : top, finite &= isfinite(v);
+        }
+    }
+  return finite ? top : NAN;
 }
 
 int dtm_elem_matrix_at(int type, const double *x, int id, const dtm_elastic_moduli *m, double *K) {

@@ -18,7 +18,16 @@
  * The earlier path, which set the element up, checked every point, then
  * summed the stiffness and the masses in separate passes and bisected, is
  * kept as dtm_elastic_lambda_reference and dtm_diffusion_lambda_reference:
- * tests/t521 checks that the two agree to 1e-12 relative. */
+ * tests/t521 checks that the two agree to 1e-12 relative.
+ *
+ * Four tet10 at a time (dtm_elastic_lambda_lanes), each goes into the
+ * eigenvalue solver's packed lanes as its scaled matrix is formed: a
+ * straight one from the reference tensors, a curved one from its Gram
+ * tensor (what its level search left in the memo), with no 30 x 30
+ * matrix, no second scaling pass and no packing between. The entries and
+ * their order are those of the general path, which still takes any other
+ * group (other types, an element refused), so the bits are the same
+ * (tests/t951). */
 #include <math.h>
 
 #include "dtmap/error.h"
@@ -102,9 +111,53 @@ static int affine_lane(int type, const double *x, int model, int level, double *
          dtm_affine_frame(type, 3, 10, (const double(*)[3])xl, dj, Ji);
 }
 
+/* Lane l of A from a tet10 integrated over its rule id (a curved one at
+ * its kept level, or over the full rule where the curvature pass compares
+ * models): its Gram tensor, as matrices() reads it, and the
+ * entries its scaled stiffness would have, its largest |entry| into *top.
+ * 0 (the lane unusable) where the element is refused on the way: the
+ * general path below then names it. */
+static int gram_lane(const dtm_elastic_moduli *m, const double (*xl)[3], int id, int l, dtm_v4d *A, double *top) {
+  double U[DTM_K_DOF * DTM_K_DOF], mass[DTM_K_NODES], r[DTM_K_DOF], dj;
+  const dtm_ref_table *t = dtm_ref_rule_table(DTM_TET10, id);
+  if (!t || m->form != DTM_FORM_3D || dtm_elem_gram(DTM_TET10, 3, 10, xl, t, U, mass, &dj) >= 0) return 0;
+  for (int b = 0; b < 10; b++) {
+    mass[b] *= m->rho;
+    if (!(mass[b] > 0)) return 0;
+    for (int i = 0; i < 3; i++) r[3 * b + i] = 1 / sqrt(mass[b]);
+  }
+  *top = dtm_elem_gram_lane(10, 3, m->lam, m->mu, U, r, l, A);
+  return 1;
+}
+
+/* A group of tet10, each straight (the reference tensors) or integrated
+ * over its rule's table (curved), straight into the packed lanes of the
+ * eigenvalue solver: bitwise the general path's result without its
+ * 30 x 30 matrices (the scaling and the largest entry taken as each entry
+ * is formed). 0, with nothing given out, where an element is of neither
+ * kind or is refused: the general path takes the group. */
+static int packed_group(int count, const dtm_elastic_moduli *const *m, const double *const *x, const int *level,
+                        double *lambda) {
+  double dj[4], Ji[4][3][3], top[4], xl[4][DTM_K_NODES][3];
+  int use[4] = {0, 0, 0, 0}, id[4];
+  dtm_v4d A[30 * 31 / 2];
+  for (int k = 0; k < count; k++) {
+    if (dtm_elem_local(DTM_TET10, x[k], xl[k])) return 0;
+    id[k] = rule_of(DTM_TET10, 3, 10, (const double(*)[3])xl[k], m[k]->integration, level[k]);
+    use[k] = id[k] == 0 && dtm_affine_frame(DTM_TET10, 3, 10, (const double(*)[3])xl[k], &dj[k], Ji[k]);
+  }
+  if (!dtm_affine_elastic_pack(use, dj, (const double(*)[3][3])Ji, m, A, top)) return 0;
+  for (int k = 0; k < count; k++)
+    if (!use[k] && !gram_lane(m[k], (const double(*)[3])xl[k], id[k], k, A, &top[k])) return 0;
+  dtm_packed_divide(count, A, top);
+  dtm_eig_sym_max_tridiag_packed(30, A, top, count, lambda);
+  return 1;
+}
+
 int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *const *m, const double *const *x,
                              const int *level, double *lambda, int *failed) {
   int d = 3, nn = 10, n = 0, done = 0, err = DTM_OK, na = 0;
+  if (type == DTM_TET10 && count > 0 && packed_group(count, m, x, level, lambda)) return DTM_OK;
   double K[4][DTM_K_LANE_DOF * DTM_K_LANE_DOF], mass[4][DTM_K_NODES], *a[4] = {K[0], K[1], K[2], K[3]};
   double dj[4], Ji[4][3][3], *aK[4], *am[4];
   const dtm_elastic_moduli *amod[4];
@@ -124,14 +177,6 @@ int dtm_elastic_lambda_lanes(int type, int count, const dtm_elastic_moduli *cons
     if (r) {
       *failed = k, err = r;
       break;
-    }
-  }
-  if (na && na == done && !err) { /* every element of the group straight: no 30 x 30 matrices */
-    dtm_v4d A[30 * 31 / 2];
-    double s[4];
-    if (dtm_affine_elastic_packed(na, dj, (const double(*)[3][3])Ji, amod, A, s)) {
-      dtm_eig_sym_max_tridiag_packed(30, A, s, na, lambda);
-      return DTM_OK;
     }
   }
   if (na) dtm_affine_elastic_lanes(na, dj, (const double(*)[3][3])Ji, amod, aK, am);
