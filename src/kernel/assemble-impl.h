@@ -93,6 +93,12 @@ const double (*dtm_point_walk_at(dtm_point_walk *w, int k, double *dv, double *d
  * those of the points added to U one after the other. */
 void dtm_point_walk_gram(dtm_point_walk *w, int k, const double (*g)[3], double dv, double *U);
 void dtm_point_walk_gram_end(dtm_point_walk *w, double *U);
+/* The whole walk: every point's gradients into U (cleared by the caller,
+ * as above) and its dv into dv[k]; returns the first point where det J is
+ * not safely positive (its det J into *dj), or -1. Every point is
+ * integrated, valid or not. The same bits as the calls above, point after
+ * point; a 3D walk hands the map's groups of four to the block directly. */
+int dtm_point_walk_gram_all(dtm_point_walk *w, double *U, double *dv, double *dj);
 /* The element bound's matrices in one pass over the points of table t
  * (dtm_ref_rule_table) for the element in its frame xl: the elastic
  * stiffness K[nn d][nn d] of moduli m (NULL: the Laplacian K[nn][nn]) and
@@ -112,12 +118,12 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
 int dtm_elem_gram(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *U, double *mass,
                   double *dj);
 /* Lane l of the packed lower triangle A (dtm_eig_sym_max_tridiag_packed)
- * from the Gram tensor U: the elastic stiffness of moduli lam, mu that
+ * from the Gram tensor U of a 3D element of nn nodes: the elastic stiffness of moduli lam, mu that
  * dtm_elem_assemble forms from it, each entry K_xy times r_x r_y (r the
  * masses' m^-1/2 per unknown), bitwise what dtm_eig_sym_max_tridiag_lanes
  * packs from that matrix scaled by generic.c before its division by the
  * largest |entry|, which is returned (NaN if an entry is not finite). */
-double dtm_elem_gram_lane(int nn, int d, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A);
+double dtm_elem_gram_lane(int nn, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A);
 /* dtm_affine_matrices' check and frame: 1 with det J in *dj and J^-1 in Ji
  * when its shortcut applies to the element, else 0. */
 int dtm_affine_frame(int type, int d, int nn, const double (*xl)[3], double *dj, double Ji[3][3]);

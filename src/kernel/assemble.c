@@ -309,6 +309,36 @@ void dtm_point_walk_gram_end(dtm_point_walk *w, double *U) {
   w->held = 0;
 }
 
+int dtm_point_walk_gram_all(dtm_point_walk *w, double *U, double *dv, double *dj) {
+  const dtm_ref_table *t = w->t;
+  int n = t->q.n, nd = w->nn * w->d, bad = -1, k = 0;
+  if (w->blocked && n >= 4) { /* whole groups straight into the block's rows: what the walk does, without its calls */
+    if (!w->ul) {
+      memset(w->Ul, 0, sizeof w->Ul), w->ul = 1;
+      for (int p = 0; p < DTM_GRAM_W; p++)
+        for (int x = nd; x < DTM_GRAM_W; x++) w->gb[p][x] = 0;
+    }
+    for (; k + 4 <= n; k += 4) {
+      double *rows[4] = {w->gb[w->bl], w->gb[w->bl + 1], w->gb[w->bl + 2], w->gb[w->bl + 3]}, d4[4];
+      int b4 =
+          dtm_map_eval_valid4(w->nn, w->xl, (const dtm_v4d(*)[3])t->dN4[k / 4], &t->q.w[k], rows, &w->dvb[w->bl], d4);
+      memcpy(dv + k, &w->dvb[w->bl], sizeof d4);
+      if (b4 >= 0 && bad < 0) bad = k + b4, *dj = d4[b4];
+      if ((w->bl += 4) == DTM_GRAM_W)
+        gram_tiles(nd, w->bl, (const double(*)[DTM_GRAM_W])w->gb, w->dvb, w->Ul), w->bl = 0;
+    }
+  }
+  for (; k < n; k++) {
+    int valid;
+    double djk;
+    const double(*gp)[3] = dtm_point_walk_at(w, k, &dv[k], &djk, &valid);
+    if (!valid && bad < 0) bad = k, *dj = djk;
+    dtm_point_walk_gram(w, k, gp, dv[k], U);
+  }
+  dtm_point_walk_gram_end(w, U);
+  return bad;
+}
+
 /* The elastic stiffness from the Gram tensor U (upper triangle of
  * integral g_ai g_bj), in place: K_(ai)(bj) = lam U_(ai)(bj) +
  * mu U_(aj)(bi) + delta_ij mu sum_r U_(ar)(br), mirrored. */
@@ -333,21 +363,18 @@ static void stiffness_from_gram(int nn, int d, double lam, double mu, double *U,
 int dtm_elem_gram(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *U, double *mass,
                   double *dj) {
   int nd = nn * d;
-  double dv, vol = 0;
+  double dv[DTM_K_QP], vol = 0;
   if (dtm_memo_get(type, t, nn, nd, xl, U, mass, &vol)) return -1; /* the level search just integrated it */
   memset(U, 0, sizeof(double) * (size_t)(nd * nd));
-  for (int a = 0; a < nn; a++) mass[a] = 0;
   dtm_point_walk w;
   dtm_point_walk_start(&w, t, d, nn, xl);
-  for (int k = 0; k < t->q.n; k++) {
-    int valid;
-    const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv, dj, &valid);
-    if (!valid) return k;
-    dtm_point_walk_gram(&w, k, gp, dv, U);
-    for (int a = 0; a < nn; a++) mass[a] += t->N[k][a] * t->N[k][a] * dv;
-    vol += dv;
+  int bad = dtm_point_walk_gram_all(&w, U, dv, dj);
+  if (bad >= 0) return bad;
+  for (int a = 0; a < nn; a++) mass[a] = 0;
+  for (int k = 0; k < t->q.n; k++) { /* point after point, as dtm_elem_assemble adds them */
+    for (int a = 0; a < nn; a++) mass[a] += t->N[k][a] * t->N[k][a] * dv[k];
+    vol += dv[k];
   }
-  dtm_point_walk_gram_end(&w, U);
   dtm_lumped_finish(type, nn, t->q.n, vol, mass);
   return -1;
 }
@@ -386,27 +413,35 @@ int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_
   return -1;
 }
 
-double dtm_elem_gram_lane(int nn, int d, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A) {
-  int nd = nn * d, finite = 1;
-  double top = 0;
+double dtm_elem_gram_lane(int nn, double lam, double mu, const double *U, const double *r, int l, dtm_v4d *A) {
+  enum { D = 3 };
+  int nd = nn * D;
+  double top[D][D] = {{0}}, z = 0; /* a maximum per entry of the blocks, not one chain through them all */
   for (int a = 0; a < nn; a++)
     for (int b = a; b < nn; b++) {
       /* stiffness_from_gram's entries (x, y) = (a d + i, b d + j), y >= x, its UU read without the test: in
        * block (a, b) the row of U_(aj)(bi) is a d + j <= b d + i but in block (a, a) below the diagonal
        * (j > i), where U_(aj)(ai) is U_(ai)(aj) */
-      const double *Uab = U + a * d * nd + b * d;
+      const double *Uab = U + a * D * nd + b * D;
       double tr = 0;
-      for (int q = 0; q < d; q++) tr += Uab[q * nd + q];
-      for (int i = 0; i < d; i++)
-        for (int j = a == b ? i : 0; j < d; j++) {
-          int x = a * d + i, y = b * d + j;
+      for (int q = 0; q < D; q++) tr += Uab[q * nd + q];
+#pragma GCC unroll 3
+      for (int i = 0; i < D; i++)
+#pragma GCC unroll 3
+        for (int j = 0; j < D; j++) {
+          if (a == b && j < i) continue;
+          int x = a * D + i, y = b * D + j;
           double v = lam * Uab[i * nd + j] + mu * (a == b ? Uab[i * nd + j] : Uab[j * nd + i]) + (i == j ? mu * tr : 0);
           v *= r[x] * r[y]; /* lumped_scale */
           A[y * (y + 1) / 2 + x][l] = v;
-          top = fabs(v) > top ? fabs(v) : top, finite &= isfinite(v);
+          double av = fabs(v);
+          top[i][j] = av > top[i][j] ? av : top[i][j], z += v * 0; /* z: NaN once an entry is not finite */
         }
     }
-  return finite ? top : NAN;
+  double t = 0;
+  for (int i = 0; i < D; i++)
+    for (int j = 0; j < D; j++) t = top[i][j] > t ? top[i][j] : t;
+  return z == 0 ? t : NAN;
 }
 
 int dtm_elem_matrix_at(int type, const double *x, int id, const dtm_elastic_moduli *m, double *K) {

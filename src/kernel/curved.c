@@ -161,16 +161,9 @@ static void tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_
   int nd = nn * d, hrz = dtm_elem_parent(type) != type;
   double dj, *m = L->m, *r = L->r, *T = L->U, vol, dv[DTM_K_QP];
   memset(T, 0, sizeof(double) * (size_t)(nd * nd));
-  *bad = 0;
   dtm_point_walk w;
   dtm_point_walk_start(&w, t, d, nn, xl);
-  for (int k = 0; k < t->q.n; k++) {
-    int valid;
-    const double(*gp)[3] = dtm_point_walk_at(&w, k, &dv[k], &dj, &valid);
-    if (!valid) *bad = 1; /* the element is still integrated: the search goes on */
-    dtm_point_walk_gram(&w, k, gp, dv[k], T);
-  }
-  dtm_point_walk_gram_end(&w, T);
+  *bad = dtm_point_walk_gram_all(&w, T, dv, &dj) >= 0; /* the element is still integrated: the search goes on */
   masses(t, nn, hrz, dv, m, &vol);
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   L->vol = vol;

@@ -126,7 +126,7 @@ static int gram_lane(const dtm_elastic_moduli *m, const double (*xl)[3], int id,
     if (!(mass[b] > 0)) return 0;
     for (int i = 0; i < 3; i++) r[3 * b + i] = 1 / sqrt(mass[b]);
   }
-  *top = dtm_elem_gram_lane(10, 3, m->lam, m->mu, U, r, l, A);
+  *top = dtm_elem_gram_lane(10, m->lam, m->mu, U, r, l, A);
   return 1;
 }
 
