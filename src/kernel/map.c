@@ -149,6 +149,7 @@ static inline __attribute__((always_inline)) void jacobian4(int nn, const double
   for (int i = 0; i < 3; i++)
 #pragma GCC unroll 3
     for (int j = 0; j < 3; j++) s[i][j] = (v4d){0, 0, 0, 0};
+#pragma GCC unroll 10
   for (int a = 0; a < nn; a++)
 #pragma GCC unroll 3
     for (int i = 0; i < 3; i++)
@@ -240,14 +241,23 @@ static inline __attribute__((always_inline)) int eval4_nodes(int nn, const doubl
       int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       K[i][j] = (J[i1][j1] * J[i2][j2] - J[i1][j2] * J[i2][j1]) / dj;
     }
-  v4d x[3 * DTM_K_NODES]; /* x[3 a + i]: the gradients g_ai of the four points */
-  for (int a = 0; a < nn; a++)
-#pragma GCC unroll 3
-    for (int i = 0; i < 3; i++) x[3 * a + i] = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
+  double *const rows[4] = {g[0], g[1], g[2], g[3]}; /* in registers: the stores below cannot change them */
   int e = 0;
-  for (; e + 4 <= 3 * nn; e += 4) store4(x + e, g, e);
-  for (; e < 3 * nn; e++)
-    for (int l = 0; l < 4; l++) g[l][e] = x[e][l];
+#pragma GCC unroll 8
+  for (; e + 4 <= 3 * nn; e += 4) { /* entries e .. e + 3, the gradients g_ai at 3 a + i, stored as they are formed */
+    v4d x[4];
+#pragma GCC unroll 4
+    for (int c = 0; c < 4; c++) {
+      int a = (e + c) / 3, i = (e + c) % 3;
+      x[c] = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
+    }
+    store4(x, rows, e);
+  }
+  for (; e < 3 * nn; e++) {
+    int a = e / 3, i = e % 3;
+    v4d x = 0 + K[0][i] * D[a][0] + K[1][i] * D[a][1] + K[2][i] * D[a][2];
+    for (int l = 0; l < 4; l++) rows[l][e] = x[l];
+  }
   v4d w = {wq[0], wq[1], wq[2], wq[3]}, v = dj * w;
   for (int l = 0; l < 4; l++) dv[l] = v[l];
   return bad;
