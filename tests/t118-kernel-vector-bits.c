@@ -16,9 +16,12 @@
  *     and 1 to 100 points over several blocks, with random gradients of
  *     very different sizes (so that a different order of additions would
  *     round differently: checked by summing in reverse);
- *   - a whole walk (dtm_point_walk over a levelled table, as the level
- *     search and the element assembly take it) against the scalar map and
- *     the plain loop at every point.
+ *   - a whole walk (dtm_point_walk over a levelled table, point by point
+ *     and in one call, dtm_point_walk_gram_all, as the level search and the
+ *     element assembly take it) against the scalar map and the plain loop
+ *     at every point; in one call also over the full rule (groups of four
+ *     and points alone) and on an element inverted in part (the first
+ *     point that fails and its det J).
  * Tolerance: none, bitwise: each lane does the scalar operations in the
  * scalar order, and the tiles keep each entry's additions in order. */
 #include <float.h>
@@ -172,6 +175,32 @@ static void test_gram_block(void **state) {
 /* A walk over tet10's levelled tables against the scalar map and the
  * plain sum at every point (the tail outside the groups included: 125 is
  * not a multiple of 4). */
+/* dtm_point_walk_gram_all over table t against the scalar map and the
+ * plain sum at every point (want: that sum, when the caller has it): U
+ * and every dv bitwise, and the first point where det J is not safely
+ * positive with its det J. */
+static void whole_walk(const dtm_ref_table *t, const double (*xl)[3], const double *want) {
+  static double U[30 * 30], R[30 * 30], dv[DTM_K_QP];
+  static dtm_point_walk w;
+  double dj = 0, dj_first = 0;
+  int first = -1;
+  memset(U, 0, sizeof U), memset(R, 0, sizeof R);
+  dtm_point_walk_start(&w, t, 3, 10, xl);
+  int bad = dtm_point_walk_gram_all(&w, U, dv, &dj);
+  for (int k = 0; k < t->q.n; k++) {
+    double g[DTM_K_NODES][3], dvs, djs, row[1][DTM_GRAM_W] = {{0}};
+    if (dtm_map_eval_valid(3, 10, xl, (const double(*)[3])t->dN[k], t->q.w[k], g, &dvs, &djs) && first < 0)
+      first = k, dj_first = djs;
+    assert_memory_equal(&dv[k], &dvs, sizeof dvs);
+    memcpy(row[0], g, 30 * sizeof(double));
+    plain_sum(30, 1, (const double(*)[DTM_GRAM_W])row, &dvs, R, 0);
+  }
+  assert_int_equal(bad, first);
+  if (first >= 0) assert_memory_equal(&dj, &dj_first, sizeof dj);
+  assert_memory_equal(U, R, sizeof U);
+  if (want) assert_memory_equal(U, want, sizeof U);
+}
+
 static void test_walk(void **state) {
   (void)state;
   double xl[10][3];
@@ -197,6 +226,15 @@ static void test_walk(void **state) {
     }
     dtm_point_walk_gram_end(&w, U);
     assert_memory_equal(U, R, sizeof U);
+    whole_walk(t, (const double(*)[3])xl, R);
+  }
+  const dtm_ref_table *full = dtm_ref_rule_table(DTM_TET10, 0); /* 14 points: three groups and two alone */
+  assert_non_null(full);
+  curved_tet10(0.05, 1.0, xl);
+  whole_walk(full, (const double(*)[3])xl, NULL);
+  for (int level = 5; level <= DTM_K_LEVEL_MAX; level++) { /* inverted in part: the first point that fails */
+    curved_tet10(0.9, 0.0, xl);
+    whole_walk(dtm_ref_level_table(DTM_TET10, level), (const double(*)[3])xl, NULL);
   }
 }
 
