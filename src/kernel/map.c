@@ -203,19 +203,22 @@ static inline __attribute__((always_inline)) void hadamard4(const v4d J[3][3], d
 
 /* Whether each lane's det J passes dtm_map_eval_valid's test, dj > 32 eps
  * times the Hadamard bound had = sqrt(c0) sqrt(c1) sqrt(c2) (c_j the
- * squared column lengths of J) and finite; the first lane that does not,
- * or -1. Lanes that pass dj^2 > 4 (32 eps)^2 c0 c1 c2 with both sides
- * normal and finite pass that test too (the factor 4 covers every
- * rounding of both sides: at most 8 ulps), so the square roots are taken
- * only when a lane does not clear it by that margin: then the test is
- * dtm_map_eval_valid's, lane by lane, in the points' order. */
+ * squared column lengths of J, as hadamard4 sums them) and finite; the
+ * first lane that does not, or -1. A lane with dj > 0, each c_j in
+ * [2^-300, 2^300] (so that no product below under- or overflows) and
+ * dj^2 > 4 (32 eps)^2 c0 c1 c2, dj^2 finite, passes that test too: the
+ * factor 4 covers every rounding of both sides (at most 8 ulps). The
+ * square roots are taken only when a lane does not clear it so: then the
+ * test is dtm_map_eval_valid's, lane by lane, in the points' order. */
 static inline __attribute__((always_inline)) int first_bad4(const v4d J[3][3], v4d dj) {
-  const double k4 = 4 * (32 * DBL_EPSILON) * (32 * DBL_EPSILON), lo = 0x1p-900;
+  const double k4 = 4 * (32 * DBL_EPSILON) * (32 * DBL_EPSILON), lo = 0x1p-300, hi = 0x1p300;
   v4d c[3];
 #pragma GCC unroll 3
   for (int j = 0; j < 3; j++) c[j] = J[0][j] * J[0][j] + J[1][j] * J[1][j] + J[2][j] * J[2][j];
   v4d p = c[0] * c[1] * c[2], q = dj * dj;
-  v4l clear = (dj > 0) & (p >= lo) & (q < INFINITY) & (q > k4 * p); /* lanes -1 where true */
+  v4l clear = (dj > 0) & (q < INFINITY) & (q > k4 * p); /* lanes -1 where true */
+#pragma GCC unroll 3
+  for (int j = 0; j < 3; j++) clear &= (c[j] >= lo) & (c[j] <= hi);
   if ((clear[0] & clear[1] & clear[2] & clear[3]) == -1) return -1;
   double had[4], det[4];
   hadamard4(J, had);
