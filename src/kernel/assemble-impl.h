@@ -111,6 +111,11 @@ int dtm_point_walk_gram_all(dtm_point_walk *w, double *U, double *dv, double *dj
  * safely positive, as dtm_elem_setup checks it. */
 int dtm_elem_assemble(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t,
                       const dtm_elastic_moduli *m, double *K, double *mass, double *dj);
+/* The lumped masses per unit density m[nn] (HRZ's N_a^2 dv where hrz,
+ * else N_a dv) and the measure *vol from every point's dv over table t:
+ * the sums dtm_lumped_mass_table makes, point after point, before
+ * dtm_lumped_finish. */
+void dtm_elem_masses(const dtm_ref_table *t, int nn, int hrz, const double *dv, double *m, double *vol);
 /* The Gram tensor U (its upper triangle, row-major nn d x nn d) and the
  * lumped masses per unit density of a second-order element, from the memo
  * (memo.c) or integrated over table t as dtm_elem_assemble does: returns

@@ -249,13 +249,17 @@ void dtm_point_walk_start(dtm_point_walk *w, const dtm_ref_table *t, int d, int 
 }
 
 /* Point k's gradients g (dv) into the block; the block summed when full. */
+/* Before the block's first point: Ul and the rows' padding cleared. */
+static void block_open(dtm_point_walk *w, int nd) {
+  if (w->ul) return;
+  memset(w->Ul, 0, sizeof w->Ul), w->ul = 1;
+  for (int p = 0; p < DTM_GRAM_W; p++)
+    for (int x = nd; x < DTM_GRAM_W; x++) w->gb[p][x] = 0;
+}
+
 static void walk_block_add(dtm_point_walk *w, const double (*g)[3], double dv) {
   int nd = w->nn * w->d;
-  if (!w->ul) { /* the first point: Ul and the rows' padding cleared */
-    memset(w->Ul, 0, sizeof w->Ul), w->ul = 1;
-    for (int p = 0; p < DTM_GRAM_W; p++)
-      for (int x = nd; x < DTM_GRAM_W; x++) w->gb[p][x] = 0;
-  }
+  block_open(w, nd);
   double *row = w->gb[w->bl];
   if ((const double *)g != row) memcpy(row, g, sizeof(double) * (size_t)nd); /* else the map wrote it there */
   w->dvb[w->bl++] = dv;
@@ -313,11 +317,7 @@ int dtm_point_walk_gram_all(dtm_point_walk *w, double *U, double *dv, double *dj
   const dtm_ref_table *t = w->t;
   int n = t->q.n, nd = w->nn * w->d, bad = -1, k = 0;
   if (w->blocked && n >= 4) { /* whole groups straight into the block's rows: what the walk does, without its calls */
-    if (!w->ul) {
-      memset(w->Ul, 0, sizeof w->Ul), w->ul = 1;
-      for (int p = 0; p < DTM_GRAM_W; p++)
-        for (int x = nd; x < DTM_GRAM_W; x++) w->gb[p][x] = 0;
-    }
+    block_open(w, nd);
     for (; k + 4 <= n; k += 4) {
       double *rows[4] = {w->gb[w->bl], w->gb[w->bl + 1], w->gb[w->bl + 2], w->gb[w->bl + 3]}, d4[4];
       int b4 =
@@ -360,21 +360,51 @@ static void stiffness_from_gram(int nn, int d, double lam, double mu, double *U,
   mirror(nn, d, K);
 }
 
+/* The lumped masses per unit density m[nn] (HRZ's N_a^2 dv where hrz,
+ * else N_a dv) and the measure *vol of the points' dv, as
+ * dtm_lumped_mass_table sums them, point after point from zero; up to 12
+ * nodes in three vectors of accumulators kept in registers through the
+ * points (the table's rows are zero beyond nn: ref_table.c), so the same
+ * bits without a chain through memory at every point. */
+static DTM_KERNEL_AVX void masses(const dtm_ref_table *t, int nn, int hrz, const double *dv, double *m, double *vol) {
+  double v = 0;
+  if (nn > 12) {
+    for (int a = 0; a < nn; a++) m[a] = 0;
+    for (int k = 0; k < t->q.n; k++) {
+      for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv[k];
+      v += dv[k];
+    }
+    *vol = v;
+    return;
+  }
+  dtm_v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, n0, n1, n2;
+  for (int k = 0; k < t->q.n; k++) {
+    memcpy(&n0, t->N[k], sizeof n0), memcpy(&n1, t->N[k] + 4, sizeof n1), memcpy(&n2, t->N[k] + 8, sizeof n2);
+    if (hrz) n0 *= n0, n1 *= n1, n2 *= n2;
+    a0 += n0 * dv[k], a1 += n1 * dv[k], a2 += n2 * dv[k];
+    v += dv[k];
+  }
+  double s[12];
+  memcpy(s, &a0, sizeof a0), memcpy(s + 4, &a1, sizeof a1), memcpy(s + 8, &a2, sizeof a2);
+  for (int a = 0; a < nn; a++) m[a] = s[a];
+  *vol = v;
+}
+
+void dtm_elem_masses(const dtm_ref_table *t, int nn, int hrz, const double *dv, double *m, double *vol) {
+  masses(t, nn, hrz, dv, m, vol);
+}
+
 int dtm_elem_gram(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, double *U, double *mass,
                   double *dj) {
   int nd = nn * d;
-  double dv[DTM_K_QP], vol = 0;
+  double dv[DTM_K_QP], vol;
   if (dtm_memo_get(type, t, nn, nd, xl, U, mass, &vol)) return -1; /* the level search just integrated it */
   memset(U, 0, sizeof(double) * (size_t)(nd * nd));
   dtm_point_walk w;
   dtm_point_walk_start(&w, t, d, nn, xl);
   int bad = dtm_point_walk_gram_all(&w, U, dv, dj);
   if (bad >= 0) return bad;
-  for (int a = 0; a < nn; a++) mass[a] = 0;
-  for (int k = 0; k < t->q.n; k++) { /* point after point, as dtm_elem_assemble adds them */
-    for (int a = 0; a < nn; a++) mass[a] += t->N[k][a] * t->N[k][a] * dv[k];
-    vol += dv[k];
-  }
+  dtm_elem_masses(t, nn, 1, dv, mass, &vol);
   dtm_lumped_finish(type, nn, t->q.n, vol, mass);
   return -1;
 }

@@ -125,36 +125,6 @@ typedef struct {
   double m[DTM_K_NODES], r[DTM_K_DOF], vol;
 } level_sums;
 
-/* The lumped masses per unit density m[nn] (HRZ's N_a^2 dv where hrz,
- * else N_a dv) and the measure *vol of the points' dv, as
- * dtm_lumped_mass_table sums them, point after point from zero; up to 12
- * nodes in three vectors of accumulators kept in registers through the
- * points (the table's rows are zero beyond nn: ref_table.c), so the same
- * bits without a chain through memory at every point. */
-static DTM_KERNEL_AVX void masses(const dtm_ref_table *t, int nn, int hrz, const double *dv, double *m, double *vol) {
-  double v = 0;
-  if (nn > 12) {
-    for (int a = 0; a < nn; a++) m[a] = 0;
-    for (int k = 0; k < t->q.n; k++) {
-      for (int a = 0; a < nn; a++) m[a] += (hrz ? t->N[k][a] * t->N[k][a] : t->N[k][a]) * dv[k];
-      v += dv[k];
-    }
-    *vol = v;
-    return;
-  }
-  dtm_v4d a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0, n0, n1, n2;
-  for (int k = 0; k < t->q.n; k++) {
-    memcpy(&n0, t->N[k], sizeof n0), memcpy(&n1, t->N[k] + 4, sizeof n1), memcpy(&n2, t->N[k] + 8, sizeof n2);
-    if (hrz) n0 *= n0, n1 *= n1, n2 *= n2;
-    a0 += n0 * dv[k], a1 += n1 * dv[k], a2 += n2 * dv[k];
-    v += dv[k];
-  }
-  double s[12];
-  memcpy(s, &a0, sizeof a0), memcpy(s + 4, &a1, sizeof a1), memcpy(s + 8, &a2, sizeof a2);
-  for (int a = 0; a < nn; a++) m[a] = s[a];
-  *vol = v;
-}
-
 /* T of level n (see above), as the sums L, from the level's table (its
  * shape functions evaluated once: ref_table.c). */
 static void tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_ref_table *t, level_sums *L, int *bad) {
@@ -164,7 +134,7 @@ static void tensor_at(int type, int d, int nn, const double (*xl)[3], const dtm_
   dtm_point_walk w;
   dtm_point_walk_start(&w, t, d, nn, xl);
   *bad = dtm_point_walk_gram_all(&w, T, dv, &dj) >= 0; /* the element is still integrated: the search goes on */
-  masses(t, nn, hrz, dv, m, &vol);
+  dtm_elem_masses(t, nn, hrz, dv, m, &vol);
   dtm_lumped_finish(type, nn, t->q.n, vol, m);
   L->vol = vol;
   for (int x = 0; x < nd; x++) r[x] = m[x / d] > 0 ? 1 / sqrt(m[x / d]) : 0;
